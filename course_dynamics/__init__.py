@@ -1,0 +1,25 @@
+"""course-dynamics: Craig's chapter 6 (manipulator dynamics), executable.
+
+Load any fixed-base URDF and compute, in Craig's notation, the Newton–Euler
+torques τ, the mass matrix M(Θ), the velocity terms V(Θ, Θ̇), gravity G(Θ) and
+the Coriolis matrix C(Θ, Θ̇), for one state, a batch of states or sympy symbols.
+
+>>> from course_dynamics import load_robot, inverse_dynamics
+>>> arm = load_robot("two_link")
+>>> arm.joint_names
+('theta1', 'theta2')
+"""
+from .dynamics import DynamicsTerms, coriolis_matrix, dynamics_terms, gravity_torques, mass_matrix, velocity_torques
+from .kinematics import forward_kinematics, potential_energy
+from .model import Body, Model, ModelError
+from .newton_euler import LinkQuantities, inverse_dynamics, newton_euler_links
+from .robots import load_robot, robot_names, robot_path
+from .state import StateError
+from .urdf import load_urdf
+
+__all__ = [
+    "Body", "DynamicsTerms", "LinkQuantities", "Model", "ModelError", "StateError",
+    "coriolis_matrix", "dynamics_terms", "forward_kinematics", "gravity_torques", "inverse_dynamics",
+    "load_robot", "load_urdf", "mass_matrix", "newton_euler_links", "potential_energy",
+    "robot_names", "robot_path", "velocity_torques",
+]

@@ -1,0 +1,289 @@
+"""``course-dynamics``: the command line, a thin layer over the library.
+
+Every command reads a URDF (or the name of a shipped robot), calls
+course_dynamics, and prints a table or, with ``--json``, one JSON document.
+Bad input of any kind ends with one line ``error: …`` on stderr and exit code 2;
+no output file is left behind half-written.
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import io
+import json
+import os
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from .dynamics import dynamics_terms
+from .model import ModelError
+from .newton_euler import inverse_dynamics
+from .robots import resolve, robot_names
+from .state import StateError
+from .urdf import load_urdf
+
+VALUE_OPTIONS = ("--q", "--qd", "--qdd", "--gravity")
+
+
+class UsageError(ValueError):
+    """Bad command-line input (reported as ``error: …``, exit 2)."""
+
+
+class Parser(argparse.ArgumentParser):
+    def error(self, message):  # one line, exit 2, as for every other bad input
+        raise UsageError(message)
+
+
+def _values(text: str, option: str) -> np.ndarray:
+    try:
+        values = [float(v) for v in text.split(",") if v.strip() != ""]
+    except ValueError:
+        raise UsageError(f"{option} must be comma-separated numbers, got '{text}'") from None
+    return np.array(values)
+
+
+def _load(target: str, gravity=None):
+    path = resolve(target)
+    return load_urdf(path) if gravity is None else load_urdf(path, gravity=gravity)
+
+
+def _gravity(args):
+    if args.gravity is None:
+        return None
+    g = _values(args.gravity, "--gravity")
+    if g.shape != (3,) or not np.all(np.isfinite(g)):
+        raise UsageError(f"--gravity needs three finite numbers gx,gy,gz, got '{args.gravity}'")
+    return g
+
+
+def _print_json(document) -> None:
+    json.dump(document, sys.stdout, indent=2)
+    sys.stdout.write("\n")
+
+
+def cmd_info(args) -> int:
+    model = _load(args.urdf)
+    joints = [
+        dict(index=j, name=b.joint, type=b.joint_type, axis=b.axis.tolist(),
+             lower=None if not np.isfinite(b.lower) else b.lower, upper=None if not np.isfinite(b.upper) else b.upper,
+             parent_link=b.parent_link,
+             damping=b.damping, friction=b.friction)
+        for j, b in enumerate(model.bodies)
+    ]
+    bodies = [dict(link=b.name, joint=b.joint, mass=float(b.mass), com=b.p_com.tolist()) for b in model.bodies]
+    if args.json:
+        _print_json(dict(robot=model.name, urdf=model.source, base_link=model.base_link, n=model.n,
+                         gravity=model.gravity.tolist(), joints=joints, bodies=bodies))
+        return 0
+    print(f"robot {model.name} ({model.source}): {model.n} joints, base link '{model.base_link}', gravity {model.gravity.tolist()} m/s²")
+    print(f"{'#':>2}  {'joint':<24} {'type':<10} {'axis':<24} {'limits':<22} parent link")
+    for j in joints:
+        limits = "-" if j["lower"] is None else f"[{j['lower']:g}, {j['upper']:g}]"
+        axis = "(" + ", ".join(f"{a:.4g}" for a in j["axis"]) + ")"
+        print(f"{j['index']:>2}  {j['name']:<24} {j['type']:<10} {axis:<24} {limits:<22} {j['parent_link']}")
+    print(f"\n{'moving body':<26} {'mass (kg)':>10}  COM in body frame (m)")
+    for b in bodies:
+        print(f"{b['link']:<26} {b['mass']:>10.4g}  (" + ", ".join(f"{c:.4g}" for c in b["com"]) + ")")
+    return 0
+
+
+def cmd_terms(args) -> int:
+    gravity = _gravity(args)
+    model = _load(args.urdf, gravity)
+    q = _values(args.q, "--q")
+    qd = _values(args.qd, "--qd") if args.qd is not None else np.zeros(model.n)
+    qdd = _values(args.qdd, "--qdd") if args.qdd is not None else np.zeros(model.n)
+    terms = dynamics_terms(model, q, qd, qdd)
+    document = dict(joints=list(terms.joints), tau=terms.tau.tolist(), M=terms.M.tolist(), C=terms.C.tolist(),
+                    V=terms.V.tolist(), G=terms.G.tolist())
+    if args.json:
+        _print_json(document)
+        return 0
+    width = max(len(name) for name in terms.joints)
+    print(f"robot {model.name}: tau = M(q) qdd + V(q, qd) + G(q)   (N·m, or N for prismatic joints)")
+    print(f"{'joint':<{width}}  {'tau':>12} {'V':>12} {'G':>12}")
+    for name, tau, V, G in zip(terms.joints, terms.tau, terms.V, terms.G):
+        print(f"{name:<{width}}  {tau:>12.6g} {V:>12.6g} {G:>12.6g}")
+    for label, matrix in (("M(q)", terms.M), ("C(q, qd)", terms.C)):
+        print(f"\n{label}:")
+        for name, row in zip(terms.joints, matrix):
+            print(f"{name:<{width}}  " + " ".join(f"{x:>12.6g}" for x in row))
+    return 0
+
+
+def read_trajectory(path: Path, joints) -> dict[str, np.ndarray]:
+    """Columns ``t``, ``q_<joint>``, ``qd_<joint>``, ``qdd_<joint>`` of a CSV, checked."""
+    try:
+        text = path.read_text()
+    except OSError as exc:
+        raise UsageError(f"{path}: cannot read: {exc.strerror}") from None
+    rows = list(csv.reader(io.StringIO(text)))
+    if not rows:
+        raise UsageError(f"{path}: empty file, expected a header row")
+    header = [h.strip() for h in rows[0]]
+    expected = ["t"] + [f"{kind}_{j}" for kind in ("q", "qd", "qdd") for j in joints]
+    missing = [c for c in expected if c not in header]
+    extra = [c for c in header if c not in expected]
+    if missing:
+        raise UsageError(f"{path}: missing columns: {', '.join(missing)}")
+    if extra:
+        raise UsageError(f"{path}: unexpected columns: {', '.join(extra)} (joints are {', '.join(joints)})")
+    if len(rows) < 2:
+        raise UsageError(f"{path}: no data rows")
+    data = np.empty((len(rows) - 1, len(header)))
+    for r, row in enumerate(rows[1:], start=2):
+        if len(row) != len(header):
+            raise UsageError(f"{path}: line {r} has {len(row)} values, the header has {len(header)}")
+        for c, value in enumerate(row):
+            try:
+                data[r - 2, c] = float(value)
+            except ValueError:
+                raise UsageError(f"{path}: line {r}, column '{header[c]}': '{value}' is not a number") from None
+            if not np.isfinite(data[r - 2, c]):
+                raise UsageError(f"{path}: line {r}, column '{header[c]}': value is {value} (must be finite)")
+    return {name: data[:, header.index(name)] for name in expected}
+
+
+def write_csv_atomically(path: Path, header: list[str], data: np.ndarray) -> None:
+    """Write the whole file or nothing: a temporary file renamed into place."""
+    directory = path.parent if str(path.parent) else Path(".")
+    if not directory.is_dir():
+        raise UsageError(f"{path}: directory {directory} does not exist")
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=directory)
+    except OSError as exc:
+        raise UsageError(f"{path}: cannot write: {exc.strerror}") from None
+    try:
+        with os.fdopen(fd, "w", newline="") as handle:
+            writer = csv.writer(handle)
+            writer.writerow(header)
+            writer.writerows([[repr(float(x)) for x in row] for row in data])
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def cmd_torques(args) -> int:
+    model = _load(args.urdf)
+    columns = read_trajectory(Path(args.trajectory), model.joint_names)
+    stack = lambda kind: np.column_stack([columns[f"{kind}_{j}"] for j in model.joint_names])  # noqa: E731
+    tau = inverse_dynamics(model, stack("q"), stack("qd"), stack("qdd"))
+    header = ["t"] + [f"tau_{j}" for j in model.joint_names]
+    write_csv_atomically(Path(args.out), header, np.column_stack([columns["t"], tau]))
+    print(f"wrote {len(tau)} rows of joint torques to {args.out}", file=sys.stderr)
+    return 0
+
+
+def cmd_validate(args) -> int:
+    if args.samples < 1:
+        raise UsageError("--samples must be at least 1")
+    # The oracle lives in reference/; it is imported only by this command, so the
+    # library itself never loads Pinocchio.
+    from reference.validate import bundled_targets, display_name, validate
+
+    targets = args.urdf or bundled_targets()
+    for target in targets:  # fail on bad input before any long work
+        _load(target)
+    progress = _progress_bar(total=len(targets) * args.samples, enabled=not args.json)
+    reports = [validate(target, samples=args.samples, seed=args.seed, tolerance=args.tolerance, progress=progress.update)
+               for target in targets]
+    progress.close()
+    ok = all(r.ok for r in reports)
+    if args.json:
+        _print_json(dict(ok=ok, tolerance=args.tolerance, robots=[r.as_dict() for r in reports]))
+        return 0 if ok else 1
+    print(f"course_dynamics vs Pinocchio: max relative error over {args.samples} random states (seed {args.seed}), tolerance {args.tolerance:g}")
+    print(f"{'robot':<30} {'n':>2} " + " ".join(f"{t:>9}" for t in ("tau", "M", "C", "V", "G")) + "  agree")
+    for target, r in zip(targets, reports):
+        errors = " ".join(f"{r.terms[t].max_rel:>9.1e}" for t in ("tau", "M", "C", "V", "G"))
+        print(f"{display_name(target):<30} {len(r.joints):>2} {errors}  {'yes' if r.ok else 'NO'}")
+    print("all robots agree" if ok else "DISAGREEMENT: see the rows marked NO")
+    return 0 if ok else 1
+
+
+def _progress_bar(total: int, enabled: bool):
+    from tqdm import tqdm
+
+    return tqdm(total=total, unit="state", disable=not (enabled and sys.stderr.isatty()), file=sys.stderr, leave=False)
+
+
+def build_parser() -> Parser:
+    robots = ", ".join(robot_names())
+    parser = Parser(
+        prog="course-dynamics",
+        description="Manipulator dynamics in Craig's notation (Introduction to Robotics, ch. 6), "
+                    "computed by hand-written Newton-Euler and checked against Pinocchio.",
+        epilog=f"URDF arguments take a file path or the name of a shipped robot: {robots}. "
+               "Joint values are comma-separated, in the joint order 'info' prints "
+               "(rad, rad/s, rad/s^2 for revolute joints; m, m/s, m/s^2 for prismatic).",
+    )
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
+
+    p = sub.add_parser("info", help="joints (order, type, axis, limits, parent) and moving bodies (mass, COM)")
+    p.add_argument("urdf", help="URDF file or shipped robot name")
+    p.add_argument("--json", action="store_true", help="print one JSON document")
+    p.set_defaults(run=cmd_info)
+
+    p = sub.add_parser("terms", help="tau, M, C, V, G at one state",
+                       description="Evaluate tau = M(q) qdd + V(q, qd) + G(q) and the Coriolis matrix C (C qd = V).")
+    p.add_argument("urdf", help="URDF file or shipped robot name")
+    p.add_argument("--q", required=True, help="joint positions q1,q2,... (rad or m)")
+    p.add_argument("--qd", help="joint velocities (default 0)")
+    p.add_argument("--qdd", help="joint accelerations (default 0)")
+    p.add_argument("--gravity", help="gx,gy,gz in the base frame, m/s^2 (default 0,0,-9.81)")
+    p.add_argument("--json", action="store_true", help="print JSON with keys joints, tau, M, C, V, G")
+    p.set_defaults(run=cmd_terms)
+
+    p = sub.add_parser("torques", help="inverse dynamics along a trajectory CSV",
+                       description="Read columns t, q_<joint>, qd_<joint>, qdd_<joint>; write t, tau_<joint>.")
+    p.add_argument("urdf", help="URDF file or shipped robot name")
+    p.add_argument("--trajectory", required=True, help="input CSV")
+    p.add_argument("--out", required=True, help="output CSV (written whole or not at all)")
+    p.set_defaults(run=cmd_torques)
+
+    p = sub.add_parser("validate", help="compare every term with Pinocchio on random states",
+                       description="Evaluate tau, M, C, V, G with course_dynamics and with Pinocchio on seeded random "
+                                   "states within joint limits. Exit 0 when every term agrees to the tolerance "
+                                   "(relative), 1 when one does not, 2 on bad input.")
+    p.add_argument("urdf", nargs="*", help="URDF files or robot names (default: every shipped robot)")
+    p.add_argument("--samples", type=int, default=200, help="random states per robot (default 200)")
+    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    p.add_argument("--tolerance", type=float, default=1e-9, help="relative tolerance (default 1e-9)")
+    p.add_argument("--json", action="store_true", help="print the report as JSON")
+    p.set_defaults(run=cmd_validate)
+    return parser
+
+
+def _join_value_options(argv: list[str]) -> list[str]:
+    """``--q -0.1,0.2`` → ``--q=-0.1,0.2``, so negative first values are not taken for options."""
+    out, i = [], 0
+    while i < len(argv):
+        if argv[i] in VALUE_OPTIONS and i + 1 < len(argv):
+            out.append(f"{argv[i]}={argv[i + 1]}")
+            i += 2
+        else:
+            out.append(argv[i])
+            i += 1
+    return out
+
+
+def main(argv=None) -> int:
+    argv = sys.argv[1:] if argv is None else list(argv)
+    parser = build_parser()
+    try:
+        args = parser.parse_args(_join_value_options(argv))
+        return args.run(args)
+    except (UsageError, ModelError, StateError, KeyError) as exc:
+        message = exc.args[0] if exc.args else str(exc)
+        print(f"error: {message}", file=sys.stderr)
+        return 2
+    except BrokenPipeError:
+        return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,107 @@
+"""The terms of the state-space equation τ = M(Θ)Θ̈ + V(Θ, Θ̇) + G(Θ) (6.59).
+
+Every term is read off the one Newton–Euler recursion
+(:mod:`course_dynamics.newton_euler`), as Craig suggests in section 6.8:
+
+=======================  =====================================================
+term                     how
+=======================  =====================================================
+G(Θ)       shape (n,)    τ(Θ, 0, 0): gravity only
+V(Θ, Θ̇)    shape (n,)    τ(Θ, Θ̇, 0) with g = 0: centrifugal and Coriolis
+M(Θ)       shape (n, n)  column j is τ(Θ, 0, eⱼ) with g = 0 (unit accelerations)
+C(Θ, Θ̇)    shape (n, n)  Christoffel form Cᵢⱼ = Σₖ Γᵢⱼₖ θ̇ₖ, so that C Θ̇ = V and
+                         Ṁ − 2C is skew-symmetric; computed exactly with
+                         dual numbers: C = ½ (Ṁ + D − Dᵀ), Ṁ = Σₖ ∂M/∂θₖ θ̇ₖ,
+                         D = ∂(M Θ̇)/∂Θ
+=======================  =====================================================
+
+Leading batch axes and sympy object arrays work as in
+:func:`course_dynamics.newton_euler.inverse_dynamics`.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .algebra import Dual, Vec3
+from .model import Model
+from .newton_euler import inverse_dynamics, joint_transforms, torques_from_columns
+from .state import as_state, columns, layout_of
+
+NO_GRAVITY = Vec3(0, 0, 0)
+
+
+def gravity_torques(model: Model, q, gravity=None) -> np.ndarray:
+    """G(Θ), shape (n,) or (N, n): the torques that hold the arm still against gravity."""
+    q = as_state(model, q, "q")
+    zeros = np.zeros(q.shape[-1:])
+    return inverse_dynamics(model, q, zeros, zeros, gravity)
+
+
+def velocity_torques(model: Model, q, qd) -> np.ndarray:
+    """V(Θ, Θ̇), shape (n,) or (N, n): centrifugal and Coriolis torques."""
+    q = as_state(model, q, "q")
+    return inverse_dynamics(model, q, qd, np.zeros(q.shape[-1:]), gravity=(0.0, 0.0, 0.0))
+
+
+def _mass_matrix_columns(model: Model, theta: list) -> list:
+    """M as nested per-entry scalars, M[i][j], from per-joint scalars Θ."""
+    X = joint_transforms(model, theta)
+    zero = [0] * model.n
+    cols = [torques_from_columns(model, X, zero, [1 if k == j else 0 for k in range(model.n)], NO_GRAVITY) for j in range(model.n)]
+    return [[cols[j][i] for j in range(model.n)] for i in range(model.n)]
+
+
+def mass_matrix(model: Model, q) -> np.ndarray:
+    """M(Θ), shape (n, n) or (N, n, n): the joint-space mass matrix (kg·m², kg)."""
+    q = as_state(model, q, "q")
+    return layout_of(q).assemble(_mass_matrix_columns(model, columns(q)), (model.n, model.n))
+
+
+def coriolis_matrix(model: Model, q, qd) -> np.ndarray:
+    """C(Θ, Θ̇), shape (n, n) or (N, n, n), in Christoffel form (exact, no finite differences)."""
+    q, qd = as_state(model, q, "q"), as_state(model, qd, "qd")
+    layout = layout_of(q, qd)
+    theta, theta_dot = columns(q), columns(qd)
+    n = model.n
+    # Ṁ: M evaluated at Θ + ε Θ̇.
+    M_dot = [[_derivative(x) for x in row] for row in _mass_matrix_columns(model, [Dual(a, b) for a, b in zip(theta, theta_dot)])]
+    # D[:, k] = ∂(M Θ̇)/∂θₖ, with M Θ̇ = τ(Θ, 0, Θ̇) at g = 0.
+    zero = [0] * n
+    D_cols = []
+    for k in range(n):
+        X = joint_transforms(model, [Dual(a, 1 if j == k else 0) for j, a in enumerate(theta)])
+        D_cols.append([_derivative(x) for x in torques_from_columns(model, X, zero, theta_dot, NO_GRAVITY)])
+    C = [[0.5 * (M_dot[i][j] + D_cols[j][i] - D_cols[i][j]) for j in range(n)] for i in range(n)]
+    return layout.assemble(C, (n, n))
+
+
+def _derivative(x):
+    return x.b if isinstance(x, Dual) else 0
+
+
+@dataclass(frozen=True)
+class DynamicsTerms:
+    """Every term of (6.59) at one state (or a batch), joints in model order."""
+
+    joints: tuple[str, ...]
+    tau: np.ndarray
+    M: np.ndarray
+    C: np.ndarray
+    V: np.ndarray
+    G: np.ndarray
+
+
+def dynamics_terms(model: Model, q, qd, qdd, gravity=None) -> DynamicsTerms:
+    """τ, M, C, V and G at one state; ``gravity`` overrides ``model.gravity``."""
+    if gravity is not None:
+        model = model.with_gravity(gravity)
+    return DynamicsTerms(
+        joints=model.joint_names,
+        tau=inverse_dynamics(model, q, qd, qdd),
+        M=mass_matrix(model, q),
+        C=coriolis_matrix(model, q, qd),
+        V=velocity_torques(model, q, qd),
+        G=gravity_torques(model, q),
+    )

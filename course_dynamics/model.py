@@ -1,0 +1,170 @@
+"""The immutable robot model, in Craig's quantities, one record per moving body.
+
+Frames and notation (Craig ch. 6; frame i is the frame of moving body i, which
+is the URDF child link of joint i, with any fixed-joint descendants merged in):
+
+==================  =============================================================
+name                meaning (shape, unit)
+==================  =============================================================
+``R0``              ⁱ⁻¹ᵢR at Θ = 0: orientation of frame i in its parent (3, 3)
+``P``               ⁱ⁻¹Pᵢ at Θ = 0: origin of frame i in its parent (3,), m
+``axis``            ⁱẐᵢ: unit joint axis in frame i (3,) (any direction, not only z)
+``mass``            mᵢ, kg
+``p_com``           ⁱP_Cᵢ: centre of mass in frame i (3,), m
+``I_com``           ᶜⁱIᵢ: inertia tensor about the COM, axes parallel to frame i
+                    (3, 3), kg·m², as a matrix (off-diagonal entries are the
+                    URDF ``ixy``… values, i.e. Craig's −I_xy)
+``parent``          index of the parent body, −1 for the fixed base
+``parent_link``     the URDF parent link of joint i (may be merged into body ``parent``)
+``gravity``         g: gravitational acceleration in the base frame (3,), m/s²
+==================  =============================================================
+
+Joint motion: a revolute or continuous joint rotates frame i about ``axis`` by
+θᵢ, so ⁱ⁻¹ᵢR(θᵢ) = R0 · Rot(axis, θᵢ) and ⁱ⁻¹Pᵢ = P; a prismatic joint slides
+it along ``axis`` by dᵢ, so ⁱ⁻¹ᵢR = R0 and ⁱ⁻¹Pᵢ(dᵢ) = P + R0 · axis · dᵢ.
+
+One gravity convention, stated once: the base accelerates upward, ⁰v̇₀ = −g
+(Craig's trick), so that gravity loads every link through the recursion.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from functools import cached_property
+
+import numpy as np
+
+from .algebra import Mat3, Vec3
+
+STANDARD_GRAVITY = (0.0, 0.0, -9.81)
+JOINT_TYPES = ("revolute", "continuous", "prismatic")
+
+
+class ModelError(ValueError):
+    """A robot description or a state that the dynamics cannot use.
+
+    The message is one line that names the file, joint or link at fault.
+    """
+
+
+def _frozen_array(values, shape) -> np.ndarray:
+    array = np.array(values, dtype=float if _is_numeric(values) else object)
+    if array.shape != shape:
+        raise ValueError(f"expected shape {shape}, got {array.shape}")
+    array.setflags(write=False)
+    return array
+
+
+def _is_numeric(values) -> bool:
+    try:
+        np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        return False
+    return True
+
+
+@dataclass(frozen=True)
+class Body:
+    """One moving body: the link carried by joint i and everything fixed to it."""
+
+    name: str
+    joint: str
+    joint_type: str
+    parent: int
+    R0: np.ndarray
+    P: np.ndarray
+    axis: np.ndarray
+    mass: object
+    p_com: np.ndarray
+    I_com: np.ndarray
+    lower: float = -np.inf
+    upper: float = np.inf
+    damping: float = 0.0
+    friction: float = 0.0
+    parent_link: str = ""
+
+    def __post_init__(self):
+        for name, shape in (("R0", (3, 3)), ("P", (3,)), ("axis", (3,)), ("p_com", (3,)), ("I_com", (3, 3))):
+            object.__setattr__(self, name, _frozen_array(getattr(self, name), shape))
+        if self.joint_type not in JOINT_TYPES:
+            raise ModelError(f"joint '{self.joint}': type '{self.joint_type}' is not one of {', '.join(JOINT_TYPES)}")
+
+    @property
+    def is_prismatic(self) -> bool:
+        return self.joint_type == "prismatic"
+
+    # The recursion works on Vec3/Mat3 of plain scalars; build them once per body.
+    @cached_property
+    def R0_m(self) -> Mat3:
+        return Mat3.of(self.R0)
+
+    @cached_property
+    def P_v(self) -> Vec3:
+        return Vec3.of(self.P)
+
+    @cached_property
+    def axis_v(self) -> Vec3:
+        return Vec3.of(self.axis)
+
+    @cached_property
+    def R0_axis_v(self) -> Vec3:
+        return self.R0_m @ self.axis_v
+
+    @cached_property
+    def p_com_v(self) -> Vec3:
+        return Vec3.of(self.p_com)
+
+    @cached_property
+    def I_com_m(self) -> Mat3:
+        return Mat3.of(self.I_com)
+
+    @cached_property
+    def mass_s(self):
+        return float(self.mass) if isinstance(self.mass, (int, float, np.floating)) else self.mass
+
+
+@dataclass(frozen=True)
+class Model:
+    """A fixed-base robot: moving bodies in topological order (parents first).
+
+    ``joint_names[j]`` is the joint whose coordinate is Θ[j]; Θ has one entry
+    per moving joint (rad for revolute and continuous, m for prismatic).
+    """
+
+    name: str
+    bodies: tuple[Body, ...]
+    gravity: np.ndarray = field(default_factory=lambda: np.array(STANDARD_GRAVITY))
+    source: str = ""
+    base_link: str = ""
+
+    def __post_init__(self):
+        object.__setattr__(self, "bodies", tuple(self.bodies))
+        object.__setattr__(self, "gravity", _frozen_array(self.gravity, (3,)))
+        for i, body in enumerate(self.bodies):
+            if not -1 <= body.parent < i:
+                raise ModelError(f"body '{body.name}': parent index {body.parent} does not come before it")
+
+    @property
+    def n(self) -> int:
+        """Number of joint coordinates, n."""
+        return len(self.bodies)
+
+    @property
+    def joint_names(self) -> tuple[str, ...]:
+        return tuple(body.joint for body in self.bodies)
+
+    @cached_property
+    def children(self) -> tuple[tuple[int, ...], ...]:
+        """children[i]: indices of the bodies whose parent is body i."""
+        return tuple(tuple(j for j, b in enumerate(self.bodies) if b.parent == i) for i in range(self.n))
+
+    @cached_property
+    def lower(self) -> np.ndarray:
+        return np.array([b.lower for b in self.bodies], dtype=float)
+
+    @cached_property
+    def upper(self) -> np.ndarray:
+        return np.array([b.upper for b in self.bodies], dtype=float)
+
+    def with_gravity(self, gravity) -> "Model":
+        """The same robot under another gravity vector g (base frame, m/s²)."""
+        return replace(self, gravity=np.asarray(gravity, dtype=float))

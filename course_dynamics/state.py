@@ -1,0 +1,68 @@
+"""Joint-space states: checking them, and moving between arrays and per-joint scalars.
+
+A state vector Θ, Θ̇ or Θ̈ is an array whose last axis runs over the model's
+joints (``model.joint_names``): shape (n,) for one state, (N, n) for a batch of
+N states, or a numpy object array of sympy expressions. The recursion works on
+one scalar per joint (a float, an (N,) array or a sympy expression); these
+helpers split arrays into such columns and assemble results back.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+class StateError(ValueError):
+    """A state that does not fit the model: wrong length, not numeric, NaN or inf."""
+
+
+@dataclass(frozen=True)
+class Layout:
+    """How results are assembled: leading batch shape and element dtype."""
+
+    batch: tuple[int, ...]
+    dtype: object
+
+    def assemble(self, entries, shape: tuple[int, ...]) -> np.ndarray:
+        """Array of shape ``batch + shape`` from nested lists of scalars (or Vec3s)."""
+        out = np.empty(self.batch + shape, dtype=self.dtype)
+        for index in np.ndindex(*shape):
+            value = entries
+            for k in index:
+                value = value[k]
+            out[(Ellipsis, *index)] = value
+        return out
+
+
+def as_state(model, values, name: str = "q") -> np.ndarray:
+    """``values`` as a checked array of shape (..., n); numeric input becomes float."""
+    array = np.asarray(values)
+    if array.dtype != object:
+        try:
+            array = array.astype(float)
+        except (TypeError, ValueError):
+            raise StateError(f"{name} must be numbers, got {values!r}") from None
+    if array.ndim == 0 or array.shape[-1] != model.n:
+        got = "a scalar" if array.ndim == 0 else f"{array.shape[-1]} values"
+        raise StateError(
+            f"{name} has {got} but robot '{model.name}' has {model.n} joints ({', '.join(model.joint_names)})"
+        )
+    if array.dtype != object and not np.all(np.isfinite(array)):
+        bad = np.argwhere(~np.isfinite(array))[0]
+        raise StateError(f"{name} for joint '{model.joint_names[bad[-1]]}' is {array[tuple(bad)]} (must be finite)")
+    return array
+
+
+def columns(array: np.ndarray) -> list:
+    """One scalar per joint: Python floats for one state, (N,) arrays for a batch."""
+    if array.ndim == 1 and array.dtype != object:
+        return array.tolist()
+    return [array[..., j] for j in range(array.shape[-1])]
+
+
+def layout_of(*arrays: np.ndarray) -> Layout:
+    """The common batch shape of the inputs, object dtype if any is symbolic."""
+    batch = np.broadcast_shapes(*(a.shape[:-1] for a in arrays))
+    dtype = object if any(a.dtype == object for a in arrays) else float
+    return Layout(batch=tuple(batch), dtype=dtype)

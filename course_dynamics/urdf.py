@@ -1,0 +1,218 @@
+"""URDF → :class:`~course_dynamics.model.Model`, through yourdfpy (never Pinocchio).
+
+What is read, and how (see README "Known limits" for what is not):
+
+* revolute, continuous and prismatic joints become moving bodies, in depth-first
+  order from the root link (parents before children, URDF child order);
+* fixed joints are merged: the child link's mass is lumped into the moving body
+  that carries it (parallel-axis theorem, rotated inertia), as Pinocchio does,
+  and its children hang from that body; links fixed to the base are ignored;
+* any unit axis (it is normalised; a zero axis is an error), joint origins and
+  inertial frames with rpy, full inertia tensors, links without ``<inertial>``;
+* ``<mimic>`` is ignored: every joint has its own coordinate, as in Pinocchio's
+  default ``buildModelFromUrdf``;
+* ``<dynamics damping friction>`` is kept on the body for the friction models.
+
+Every problem raises :class:`ModelError` with one line naming the file and the
+joint or link at fault.
+"""
+from __future__ import annotations
+
+import logging
+import math
+from pathlib import Path
+
+import numpy as np
+
+from .model import STANDARD_GRAVITY, Body, Model, ModelError
+
+SUPPORTED_TYPES = ("revolute", "continuous", "prismatic", "fixed")
+# Round-off allowed when checking that an inertia is physical (kg·m²).
+INERTIA_TOLERANCE = 1e-12
+
+
+def load_urdf(path, gravity=STANDARD_GRAVITY) -> Model:
+    """Load a fixed-base URDF as a :class:`Model`.
+
+    Parameters
+    ----------
+    path : str or Path
+        The URDF file.
+    gravity : array_like, shape (3,)
+        g in the base frame, m/s²; default (0, 0, −9.81).
+
+    Raises
+    ------
+    ModelError
+        For a missing or malformed file, an unsupported joint, a kinematic loop,
+        several roots, a non-physical inertial, a zero axis or a non-finite value.
+    """
+    path = Path(path)
+    where = str(path)
+    gravity = np.asarray(gravity, dtype=float)
+    if gravity.shape != (3,) or not np.all(np.isfinite(gravity)):
+        raise ModelError(f"gravity must be three finite numbers, got {gravity.tolist()}")
+    robot = _parse(path)
+    links = {link.name: link for link in robot.links}
+    if len(links) != len(robot.links):
+        raise ModelError(f"{where}: two links share a name")
+    parent_joint = {}
+    children = {name: [] for name in links}
+    for joint in robot.joints:
+        for role, link in (("parent", joint.parent), ("child", joint.child)):
+            if link not in links:
+                raise ModelError(f"{where}: joint '{joint.name}': {role} link '{link}' is not defined")
+        if joint.type not in SUPPORTED_TYPES:
+            raise ModelError(
+                f"{where}: joint '{joint.name}': type '{joint.type}' is not supported "
+                f"(fixed-base robots with {', '.join(SUPPORTED_TYPES)} joints only)"
+            )
+        if joint.child in parent_joint:
+            raise ModelError(
+                f"{where}: kinematic loop: link '{joint.child}' is the child of both "
+                f"joint '{parent_joint[joint.child].name}' and joint '{joint.name}'"
+            )
+        parent_joint[joint.child] = joint
+        children[joint.parent].append(joint)
+    roots = [name for name in links if name not in parent_joint]
+    if len(roots) != 1:
+        if not roots:
+            raise ModelError(f"{where}: kinematic loop: every link has a parent joint, so there is no root link")
+        raise ModelError(f"{where}: {len(roots)} root links ({', '.join(roots)}); a URDF must have exactly one")
+
+    unreachable = sorted(set(links) - _descendants(roots[0], children))
+    if unreachable:
+        raise ModelError(f"{where}: kinematic loop: links {', '.join(unreachable)} are not reachable from root '{roots[0]}'")
+
+    # Depth-first from the root: each link hangs from a body (−1: the fixed base)
+    # through a constant 4×4 transform; a moving joint starts a new body.
+    specs: list[dict] = []
+    lumps: list[list] = []
+    pending = [(roots[0], -1, np.eye(4), None)]
+    while pending:
+        link_name, body, T_body_link, joint = pending.pop()
+        if joint is not None and joint.type != "fixed":
+            specs.append(dict(joint=joint, parent=body, T=T_body_link, link=link_name))
+            lumps.append([])
+            body, T_body_link = len(specs) - 1, np.eye(4)
+        if body >= 0:
+            lumps[body].append(_inertial_in_body(where, links[link_name], T_body_link))
+        for child in reversed(children[link_name]):
+            T = T_body_link @ _checked(where, f"joint '{child.name}' origin", child.origin)
+            pending.append((child.child, body, T, child))
+    if not specs:
+        raise ModelError(f"{where}: no revolute, continuous or prismatic joint: nothing moves")
+    bodies = [_body(where, spec, lump) for spec, lump in zip(specs, lumps)]
+    return Model(name=robot.name, bodies=tuple(bodies), gravity=gravity, source=where, base_link=roots[0])
+
+
+def _parse(path: Path):
+    """The yourdfpy robot description, after a strict XML parse for clear errors."""
+    from lxml import etree
+    import yourdfpy
+
+    if not path.is_file():
+        raise ModelError(f"{path}: no such file")
+    try:
+        etree.parse(str(path))
+    except etree.XMLSyntaxError as exc:
+        raise ModelError(f"{path}: malformed XML: {exc}") from None
+    logging.getLogger("yourdfpy").setLevel(logging.CRITICAL)
+    try:
+        urdf = yourdfpy.URDF.load(
+            str(path), build_scene_graph=False, build_collision_scene_graph=False,
+            load_meshes=False, load_collision_meshes=False,
+        )
+    except Exception as exc:  # yourdfpy reports bad values with assorted exception types
+        raise ModelError(f"{path}: malformed URDF: {exc}") from None
+    return urdf.robot
+
+
+def _descendants(root: str, children: dict) -> set[str]:
+    seen, pending = set(), [root]
+    while pending:
+        name = pending.pop()
+        if name not in seen:
+            seen.add(name)
+            pending.extend(joint.child for joint in children[name])
+    return seen
+
+
+def _checked(where: str, what: str, values) -> np.ndarray:
+    array = np.asarray(values, dtype=float)
+    if not np.all(np.isfinite(array)):
+        raise ModelError(f"{where}: {what} has a non-finite value (NaN or inf)")
+    return array
+
+
+def _inertial_in_body(where: str, link, T_body_link: np.ndarray):
+    """(m, c, I) of one link in its body's frame: mass, COM, inertia about the COM."""
+    inertial = link.inertial
+    if inertial is None:
+        return 0.0, np.zeros(3), np.zeros((3, 3))
+    what = f"link '{link.name}' inertial"
+    mass = float(_checked(where, f"{what} mass", inertial.mass if inertial.mass is not None else 0.0))
+    if mass < 0:
+        raise ModelError(f"{where}: link '{link.name}': negative mass {mass} kg")
+    T_origin = _checked(where, f"{what} origin", inertial.origin if inertial.origin is not None else np.eye(4))
+    inertia = _checked(where, f"{what} inertia", inertial.inertia if inertial.inertia is not None else np.zeros((3, 3)))
+    _check_inertia(where, link.name, inertia)
+    T = T_body_link @ T_origin
+    R = T[:3, :3]
+    return mass, T[:3, 3].copy(), R @ inertia @ R.T
+
+
+def _check_inertia(where: str, link: str, inertia: np.ndarray) -> None:
+    """Symmetric, positive semi-definite, and principal moments obeying the triangle inequality.
+
+    Zero is allowed: Craig's point masses (section 6.7) have no rotational inertia.
+    """
+    if not np.allclose(inertia, inertia.T, rtol=0, atol=INERTIA_TOLERANCE):
+        raise ModelError(f"{where}: link '{link}': inertia tensor is not symmetric")
+    moments = np.linalg.eigvalsh(inertia)
+    scale = max(float(np.abs(moments).max()), 1.0) * INERTIA_TOLERANCE
+    if moments[0] < -scale:
+        raise ModelError(f"{where}: link '{link}': inertia tensor is not positive semi-definite (principal moments {moments.tolist()})")
+    a, b, c = moments
+    if a + b < c - scale:
+        raise ModelError(
+            f"{where}: link '{link}': inertia breaks the triangle inequality "
+            f"(principal moments {a:g} + {b:g} < {c:g})"
+        )
+
+
+def _body(where: str, spec: dict, lump: list) -> Body:
+    joint = spec["joint"]
+    axis = _checked(where, f"joint '{joint.name}' axis", joint.axis if joint.axis is not None else (1.0, 0.0, 0.0))
+    norm = float(np.linalg.norm(axis))
+    if norm < 1e-12:
+        raise ModelError(f"{where}: joint '{joint.name}': zero axis")
+    lower, upper = -math.inf, math.inf
+    if joint.type != "continuous" and joint.limit is not None:
+        lower = -math.inf if joint.limit.lower is None else float(joint.limit.lower)
+        upper = math.inf if joint.limit.upper is None else float(joint.limit.upper)
+        if math.isnan(lower) or math.isnan(upper) or lower > upper:
+            raise ModelError(f"{where}: joint '{joint.name}': limits lower={lower} upper={upper} are not an interval")
+    dynamics = joint.dynamics
+    damping = float(dynamics.damping or 0.0) if dynamics is not None else 0.0
+    friction = float(dynamics.friction or 0.0) if dynamics is not None else 0.0
+    mass, p_com, I_com = _combine(lump)
+    T = spec["T"]
+    return Body(
+        name=spec["link"], joint=joint.name, joint_type=joint.type, parent=spec["parent"],
+        R0=T[:3, :3], P=T[:3, 3], axis=axis / norm, mass=mass, p_com=p_com, I_com=I_com,
+        lower=lower, upper=upper, damping=damping, friction=friction, parent_link=joint.parent,
+    )
+
+
+def _combine(parts: list) -> tuple[float, np.ndarray, np.ndarray]:
+    """Lump rigidly joined masses: total mass, joint COM, inertia about it (parallel-axis theorem)."""
+    mass = sum(m for m, _, _ in parts)
+    if mass == 0:
+        return 0.0, np.zeros(3), sum((I for _, _, I in parts), np.zeros((3, 3)))
+    com = sum(m * c for m, c, _ in parts) / mass
+    inertia = np.zeros((3, 3))
+    for m, c, I in parts:
+        d = c - com
+        inertia += I + m * (d @ d * np.eye(3) - np.outer(d, d))
+    return mass, com, inertia

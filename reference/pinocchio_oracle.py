@@ -1,0 +1,79 @@
+"""The same URDF through Pinocchio, in course_dynamics' joint order and units.
+
+Pinocchio orders joints its own way and gives a continuous joint two
+configuration entries (cos θ, sin θ); :class:`PinocchioOracle` matches joints
+by name and converts, so its results line up entry by entry with ours.
+
+Terms: ``tau`` ← ``rnea``; ``M`` ← ``crba`` (upper triangle, symmetrised);
+``C`` ← ``computeCoriolisMatrix``; ``G`` ← ``computeGeneralizedGravity``;
+``V`` ← ``nonLinearEffects`` − G.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+
+
+class PinocchioOracle:
+    """Pinocchio model of a URDF, evaluated on states in our joint order.
+
+    Parameters
+    ----------
+    urdf : str or Path
+    joint_names : sequence of str
+        Our joint order (``Model.joint_names``); every name must be a Pinocchio joint.
+    gravity : array_like, shape (3,)
+    """
+
+    def __init__(self, urdf, joint_names, gravity=(0.0, 0.0, -9.81)):
+        self.model = pin.buildModelFromUrdf(str(urdf))
+        self.model.gravity.linear = np.asarray(gravity, dtype=float)
+        self.data = self.model.createData()
+        self.joint_names = tuple(joint_names)
+        if self.model.nv != len(self.joint_names):
+            raise ValueError(f"Pinocchio has {self.model.nv} velocity coordinates, we have {len(self.joint_names)} joints")
+        ids = [self.model.getJointId(name) for name in self.joint_names]
+        self.idx_q = [self.model.joints[i].idx_q for i in ids]
+        self.nq = [self.model.joints[i].nq for i in ids]
+        self.idx_v = np.array([self.model.joints[i].idx_v for i in ids])
+
+    def configuration(self, q) -> np.ndarray:
+        """Pinocchio's q from our Θ (continuous joints → cos θ, sin θ)."""
+        q_pin = np.zeros(self.model.nq)
+        for theta, start, nq in zip(np.asarray(q, dtype=float), self.idx_q, self.nq):
+            q_pin[start:start + nq] = (np.cos(theta), np.sin(theta)) if nq == 2 else theta
+        return q_pin
+
+    def velocity(self, v) -> np.ndarray:
+        """Pinocchio's v (or a) from ours."""
+        v_pin = np.zeros(self.model.nv)
+        v_pin[self.idx_v] = v
+        return v_pin
+
+    def _ours(self, x: np.ndarray) -> np.ndarray:
+        return x[self.idx_v]
+
+    def _ours_matrix(self, A: np.ndarray) -> np.ndarray:
+        return A[np.ix_(self.idx_v, self.idx_v)]
+
+    def tau(self, q, qd, qdd) -> np.ndarray:
+        return self._ours(pin.rnea(self.model, self.data, self.configuration(q), self.velocity(qd), self.velocity(qdd)).copy())
+
+    def M(self, q) -> np.ndarray:
+        A = pin.crba(self.model, self.data, self.configuration(q)).copy()
+        A = np.triu(A) + np.triu(A, 1).T  # crba fills the upper triangle only
+        return self._ours_matrix(A)
+
+    def C(self, q, qd) -> np.ndarray:
+        return self._ours_matrix(pin.computeCoriolisMatrix(self.model, self.data, self.configuration(q), self.velocity(qd)).copy())
+
+    def G(self, q) -> np.ndarray:
+        return self._ours(pin.computeGeneralizedGravity(self.model, self.data, self.configuration(q)).copy())
+
+    def V(self, q, qd) -> np.ndarray:
+        nle = pin.nonLinearEffects(self.model, self.data, self.configuration(q), self.velocity(qd)).copy()
+        return self._ours(nle) - self.G(q)
+
+    def terms(self, q, qd, qdd) -> dict[str, np.ndarray]:
+        """τ, M, C, V, G at one state, our joint order."""
+        return dict(tau=self.tau(q, qd, qdd), M=self.M(q), C=self.C(q, qd), V=self.V(q, qd), G=self.G(q))

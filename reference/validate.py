@@ -1,0 +1,137 @@
+"""Ours against Pinocchio on seeded random states: the agreement report.
+
+Error measure, per term and sample: ‖ours − Pinocchio‖∞ / max(‖Pinocchio‖∞, s),
+where s is the scale the term is built at, so that a term that is exactly zero
+in theory (V of a single revolute joint, say) is not judged on round-off alone:
+
+====  =====================================
+term  s
+====  =====================================
+τ     ‖M‖∞ (‖Θ̈‖∞ + ‖Θ̇‖∞²) + ‖G‖∞
+M     ‖M‖∞
+C     ‖M‖∞ ‖Θ̇‖∞
+V     ‖M‖∞ ‖Θ̇‖∞²
+G     ‖M‖∞ ‖g‖
+====  =====================================
+
+The report keeps, per term, the largest absolute and relative error over the
+samples; a robot agrees when every relative error is at most the tolerance.
+"""
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from course_dynamics import coriolis_matrix, gravity_torques, inverse_dynamics, load_urdf, mass_matrix, velocity_torques
+from course_dynamics.robots import resolve
+from reference.pinocchio_oracle import PinocchioOracle
+
+TERMS = ("tau", "M", "C", "V", "G")
+TOLERANCE = 1e-9
+
+
+def sampling_bounds(model) -> tuple[np.ndarray, np.ndarray]:
+    """Where random Θ are drawn: the joint limits, or [−π, π] where a joint has none.
+
+    A joint whose URDF limits are empty or unbounded (continuous joints, or
+    lower = upper as some exporters write) is sampled over [−π, π] (rad or m).
+    """
+    lower, upper = model.lower.copy(), model.upper.copy()
+    free = ~(np.isfinite(lower) & np.isfinite(upper) & (lower < upper))
+    lower[free], upper[free] = -np.pi, np.pi
+    return lower, upper
+
+
+def random_states(model, samples: int, seed: int):
+    """Θ uniform within :func:`sampling_bounds`, Θ̇ and Θ̈ standard normal; each (samples, n)."""
+    rng = np.random.default_rng(seed)
+    lower, upper = sampling_bounds(model)
+    q = rng.uniform(lower, upper, size=(samples, model.n))
+    qd = rng.standard_normal((samples, model.n))
+    qdd = rng.standard_normal((samples, model.n))
+    return q, qd, qdd
+
+
+def ours_batch(model, q, qd, qdd) -> dict[str, np.ndarray]:
+    """Every term for a batch of states, from course_dynamics (vectorised)."""
+    return dict(
+        tau=inverse_dynamics(model, q, qd, qdd), M=mass_matrix(model, q), C=coriolis_matrix(model, q, qd),
+        V=velocity_torques(model, q, qd), G=gravity_torques(model, q),
+    )
+
+
+def term_scales(ref: dict, qd, qdd, gravity) -> dict[str, float]:
+    """The scale s of each term at one state (module docstring)."""
+    norm_M = np.abs(ref["M"]).max()
+    speed, accel = np.abs(qd).max(), np.abs(qdd).max()
+    return dict(
+        tau=norm_M * (accel + speed**2) + np.abs(ref["G"]).max(), M=norm_M, C=norm_M * speed,
+        V=norm_M * speed**2, G=norm_M * float(np.linalg.norm(gravity)),
+    )
+
+
+@dataclass
+class TermAgreement:
+    max_abs: float = 0.0
+    max_rel: float = 0.0
+
+
+@dataclass
+class RobotReport:
+    """Agreement of one robot: per-term worst errors over the samples."""
+
+    robot: str
+    urdf: str
+    joints: list[str]
+    samples: int
+    seed: int
+    tolerance: float
+    terms: dict[str, TermAgreement] = field(default_factory=dict)
+
+    @property
+    def ok(self) -> bool:
+        return all(t.max_rel <= self.tolerance for t in self.terms.values())
+
+    def as_dict(self) -> dict:
+        return dict(asdict(self), ok=self.ok)
+
+
+def validate(name_or_path: str, samples: int = 200, seed: int = 0, tolerance: float = TOLERANCE, progress=None) -> RobotReport:
+    """Compare τ, M, C, V, G of course_dynamics and Pinocchio on seeded random states.
+
+    ``progress``, if given, is called with the number of samples just finished.
+    """
+    urdf = resolve(name_or_path)
+    model = load_urdf(urdf)
+    oracle = PinocchioOracle(urdf, model.joint_names, model.gravity)
+    q, qd, qdd = random_states(model, samples, seed)
+    ours = ours_batch(model, q, qd, qdd)
+    report = RobotReport(
+        robot=model.name, urdf=str(urdf), joints=list(model.joint_names), samples=samples, seed=seed,
+        tolerance=tolerance, terms={t: TermAgreement() for t in TERMS},
+    )
+    for k in range(samples):
+        ref = oracle.terms(q[k], qd[k], qdd[k])
+        scales = term_scales(ref, qd[k], qdd[k], model.gravity)
+        for term in TERMS:
+            error = float(np.abs(ours[term][k] - ref[term]).max())
+            relative = error / max(float(np.abs(ref[term]).max()), scales[term], np.finfo(float).tiny)
+            agreement = report.terms[term]
+            agreement.max_abs = max(agreement.max_abs, error)
+            agreement.max_rel = max(agreement.max_rel, relative)
+        if progress is not None:
+            progress(1)
+    return report
+
+
+def bundled_targets() -> list[str]:
+    """Every shipped robot, by name (see :mod:`course_dynamics.robots`)."""
+    from course_dynamics.robots import robot_names
+
+    return list(robot_names())
+
+
+def display_name(name_or_path: str) -> str:
+    return name_or_path if not Path(name_or_path).suffix else Path(name_or_path).name
