@@ -70,6 +70,22 @@ def cross(a: Vec3, b: Vec3) -> Vec3:
     return Vec3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x)
 
 
+def point_acceleration(v_dot: Vec3, omega_dot: Vec3, omega: Vec3, P: Vec3) -> Vec3:
+    """v̇ + ω̇ × P + ω × (ω × P): acceleration of a point P fixed in a moving frame (6.12).
+
+    Written out in components because it is the innermost step of the recursion.
+    """
+    wx, wy, wz = omega.x, omega.y, omega.z
+    px, py, pz = P.x, P.y, P.z
+    # ω × P
+    cx, cy, cz = wy * pz - wz * py, wz * px - wx * pz, wx * py - wy * px
+    return Vec3(
+        v_dot.x + (omega_dot.y * pz - omega_dot.z * py) + (wy * cz - wz * cy),
+        v_dot.y + (omega_dot.z * px - omega_dot.x * pz) + (wz * cx - wx * cz),
+        v_dot.z + (omega_dot.x * py - omega_dot.y * px) + (wx * cy - wy * cx),
+    )
+
+
 def dot(a: Vec3, b: Vec3):
     """aᵀ b."""
     return a.x * b.x + a.y * b.y + a.z * b.z
@@ -173,26 +189,25 @@ def cos_sin(angle):
     return sympy.cos(angle), sympy.sin(angle)
 
 
-def rotation_about(axis: Vec3, angle) -> Mat3:
-    """Rotation by ``angle`` about the unit ``axis`` (Rodrigues' formula).
+def rotation_from_parts(parts, c, s) -> Mat3:
+    """R = K₀ + c·K_c + s·K_s, entry by entry, for precomputed constant parts.
 
-    R = c·1 + s·[a]ₓ + (1 − c)·a aᵀ. Terms whose axis coefficient is an exact
-    zero are left out, so that a coordinate axis gives the familiar
-    [[c, −s, 0], [s, c, 0], [0, 0, 1]] with no 0·s clutter in symbolic output.
+    A rotation by θ about a fixed unit axis a, composed on the left with a
+    constant R₀, is R₀ Rot(a, θ) = R₀ a aᵀ + cos θ · R₀ (1 − a aᵀ) + sin θ · R₀ [a]ₓ
+    (Rodrigues). ``parts`` holds those three constant matrices as 3×3 nested
+    tuples; products with exact zeros are skipped, which keeps symbolic output
+    free of 0·sin θ clutter and saves work for coordinate axes.
     """
-    c, s = cos_sin(angle)
-    a = (axis.x, axis.y, axis.z)
-    one_minus_c = 1 - c
-
-    def entry(i, j):
-        value = c if i == j else 0
-        k = 3 - i - j  # the third index, for the skew term
-        if i != j and a[k] != 0:
-            sign = 1 if (j - i) % 3 == 1 else -1  # [a]ₓ[i][j] = −ε_ijk a_k
-            value = value - sign * s * a[k] if value != 0 else -sign * s * a[k]
-        if a[i] != 0 and a[j] != 0:
-            term = one_minus_c * (a[i] * a[j])
-            value = term if (isinstance(value, int) and value == 0) else value + term
-        return value
-
-    return Mat3(tuple(tuple(entry(i, j) for j in range(3)) for i in range(3)))
+    K0, Kc, Ks = parts
+    rows = []
+    for r0, rc, rs in zip(K0, Kc, Ks):
+        row = []
+        for k0, kc, ks in zip(r0, rc, rs):
+            value = k0
+            if kc != 0:
+                value = kc * c if value == 0 else value + kc * c
+            if ks != 0:
+                value = ks * s if (not isinstance(value, np.ndarray) and value == 0) else value + ks * s
+            row.append(value)
+        rows.append(tuple(row))
+    return Mat3(tuple(rows))

@@ -47,6 +47,8 @@ def _values(text: str, option: str) -> np.ndarray:
 
 def _load(target: str, gravity=None):
     path = resolve(target)
+    if not path.exists() and not path.suffix:
+        raise UsageError(f"'{target}' is neither a URDF file nor a shipped robot ({', '.join(robot_names())})")
     return load_urdf(path) if gravity is None else load_urdf(path, gravity=gravity)
 
 

@@ -73,7 +73,7 @@ def coriolis_matrix(model: Model, q, qd) -> np.ndarray:
     for k in range(n):
         X = joint_transforms(model, [Dual(a, 1 if j == k else 0) for j, a in enumerate(theta)])
         D_cols.append([_derivative(x) for x in torques_from_columns(model, X, zero, theta_dot, NO_GRAVITY)])
-    C = [[0.5 * (M_dot[i][j] + D_cols[j][i] - D_cols[i][j]) for j in range(n)] for i in range(n)]
+    C = [[(M_dot[i][j] + D_cols[j][i] - D_cols[i][j]) / 2 for j in range(n)] for i in range(n)]
     return layout.assemble(C, (n, n))
 
 

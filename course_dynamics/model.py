@@ -55,6 +55,8 @@ def _frozen_array(values, shape) -> np.ndarray:
 
 
 def _is_numeric(values) -> bool:
+    if isinstance(values, np.ndarray) and values.dtype == object:
+        return False  # symbolic entries stay symbolic, even numbers like sympy.Rational(1, 2)
     try:
         np.asarray(values, dtype=float)
     except (TypeError, ValueError):
@@ -108,6 +110,16 @@ class Body:
     @cached_property
     def R0_axis_v(self) -> Vec3:
         return self.R0_m @ self.axis_v
+
+    @cached_property
+    def rotation_parts(self) -> tuple:
+        """(R0 a aᵀ, R0 (1 − a aᵀ), R0 [a]ₓ) as nested tuples: ⁱ⁻¹ᵢR(θ) = K₀ + cos θ K_c + sin θ K_s."""
+        a = self.axis
+        A = np.outer(a, a)
+        K = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]], dtype=a.dtype)
+        eye = np.eye(3, dtype=int).astype(a.dtype)
+        parts = (self.R0 @ A, self.R0 @ (eye - A), self.R0 @ K)
+        return tuple(Mat3.of(part).rows for part in parts)
 
     @cached_property
     def p_com_v(self) -> Vec3:

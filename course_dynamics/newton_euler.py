@@ -33,16 +33,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .algebra import Mat3, Vec3, cross, dot, rotation_about
+from .algebra import Vec3, cos_sin, cross, dot, point_acceleration, rotation_from_parts
 from .model import Model
 from .state import as_state, columns, layout_of
 
 
 @dataclass(frozen=True)
 class JointTransforms:
-    """ᵖᵢR and ᵖPᵢ for every body at one configuration Θ."""
+    """ᵖᵢR, its transpose ⁱₚR, and ᵖPᵢ for every body at one configuration Θ."""
 
     R: list
+    R_T: list
     P: list
 
 
@@ -75,9 +76,9 @@ def joint_transforms(model: Model, theta: list) -> JointTransforms:
             R.append(body.R0_m)
             P.append(body.P_v + q * body.R0_axis_v)
         else:
-            R.append(body.R0_m @ rotation_about(body.axis_v, q))
+            R.append(rotation_from_parts(body.rotation_parts, *cos_sin(q)))
             P.append(body.P_v)
-    return JointTransforms(R, P)
+    return JointTransforms(R, [r.T for r in R], P)
 
 
 def outward_iteration(model: Model, X: JointTransforms, theta_dot: list, theta_ddot: list, gravity: Vec3) -> OutwardPass:
@@ -88,18 +89,18 @@ def outward_iteration(model: Model, X: JointTransforms, theta_dot: list, theta_d
     for i, body in enumerate(model.bodies):
         p = body.parent
         omega_p, omega_dot_p, v_dot_p = (zero, zero, base_v_dot) if p < 0 else (omega[p], omega_dot[p], v_dot[p])
-        R_T, P_i, z = X.R[i].T, X.P[i], body.axis_v
+        R_T, P_i, z = X.R_T[i], X.P[i], body.axis_v
         qd, qdd = theta_dot[i], theta_ddot[i]
-        v_dot_i = R_T @ (v_dot_p + cross(omega_dot_p, P_i) + cross(omega_p, cross(omega_p, P_i)))  # (6.47)
+        v_dot_i = R_T @ point_acceleration(v_dot_p, omega_dot_p, omega_p, P_i)  # (6.47)
+        omega_in_i = R_T @ omega_p  # ⁱₚR ᵖωₚ
         if body.is_prismatic:
-            w = R_T @ omega_p  # (6.35): a prismatic joint adds no rotation
+            w = omega_in_i  # (6.35): a prismatic joint adds no rotation
             w_dot = R_T @ omega_dot_p
             v_dot_i = v_dot_i + cross(2 * w, qd * z) + qdd * z  # (6.35)
         else:
-            w = R_T @ omega_p + qd * z  # (6.45)
-            w_dot = R_T @ omega_dot_p + cross(R_T @ omega_p, qd * z) + qdd * z  # (6.46)
-        c = body.p_com_v
-        v_dot_com = cross(w_dot, c) + cross(w, cross(w, c)) + v_dot_i  # (6.48)
+            w = omega_in_i + qd * z  # (6.45)
+            w_dot = R_T @ omega_dot_p + cross(omega_in_i, qd * z) + qdd * z  # (6.46)
+        v_dot_com = point_acceleration(v_dot_i, w_dot, w, body.p_com_v)  # (6.48)
         I = body.I_com_m
         omega.append(w)
         omega_dot.append(w_dot)
@@ -155,7 +156,7 @@ def inverse_dynamics(model: Model, q, qd, qdd, gravity=None) -> np.ndarray:
     >>> from course_dynamics import load_robot
     >>> arm = load_robot("pendulum")          # m = 1 kg at l = 1 m, θ = 0 hanging down
     >>> inverse_dynamics(arm, [0.5], [0.0], [0.0]).round(4)  # m g l sin θ
-    array([4.7031])
+    array([4.7032])
     """
     q, qd, qdd = as_state(model, q, "q"), as_state(model, qd, "qd"), as_state(model, qdd, "qdd")
     layout = layout_of(q, qd, qdd)

@@ -26,6 +26,8 @@ class Layout:
 
     def assemble(self, entries, shape: tuple[int, ...]) -> np.ndarray:
         """Array of shape ``batch + shape`` from nested lists of scalars (or Vec3s)."""
+        if not self.batch and len(shape) == 1 and self.dtype is float:
+            return np.array(entries, dtype=float)  # one state: the common, fast case
         out = np.empty(self.batch + shape, dtype=self.dtype)
         for index in np.ndindex(*shape):
             value = entries
@@ -38,7 +40,7 @@ class Layout:
 def as_state(model, values, name: str = "q") -> np.ndarray:
     """``values`` as a checked array of shape (..., n); numeric input becomes float."""
     array = np.asarray(values)
-    if array.dtype != object:
+    if array.dtype != object and array.dtype.kind != "c":  # complex: for complex-step derivatives
         try:
             array = array.astype(float)
         except (TypeError, ValueError):
@@ -56,13 +58,17 @@ def as_state(model, values, name: str = "q") -> np.ndarray:
 
 def columns(array: np.ndarray) -> list:
     """One scalar per joint: Python floats for one state, (N,) arrays for a batch."""
-    if array.ndim == 1 and array.dtype != object:
-        return array.tolist()
+    if array.ndim == 1:
+        return array.tolist()  # Python floats (much faster than numpy scalars) or sympy objects
     return [array[..., j] for j in range(array.shape[-1])]
 
 
 def layout_of(*arrays: np.ndarray) -> Layout:
-    """The common batch shape of the inputs, object dtype if any is symbolic."""
+    """The common batch shape of the inputs; object dtype if any is symbolic, complex if any is complex."""
     batch = np.broadcast_shapes(*(a.shape[:-1] for a in arrays))
-    dtype = object if any(a.dtype == object for a in arrays) else float
+    dtype = float
+    if any(a.dtype.kind == "c" for a in arrays):
+        dtype = complex
+    if any(a.dtype == object for a in arrays):
+        dtype = object
     return Layout(batch=tuple(batch), dtype=dtype)

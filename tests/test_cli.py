@@ -1,0 +1,184 @@
+"""course_dynamics/cli.py: every command, its JSON, and every bad input (one line, exit 2, no file)."""
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from course_dynamics import dynamics_terms, inverse_dynamics, load_robot
+from course_dynamics.cli import main
+from tests.conftest import AWKWARD
+from tests.test_urdf import BAD_URDFS
+
+
+def run(capsys, *argv):
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def assert_one_line_error(code, err, *fragments):
+    assert code == 2
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: "), err
+    assert "Traceback" not in err
+    for fragment in fragments:
+        assert fragment in lines[0], (fragment, lines[0])
+
+
+def test_info_json(capsys):
+    code, out, _ = run(capsys, "info", str(AWKWARD), "--json")
+    assert code == 0
+    info = json.loads(out)
+    assert [j["name"] for j in info["joints"]] == ["shoulder", "telescope", "wrist_roll", "side_joint"]
+    assert info["joints"][2]["type"] == "continuous" and info["joints"][2]["lower"] is None
+    assert info["joints"][1]["parent_link"] == "elbow_housing"
+    assert info["bodies"][0]["mass"] == pytest.approx(3.7)
+
+
+def test_info_table(capsys):
+    code, out, _ = run(capsys, "info", "ur5")
+    assert code == 0 and "shoulder_pan_joint" in out and "moving body" in out
+
+
+def test_terms_json_keys_and_values(capsys):
+    code, out, _ = run(capsys, "terms", "two_link", "--q", "-0.3,0.5", "--qd", "1,2", "--qdd", "0.1,-0.2", "--json")
+    assert code == 0
+    doc = json.loads(out)
+    assert list(doc) == ["joints", "tau", "M", "C", "V", "G"]
+    terms = dynamics_terms(load_robot("two_link"), [-0.3, 0.5], [1, 2], [0.1, -0.2])
+    for key in ("tau", "M", "C", "V", "G"):
+        np.testing.assert_array_equal(doc[key], getattr(terms, key))
+
+
+def test_terms_gravity_option(capsys):
+    code, out, _ = run(capsys, "terms", "pendulum", "--q", "0.5", "--gravity", "0,0,0", "--json")
+    assert code == 0 and json.loads(out)["G"] == [0.0]
+
+
+def test_terms_table(capsys):
+    code, out, _ = run(capsys, "terms", "rp_arm", "--q", "0.2,0.5")
+    assert code == 0 and "M(q)" in out and "d2" in out
+
+
+def write_trajectory(path, model, rng, rows=25):
+    q, qd, qdd = rng.uniform(-1, 1, (3, rows, model.n))
+    t = np.arange(rows) * 0.01
+    header = ["t"] + [f"{k}_{j}" for k in ("q", "qd", "qdd") for j in model.joint_names]
+    data = np.column_stack([t, q, qd, qdd])
+    path.write_text(",".join(header) + "\n" + "\n".join(",".join(repr(float(x)) for x in row) for row in data) + "\n")
+    return q, qd, qdd
+
+
+def test_torques_csv(capsys, tmp_path):
+    model = load_robot("panda")
+    q, qd, qdd = write_trajectory(tmp_path / "in.csv", model, np.random.default_rng(1))
+    code, _, _ = run(capsys, "torques", "panda", "--trajectory", str(tmp_path / "in.csv"), "--out", str(tmp_path / "out.csv"))
+    assert code == 0
+    lines = (tmp_path / "out.csv").read_text().splitlines()
+    assert lines[0].split(",") == ["t"] + [f"tau_{j}" for j in model.joint_names]
+    data = np.loadtxt(tmp_path / "out.csv", delimiter=",", skiprows=1)
+    np.testing.assert_array_equal(data[:, 1:], inverse_dynamics(model, q, qd, qdd))
+
+
+def test_validate_agrees_and_json(capsys):
+    code, out, _ = run(capsys, "validate", "two_link", str(AWKWARD), "--samples", "20", "--json")
+    assert code == 0
+    report = json.loads(out)
+    assert report["ok"] and len(report["robots"]) == 2
+    assert set(report["robots"][1]["terms"]) == {"tau", "M", "C", "V", "G"}
+
+
+def test_validate_every_bundled_robot(capsys):
+    code, out, _ = run(capsys, "validate", "--samples", "5")
+    assert code == 0
+    for name in ("two_link", "rp_arm", "pendulum", "ur5", "panda", "double_pendulum", "double_pendulum_continuous"):
+        assert name in out
+    assert "all robots agree" in out
+
+
+def test_validate_reports_disagreement_with_exit_1(capsys, monkeypatch):
+    """A wrong gravity term in our dynamics must be caught."""
+    import reference.validate as validate_module
+
+    real = validate_module.gravity_torques
+    monkeypatch.setattr(validate_module, "gravity_torques", lambda model, q: real(model, q) * (1 + 1e-7))
+    code, out, _ = run(capsys, "validate", "ur5", "--samples", "3")
+    assert code == 1 and "NO" in out
+
+
+@pytest.mark.parametrize("case", sorted(BAD_URDFS))
+def test_bad_urdf_through_cli(capsys, tmp_path, case):
+    text, message = BAD_URDFS[case]
+    path = tmp_path / "bad.urdf"
+    path.write_text(text)
+    code, _, err = run(capsys, "terms", str(path), "--q", "0,0")
+    assert_one_line_error(code, err, str(path), message)
+
+
+@pytest.mark.parametrize("argv, fragments", [
+    (["info", "missing.urdf"], ["missing.urdf: no such file"]),
+    (["info", "no_such_robot"], ["'no_such_robot' is neither a URDF file nor a shipped robot (two_link,"]),
+    (["terms", "two_link", "--q", "0.1"], ["q has 1 values but robot 'two_link' has 2 joints (theta1, theta2)"]),
+    (["terms", "two_link", "--q", "0.1,abc"], ["--q must be comma-separated numbers"]),
+    (["terms", "two_link", "--q", "0.1,nan"], ["joint 'theta2' is nan"]),
+    (["terms", "two_link", "--q", "0,0", "--qd", "inf,0"], ["qd for joint 'theta1' is inf"]),
+    (["terms", "two_link", "--q", "0,0", "--qdd", "1,2,3"], ["qdd has 3 values"]),
+    (["terms", "two_link", "--q", "0,0", "--gravity", "0,-9.81"], ["--gravity needs three finite numbers"]),
+    (["terms", "two_link"], ["the following arguments are required: --q"]),
+    (["frobnicate"], ["invalid choice"]),
+    (["validate", "two_link", "--samples", "0"], ["--samples must be at least 1"]),
+])
+def test_bad_arguments(capsys, argv, fragments):
+    code, _, err = run(capsys, *argv)
+    assert_one_line_error(code, err, *fragments)
+
+
+@pytest.mark.parametrize("edit, fragment", [
+    (lambda h, rows: (h.replace(",qdd_theta2", ""), [r.rsplit(",", 1)[0] for r in rows]), "missing columns: qdd_theta2"),
+    (lambda h, rows: (h + ",extra", [r + ",1" for r in rows]), "unexpected columns: extra"),
+    (lambda h, rows: (h, [rows[0].replace(rows[0].split(",")[1], "oops", 1)] + rows[1:]), "line 2, column 'q_theta1': 'oops' is not a number"),
+    (lambda h, rows: (h, [rows[0].replace(rows[0].split(",")[1], "nan", 1)] + rows[1:]), "line 2, column 'q_theta1': value is nan"),
+    (lambda h, rows: (h, [rows[0] + ",3"] + rows[1:]), "line 2 has 8 values, the header has 7"),
+    (lambda h, rows: (h, []), "no data rows"),
+])
+def test_bad_trajectory_writes_no_output(capsys, tmp_path, edit, fragment):
+    model = load_robot("two_link")
+    source = tmp_path / "in.csv"
+    write_trajectory(source, model, np.random.default_rng(2), rows=3)
+    header, *rows = source.read_text().splitlines()
+    header, rows = edit(header, rows)
+    source.write_text("\n".join([header] + rows) + "\n")
+    out = tmp_path / "out.csv"
+    code, _, err = run(capsys, "torques", "two_link", "--trajectory", str(source), "--out", str(out))
+    assert_one_line_error(code, err, str(source), fragment)
+    assert not out.exists() and list(tmp_path.iterdir()) == [source]
+
+
+def test_unwritable_output(capsys, tmp_path):
+    model = load_robot("two_link")
+    write_trajectory(tmp_path / "in.csv", model, np.random.default_rng(3), rows=2)
+    code, _, err = run(capsys, "torques", "two_link", "--trajectory", str(tmp_path / "in.csv"),
+                       "--out", str(tmp_path / "no_dir" / "out.csv"))
+    assert_one_line_error(code, err, "does not exist")
+
+
+def test_console_script_error_has_no_traceback(tmp_path):
+    """The installed entry point, end to end: one line on stderr, exit 2."""
+    result = subprocess.run([sys.executable, "-m", "course_dynamics.cli", "terms", "two_link", "--q", "1"],
+                            capture_output=True, text=True)
+    assert result.returncode == 2
+    assert result.stderr.startswith("error: ") and result.stderr.count("\n") == 1
+    assert result.stdout == ""
+
+
+def test_help_explains(capsys):
+    with pytest.raises(SystemExit) as exit_info:
+        main(["--help"])
+    out = capsys.readouterr().out
+    assert exit_info.value.code == 0
+    for command in ("info", "terms", "torques", "validate"):
+        assert command in out
