@@ -25,7 +25,7 @@ from .robots import resolve, robot_names
 from .state import StateError
 from .urdf import load_urdf
 
-VALUE_OPTIONS = ("--q", "--qd", "--qdd", "--gravity")
+VALUE_OPTIONS = ("--q", "--qd", "--qdd", "--gravity", "--q0", "--qd0", "--torque", "--viscous", "--coulomb")
 
 
 class UsageError(ValueError):
@@ -116,8 +116,8 @@ def cmd_terms(args) -> int:
     return 0
 
 
-def read_trajectory(path: Path, joints) -> dict[str, np.ndarray]:
-    """Columns ``t``, ``q_<joint>``, ``qd_<joint>``, ``qdd_<joint>`` of a CSV, checked."""
+def read_columns(path: Path, required: list[str], optional: list[str] = ()) -> dict[str, np.ndarray]:
+    """The named columns of a CSV file, checked: every required one present, no unknown one, all finite."""
     try:
         text = path.read_text()
     except OSError as exc:
@@ -126,13 +126,12 @@ def read_trajectory(path: Path, joints) -> dict[str, np.ndarray]:
     if not rows:
         raise UsageError(f"{path}: empty file, expected a header row")
     header = [h.strip() for h in rows[0]]
-    expected = ["t"] + [f"{kind}_{j}" for kind in ("q", "qd", "qdd") for j in joints]
-    missing = [c for c in expected if c not in header]
-    extra = [c for c in header if c not in expected]
+    missing = [c for c in required if c not in header]
+    extra = [c for c in header if c not in required and c not in optional]
     if missing:
         raise UsageError(f"{path}: missing columns: {', '.join(missing)}")
     if extra:
-        raise UsageError(f"{path}: unexpected columns: {', '.join(extra)} (joints are {', '.join(joints)})")
+        raise UsageError(f"{path}: unexpected columns: {', '.join(extra)} (expected {', '.join(required)})")
     if len(rows) < 2:
         raise UsageError(f"{path}: no data rows")
     data = np.empty((len(rows) - 1, len(header)))
@@ -146,7 +145,17 @@ def read_trajectory(path: Path, joints) -> dict[str, np.ndarray]:
                 raise UsageError(f"{path}: line {r}, column '{header[c]}': '{value}' is not a number") from None
             if not np.isfinite(data[r - 2, c]):
                 raise UsageError(f"{path}: line {r}, column '{header[c]}': value is {value} (must be finite)")
-    return {name: data[:, header.index(name)] for name in expected}
+    return {name: data[:, header.index(name)] for name in header}
+
+
+def _joint_columns(kinds, joints) -> list[str]:
+    return [f"{kind}_{j}" for kind in kinds for j in joints]
+
+
+def read_trajectory(path: Path, joints) -> dict[str, np.ndarray]:
+    """Columns t, q_<joint>, qd_<joint>, qdd_<joint>; a simulate output's tau_<joint> and energy are allowed."""
+    return read_columns(path, ["t"] + _joint_columns(("q", "qd", "qdd"), joints),
+                        _joint_columns(("tau",), joints) + ["energy"])
 
 
 def write_csv_atomically(path: Path, header: list[str], data: np.ndarray) -> None:
@@ -172,12 +181,104 @@ def write_csv_atomically(path: Path, header: list[str], data: np.ndarray) -> Non
 def cmd_torques(args) -> int:
     model = _load(args.urdf)
     columns = read_trajectory(Path(args.trajectory), model.joint_names)
-    stack = lambda kind: np.column_stack([columns[f"{kind}_{j}"] for j in model.joint_names])  # noqa: E731
-    tau = inverse_dynamics(model, stack("q"), stack("qd"), stack("qdd"))
+    q, qd, qdd = (_stack(columns, kind, model.joint_names) for kind in ("q", "qd", "qdd"))
+    tau = inverse_dynamics(model, q, qd, qdd)
     header = ["t"] + [f"tau_{j}" for j in model.joint_names]
     write_csv_atomically(Path(args.out), header, np.column_stack([columns["t"], tau]))
     print(f"wrote {len(tau)} rows of joint torques to {args.out}", file=sys.stderr)
     return 0
+
+
+def _stack(columns: dict, kind: str, joints) -> np.ndarray:
+    return np.column_stack([columns[f"{kind}_{j}"] for j in joints])
+
+
+def _joint_values(text, option: str, model, default=None) -> np.ndarray:
+    if text is None:
+        return np.zeros(model.n) if default is None else default
+    values = _values(text, option)
+    if values.shape != (model.n,):
+        raise UsageError(f"{option} has {len(values)} values but robot '{model.name}' has {model.n} joints ({', '.join(model.joint_names)})")
+    if not np.all(np.isfinite(values)):
+        raise UsageError(f"{option} must be finite, got '{text}'")
+    return values
+
+
+def cmd_simulate(args) -> int:
+    from .friction import Friction
+    from .simulation import TorqueTable, simulate
+
+    model = _load(args.urdf)
+    q0 = _joint_values(args.q0, "--q0", model)
+    qd0 = _joint_values(args.qd0, "--qd0", model)
+    torque = None
+    if args.torque is not None:
+        torque = _joint_values(args.torque, "--torque", model)
+    elif args.torque_csv is not None:
+        columns = read_columns(Path(args.torque_csv), ["t"] + _joint_columns(("tau",), model.joint_names),
+                               _joint_columns(("q", "qd", "qdd"), model.joint_names) + ["energy"])
+        torque = TorqueTable(columns["t"], _stack(columns, "tau", model.joint_names))
+    friction = None
+    if args.friction == "urdf" or args.viscous is not None or args.coulomb is not None:
+        base = Friction.from_urdf(model) if args.friction == "urdf" else Friction.none(model)
+        friction = Friction(viscous=_joint_values(args.viscous, "--viscous", model, base.viscous),
+                            coulomb=_joint_values(args.coulomb, "--coulomb", model, base.coulomb),
+                            smoothing=args.smoothing)
+    out = Path(args.out)
+    _check_writable(out)
+    steps = int(np.ceil(args.duration / args.dt - 1e-9)) if args.dt > 0 and args.duration > 0 else 0
+    progress = _progress_bar(total=steps, enabled=not args.quiet, delay=1.0)
+    trajectory = simulate(model, q0, qd0, args.duration, args.dt, integrator=args.integrator, torque=torque,
+                          friction=friction, limits=args.limits, progress=progress.update)
+    progress.close()
+    header, data = trajectory.table()
+    write_csv_atomically(out, header, data)
+    for event in trajectory.events:
+        print(f"warning: {event}", file=sys.stderr)
+    summary = dict(robot=model.name, joints=list(model.joint_names), integrator=args.integrator, dt=args.dt,
+                   duration=args.duration, samples=len(trajectory.t), energy_start=float(trajectory.energy[0]),
+                   energy_end=float(trajectory.energy[-1]), events=list(trajectory.events), out=str(out))
+    if args.json:
+        _print_json(summary)
+    else:
+        print(f"simulated {model.name} for {args.duration:g} s ({len(trajectory.t)} samples, {args.integrator}, dt = {args.dt:g} s); "
+              f"energy {summary['energy_start']:.6g} J -> {summary['energy_end']:.6g} J; wrote {out}")
+    return 0
+
+
+def cmd_cartesian(args) -> int:
+    from .cartesian import cartesian_dynamics
+
+    model = _load(args.urdf)
+    q = _joint_values(args.q, "--q", model)
+    qd = _joint_values(args.qd, "--qd", model)
+    rows = args.rows.split(",") if args.rows else None
+    terms = cartesian_dynamics(model, q, qd, args.frame, expressed_in=args.expressed_in, rows=rows,
+                               max_condition=args.max_condition)
+    document = dict(joints=list(model.joint_names), frame=terms.frame, rows=list(terms.rows), J=terms.J.tolist(),
+                    J_dot=terms.J_dot.tolist(), Mx=terms.Mx.tolist(), Vx=terms.Vx.tolist(), Gx=terms.Gx.tolist(),
+                    condition=terms.condition)
+    if args.json:
+        _print_json(document)
+        return 0
+    print(f"robot {model.name}, frame '{terms.frame}' ({args.expressed_in} coordinates), task rows {', '.join(terms.rows)}; "
+          f"cond(J) = {terms.condition:.4g}")
+    for label in ("J", "J_dot", "Mx"):
+        print(f"\n{label}:")
+        for row_name, row in zip(terms.rows, document[label]):
+            print(f"{row_name:<3} " + " ".join(f"{x:>12.6g}" for x in row))
+    print("\nVx: " + " ".join(f"{x:.6g}" for x in terms.Vx))
+    print("Gx: " + " ".join(f"{x:.6g}" for x in terms.Gx))
+    return 0
+
+
+def _check_writable(path: Path) -> None:
+    """Fail before long work if the output cannot be written."""
+    directory = path.parent if str(path.parent) else Path(".")
+    if not directory.is_dir():
+        raise UsageError(f"{path}: directory {directory} does not exist")
+    if not os.access(directory, os.W_OK) or (path.exists() and not os.access(path, os.W_OK)):
+        raise UsageError(f"{path}: not writable")
 
 
 def cmd_validate(args) -> int:
@@ -190,7 +291,7 @@ def cmd_validate(args) -> int:
     targets = args.urdf or bundled_targets()
     for target in targets:  # fail on bad input before any long work
         _load(target)
-    progress = _progress_bar(total=len(targets) * args.samples, enabled=not args.json)
+    progress = _progress_bar(total=len(targets) * args.samples, enabled=not args.json and sys.stderr.isatty())
     reports = [validate(target, samples=args.samples, seed=args.seed, tolerance=args.tolerance, progress=progress.update)
                for target in targets]
     progress.close()
@@ -207,10 +308,12 @@ def cmd_validate(args) -> int:
     return 0 if ok else 1
 
 
-def _progress_bar(total: int, enabled: bool):
+def _progress_bar(total: int, enabled: bool, delay: float = 0.0):
+    """A tqdm bar on stderr; with ``delay`` it appears only for work that lasts longer."""
     from tqdm import tqdm
 
-    return tqdm(total=total, unit="state", disable=not (enabled and sys.stderr.isatty()), file=sys.stderr, leave=False)
+    return tqdm(total=total, unit="step", disable=not enabled, file=sys.stderr, leave=False, delay=delay,
+                mininterval=0.5)
 
 
 def build_parser() -> Parser:
@@ -247,6 +350,46 @@ def build_parser() -> Parser:
     p.add_argument("--out", required=True, help="output CSV (written whole or not at all)")
     p.set_defaults(run=cmd_torques)
 
+    p = sub.add_parser("cartesian", help="Cartesian-space dynamics Mx, Vx, Gx (6.99) of a frame",
+                       description="Jacobian J, its time derivative, and F = Mx Xdd + Vx + Gx (6.91) for a URDF link "
+                                   "or frame. The selected task rows must make J square (as many rows as joints).")
+    p.add_argument("urdf", help="URDF file or shipped robot name")
+    p.add_argument("--frame", required=True, help="URDF link name of the task frame")
+    p.add_argument("--q", required=True, help="joint positions")
+    p.add_argument("--qd", help="joint velocities (default 0)")
+    p.add_argument("--rows", help="task rows among x,y,z,rx,ry,rz (default all six)")
+    p.add_argument("--expressed-in", choices=("base", "frame"), default="base",
+                   help="coordinates of J and the task: the base frame, or the task frame itself as Craig's 3J (default base)")
+    p.add_argument("--max-condition", type=float, default=1e8, help="cond(J) above which J counts as singular (default 1e8)")
+    p.add_argument("--json", action="store_true", help="print JSON with keys joints, frame, rows, J, J_dot, Mx, Vx, Gx, condition")
+    p.set_defaults(run=cmd_cartesian)
+
+    p = sub.add_parser("simulate", help="forward dynamics in time (6.115)-(6.117), written as CSV",
+                       description="Integrate qdd = M^-1 (tau - V - G - F) from q0, qd0. The output CSV has t, q_<joint>, "
+                                   "qd_<joint>, qdd_<joint>, tau_<joint> and energy (kinetic + potential, J), and can be "
+                                   "fed back to 'torques'.")
+    p.add_argument("urdf", help="URDF file or shipped robot name")
+    p.add_argument("--q0", required=True, help="initial joint positions")
+    p.add_argument("--qd0", help="initial joint velocities (default 0)")
+    p.add_argument("--duration", type=float, required=True, help="simulated time, s")
+    p.add_argument("--dt", type=float, required=True, help="time step, s")
+    p.add_argument("--integrator", choices=("euler", "semi-implicit", "rk4", "adaptive"), default="rk4",
+                   help="euler is the notes' (6.116)-(6.117); default rk4")
+    torque = p.add_mutually_exclusive_group()
+    torque.add_argument("--torque", help="constant applied torques tau1,tau2,... (default 0)")
+    torque.add_argument("--torque-csv", help="CSV with t and tau_<joint> columns, interpolated linearly in time")
+    p.add_argument("--friction", choices=("none", "urdf"), default="none",
+                   help="joint friction: none, or viscous = URDF damping and Coulomb = URDF friction (default none)")
+    p.add_argument("--viscous", help="viscous coefficients v1,v2,... (N m s/rad), overriding --friction")
+    p.add_argument("--coulomb", help="Coulomb coefficients c1,c2,... (N m), overriding --friction")
+    p.add_argument("--smoothing", type=float, default=0.0, help="Coulomb sgn(qd) -> tanh(qd/smoothing) if > 0")
+    p.add_argument("--limits", choices=("report", "stop"), default="report",
+                   help="at a joint limit: report it and go on, or stop the joint there (default report)")
+    p.add_argument("--out", required=True, help="output CSV (written whole or not at all)")
+    p.add_argument("--json", action="store_true", help="print a JSON summary")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(run=cmd_simulate)
+
     p = sub.add_parser("validate", help="compare every term with Pinocchio on random states",
                        description="Evaluate tau, M, C, V, G with course_dynamics and with Pinocchio on seeded random "
                                    "states within joint limits. Exit 0 when every term agrees to the tolerance "
@@ -279,7 +422,7 @@ def main(argv=None) -> int:
     try:
         args = parser.parse_args(_join_value_options(argv))
         return args.run(args)
-    except (UsageError, ModelError, StateError, KeyError) as exc:
+    except (UsageError, ModelError, StateError, KeyError, ValueError) as exc:
         message = exc.args[0] if exc.args else str(exc)
         print(f"error: {message}", file=sys.stderr)
         return 2

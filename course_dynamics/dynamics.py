@@ -45,9 +45,9 @@ def velocity_torques(model: Model, q, qd) -> np.ndarray:
     return inverse_dynamics(model, q, qd, np.zeros(q.shape[-1:]), gravity=(0.0, 0.0, 0.0))
 
 
-def _mass_matrix_columns(model: Model, theta: list) -> list:
-    """M as nested per-entry scalars, M[i][j], from per-joint scalars Θ."""
-    X = joint_transforms(model, theta)
+def _mass_matrix_columns(model: Model, theta: list, X=None) -> list:
+    """M as nested per-entry scalars, M[i][j], from per-joint scalars Θ (or their transforms X)."""
+    X = joint_transforms(model, theta) if X is None else X
     zero = [0] * model.n
     cols = [torques_from_columns(model, X, zero, [1 if k == j else 0 for k in range(model.n)], NO_GRAVITY) for j in range(model.n)]
     return [[cols[j][i] for j in range(model.n)] for i in range(model.n)]
@@ -75,6 +75,30 @@ def coriolis_matrix(model: Model, q, qd) -> np.ndarray:
         D_cols.append([_derivative(x) for x in torques_from_columns(model, X, zero, theta_dot, NO_GRAVITY)])
     C = [[(M_dot[i][j] + D_cols[j][i] - D_cols[i][j]) / 2 for j in range(n)] for i in range(n)]
     return layout.assemble(C, (n, n))
+
+
+def kinetic_energy(model: Model, q, qd) -> np.ndarray:
+    """k = ½ Θ̇ᵀ M(Θ) Θ̇ (6.71), J: shape () or (N,). One pass: M Θ̇ = τ(Θ, 0, Θ̇) at g = 0."""
+    q, qd = as_state(model, q, "q"), as_state(model, qd, "qd")
+    M_qd = inverse_dynamics(model, q, np.zeros(q.shape[-1:]), qd, gravity=(0.0, 0.0, 0.0))
+    return 0.5 * np.sum(qd * M_qd, axis=-1)  # (6.71)
+
+
+def mass_matrix_and_bias(model: Model, q, qd) -> tuple[np.ndarray, np.ndarray]:
+    """M(Θ) and V(Θ, Θ̇) + G(Θ) for numeric states, sharing one set of joint transforms.
+
+    The pair forward dynamics needs; shapes (n, n), (n,) or batched (N, n, n), (N, n).
+    """
+    q, qd = as_state(model, q, "q"), as_state(model, qd, "qd")
+    layout = layout_of(q, qd)
+    M, bias = _mass_matrix_and_bias_columns(model, columns(q), columns(qd))
+    return layout.assemble(M, (model.n, model.n)), layout.assemble(bias, (model.n,))
+
+
+def _mass_matrix_and_bias_columns(model: Model, theta: list, theta_dot: list) -> tuple[list, list]:
+    X = joint_transforms(model, theta)
+    bias = torques_from_columns(model, X, theta_dot, [0] * model.n, Vec3.of(model.gravity))
+    return _mass_matrix_columns(model, theta, X), bias
 
 
 def _derivative(x):

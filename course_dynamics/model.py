@@ -135,6 +135,24 @@ class Body:
 
 
 @dataclass(frozen=True)
+class Frame:
+    """A URDF link as a frame rigidly attached to a body: ᵇR_F and ᵇP_F in body ``body``'s frame.
+
+    ``body`` is −1 for links fixed to the base. Every URDF link is a frame,
+    whether it moves on its own joint or was merged into a body by a fixed joint.
+    """
+
+    name: str
+    body: int
+    R: np.ndarray
+    P: np.ndarray
+
+    def __post_init__(self):
+        object.__setattr__(self, "R", _frozen_array(self.R, (3, 3)))
+        object.__setattr__(self, "P", _frozen_array(self.P, (3,)))
+
+
+@dataclass(frozen=True)
 class Model:
     """A fixed-base robot: moving bodies in topological order (parents first).
 
@@ -147,9 +165,11 @@ class Model:
     gravity: np.ndarray = field(default_factory=lambda: np.array(STANDARD_GRAVITY))
     source: str = ""
     base_link: str = ""
+    frames: tuple[Frame, ...] = ()
 
     def __post_init__(self):
         object.__setattr__(self, "bodies", tuple(self.bodies))
+        object.__setattr__(self, "frames", tuple(self.frames))
         object.__setattr__(self, "gravity", _frozen_array(self.gravity, (3,)))
         for i, body in enumerate(self.bodies):
             if not -1 <= body.parent < i:
@@ -176,6 +196,17 @@ class Model:
     @cached_property
     def upper(self) -> np.ndarray:
         return np.array([b.upper for b in self.bodies], dtype=float)
+
+    @property
+    def frame_names(self) -> tuple[str, ...]:
+        return tuple(f.name for f in self.frames)
+
+    def frame(self, name: str) -> Frame:
+        """The frame of URDF link ``name``; ModelError naming the known frames if absent."""
+        for frame in self.frames:
+            if frame.name == name:
+                return frame
+        raise ModelError(f"robot '{self.name}' has no link or frame '{name}' (frames: {', '.join(self.frame_names)})")
 
     def with_gravity(self, gravity) -> "Model":
         """The same robot under another gravity vector g (base frame, m/s²)."""

@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .model import STANDARD_GRAVITY, Body, Model, ModelError
+from .model import STANDARD_GRAVITY, Body, Frame, Model, ModelError
 
 SUPPORTED_TYPES = ("revolute", "continuous", "prismatic", "fixed")
 # Round-off allowed when checking that an inertia is physical (kg·m²).
@@ -88,6 +88,7 @@ def load_urdf(path, gravity=STANDARD_GRAVITY) -> Model:
     # through a constant 4×4 transform; a moving joint starts a new body.
     specs: list[dict] = []
     lumps: list[list] = []
+    frames: list[Frame] = []
     pending = [(roots[0], -1, np.eye(4), None)]
     while pending:
         link_name, body, T_body_link, joint = pending.pop()
@@ -95,6 +96,7 @@ def load_urdf(path, gravity=STANDARD_GRAVITY) -> Model:
             specs.append(dict(joint=joint, parent=body, T=T_body_link, link=link_name))
             lumps.append([])
             body, T_body_link = len(specs) - 1, np.eye(4)
+        frames.append(Frame(name=link_name, body=body, R=T_body_link[:3, :3], P=T_body_link[:3, 3]))
         if body >= 0:
             lumps[body].append(_inertial_in_body(where, links[link_name], T_body_link))
         for child in reversed(children[link_name]):
@@ -103,7 +105,7 @@ def load_urdf(path, gravity=STANDARD_GRAVITY) -> Model:
     if not specs:
         raise ModelError(f"{where}: no revolute, continuous or prismatic joint: nothing moves")
     bodies = [_body(where, spec, lump) for spec, lump in zip(specs, lumps)]
-    return Model(name=robot.name, bodies=tuple(bodies), gravity=gravity, source=where, base_link=roots[0])
+    return Model(name=robot.name, bodies=tuple(bodies), gravity=gravity, source=where, base_link=roots[0], frames=tuple(frames))
 
 
 def _parse(path: Path):

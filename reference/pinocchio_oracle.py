@@ -6,7 +6,9 @@ by name and converts, so its results line up entry by entry with ours.
 
 Terms: ``tau`` ← ``rnea``; ``M`` ← ``crba`` (upper triangle, symmetrised);
 ``C`` ← ``computeCoriolisMatrix``; ``G`` ← ``computeGeneralizedGravity``;
-``V`` ← ``nonLinearEffects`` − G.
+``V`` ← ``nonLinearEffects`` − G; ``aba`` ← ``aba``; frame Jacobians ←
+``getFrameJacobian`` and ``getFrameJacobianTimeVariation`` (``base`` is
+LOCAL_WORLD_ALIGNED, ``frame`` is LOCAL).
 """
 from __future__ import annotations
 
@@ -77,3 +79,24 @@ class PinocchioOracle:
     def terms(self, q, qd, qdd) -> dict[str, np.ndarray]:
         """τ, M, C, V, G at one state, our joint order."""
         return dict(tau=self.tau(q, qd, qdd), M=self.M(q), C=self.C(q, qd), V=self.V(q, qd), G=self.G(q))
+
+    def aba(self, q, qd, tau) -> np.ndarray:
+        """Θ̈ by the articulated-body algorithm (no friction)."""
+        return self._ours(pin.aba(self.model, self.data, self.configuration(q), self.velocity(qd), self.velocity(tau)).copy())
+
+    def _reference_frame(self, expressed_in: str):
+        return {"base": pin.LOCAL_WORLD_ALIGNED, "frame": pin.LOCAL}[expressed_in]
+
+    def frame_jacobian(self, q, frame: str, expressed_in: str = "base") -> np.ndarray:
+        """(6, n) Jacobian of a URDF link's frame, rows (v; ω), our joint order."""
+        frame_id = self.model.getFrameId(frame)
+        J = pin.computeFrameJacobian(self.model, self.data, self.configuration(q), frame_id, self._reference_frame(expressed_in))
+        return np.reshape(J, (6, self.model.nv))[:, self.idx_v].copy()  # eigenpy returns (6,) when nv = 1
+
+    def frame_jacobian_dot(self, q, qd, frame: str, expressed_in: str = "base") -> np.ndarray:
+        """(6, n) time variation of :meth:`frame_jacobian` along Θ̇."""
+        frame_id = self.model.getFrameId(frame)
+        pin.computeJointJacobiansTimeVariation(self.model, self.data, self.configuration(q), self.velocity(qd))
+        pin.updateFramePlacements(self.model, self.data)
+        dJ = pin.getFrameJacobianTimeVariation(self.model, self.data, frame_id, self._reference_frame(expressed_in))
+        return np.reshape(dJ, (6, self.model.nv))[:, self.idx_v].copy()

@@ -6,6 +6,8 @@ Each function returns (M, V, G) at one state, from Craig's printed results:
   ends, gravity along −Y0.
 * :func:`rp_arm` — example 6.5: θ1 from the horizontal, d2 along link 1.
 * :func:`pendulum` — the notes' Lagrangian example: m l² θ̈ + m g l sin θ = τ.
+* :func:`two_link_cartesian` — example 6.6, (6.101)–(6.103): J, M_x, V_x, G_x
+  of the two-link arm in its tool frame {3}.
 
 The parameter values of the shipped URDFs (``robots/README.md``) are in
 :data:`COURSE_PARAMETERS`; the tests check the URDFs against them too.
@@ -51,3 +53,18 @@ def rp_arm(q, qd, m1, m2, l1, Izz1, Izz2, g):
 def pendulum(q, qd, m, l, g):
     """The pendulum: M = m l², V = 0, G = m g l sin θ."""
     return np.array([[m * l**2]]), np.array([0.0]), np.array([m * g * l * np.sin(q[0])])
+
+
+def two_link_cartesian(q, qd, m1, m2, l1, l2, g):
+    """Craig example 6.6: ³J (5.66) and M_x, V_x, G_x (6.101)–(6.103) of the two-link arm in frame {3}."""
+    s1, c1, s2, c2 = np.sin(q[0]), np.cos(q[0]), np.sin(q[1]), np.cos(q[1])
+    s12, c12 = np.sin(q[0] + q[1]), np.cos(q[0] + q[1])
+    td1, td2 = qd
+    J = np.array([[l1 * s2, 0.0], [l1 * c2 + l2, l2]])
+    Mx = np.array([[m2 + m1 / s2**2, 0.0], [0.0, m2]])
+    Vx = np.array([
+        -(m2 * l1 * c2 + m2 * l2) * td1**2 - m2 * l2 * td2**2 - (2 * m2 * l2 + m2 * l1 * c2 + m1 * l1 * c2 / s2**2) * td1 * td2,
+        m2 * l1 * s2 * td1**2 + l1 * m2 * s2 * td1 * td2,
+    ])
+    Gx = np.array([m1 * g * c1 / s2 + m2 * g * s12, m2 * g * c12])
+    return J, Mx, Vx, Gx

@@ -182,3 +182,84 @@ def test_help_explains(capsys):
     assert exit_info.value.code == 0
     for command in ("info", "terms", "torques", "validate"):
         assert command in out
+
+
+def test_simulate_then_torques_round_trip(capsys, tmp_path):
+    out, back = tmp_path / "sim.csv", tmp_path / "tau.csv"
+    code, stdout, _ = run(capsys, "simulate", "ur5", "--q0", "0,-1,1,0,0.5,0", "--duration", "0.2", "--dt", "0.001",
+                          "--torque", "1,2,3,0.5,0.2,0.1", "--out", str(out), "--json")
+    assert code == 0
+    summary = json.loads(stdout)
+    assert summary["samples"] == 201 and summary["integrator"] == "rk4"
+    header = out.read_text().splitlines()[0].split(",")
+    joints = load_robot("ur5").joint_names
+    assert header == ["t"] + [f"{k}_{j}" for k in ("q", "qd", "qdd", "tau") for j in joints] + ["energy"]
+    code, _, _ = run(capsys, "torques", "ur5", "--trajectory", str(out), "--out", str(back))
+    assert code == 0
+    np.testing.assert_allclose(np.loadtxt(back, delimiter=",", skiprows=1)[:, 1:],
+                               np.tile([1, 2, 3, 0.5, 0.2, 0.1], (201, 1)), rtol=1e-9, atol=1e-9)
+
+
+def test_simulate_torque_csv_friction_and_limit_warning(capsys, tmp_path):
+    torque = tmp_path / "torque.csv"
+    torque.write_text("t,tau_theta1,tau_d2\n0,0,5\n1,0,5\n")
+    out = tmp_path / "sim.csv"
+    code, _, err = run(capsys, "simulate", "rp_arm", "--q0", "0,0.5", "--duration", "1", "--dt", "0.002",
+                       "--torque-csv", str(torque), "--viscous", "0.1,0.1", "--out", str(out), "--quiet")
+    assert code == 0
+    assert "warning: t = " in err and "joint 'd2' passed its upper limit 0.8" in err
+    data = np.loadtxt(out, delimiter=",", skiprows=1)
+    np.testing.assert_allclose(data[:, 8], 5.0)  # tau_d2 column
+
+
+def test_cartesian_json_and_singularity(capsys):
+    code, out, _ = run(capsys, "cartesian", "two_link", "--frame", "tool", "--q", "0.3,0.7", "--qd", "1,2",
+                       "--rows", "x,y", "--expressed-in", "frame", "--json")
+    assert code == 0
+    doc = json.loads(out)
+    assert list(doc) == ["joints", "frame", "rows", "J", "J_dot", "Mx", "Vx", "Gx", "condition"]
+    np.testing.assert_allclose(doc["Mx"], [[1.0 + 2.0 / np.sin(0.7) ** 2, 0], [0, 1.0]], atol=1e-12)  # (6.101), m1 = 2, m2 = 1
+    code, _, err = run(capsys, "cartesian", "two_link", "--frame", "tool", "--q", "0.3,0", "--rows", "x,z")
+    assert_one_line_error(code, err, "Jacobian of frame 'tool' is singular", "condition number")
+
+
+@pytest.mark.parametrize("extra, fragments", [
+    (["--dt", "0"], ["dt must be a positive number"]),
+    (["--dt", "-0.01"], ["dt must be a positive number"]),
+    (["--dt", "0.01", "--duration", "-1"], ["duration must be a positive number"]),
+    (["--dt", "0.01", "--torque", "nan,0"], ["--torque must be finite"]),
+    (["--dt", "0.01", "--torque", "1,2,3"], ["--torque has 3 values but robot 'two_link' has 2 joints"]),
+    (["--dt", "0.01", "--q0", "0"], ["--q0 has 1 values"]),
+    (["--dt", "0.01", "--viscous", "-1,0"], ["viscous friction coefficients must be finite and non-negative"]),
+])
+def test_simulate_bad_arguments_write_nothing(capsys, tmp_path, extra, fragments):
+    out = tmp_path / "sim.csv"
+    argv = ["simulate", "two_link", "--q0", "0,0", "--duration", "0.1", "--out", str(out)] + extra
+    code, _, err = run(capsys, *argv)
+    assert_one_line_error(code, err, *fragments)
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("content, fragment", [
+    ("t,tau_theta1\n0,1\n", "missing columns: tau_theta2"),
+    ("t,tau_theta1,tau_theta2,bogus\n0,1,2,3\n", "unexpected columns: bogus"),
+    ("t,tau_theta1,tau_theta2\n0,1,inf\n", "value is inf"),
+    ("t,tau_theta1,tau_theta2\n0,1,2\n0,1,2\n", "torque table times must be strictly increasing"),
+])
+def test_simulate_bad_torque_csv(capsys, tmp_path, content, fragment):
+    torque, out = tmp_path / "torque.csv", tmp_path / "sim.csv"
+    torque.write_text(content)
+    code, _, err = run(capsys, "simulate", "two_link", "--q0", "0,0", "--duration", "0.1", "--dt", "0.01",
+                       "--torque-csv", str(torque), "--out", str(out))
+    assert_one_line_error(code, err, fragment)
+    assert not out.exists()
+
+
+def test_simulate_singular_mass_matrix(capsys, tmp_path):
+    from tests.test_urdf import arm_urdf
+
+    urdf, out = tmp_path / "massless.urdf", tmp_path / "sim.csv"
+    urdf.write_text(arm_urdf(mass="0", ixx="0", iyy="0", izz="0"))
+    code, _, err = run(capsys, "simulate", str(urdf), "--q0", "0,0", "--duration", "0.1", "--dt", "0.01", "--out", str(out))
+    assert_one_line_error(code, err, "mass matrix of robot 'probe' is singular", "joint 'joint2' moves no mass")
+    assert not out.exists() and list(tmp_path.iterdir()) == [urdf]

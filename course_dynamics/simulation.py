@@ -1,0 +1,251 @@
+"""Dynamic simulation: integrate Θ̈ = M⁻¹[τ − V − G − F] (6.115) in time.
+
+==================  ==========================================================
+integrator          one step of size Δt from (Θ, Θ̇), with Θ̈ = f(t, Θ, Θ̇)
+==================  ==========================================================
+``euler``           the notes' scheme, exactly (6.116)–(6.117):
+                    Θ̇(t+Δt) = Θ̇ + Θ̈ Δt,  Θ(t+Δt) = Θ + Θ̇ Δt + ½ Θ̈ Δt²
+``semi-implicit``   Θ̇(t+Δt) = Θ̇ + Θ̈ Δt,  Θ(t+Δt) = Θ + Θ̇(t+Δt) Δt (symplectic)
+``rk4``             classical fourth-order Runge–Kutta on (Θ, Θ̇)
+``adaptive``        SciPy ``solve_ivp`` (DOP853, rtol = atol = 1e-10), reported
+                    on the same time grid
+==================  ==========================================================
+
+Torque input: ``None`` (zero), a constant array (n,), a callable
+``tau(t, q, qd) -> (n,)``, or a :class:`TorqueTable` (linear interpolation in
+time, held at its first/last row outside its range).
+
+Joint limits (joints whose URDF limits form a non-empty interval):
+``limits="report"`` lets the motion continue and records, once per joint, when
+it left its limits (in ``Trajectory.events``); ``limits="stop"`` holds the
+joint at the limit and removes the velocity into it (a perfectly inelastic
+stop), also recorded. Nothing passes a limit silently.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from .dynamics import kinetic_energy
+from .forward_dynamics import accelerations as solve_accelerations
+from .friction import Friction
+from .kinematics import potential_energy
+from .model import Model
+from .state import StateError, as_state
+
+INTEGRATORS = ("euler", "semi-implicit", "rk4", "adaptive")
+LIMIT_MODES = ("report", "stop")
+
+
+class SimulationError(ValueError):
+    """Bad simulation input, or a simulation that cannot go on (non-finite torque or state)."""
+
+
+@dataclass(frozen=True)
+class TorqueTable:
+    """Applied torques sampled in time: ``t`` (K,), increasing; ``tau`` (K, n)."""
+
+    t: np.ndarray
+    tau: np.ndarray
+
+    def __post_init__(self):
+        t, tau = np.asarray(self.t, dtype=float), np.asarray(self.tau, dtype=float)
+        if t.ndim != 1 or tau.ndim != 2 or len(t) != len(tau) or len(t) == 0:
+            raise SimulationError(f"a torque table needs t of shape (K,) and tau of shape (K, n), got {t.shape} and {tau.shape}")
+        if np.any(np.diff(t) <= 0):
+            raise SimulationError("torque table times must be strictly increasing")
+        if not (np.all(np.isfinite(t)) and np.all(np.isfinite(tau))):
+            raise SimulationError("torque table has non-finite values")
+        object.__setattr__(self, "t", t)
+        object.__setattr__(self, "tau", tau)
+
+    def __call__(self, t: float, q=None, qd=None) -> np.ndarray:
+        return np.array([np.interp(t, self.t, column) for column in self.tau.T])
+
+
+@dataclass(frozen=True)
+class Trajectory:
+    """A simulated motion, one row per time sample.
+
+    t (K,) s; q, qd, qdd, tau (K, n) in model joint order; energy (K,) J,
+    kinetic (6.71) plus potential (6.73); events: limit crossings, in time order.
+    """
+
+    joints: tuple[str, ...]
+    t: np.ndarray
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    tau: np.ndarray
+    energy: np.ndarray
+    events: tuple[str, ...] = ()
+
+    def table(self) -> tuple[list[str], np.ndarray]:
+        """CSV header and rows: t, q_<j>, qd_<j>, qdd_<j>, tau_<j>, energy."""
+        header = ["t"] + [f"{kind}_{j}" for kind in ("q", "qd", "qdd", "tau") for j in self.joints] + ["energy"]
+        return header, np.column_stack([self.t, self.q, self.qd, self.qdd, self.tau, self.energy])
+
+
+def total_energy(model: Model, q, qd) -> np.ndarray:
+    """k + u (6.71), (6.73), J; shape () or (N,)."""
+    return kinetic_energy(model, q, qd) + potential_energy(model, q)
+
+
+def torque_function(model: Model, torque) -> Callable:
+    """τ(t, q, qd) from any accepted torque input (see module docstring)."""
+    if torque is None:
+        zero = np.zeros(model.n)
+        return lambda t, q, qd: zero
+    if callable(torque):
+        return torque
+    constant = as_state(model, torque, "torque")
+    if constant.ndim != 1:
+        raise SimulationError(f"a constant torque must have shape ({model.n},), got {constant.shape}")
+    return lambda t, q, qd: constant
+
+
+def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str = "rk4", torque=None,
+             friction: Friction | None = None, limits: str = "report", progress: Callable[[int], None] | None = None) -> Trajectory:
+    """Integrate the robot's motion from (Θ₀, Θ̇₀) for ``duration`` seconds in steps of ``dt``.
+
+    Returns the :class:`Trajectory` at t = 0, dt, 2 dt, …, duration (the last
+    step is shortened to end exactly at ``duration``). ``progress``, if given, is
+    called with the number of steps just completed.
+    """
+    q0, qd0 = as_state(model, q0, "q0"), as_state(model, qd0, "qd0")
+    for name, value in (("dt", dt), ("duration", duration)):
+        if not (np.isfinite(value) and value > 0):
+            raise SimulationError(f"{name} must be a positive number of seconds, got {value}")
+    if integrator not in INTEGRATORS:
+        raise SimulationError(f"unknown integrator '{integrator}' (choose from {', '.join(INTEGRATORS)})")
+    if limits not in LIMIT_MODES:
+        raise SimulationError(f"unknown limits mode '{limits}' (choose from {', '.join(LIMIT_MODES)})")
+    if integrator == "adaptive" and limits == "stop":
+        raise SimulationError("limits='stop' needs a fixed-step integrator (euler, semi-implicit or rk4)")
+    tau_of = torque_function(model, torque)
+    times = np.arange(int(np.ceil(duration / dt - 1e-9)) + 1) * dt
+    times[-1] = duration
+
+    def applied(t, q, qd):
+        tau = np.asarray(tau_of(t, q, qd), dtype=float)
+        if tau.shape != (model.n,) or not np.all(np.isfinite(tau)):
+            raise SimulationError(f"the torque at t = {t:.6g} s is {tau.tolist()}: expected {model.n} finite values")
+        return tau
+
+    def accelerations(t, q, qd):
+        tau = applied(t, q, qd)
+        return solve_accelerations(model, q, qd, tau, friction), tau
+
+    guard = _LimitGuard(model, limits)
+    if integrator == "adaptive":
+        q, qd = _integrate_adaptive(model, accelerations, times, q0, qd0, progress)
+    else:
+        q, qd = _integrate_fixed(_STEPS[integrator], accelerations, times, q0, qd0, guard, progress)
+    for k, t in enumerate(times):
+        if not (np.all(np.isfinite(q[k])) and np.all(np.isfinite(qd[k]))):
+            raise SimulationError(f"the state became non-finite at t = {t:.6g} s (try a smaller dt)")
+        if integrator == "adaptive":
+            guard.check(t, q[k], qd[k], clamp=False)
+    qdd, tau = zip(*(accelerations(t, q[k], qd[k]) for k, t in enumerate(times)))
+    qdd, tau = np.array(qdd), np.array(tau)
+    return Trajectory(joints=model.joint_names, t=times, q=q, qd=qd, qdd=qdd, tau=tau,
+                      energy=total_energy(model, q, qd), events=tuple(guard.events))
+
+
+def _euler_step(f, t, q, qd, dt):
+    qdd = f(t, q, qd)[0]
+    qd_next = qd + qdd * dt  # (6.116)
+    q_next = q + qd * dt + 0.5 * qdd * dt**2  # (6.117)
+    return q_next, qd_next
+
+
+def _semi_implicit_step(f, t, q, qd, dt):
+    qdd = f(t, q, qd)[0]
+    qd_next = qd + qdd * dt
+    return q + qd_next * dt, qd_next
+
+
+def _rk4_step(f, t, q, qd, dt):
+    a1 = f(t, q, qd)[0]
+    q2, qd2 = q + 0.5 * dt * qd, qd + 0.5 * dt * a1
+    a2 = f(t + 0.5 * dt, q2, qd2)[0]
+    q3, qd3 = q + 0.5 * dt * qd2, qd + 0.5 * dt * a2
+    a3 = f(t + 0.5 * dt, q3, qd3)[0]
+    q4, qd4 = q + dt * qd3, qd + dt * a3
+    a4 = f(t + dt, q4, qd4)[0]
+    return q + dt / 6 * (qd + 2 * qd2 + 2 * qd3 + qd4), qd + dt / 6 * (a1 + 2 * a2 + 2 * a3 + a4)
+
+
+_STEPS = {"euler": _euler_step, "semi-implicit": _semi_implicit_step, "rk4": _rk4_step}
+
+
+def _integrate_fixed(step, f, times, q0, qd0, guard, progress):
+    q, qd = np.empty((len(times), len(q0))), np.empty((len(times), len(q0)))
+    q[0], qd[0] = guard.check(times[0], q0, qd0)
+    for k in range(len(times) - 1):
+        q_next, qd_next = step(f, times[k], q[k], qd[k], times[k + 1] - times[k])
+        if not (np.all(np.isfinite(q_next)) and np.all(np.isfinite(qd_next))):
+            raise SimulationError(f"the state became non-finite at t = {times[k + 1]:.6g} s (try a smaller dt)")
+        q[k + 1], qd[k + 1] = guard.check(times[k + 1], q_next, qd_next)
+        if progress is not None:
+            progress(1)
+    return q, qd
+
+
+def _integrate_adaptive(model, f, times, q0, qd0, progress):
+    from scipy.integrate import solve_ivp  # SciPy: a well-tested adaptive integrator with error control
+
+    n = model.n
+    reached = [0]
+
+    def rhs(t, y):
+        if progress is not None:
+            k = int(np.searchsorted(times, t, side="right")) - 1
+            if k > reached[0]:
+                progress(k - reached[0])
+                reached[0] = k
+        return np.concatenate([y[n:], f(t, y[:n], y[n:])[0]])
+
+    solution = solve_ivp(rhs, (times[0], times[-1]), np.concatenate([q0, qd0]), method="DOP853",
+                         t_eval=times, rtol=1e-10, atol=1e-10)
+    if not solution.success:
+        raise SimulationError(f"the adaptive integrator failed: {solution.message}")
+    if progress is not None and len(times) - 1 > reached[0]:
+        progress(len(times) - 1 - reached[0])
+    return solution.y[:n].T.copy(), solution.y[n:].T.copy()
+
+
+class _LimitGuard:
+    """Applies the joint-limit policy after each step and records what happened."""
+
+    def __init__(self, model: Model, mode: str):
+        self.model, self.mode = model, mode
+        limited = np.isfinite(model.lower) & np.isfinite(model.upper) & (model.lower < model.upper)
+        self.lower = np.where(limited, model.lower, -np.inf)
+        self.upper = np.where(limited, model.upper, np.inf)
+        self.reported: set[int] = set()
+        self.events: list[str] = []
+
+    def check(self, t, q, qd, clamp=True):
+        below, above = q < self.lower, q > self.upper
+        if not (below.any() or above.any()):
+            return q, qd
+        q, qd = q.copy(), qd.copy()
+        for j in np.flatnonzero(below | above):
+            side, bound = ("lower", self.lower[j]) if below[j] else ("upper", self.upper[j])
+            name = self.model.joint_names[j]
+            if self.mode == "stop" and clamp:
+                if j not in self.reported:
+                    self.events.append(f"t = {t:.6g} s: joint '{name}' stopped at its {side} limit {bound:g}")
+                q[j] = bound
+                if (qd[j] < 0) if below[j] else (qd[j] > 0):
+                    qd[j] = 0.0
+            elif j not in self.reported:
+                self.events.append(f"t = {t:.6g} s: joint '{name}' passed its {side} limit {bound:g} (q = {q[j]:.6g})")
+            self.reported.add(j)
+        return q, qd
+
+
+__all__ = ["INTEGRATORS", "SimulationError", "StateError", "TorqueTable", "Trajectory", "simulate", "total_energy"]

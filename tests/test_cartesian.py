@@ -1,0 +1,117 @@
+"""course_dynamics/cartesian.py: J and J̇ against Pinocchio's frame Jacobians, (6.99) against Pinocchio and example 6.6."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from course_dynamics import load_robot
+from course_dynamics.cartesian import SingularityError, cartesian_dynamics, jacobian, jacobian_dot
+from reference import textbook
+from reference.validate import random_states
+from tests.conftest import assert_agrees
+
+
+def tip_frame(model) -> str:
+    """The last URDF link carried by the last moving body: a tool frame where there is one."""
+    return [f.name for f in model.frames if f.body == model.n - 1][-1]
+
+
+@pytest.mark.parametrize("expressed_in", ["base", "frame"])
+def test_jacobian_and_its_derivative_agree_with_pinocchio(robot, expressed_in):
+    name, model, oracle, (q, qd, _) = robot
+    frame = tip_frame(model)
+    J, J_dot = jacobian(model, q, frame, expressed_in), jacobian_dot(model, q, qd, frame, expressed_in)
+    for k in range(len(q)):
+        J_ref = oracle.frame_jacobian(q[k], frame, expressed_in)
+        assert_agrees(J[k], J_ref, what=f"{name} J({frame}), state {k}")
+        scale = np.abs(J_ref).max() * np.abs(qd[k]).max()
+        assert_agrees(J_dot[k], oracle.frame_jacobian_dot(q[k], qd[k], frame, expressed_in), scale, what=f"{name} J_dot, state {k}")
+
+
+def test_every_frame_of_ur5_agrees_with_pinocchio():
+    from course_dynamics import robot_path
+    from reference.pinocchio_oracle import PinocchioOracle
+
+    model = load_robot("ur5")
+    oracle = PinocchioOracle(robot_path("ur5"), model.joint_names)
+    q, _, _ = random_states(model, 5, seed=1)
+    for frame in model.frame_names:
+        assert_agrees(jacobian(model, q[0], frame), oracle.frame_jacobian(q[0], frame), 1.0, what=frame)
+
+
+SQUARE_TASKS = {  # robot: (frame, rows in base coordinates) giving a square Jacobian
+    "two_link": ("tool", ["x", "z"]),  # Craig's X0-Y0 plane is the world X-Z plane
+    "rp_arm": ("link2", ["x", "z"]),
+    "ur5": ("tool0", None),
+    "double_pendulum": ("link2", ["y", "rx"]),  # link2's origin lies on joint 2's axis
+}  # a tree (awkward.urdf) has no single frame that every joint moves, so no square task
+
+
+@pytest.mark.parametrize("name", sorted(SQUARE_TASKS))
+def test_cartesian_terms_from_pinocchio_quantities(name):
+    """Mx = J⁻ᵀ M J⁻¹ equals (J M⁻¹ Jᵀ)⁻¹ built from Pinocchio's J and M; Vx, Gx likewise."""
+    from reference.pinocchio_oracle import PinocchioOracle
+    from tests.conftest import urdf_of
+    from course_dynamics import load_urdf
+
+    model = load_urdf(urdf_of(name))
+    oracle = PinocchioOracle(urdf_of(name), model.joint_names)
+    q, qd, _ = random_states(model, 200, seed=5)
+    frame, rows = SQUARE_TASKS[name]
+    select = list(range(6)) if rows is None else ["x", "y", "z", "rx", "ry", "rz"]
+    indices = select if rows is None else [select.index(r) for r in rows]
+    checked = 0
+    for k in range(len(q)):
+        J = oracle.frame_jacobian(q[k], frame)[indices]
+        if np.linalg.cond(J) > 1e6:
+            continue  # near a singularity (6.99) is ill-conditioned by nature
+        checked += 1
+        M = oracle.M(q[k])
+        # Both sides invert J: round-off grows with cond(J), so the tolerance is 1e-9 · cond(J).
+        terms = cartesian_dynamics(model, q[k], qd[k], frame, rows=rows)
+        Mx_ref = np.linalg.inv(J @ np.linalg.solve(M, J.T))
+        assert_agrees(terms.Mx, Mx_ref, rtol=1e-9 * np.linalg.cond(J), what=f"{name} Mx, state {k}")
+        J_inv_T = np.linalg.inv(J).T
+        J_dot = oracle.frame_jacobian_dot(q[k], qd[k], frame)[indices]
+        Vx_ref = J_inv_T @ (oracle.V(q[k], qd[k]) - M @ np.linalg.solve(J, J_dot @ qd[k]))
+        Gx_ref = J_inv_T @ oracle.G(q[k])
+        scale = np.abs(Mx_ref).max() * (1 + np.abs(qd[k]).max() ** 2)
+        assert_agrees(terms.Vx, Vx_ref, scale, rtol=1e-9 * np.linalg.cond(J), what=f"{name} Vx, state {k}")
+        assert_agrees(terms.Gx, Gx_ref, scale, rtol=1e-9 * np.linalg.cond(J), what=f"{name} Gx, state {k}")
+    assert checked >= 150, f"{name}: only {checked} well-conditioned states"
+
+
+def test_two_link_is_craig_example_6_6():
+    model = load_robot("two_link")
+    params = textbook.COURSE_PARAMETERS["two_link"]
+    q, qd, qdd = random_states(model, 200, seed=66)
+    for k in range(len(q)):
+        if abs(np.sin(q[k][1])) < 0.05:
+            continue  # s2 = 0 is the singularity of example 6.6
+        J, Mx, Vx, Gx = textbook.two_link_cartesian(q[k], qd[k], **params)
+        terms = cartesian_dynamics(model, q[k], qd[k], "tool", expressed_in="frame", rows=["x", "y"])
+        np.testing.assert_allclose(terms.J, J, rtol=1e-12, atol=1e-13)
+        np.testing.assert_allclose(terms.Mx, Mx, rtol=1e-10, atol=1e-10)
+        np.testing.assert_allclose(terms.Vx, Vx, rtol=1e-10, atol=1e-10 * np.abs(Mx).max())
+        np.testing.assert_allclose(terms.Gx, Gx, rtol=1e-10, atol=1e-10 * np.abs(Mx).max())
+        # (6.104): τ = Jᵀ (Mx Ẍ + Vx + Gx) with Ẍ = J Θ̈ + J̇ Θ̇ reproduces the joint-space torque
+        x_ddot = terms.J @ qdd[k] + terms.J_dot @ qd[k]
+        from course_dynamics import inverse_dynamics
+
+        np.testing.assert_allclose(terms.joint_torques(x_ddot), inverse_dynamics(model, q[k], qd[k], qdd[k]), rtol=1e-9, atol=1e-9)
+
+
+def test_singularity_is_a_clear_error():
+    model = load_robot("two_link")
+    with pytest.raises(SingularityError, match=r"singular at q = \[0.3, 0.0\] \(condition number"):
+        cartesian_dynamics(model, [0.3, 0.0], [0, 0], "tool", rows=["x", "y"])
+
+
+def test_non_square_task_and_unknown_names():
+    model = load_robot("two_link")
+    with pytest.raises(ValueError, match="the task has 3 rows but robot 'two_link' has 2 joints"):
+        cartesian_dynamics(model, [0.3, 0.5], [0, 0], "tool", rows=["x", "y", "z"])
+    with pytest.raises(ValueError, match="no link or frame 'hand'"):
+        jacobian(model, [0.3, 0.5], "hand")
+    with pytest.raises(ValueError, match="unknown task row 'w'"):
+        jacobian(model, [0.3, 0.5], "tool", rows=["w"])

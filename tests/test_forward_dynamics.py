@@ -1,0 +1,38 @@
+"""course_dynamics/forward_dynamics.py: (6.115) against Pinocchio's aba, and singular mass matrices."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from course_dynamics import inverse_dynamics, load_urdf
+from course_dynamics.forward_dynamics import SingularMassMatrixError, forward_dynamics
+from course_dynamics.friction import Friction
+from tests.conftest import assert_agrees
+from tests.test_urdf import arm_urdf
+
+
+def test_forward_dynamics_agrees_with_aba(robot):
+    name, model, oracle, (q, qd, tau) = robot
+    batch = forward_dynamics(model, q, qd, tau)
+    for k in range(len(q)):
+        ref = oracle.aba(q[k], qd[k], tau[k])
+        assert_agrees(forward_dynamics(model, q[k], qd[k], tau[k]), ref, what=f"{name} qdd, state {k}")
+        assert_agrees(batch[k], ref, what=f"{name} batched qdd, state {k}")
+
+
+def test_forward_then_inverse_is_identity(robot):
+    name, model, _, (q, qd, tau) = robot
+    friction = Friction(viscous=np.full(model.n, 0.3), coulomb=np.full(model.n, 0.2))
+    qdd = forward_dynamics(model, q, qd, tau, friction)
+    recovered = inverse_dynamics(model, q, qd, qdd) + friction.torques(qd)  # (6.114)
+    np.testing.assert_allclose(recovered, tau, rtol=1e-10, atol=1e-10)
+
+
+def test_massless_chain_is_a_clear_error(tmp_path):
+    path = tmp_path / "massless.urdf"
+    path.write_text(arm_urdf(mass="0", ixx="0", iyy="0", izz="0"))
+    model = load_urdf(path)
+    with pytest.raises(SingularMassMatrixError, match="joint 'joint2' moves no mass"):
+        forward_dynamics(model, [0.1, 0.2], [0, 0], [0, 0])
+    with pytest.raises(SingularMassMatrixError):
+        forward_dynamics(model, np.zeros((3, 2)), np.zeros((3, 2)), np.zeros((3, 2)))

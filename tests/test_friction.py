@@ -1,0 +1,46 @@
+"""course_dynamics/friction.py: (6.110)–(6.112), URDF defaults, behaviour at zero velocity."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from course_dynamics import load_robot
+from course_dynamics.friction import Friction
+
+
+def test_viscous_coulomb_and_combined():
+    qd = np.array([-2.0, 0.0, 3.0])
+    viscous = Friction(viscous=[0.5, 0.5, 0.5], coulomb=[0, 0, 0])
+    coulomb = Friction(viscous=[0, 0, 0], coulomb=[1.0, 1.0, 1.0])
+    combined = Friction(viscous=[0.5, 0.5, 0.5], coulomb=[1.0, 1.0, 1.0])
+    np.testing.assert_array_equal(viscous.torques(qd), [-1.0, 0.0, 1.5])  # (6.110)
+    np.testing.assert_array_equal(coulomb.torques(qd), [-1.0, 0.0, 1.0])  # (6.111), sgn(0) = 0
+    np.testing.assert_array_equal(combined.torques(qd), [-2.0, 0.0, 2.5])  # (6.112)
+
+
+def test_friction_opposes_motion_and_batches():
+    friction = Friction(viscous=[0.2, 0.1], coulomb=[0.3, 0.4], smoothing=0.01)
+    qd = np.random.default_rng(0).standard_normal((50, 2))
+    F = friction.torques(qd)
+    assert F.shape == (50, 2)
+    assert np.all(F * qd >= 0)  # F is subtracted from τ: it always takes energy out
+
+
+def test_smoothing_is_tanh():
+    friction = Friction(viscous=[0.0], coulomb=[2.0], smoothing=0.1)
+    assert friction.torques([0.05])[0] == pytest.approx(2.0 * np.tanh(0.5))
+
+
+def test_defaults_come_from_urdf_dynamics():
+    model = load_robot("panda")
+    friction = Friction.from_urdf(model)
+    np.testing.assert_array_equal(friction.viscous, [b.damping for b in model.bodies])
+    assert friction.viscous[-1] == 0.3  # <dynamics damping="0.3"/> on panda_finger_joint2
+    np.testing.assert_array_equal(Friction.none(model).coulomb, 0)
+
+
+@pytest.mark.parametrize("bad", [{"viscous": [-1.0]}, {"coulomb": [float("nan")]}])
+def test_bad_coefficients(bad):
+    values = {"viscous": [0.0], "coulomb": [0.0], **bad}
+    with pytest.raises(ValueError, match="finite and non-negative"):
+        Friction(**values)

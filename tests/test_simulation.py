@@ -1,0 +1,113 @@
+"""course_dynamics/simulation.py: integrators, energy, round trip, limits, bad input."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from course_dynamics import inverse_dynamics, load_robot
+from course_dynamics.forward_dynamics import forward_dynamics
+from course_dynamics.friction import Friction
+from course_dynamics.simulation import SimulationError, TorqueTable, simulate, total_energy
+
+# Released 65° from hanging (q1 = 0 is upright for this URDF): large, nonlinear swings of both links.
+DOUBLE_PENDULUM_START = ([2.0, 0.0], [0.0, 0.0])
+
+
+@pytest.fixture(scope="module")
+def double_pendulum():
+    return load_robot("double_pendulum_continuous")
+
+
+def test_rk4_conserves_energy_over_ten_seconds(double_pendulum):
+    """The issue's criterion: 10 s, dt = 1 ms, no torque, no friction: |E − E₀| ≤ 1e-6 |E₀|."""
+    trajectory = simulate(double_pendulum, *DOUBLE_PENDULUM_START, duration=10.0, dt=1e-3, integrator="rk4")
+    assert len(trajectory.t) == 10_001 and trajectory.t[-1] == 10.0
+    drift = np.abs(trajectory.energy - trajectory.energy[0]).max() / abs(trajectory.energy[0])
+    assert drift <= 1e-6, drift
+    assert np.abs(trajectory.q[:, 0] - 2.0).max() > 1.0  # it really swung
+
+
+def test_notes_euler_drifts_where_rk4_does_not(double_pendulum):
+    runs = {name: simulate(double_pendulum, *DOUBLE_PENDULUM_START, duration=1.0, dt=1e-3, integrator=name)
+            for name in ("euler", "semi-implicit", "rk4", "adaptive")}
+    drift = {name: np.abs(r.energy - r.energy[0]).max() / abs(r.energy[0]) for name, r in runs.items()}
+    assert drift["euler"] > drift["semi-implicit"] > 1e-2  # first order: percent-level energy errors
+    assert drift["rk4"] < 1e-6
+    assert drift["adaptive"] < 1e-8
+    np.testing.assert_allclose(runs["rk4"].q, runs["adaptive"].q, atol=1e-7)
+
+
+def test_euler_step_is_exactly_6_116_and_6_117(double_pendulum):
+    q0, qd0, dt = np.array([2.0, 0.3]), np.array([0.5, -1.0]), 0.01
+    trajectory = simulate(double_pendulum, q0, qd0, duration=dt, dt=dt, integrator="euler")
+    qdd = forward_dynamics(double_pendulum, q0, qd0, np.zeros(2))
+    np.testing.assert_array_equal(trajectory.qd[1], qd0 + qdd * dt)  # (6.116)
+    np.testing.assert_array_equal(trajectory.q[1], q0 + qd0 * dt + 0.5 * qdd * dt**2)  # (6.117)
+
+
+def test_friction_never_adds_energy(double_pendulum):
+    friction = Friction(viscous=[0.002, 0.002], coulomb=[0.001, 0.001], smoothing=0.05)
+    trajectory = simulate(double_pendulum, *DOUBLE_PENDULUM_START, duration=3.0, dt=1e-3, friction=friction)
+    steps = np.diff(trajectory.energy)
+    assert np.all(steps <= 1e-9 * abs(trajectory.energy[0])), steps.max()
+    assert trajectory.energy[-1] < trajectory.energy[0] - 0.01
+
+
+def test_round_trip_recovers_applied_torques():
+    """Simulate under a callable torque, then feed Θ, Θ̇, Θ̈ back to inverse dynamics."""
+    model = load_robot("ur5")
+    torque = lambda t, q, qd: np.array([2.0 * np.sin(3 * t), 10.0, -5.0, 1.0, 0.5 * t, -0.2]) - 0.5 * qd  # noqa: E731
+    trajectory = simulate(model, np.zeros(6), np.zeros(6), duration=0.3, dt=1e-3, torque=torque)
+    recovered = inverse_dynamics(model, trajectory.q, trajectory.qd, trajectory.qdd)
+    np.testing.assert_allclose(recovered, trajectory.tau, rtol=1e-10, atol=1e-10)
+    np.testing.assert_allclose(trajectory.tau[:, 1], 10.0 - 0.5 * trajectory.qd[:, 1])
+
+
+def test_torque_table_interpolates_linearly():
+    table = TorqueTable(t=[0.0, 1.0], tau=[[0.0, 2.0], [1.0, 4.0]])
+    np.testing.assert_allclose(table(0.25), [0.25, 2.5])
+    np.testing.assert_allclose(table(5.0), [1.0, 4.0])  # held after the last row
+    model = load_robot("two_link")
+    trajectory = simulate(model, [0, 0], [0, 0], duration=0.1, dt=0.01, torque=table)
+    np.testing.assert_allclose(trajectory.tau[:, 0], trajectory.t)
+
+
+def test_energy_is_kinetic_plus_potential():
+    model = load_robot("pendulum")
+    trajectory = simulate(model, [1.0], [0.0], duration=0.5, dt=1e-3)
+    expected = 0.5 * trajectory.qd[:, 0] ** 2 - 9.81 * np.cos(trajectory.q[:, 0])  # m = l = 1; u_ref at the pivot
+    np.testing.assert_allclose(trajectory.energy, expected, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(total_energy(model, trajectory.q, trajectory.qd), trajectory.energy)
+
+
+def test_limits_are_reported_or_enforced():
+    model = load_robot("rp_arm")  # d2 in [0.1, 0.8]; held horizontal, d2 slides freely
+    push = [0.0, 5.0]
+    reported = simulate(model, [0.0, 0.5], [0.0, 0.0], duration=1.0, dt=1e-3, torque=push, limits="report")
+    assert reported.q[:, 1].max() > 0.8
+    assert len(reported.events) == 1 and "joint 'd2' passed its upper limit 0.8" in reported.events[0]
+    stopped = simulate(model, [0.0, 0.5], [0.0, 0.0], duration=1.0, dt=1e-3, torque=push, limits="stop")
+    assert stopped.q[:, 1].max() == 0.8 and stopped.qd[-1, 1] == 0.0
+    assert "joint 'd2' stopped at its upper limit 0.8" in stopped.events[0]
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    (dict(dt=0.0), "dt must be a positive number"),
+    (dict(dt=-1e-3), "dt must be a positive number"),
+    (dict(duration=0.0), "duration must be a positive number"),
+    (dict(duration=float("nan")), "duration must be a positive number"),
+    (dict(integrator="leapfrog"), "unknown integrator 'leapfrog'"),
+    (dict(limits="bounce"), "unknown limits mode 'bounce'"),
+    (dict(integrator="adaptive", limits="stop"), "needs a fixed-step integrator"),
+    (dict(torque=lambda t, q, qd: np.array([np.inf, 0.0])), "the torque at t = 0 s is \\[inf, 0.0\\]"),
+])
+def test_bad_input(kwargs, message):
+    model = load_robot("two_link")
+    arguments = {"duration": 0.1, "dt": 0.01, **kwargs}
+    with pytest.raises(SimulationError, match=message):
+        simulate(model, [0, 0], [0, 0], **arguments)
+
+
+def test_constant_torque_must_be_finite():
+    with pytest.raises(ValueError, match="torque for joint 'theta2' is nan"):
+        simulate(load_robot("two_link"), [0, 0], [0, 0], duration=0.1, dt=0.01, torque=[0.0, float("nan")])
