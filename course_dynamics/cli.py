@@ -226,6 +226,8 @@ def cmd_simulate(args) -> int:
                             smoothing=args.smoothing)
     out = Path(args.out)
     _check_writable(out)
+    if args.plot:
+        _check_writable(Path(args.plot))
     steps = int(np.ceil(args.duration / args.dt - 1e-9)) if args.dt > 0 and args.duration > 0 else 0
     progress = _progress_bar(total=steps, enabled=not args.quiet, delay=1.0)
     trajectory = simulate(model, q0, qd0, args.duration, args.dt, integrator=args.integrator, torque=torque,
@@ -233,11 +235,16 @@ def cmd_simulate(args) -> int:
     progress.close()
     header, data = trajectory.table()
     write_csv_atomically(out, header, data)
+    if args.plot:
+        from .plotting import plot_trajectory
+
+        plot_trajectory(trajectory, args.plot, title=f"{model.name}: {args.integrator}, dt = {args.dt:g} s")
     for event in trajectory.events:
         print(f"warning: {event}", file=sys.stderr)
     summary = dict(robot=model.name, joints=list(model.joint_names), integrator=args.integrator, dt=args.dt,
                    duration=args.duration, samples=len(trajectory.t), energy_start=float(trajectory.energy[0]),
-                   energy_end=float(trajectory.energy[-1]), events=list(trajectory.events), out=str(out))
+                   energy_end=float(trajectory.energy[-1]), events=list(trajectory.events), out=str(out),
+                   plot=args.plot)
     if args.json:
         _print_json(summary)
     else:
@@ -386,6 +393,7 @@ def build_parser() -> Parser:
     p.add_argument("--limits", choices=("report", "stop"), default="report",
                    help="at a joint limit: report it and go on, or stop the joint there (default report)")
     p.add_argument("--out", required=True, help="output CSV (written whole or not at all)")
+    p.add_argument("--plot", help="also draw q(t), qd(t) and energy(t) to this PNG file")
     p.add_argument("--json", action="store_true", help="print a JSON summary")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(run=cmd_simulate)

@@ -205,8 +205,14 @@ def test_simulate_torque_csv_friction_and_limit_warning(capsys, tmp_path):
     torque.write_text("t,tau_theta1,tau_d2\n0,0,5\n1,0,5\n")
     out = tmp_path / "sim.csv"
     code, _, err = run(capsys, "simulate", "rp_arm", "--q0", "0,0.5", "--duration", "1", "--dt", "0.002",
-                       "--torque-csv", str(torque), "--viscous", "0.1,0.1", "--out", str(out), "--quiet")
+                       "--torque-csv", str(torque), "--viscous", "0.1,0.1", "--out", str(out), "--quiet",
+                       "--plot", str(tmp_path / "sim.png"))
     assert code == 0
+    import matplotlib.image
+
+    picture = matplotlib.image.imread(tmp_path / "sim.png")
+    assert picture.shape[0] > 400 and picture.shape[1] > 400
+    assert picture[..., :3].std() > 0.05  # curves drawn, not a blank canvas
     assert "warning: t = " in err and "joint 'd2' passed its upper limit 0.8" in err
     data = np.loadtxt(out, delimiter=",", skiprows=1)
     np.testing.assert_allclose(data[:, 8], 5.0)  # tau_d2 column
