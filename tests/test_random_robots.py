@@ -42,7 +42,7 @@ def write_urdf(path, specs) -> None:
             f'rpy="{" ".join(map(str, spec["com_rpy"]))}"/><mass value="{spec["mass"]}"/>'
             f'<inertia ixx="{a}" iyy="{b}" izz="{c}" ixy="0" ixz="0" iyz="0"/></inertial></link>'
         )
-        parent = int(spec["parent"] * k)  # any earlier link: chains and branches
+        parent = min(int(spec["parent"] * k), k - 1)  # any earlier link: chains and branches
         limit = '<limit lower="-2" upper="2" effort="1" velocity="1"/>' if spec["type"] in ("revolute", "prismatic") else ""
         parts.append(
             f'<joint name="j{k}" type="{spec["type"]}"><parent link="link{parent}"/><child link="link{k}"/>'
@@ -53,7 +53,7 @@ def write_urdf(path, specs) -> None:
     path.write_text("".join(parts))
 
 
-@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@settings(max_examples=40, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(specs=st.lists(link_specs(), min_size=1, max_size=5).filter(lambda s: any(x["type"] != "fixed" for x in s)))
 def test_random_tree_agrees_with_pinocchio(tmp_path, specs):
     path = tmp_path / "random.urdf"
