@@ -22,9 +22,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .algebra import Dual, Vec3, cross
+from .algebra import Dual, Mat3, Vec3
 from .dynamics import gravity_torques, mass_matrix, velocity_torques
-from .kinematics import _placements
+from .kinematics import _placements, point_jacobian_columns
 from .model import Model, ModelError
 from .state import as_state, columns, layout_of
 
@@ -39,33 +39,18 @@ class SingularityError(ValueError):
 def _jacobian_entries(model: Model, theta: list, frame_name: str, expressed_in: str) -> list:
     """J as 6 rows of n per-joint scalars."""
     frame = model.frame(frame_name)
-    zero_column = (0, 0, 0, 0, 0, 0)
     if frame.body < 0:
-        return [list(row) for row in zip(*([zero_column] * model.n))]
+        return [[0] * model.n for _ in range(6)]
     R, P, _ = _placements(model, theta)
     b = frame.body
-    R_frame = R[b] @ _mat(frame.R)
+    R_frame = R[b] @ Mat3.of(frame.R)
     P_frame = P[b] + R[b] @ Vec3.of(frame.P)
-    cols = [zero_column] * model.n
-    j = b
-    while j >= 0:  # the joints that move the frame: body b and its ancestors
-        body = model.bodies[j]
-        z = R[j] @ body.axis_v  # ⁰Ẑⱼ
-        if body.is_prismatic:
-            linear, angular = z, Vec3(0, 0, 0)
-        else:
-            linear, angular = cross(z, P_frame - P[j]), z
+    rows = []
+    for linear, angular in point_jacobian_columns(model, R, P, b, P_frame):
         if expressed_in == "frame":
             linear, angular = R_frame.T @ linear, R_frame.T @ angular
-        cols[j] = (*linear, *angular)
-        j = body.parent
-    return [[cols[j][r] for j in range(model.n)] for r in range(6)]
-
-
-def _mat(array):
-    from .algebra import Mat3
-
-    return Mat3.of(array)
+        rows.append((*linear, *angular))
+    return [[rows[j][r] for j in range(model.n)] for r in range(6)]
 
 
 def _row_indices(rows) -> list[int]:

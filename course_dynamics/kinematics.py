@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .algebra import Vec3, dot
+from .algebra import Vec3, cross, dot
 from .model import Model
 from .newton_euler import joint_transforms
 from .state import as_state, columns, layout_of
@@ -44,6 +44,26 @@ def _placements(model: Model, theta: list):
         P.append(P_i)
         P_com.append(P_i + R_i @ body.p_com_v)
     return R, P, P_com
+
+
+def point_jacobian_columns(model: Model, R: list, P: list, body: int, point: Vec3) -> list:
+    """Columns (J_v[:, j], J_ω[:, j]) of a point fixed to ``body``, base coordinates.
+
+    ``R``, ``P`` are the base-frame placements ⁰ᵢR, ⁰Pᵢ of every body and ``point``
+    is ⁰P of the point. Joint j moves the point when body j is ``body`` or one of
+    its ancestors: a revolute joint adds ⁰Ẑⱼ × (⁰P − ⁰Pⱼ) to its velocity and ⁰Ẑⱼ
+    to the angular velocity, a prismatic joint adds ⁰Ẑⱼ and no rotation.
+    Other columns are zero.
+    """
+    zero = Vec3(0, 0, 0)
+    cols = [(zero, zero)] * model.n
+    j = body
+    while j >= 0:
+        joint = model.bodies[j]
+        z = R[j] @ joint.axis_v  # ⁰Ẑⱼ
+        cols[j] = (z, zero) if joint.is_prismatic else (cross(z, point - P[j]), z)
+        j = joint.parent
+    return cols
 
 
 def forward_kinematics(model: Model, q) -> Placements:

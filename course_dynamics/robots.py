@@ -6,6 +6,7 @@ name                           file
 ``two_link``                   robots/two_link.urdf (Craig 6.7)
 ``rp_arm``                     robots/rp_arm.urdf (Craig example 6.5)
 ``pendulum``                   robots/pendulum.urdf (the notes' pendulum)
+``rrr_arm``                    robots/rrr_arm.urdf (a spatial 3R arm, for 3-joint derivations)
 ``ur5``                        example-robot-data ur_description/urdf/ur5_robot.urdf
 ``panda``                      example-robot-data panda_description/urdf/panda.urdf
                                (7 arm joints and both finger joints)
@@ -34,6 +35,7 @@ COURSE_ROBOTS = {
     "two_link": "two_link.urdf",
     "rp_arm": "rp_arm.urdf",
     "pendulum": "pendulum.urdf",
+    "rrr_arm": "rrr_arm.urdf",
 }
 
 EXAMPLE_ROBOTS = {
