@@ -288,6 +288,41 @@ def _check_writable(path: Path) -> None:
         raise UsageError(f"{path}: not writable")
 
 
+def _symbol_names(text) -> tuple[str, ...]:
+    return tuple(name.strip() for name in text.split(",") if name.strip()) if text else ()
+
+
+def cmd_trace(args) -> int:
+    from .trace import as_dict, as_latex, as_table, trace
+
+    model = _load(args.urdf)
+    if args.symbolic:
+        result = trace(model, None, None, None, symbols=_symbol_names(args.symbols))
+    else:
+        if args.q is None:
+            raise UsageError("--q is required unless --symbolic is given")
+        result = trace(model, _joint_values(args.q, "--q", model), _joint_values(args.qd, "--qd", model),
+                       _joint_values(args.qdd, "--qdd", model))
+    if args.format == "json":
+        _print_json(as_dict(result))
+    else:
+        print(as_latex(result) if args.format == "latex" else as_table(result))
+    return 0
+
+
+def cmd_derive(args) -> int:
+    from .symbolic import derive
+    from .trace import derivation_dict, derivation_text
+
+    model = _load(args.urdf)
+    derivation = derive(model, _symbol_names(args.symbols), method=args.method)
+    if args.format == "json":
+        _print_json(derivation_dict(derivation))
+    else:
+        print(derivation_text(derivation, args.format))
+    return 0
+
+
 def cmd_validate(args) -> int:
     if args.samples < 1:
         raise UsageError("--samples must be at least 1")
@@ -397,6 +432,32 @@ def build_parser() -> Parser:
     p.add_argument("--json", action="store_true", help="print a JSON summary")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(run=cmd_simulate)
+
+    p = sub.add_parser("trace", help="the Newton-Euler iterations link by link (numeric or symbolic)",
+                       description="Show omega, omega_dot, v_dot, v_dot_C, F, N (outward, 6.45-6.50) and f, n, tau "
+                                   "(inward, 6.51-6.53) for every link, each in its own frame, as the notes' worked "
+                                   "example lays them out.")
+    p.add_argument("urdf", help="URDF file or shipped robot name")
+    p.add_argument("--q", help="joint positions (numeric trace)")
+    p.add_argument("--qd", help="joint velocities (default 0)")
+    p.add_argument("--qdd", help="joint accelerations (default 0)")
+    p.add_argument("--symbolic", action="store_true", help="symbolic trace in q_<joint>, qd_<joint>, qdd_<joint>")
+    p.add_argument("--symbols", help="with --symbolic: parameters kept as symbols, e.g. m1,m2,l1,l2,g")
+    p.add_argument("--format", choices=("table", "latex", "json"), default="table", help="output format (default table)")
+    p.set_defaults(run=cmd_trace)
+
+    p = sub.add_parser("derive", help="closed-form tau, M, V, G and Craig's B, C (symbolic)",
+                       description="Derive the equations of motion symbolically by Newton-Euler or by Lagrange: "
+                                   "tau = M(q) qdd + B(q)[qd qd] + C(q)[qd^2] + G(q) (6.63). Joint variables are "
+                                   "q_<joint>, qd_<joint>, qdd_<joint>; parameters not named in --symbols are the "
+                                   "URDF's numbers, made exact.")
+    p.add_argument("urdf", help="URDF file or shipped robot name (at most 4 joints)")
+    p.add_argument("--symbols", help="parameters kept symbolic: m<i>, l<i>, I<xx|yy|zz|xy|xz|yz><i>, g "
+                                     "(a one-joint robot also takes m, l)")
+    p.add_argument("--method", choices=("newton-euler", "lagrange"), default="newton-euler")
+    p.add_argument("--format", choices=("markdown", "latex", "json"), default="markdown",
+                   help="json has keys joints, tau, M, V, G, B, C; each entry a string sympy.sympify parses")
+    p.set_defaults(run=cmd_derive)
 
     p = sub.add_parser("validate", help="compare every term with Pinocchio on random states",
                        description="Evaluate tau, M, C, V, G with course_dynamics and with Pinocchio on seeded random "

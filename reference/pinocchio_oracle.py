@@ -100,3 +100,31 @@ class PinocchioOracle:
         pin.updateFramePlacements(self.model, self.data)
         dJ = pin.getFrameJacobianTimeVariation(self.model, self.data, frame_id, self._reference_frame(expressed_in))
         return np.reshape(dJ, (6, self.model.nv))[:, self.idx_v].copy()
+
+    def link_quantities(self, q, qd, qdd) -> dict[str, np.ndarray]:
+        """Craig's per-link quantities from Pinocchio's RNEA data, each (n, 3) in our body order.
+
+        Pinocchio keeps spatial quantities in each joint frame (= our frame i):
+        ``v[i]`` (linear velocity of the origin, ω), ``a_gf[i]`` (spatial
+        acceleration with the −g base lift), ``f[i]`` (force and moment on body i
+        from its parent, about the origin). Craig's v̇ is the classical
+        acceleration of the origin, a.linear + ω × v.linear; at the COM c it is
+        a.linear + ω̇ × c + ω × (v.linear + ω × c). The body's inertial load
+        I a + v ×* I v gives ⁱFᵢ (linear) and ⁱNᵢ + c × ⁱFᵢ (angular).
+        """
+        pin.rnea(self.model, self.data, self.configuration(q), self.velocity(qd), self.velocity(qdd))
+        out = {key: [] for key in ("omega", "omega_dot", "v_dot", "v_dot_c", "F", "N", "f", "n")}
+        for name in self.joint_names:
+            joint = self.model.getJointId(name)
+            v, a, inertia = self.data.v[joint], self.data.a_gf[joint], self.model.inertias[joint]
+            c, w = inertia.lever, v.angular
+            load = inertia * a + v.cross(inertia * v)
+            out["omega"].append(w)
+            out["omega_dot"].append(a.angular)
+            out["v_dot"].append(a.linear + np.cross(w, v.linear))
+            out["v_dot_c"].append(a.linear + np.cross(a.angular, c) + np.cross(w, v.linear + np.cross(w, c)))
+            out["F"].append(load.linear)
+            out["N"].append(load.angular - np.cross(c, load.linear))
+            out["f"].append(self.data.f[joint].linear)
+            out["n"].append(self.data.f[joint].angular)
+        return {key: np.array(values) for key, values in out.items()}

@@ -269,3 +269,44 @@ def test_simulate_singular_mass_matrix(capsys, tmp_path):
     code, _, err = run(capsys, "simulate", str(urdf), "--q0", "0,0", "--duration", "0.1", "--dt", "0.01", "--out", str(out))
     assert_one_line_error(code, err, "mass matrix of robot 'probe' is singular", "joint 'joint2' moves no mass")
     assert not out.exists() and list(tmp_path.iterdir()) == [urdf]
+
+
+def test_trace_json_and_symbolic(capsys):
+    code, out, _ = run(capsys, "trace", "two_link", "--q", "0.3,-0.8", "--qd", "1.1,0.6", "--qdd", "-0.4,0.9", "--format", "json")
+    assert code == 0
+    doc = json.loads(out)
+    np.testing.assert_allclose([link["tau"] for link in doc["links"]],
+                               inverse_dynamics(load_robot("two_link"), [0.3, -0.8], [1.1, 0.6], [-0.4, 0.9]))
+    code, out, _ = run(capsys, "trace", "pendulum", "--symbolic", "--symbols", "m,l,g")
+    assert code == 0 and "tau_1 = l*m*(g*sin(q_theta) + l*qdd_theta)" in out
+
+
+def test_derive_json_parses_and_evaluates(capsys):
+    import sympy
+
+    code, out, _ = run(capsys, "derive", "rp_arm", "--symbols", "m2,g", "--method", "lagrange", "--format", "json")
+    assert code == 0
+    doc = json.loads(out)
+    assert list(doc) == ["joints", "tau", "M", "V", "G", "B", "C"]
+    values = {"q_theta1": 0.4, "q_d2": 0.6, "qd_theta1": -1.0, "qd_d2": 0.3, "qdd_theta1": 0.2, "qdd_d2": -0.5, "m2": 1.5, "g": 9.81}
+    tau = [float(sympy.sympify(e).subs(values)) for e in doc["tau"]]
+    np.testing.assert_allclose(tau, inverse_dynamics(load_robot("rp_arm"), [0.4, 0.6], [-1.0, 0.3], [0.2, -0.5]), rtol=1e-12)
+
+
+def test_derive_latex_and_markdown(capsys):
+    code, out, _ = run(capsys, "derive", "two_link", "--symbols", "m1,m2,l1,l2,g", "--format", "latex")
+    assert code == 0 and r"\begin{align*}" in out and r"B(\Theta)" in out
+    code, out, _ = run(capsys, "derive", "pendulum")
+    assert code == 0 and "$$ M(\\Theta)" in out
+
+
+@pytest.mark.parametrize("argv, fragments", [
+    (["derive", "ur5"], ["robot 'ur5' has 6 joints; the symbolic path handles at most 4"]),
+    (["derive", "two_link", "--symbols", "m1,mass2"], ["unknown symbol 'mass2' for robot 'two_link'; known: g, l1, l2, m1, m2"]),
+    (["trace", "panda", "--symbolic"], ["robot 'panda' has 9 joints"]),
+    (["trace", "two_link"], ["--q is required unless --symbolic is given"]),
+    (["derive", "missing.urdf"], ["missing.urdf: no such file"]),
+])
+def test_symbolic_bad_input(capsys, argv, fragments):
+    code, _, err = run(capsys, *argv)
+    assert_one_line_error(code, err, *fragments)
