@@ -1,0 +1,332 @@
+"""The lecture notes, checked equation by equation (reference/errata.md).
+
+Each misprint has a test that evaluates the equation as printed and as
+corrected at a concrete state: the corrected form agrees with Pinocchio (or
+with exact differentiation), the printed one does not. Equations found correct
+are checked here too where no other test covers them.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import sympy
+
+from course_dynamics import inverse_dynamics, load_robot, newton_euler_links, robot_path
+from course_dynamics import lagrange
+from course_dynamics.cartesian import cartesian_dynamics
+from course_dynamics.newton_euler import JointTransforms, inward_iteration, joint_transforms, outward_iteration
+from course_dynamics.algebra import Vec3
+from course_dynamics.state import columns
+from reference.pinocchio_oracle import PinocchioOracle
+from reference.validate import random_states
+
+t = sympy.Symbol("t", real=True)
+
+
+def rotation(axis, angle):
+    """Rodrigues, sympy."""
+    a = sympy.Matrix(axis) / sympy.sqrt(sum(x**2 for x in axis))
+    K = sympy.Matrix([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+    return sympy.eye(3) + sympy.sin(angle) * K + (1 - sympy.cos(angle)) * K * K
+
+
+def moving_frame():
+    """A frame {B} turning about a fixed oblique axis with θ(t) = 0.7 t + 0.4 t², and its Ω, Ω̇ in {A}."""
+    axis = (1, 2, 2)
+    theta = sympy.Rational(7, 10) * t + sympy.Rational(2, 5) * t**2
+    R = rotation(axis, theta)
+    unit = sympy.Matrix(axis) / 3
+    return R, unit * theta.diff(t), unit * theta.diff(t, 2)
+
+
+def at(expression, time=sympy.Rational(13, 10)):
+    return np.array(sympy.Matrix(expression).subs(t, time).evalf(30), dtype=float).ravel()
+
+
+def cross(a, b):
+    return a.cross(b)
+
+
+# ---------------------------------------------------------------- accelerations (6.10), (6.12), (6.15)
+
+def test_6_10_printed_has_an_extra_coriolis_term():
+    R, Omega, Omega_dot = moving_frame()
+    Q = sympy.Matrix([1 + t, 2 * t**2, -t])  # ᴮQ(t), moving in {B}
+    V, V_dot = Q.diff(t), Q.diff(t, 2)
+    truth = at((R * Q).diff(t, 2))  # ᴬV̇_Q by exact differentiation, origins coincide
+    correct = R * V_dot + 2 * cross(Omega, R * V) + cross(Omega_dot, R * Q) + cross(Omega, cross(Omega, R * Q))
+    printed = cross(Omega, R * V) + 2 * cross(Omega, R * V) + R * V_dot + cross(Omega_dot, R * Q) + cross(Omega, cross(Omega, R * Q))
+    np.testing.assert_allclose(at(correct), truth, rtol=1e-12)
+    assert np.abs(at(printed) - truth).max() > 0.1
+
+
+def test_6_12_fixed_point_is_correct():
+    R, Omega, Omega_dot = moving_frame()
+    Q = sympy.Matrix([1, -2, sympy.Rational(1, 2)])  # ᴮQ constant
+    correct = cross(Omega_dot, R * Q) + cross(Omega, cross(Omega, R * Q))  # (6.12) with ᴬV̇_BORG = 0
+    np.testing.assert_allclose(at(correct), at((R * Q).diff(t, 2)), rtol=1e-12)
+
+
+def test_6_15_angular_acceleration_is_correct():
+    R_AB, Omega_B, Omega_B_dot = moving_frame()
+    R_BC = rotation((0, 0, 1), 3 * t**2)  # {C} turns about ᴮẐ
+    Omega_C_in_B = sympy.Matrix([0, 0, 6 * t])
+    R_AC = R_AB * R_BC
+    skew = R_AC.diff(t) * R_AC.T  # [ᴬΩ_C]ₓ
+    Omega_C = sympy.Matrix([skew[2, 1], skew[0, 2], skew[1, 0]])
+    correct = Omega_B_dot + R_AB * Omega_C_in_B.diff(t) + cross(Omega_B, R_AB * Omega_C_in_B)  # (6.15)
+    np.testing.assert_allclose(at(correct), at(Omega_C.diff(t)), rtol=1e-10)
+
+
+# ---------------------------------------------------------------- inertia: example 6.1, 6.2, parallel axis
+
+def box_integrals():
+    x, y, z, w, l, h, rho = sympy.symbols("x y z w l h rho", positive=True)
+    m = rho * w * l * h
+
+    def integral(f):
+        return sympy.simplify(sympy.integrate(f * rho, (x, 0, w), (y, 0, l), (z, 0, h)) / m)
+
+    return x, y, z, w, l, h, integral
+
+
+def test_example_6_1_is_correct():
+    x, y, z, w, l, h, per_mass = box_integrals()
+    assert sympy.simplify(per_mass(y**2 + z**2) - (l**2 + h**2) / 3) == 0  # Ixx = m/3 (l² + h²)
+    assert sympy.simplify(per_mass(x * y) - w * l / 4) == 0  # Ixy = m/4 w l
+
+
+def test_example_6_2_is_correct():
+    x, y, z, w, l, h, per_mass = box_integrals()
+    about_com = per_mass((x - w / 2) ** 2 + (y - l / 2) ** 2)
+    assert sympy.simplify(about_com - (w**2 + l**2) / 12) == 0  # ᶜI_zz = m/12 (w² + l²)
+
+
+def test_parallel_axis_product_of_inertia_sign():
+    """ᴬI_xy = ᶜI_xy + m x_c y_c (with I_xy = ∫xy ρ dv); the notes print − m x_c y_c."""
+    x, y, z, w, l, h, per_mass = box_integrals()
+    I_xy_A = per_mass(x * y)  # about the corner: m w l / 4 (example 6.1)
+    I_xy_C = per_mass((x - w / 2) * (y - l / 2))  # about the centre: 0
+    x_c, y_c = w / 2, l / 2
+    assert sympy.simplify(I_xy_A - (I_xy_C + x_c * y_c)) == 0  # corrected, per unit mass
+    assert sympy.simplify(I_xy_A - (I_xy_C - x_c * y_c)) != 0  # as printed
+    I_zz_A = per_mass(x**2 + y**2)
+    I_zz_C = per_mass((x - w / 2) ** 2 + (y - l / 2) ** 2)
+    assert sympy.simplify(I_zz_A - (I_zz_C + x_c**2 + y_c**2)) == 0  # ᴬI_zz = ᶜI_zz + m(x_c² + y_c²): correct
+
+
+# ---------------------------------------------------------------- the Newton–Euler iterations (6.45)–(6.53)
+
+@pytest.fixture(scope="module")
+def panda():
+    model = load_robot("panda")
+    oracle = PinocchioOracle(robot_path("panda"), model.joint_names)
+    q, qd, qdd = random_states(model, 1, seed=21)
+    return model, oracle, q[0], qd[0], qdd[0]
+
+
+def printed_outward_rotation(model, q, qd, qdd):
+    """(6.45)–(6.47) as printed: ⁱR^{i+1} (the rotation of frame i+1 in i) where ⁱ⁺¹ᵢR belongs."""
+    X = joint_transforms(model, columns(q))
+    X_printed = JointTransforms(R=X.R, R_T=X.R, P=X.P)
+    out = outward_iteration(model, X_printed, columns(qd), columns(qdd), Vec3.of(model.gravity))
+    return np.array(inward_iteration(model, X, out).tau)
+
+
+def test_6_45_to_6_47_rotation_is_inverted_in_print(panda):
+    model, oracle, q, qd, qdd = panda
+    reference = oracle.tau(q, qd, qdd)
+    np.testing.assert_allclose(inverse_dynamics(model, q, qd, qdd), reference, rtol=1e-12, atol=1e-12)
+    assert np.abs(printed_outward_rotation(model, q, qd, qdd) - reference).max() > 0.1
+
+
+def test_6_48_com_acceleration(panda):
+    """Printed: ω̇ᵢ × ⁱ⁺¹Pᵢ₊₁ + … with ⁱ⁺¹Pᵢ₊₁ = 0, i.e. the COM would move as the frame origin."""
+    model, oracle, q, qd, qdd = panda
+    ref = oracle.link_quantities(q, qd, qdd)
+    links = newton_euler_links(model, q, qd, qdd)
+    np.testing.assert_allclose(links.v_dot_c, ref["v_dot_c"], rtol=1e-10, atol=1e-10)
+    printed = links.v_dot  # the printed right-hand side reduces to ⁱ⁺¹v̇ᵢ₊₁
+    assert np.abs(printed - ref["v_dot_c"]).max() > 0.1
+
+
+def test_6_50_euler_uses_the_com_inertia_twice(panda):
+    """Printed: N = ᶜI ω̇ + ω × ⁱ⁺¹I ω, the second inertia about the frame origin instead of the COM."""
+    model, oracle, q, qd, qdd = panda
+    ref = oracle.link_quantities(q, qd, qdd)
+    links = newton_euler_links(model, q, qd, qdd)
+    np.testing.assert_allclose(links.N, ref["N"], rtol=1e-10, atol=1e-12)
+    printed = []
+    for body, w, w_dot in zip(model.bodies, links.omega, links.omega_dot):
+        c = body.p_com
+        I_origin = body.I_com + body.mass * (c @ c * np.eye(3) - np.outer(c, c))  # parallel axis
+        printed.append(body.I_com @ w_dot + np.cross(w, I_origin @ w))
+    assert np.abs(np.array(printed) - ref["N"]).max() > 1e-3
+
+
+def serial_inward_printed(model, links, X, variant):
+    """The inward iteration of a serial chain with one printed misprint switched on."""
+    n = model.n
+    f, m_ = [None] * n, [None] * n
+    for i in reversed(range(n)):
+        body = model.bodies[i]
+        F, N = links.F[i], links.N[i]
+        f_i, n_i = F.copy(), N + np.cross(body.p_com, F)
+        if i + 1 < n:
+            R = np.array(X.R[i + 1].rows, dtype=float)
+            P = np.array(tuple(X.P[i + 1]), dtype=float)
+            if variant == "6.51":  # ⁱfᵢ = ⁱI ⁱR f + F: the stray inertia factor
+                f_i = body.I_com @ R @ f[i + 1] + F
+            else:
+                f_i = R @ f[i + 1] + F
+            if variant == "6.52":  # N_{i+1}, ⁱPᵢ × Fᵢ (= 0) and ⁱ⁺¹R^{i+1} (= 1) as printed
+                n_i = links.N[i + 1] + R @ m_[i + 1] + np.zeros(3) + np.cross(P, f[i + 1])
+            else:
+                n_i = n_i + R @ m_[i + 1] + np.cross(P, R @ f[i + 1])
+        elif variant == "6.52":
+            n_i = np.zeros(3) + np.zeros(3)  # Nₙ₊₁ = 0 and ⁿPₙ × Fₙ = 0 leave nothing
+        f[i], m_[i] = f_i, n_i
+    return np.array([n_i @ b.axis for n_i, b in zip(m_, model.bodies)])
+
+
+@pytest.mark.parametrize("variant", ["6.51", "6.52"])
+def test_6_51_and_6_52_inward_iteration(variant):
+    model = load_robot("ur5")  # a serial chain of revolute joints
+    oracle = PinocchioOracle(robot_path("ur5"), model.joint_names)
+    q, qd, qdd = (x[0] for x in random_states(model, 1, seed=5))
+    links = newton_euler_links(model, q, qd, qdd)
+    X = joint_transforms(model, columns(q))
+    reference = oracle.tau(q, qd, qdd)
+    np.testing.assert_allclose(serial_inward_printed(model, links, X, "corrected"), reference, rtol=1e-12, atol=1e-12)
+    assert np.abs(serial_inward_printed(model, links, X, variant) - reference).max() > 0.1
+
+
+# ---------------------------------------------------------------- the worked two-link example (section 6.7)
+
+@pytest.fixture(scope="module")
+def two_link_state():
+    model = load_robot("two_link")
+    oracle = PinocchioOracle(robot_path("two_link"), model.joint_names)
+    q, qd, qdd = np.array([0.3, -0.8]), np.array([1.1, 0.6]), np.array([-0.4, 0.9])
+    return model, oracle.link_quantities(q, qd, qdd), q, qd, qdd
+
+
+def test_worked_example_v_dot_c1_y_component(two_link_state):
+    """Printed ¹v̇_C1 = (−l1θ̇1² + g s1, l1θ̈1 + g s1, 0); the y component is l1θ̈1 + g c1."""
+    model, ref, q, qd, qdd = two_link_state
+    l1, g, s1, c1 = 0.5, 9.81, np.sin(q[0]), np.cos(q[0])
+    correct = [-l1 * qd[0] ** 2 + g * s1, l1 * qdd[0] + g * c1, 0]
+    printed = [-l1 * qd[0] ** 2 + g * s1, l1 * qdd[0] + g * s1, 0]
+    np.testing.assert_allclose(ref["v_dot_c"][0], correct, atol=1e-12)
+    assert abs(printed[1] - ref["v_dot_c"][0][1]) > 1.0
+
+
+def test_worked_example_F1_uses_the_com_acceleration(two_link_state):
+    """Printed ¹F₁ = m₁ ¹v̇₁; Newton's law (6.49) needs ¹v̇_C1."""
+    model, ref, q, qd, qdd = two_link_state
+    m1 = 2.0
+    np.testing.assert_allclose(ref["F"][0], m1 * ref["v_dot_c"][0], atol=1e-12)
+    assert np.abs(m1 * ref["v_dot"][0] - ref["F"][0]).max() > 0.1
+
+
+def test_worked_example_link2(two_link_state):
+    """²v̇₂ = ²₁R ¹v̇_C1 (right, given the corrected ¹v̇_C1); ²v̇_C2 printed with ¹ω̇₁ for ²ω̇₂."""
+    model, ref, q, qd, qdd = two_link_state
+    c2, s2, l2 = np.cos(q[1]), np.sin(q[1]), 0.4
+    R21 = np.array([[c2, s2, 0], [-s2, c2, 0], [0, 0, 1]])
+    np.testing.assert_allclose(ref["v_dot"][1], R21 @ ref["v_dot_c"][0], atol=1e-12)
+    P_c2 = np.array([l2, 0, 0])
+    w2 = np.array([0, 0, qd[0] + qd[1]])
+    correct = np.cross([0, 0, qdd[0] + qdd[1]], P_c2) + np.cross(w2, np.cross(w2, P_c2)) + ref["v_dot"][1]
+    printed = np.cross([0, 0, qdd[0]], P_c2) + np.cross(w2, np.cross(w2, P_c2)) + ref["v_dot"][1]
+    np.testing.assert_allclose(ref["v_dot_c"][1], correct, atol=1e-12)
+    assert np.abs(printed - ref["v_dot_c"][1]).max() > 0.1
+
+
+# ---------------------------------------------------------------- structure (6.63)–(6.65) and Lagrange
+
+def test_6_65_centrifugal_vector():
+    """[Θ̇²] = (θ̇1², θ̇2², …, θ̇n²); the notes print θ̇1² twice."""
+    model = load_robot("rrr_arm")
+    q, qd = np.array([0.3, -0.6, 1.1]), np.array([0.9, -1.3, 0.4])
+    B, C = lagrange.configuration_space_terms(model, q)
+    coriolis = B @ np.array([qd[j] * qd[k] for j, k in lagrange.velocity_pairs(3)])
+    V = lagrange.velocity_torques(model, q, qd)
+    np.testing.assert_allclose(coriolis + C @ qd**2, V, rtol=1e-12, atol=1e-14)
+    printed = np.array([qd[0] ** 2, qd[0] ** 2, qd[2] ** 2])
+    assert np.abs(coriolis + C @ printed - V).max() > 1e-3
+    assert B.shape == (3, 3)  # n(n−1)/2 products; for the two-link arm B is 2 × 1 times the scalar θ̇1θ̇2
+
+
+def test_two_link_split_shapes():
+    B, C = lagrange.configuration_space_terms(load_robot("two_link"), [0.3, 0.5])
+    assert B.shape == (2, 1) and C.shape == (2, 2)  # printed: a 2 × 1 B times a 2-vector [θ̇1θ̇2; θ̇1θ̇2]
+
+
+def test_pendulum_lagrange_equation_sign():
+    """Printed: m l² ω̇ − m g l sin θ = 0; with ∂L/∂θ = −m g l sin θ it is m l² θ̈ + m g l sin θ = 0."""
+    model = load_robot("pendulum")
+    oracle = PinocchioOracle(robot_path("pendulum"), model.joint_names)
+    m, l, g, theta = 1.0, 1.0, 9.81, 0.7
+    free_fall = oracle.aba([theta], [0.0], [0.0])[0]
+    np.testing.assert_allclose(free_fall, -g / l * np.sin(theta), rtol=1e-12)  # corrected
+    assert abs(free_fall - (+g / l * np.sin(theta))) > 1.0  # as printed
+    assert np.isclose(m * l**2 * free_fall + m * g * l * np.sin(theta), 0.0, atol=1e-12)
+
+
+def test_example_6_5_steps_are_correct():
+    """k₁, k₂, u₁, u₂ and the Lagrange terms of example 6.5 against our symbolic Lagrangian path."""
+    from course_dynamics.kinematics import potential_energy
+    from course_dynamics.symbolic import joint_symbols, symbolic_model
+
+    model, p = symbolic_model(load_robot("rp_arm"), ("m1", "m2", "l1", "Izz1", "Izz2", "g"))
+    q, qd, _ = joint_symbols(model)
+    m1, m2, l1, Izz1, Izz2, g = (p[k] for k in ("m1", "m2", "l1", "Izz1", "Izz2", "g"))
+    (t1, d2), (td1, dd2) = q, qd
+    k = lagrange.link_kinetic_energies(model, q, qd)
+    assert sympy.simplify(k[0] - (m1 * l1**2 * td1**2 / 2 + Izz1 * td1**2 / 2)) == 0
+    assert sympy.simplify(k[1] - (m2 * (d2**2 * td1**2 + dd2**2) / 2 + Izz2 * td1**2 / 2)) == 0
+    u = potential_energy(model, q)[()]  # a 0-d object array holds the expression
+    d2_max = sympy.Symbol("d2max")
+    u_notes = m1 * l1 * g * sympy.sin(t1) + m1 * l1 * g + m2 * d2 * g * sympy.sin(t1) + m2 * d2_max * g
+    assert sympy.diff(sympy.simplify(u - u_notes), t1) == 0 and sympy.diff(sympy.simplify(u - u_notes), d2) == 0  # equal up to u_ref
+    K = sum(k)
+    assert sympy.simplify(sympy.diff(K, td1) - (m1 * l1**2 + Izz1 + Izz2 + m2 * d2**2) * td1) == 0
+    assert sympy.simplify(sympy.diff(K, d2) - m2 * d2 * td1**2) == 0
+    assert sympy.simplify(sympy.diff(u, t1) - g * (m1 * l1 + m2 * d2) * sympy.cos(t1)) == 0
+    assert sympy.simplify(sympy.diff(u, d2) - g * m2 * sympy.sin(t1)) == 0
+
+
+# ---------------------------------------------------------------- Cartesian space, example 6.6, (6.105)
+
+@pytest.fixture(scope="module")
+def example_6_6():
+    model = load_robot("two_link")
+    q, qd, qdd = np.array([0.4, 0.9]), np.array([0.7, -1.2]), np.array([0.3, 0.5])
+    return model, q, qd, qdd, cartesian_dynamics(model, q, qd, "tool", expressed_in="frame", rows=["x", "y"])
+
+
+def test_example_6_6_jacobian(example_6_6):
+    """Printed J = [[l1 s2, 0], [l1 c2, l2]]; Craig's ³J (5.66) has l1 c2 + l2. The printed J⁻¹ and J̇ are right."""
+    model, q, qd, qdd, terms = example_6_6
+    l1, l2, s2, c2 = 0.5, 0.4, np.sin(q[1]), np.cos(q[1])
+    printed = np.array([[l1 * s2, 0], [l1 * c2, l2]])
+    correct = np.array([[l1 * s2, 0], [l1 * c2 + l2, l2]])
+    np.testing.assert_allclose(terms.J, correct, atol=1e-12)
+    assert np.abs(printed - terms.J).max() > 0.3
+    J_inv_printed = np.array([[l2, 0], [-l1 * c2 - l2, l1 * s2]]) / (l1 * l2 * s2)
+    np.testing.assert_allclose(J_inv_printed @ correct, np.eye(2), atol=1e-12)
+    J_dot_printed = np.array([[l1 * c2 * qd[1], 0], [-l1 * s2 * qd[1], 0]])
+    np.testing.assert_allclose(terms.J_dot, J_dot_printed, atol=1e-12)
+
+
+def test_6_105_applies_J_transpose_to_every_term(example_6_6):
+    """Printed τ = Jᵀ M Ẍ + B_x + C_x + G_x; correct τ = Jᵀ (M_x Ẍ + V_x + G_x) (6.104)."""
+    model, q, qd, qdd, terms = example_6_6
+    tau = inverse_dynamics(model, q, qd, qdd)
+    x_ddot = terms.J @ qdd + terms.J_dot @ qd  # (6.97)
+    np.testing.assert_allclose(terms.joint_torques(x_ddot), tau, rtol=1e-10)
+    from course_dynamics import mass_matrix
+
+    printed = terms.J.T @ mass_matrix(model, q) @ x_ddot + terms.Vx + terms.Gx
+    assert np.abs(printed - tau).max() > 1.0
