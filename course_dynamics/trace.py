@@ -81,18 +81,32 @@ def as_table(t: Trace) -> str:
     return "\n".join(lines)
 
 
-def _latex_entry(x) -> str:
+def latex_names(joints, prismatic) -> dict:
+    """Craig's letters for the joint symbols: q_<joint> → θᵢ (dᵢ if prismatic), qd → θ̇ᵢ, qdd → θ̈ᵢ."""
+    import sympy
+
+    names = {}
+    for i, (joint, is_prismatic) in enumerate(zip(joints, prismatic), start=1):
+        letter = "d" if is_prismatic else r"\theta"
+        for prefix, accent in (("q", ""), ("qd", r"\dot"), ("qdd", r"\ddot")):
+            names[sympy.Symbol(f"{prefix}_{joint}", real=True)] = f"{accent}{{{letter}}}_{{{i}}}" if accent else f"{letter}_{{{i}}}"
+    return names
+
+
+def _latex_entry(x, names=None) -> str:
     if isinstance(x, float):
         return f"{x:.6g}"
     import sympy
 
-    return sympy.latex(x)
+    return sympy.latex(x, symbol_names=names or {})
 
 
 def as_latex(t: Trace) -> str:
     """LaTeX: one ``align*`` block per iteration, one line per quantity, Craig's leading superscripts."""
+    names = latex_names(t.joints, t.prismatic)
+
     def vector(values):
-        return r"\begin{bmatrix}" + r" \\ ".join(_latex_entry(x) for x in values) + r"\end{bmatrix}"
+        return r"\begin{bmatrix}" + r" \\ ".join(_latex_entry(x, names) for x in values) + r"\end{bmatrix}"
 
     out = [r"% Newton-Euler iterations of " + t.model_name, r"\begin{align*}"]
     for i in range(len(t.links)):
@@ -102,7 +116,7 @@ def as_latex(t: Trace) -> str:
     for i in reversed(range(len(t.links))):
         for key, _, symbol, number in INWARD:
             out.append(f"{{}}^{{{i + 1}}}{symbol}_{{{i + 1}}} &= {vector(t.values[key][i])} && \\text{{{number}}} \\\\")
-        out.append(f"\\tau_{{{i + 1}}} &= {_latex_entry(t.tau[i])} \\\\")
+        out.append(f"\\tau_{{{i + 1}}} &= {_latex_entry(t.tau[i], names)} \\\\")
     out.append(r"\end{align*}")
     return "\n".join(out)
 
@@ -139,7 +153,8 @@ def derivation_text(d, fmt: str) -> str:
     import sympy
 
     n = len(d.joints)
-    pairs = ", ".join(f"\\dot q_{j + 1}\\dot q_{k + 1}" for j, k in d.pairs) or "\\,"
+    names = latex_names(d.joints, d.prismatic)
+    pairs = ", ".join(f"{names[d.qd[j]]}{names[d.qd[k]]}" for j, k in d.pairs) or "none"
     blocks = [
         (r"\tau", sympy.Matrix(d.tau)), (r"M(\Theta)", sympy.Matrix(d.M)), (r"V(\Theta,\dot\Theta)", sympy.Matrix(d.V)),
         (r"G(\Theta)", sympy.Matrix(d.G)),
@@ -149,11 +164,11 @@ def derivation_text(d, fmt: str) -> str:
     header = (f"Closed-form dynamics by {d.method}: joints {', '.join(d.joints)}; parameter symbols: {symbols}. "
               f"tau = M qdd + B [{pairs}] + C [qd^2] + G (6.63).")
     if fmt == "latex":
-        body = "\n".join(f"{name} &= {sympy.latex(value)} \\\\" for name, value in blocks)
+        body = "\n".join(f"{name} &= {sympy.latex(value, symbol_names=names)} \\\\" for name, value in blocks)
         return f"% {header}\n\\begin{{align*}}\n{body}\n\\end{{align*}}"
     lines = [f"**{header}**", ""]
     for name, value in blocks:
-        lines += [f"$$ {name} = {sympy.latex(value)} $$", ""]
+        lines += [f"$$ {name} = {sympy.latex(value, symbol_names=names)} $$", ""]
     return "\n".join(lines)
 
 

@@ -330,3 +330,18 @@ def test_6_105_applies_J_transpose_to_every_term(example_6_6):
 
     printed = terms.J.T @ mass_matrix(model, q) @ x_ddot + terms.Vx + terms.Gx
     assert np.abs(printed - tau).max() > 1.0
+
+
+def test_errata_document_names_existing_tests():
+    """Every test reference/errata.md cites exists, so the document cannot drift from the suite."""
+    import re
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parent.parent
+    text = (root / "reference" / "errata.md").read_text()
+    cited = re.findall(r"`(?:(tests/\w+\.py)::)?(test_\w+)(?:\[[^\]]*\])?`", text)
+    assert len(cited) >= 30
+    sources = {path: path.read_text() for path in (root / "tests").glob("test_*.py")}
+    for file, name in cited:
+        where = [root / file] if file else list(sources)
+        assert any(f"def {name}(" in sources[path] for path in where), f"errata.md cites missing {file}::{name}"

@@ -1,0 +1,32 @@
+"""Symbolic derivation time: the two-link arm and the 3-joint rrr_arm, both methods.
+
+Run:  python benchmarks/bench_symbolic.py
+
+Targets (issue 3): two-link < 5 s, a 3-joint arm < 60 s on this machine. Each
+line times `derive` (raw derivation, B/C extraction and simplification).
+"""
+from __future__ import annotations
+
+import time
+
+from course_dynamics import load_robot
+from course_dynamics.symbolic import derive
+
+CASES = [("two_link", ("m1", "m2", "l1", "l2", "g")), ("rp_arm", ("m1", "m2", "l1", "Izz1", "Izz2", "g")),
+         ("rrr_arm", ()), ("rrr_arm", ("m1", "m2", "m3", "l2", "l3", "g"))]
+
+
+def main() -> None:
+    print(f"{'robot':<10} {'symbols':<32} {'newton-euler':>13} {'lagrange':>10}")
+    for name, symbols in CASES:
+        model = load_robot(name)
+        times = []
+        for method in ("newton-euler", "lagrange"):
+            start = time.perf_counter()
+            derive(model, symbols, method)
+            times.append(time.perf_counter() - start)
+        print(f"{name:<10} {','.join(symbols) or '(URDF numbers)':<32} {times[0]:>12.2f}s {times[1]:>9.2f}s")
+
+
+if __name__ == "__main__":
+    main()
