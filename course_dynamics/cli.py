@@ -226,8 +226,9 @@ def cmd_simulate(args) -> int:
                             smoothing=args.smoothing)
     out = Path(args.out)
     _check_writable(out)
-    if args.plot:
-        _check_writable(Path(args.plot))
+    for extra in (args.plot, args.html):
+        if extra:
+            _check_writable(Path(extra))
     steps = int(np.ceil(args.duration / args.dt - 1e-9)) if args.dt > 0 and args.duration > 0 else 0
     progress = _progress_bar(total=steps, enabled=not args.quiet, delay=1.0)
     trajectory = simulate(model, q0, qd0, args.duration, args.dt, integrator=args.integrator, torque=torque,
@@ -239,6 +240,8 @@ def cmd_simulate(args) -> int:
         from .plotting import plot_trajectory
 
         plot_trajectory(trajectory, args.plot, title=f"{model.name}: {args.integrator}, dt = {args.dt:g} s")
+    if args.html:
+        _export_animation(Path(args.html), model, resolve(args.urdf), trajectory.t, trajectory.q, trajectory.tau, args)
     for event in trajectory.events:
         print(f"warning: {event}", file=sys.stderr)
     summary = dict(robot=model.name, joints=list(model.joint_names), integrator=args.integrator, dt=args.dt,
@@ -277,6 +280,51 @@ def cmd_cartesian(args) -> int:
     print("\nVx: " + " ".join(f"{x:.6g}" for x in terms.Vx))
     print("Gx: " + " ".join(f"{x:.6g}" for x in terms.Gx))
     return 0
+
+
+def _export_animation(path: Path, model, urdf, t, q, tau, args) -> None:
+    import warnings
+
+    from .viewer import MeshWarning, export_html
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", MeshWarning)
+        export_html(path, model, urdf, geometry=args.geometry, t=t, q=q, tau=tau if args.torques else None,
+                    trace_path=args.path)
+    for warning in caught:
+        print(f"warning: {warning.message}", file=sys.stderr)
+
+
+def cmd_animate(args) -> int:
+    model = _load(args.urdf)
+    joints = model.joint_names
+    html = Path(args.html)
+    _check_writable(html)
+    columns = read_columns(Path(args.trajectory), ["t"] + _joint_columns(("q",), joints),
+                           _joint_columns(("qd", "qdd", "tau"), joints) + ["energy"])
+    q = _stack(columns, "q", joints)
+    tau = None
+    if args.torques:
+        if all(f"tau_{j}" in columns for j in joints):
+            tau = _stack(columns, "tau", joints)
+        elif all(f"{k}_{j}" in columns for k in ("qd", "qdd") for j in joints):
+            tau = inverse_dynamics(model, q, _stack(columns, "qd", joints), _stack(columns, "qdd", joints))
+        else:
+            raise UsageError(f"{args.trajectory}: --torques needs tau_<joint> columns, or qd_<joint> and qdd_<joint> to compute them")
+    if np.any(np.diff(columns["t"]) <= 0):
+        raise UsageError(f"{args.trajectory}: times in column 't' must increase")
+    _export_animation(html, model, resolve(args.urdf), columns["t"], q, tau, args)
+    print(f"wrote {html} ({html.stat().st_size / 1e6:.2f} MB, {len(q)} samples); open it in any browser, offline", file=sys.stderr)
+    return 0
+
+
+def _add_animation_options(p, html_required: bool) -> None:
+    p.add_argument("--html", required=html_required, help="write a self-contained HTML animation (opens offline)")
+    p.add_argument("--geometry", choices=("auto", "visual", "collision", "stick"), default="auto",
+                   help="what to draw: URDF visual or collision meshes, or a stick model; auto picks the lightest "
+                        "faithful one (default)")
+    p.add_argument("--torques", action="store_true", help="draw joint torques as bars along the joint axes")
+    p.add_argument("--path", action="store_true", help="draw the end-effector path")
 
 
 def _check_writable(path: Path) -> None:
@@ -429,6 +477,7 @@ def build_parser() -> Parser:
                    help="at a joint limit: report it and go on, or stop the joint there (default report)")
     p.add_argument("--out", required=True, help="output CSV (written whole or not at all)")
     p.add_argument("--plot", help="also draw q(t), qd(t) and energy(t) to this PNG file")
+    _add_animation_options(p, html_required=False)
     p.add_argument("--json", action="store_true", help="print a JSON summary")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(run=cmd_simulate)
@@ -458,6 +507,15 @@ def build_parser() -> Parser:
     p.add_argument("--format", choices=("markdown", "latex", "json"), default="markdown",
                    help="json has keys joints, tau, M, V, G, B, C; each entry a string sympy.sympify parses")
     p.set_defaults(run=cmd_derive)
+
+    p = sub.add_parser("animate", help="animate a trajectory CSV as a self-contained HTML file (meshcat)",
+                       description="Draw the robot (URDF meshes or a stick model) and animate a trajectory with "
+                                   "columns t and q_<joint> (a simulate output works) as meshcat keyframes, in one "
+                                   "HTML file that opens offline in any browser.")
+    p.add_argument("urdf", help="URDF file or shipped robot name")
+    p.add_argument("--trajectory", required=True, help="CSV with t, q_<joint> (qd_, qdd_, tau_, energy allowed)")
+    _add_animation_options(p, html_required=True)
+    p.set_defaults(run=cmd_animate)
 
     p = sub.add_parser("validate", help="compare every term with Pinocchio on random states",
                        description="Evaluate tau, M, C, V, G with course_dynamics and with Pinocchio on seeded random "
