@@ -180,18 +180,22 @@ def stick_shapes(model: Model) -> dict:
     return shapes
 
 
+def _y_along(direction: np.ndarray) -> np.ndarray:
+    """A rotation whose y axis points along ``direction`` (meshcat cylinders run along y)."""
+    y = direction / np.linalg.norm(direction)
+    helper = np.array([1.0, 0, 0]) if abs(y[0]) < 0.9 else np.array([0, 0, 1.0])
+    x = np.cross(y, helper)
+    x /= np.linalg.norm(x)
+    return np.column_stack([x, y, np.cross(x, y)])
+
+
 def _segment(start: np.ndarray, end: np.ndarray, radius: float, colour: int) -> Shape:
-    """A cylinder from ``start`` to ``end`` (meshcat cylinders run along their y axis)."""
-    vector = end - start
-    length = float(np.linalg.norm(vector))
+    """A cylinder from ``start`` to ``end``."""
+    length = float(np.linalg.norm(end - start))
     T = np.eye(4)
     T[:3, 3] = (start + end) / 2
     if length > 1e-12:
-        y = vector / length
-        helper = np.array([1.0, 0, 0]) if abs(y[0]) < 0.9 else np.array([0, 0, 1.0])
-        x = np.cross(y, helper)
-        x /= np.linalg.norm(x)
-        T[:3, :3] = np.column_stack([x, y, np.cross(x, y)])
+        T[:3, :3] = _y_along(end - start)
     return Shape("cylinder_y", T, (radius, max(length, 1e-6)), colour=colour)
 
 
@@ -324,13 +328,10 @@ def animate(vis, model: Model, t: np.ndarray, q: np.ndarray, tau: np.ndarray | N
 
 def _torque_bar(T_body: np.ndarray, axis: np.ndarray, length: float) -> np.ndarray:
     """A unit cylinder (along y) stretched to ``length`` along the joint axis, starting at the joint."""
-    base = _segment(np.zeros(3), axis, 1.0, 0).T  # orientation with y along the axis
     stretch = np.diag([1.0, length if abs(length) > 1e-9 else 1e-9, 1.0, 1.0])
-    offset = np.eye(4)
-    offset[:3, 3] = axis * length / 2
-    R = np.eye(4)
-    R[:3, :3] = base[:3, :3]
-    return T_body @ offset @ R @ stretch
+    placement = np.eye(4)
+    placement[:3, :3], placement[:3, 3] = _y_along(axis), axis * length / 2
+    return T_body @ placement @ stretch
 
 
 # ---------------------------------------------------------------------------------- offline HTML

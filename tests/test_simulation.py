@@ -111,3 +111,10 @@ def test_bad_input(kwargs, message):
 def test_constant_torque_must_be_finite():
     with pytest.raises(ValueError, match="torque for joint 'theta2' is nan"):
         simulate(load_robot("two_link"), [0, 0], [0, 0], duration=0.1, dt=0.01, torque=[0.0, float("nan")])
+
+
+def test_a_state_that_blows_up_is_an_error():
+    model = load_robot("pendulum")
+    with np.errstate(over="ignore", invalid="ignore"):
+        with pytest.raises(SimulationError, match="the state became non-finite near t = .* \\(try a smaller dt\\)"):
+            simulate(model, [0.1], [0.0], duration=1.0, dt=0.5, integrator="euler", torque=lambda t, q, qd: np.array([1e300]))
