@@ -17,8 +17,16 @@ CASES = [("two_link", ("m1", "m2", "l1", "l2", "g")), ("rp_arm", ("m1", "m2", "l
 
 
 def main() -> None:
+    import argparse
+
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--robots", help="comma-separated subset of the robots (default all cases)")
+    args = parser.parse_args()
+    chosen = set(args.robots.split(",")) if args.robots else None
     print(f"{'robot':<10} {'symbols':<32} {'newton-euler':>13} {'lagrange':>10}")
     for name, symbols in CASES:
+        if chosen is not None and name not in chosen:
+            continue
         model = load_robot(name)
         times = []
         for method in ("newton-euler", "lagrange"):
