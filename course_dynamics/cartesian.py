@@ -25,7 +25,7 @@ import numpy as np
 from .algebra import Dual, Mat3, Vec3
 from .dynamics import gravity_torques, mass_matrix, velocity_torques
 from .kinematics import _placements, point_jacobian_columns
-from .model import Model, ModelError
+from .model import Model
 from .state import as_state, columns, layout_of
 
 ROW_NAMES = ("x", "y", "z", "rx", "ry", "rz")

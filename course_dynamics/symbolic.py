@@ -108,8 +108,16 @@ def parameter_values(model: Model) -> dict[str, float]:
     return values
 
 
-def _resolve(model: Model, name: str) -> str:
-    known = parameter_values(model)
+def check_symbolic_size(model: Model) -> None:
+    """SymbolError for robots with more joints than the symbolic path handles in reasonable time."""
+    if model.n > MAX_SYMBOLIC_JOINTS:
+        raise SymbolError(
+            f"robot '{model.name}' has {model.n} joints; the symbolic path handles at most {MAX_SYMBOLIC_JOINTS} "
+            "in reasonable time (use the numeric functions)"
+        )
+
+
+def _resolve(model: Model, name: str, known: dict) -> str:
     if name in known:
         return name
     if model.n == 1 and f"{name}1" in known:
@@ -126,7 +134,8 @@ def symbolic_model(model: Model, symbols=()) -> tuple[Model, dict[str, object]]:
     sympy = _sympy()
     exact = rationalize(model)
     table = {name: sympy.Symbol(name, positive=True) for name in symbols}
-    resolved = {_resolve(model, name): symbol for name, symbol in table.items()}
+    known = parameter_values(model)
+    resolved = {_resolve(model, name, known): symbol for name, symbol in table.items()}
     bodies = list(exact.bodies)
     for i in range(model.n):
         number = i + 1
@@ -237,11 +246,7 @@ def derive(model: Model, symbols=(), method: str = "newton-euler", simplify: boo
     from .newton_euler import inverse_dynamics
 
     sympy = _sympy()
-    if model.n > MAX_SYMBOLIC_JOINTS:
-        raise SymbolError(
-            f"robot '{model.name}' has {model.n} joints; the symbolic path handles at most {MAX_SYMBOLIC_JOINTS} "
-            "in reasonable time (use the numeric functions)"
-        )
+    check_symbolic_size(model)
     if method not in ("newton-euler", "lagrange"):
         raise SymbolError(f"unknown method '{method}' (newton-euler or lagrange)")
     exact, parameters = symbolic_model(model, symbols)

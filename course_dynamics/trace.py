@@ -45,10 +45,9 @@ def trace(model: Model, q, qd, qdd, symbols=None) -> Trace:
         values = {key: getattr(links, key).tolist() for key, *_ in OUTWARD + INWARD}
         tau = links.tau.tolist()
     else:
-        from .symbolic import MAX_SYMBOLIC_JOINTS, SymbolError, joint_symbols, symbolic_model, tidy
+        from .symbolic import check_symbolic_size, joint_symbols, symbolic_model, tidy
 
-        if model.n > MAX_SYMBOLIC_JOINTS:
-            raise SymbolError(f"robot '{model.name}' has {model.n} joints; the symbolic path handles at most {MAX_SYMBOLIC_JOINTS}")
+        check_symbolic_size(model)
         exact, _ = symbolic_model(model, symbols)
         q_s, qd_s, qdd_s = joint_symbols(model)
         links = newton_euler_links(exact, q_s, qd_s, qdd_s)

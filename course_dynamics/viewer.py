@@ -400,18 +400,23 @@ def _place_camera(vis, model: Model, q) -> None:
     vis["/Cameras/default/rotated/<object>"].set_property("position", [x, z, -y])  # three.js is y up
 
 
-def export_html(path, model: Model, urdf, geometry: str = "auto", t=None, q=None, tau=None, trace_path: bool = False) -> RobotGeometry:
-    """Write a self-contained HTML file of the robot (and its animation); whole or not at all."""
+def scene_document(model: Model, urdf, geometry: str = "auto", t=None, q=None, tau=None,
+                   trace_path: bool = False) -> tuple[str, RobotGeometry]:
+    """The scene (and animation) recorded into one self-contained HTML page, with the geometry drawn."""
     import meshcat
 
+    window = RecordingWindow()
+    shapes = build_scene(meshcat.Visualizer(window=window), model, urdf, geometry, t, q, tau, trace_path)
+    return html_document(window.commands, title=f"{model.name} — course-dynamics"), shapes
+
+
+def export_html(path, model: Model, urdf, geometry: str = "auto", t=None, q=None, tau=None, trace_path: bool = False) -> RobotGeometry:
+    """Write a self-contained HTML file of the robot (and its animation); whole or not at all."""
     path = Path(path)
     directory = path.parent if str(path.parent) else Path(".")
     if not directory.is_dir():
         raise ViewerError(f"{path}: directory {directory} does not exist")
-    window = RecordingWindow()
-    vis = meshcat.Visualizer(window=window)
-    shapes = build_scene(vis, model, urdf, geometry, t, q, tau, trace_path)
-    document = html_document(window.commands, title=f"{model.name} — course-dynamics")
+    document, shapes = scene_document(model, urdf, geometry, t, q, tau, trace_path)
     temporary = path.with_name(f".{path.name}.partial")
     try:
         temporary.write_text(document)
@@ -498,11 +503,8 @@ def show(model: Model, urdf, geometry: str = "auto", t=None, q=None, tau=None, p
     """
     if static:
         import html
-        import meshcat
 
-        window = RecordingWindow()
-        build_scene(meshcat.Visualizer(window=window), model, urdf, geometry, t, q, tau, path)
-        document = html_document(window.commands, title=model.name)
+        document, _ = scene_document(model, urdf, geometry, t, q, tau, path)
         return _StaticHTML(f'<iframe srcdoc="{html.escape(document)}" style="width: 100%; height: 420px; border: none"></iframe>')
     viewer = start_server()
     build_scene(viewer.vis, model, urdf, geometry, t, q, tau, path)

@@ -57,7 +57,7 @@ def pendulum(q, qd, m, l, g):
 
 def two_link_cartesian(q, qd, m1, m2, l1, l2, g):
     """Craig example 6.6: ³J (5.66) and M_x, V_x, G_x (6.101)–(6.103) of the two-link arm in frame {3}."""
-    s1, c1, s2, c2 = np.sin(q[0]), np.cos(q[0]), np.sin(q[1]), np.cos(q[1])
+    c1, s2, c2 = np.cos(q[0]), np.sin(q[1]), np.cos(q[1])
     s12, c12 = np.sin(q[0] + q[1]), np.cos(q[0] + q[1])
     td1, td2 = qd
     J = np.array([[l1 * s2, 0.0], [l1 * c2 + l2, l2]])

@@ -49,7 +49,7 @@ def test_link_quantities_are_consistent_with_tau(robot):
 def test_two_link_worked_example_link_by_link():
     """The notes' section 6.7 example, the quantities as Craig derives them by hand."""
     arm = load_robot("two_link")
-    m1, m2, l1, l2, g = 2.0, 1.0, 0.5, 0.4, 9.81  # robots/two_link.urdf
+    m2, l1, g = 1.0, 0.5, 9.81  # robots/two_link.urdf
     t1, t2, td1, td2, tdd1, tdd2 = 0.3, -0.8, 1.1, 0.6, -0.4, 0.9
     links = newton_euler_links(arm, [t1, t2], [td1, td2], [tdd1, tdd2])
     s1, c1, s2, c2 = np.sin(t1), np.cos(t1), np.sin(t2), np.cos(t2)
