@@ -6,7 +6,6 @@ For UR5 and Panda it prints the time per state of
   * our τ for one state               vs  pin.rnea on one state,
   * our τ over a batch of N states    vs  pin.rnea in a Python loop and pin.rneaInParallel (1 thread),
 and the ratios (ours / Pinocchio). Each figure is the best of --repeat runs.
-Issue targets: one state ≤ 250 µs on UR5; batch ≤ 2 µs per sample.
 """
 from __future__ import annotations
 
@@ -17,8 +16,8 @@ import numpy as np
 import pinocchio as pin
 
 from course_dynamics import inverse_dynamics, load_robot, robot_path
-from reference.pinocchio_oracle import PinocchioOracle
-from reference.validate import random_states
+from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
+from course_dynamics_reference.validate import random_states
 
 
 def best_time(function, repeat: int, number: int) -> float:

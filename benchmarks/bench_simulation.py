@@ -18,7 +18,7 @@ import pinocchio as pin
 
 from course_dynamics import load_robot, robot_path
 from course_dynamics.simulation import simulate
-from reference.pinocchio_oracle import PinocchioOracle
+from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
 
 
 def main() -> None:
@@ -35,19 +35,9 @@ def main() -> None:
     t_ours = time.perf_counter() - start
 
     # The same RK4 loop, with Pinocchio's aba as the acceleration function.
-    import course_dynamics.simulation as simulation
-
-    def aba_accelerations(model_, q, qd, tau, friction=None):
-        return oracle.aba(q, qd, tau)
-
-    original = simulation.solve_accelerations
-    simulation.solve_accelerations = aba_accelerations
-    try:
-        start = time.perf_counter()
-        theirs = simulate(model, q0, qd0, args.duration, args.dt, integrator="rk4")
-        t_pin = time.perf_counter() - start
-    finally:
-        simulation.solve_accelerations = original
+    start = time.perf_counter()
+    theirs = simulate(model, q0, qd0, args.duration, args.dt, integrator="rk4", dynamics=oracle.aba)
+    t_pin = time.perf_counter() - start
 
     steps = len(ours.t) - 1
     print(f"UR5, {args.duration:g} s at dt = {args.dt:g} s with RK4 ({steps} steps, {4 * steps + len(ours.t)} dynamics calls)")

@@ -2,8 +2,7 @@
 
 Run:  python benchmarks/bench_symbolic.py
 
-Targets (issue 3): two-link < 5 s, a 3-joint arm < 60 s on this machine. Each
-line times `derive` (raw derivation, B/C extraction and simplification).
+Each line times `derive` (raw derivation, B/C extraction and simplification).
 """
 from __future__ import annotations
 

@@ -10,16 +10,18 @@ the Coriolis matrix C(Θ, Θ̇), for one state, a batch of states or sympy symbo
 ('theta1', 'theta2')
 """
 from .dynamics import DynamicsTerms, coriolis_matrix, dynamics_terms, gravity_torques, mass_matrix, velocity_torques
+from .errors import CourseDynamicsError, InputError, ModelError, StateError, UnknownRobotError
+from .forward_dynamics import forward_dynamics
 from .kinematics import forward_kinematics, potential_energy
-from .model import Body, Model, ModelError
+from .model import Body, Model
 from .newton_euler import LinkQuantities, inverse_dynamics, newton_euler_links
 from .robots import load_robot, robot_names, robot_path
-from .state import StateError
 from .urdf import load_urdf
 
 __all__ = [
-    "Body", "DynamicsTerms", "LinkQuantities", "Model", "ModelError", "StateError",
-    "coriolis_matrix", "dynamics_terms", "forward_kinematics", "gravity_torques", "inverse_dynamics",
-    "load_robot", "load_urdf", "mass_matrix", "newton_euler_links", "potential_energy",
+    "Body", "CourseDynamicsError", "DynamicsTerms", "InputError", "LinkQuantities", "Model", "ModelError",
+    "StateError", "UnknownRobotError",
+    "coriolis_matrix", "dynamics_terms", "forward_dynamics", "forward_kinematics", "gravity_torques",
+    "inverse_dynamics", "load_robot", "load_urdf", "mass_matrix", "newton_euler_links", "potential_energy",
     "robot_names", "robot_path", "velocity_torques",
 ]

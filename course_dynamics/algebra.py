@@ -15,7 +15,8 @@ component type                use
 
 Notation: ``cross(a, b)`` is a × b, ``dot(a, b)`` is aᵀb, ``R @ v`` is the
 rotation of v, ``R.T`` the transpose (so ``R.T @ v`` maps a vector from the
-parent frame into the child frame when R = ⁱ⁻¹ᵢR).
+parent frame into the child frame when R = ᵖᵢR, the orientation of frame i
+in its parent p).
 """
 from __future__ import annotations
 

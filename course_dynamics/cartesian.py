@@ -22,17 +22,19 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .algebra import Dual, Mat3, Vec3
+from .algebra import Dual
 from .dynamics import gravity_torques, mass_matrix, velocity_torques
-from .kinematics import _placements, point_jacobian_columns
+from .errors import CourseDynamicsError, InputError
+from .kinematics import frame_placement_entries, placement_entries, point_jacobian_columns
 from .model import Model
-from .state import as_state, columns, layout_of
+from .state import as_state, entries, layout_of
 
 ROW_NAMES = ("x", "y", "z", "rx", "ry", "rz")
+EXPRESSED_IN = ("base", "frame")
 MAX_CONDITION = 1e8  # beyond this J is treated as singular
 
 
-class SingularityError(ValueError):
+class SingularityError(CourseDynamicsError):
     """The task Jacobian is singular or nearly so at the given state."""
 
 
@@ -41,12 +43,10 @@ def _jacobian_entries(model: Model, theta: list, frame_name: str, expressed_in: 
     frame = model.frame(frame_name)
     if frame.body < 0:
         return [[0] * model.n for _ in range(6)]
-    R, P, _ = _placements(model, theta)
-    b = frame.body
-    R_frame = R[b] @ Mat3.of(frame.R)
-    P_frame = P[b] + R[b] @ Vec3.of(frame.P)
+    placed = placement_entries(model, theta)
+    R_frame, P_frame = frame_placement_entries(placed, frame)
     rows = []
-    for linear, angular in point_jacobian_columns(model, R, P, b, P_frame):
+    for linear, angular in point_jacobian_columns(model, placed, frame.body, P_frame):
         if expressed_in == "frame":
             linear, angular = R_frame.T @ linear, R_frame.T @ angular
         rows.append((*linear, *angular))
@@ -60,15 +60,15 @@ def _row_indices(rows) -> list[int]:
     for row in rows:
         if isinstance(row, str):
             if row not in ROW_NAMES:
-                raise ValueError(f"unknown task row '{row}' (rows are {', '.join(ROW_NAMES)})")
+                raise InputError(f"unknown task row '{row}' (rows are {', '.join(ROW_NAMES)})")
             row = ROW_NAMES.index(row)
         indices.append(int(row))
     return indices
 
 
 def _check_expressed_in(expressed_in: str) -> None:
-    if expressed_in not in ("base", "frame"):
-        raise ValueError(f"expressed_in must be 'base' or 'frame', got '{expressed_in}'")
+    if expressed_in not in EXPRESSED_IN:
+        raise InputError(f"expressed_in must be one of {', '.join(EXPRESSED_IN)}, got '{expressed_in}'")
 
 
 def jacobian(model: Model, q, frame: str, expressed_in: str = "base", rows=None) -> np.ndarray:
@@ -79,8 +79,8 @@ def jacobian(model: Model, q, frame: str, expressed_in: str = "base", rows=None)
     """
     _check_expressed_in(expressed_in)
     q = as_state(model, q, "q")
-    entries = _jacobian_entries(model, columns(q), frame, expressed_in)
-    selected = [entries[r] for r in _row_indices(rows)]
+    J = _jacobian_entries(model, entries(q), frame, expressed_in)
+    selected = [J[r] for r in _row_indices(rows)]
     return layout_of(q).assemble(selected, (len(selected), model.n))
 
 
@@ -88,9 +88,9 @@ def jacobian_dot(model: Model, q, qd, frame: str, expressed_in: str = "base", ro
     """J̇(Θ, Θ̇) = d/dt J(Θ(t)): same shape as :func:`jacobian`; exact (dual numbers)."""
     _check_expressed_in(expressed_in)
     q, qd = as_state(model, q, "q"), as_state(model, qd, "qd")
-    theta = [Dual(a, b) for a, b in zip(columns(q), columns(qd))]
-    entries = _jacobian_entries(model, theta, frame, expressed_in)
-    selected = [[x.b if isinstance(x, Dual) else 0 for x in entries[r]] for r in _row_indices(rows)]
+    theta = [Dual(a, b) for a, b in zip(entries(q), entries(qd))]
+    J = _jacobian_entries(model, theta, frame, expressed_in)
+    selected = [[x.b if isinstance(x, Dual) else 0 for x in J[r]] for r in _row_indices(rows)]
     return layout_of(q, qd).assemble(selected, (len(selected), model.n))
 
 
@@ -118,17 +118,17 @@ def cartesian_dynamics(model: Model, q, qd, frame: str, expressed_in: str = "bas
 
     Raises
     ------
-    ValueError
+    InputError
         If the selected rows do not make J square (k ≠ n).
     SingularityError
         If cond(J) exceeds ``max_condition`` (the message gives the condition number).
     """
     q, qd = as_state(model, q, "q"), as_state(model, qd, "qd")
     if q.ndim != 1 or q.dtype == object:
-        raise ValueError("cartesian_dynamics takes one numeric state")
+        raise InputError("cartesian_dynamics takes one numeric state")
     indices = _row_indices(rows)
     if len(indices) != model.n:
-        raise ValueError(
+        raise InputError(
             f"the task has {len(indices)} rows but robot '{model.name}' has {model.n} joints: "
             f"(6.99) needs a square Jacobian; choose {model.n} rows"
         )

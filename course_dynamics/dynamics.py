@@ -25,9 +25,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from .algebra import Dual, Vec3
+from .kinematics import joint_transforms
 from .model import Model
-from .newton_euler import inverse_dynamics, joint_transforms, torques_from_columns
-from .state import as_state, columns, layout_of
+from .newton_euler import gravity_vector, inverse_dynamics, torque_entries
+from .state import as_state, entries, layout_of
 
 NO_GRAVITY = Vec3(0, 0, 0)
 
@@ -45,34 +46,37 @@ def velocity_torques(model: Model, q, qd) -> np.ndarray:
     return inverse_dynamics(model, q, qd, np.zeros(q.shape[-1:]), gravity=(0.0, 0.0, 0.0))
 
 
-def _mass_matrix_columns(model: Model, theta: list, X=None) -> list:
-    """M as nested per-entry scalars, M[i][j], from per-joint scalars Θ (or their transforms X)."""
+def mass_matrix_entries(model: Model, theta: list, X=None) -> list:
+    """M as nested scalars, M[i][j], from per-joint scalars Θ (or their transforms X).
+
+    Column j is τ(Θ, 0, eⱼ) at g = 0: n passes of the Newton–Euler recursion.
+    """
     X = joint_transforms(model, theta) if X is None else X
     zero = [0] * model.n
-    cols = [torques_from_columns(model, X, zero, [1 if k == j else 0 for k in range(model.n)], NO_GRAVITY) for j in range(model.n)]
+    cols = [torque_entries(model, X, zero, [1 if k == j else 0 for k in range(model.n)], NO_GRAVITY) for j in range(model.n)]
     return [[cols[j][i] for j in range(model.n)] for i in range(model.n)]
 
 
 def mass_matrix(model: Model, q) -> np.ndarray:
     """M(Θ), shape (n, n) or (N, n, n): the joint-space mass matrix (kg·m², kg)."""
     q = as_state(model, q, "q")
-    return layout_of(q).assemble(_mass_matrix_columns(model, columns(q)), (model.n, model.n))
+    return layout_of(q).assemble(mass_matrix_entries(model, entries(q)), (model.n, model.n))
 
 
 def coriolis_matrix(model: Model, q, qd) -> np.ndarray:
     """C(Θ, Θ̇), shape (n, n) or (N, n, n), in Christoffel form (exact, no finite differences)."""
     q, qd = as_state(model, q, "q"), as_state(model, qd, "qd")
     layout = layout_of(q, qd)
-    theta, theta_dot = columns(q), columns(qd)
+    theta, theta_dot = entries(q), entries(qd)
     n = model.n
     # Ṁ: M evaluated at Θ + ε Θ̇.
-    M_dot = [[_derivative(x) for x in row] for row in _mass_matrix_columns(model, [Dual(a, b) for a, b in zip(theta, theta_dot)])]
+    M_dot = [[_derivative(x) for x in row] for row in mass_matrix_entries(model, [Dual(a, b) for a, b in zip(theta, theta_dot)])]
     # D[:, k] = ∂(M Θ̇)/∂θₖ, with M Θ̇ = τ(Θ, 0, Θ̇) at g = 0.
     zero = [0] * n
     D_cols = []
     for k in range(n):
         X = joint_transforms(model, [Dual(a, 1 if j == k else 0) for j, a in enumerate(theta)])
-        D_cols.append([_derivative(x) for x in torques_from_columns(model, X, zero, theta_dot, NO_GRAVITY)])
+        D_cols.append([_derivative(x) for x in torque_entries(model, X, zero, theta_dot, NO_GRAVITY)])
     C = [[(M_dot[i][j] + D_cols[j][i] - D_cols[i][j]) / 2 for j in range(n)] for i in range(n)]
     return layout.assemble(C, (n, n))
 
@@ -91,14 +95,15 @@ def mass_matrix_and_bias(model: Model, q, qd) -> tuple[np.ndarray, np.ndarray]:
     """
     q, qd = as_state(model, q, "q"), as_state(model, qd, "qd")
     layout = layout_of(q, qd)
-    M, bias = _mass_matrix_and_bias_columns(model, columns(q), columns(qd))
+    M, bias = mass_matrix_and_bias_entries(model, entries(q), entries(qd))
     return layout.assemble(M, (model.n, model.n)), layout.assemble(bias, (model.n,))
 
 
-def _mass_matrix_and_bias_columns(model: Model, theta: list, theta_dot: list) -> tuple[list, list]:
+def mass_matrix_and_bias_entries(model: Model, theta: list, theta_dot: list) -> tuple[list, list]:
+    """M[i][j] and the bias V + G = τ(Θ, Θ̇, 0) as scalars, sharing one set of joint transforms."""
     X = joint_transforms(model, theta)
-    bias = torques_from_columns(model, X, theta_dot, [0] * model.n, Vec3.of(model.gravity))
-    return _mass_matrix_columns(model, theta, X), bias
+    bias = torque_entries(model, X, theta_dot, [0] * model.n, gravity_vector(model))
+    return mass_matrix_entries(model, theta, X), bias
 
 
 def _derivative(x):

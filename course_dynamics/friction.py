@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .errors import InputError
 from .model import Model
 
 
@@ -38,11 +39,11 @@ class Friction:
         for name in ("viscous", "coulomb"):
             values = np.array(getattr(self, name), dtype=float)
             if not np.all(np.isfinite(values)) or np.any(values < 0):
-                raise ValueError(f"{name} friction coefficients must be finite and non-negative, got {values.tolist()}")
+                raise InputError(f"{name} friction coefficients must be finite and non-negative, got {values.tolist()}")
             values.setflags(write=False)
             object.__setattr__(self, name, values)
         if not self.smoothing >= 0:
-            raise ValueError(f"friction smoothing must be non-negative, got {self.smoothing}")
+            raise InputError(f"friction smoothing must be non-negative, got {self.smoothing}")
 
     @classmethod
     def from_urdf(cls, model: Model, smoothing: float = 0.0) -> "Friction":

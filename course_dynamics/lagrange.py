@@ -33,18 +33,19 @@ from itertools import combinations
 import numpy as np
 
 from .algebra import Dual, Vec3, dot
-from .kinematics import _placements, point_jacobian_columns
+from .kinematics import placement_entries, point_jacobian_columns
 from .model import Model
-from .state import as_state, columns, layout_of
+from .state import as_state, entries, layout_of
 
 
 def _link_jacobians(model: Model, theta: list):
     """Per body: the (J_v, J_ω) columns of its COM and ⁰Iᵢ, from per-joint scalars."""
-    R, P, P_com = _placements(model, theta)
+    placed = placement_entries(model, theta)
     result = []
     for i, body in enumerate(model.bodies):
-        I_base = R[i] @ body.I_com_m @ R[i].T
-        result.append((point_jacobian_columns(model, R, P, i, P_com[i]), I_base))
+        R_i = placed.R[i]
+        I_base = R_i @ body.I_com_m @ R_i.T
+        result.append((point_jacobian_columns(model, placed, i, placed.P_com[i]), I_base))
     return result
 
 
@@ -103,25 +104,25 @@ def _christoffel_entries(model: Model, theta: list) -> list:
 def mass_matrix(model: Model, q) -> np.ndarray:
     """M(Θ) from link Jacobians: shape (n, n) or (N, n, n)."""
     q = as_state(model, q, "q")
-    return layout_of(q).assemble(_mass_matrix_entries(model, columns(q)), (model.n, model.n))
+    return layout_of(q).assemble(_mass_matrix_entries(model, entries(q)), (model.n, model.n))
 
 
 def gravity_torques(model: Model, q) -> np.ndarray:
     """G(Θ) = ∂u/∂Θ: shape (n,) or (N, n)."""
     q = as_state(model, q, "q")
-    return layout_of(q).assemble(_gravity_entries(model, columns(q)), (model.n,))
+    return layout_of(q).assemble(_gravity_entries(model, entries(q)), (model.n,))
 
 
 def christoffel_symbols(model: Model, q) -> np.ndarray:
     """Γ(Θ): shape (n, n, n) or (N, n, n, n), Γ[..., i, j, k] = Γᵢⱼₖ."""
     q = as_state(model, q, "q")
-    return layout_of(q).assemble(_christoffel_entries(model, columns(q)), (model.n,) * 3)
+    return layout_of(q).assemble(_christoffel_entries(model, entries(q)), (model.n,) * 3)
 
 
 def coriolis_matrix(model: Model, q, qd) -> np.ndarray:
     """C(Θ, Θ̇)ᵢⱼ = Σₖ Γᵢⱼₖ θ̇ₖ: shape (n, n) or (N, n, n)."""
     q, qd = as_state(model, q, "q"), as_state(model, qd, "qd")
-    Gamma, theta_dot = _christoffel_entries(model, columns(q)), columns(qd)
+    Gamma, theta_dot = _christoffel_entries(model, entries(q)), entries(qd)
     n = model.n
     C = [[sum((Gamma[i][j][k] * theta_dot[k] for k in range(n)), 0) for j in range(n)] for i in range(n)]
     return layout_of(q, qd).assemble(C, (n, n))
@@ -145,9 +146,9 @@ def inverse_dynamics(model: Model, q, qd, qdd) -> np.ndarray:
 def link_kinetic_energies(model: Model, q, qd) -> np.ndarray:
     """kᵢ = ½ mᵢ v_Cᵢᵀ v_Cᵢ + ½ ωᵢᵀ ⁰Iᵢ ωᵢ (6.69) per body, J: shape (n,) or (N, n)."""
     q, qd = as_state(model, q, "q"), as_state(model, qd, "qd")
-    theta_dot = columns(qd)
+    theta_dot = entries(qd)
     energies = []
-    for body, (cols, I_base) in zip(model.bodies, _link_jacobians(model, columns(q))):
+    for body, (cols, I_base) in zip(model.bodies, _link_jacobians(model, entries(q))):
         v_c, w = Vec3(0, 0, 0), Vec3(0, 0, 0)
         for (v_j, w_j), rate in zip(cols, theta_dot):
             v_c, w = v_c + rate * v_j, w + rate * w_j
@@ -171,7 +172,7 @@ def configuration_space_terms(model: Model, q) -> tuple[np.ndarray, np.ndarray]:
     From Christoffel symbols: Cᵢⱼ = Γᵢⱼⱼ (centrifugal) and Bᵢ,(ⱼ,ₖ) = Γᵢⱼₖ + Γᵢₖⱼ = 2Γᵢⱼₖ (Coriolis).
     """
     q = as_state(model, q, "q")
-    Gamma = _christoffel_entries(model, columns(q))
+    Gamma = _christoffel_entries(model, entries(q))
     n = model.n
     pairs = velocity_pairs(n)
     B = [[Gamma[i][j][k] + Gamma[i][k][j] for j, k in pairs] for i in range(n)]

@@ -1,13 +1,14 @@
 """The immutable robot model, in Craig's quantities, one record per moving body.
 
 Frames and notation (Craig ch. 6; frame i is the frame of moving body i, which
-is the URDF child link of joint i, with any fixed-joint descendants merged in):
+is the URDF child link of joint i, with any fixed-joint descendants merged in;
+p is the parent body of i, which in a serial chain is Craig's i−1):
 
 ==================  =============================================================
 name                meaning (shape, unit)
 ==================  =============================================================
-``R0``              ⁱ⁻¹ᵢR at Θ = 0: orientation of frame i in its parent (3, 3)
-``P``               ⁱ⁻¹Pᵢ at Θ = 0: origin of frame i in its parent (3,), m
+``R0``              ᵖᵢR at Θ = 0: orientation of frame i in its parent (3, 3)
+``P``               ᵖPᵢ at Θ = 0: origin of frame i in its parent (3,), m
 ``axis``            ⁱẐᵢ: unit joint axis in frame i (3,) (any direction, not only z)
 ``mass``            mᵢ, kg
 ``p_com``           ⁱP_Cᵢ: centre of mass in frame i (3,), m
@@ -20,8 +21,8 @@ name                meaning (shape, unit)
 ==================  =============================================================
 
 Joint motion: a revolute or continuous joint rotates frame i about ``axis`` by
-θᵢ, so ⁱ⁻¹ᵢR(θᵢ) = R0 · Rot(axis, θᵢ) and ⁱ⁻¹Pᵢ = P; a prismatic joint slides
-it along ``axis`` by dᵢ, so ⁱ⁻¹ᵢR = R0 and ⁱ⁻¹Pᵢ(dᵢ) = P + R0 · axis · dᵢ.
+θᵢ, so ᵖᵢR(θᵢ) = R0 · Rot(axis, θᵢ) and ᵖPᵢ = P; a prismatic joint slides
+it along ``axis`` by dᵢ, so ᵖᵢR = R0 and ᵖPᵢ(dᵢ) = P + R0 · axis · dᵢ.
 
 One gravity convention, stated once: the base accelerates upward, ⁰v̇₀ = −g
 (Craig's trick), so that gravity loads every link through the recursion.
@@ -34,22 +35,16 @@ from functools import cached_property
 import numpy as np
 
 from .algebra import Mat3, Vec3
+from .errors import ModelError
 
 STANDARD_GRAVITY = (0.0, 0.0, -9.81)
 JOINT_TYPES = ("revolute", "continuous", "prismatic")
 
 
-class ModelError(ValueError):
-    """A robot description or a state that the dynamics cannot use.
-
-    The message is one line that names the file, joint or link at fault.
-    """
-
-
-def _frozen_array(values, shape) -> np.ndarray:
+def _frozen_array(values, shape, what: str) -> np.ndarray:
     array = np.array(values, dtype=float if _is_numeric(values) else object)
     if array.shape != shape:
-        raise ValueError(f"expected shape {shape}, got {array.shape}")
+        raise ModelError(f"{what}: expected shape {shape}, got {array.shape}")
     array.setflags(write=False)
     return array
 
@@ -86,7 +81,7 @@ class Body:
 
     def __post_init__(self):
         for name, shape in (("R0", (3, 3)), ("P", (3,)), ("axis", (3,)), ("p_com", (3,)), ("I_com", (3, 3))):
-            object.__setattr__(self, name, _frozen_array(getattr(self, name), shape))
+            object.__setattr__(self, name, _frozen_array(getattr(self, name), shape, f"body '{self.name}' {name}"))
         if self.joint_type not in JOINT_TYPES:
             raise ModelError(f"joint '{self.joint}': type '{self.joint_type}' is not one of {', '.join(JOINT_TYPES)}")
 
@@ -113,7 +108,7 @@ class Body:
 
     @cached_property
     def rotation_parts(self) -> tuple:
-        """(R0 a aᵀ, R0 (1 − a aᵀ), R0 [a]ₓ) as nested tuples: ⁱ⁻¹ᵢR(θ) = K₀ + cos θ K_c + sin θ K_s."""
+        """(R0 a aᵀ, R0 (1 − a aᵀ), R0 [a]ₓ) as nested tuples: ᵖᵢR(θ) = K₀ + cos θ K_c + sin θ K_s."""
         a = self.axis
         A = np.outer(a, a)
         K = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]], dtype=a.dtype)
@@ -148,8 +143,8 @@ class Frame:
     P: np.ndarray
 
     def __post_init__(self):
-        object.__setattr__(self, "R", _frozen_array(self.R, (3, 3)))
-        object.__setattr__(self, "P", _frozen_array(self.P, (3,)))
+        object.__setattr__(self, "R", _frozen_array(self.R, (3, 3), f"frame '{self.name}' R"))
+        object.__setattr__(self, "P", _frozen_array(self.P, (3,), f"frame '{self.name}' P"))
 
 
 @dataclass(frozen=True)
@@ -170,7 +165,7 @@ class Model:
     def __post_init__(self):
         object.__setattr__(self, "bodies", tuple(self.bodies))
         object.__setattr__(self, "frames", tuple(self.frames))
-        object.__setattr__(self, "gravity", _frozen_array(self.gravity, (3,)))
+        object.__setattr__(self, "gravity", _frozen_array(self.gravity, (3,), f"robot '{self.name}' gravity"))
         for i, body in enumerate(self.bodies):
             if not -1 <= body.parent < i:
                 raise ModelError(f"body '{body.name}': parent index {body.parent} does not come before it")

@@ -19,10 +19,10 @@ code               Craig        meaning (unit)
 ``z``              ⁱẐᵢ          the joint axis (any unit vector, not only z)
 =================  ===========  ===============================================
 
-For a tree, "the child i+1" of Craig's chain becomes "every child c of i":
-the inward iteration sums over children. The lecture notes print several of
-these equations with wrong frames or indices; the lines below are the
-corrected forms (see reference/errata.md once written for issue 3).
+For a tree, "the child i+1" of Craig's chain becomes "every child c of i",
+and "link i" of the outward iteration follows its parent p rather than i−1.
+The lecture notes print several of these equations with wrong frames or
+indices; the lines below are the corrected forms (reference/errata.md).
 
 The same functions run on one state (floats), a batch (arrays of shape (N,)
 per joint) and sympy symbols: see :mod:`course_dynamics.algebra`.
@@ -33,18 +33,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .algebra import Vec3, cos_sin, cross, dot, point_acceleration, rotation_from_parts
+from .algebra import Vec3, cross, dot, point_acceleration
+from .errors import ModelError
+from .kinematics import JointTransforms, joint_transforms
 from .model import Model
-from .state import as_state, columns, layout_of
-
-
-@dataclass(frozen=True)
-class JointTransforms:
-    """ᵖᵢR, its transpose ⁱₚR, and ᵖPᵢ for every body at one configuration Θ."""
-
-    R: list
-    R_T: list
-    P: list
+from .state import as_state, entries, layout_of
 
 
 @dataclass(frozen=True)
@@ -66,19 +59,6 @@ class InwardPass:
     f: list
     n: list
     tau: list
-
-
-def joint_transforms(model: Model, theta: list) -> JointTransforms:
-    """ᵖᵢR(θᵢ) and ᵖPᵢ(θᵢ) of every body, from per-joint scalars θ."""
-    R, P = [], []
-    for body, q in zip(model.bodies, theta):
-        if body.is_prismatic:
-            R.append(body.R0_m)
-            P.append(body.P_v + q * body.R0_axis_v)
-        else:
-            R.append(rotation_from_parts(body.rotation_parts, *cos_sin(q)))
-            P.append(body.P_v)
-    return JointTransforms(R, [r.T for r in R], P)
 
 
 def outward_iteration(model: Model, X: JointTransforms, theta_dot: list, theta_ddot: list, gravity: Vec3) -> OutwardPass:
@@ -128,7 +108,7 @@ def inward_iteration(model: Model, X: JointTransforms, out: OutwardPass) -> Inwa
     return InwardPass(f, n, tau)
 
 
-def torques_from_columns(model: Model, X: JointTransforms, theta_dot: list, theta_ddot: list, gravity: Vec3) -> list:
+def torque_entries(model: Model, X: JointTransforms, theta_dot: list, theta_ddot: list, gravity: Vec3) -> list:
     """τ as per-joint scalars, given transforms: the building block of M, V, G and C."""
     return inward_iteration(model, X, outward_iteration(model, X, theta_dot, theta_ddot, gravity)).tau
 
@@ -160,9 +140,8 @@ def inverse_dynamics(model: Model, q, qd, qdd, gravity=None) -> np.ndarray:
     """
     q, qd, qdd = as_state(model, q, "q"), as_state(model, qd, "qd"), as_state(model, qdd, "qdd")
     layout = layout_of(q, qd, qdd)
-    g = _gravity(model, gravity)
-    X = joint_transforms(model, columns(q))
-    tau = torques_from_columns(model, X, columns(qd), columns(qdd), g)
+    X = joint_transforms(model, entries(q))
+    tau = torque_entries(model, X, entries(qd), entries(qdd), gravity_vector(model, gravity))
     return layout.assemble(tau, (model.n,))
 
 
@@ -191,8 +170,8 @@ def newton_euler_links(model: Model, q, qd, qdd, gravity=None) -> LinkQuantities
     """The outward and inward iterations with every per-link quantity kept."""
     q, qd, qdd = as_state(model, q, "q"), as_state(model, qd, "qd"), as_state(model, qdd, "qdd")
     layout = layout_of(q, qd, qdd)
-    X = joint_transforms(model, columns(q))
-    out = outward_iteration(model, X, columns(qd), columns(qdd), _gravity(model, gravity))
+    X = joint_transforms(model, entries(q))
+    out = outward_iteration(model, X, entries(qd), entries(qdd), gravity_vector(model, gravity))
     back = inward_iteration(model, X, out)
 
     def per_link(vectors):
@@ -206,8 +185,9 @@ def newton_euler_links(model: Model, q, qd, qdd, gravity=None) -> LinkQuantities
     )
 
 
-def _gravity(model: Model, gravity) -> Vec3:
+def gravity_vector(model: Model, gravity=None) -> Vec3:
+    """g as a Vec3: ``gravity`` (3,) if given, else ``model.gravity``; the one place gravity is read."""
     g = model.gravity if gravity is None else np.asarray(gravity)
     if g.shape != (3,):
-        raise ValueError(f"gravity must have 3 components, got shape {g.shape}")
+        raise ModelError(f"gravity must have 3 components, got shape {g.shape}")
     return Vec3.of(g)

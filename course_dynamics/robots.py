@@ -26,6 +26,7 @@ import sys
 import sysconfig
 from pathlib import Path
 
+from .errors import UnknownRobotError
 from .model import STANDARD_GRAVITY, Model
 from .urdf import load_urdf
 
@@ -71,7 +72,7 @@ def robot_path(name: str) -> Path:
         return ROBOTS_DIR / COURSE_ROBOTS[name]
     if name in EXAMPLE_ROBOTS:
         return example_robot_data_share() / "example-robot-data" / "robots" / EXAMPLE_ROBOTS[name]
-    raise KeyError(f"unknown robot '{name}'; known robots: {', '.join(robot_names())}")
+    raise UnknownRobotError(f"unknown robot '{name}'; known robots: {', '.join(robot_names())}")
 
 
 def load_robot(name: str, gravity=STANDARD_GRAVITY) -> Model:
@@ -79,6 +80,21 @@ def load_robot(name: str, gravity=STANDARD_GRAVITY) -> Model:
     return load_urdf(robot_path(name), gravity=gravity)
 
 
-def resolve(name_or_path: str) -> Path:
-    """A shipped robot's URDF if ``name_or_path`` is a robot name, else the path itself."""
-    return robot_path(name_or_path) if name_or_path in robot_names() else Path(name_or_path)
+def resolve(name_or_path) -> Path:
+    """A shipped robot's URDF if ``name_or_path`` is a robot name, else the path itself.
+
+    A name that is neither a shipped robot nor an existing path, and has no
+    file suffix, is an :class:`~course_dynamics.errors.UnknownRobotError`.
+    """
+    text = str(name_or_path)
+    if text in robot_names():
+        return robot_path(text)
+    path = Path(text)
+    if not path.exists() and not path.suffix:
+        raise UnknownRobotError(f"'{text}' is neither a URDF file nor a shipped robot ({', '.join(robot_names())})")
+    return path
+
+
+def load(name_or_path, gravity=STANDARD_GRAVITY) -> Model:
+    """The robot of a URDF path or a shipped robot's name (see :func:`resolve`)."""
+    return load_urdf(resolve(name_or_path), gravity=gravity)

@@ -11,6 +11,12 @@ integrator          one step of size Δt from (Θ, Θ̇), with Θ̈ = f(t, Θ, �
                     on the same time grid
 ==================  ==========================================================
 
+Dynamics: ``dynamics=None`` uses our Newton–Euler forward dynamics
+(:func:`course_dynamics.forward_dynamics.accelerations`); any
+:data:`~course_dynamics.forward_dynamics.AccelerationFunction` (q, qd, τ) → Θ̈
+can take its place — a compiled model, or Pinocchio's ``aba`` in a benchmark.
+Friction, if given, is subtracted from τ before the call (6.114).
+
 Torque input: ``None`` (zero), a constant array (n,), a callable
 ``tau(t, q, qd) -> (n,)``, or a :class:`TorqueTable` (linear interpolation in
 time, held at its first/last row outside its range).
@@ -29,17 +35,18 @@ from typing import Callable
 import numpy as np
 
 from .dynamics import kinetic_energy
-from .forward_dynamics import accelerations as solve_accelerations
+from .errors import CourseDynamicsError, StateError
+from .forward_dynamics import AccelerationFunction, newton_euler_dynamics
 from .friction import Friction
 from .kinematics import potential_energy
 from .model import Model
-from .state import StateError, as_state
+from .state import as_state
 
 INTEGRATORS = ("euler", "semi-implicit", "rk4", "adaptive")
 LIMIT_MODES = ("report", "stop")
 
 
-class SimulationError(ValueError):
+class SimulationError(CourseDynamicsError):
     """Bad simulation input, or a simulation that cannot go on (non-finite torque or state)."""
 
 
@@ -106,18 +113,27 @@ def torque_function(model: Model, torque) -> Callable:
     return lambda t, q, qd: constant
 
 
-def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str = "rk4", torque=None,
-             friction: Friction | None = None, limits: str = "report", progress: Callable[[int], None] | None = None) -> Trajectory:
-    """Integrate the robot's motion from (Θ₀, Θ̇₀) for ``duration`` seconds in steps of ``dt``.
-
-    Returns the :class:`Trajectory` at t = 0, dt, 2 dt, …, duration (the last
-    step is shortened to end exactly at ``duration``). ``progress``, if given, is
-    called with the number of steps just completed.
-    """
-    q0, qd0 = as_state(model, q0, "q0"), as_state(model, qd0, "qd0")
+def time_grid(duration: float, dt: float) -> np.ndarray:
+    """t = 0, dt, 2 dt, …, duration (s): the samples of a run; the last step is shortened to end at ``duration``."""
     for name, value in (("dt", dt), ("duration", duration)):
         if not (np.isfinite(value) and value > 0):
             raise SimulationError(f"{name} must be a positive number of seconds, got {value}")
+    times = np.arange(int(np.ceil(duration / dt - 1e-9)) + 1) * dt
+    times[-1] = duration
+    return times
+
+
+def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str = "rk4", torque=None,
+             friction: Friction | None = None, limits: str = "report", progress: Callable[[int], None] | None = None,
+             dynamics: AccelerationFunction | None = None) -> Trajectory:
+    """Integrate the robot's motion from (Θ₀, Θ̇₀) for ``duration`` seconds in steps of ``dt``.
+
+    Returns the :class:`Trajectory` at the samples of :func:`time_grid`.
+    ``progress``, if given, is called with the number of steps just completed.
+    ``dynamics`` replaces our forward dynamics (module docstring).
+    """
+    q0, qd0 = as_state(model, q0, "q0"), as_state(model, qd0, "qd0")
+    times = time_grid(duration, dt)
     if integrator not in INTEGRATORS:
         raise SimulationError(f"unknown integrator '{integrator}' (choose from {', '.join(INTEGRATORS)})")
     if limits not in LIMIT_MODES:
@@ -125,8 +141,7 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
     if integrator == "adaptive" and limits == "stop":
         raise SimulationError("limits='stop' needs a fixed-step integrator (euler, semi-implicit or rk4)")
     tau_of = torque_function(model, torque)
-    times = np.arange(int(np.ceil(duration / dt - 1e-9)) + 1) * dt
-    times[-1] = duration
+    solve_accelerations = newton_euler_dynamics(model) if dynamics is None else dynamics
 
     def applied(t, q, qd):
         tau = np.asarray(tau_of(t, q, qd), dtype=float)
@@ -138,7 +153,8 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
         if not (np.all(np.isfinite(q)) and np.all(np.isfinite(qd))):
             raise SimulationError(f"the state became non-finite near t = {t:.6g} s (try a smaller dt)")
         tau = applied(t, q, qd)
-        return solve_accelerations(model, q, qd, tau, friction), tau
+        driving = tau if friction is None else tau - friction.torques(qd)  # (6.114)
+        return solve_accelerations(q, qd, driving), tau
 
     guard = _LimitGuard(model, limits)
     if integrator == "adaptive":
@@ -246,4 +262,5 @@ class _LimitGuard:
         return q, qd
 
 
-__all__ = ["INTEGRATORS", "SimulationError", "StateError", "TorqueTable", "Trajectory", "simulate", "total_energy"]
+__all__ = ["INTEGRATORS", "LIMIT_MODES", "SimulationError", "StateError", "TorqueTable", "Trajectory", "simulate",
+           "time_grid", "total_energy"]

@@ -4,7 +4,8 @@ A state vector Θ, Θ̇ or Θ̈ is an array whose last axis runs over the model'
 joints (``model.joint_names``): shape (n,) for one state, (N, n) for a batch of
 N states, or a numpy object array of sympy expressions. The recursion works on
 one scalar per joint (a float, an (N,) array or a sympy expression); these
-helpers split arrays into such columns and assemble results back.
+helpers split arrays into such per-joint *entries* and assemble results,
+nested lists of entries, back into arrays.
 """
 from __future__ import annotations
 
@@ -12,9 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-
-class StateError(ValueError):
-    """A state that does not fit the model: wrong length, not numeric, NaN or inf."""
+from .errors import StateError
 
 
 @dataclass(frozen=True)
@@ -56,7 +55,7 @@ def as_state(model, values, name: str = "q") -> np.ndarray:
     return array
 
 
-def columns(array: np.ndarray) -> list:
+def entries(array: np.ndarray) -> list:
     """One scalar per joint: Python floats for one state, (N,) arrays for a batch."""
     if array.ndim == 1:
         return array.tolist()  # Python floats (much faster than numpy scalars) or sympy objects

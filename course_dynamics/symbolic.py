@@ -34,14 +34,16 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .errors import CourseDynamicsError
 from .model import Model
 
 ROUND_OFF = 1e-12
 INERTIA_ENTRIES = {"xx": (0, 0), "yy": (1, 1), "zz": (2, 2), "xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}
 MAX_SYMBOLIC_JOINTS = 4  # beyond this, simplification takes far longer than a lecture
+METHODS = ("newton-euler", "lagrange")
 
 
-class SymbolError(ValueError):
+class SymbolError(CourseDynamicsError):
     """A symbol name that does not name a parameter of the robot, or a robot too large."""
 
 
@@ -247,8 +249,8 @@ def derive(model: Model, symbols=(), method: str = "newton-euler", simplify: boo
 
     sympy = _sympy()
     check_symbolic_size(model)
-    if method not in ("newton-euler", "lagrange"):
-        raise SymbolError(f"unknown method '{method}' (newton-euler or lagrange)")
+    if method not in METHODS:
+        raise SymbolError(f"unknown method '{method}' ({' or '.join(METHODS)})")
     exact, parameters = symbolic_model(model, symbols)
     q, qd, qdd = joint_symbols(model)
     if method == "newton-euler":

@@ -24,7 +24,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .model import STANDARD_GRAVITY, Body, Frame, Model, ModelError
+from .errors import ModelError
+from .model import STANDARD_GRAVITY, Body, Frame, Model
 
 SUPPORTED_TYPES = ("revolute", "continuous", "prismatic", "fixed")
 # Round-off allowed when checking that an inertia is physical (kg·m²).

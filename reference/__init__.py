@@ -1,5 +1,10 @@
-"""The oracle: Pinocchio and the textbook's closed forms.
+"""The oracle: Pinocchio and the textbook's closed forms (installed as ``course_dynamics_reference``).
 
 Nothing here is used by :mod:`course_dynamics` to compute; it is what
-course_dynamics is checked against. Pinocchio is imported only in this package.
+course_dynamics is checked against. Pinocchio is imported only in this package,
+and only by the modules that need it (``pinocchio_oracle``, ``validate``), so
+importing this package itself stays light.
 """
+
+TERMS = ("tau", "M", "C", "V", "G")
+TOLERANCE = 1e-9  # relative: the agreement with Pinocchio the project holds itself to

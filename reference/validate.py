@@ -26,10 +26,9 @@ import numpy as np
 
 from course_dynamics import coriolis_matrix, gravity_torques, inverse_dynamics, load_urdf, mass_matrix, velocity_torques
 from course_dynamics.robots import resolve
-from reference.pinocchio_oracle import PinocchioOracle
 
-TERMS = ("tau", "M", "C", "V", "G")
-TOLERANCE = 1e-9
+from . import TERMS, TOLERANCE
+from .pinocchio_oracle import PinocchioOracle
 
 
 def sampling_bounds(model) -> tuple[np.ndarray, np.ndarray]:

@@ -6,9 +6,9 @@ import pytest
 
 from course_dynamics import load_robot
 from course_dynamics.cartesian import SingularityError, cartesian_dynamics, jacobian, jacobian_dot
-from reference import textbook
-from reference.validate import random_states
-from tests.conftest import assert_agrees
+from course_dynamics_reference import textbook
+from course_dynamics_reference.validate import random_states
+from helpers import assert_agrees
 
 
 def tip_frame(model) -> str:
@@ -30,7 +30,7 @@ def test_jacobian_and_its_derivative_agree_with_pinocchio(robot, expressed_in):
 
 def test_every_frame_of_ur5_agrees_with_pinocchio():
     from course_dynamics import robot_path
-    from reference.pinocchio_oracle import PinocchioOracle
+    from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
 
     model = load_robot("ur5")
     oracle = PinocchioOracle(robot_path("ur5"), model.joint_names)
@@ -50,8 +50,8 @@ SQUARE_TASKS = {  # robot: (frame, rows in base coordinates) giving a square Jac
 @pytest.mark.parametrize("name", sorted(SQUARE_TASKS))
 def test_cartesian_terms_from_pinocchio_quantities(name):
     """Mx = J⁻ᵀ M J⁻¹ equals (J M⁻¹ Jᵀ)⁻¹ built from Pinocchio's J and M; Vx, Gx likewise."""
-    from reference.pinocchio_oracle import PinocchioOracle
-    from tests.conftest import urdf_of
+    from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
+    from helpers import urdf_of
     from course_dynamics import load_urdf
 
     model = load_urdf(urdf_of(name))

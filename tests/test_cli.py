@@ -10,8 +10,8 @@ import pytest
 
 from course_dynamics import dynamics_terms, inverse_dynamics, load_robot
 from course_dynamics.cli import main
-from tests.conftest import AWKWARD
-from tests.test_urdf import BAD_URDFS
+from helpers import AWKWARD
+from helpers import BAD_URDFS
 
 
 def run(capsys, *argv):
@@ -102,7 +102,7 @@ def test_validate_every_bundled_robot(capsys):
 
 def test_validate_reports_disagreement_with_exit_1(capsys, monkeypatch):
     """A wrong gravity term in our dynamics must be caught."""
-    import reference.validate as validate_module
+    import course_dynamics_reference.validate as validate_module
 
     real = validate_module.gravity_torques
     monkeypatch.setattr(validate_module, "gravity_torques", lambda model, q: real(model, q) * (1 + 1e-7))
@@ -262,7 +262,7 @@ def test_simulate_bad_torque_csv(capsys, tmp_path, content, fragment):
 
 
 def test_simulate_singular_mass_matrix(capsys, tmp_path):
-    from tests.test_urdf import arm_urdf
+    from helpers import arm_urdf
 
     urdf, out = tmp_path / "massless.urdf", tmp_path / "sim.csv"
     urdf.write_text(arm_urdf(mass="0", ixx="0", iyy="0", izz="0"))

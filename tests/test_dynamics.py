@@ -5,7 +5,7 @@ import numpy as np
 
 from course_dynamics import coriolis_matrix, gravity_torques, mass_matrix, potential_energy, velocity_torques
 from course_dynamics import dynamics_terms, load_robot
-from tests.conftest import assert_agrees
+from helpers import assert_agrees
 
 STEP = 1e-30  # complex-step size: derivatives exact to round-off, no subtraction
 

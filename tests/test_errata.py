@@ -14,11 +14,12 @@ import sympy
 from course_dynamics import inverse_dynamics, load_robot, newton_euler_links, robot_path
 from course_dynamics import lagrange
 from course_dynamics.cartesian import cartesian_dynamics
-from course_dynamics.newton_euler import JointTransforms, inward_iteration, joint_transforms, outward_iteration
+from course_dynamics.kinematics import JointTransforms, joint_transforms
+from course_dynamics.newton_euler import inward_iteration, outward_iteration
 from course_dynamics.algebra import Vec3
-from course_dynamics.state import columns
-from reference.pinocchio_oracle import PinocchioOracle
-from reference.validate import random_states
+from course_dynamics.state import entries
+from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
+from course_dynamics_reference.validate import random_states
 
 t = sympy.Symbol("t", real=True)
 
@@ -127,9 +128,9 @@ def panda():
 
 def printed_outward_rotation(model, q, qd, qdd):
     """(6.45)–(6.47) as printed: ⁱR^{i+1} (the rotation of frame i+1 in i) where ⁱ⁺¹ᵢR belongs."""
-    X = joint_transforms(model, columns(q))
+    X = joint_transforms(model, entries(q))
     X_printed = JointTransforms(R=X.R, R_T=X.R, P=X.P)
-    out = outward_iteration(model, X_printed, columns(qd), columns(qdd), Vec3.of(model.gravity))
+    out = outward_iteration(model, X_printed, entries(qd), entries(qdd), Vec3.of(model.gravity))
     return np.array(inward_iteration(model, X, out).tau)
 
 
@@ -195,7 +196,7 @@ def test_6_51_and_6_52_inward_iteration(variant):
     oracle = PinocchioOracle(robot_path("ur5"), model.joint_names)
     q, qd, qdd = (x[0] for x in random_states(model, 1, seed=5))
     links = newton_euler_links(model, q, qd, qdd)
-    X = joint_transforms(model, columns(q))
+    X = joint_transforms(model, entries(q))
     reference = oracle.tau(q, qd, qdd)
     np.testing.assert_allclose(serial_inward_printed(model, links, X, "corrected"), reference, rtol=1e-12, atol=1e-12)
     assert np.abs(serial_inward_printed(model, links, X, variant) - reference).max() > 0.1

@@ -7,8 +7,8 @@ import pytest
 from course_dynamics import inverse_dynamics, load_urdf
 from course_dynamics.forward_dynamics import SingularMassMatrixError, forward_dynamics
 from course_dynamics.friction import Friction
-from tests.conftest import assert_agrees
-from tests.test_urdf import arm_urdf
+from helpers import assert_agrees
+from helpers import arm_urdf
 
 
 def test_forward_dynamics_agrees_with_aba(robot):

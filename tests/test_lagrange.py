@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from course_dynamics import dynamics, lagrange, potential_energy
-from tests.conftest import assert_agrees
+from helpers import assert_agrees
 
 STEP = 1e-30  # complex step
 

@@ -6,7 +6,7 @@ import pytest
 
 from course_dynamics import inverse_dynamics, load_robot, newton_euler_links
 from course_dynamics.state import StateError
-from tests.conftest import assert_agrees
+from helpers import assert_agrees
 
 
 def test_tau_agrees_with_pinocchio_rnea(robot):

@@ -12,9 +12,9 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from course_dynamics import coriolis_matrix, inverse_dynamics, load_urdf, mass_matrix
-from reference.pinocchio_oracle import PinocchioOracle
-from reference.validate import random_states
-from tests.conftest import assert_agrees
+from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
+from course_dynamics_reference.validate import random_states
+from helpers import assert_agrees
 
 real = st.floats(-1.0, 1.0, allow_nan=False)
 triple = st.tuples(real, real, real)

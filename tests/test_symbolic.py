@@ -7,8 +7,8 @@ import sympy
 
 from course_dynamics import load_robot
 from course_dynamics.symbolic import SymbolError, canonical, derive, numeric_functions, parameter_values, symbolic_model
-from reference.pinocchio_oracle import PinocchioOracle
-from reference.validate import random_states
+from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
+from course_dynamics_reference.validate import random_states
 from course_dynamics.robots import robot_path
 
 NOTES_SYMBOLS = {

@@ -8,9 +8,9 @@ import sympy
 from course_dynamics import gravity_torques, inverse_dynamics, load_robot, mass_matrix, velocity_torques
 from course_dynamics.robots import robot_path
 from course_dynamics.symbolic import joint_symbols, rationalize
-from reference import textbook
-from reference.pinocchio_oracle import PinocchioOracle
-from reference.validate import random_states
+from course_dynamics_reference import textbook
+from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
+from course_dynamics_reference.validate import random_states
 
 CLOSED_FORMS = {"two_link": textbook.two_link, "rp_arm": textbook.rp_arm, "pendulum": textbook.pendulum}
 

@@ -1,12 +1,13 @@
-"""course_dynamics/trace.py: every entry of the step-by-step iterations against Pinocchio's own per-joint data."""
+"""course_dynamics/trace.py (and its renderings in render.py): every entry of the step-by-step iterations against Pinocchio's own per-joint data."""
 from __future__ import annotations
 
 import numpy as np
 import sympy
 
 from course_dynamics import load_robot
-from course_dynamics.trace import as_dict, as_latex, as_table, trace
-from tests.conftest import assert_agrees
+from course_dynamics.render import trace_latex, trace_record, trace_table
+from course_dynamics.trace import trace
+from helpers import assert_agrees
 
 QUANTITIES = ("omega", "omega_dot", "v_dot", "v_dot_c", "F", "N", "f", "n")
 
@@ -45,9 +46,9 @@ def test_symbolic_trace_is_the_notes_worked_example():
 
 def test_formats():
     t = trace(load_robot("rp_arm"), [0.3, 0.5], [1.0, -0.2], [0.1, 0.4])
-    table = as_table(t)
+    table = trace_table(t)
     assert "Outward iteration" in table and "(6.35)" in table and "tau_2" in table and "(6.44)" in table
-    latex = as_latex(t)
+    latex = trace_latex(t)
     assert latex.count(r"\begin{align*}") == 2 and r"{}^{2}\dot v_{C}_{2}" in latex
-    record = as_dict(t)
+    record = trace_record(t)
     assert record["joints"] == ["theta1", "d2"] and set(record["links"][0]) >= {"omega", "v_dot_c", "f", "n", "tau"}

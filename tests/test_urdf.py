@@ -6,47 +6,7 @@ import pinocchio as pin
 import pytest
 
 from course_dynamics import ModelError, load_urdf, mass_matrix
-from tests.conftest import AWKWARD
-
-LINK = '<link name="{name}"><inertial><origin xyz="0.1 0 0" rpy="0 0 0"/><mass value="{mass}"/>' \
-       '<inertia ixx="{ixx}" iyy="{iyy}" izz="{izz}" ixy="0" ixz="0" iyz="0"/></inertial></link>'
-JOINT = '<joint name="{name}" type="{type}"><parent link="{parent}"/><child link="{child}"/>' \
-        '<origin xyz="0 0 0.1" rpy="0 0 0"/><axis xyz="{axis}"/>' \
-        '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint>'
-
-
-def arm_urdf(mass="1.0", ixx="0.01", iyy="0.01", izz="0.01", joint_type="revolute", axis="0 0 1", extra=""):
-    """A two-link arm as URDF text, with one thing changed at a time."""
-    return (
-        '<?xml version="1.0"?><robot name="probe"><link name="base"/>'
-        + LINK.format(name="link1", mass="1.0", ixx="0.01", iyy="0.01", izz="0.01")
-        + LINK.format(name="link2", mass=mass, ixx=ixx, iyy=iyy, izz=izz)
-        + JOINT.format(name="joint1", type="revolute", parent="base", child="link1", axis="0 0 1")
-        + JOINT.format(name="joint2", type=joint_type, parent="link1", child="link2", axis=axis)
-        + extra + "</robot>"
-    )
-
-
-BAD_URDFS = {
-    "floating joint": (arm_urdf(joint_type="floating"), "joint 'joint2': type 'floating' is not supported"),
-    "planar joint": (arm_urdf(joint_type="planar"), "joint 'joint2': type 'planar' is not supported"),
-    "kinematic loop": (
-        arm_urdf(extra=JOINT.format(name="loop", type="revolute", parent="base", child="link2", axis="1 0 0")),
-        "kinematic loop: link 'link2' is the child of both joint 'joint2' and joint 'loop'"),
-    "two roots": (arm_urdf(extra='<link name="stray"/>'), "2 root links (base, stray)"),
-    "negative mass": (arm_urdf(mass="-1"), "link 'link2': negative mass"),
-    "inertia not positive": (arm_urdf(ixx="-0.01"), "link 'link2': inertia tensor is not positive semi-definite"),
-    "triangle inequality": (arm_urdf(ixx="0.01", iyy="0.01", izz="0.05"), "link 'link2': inertia breaks the triangle inequality"),
-    "zero axis": (arm_urdf(axis="0 0 0"), "joint 'joint2': zero axis"),
-    "NaN mass": (arm_urdf(mass="nan"), "link 'link2' inertial mass has a non-finite value"),
-    "inf axis": (arm_urdf(axis="0 inf 0"), "joint 'joint2' axis has a non-finite value"),
-    "non-numeric mass": (arm_urdf(mass="heavy"), "malformed URDF: could not convert string to float: 'heavy'"),
-    "malformed XML": ('<robot name="x"><link name="a"></robot>', "malformed XML"),
-    "undefined link": (arm_urdf(extra=JOINT.format(name="j3", type="fixed", parent="link2", child="ghost", axis="1 0 0")),
-                       "joint 'j3': child link 'ghost' is not defined"),
-    "nothing moves": ('<robot name="x"><link name="a"/></robot>', "nothing moves"),
-}
-
+from helpers import AWKWARD, BAD_URDFS, arm_urdf
 
 @pytest.mark.parametrize("case", sorted(BAD_URDFS))
 def test_bad_urdf_is_rejected_with_a_named_cause(tmp_path, case):

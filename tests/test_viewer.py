@@ -70,7 +70,7 @@ def test_export_is_whole_and_offline(tmp_path):
     model = load_robot("ur5")
     t, q = wave(model)
     out = tmp_path / "ur5.html"
-    export_html(out, model, robot_path("ur5"), t=t, q=q, tau=np.cos(q), trace_path=True)
+    export_html(out, model, robot_path("ur5"), t=t, q=q, tau=np.cos(q), draw_path=True)
     text = out.read_text()
     assert out.stat().st_size < 3_000_000
     assert "<script src=" not in text and "<link " not in text  # nothing to fetch

@@ -1,4 +1,4 @@
-"""``python -m course_dynamics.meshcat_server``: meshcat's server, listening on 127.0.0.1 only.
+"""``python -m course_dynamics.viewer.meshcat_server``: meshcat's server, listening on 127.0.0.1 only.
 
 meshcat 0.3.2 binds its ZeroMQ socket to 127.0.0.1 but its web server to every
 interface (tornado's ``listen(port)``). This wrapper pins the web server to the

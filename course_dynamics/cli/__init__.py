@@ -1,0 +1,54 @@
+"""``course-dynamics``: the command line, a thin layer over the library.
+
+Every command reads a URDF (or the name of a shipped robot), calls
+course_dynamics, and prints a table or, with ``--json``, one JSON document.
+Each lives in its own module in :mod:`course_dynamics.cli.commands`; shared
+option handling is in :mod:`course_dynamics.cli.options`.
+
+Bad input of any kind (a :class:`~course_dynamics.errors.CourseDynamicsError`)
+ends with one line ``error: …`` on stderr and exit code 2; Ctrl-C ends with
+exit code 130. No output file is left behind half-written.
+"""
+from __future__ import annotations
+
+import importlib
+import sys
+
+from ..errors import CourseDynamicsError
+from .commands import COMMANDS
+from .options import Parser, join_value_options, robots_epilog
+
+
+def build_parser() -> Parser:
+    parser = Parser(
+        prog="course-dynamics",
+        description="Manipulator dynamics in Craig's notation (Introduction to Robotics, ch. 6), "
+                    "computed by hand-written Newton-Euler and checked against Pinocchio.",
+        epilog=robots_epilog(),
+    )
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
+    for name in COMMANDS:
+        command = importlib.import_module(f"{__name__}.commands.{name}")
+        p = sub.add_parser(name, help=command.HELP, description=getattr(command, "DESCRIPTION", command.HELP),
+                           epilog=robots_epilog())
+        command.add_arguments(p)
+        p.set_defaults(run=command.run)
+    return parser
+
+
+def main(argv=None) -> int:
+    argv = sys.argv[1:] if argv is None else list(argv)
+    try:
+        args = build_parser().parse_args(join_value_options(argv))
+        return args.run(args)
+    except CourseDynamicsError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("error: interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:
+        return 0
+
+
+__all__ = ["build_parser", "main"]

@@ -1,0 +1,5 @@
+"""One module per command. Each declares ``HELP`` (and optionally ``DESCRIPTION``),
+``add_arguments(parser)`` and ``run(args) -> exit code``, and calls the library."""
+
+# In the order ``course-dynamics --help`` lists them.
+COMMANDS = ("info", "terms", "torques", "cartesian", "simulate", "trace", "derive", "animate", "validate")

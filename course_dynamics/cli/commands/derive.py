@@ -1,0 +1,32 @@
+"""``course-dynamics derive``: closed-form τ, M, V, G and Craig's B, C (symbolic)."""
+from __future__ import annotations
+
+from ... import render
+from ...symbolic import MAX_SYMBOLIC_JOINTS, METHODS
+from ..options import add_robot_argument, load_robot_argument, print_json, symbol_names
+
+HELP = "closed-form tau, M, V, G and Craig's B, C (symbolic)"
+DESCRIPTION = ("Derive the equations of motion symbolically by Newton-Euler or by Lagrange: "
+               "tau = M(q) qdd + B(q)[qd qd] + C(q)[qd^2] + G(q) (6.63). Joint variables are q_<joint>, qd_<joint>, "
+               "qdd_<joint>; parameters not named in --symbols are the URDF's numbers, made exact.")
+
+
+def add_arguments(parser) -> None:
+    add_robot_argument(parser, help=f"URDF file or shipped robot name (at most {MAX_SYMBOLIC_JOINTS} joints)")
+    parser.add_argument("--symbols", help="parameters kept symbolic: m<i>, l<i>, I<xx|yy|zz|xy|xz|yz><i>, g "
+                                          "(a one-joint robot also takes m, l)")
+    parser.add_argument("--method", choices=METHODS, default="newton-euler")
+    parser.add_argument("--format", choices=render.DERIVATION_FORMATS, default="markdown",
+                        help="json has keys joints, tau, M, V, G, B, C; each entry a string sympy.sympify parses")
+
+
+def run(args) -> int:
+    from ...symbolic import derive
+
+    model = load_robot_argument(args.urdf)
+    derivation = derive(model, symbol_names(args.symbols), method=args.method)
+    if args.format == "json":
+        print_json(render.derivation_record(derivation))
+    else:
+        print(render.derivation_text(derivation, args.format))
+    return 0

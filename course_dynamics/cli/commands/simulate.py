@@ -1,0 +1,97 @@
+"""``course-dynamics simulate``: forward dynamics in time (6.115)–(6.117), written as CSV."""
+from __future__ import annotations
+
+import sys
+
+from ... import io
+from ...robots import resolve
+from ...simulation import INTEGRATORS, LIMIT_MODES, TorqueTable, simulate, time_grid
+from ..animation import add_animation_options, export_animation
+from ..options import add_robot_argument, joint_values, load_robot_argument, print_json, progress_bar
+
+HELP = "forward dynamics in time (6.115)-(6.117), written as CSV"
+DESCRIPTION = ("Integrate qdd = M^-1 (tau - V - G - F) from q0, qd0. The output CSV has t, q_<joint>, qd_<joint>, "
+               "qdd_<joint>, tau_<joint> and energy (kinetic + potential, J), and can be fed back to 'torques'.")
+FRICTION_SOURCES = ("none", "urdf")
+
+
+def add_arguments(parser) -> None:
+    add_robot_argument(parser)
+    parser.add_argument("--q0", required=True, help="initial joint positions")
+    parser.add_argument("--qd0", help="initial joint velocities (default 0)")
+    parser.add_argument("--duration", type=float, required=True, help="simulated time, s")
+    parser.add_argument("--dt", type=float, required=True, help="time step, s")
+    parser.add_argument("--integrator", choices=INTEGRATORS, default="rk4",
+                        help="euler is the notes' (6.116)-(6.117); default rk4")
+    torque = parser.add_mutually_exclusive_group()
+    torque.add_argument("--torque", help="constant applied torques tau1,tau2,... (default 0)")
+    torque.add_argument("--torque-csv", help="CSV with t and tau_<joint> columns, interpolated linearly in time")
+    parser.add_argument("--friction", choices=FRICTION_SOURCES, default="none",
+                        help="joint friction: none, or viscous = URDF damping and Coulomb = URDF friction (default none)")
+    parser.add_argument("--viscous", help="viscous coefficients v1,v2,... (N m s/rad), overriding --friction")
+    parser.add_argument("--coulomb", help="Coulomb coefficients c1,c2,... (N m), overriding --friction")
+    parser.add_argument("--smoothing", type=float, default=0.0, help="Coulomb sgn(qd) -> tanh(qd/smoothing) if > 0")
+    parser.add_argument("--limits", choices=LIMIT_MODES, default="report",
+                        help="at a joint limit: report it and go on, or stop the joint there (default report)")
+    parser.add_argument("--out", required=True, help="output CSV (written whole or not at all)")
+    parser.add_argument("--plot", help="also draw q(t), qd(t) and energy(t) to this PNG file")
+    add_animation_options(parser, html_required=False)
+    parser.add_argument("--json", action="store_true", help="print a JSON summary")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def _torque(args, model):
+    if args.torque is not None:
+        return joint_values(args.torque, "--torque", model)
+    if args.torque_csv is not None:
+        joints = model.joint_names
+        columns = io.read_columns(args.torque_csv, ["t"] + io.joint_columns(("tau",), joints),
+                                  io.joint_columns(("q", "qd", "qdd"), joints) + ["energy"])
+        return TorqueTable(columns["t"], io.stack_joint_columns(columns, "tau", joints))
+    return None
+
+
+def _friction(args, model):
+    from ...friction import Friction
+
+    if args.friction != "urdf" and args.viscous is None and args.coulomb is None:
+        return None
+    base = Friction.from_urdf(model) if args.friction == "urdf" else Friction.none(model)
+    return Friction(viscous=joint_values(args.viscous, "--viscous", model, base.viscous),
+                    coulomb=joint_values(args.coulomb, "--coulomb", model, base.coulomb), smoothing=args.smoothing)
+
+
+def run(args) -> int:
+    model = load_robot_argument(args.urdf)
+    q0 = joint_values(args.q0, "--q0", model)
+    qd0 = joint_values(args.qd0, "--qd0", model)
+    torque, friction = _torque(args, model), _friction(args, model)
+    for target in (args.out, args.plot, args.html):
+        if target:
+            io.check_writable(target)
+    steps = len(time_grid(args.duration, args.dt)) - 1
+    progress = progress_bar(total=steps, enabled=not args.quiet, delay=1.0)
+    trajectory = simulate(model, q0, qd0, args.duration, args.dt, integrator=args.integrator, torque=torque,
+                          friction=friction, limits=args.limits, progress=progress.update)
+    progress.close()
+    header, data = trajectory.table()
+    io.write_csv(args.out, header, data)
+    if args.plot:
+        from ...plotting import plot_trajectory
+
+        plot_trajectory(trajectory, args.plot, title=f"{model.name}: {args.integrator}, dt = {args.dt:g} s")
+    if args.html:
+        export_animation(args.html, model, resolve(args.urdf), trajectory.t, trajectory.q, trajectory.tau, args)
+    for event in trajectory.events:
+        print(f"warning: {event}", file=sys.stderr)
+    summary = dict(robot=model.name, joints=list(model.joint_names), integrator=args.integrator, dt=args.dt,
+                   duration=args.duration, samples=len(trajectory.t), energy_start=float(trajectory.energy[0]),
+                   energy_end=float(trajectory.energy[-1]), events=list(trajectory.events), out=str(args.out),
+                   plot=args.plot)
+    if args.json:
+        print_json(summary)
+    else:
+        print(f"simulated {model.name} for {args.duration:g} s ({len(trajectory.t)} samples, {args.integrator}, "
+              f"dt = {args.dt:g} s); energy {summary['energy_start']:.6g} J -> {summary['energy_end']:.6g} J; "
+              f"wrote {args.out}")
+    return 0

@@ -1,0 +1,41 @@
+"""``course-dynamics terms``: τ, M, C, V and G at one state."""
+from __future__ import annotations
+
+import numpy as np
+
+from ... import render
+from ...dynamics import dynamics_terms
+from ..options import add_robot_argument, gravity, load_robot_argument, numbers, print_json
+
+HELP = "tau, M, C, V, G at one state"
+DESCRIPTION = "Evaluate tau = M(q) qdd + V(q, qd) + G(q) and the Coriolis matrix C (C qd = V)."
+
+
+def add_arguments(parser) -> None:
+    add_robot_argument(parser)
+    parser.add_argument("--q", required=True, help="joint positions q1,q2,... (rad or m)")
+    parser.add_argument("--qd", help="joint velocities (default 0)")
+    parser.add_argument("--qdd", help="joint accelerations (default 0)")
+    parser.add_argument("--gravity", help="gx,gy,gz in the base frame, m/s^2 (default 0,0,-9.81)")
+    parser.add_argument("--json", action="store_true", help="print JSON with keys joints, tau, M, C, V, G")
+
+
+def run(args) -> int:
+    model = load_robot_argument(args.urdf, gravity(args))
+    # The library checks the lengths and values, naming the joint at fault.
+    q = numbers(args.q, "--q")
+    qd = numbers(args.qd, "--qd") if args.qd is not None else np.zeros(model.n)
+    qdd = numbers(args.qdd, "--qdd") if args.qdd is not None else np.zeros(model.n)
+    terms = dynamics_terms(model, q, qd, qdd)
+    if args.json:
+        print_json(dict(joints=list(terms.joints), tau=terms.tau.tolist(), M=terms.M.tolist(), C=terms.C.tolist(),
+                        V=terms.V.tolist(), G=terms.G.tolist()))
+        return 0
+    print(f"robot {model.name}: tau = M(q) qdd + V(q, qd) + G(q)   (N·m, or N for prismatic joints)")
+    rows = [["joint", "tau", "V", "G"]] + [[name] + [f"{x:.6g}" for x in values]
+                                           for name, *values in zip(terms.joints, terms.tau, terms.V, terms.G)]
+    print(render.text_table(rows))
+    for label, matrix in (("M(q)", terms.M), ("C(q, qd)", terms.C)):
+        print(f"\n{label}:")
+        print("\n".join(render.matrix_lines(terms.joints, matrix)))
+    return 0

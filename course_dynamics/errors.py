@@ -1,0 +1,46 @@
+"""The errors course_dynamics raises for input it cannot use.
+
+Every one is a :class:`CourseDynamicsError` whose message is one line naming
+the file, joint, link, row or option at fault. The command line reports these,
+and only these, as ``error: …`` with exit code 2; any other exception is a bug
+and keeps its traceback. They are also ``ValueError``s, so code that expects
+the standard exception for a bad value still catches them.
+
+=========================  ====================================================
+class                      raised for
+=========================  ====================================================
+``ModelError``             a robot description the dynamics cannot use
+``UnknownRobotError``      a robot name we do not ship (also a ``KeyError``)
+``StateError``             a state of the wrong length, not numeric, NaN or inf
+``InputError``             a bad file, table or option value
+=========================  ====================================================
+
+Modules add their own where a caller may want to tell them apart:
+``cartesian.SingularityError``, ``forward_dynamics.SingularMassMatrixError``,
+``simulation.SimulationError``, ``symbolic.SymbolError``,
+``viewer.ViewerError``.
+"""
+from __future__ import annotations
+
+
+class CourseDynamicsError(ValueError):
+    """Input that course_dynamics cannot use; the message is one line."""
+
+    def __str__(self) -> str:
+        return str(self.args[0]) if self.args else ""
+
+
+class ModelError(CourseDynamicsError):
+    """A robot description or model parameter that the dynamics cannot use."""
+
+
+class UnknownRobotError(ModelError, KeyError):
+    """A robot name that is neither shipped nor a file."""
+
+
+class StateError(CourseDynamicsError):
+    """A state that does not fit the model: wrong length, not numeric, NaN or inf."""
+
+
+class InputError(CourseDynamicsError):
+    """A file, table or option value that cannot be used (named in the message)."""

@@ -1,0 +1,92 @@
+"""What several test modules share: the robots checked, the agreement assertion, URDF builders.
+
+Reference values come from Pinocchio (course_dynamics_reference.pinocchio_oracle)
+evaluated on the same URDF, never from numbers copied into a test. The test
+files import this module as ``helpers`` (``pythonpath = ["tests"]`` in the
+pytest configuration), so each runs on its own.
+"""
+from __future__ import annotations
+
+from functools import lru_cache
+from pathlib import Path
+
+import numpy as np
+
+from course_dynamics.robots import robot_names, robot_path
+
+ROOT = Path(__file__).resolve().parent.parent
+DATA = Path(__file__).parent / "data"
+AWKWARD = DATA / "awkward.urdf"
+SAMPLES = 200  # seeded random states per robot
+RTOL = 1e-9  # agreement with Pinocchio, relative
+
+CHECKED_ROBOTS = list(robot_names()) + ["awkward"]
+
+
+def urdf_of(name: str) -> Path:
+    return AWKWARD if name == "awkward" else robot_path(name)
+
+
+def assert_agrees(ours, ref, scale=None, rtol=RTOL, what=""):
+    """|ours − ref|∞ ≤ rtol · max(|ref|∞, scale): relative, floored at the term's natural scale."""
+    ours, ref = np.asarray(ours), np.asarray(ref)
+    assert ours.shape == ref.shape, f"{what}: shape {ours.shape} vs {ref.shape}"
+    denominator = max(float(np.abs(ref).max()), scale or 0.0, np.finfo(float).tiny)
+    error = float(np.abs(ours - ref).max()) / denominator
+    assert error <= rtol, f"{what}: relative error {error:.3e} > {rtol:g}"
+
+
+def tip_frame(model) -> str:
+    """The last URDF link carried by the last moving body: a tool frame where there is one."""
+    return [f.name for f in model.frames if f.body == model.n - 1][-1]
+
+
+@lru_cache(maxsize=None)
+def derivation(name: str, symbols: tuple[str, ...], method: str = "newton-euler"):
+    """``symbolic.derive`` of a shipped robot, computed once per test session (3-joint derivations take seconds)."""
+    from course_dynamics import load_robot
+    from course_dynamics.symbolic import derive
+
+    return derive(load_robot(name), symbols, method)
+
+
+# ---------------------------------------------------------------- URDF text with one thing changed at a time
+
+LINK = '<link name="{name}"><inertial><origin xyz="0.1 0 0" rpy="0 0 0"/><mass value="{mass}"/>' \
+       '<inertia ixx="{ixx}" iyy="{iyy}" izz="{izz}" ixy="0" ixz="0" iyz="0"/></inertial></link>'
+JOINT = '<joint name="{name}" type="{type}"><parent link="{parent}"/><child link="{child}"/>' \
+        '<origin xyz="0 0 0.1" rpy="0 0 0"/><axis xyz="{axis}"/>' \
+        '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint>'
+
+
+def arm_urdf(mass="1.0", ixx="0.01", iyy="0.01", izz="0.01", joint_type="revolute", axis="0 0 1", extra=""):
+    """A two-link arm as URDF text, with one thing changed at a time."""
+    return (
+        '<?xml version="1.0"?><robot name="probe"><link name="base"/>'
+        + LINK.format(name="link1", mass="1.0", ixx="0.01", iyy="0.01", izz="0.01")
+        + LINK.format(name="link2", mass=mass, ixx=ixx, iyy=iyy, izz=izz)
+        + JOINT.format(name="joint1", type="revolute", parent="base", child="link1", axis="0 0 1")
+        + JOINT.format(name="joint2", type=joint_type, parent="link1", child="link2", axis=axis)
+        + extra + "</robot>"
+    )
+
+
+BAD_URDFS = {
+    "floating joint": (arm_urdf(joint_type="floating"), "joint 'joint2': type 'floating' is not supported"),
+    "planar joint": (arm_urdf(joint_type="planar"), "joint 'joint2': type 'planar' is not supported"),
+    "kinematic loop": (
+        arm_urdf(extra=JOINT.format(name="loop", type="revolute", parent="base", child="link2", axis="1 0 0")),
+        "kinematic loop: link 'link2' is the child of both joint 'joint2' and joint 'loop'"),
+    "two roots": (arm_urdf(extra='<link name="stray"/>'), "2 root links (base, stray)"),
+    "negative mass": (arm_urdf(mass="-1"), "link 'link2': negative mass"),
+    "inertia not positive": (arm_urdf(ixx="-0.01"), "link 'link2': inertia tensor is not positive semi-definite"),
+    "triangle inequality": (arm_urdf(ixx="0.01", iyy="0.01", izz="0.05"), "link 'link2': inertia breaks the triangle inequality"),
+    "zero axis": (arm_urdf(axis="0 0 0"), "joint 'joint2': zero axis"),
+    "NaN mass": (arm_urdf(mass="nan"), "link 'link2' inertial mass has a non-finite value"),
+    "inf axis": (arm_urdf(axis="0 inf 0"), "joint 'joint2' axis has a non-finite value"),
+    "non-numeric mass": (arm_urdf(mass="heavy"), "malformed URDF: could not convert string to float: 'heavy'"),
+    "malformed XML": ('<robot name="x"><link name="a"></robot>', "malformed XML"),
+    "undefined link": (arm_urdf(extra=JOINT.format(name="j3", type="fixed", parent="link2", child="ghost", axis="1 0 0")),
+                       "joint 'j3': child link 'ghost' is not defined"),
+    "nothing moves": ('<robot name="x"><link name="a"/></robot>', "nothing moves"),
+}
