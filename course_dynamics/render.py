@@ -40,12 +40,16 @@ def format_value(x) -> str:
     return f"{x:.6g}" if isinstance(x, float) else str(x)
 
 
-def text_table(rows: list[list[str]], right: bool = True, gap: int = 2) -> str:
-    """Rows of strings as aligned columns: the first left-aligned, the others right-aligned if ``right``."""
+def text_table(rows: list[list[str]], align: str | None = None, gap: int = 2) -> str:
+    """Rows of strings as aligned columns; ``align`` has one ``<`` (left) or ``>`` (right) per column.
+
+    By default the first column is left-aligned and the others right-aligned (labels, then numbers).
+    """
     widths = [max(len(row[c]) for row in rows) for c in range(len(rows[0]))]
+    align = align or "<" + ">" * (len(widths) - 1)
     lines = []
     for row in rows:
-        cells = [cell.ljust(w) if c == 0 or not right else cell.rjust(w) for c, (cell, w) in enumerate(zip(row, widths))]
+        cells = [cell.ljust(w) if a == "<" else cell.rjust(w) for cell, w, a in zip(row, widths, align)]
         lines.append((" " * gap).join(cells).rstrip())
     return "\n".join(lines)
 

@@ -8,7 +8,10 @@ Terms: ``tau`` ← ``rnea``; ``M`` ← ``crba`` (upper triangle, symmetrised);
 ``C`` ← ``computeCoriolisMatrix``; ``G`` ← ``computeGeneralizedGravity``;
 ``V`` ← ``nonLinearEffects`` − G; ``aba`` ← ``aba``; frame Jacobians ←
 ``getFrameJacobian`` and ``getFrameJacobianTimeVariation`` (``base`` is
-LOCAL_WORLD_ALIGNED, ``frame`` is LOCAL).
+LOCAL_WORLD_ALIGNED, ``frame`` is LOCAL); frame placements ← ``oMf`` after
+``framesForwardKinematics``; energies ← ``computeKineticEnergy``,
+``computePotentialEnergy``; joint damping and friction ← the model's
+``damping`` and ``friction`` (read from the URDF by Pinocchio's own parser).
 """
 from __future__ import annotations
 
@@ -79,6 +82,28 @@ class PinocchioOracle:
     def terms(self, q, qd, qdd) -> dict[str, np.ndarray]:
         """τ, M, C, V, G at one state, our joint order."""
         return dict(tau=self.tau(q, qd, qdd), M=self.M(q), C=self.C(q, qd), V=self.V(q, qd), G=self.G(q))
+
+    def kinetic_energy(self, q, qd) -> float:
+        return float(pin.computeKineticEnergy(self.model, self.data, self.configuration(q), self.velocity(qd)))
+
+    def potential_energy(self, q) -> float:
+        return float(pin.computePotentialEnergy(self.model, self.data, self.configuration(q)))
+
+    def frame_placement(self, q, frame: str) -> tuple[np.ndarray, np.ndarray]:
+        """⁰R_F (3, 3) and ⁰P_F (3,) of a URDF link's frame."""
+        pin.framesForwardKinematics(self.model, self.data, self.configuration(q))
+        placement = self.data.oMf[self.model.getFrameId(frame, pin.BODY)]
+        return placement.rotation.copy(), placement.translation.copy()
+
+    @property
+    def damping(self) -> np.ndarray:
+        """Viscous coefficients (URDF ``<dynamics damping>``), our joint order."""
+        return self._ours(np.asarray(self.model.damping))
+
+    @property
+    def friction(self) -> np.ndarray:
+        """Coulomb coefficients (URDF ``<dynamics friction>``), our joint order."""
+        return self._ours(np.asarray(self.model.friction))
 
     def aba(self, q, qd, tau) -> np.ndarray:
         """Θ̈ by the articulated-body algorithm (no friction)."""

@@ -32,9 +32,15 @@ def test_smoothing_is_tanh():
 
 
 def test_defaults_come_from_urdf_dynamics():
+    """Viscous and Coulomb coefficients as Pinocchio's own URDF parser reads <dynamics damping friction>."""
+    from course_dynamics import robot_path
+    from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
+
     model = load_robot("panda")
+    oracle = PinocchioOracle(robot_path("panda"), model.joint_names)
     friction = Friction.from_urdf(model)
-    np.testing.assert_array_equal(friction.viscous, [b.damping for b in model.bodies])
+    np.testing.assert_array_equal(friction.viscous, oracle.damping)
+    np.testing.assert_array_equal(friction.coulomb, oracle.friction)
     assert friction.viscous[-1] == 0.3  # <dynamics damping="0.3"/> on panda_finger_joint2
     np.testing.assert_array_equal(Friction.none(model).coulomb, 0)
 

@@ -1,14 +1,19 @@
-"""The README stays true: its Python quick start runs, and every `course-dynamics` example command succeeds."""
+"""The README stays true: its Python quick start runs, and every `course-dynamics` example command succeeds.
+
+The commands run in this process (``course_dynamics.cli.main``), from a folder
+holding a copy of ``examples/``; the installed entry point itself is tested in
+test_cli.py.
+"""
 from __future__ import annotations
 
 import re
 import shlex
 import shutil
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
+
+from course_dynamics.cli import main
 
 ROOT = Path(__file__).resolve().parent.parent
 README = (ROOT / "README.md").read_text()
@@ -34,15 +39,14 @@ def example_commands() -> list[str]:
 
 
 @pytest.mark.parametrize("command", example_commands())
-def test_cli_example_runs(command, tmp_path):
+def test_cli_example_runs(command, tmp_path, monkeypatch, capsys):
     shutil.copytree(ROOT / "examples", tmp_path / "examples")
-    argv = shlex.split(command)
-    result = subprocess.run([sys.executable, "-m", "course_dynamics.cli", *argv[1:]], cwd=tmp_path,
-                            capture_output=True, text=True)
-    assert result.returncode == 0, result.stderr
+    monkeypatch.chdir(tmp_path)
+    code = main(shlex.split(command)[1:])
+    assert code == 0, capsys.readouterr().err
 
 
-def test_error_examples_show_real_messages():
+def test_error_examples_show_real_messages(capsys):
     """The `$ command` / `error: …` pairs in the README are what the program prints.
 
     The condition number of an exactly singular matrix is round-off (it differs between BLAS builds),
@@ -54,6 +58,32 @@ def test_error_examples_show_real_messages():
     pairs = re.findall(r"\$ (course-dynamics [^\n]*)\n(error: [^\n]*)", README)
     assert len(pairs) >= 3
     for command, message in pairs:
-        result = subprocess.run([sys.executable, "-m", "course_dynamics.cli", *shlex.split(command)[1:]],
-                                cwd=ROOT, capture_output=True, text=True)
-        assert result.returncode == 2 and normal(result.stderr) == normal(message), (command, result.stderr)
+        code = main(shlex.split(command)[1:])
+        err = capsys.readouterr().err
+        assert code == 2 and normal(err) == normal(message), (command, err)
+
+
+def command_output_pairs() -> list[tuple[str, str]]:
+    """(command, shown output) where a ```sh block is followed directly by a plain ``` block.
+
+    The command is the first line of the sh block; outputs with elisions (… or ...) are left out.
+    """
+    blocks = [(m.start(), m.end(), m.group(1), m.group(2)) for m in re.finditer(r"```(\w*)\n(.*?)```", README, re.S)]
+    pairs = []
+    for (_, end, lang, code), (start, _, next_lang, shown) in zip(blocks, blocks[1:]):
+        if lang == "sh" and next_lang == "" and not README[end:start].strip() and "..." not in shown and "…" not in shown:
+            command = code.splitlines()[0].split("  #")[0].strip()
+            if command.startswith("course-dynamics "):
+                pairs.append((command, shown))
+    return pairs
+
+
+@pytest.mark.parametrize("command, shown", command_output_pairs(), ids=lambda x: x if x.startswith("course") else "")
+def test_shown_output_is_what_the_command_prints(command, shown, capsys):
+    assert main(shlex.split(command)[1:]) == 0
+    printed = capsys.readouterr().out.replace(str(ROOT) + "/", "")
+    assert printed == shown
+
+
+def test_outputs_are_shown_for_several_commands():
+    assert {command.split()[1] for command, _ in command_output_pairs()} >= {"info", "terms", "cartesian"}

@@ -10,6 +10,7 @@ from course_dynamics.symbolic import SymbolError, canonical, derive, numeric_fun
 from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
 from course_dynamics_reference.validate import random_states
 from course_dynamics.robots import robot_path
+from helpers import derivation
 
 NOTES_SYMBOLS = {
     "two_link": ("m1", "m2", "l1", "l2", "g"),
@@ -21,9 +22,8 @@ NOTES_SYMBOLS = {
 
 @pytest.fixture(scope="module", params=sorted(NOTES_SYMBOLS))
 def derivations(request):
-    model = load_robot(request.param)
-    symbols = NOTES_SYMBOLS[request.param]
-    return request.param, model, derive(model, symbols, "newton-euler"), derive(model, symbols, "lagrange")
+    name, symbols = request.param, NOTES_SYMBOLS[request.param]
+    return name, load_robot(name), derivation(name, symbols, "newton-euler"), derivation(name, symbols, "lagrange")
 
 
 def assert_same(a, b, angles):
@@ -51,7 +51,7 @@ def test_split_rebuilds_tau(derivations):
 
 
 def test_two_link_is_craig_6_60_to_6_63_with_symbols():
-    d = derive(load_robot("two_link"), NOTES_SYMBOLS["two_link"])
+    d = derivation("two_link", NOTES_SYMBOLS["two_link"])
     m1, m2, l1, l2, g = (d.parameters[k] for k in ("m1", "m2", "l1", "l2", "g"))
     t1, t2 = d.q
     td1, td2 = d.qd
@@ -69,7 +69,7 @@ def test_two_link_is_craig_6_60_to_6_63_with_symbols():
 
 
 def test_rp_arm_is_craig_example_6_5_with_symbols():
-    d = derive(load_robot("rp_arm"), NOTES_SYMBOLS["rp_arm"], method="lagrange")
+    d = derivation("rp_arm", NOTES_SYMBOLS["rp_arm"], "lagrange")
     m1, m2, l1, Izz1, Izz2, g = (d.parameters[k] for k in ("m1", "m2", "l1", "Izz1", "Izz2", "g"))
     t1, d2 = d.q
     td1, dd2 = d.qd
@@ -81,7 +81,7 @@ def test_rp_arm_is_craig_example_6_5_with_symbols():
 
 
 def test_pendulum_is_the_notes_equation():
-    d = derive(load_robot("pendulum"), ("m", "l", "g"))
+    d = derivation("pendulum", NOTES_SYMBOLS["pendulum"])
     m, l, g = (d.parameters[k] for k in ("m", "l", "g"))
     (theta,), (theta_ddot,) = d.q, d.qdd
     assert sympy.simplify(d.tau[0] - (m * l**2 * theta_ddot + m * g * l * sympy.sin(theta))) == 0
@@ -90,7 +90,7 @@ def test_pendulum_is_the_notes_equation():
 @pytest.mark.parametrize("name", ["two_link", "rp_arm", "pendulum", "rrr_arm"])
 def test_generated_functions_agree_with_pinocchio(name):
     model = load_robot(name)
-    d = derive(model, NOTES_SYMBOLS[name])
+    d = derivation(name, NOTES_SYMBOLS[name])
     functions = numeric_functions(d, {k: parameter_values(model)[k if k in parameter_values(model) else k + "1"]
                                       for k in NOTES_SYMBOLS[name]})
     oracle = PinocchioOracle(robot_path(name), model.joint_names)

@@ -1,11 +1,10 @@
-"""course_dynamics/trace.py (and its renderings in render.py): every entry of the step-by-step iterations against Pinocchio's own per-joint data."""
+"""course_dynamics/trace.py: every entry of the step-by-step iterations against Pinocchio's own per-joint data."""
 from __future__ import annotations
 
 import numpy as np
 import sympy
 
 from course_dynamics import load_robot
-from course_dynamics.render import trace_latex, trace_record, trace_table
 from course_dynamics.trace import trace
 from helpers import assert_agrees
 
@@ -42,13 +41,3 @@ def test_symbolic_trace_is_the_notes_worked_example():
     assert same(v_dot_c1[1], l1 * qdd1 + g * sympy.cos(q1))
     assert same(t.values["omega_dot"][1][2], qdd1 + qdd2)
     assert all(same(x, 0) for x in t.values["N"][0] + t.values["N"][1])
-
-
-def test_formats():
-    t = trace(load_robot("rp_arm"), [0.3, 0.5], [1.0, -0.2], [0.1, 0.4])
-    table = trace_table(t)
-    assert "Outward iteration" in table and "(6.35)" in table and "tau_2" in table and "(6.44)" in table
-    latex = trace_latex(t)
-    assert latex.count(r"\begin{align*}") == 2 and r"{}^{2}\dot v_{C}_{2}" in latex
-    record = trace_record(t)
-    assert record["joints"] == ["theta1", "d2"] and set(record["links"][0]) >= {"omega", "v_dot_c", "f", "n", "tau"}

@@ -34,9 +34,9 @@ def run(args) -> int:
         limits = "-" if j["lower"] is None else f"[{j['lower']:g}, {j['upper']:g}]"
         axis = "(" + ", ".join(f"{a:.4g}" for a in j["axis"]) + ")"
         rows.append([str(j["index"]), j["name"], j["type"], axis, limits, j["parent_link"]])
-    print(render.text_table([[row[0].rjust(2)] + row[1:] for row in rows], right=False))
+    print(render.text_table(rows, align="><<<<<"))
     rows = [["moving body", "mass (kg)", "COM in body frame (m)"]]
     rows += [[b["link"], f"{b['mass']:.4g}", "(" + ", ".join(f"{c:.4g}" for c in b["com"]) + ")"] for b in bodies]
     print()
-    print(render.text_table(rows))
+    print(render.text_table(rows, align="<><"))
     return 0

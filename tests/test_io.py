@@ -1,0 +1,106 @@
+"""course_dynamics/io.py: whole-or-nothing writes, modes, links and special files; CSV reading."""
+from __future__ import annotations
+
+import os
+import stat
+
+import numpy as np
+import pytest
+
+from course_dynamics import InputError
+from course_dynamics import io
+
+
+def test_csv_round_trip_is_exact(tmp_path):
+    data = np.random.default_rng(0).standard_normal((5, 3))
+    io.write_csv(tmp_path / "x.csv", ["t", "q_a", "q_b"], data)
+    columns = io.read_columns(tmp_path / "x.csv", ["t", "q_a", "q_b"])
+    np.testing.assert_array_equal(np.column_stack([columns["t"], columns["q_a"], columns["q_b"]]), data)
+
+
+def test_a_failed_write_leaves_nothing(tmp_path):
+    target = tmp_path / "out.txt"
+    with pytest.raises(RuntimeError):
+        with io.output(target) as handle:
+            handle.write("half")
+            raise RuntimeError("interrupted")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_failed_write_keeps_the_old_file(tmp_path):
+    target = tmp_path / "out.txt"
+    target.write_text("old")
+    with pytest.raises(KeyboardInterrupt):
+        with io.output(target) as handle:
+            handle.write("new")
+            raise KeyboardInterrupt
+    assert target.read_text() == "old" and list(tmp_path.iterdir()) == [target]
+
+
+def test_new_files_follow_the_umask_and_replaced_files_keep_their_mode(tmp_path):
+    old = os.umask(0o022)
+    try:
+        io.write_text(tmp_path / "new.txt", "x")
+        assert stat.S_IMODE((tmp_path / "new.txt").stat().st_mode) == 0o644
+        kept = tmp_path / "kept.txt"
+        kept.write_text("x")
+        kept.chmod(0o640)
+        io.write_text(kept, "y")
+        assert stat.S_IMODE(kept.stat().st_mode) == 0o640 and kept.read_text() == "y"
+    finally:
+        os.umask(old)
+
+
+def test_a_link_at_the_target_is_replaced_not_followed(tmp_path):
+    victim = tmp_path / "victim.txt"
+    victim.write_text("precious")
+    link = tmp_path / "out.html"
+    link.symlink_to(victim)
+    io.write_text(link, "<html/>")
+    assert victim.read_text() == "precious"
+    assert not link.is_symlink() and link.read_text() == "<html/>"
+
+
+def test_a_planted_temp_name_is_not_followed(tmp_path):
+    """The temporary file's name is random (mkstemp, O_EXCL): a link planted at a predictable name is left alone."""
+    victim = tmp_path / "victim.txt"
+    victim.write_text("precious")
+    (tmp_path / ".out.html.partial").symlink_to(victim)
+    io.write_text(tmp_path / "out.html", "<html/>")
+    assert victim.read_text() == "precious" and (tmp_path / "out.html").read_text() == "<html/>"
+
+
+def test_special_files_are_streamed_into_never_replaced(tmp_path):
+    io.write_text("/dev/null", "discarded")
+    assert stat.S_ISCHR(os.stat("/dev/null").st_mode)
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    reader = os.open(fifo, os.O_RDONLY | os.O_NONBLOCK)
+    try:
+        io.write_text(fifo, "through the pipe")
+        assert os.read(reader, 100) == b"through the pipe"
+    finally:
+        os.close(reader)
+    assert stat.S_ISFIFO(os.lstat(fifo).st_mode)
+
+
+def test_dash_is_standard_output(capsys):
+    io.write_csv("-", ["t"], np.array([[1.5]]))
+    assert capsys.readouterr().out == "t\n1.5\n"
+
+
+@pytest.mark.parametrize("target, message", [
+    ("missing_dir/out.csv", "does not exist"),
+    (".", "is a directory"),
+])
+def test_unwritable_targets_are_named(tmp_path, monkeypatch, target, message):
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(InputError, match=message):
+        io.write_text(target, "x")
+
+
+def test_joint_columns_and_stacking():
+    names = io.joint_columns(("q", "qd"), ("a", "b"))
+    assert names == ["q_a", "q_b", "qd_a", "qd_b"]
+    stacked = io.stack_joint_columns({"q_a": np.array([1.0, 2.0]), "q_b": np.array([3.0, 4.0])}, "q", ("a", "b"))
+    np.testing.assert_array_equal(stacked, [[1.0, 3.0], [2.0, 4.0]])

@@ -1,0 +1,48 @@
+"""course_dynamics/render.py: tables, the trace in three formats, typeset derivations, strict JSON."""
+from __future__ import annotations
+
+import json
+import re
+
+import pytest
+
+from course_dynamics import load_robot
+from course_dynamics.render import (derivation_record, derivation_text, json_text, text_table, trace_latex,
+                                    trace_record, trace_table)
+from course_dynamics.trace import trace
+from helpers import derivation
+
+
+def test_trace_formats():
+    t = trace(load_robot("rp_arm"), [0.3, 0.5], [1.0, -0.2], [0.1, 0.4])
+    table = trace_table(t)
+    assert "Outward iteration" in table and "(6.35)" in table and "tau_2" in table and "(6.44)" in table
+    latex = trace_latex(t)
+    assert latex.count(r"\begin{align*}") == 2 and r"{}^{2}\dot v_{C}_{2}" in latex
+    record = trace_record(t)
+    assert record["joints"] == ["theta1", "d2"] and set(record["links"][0]) >= {"omega", "v_dot_c", "f", "n", "tau"}
+    json.loads(json_text(record))
+
+
+def test_text_table_aligns_columns():
+    lines = text_table([["joint", "tau"], ["theta1", "1.5"], ["d2", "-20"]]).splitlines()
+    assert lines == ["joint   tau", "theta1  1.5", "d2      -20"]
+
+
+def test_markdown_derivation_keeps_latex_inside_math():
+    """Every backslash command of the Markdown text sits between $ delimiters, so it renders anywhere."""
+    text = derivation_text(derivation("two_link", ("m1", "m2", "l1", "l2", "g")), "markdown")
+    outside = re.sub(r"\$\$.*?\$\$|\$.*?\$", "", text, flags=re.S)
+    assert "\\" not in outside, outside
+    assert "$$ M(\\Theta)" in text
+
+
+def test_derivation_record_is_strings():
+    record = derivation_record(derivation("pendulum", ("m", "l", "g")))
+    assert list(record) == ["joints", "tau", "M", "V", "G", "B", "C"]
+    assert all(isinstance(x, str) for x in record["tau"])
+
+
+def test_json_refuses_nan():
+    with pytest.raises(ValueError):
+        json_text({"x": float("nan")})
