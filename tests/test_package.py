@@ -43,3 +43,14 @@ def test_using_the_library_loads_no_pinocchio():
     result = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
     assert result.returncode == 0, result.stderr
     assert result.stdout.strip().endswith("clean")
+
+
+def test_a_users_own_reference_folder_does_not_shadow_the_oracle(tmp_path):
+    """The oracle installs as course_dynamics_reference, so a reference/ package in the working folder is never imported."""
+    (tmp_path / "reference").mkdir()
+    (tmp_path / "reference" / "__init__.py").write_text("raise RuntimeError('the user reference package was imported')\n")
+    (tmp_path / "reference" / "validate.py").write_text("raise RuntimeError('the user reference package was imported')\n")
+    result = subprocess.run([sys.executable, "-m", "course_dynamics.cli", "validate", "two_link", "--samples", "3"],
+                            cwd=tmp_path, capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    assert "all robots agree" in result.stdout
