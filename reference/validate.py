@@ -1,21 +1,9 @@
 """Ours against Pinocchio on seeded random states: the agreement report.
 
-Error measure, per term and sample: ‖ours − Pinocchio‖∞ / max(‖Pinocchio‖∞, s),
-where s is the scale the term is built at, so that a term that is exactly zero
-in theory (V of a single revolute joint, say) is not judged on round-off alone:
-
-====  =====================================
-term  s
-====  =====================================
-τ     ‖M‖∞ (‖Θ̈‖∞ + ‖Θ̇‖∞²) + ‖G‖∞
-M     ‖M‖∞
-C     ‖M‖∞ ‖Θ̇‖∞
-V     ‖M‖∞ ‖Θ̇‖∞²
-G     ‖M‖∞ ‖g‖
-====  =====================================
-
-The report keeps, per term, the largest absolute and relative error over the
-samples; a robot agrees when every relative error is at most the tolerance.
+States and the error measure are the library's own (:mod:`course_dynamics.sampling`):
+‖ours − Pinocchio‖∞ / max(‖Pinocchio‖∞, s), with s the scale each term is built
+at. The report keeps, per term, the largest absolute and relative error over
+the samples; a robot agrees when every relative error is at most the tolerance.
 """
 from __future__ import annotations
 
@@ -26,31 +14,10 @@ import numpy as np
 
 from course_dynamics import coriolis_matrix, gravity_torques, inverse_dynamics, load_urdf, mass_matrix, velocity_torques
 from course_dynamics.robots import resolve
+from course_dynamics.sampling import random_states, relative_error, sampling_bounds, term_scales
 
 from . import TERMS, TOLERANCE
 from .pinocchio_oracle import PinocchioOracle
-
-
-def sampling_bounds(model) -> tuple[np.ndarray, np.ndarray]:
-    """Where random Θ are drawn: the joint limits, or [−π, π] where a joint has none.
-
-    A joint whose URDF limits are empty or unbounded (continuous joints, or
-    lower = upper as some exporters write) is sampled over [−π, π] (rad or m).
-    """
-    lower, upper = model.lower.copy(), model.upper.copy()
-    free = ~(np.isfinite(lower) & np.isfinite(upper) & (lower < upper))
-    lower[free], upper[free] = -np.pi, np.pi
-    return lower, upper
-
-
-def random_states(model, samples: int, seed: int):
-    """Θ uniform within :func:`sampling_bounds`, Θ̇ and Θ̈ standard normal; each (samples, n)."""
-    rng = np.random.default_rng(seed)
-    lower, upper = sampling_bounds(model)
-    q = rng.uniform(lower, upper, size=(samples, model.n))
-    qd = rng.standard_normal((samples, model.n))
-    qdd = rng.standard_normal((samples, model.n))
-    return q, qd, qdd
 
 
 def ours_batch(model, q, qd, qdd) -> dict[str, np.ndarray]:
@@ -58,16 +25,6 @@ def ours_batch(model, q, qd, qdd) -> dict[str, np.ndarray]:
     return dict(
         tau=inverse_dynamics(model, q, qd, qdd), M=mass_matrix(model, q), C=coriolis_matrix(model, q, qd),
         V=velocity_torques(model, q, qd), G=gravity_torques(model, q),
-    )
-
-
-def term_scales(ref: dict, qd, qdd, gravity) -> dict[str, float]:
-    """The scale s of each term at one state (module docstring)."""
-    norm_M = np.abs(ref["M"]).max()
-    speed, accel = np.abs(qd).max(), np.abs(qdd).max()
-    return dict(
-        tau=norm_M * (accel + speed**2) + np.abs(ref["G"]).max(), M=norm_M, C=norm_M * speed,
-        V=norm_M * speed**2, G=norm_M * float(np.linalg.norm(gravity)),
     )
 
 
@@ -113,10 +70,10 @@ def validate(name_or_path: str, samples: int = 200, seed: int = 0, tolerance: fl
     )
     for k in range(samples):
         ref = oracle.terms(q[k], qd[k], qdd[k])
-        scales = term_scales(ref, qd[k], qdd[k], model.gravity)
+        scales = term_scales(ref["M"], ref["G"], qd[k], qdd[k], model.gravity)
         for term in TERMS:
             error = float(np.abs(ours[term][k] - ref[term]).max())
-            relative = error / max(float(np.abs(ref[term]).max()), scales[term], np.finfo(float).tiny)
+            relative = relative_error(ours[term][k], ref[term], scales[term])
             agreement = report.terms[term]
             agreement.max_abs = max(agreement.max_abs, error)
             agreement.max_rel = max(agreement.max_rel, relative)
@@ -134,3 +91,7 @@ def bundled_targets() -> list[str]:
 
 def display_name(name_or_path: str) -> str:
     return name_or_path if not Path(name_or_path).suffix else Path(name_or_path).name
+
+
+__all__ = ["RobotReport", "TermAgreement", "bundled_targets", "display_name", "ours_batch", "random_states",
+           "sampling_bounds", "validate"]

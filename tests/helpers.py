@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from course_dynamics.robots import robot_names, robot_path
+from course_dynamics.sampling import relative_error
 
 ROOT = Path(__file__).resolve().parent.parent
 DATA = Path(__file__).parent / "data"
@@ -31,8 +32,7 @@ def assert_agrees(ours, ref, scale=None, rtol=RTOL, what=""):
     """|ours − ref|∞ ≤ rtol · max(|ref|∞, scale): relative, floored at the term's natural scale."""
     ours, ref = np.asarray(ours), np.asarray(ref)
     assert ours.shape == ref.shape, f"{what}: shape {ours.shape} vs {ref.shape}"
-    denominator = max(float(np.abs(ref).max()), scale or 0.0, np.finfo(float).tiny)
-    error = float(np.abs(ours - ref).max()) / denominator
+    error = relative_error(ours, ref, scale or 0.0)
     assert error <= rtol, f"{what}: relative error {error:.3e} > {rtol:g}"
 
 
