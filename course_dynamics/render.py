@@ -15,11 +15,19 @@ function                renders
                         Markdown (LaTeX inside ``$$``) or LaTeX
 ``derivation_record``   the same as a JSON-ready dict of strings
 ``json_text``           a JSON document (strict: NaN and inf are refused)
+``markdown_escape``     any text (a robot, joint or student name, a message)
+                        made safe to place in Markdown
+``code_block``          text as a fenced Markdown code block it cannot leave
 ======================  ========================================================
+
+Everything that came from a user (names from a URDF, student files and their
+output) goes through :func:`markdown_escape`, :func:`code_block` or
+``html.escape`` before it reaches Markdown or HTML.
 """
 from __future__ import annotations
 
 import json
+import re
 
 from .trace import INWARD_QUANTITIES, OUTWARD_QUANTITIES, Trace
 
@@ -58,6 +66,24 @@ def matrix_lines(labels, matrix, width: int = 12) -> list[str]:
     """One line per row: its label, then the entries to 6 significant digits in columns of ``width``."""
     label_width = max(len(label) for label in labels)
     return [f"{label:<{label_width}}  " + " ".join(f"{x:>{width}.6g}" for x in row) for label, row in zip(labels, matrix)]
+
+
+def markdown_escape(text) -> str:
+    """``text`` on one line, with the characters that make Markdown or HTML markup escaped.
+
+    Escaped: backslash, backtick, ``*``, ``_``, ``[``, ``]``, ``|``, ``~`` and HTML's ``<``, ``>``, ``&``
+    (as entities); without brackets no link or image can form, so parentheses may stay.
+    """
+    text = str(text).replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+    text = re.sub(r"([\\`*_\[\]|~])", r"\\\1", text)
+    return " ".join(text.splitlines())
+
+
+def code_block(text, language: str = "text") -> str:
+    """A fenced code block whose fence is longer than any run of backticks in ``text``."""
+    longest = max((len(run) for run in re.findall(r"`+", str(text))), default=0)
+    fence = "`" * max(3, longest + 1)
+    return f"{fence}{language}\n{text}\n{fence}"
 
 
 def json_text(document) -> str:

@@ -1,0 +1,65 @@
+"""``course-dynamics grade``: grade students' dynamics code in a sandbox and write feedback that teaches."""
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from ..options import UsageError, print_json, progress_bar
+
+HELP = "grade students' dynamics code (sandboxed) against the library, with feedback"
+DESCRIPTION = ("Run each SUBMISSION.py in its own sandboxed process (bubblewrap: no network, read-only system, "
+               "CPU/memory/process/output limits), call its tau, M, V, G or C on the assignment's seeded states, "
+               "score every term against course_dynamics and explain each mistake. Writes gradebook.csv, "
+               "<student>.md/.html/.json (Gradescope results.json) and summary.html to --out.")
+
+
+def add_arguments(parser) -> None:
+    parser.add_argument("assignment", nargs="?", help="assignment TOML file (see --example-assignment)")
+    parser.add_argument("submissions", nargs="*", help="student files, one Python file per student")
+    parser.add_argument("--out", help="folder for the gradebook and feedback (made if missing)")
+    parser.add_argument("--example-assignment", action="store_true", help="print a commented assignment file and exit")
+    parser.add_argument("--no-sandbox", action="store_true",
+                        help="grade without bubblewrap (separate processes and limits only); the gradebook says so")
+    parser.add_argument("--jobs", type=int, help="submissions graded at once (default: the number of CPUs)")
+    parser.add_argument("--json", action="store_true", help="print a JSON summary (per student: total, status)")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def run(args) -> int:
+    from ... import io
+    from ...grading import EXAMPLE, check_sandbox, grade_class, load_assignment, write_outputs
+    from ...grading.grade import student_names
+
+    if args.example_assignment:
+        sys.stdout.write(EXAMPLE)
+        return 0
+    if args.assignment is None or not args.submissions or args.out is None:
+        raise UsageError("grade needs ASSIGNMENT.toml, at least one SUBMISSION.py and --out DIR "
+                         "(or --example-assignment)")
+    if args.jobs is not None and args.jobs < 1:
+        raise UsageError("--jobs must be at least 1")
+    out = Path(args.out)
+    if out.exists() and not out.is_dir():
+        raise UsageError(f"{out}: exists and is not a directory")
+    io.check_writable(out / "gradebook.csv") if out.is_dir() else io.check_writable(out)
+    assignment = load_assignment(args.assignment)
+    student_names(args.submissions)
+    if not args.no_sandbox:
+        check_sandbox()  # before any output: no sandbox is an error, not a quiet downgrade
+    progress = progress_bar(total=len(args.submissions), enabled=not (args.quiet or args.json) and sys.stderr.isatty(),
+                            unit="submission")
+    grades = grade_class(assignment, args.submissions, sandbox=not args.no_sandbox, jobs=args.jobs,
+                         progress=progress.update)
+    progress.close()
+    write_outputs(out, grades, assignment)
+    if args.json:
+        print_json(dict(assignment=str(args.assignment), out=str(out), max_total=assignment.total_points,
+                        students=[dict(student=g.student, total=g.total, status=g.status,
+                                       terms={t: g.points(t) for t in assignment.terms}) for g in grades]))
+    else:
+        mean = sum(g.total for g in grades) / len(grades)
+        print(f"graded {len(grades)} submissions against {assignment.robot.name}: mean {mean:.3g} of "
+              f"{assignment.total_points:g} points; wrote {out / 'gradebook.csv'}, feedback and {out / 'summary.html'}")
+        if args.no_sandbox:
+            print("warning: graded without a sandbox (--no-sandbox)", file=sys.stderr)
+    return 0

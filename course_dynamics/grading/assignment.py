@@ -1,0 +1,147 @@
+"""The assignment file: what students must compute, on which robot, and how it is scored.
+
+An assignment is a small TOML file (see :data:`EXAMPLE`, printed by
+``course-dynamics grade --example-assignment``). Every key is checked when the
+file is read; a bad one is an :class:`~course_dynamics.errors.InputError`
+naming the file and the key.
+"""
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..errors import InputError
+from ..model import Model
+from ..robots import load, robot_names
+
+TERMS = ("tau", "M", "V", "G", "C")
+PARTIAL_CREDIT = ("states", "none")
+DEFAULT_FORBIDDEN = ("pinocchio", "course_dynamics", "course_dynamics_reference")
+MAX_SAMPLES = 1000
+MIN_MEMORY = 256  # MiB: Python with numpy needs about this much address space
+
+EXAMPLE = '''\
+# A course-dynamics assignment: `course-dynamics grade THIS_FILE submissions/*.py --out grades/`
+
+robot = "two_link"          # a shipped robot's name, or a URDF path relative to this file
+samples = 40                # seeded random states (within joint limits; velocities, accelerations ~ N(0, 1))
+seed = 7                    # the same seed gives every student the same states
+tolerance = 1e-6            # relative error allowed per state and term, against course_dynamics
+                            # (which agrees with Pinocchio to 1e-9)
+time_limit = 20             # CPU seconds per submission; the wall clock allows 2 x time_limit + 5 s
+memory_limit = 1024         # MiB per submission
+output_limit = 1000000      # bytes a submission may print; more is status "output limit" and no points
+forbidden_imports = ["pinocchio", "course_dynamics", "course_dynamics_reference"]
+
+# Partial credit per term: "states" gives points x (fraction of states that agree);
+# "none" gives the points only when every state agrees.
+partial_credit = "states"
+
+# Points per term; any of tau, M, V, G, C. A submission is one Python file that defines
+# any of  tau(q, qd, qdd)  M(q)  V(q, qd)  G(q)  C(q, qd)  taking numpy arrays in the joint
+# order `course-dynamics info` prints and returning arrays: tau, V, G of shape (n,), M and C (n, n).
+# A term the student does not define is derived from their tau, as the library does:
+# G = tau(q, 0, 0), V = tau(q, qd, 0) - G, column j of M = tau(q, 0, e_j) - G, and
+# C (the Christoffel form, C qd = V) from M by central differences (accurate to about 1e-8,
+# so a derived C is held to a tolerance of at least 1e-7).
+[points]
+tau = 40
+M = 20
+V = 20
+G = 20
+'''
+
+
+@dataclass(frozen=True)
+class Assignment:
+    """A checked assignment file; ``robot`` is the loaded model, ``source`` the TOML path."""
+
+    source: Path
+    robot_argument: str
+    robot: Model
+    points: dict[str, float]
+    samples: int = 40
+    seed: int = 0
+    tolerance: float = 1e-6
+    time_limit: float = 20.0
+    memory_limit: int = 1024
+    output_limit: int = 1_000_000
+    forbidden_imports: tuple[str, ...] = DEFAULT_FORBIDDEN
+    partial_credit: str = "states"
+    notes: tuple[str, ...] = field(default=())
+
+    @property
+    def total_points(self) -> float:
+        return float(sum(self.points.values()))
+
+    @property
+    def terms(self) -> tuple[str, ...]:
+        """The graded terms, in the order tau, M, V, G, C."""
+        return tuple(t for t in TERMS if t in self.points)
+
+
+KEYS = {"robot", "samples", "seed", "tolerance", "time_limit", "memory_limit", "output_limit", "forbidden_imports",
+        "partial_credit", "points"}
+
+
+def load_assignment(path) -> Assignment:
+    """Read and check an assignment TOML file (module docstring)."""
+    path = Path(path)
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise InputError(f"{path}: no such file") from None
+    except IsADirectoryError:
+        raise InputError(f"{path}: is a directory, expected an assignment .toml file") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"{path}: cannot read: {exc}") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"{path}: not valid TOML: {exc}") from None
+    unknown = sorted(set(data) - KEYS)
+    if unknown:
+        raise InputError(f"{path}: unknown key '{unknown[0]}' (keys are {', '.join(sorted(KEYS))})")
+
+    def number(key, default, kind=float, positive=True):
+        value = data.get(key, default)
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or (kind is int and not isinstance(value, int)):
+            raise InputError(f"{path}: {key} must be a{'n integer' if kind is int else ' number'}, got {value!r}")
+        if not math.isfinite(value) or (positive and value <= 0) or value < 0:
+            raise InputError(f"{path}: {key} must be {'positive' if positive else 'non-negative'} and finite, got {value!r}")
+        return kind(value)
+
+    robot_argument = data.get("robot")
+    if not isinstance(robot_argument, str) or not robot_argument:
+        raise InputError(f"{path}: robot must name a shipped robot ({', '.join(robot_names())}) or a URDF file")
+    target = robot_argument if robot_argument in robot_names() else str(path.parent / robot_argument)
+    if robot_argument not in robot_names() and not Path(target).exists() and not Path(target).suffix:
+        raise InputError(f"{path}: robot '{robot_argument}' is neither a shipped robot ({', '.join(robot_names())}) "
+                         f"nor a URDF file next to the assignment")
+    model = load(target)
+    points = data.get("points")
+    if not isinstance(points, dict) or not points:
+        raise InputError(f"{path}: [points] must give points to at least one of {', '.join(TERMS)}")
+    for term, value in points.items():
+        if term not in TERMS:
+            raise InputError(f"{path}: points: unknown term '{term}' (terms are {', '.join(TERMS)})")
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value < 0:
+            raise InputError(f"{path}: points.{term} must be a non-negative number, got {value!r}")
+    forbidden = data.get("forbidden_imports", list(DEFAULT_FORBIDDEN))
+    if not isinstance(forbidden, list) or not all(isinstance(x, str) and x.isidentifier() for x in forbidden):
+        raise InputError(f"{path}: forbidden_imports must be a list of module names, got {forbidden!r}")
+    partial = data.get("partial_credit", "states")
+    if partial not in PARTIAL_CREDIT:
+        raise InputError(f"{path}: partial_credit must be one of {', '.join(PARTIAL_CREDIT)}, got {partial!r}")
+    samples, memory = number("samples", 40, int), number("memory_limit", 1024, int)
+    if samples > MAX_SAMPLES:
+        raise InputError(f"{path}: samples must be at most {MAX_SAMPLES}, got {samples}")
+    if memory < MIN_MEMORY:
+        raise InputError(f"{path}: memory_limit must be at least {MIN_MEMORY} MiB (Python and numpy need it), got {memory}")
+    return Assignment(
+        source=path, robot_argument=robot_argument, robot=model, points={t: float(points[t]) for t in TERMS if t in points},
+        samples=samples, seed=number("seed", 0, int, positive=False),
+        tolerance=number("tolerance", 1e-6), time_limit=number("time_limit", 20.0),
+        memory_limit=memory, output_limit=number("output_limit", 1_000_000, int),
+        forbidden_imports=tuple(forbidden), partial_credit=partial,
+    )

