@@ -61,3 +61,22 @@ def relative_error(ours, reference, scale: float = 0.0) -> float:
     ours, reference = np.asarray(ours, dtype=float), np.asarray(reference, dtype=float)
     denominator = max(float(np.abs(reference).max(initial=0.0)), scale, np.finfo(float).tiny)
     return float(np.abs(ours - reference).max(initial=0.0)) / denominator
+
+
+def smooth_trajectory(model: Model, duration: float = 2.0, samples: int = 201, seed: int = 0):
+    """A smooth motion through the middle of the joint ranges: t (K,) s and Θ, Θ̇, Θ̈ (K, n), exact derivatives.
+
+    Each joint follows θ(t) = c + a sin(ω t + φ) with c the middle of its
+    :func:`sampling_bounds`, a a third of the half-range, ω between 1 and 3 rad/s
+    and φ seeded, so the motion stays within limits.
+    """
+    rng = np.random.default_rng(seed)
+    lower, upper = sampling_bounds(model)
+    centre, amplitude = (lower + upper) / 2, (upper - lower) / 6
+    omega, phase = rng.uniform(1.0, 3.0, model.n), rng.uniform(0, 2 * np.pi, model.n)
+    t = np.linspace(0.0, duration, samples)
+    angle = np.outer(t, omega) + phase
+    q = centre + amplitude * np.sin(angle)
+    qd = amplitude * omega * np.cos(angle)
+    qdd = -amplitude * omega**2 * np.sin(angle)
+    return t, q, qd, qdd

@@ -20,3 +20,20 @@ def robot(request):
     oracle = PinocchioOracle(path, model.joint_names, model.gravity)
     q, qd, qdd = random_states(model, SAMPLES, seed=sum(map(ord, request.param)))
     return request.param, model, oracle, (q, qd, qdd)
+
+
+@pytest.fixture(scope="session")
+def browser():
+    """Debian's Chromium, headless, driven by Playwright (its own browser download is never used)."""
+    from pathlib import Path
+
+    from helpers import CHROMIUM, CHROMIUM_ARGS
+
+    if not Path(CHROMIUM).exists():
+        pytest.fail(f"{CHROMIUM} is missing: run the README's test command, which installs Debian's chromium")
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as playwright:
+        browser = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+        yield browser
+        browser.close()

@@ -22,6 +22,10 @@ SAMPLES = 200  # seeded random states per robot
 RTOL = 1e-9  # agreement with Pinocchio, relative
 
 CHECKED_ROBOTS = list(robot_names()) + ["awkward"]
+CHROMIUM = "/usr/bin/chromium"
+CHROMIUM_ARGS = ["--headless=new", "--no-sandbox", "--disable-gpu", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
+                 "--ignore-gpu-blocklist", "--disable-background-networking", "--disable-component-update",
+                 "--disable-sync", "--no-first-run", "--disable-quic"]
 
 
 def urdf_of(name: str) -> Path:

@@ -1,4 +1,4 @@
-"""course_dynamics/viewer.py: scenes, offline HTML, and the animation checked in a real browser.
+"""course_dynamics/viewer: scenes, offline HTML, and the animation checked in a real browser.
 
 The browser is Debian's Chromium driven by Playwright (``executable_path=/usr/bin/chromium``;
 ``playwright install`` is never used). The README's test command installs Chromium when it is
@@ -22,10 +22,6 @@ from course_dynamics.cli import main
 from course_dynamics.viewer import MeshWarning, RecordingWindow, export_html, resolve_mesh_path, robot_geometry, show
 
 ROOT = Path(__file__).resolve().parent.parent
-CHROMIUM = "/usr/bin/chromium"
-CHROMIUM_ARGS = ["--headless=new", "--no-sandbox", "--disable-gpu", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
-                 "--ignore-gpu-blocklist", "--disable-background-networking", "--disable-component-update",
-                 "--disable-sync", "--no-first-run", "--disable-quic"]
 
 
 def wave(model, seconds=3.0, step=0.02):
@@ -144,18 +140,6 @@ def test_live_server_dies_with_a_killed_python():
 
 
 # ---------------------------------------------------------------- a real browser
-
-
-@pytest.fixture(scope="module")
-def browser():
-    if not Path(CHROMIUM).exists():
-        pytest.fail(f"{CHROMIUM} is missing: run the README's test command, which installs Debian's chromium")
-    from playwright.sync_api import sync_playwright
-
-    with sync_playwright() as playwright:
-        browser = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
-        yield browser
-        browser.close()
 
 
 def screenshot(page) -> np.ndarray:

@@ -1,0 +1,52 @@
+"""``course-dynamics report``: a comparison report (HTML, Markdown, JSON) of our dynamics against Pinocchio."""
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from course_dynamics_reference import TOLERANCE
+
+from ..options import UsageError, add_robot_argument, load_robot_argument, progress_bar
+
+HELP = "write a comparison report against Pinocchio (HTML, Markdown, JSON) for the course page"
+DESCRIPTION = ("For each ROBOT: the largest and median error of tau, M, C, V, G against Pinocchio on seeded random "
+               "states, their distribution, tau along a smooth trajectory by both libraries, the textbook's closed "
+               "forms for the course robots, the errata count and the environment. Writes DIR/index.html (one "
+               "self-contained page), DIR/report.md with DIR/figures/, and DIR/report.json.")
+
+
+def add_arguments(parser) -> None:
+    add_robot_argument(parser, nargs="+", help="URDF files or shipped robot names")
+    parser.add_argument("--out", required=True, help="output folder (made if missing)")
+    parser.add_argument("--samples", type=int, default=200, help="random states per robot (default 200)")
+    parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    parser.add_argument("--tolerance", type=float, default=TOLERANCE, help=f"relative tolerance (default {TOLERANCE:g})")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def run(args) -> int:
+    from ... import io
+
+    if args.samples < 1:
+        raise UsageError("--samples must be at least 1")
+    if not args.tolerance > 0:
+        raise UsageError(f"--tolerance must be a positive number, got {args.tolerance}")
+    out = Path(args.out)
+    if out.exists() and not out.is_dir():
+        raise UsageError(f"{out}: exists and is not a directory")
+    io.check_writable(out / "index.html") if out.is_dir() else io.check_writable(out)
+    for target in args.urdf:  # bad input fails before any long work
+        load_robot_argument(target)
+    # The oracle is imported by this command only, so the library itself never loads Pinocchio.
+    from course_dynamics_reference.report import build_report, write_report
+
+    progress = progress_bar(total=len(args.urdf) * args.samples, enabled=not args.quiet and sys.stderr.isatty(),
+                            unit="state")
+    report = build_report(args.urdf, samples=args.samples, seed=args.seed, tolerance=args.tolerance,
+                          progress=progress.update)
+    progress.close()
+    write_report(out, report)
+    agree = all(t["agrees"] for r in report.robots for t in r.terms.values())
+    print(f"wrote {out / 'index.html'}, {out / 'report.md'} and {out / 'report.json'} for {len(report.robots)} robots; "
+          + ("every term agrees" if agree else "DISAGREEMENT: see the rows marked NO"))
+    return 0 if agree else 1
