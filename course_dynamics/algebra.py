@@ -59,6 +59,9 @@ class Vec3:
     def __rmul__(self, s) -> "Vec3":
         return Vec3(s * self.x, s * self.y, s * self.z)
 
+    def __truediv__(self, s) -> "Vec3":
+        return Vec3(self.x / s, self.y / s, self.z / s)
+
     def __iter__(self):
         return iter((self.x, self.y, self.z))
 

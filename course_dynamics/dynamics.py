@@ -1,19 +1,25 @@
 """The terms of the state-space equation τ = M(Θ)Θ̈ + V(Θ, Θ̇) + G(Θ) (6.59).
 
-Every term is read off the one Newton–Euler recursion
-(:mod:`course_dynamics.newton_euler`), as Craig suggests in section 6.8:
+G and V are read off the one Newton–Euler recursion
+(:mod:`course_dynamics.newton_euler`), as Craig suggests in section 6.8. M and
+C each have two routes: Craig's definition, kept for teaching and as a check,
+and an O(n²) algorithm that is the default:
 
-=======================  =====================================================
-term                     how
-=======================  =====================================================
-G(Θ)       shape (n,)    τ(Θ, 0, 0): gravity only
-V(Θ, Θ̇)    shape (n,)    τ(Θ, Θ̇, 0) with g = 0: centrifugal and Coriolis
-M(Θ)       shape (n, n)  column j is τ(Θ, 0, eⱼ) with g = 0 (unit accelerations)
-C(Θ, Θ̇)    shape (n, n)  Christoffel form Cᵢⱼ = Σₖ Γᵢⱼₖ θ̇ₖ, so that C Θ̇ = V and
-                         Ṁ − 2C is skew-symmetric; computed exactly with
-                         dual numbers: C = ½ (Ṁ + D − Dᵀ), Ṁ = Σₖ ∂M/∂θₖ θ̇ₖ,
-                         D = ∂(M Θ̇)/∂Θ
-=======================  =====================================================
+=============================  ===============================================
+term                           how
+=============================  ===============================================
+G(Θ)          shape (n,)       τ(Θ, 0, 0): gravity only
+V(Θ, Θ̇)       shape (n,)       τ(Θ, Θ̇, 0) with g = 0: centrifugal and Coriolis
+M(Θ)          shape (n, n)     composite-rigid-body algorithm (:mod:`~course_dynamics.crba`);
+                               by definition, column j is τ(Θ, 0, eⱼ) with g = 0
+                               (:func:`mass_matrix_by_unit_accelerations`)
+C(Θ, Θ̇)       shape (n, n)     the Christoffel form Cᵢⱼ = Σₖ Γᵢⱼₖ θ̇ₖ, so that C Θ̇ = V
+                               and Ṁ − 2C is skew-symmetric, by Echeandia and
+                               Wensing's O(n²) recursion (:mod:`~course_dynamics.coriolis`);
+                               by definition C = ½ (Ṁ + D − Dᵀ), Ṁ = Σₖ ∂M/∂θₖ θ̇ₖ,
+                               D = ∂(M Θ̇)/∂Θ, differentiated exactly with dual
+                               numbers (:func:`coriolis_matrix_christoffel`)
+=============================  ===============================================
 
 Leading batch axes and sympy object arrays work as in
 :func:`course_dynamics.newton_euler.inverse_dynamics`.
@@ -24,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import coriolis, crba
 from .algebra import Dual, Vec3
 from .kinematics import joint_transforms
 from .model import Model
@@ -46,11 +53,8 @@ def velocity_torques(model: Model, q, qd) -> np.ndarray:
     return inverse_dynamics(model, q, qd, np.zeros(q.shape[-1:]), gravity=(0.0, 0.0, 0.0))
 
 
-def mass_matrix_entries(model: Model, theta: list, X=None) -> list:
-    """M as nested scalars, M[i][j], from per-joint scalars Θ (or their transforms X).
-
-    Column j is τ(Θ, 0, eⱼ) at g = 0: n passes of the Newton–Euler recursion.
-    """
+def unit_acceleration_entries(model: Model, theta: list, X=None) -> list:
+    """M as nested scalars, M[i][j], by definition: column j is τ(Θ, 0, eⱼ) at g = 0 (n Newton–Euler passes)."""
     X = joint_transforms(model, theta) if X is None else X
     zero = [0] * model.n
     cols = [torque_entries(model, X, zero, [1 if k == j else 0 for k in range(model.n)], NO_GRAVITY) for j in range(model.n)]
@@ -58,19 +62,30 @@ def mass_matrix_entries(model: Model, theta: list, X=None) -> list:
 
 
 def mass_matrix(model: Model, q) -> np.ndarray:
-    """M(Θ), shape (n, n) or (N, n, n): the joint-space mass matrix (kg·m², kg)."""
+    """M(Θ), shape (n, n) or (N, n, n): the joint-space mass matrix (kg·m², kg), by the composite-rigid-body algorithm."""
+    return crba.mass_matrix(model, q)
+
+
+def mass_matrix_by_unit_accelerations(model: Model, q) -> np.ndarray:
+    """M(Θ) by its definition in Craig section 6.8: column j is τ(Θ, 0, eⱼ) with g = 0."""
     q = as_state(model, q, "q")
-    return layout_of(q).assemble(mass_matrix_entries(model, entries(q)), (model.n, model.n))
+    return layout_of(q).assemble(unit_acceleration_entries(model, entries(q)), (model.n, model.n))
 
 
 def coriolis_matrix(model: Model, q, qd) -> np.ndarray:
-    """C(Θ, Θ̇), shape (n, n) or (N, n, n), in Christoffel form (exact, no finite differences)."""
+    """C(Θ, Θ̇), shape (n, n) or (N, n, n), in Christoffel form, by the O(n²) recursion of :mod:`~course_dynamics.coriolis`."""
+    return coriolis.coriolis_matrix(model, q, qd)
+
+
+def coriolis_matrix_christoffel(model: Model, q, qd) -> np.ndarray:
+    """C(Θ, Θ̇) by its definition, ½ (Ṁ + D − Dᵀ), differentiated exactly with dual numbers (no finite differences)."""
     q, qd = as_state(model, q, "q"), as_state(model, qd, "qd")
     layout = layout_of(q, qd)
     theta, theta_dot = entries(q), entries(qd)
     n = model.n
     # Ṁ: M evaluated at Θ + ε Θ̇.
-    M_dot = [[_derivative(x) for x in row] for row in mass_matrix_entries(model, [Dual(a, b) for a, b in zip(theta, theta_dot)])]
+    M_dot = [[_derivative(x) for x in row]
+             for row in unit_acceleration_entries(model, [Dual(a, b) for a, b in zip(theta, theta_dot)])]
     # D[:, k] = ∂(M Θ̇)/∂θₖ, with M Θ̇ = τ(Θ, 0, Θ̇) at g = 0.
     zero = [0] * n
     D_cols = []
@@ -100,10 +115,10 @@ def mass_matrix_and_bias(model: Model, q, qd) -> tuple[np.ndarray, np.ndarray]:
 
 
 def mass_matrix_and_bias_entries(model: Model, theta: list, theta_dot: list) -> tuple[list, list]:
-    """M[i][j] and the bias V + G = τ(Θ, Θ̇, 0) as scalars, sharing one set of joint transforms."""
+    """M[i][j] (composite rigid bodies) and the bias V + G = τ(Θ, Θ̇, 0) (Newton–Euler) as scalars."""
     X = joint_transforms(model, theta)
     bias = torque_entries(model, X, theta_dot, [0] * model.n, gravity_vector(model))
-    return mass_matrix_entries(model, theta, X), bias
+    return crba.mass_matrix_entries(model, theta), bias
 
 
 def _derivative(x):

@@ -243,7 +243,7 @@ def derive(model: Model, symbols=(), method: str = "newton-euler", simplify: boo
     θ̇ⱼθ̇ₖ (j < k) and θ̇ⱼ² (6.63)–(6.65).
     """
     from . import lagrange
-    from .dynamics import gravity_torques, mass_matrix, velocity_torques
+    from .dynamics import gravity_torques, mass_matrix_by_unit_accelerations, velocity_torques
     from .lagrange import velocity_pairs
     from .newton_euler import inverse_dynamics
 
@@ -254,7 +254,7 @@ def derive(model: Model, symbols=(), method: str = "newton-euler", simplify: boo
     exact, parameters = symbolic_model(model, symbols)
     q, qd, qdd = joint_symbols(model)
     if method == "newton-euler":
-        tau, M = inverse_dynamics(exact, q, qd, qdd), mass_matrix(exact, q)
+        tau, M = inverse_dynamics(exact, q, qd, qdd), mass_matrix_by_unit_accelerations(exact, q)
         V, G = velocity_torques(exact, q, qd), gravity_torques(exact, q)
     else:
         tau, M = lagrange.inverse_dynamics(exact, q, qd, qdd), lagrange.mass_matrix(exact, q)
