@@ -188,6 +188,8 @@ def cos_sin(angle):
         return cmath.cos(angle), cmath.sin(angle)
     if isinstance(angle, int):
         return math.cos(angle), math.sin(angle)
+    if hasattr(angle, "cos_sin"):  # a traced scalar (course_dynamics.compiled) records the call
+        return angle.cos_sin()
     import sympy  # only symbolic use reaches here
 
     return sympy.cos(angle), sympy.sin(angle)

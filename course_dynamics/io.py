@@ -124,12 +124,17 @@ def write_bytes(path, data: bytes) -> None:
         handle.write(data)
 
 
+CSV_CHUNK = 10_000  # rows formatted at a time: memory stays bounded for long tables
+
+
 def write_csv(path, header: list[str], data: np.ndarray) -> None:
     """A header row and float rows (``repr``, so values read back exactly), whole or not at all."""
+    data = np.asarray(data, dtype=float)
     with output(path) as handle:
-        writer = csv.writer(handle, lineterminator="\n")
-        writer.writerow(header)
-        writer.writerows([[repr(float(x)) for x in row] for row in data])
+        csv.writer(handle, lineterminator="\n").writerow(header)
+        for start in range(0, len(data), CSV_CHUNK):
+            rows = data[start:start + CSV_CHUNK].tolist()  # Python floats: repr gives the shortest exact form
+            handle.write("".join(",".join(map(repr, row)) + "\n" for row in rows))
 
 
 def read_columns(path, required: list[str], optional: list[str] = ()) -> dict[str, np.ndarray]:

@@ -11,11 +11,19 @@ integrator          one step of size Δt from (Θ, Θ̇), with Θ̈ = f(t, Θ, �
                     on the same time grid
 ==================  ==========================================================
 
-Dynamics: ``dynamics=None`` uses our Newton–Euler forward dynamics
-(:func:`course_dynamics.forward_dynamics.accelerations`); any
-:data:`~course_dynamics.forward_dynamics.AccelerationFunction` (q, qd, τ) → Θ̈
-can take its place — a compiled model, or Pinocchio's ``aba`` in a benchmark.
+Dynamics: ``dynamics=None`` uses our forward dynamics, M by composite rigid
+bodies and V + G by Newton–Euler, compiled into straight-line code
+(:mod:`course_dynamics.compiled`) when the run is long enough for that to pay
+off (:data:`COMPILE_FROM` steps; ``compiled=True``/``False`` forces the
+choice). Any :data:`~course_dynamics.forward_dynamics.AccelerationFunction`
+(q, qd, τ) → Θ̈ can take its place — Pinocchio's ``aba`` in a benchmark.
 Friction, if given, is subtracted from τ before the call (6.114).
+
+Ensembles: with ``q0`` (and ``qd0``) of shape (K, n), K systems are integrated
+at once, each step one batched call; the trajectory's arrays then have shape
+(T, K, n) (energy (T, K)). The fixed-step integrators step every member alike;
+``adaptive`` integrates the stacked system with one shared step, chosen for
+the member that needs the smallest.
 
 Torque input: ``None`` (zero), a constant array (n,), a callable
 ``tau(t, q, qd) -> (n,)``, or a :class:`TorqueTable` (linear interpolation in
@@ -44,6 +52,7 @@ from .state import as_state
 
 INTEGRATORS = ("euler", "semi-implicit", "rk4", "adaptive")
 LIMIT_MODES = ("report", "stop")
+COMPILE_FROM = 100  # steps: from here on a compiled model pays for itself
 
 
 class SimulationError(CourseDynamicsError):
@@ -76,8 +85,9 @@ class TorqueTable:
 class Trajectory:
     """A simulated motion, one row per time sample.
 
-    t (K,) s; q, qd, qdd, tau (K, n) in model joint order; energy (K,) J,
-    kinetic (6.71) plus potential (6.73); events: limit crossings, in time order.
+    t (T,) s; q, qd, qdd, tau (T, n) in model joint order — (T, K, n) for an
+    ensemble of K; energy (T,) or (T, K), J, kinetic (6.71) plus potential
+    (6.73); events: limit crossings, in time order.
     """
 
     joints: tuple[str, ...]
@@ -89,10 +99,20 @@ class Trajectory:
     energy: np.ndarray
     events: tuple[str, ...] = ()
 
+    @property
+    def members(self) -> int | None:
+        """K for an ensemble, None for a single run."""
+        return self.q.shape[1] if self.q.ndim == 3 else None
+
     def table(self) -> tuple[list[str], np.ndarray]:
-        """CSV header and rows: t, q_<j>, qd_<j>, qdd_<j>, tau_<j>, energy."""
-        header = ["t"] + [f"{kind}_{j}" for kind in ("q", "qd", "qdd", "tau") for j in self.joints] + ["energy"]
-        return header, np.column_stack([self.t, self.q, self.qd, self.qdd, self.tau, self.energy])
+        """CSV header and rows: t, q_<j>, qd_<j>, qdd_<j>, tau_<j>, energy (and ``member`` after t for an ensemble)."""
+        columns = [f"{kind}_{j}" for kind in ("q", "qd", "qdd", "tau") for j in self.joints] + ["energy"]
+        if self.members is None:
+            return ["t"] + columns, np.column_stack([self.t, self.q, self.qd, self.qdd, self.tau, self.energy])
+        T, K = len(self.t), self.members
+        flat = [a.reshape(T * K, -1) for a in (self.q, self.qd, self.qdd, self.tau)]
+        return ["t", "member"] + columns, np.column_stack([np.repeat(self.t, K), np.tile(np.arange(K), T), *flat,
+                                                           self.energy.reshape(-1)])
 
 
 def total_energy(model: Model, q, qd) -> np.ndarray:
@@ -125,14 +145,20 @@ def time_grid(duration: float, dt: float) -> np.ndarray:
 
 def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str = "rk4", torque=None,
              friction: Friction | None = None, limits: str = "report", progress: Callable[[int], None] | None = None,
-             dynamics: AccelerationFunction | None = None) -> Trajectory:
+             dynamics: AccelerationFunction | None = None, compiled: bool | None = None) -> Trajectory:
     """Integrate the robot's motion from (Θ₀, Θ̇₀) for ``duration`` seconds in steps of ``dt``.
 
+    ``q0``, ``qd0``: shape (n,), or (K, n) for an ensemble (``qd0`` of shape (n,) is shared).
     Returns the :class:`Trajectory` at the samples of :func:`time_grid`.
     ``progress``, if given, is called with the number of steps just completed.
-    ``dynamics`` replaces our forward dynamics (module docstring).
+    ``dynamics`` replaces our forward dynamics; ``compiled`` chooses whether ours is compiled
+    (default: from :data:`COMPILE_FROM` steps on; module docstring).
     """
     q0, qd0 = as_state(model, q0, "q0"), as_state(model, qd0, "qd0")
+    if q0.ndim > 2 or qd0.ndim > 2 or (qd0.ndim == 2 and qd0.shape != q0.shape):
+        raise SimulationError(f"q0 and qd0 must have shape (n,) or (K, n) alike, got {q0.shape} and {qd0.shape}")
+    q0, qd0 = np.broadcast_arrays(q0, qd0)
+    q0, qd0 = q0.copy(), qd0.copy()
     times = time_grid(duration, dt)
     if integrator not in INTEGRATORS:
         raise SimulationError(f"unknown integrator '{integrator}' (choose from {', '.join(INTEGRATORS)})")
@@ -141,13 +167,22 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
     if integrator == "adaptive" and limits == "stop":
         raise SimulationError("limits='stop' needs a fixed-step integrator (euler, semi-implicit or rk4)")
     tau_of = torque_function(model, torque)
-    solve_accelerations = newton_euler_dynamics(model) if dynamics is None else dynamics
+    if dynamics is None:
+        if compiled or (compiled is None and len(times) - 1 >= COMPILE_FROM):
+            from .compiled import compile_model
+
+            dynamics = compile_model(model).accelerations
+        else:
+            dynamics = newton_euler_dynamics(model)
+    solve_accelerations = dynamics
 
     def applied(t, q, qd):
         tau = np.asarray(tau_of(t, q, qd), dtype=float)
-        if tau.shape != (model.n,) or not np.all(np.isfinite(tau)):
-            raise SimulationError(f"the torque at t = {t:.6g} s is {tau.tolist()}: expected {model.n} finite values")
-        return tau
+        if tau.shape not in ((model.n,), q.shape) or not np.all(np.isfinite(tau)):
+            shown = tau.tolist() if tau.size <= 3 * model.n else f"an array of shape {tau.shape}"
+            raise SimulationError(f"the torque at t = {t:.6g} s is {shown}: expected {model.n} finite values"
+                                  + (f" (or shape {q.shape})" if q.ndim == 2 else ""))
+        return np.broadcast_to(tau, q.shape)
 
     def accelerations(t, q, qd):
         if not (np.all(np.isfinite(q)) and np.all(np.isfinite(qd))):
@@ -164,8 +199,13 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
     if integrator == "adaptive":
         for k, t in enumerate(times):
             guard.check(t, q[k], qd[k], clamp=False)
-    qdd, tau = zip(*(accelerations(t, q[k], qd[k]) for k, t in enumerate(times)))  # also checks every state
-    qdd, tau = np.array(qdd), np.array(tau)
+    # Θ̈ and τ at every sample: the torques one by one (they may depend on t), the dynamics in one batched call.
+    if not (np.all(np.isfinite(q)) and np.all(np.isfinite(qd))):
+        k = int(np.argmax(~np.all(np.isfinite(np.concatenate([q, qd], axis=-1)).reshape(len(times), -1), axis=1)))
+        raise SimulationError(f"the state became non-finite near t = {times[k]:.6g} s (try a smaller dt)")
+    tau = np.array([applied(t, q[k], qd[k]) for k, t in enumerate(times)])
+    driving = tau if friction is None else tau - friction.torques(qd)  # (6.114)
+    qdd = solve_accelerations(q, qd, driving)
     return Trajectory(joints=model.joint_names, t=times, q=q, qd=qd, qdd=qdd, tau=tau,
                       energy=total_energy(model, q, qd), events=tuple(guard.events))
 
@@ -198,7 +238,7 @@ _STEPS = {"euler": _euler_step, "semi-implicit": _semi_implicit_step, "rk4": _rk
 
 
 def _integrate_fixed(step, f, times, q0, qd0, guard, progress):
-    q, qd = np.empty((len(times), len(q0))), np.empty((len(times), len(q0)))
+    q, qd = np.empty((len(times),) + q0.shape), np.empty((len(times),) + q0.shape)
     q[0], qd[0] = guard.check(times[0], q0, qd0)
     for k in range(len(times) - 1):
         q_next, qd_next = step(f, times[k], q[k], qd[k], times[k + 1] - times[k])
@@ -211,7 +251,7 @@ def _integrate_fixed(step, f, times, q0, qd0, guard, progress):
 def _integrate_adaptive(model, f, times, q0, qd0, progress):
     from scipy.integrate import solve_ivp  # SciPy: a well-tested adaptive integrator with error control
 
-    n = model.n
+    shape, size = q0.shape, q0.size  # an ensemble is one stacked system with a shared step
     reached = [0]
 
     def rhs(t, y):
@@ -220,15 +260,17 @@ def _integrate_adaptive(model, f, times, q0, qd0, progress):
             if k > reached[0]:
                 progress(k - reached[0])
                 reached[0] = k
-        return np.concatenate([y[n:], f(t, y[:n], y[n:])[0]])
+        q, qd = y[:size].reshape(shape), y[size:].reshape(shape)
+        return np.concatenate([y[size:], f(t, q, qd)[0].reshape(-1)])
 
-    solution = solve_ivp(rhs, (times[0], times[-1]), np.concatenate([q0, qd0]), method="DOP853",
-                         t_eval=times, rtol=1e-10, atol=1e-10)
+    solution = solve_ivp(rhs, (times[0], times[-1]), np.concatenate([q0.reshape(-1), qd0.reshape(-1)]),
+                         method="DOP853", t_eval=times, rtol=1e-10, atol=1e-10)
     if not solution.success:
         raise SimulationError(f"the adaptive integrator failed: {solution.message}")
     if progress is not None and len(times) - 1 > reached[0]:
         progress(len(times) - 1 - reached[0])
-    return solution.y[:n].T.copy(), solution.y[n:].T.copy()
+    T = len(times)
+    return solution.y[:size].T.reshape((T,) + shape).copy(), solution.y[size:].T.reshape((T,) + shape).copy()
 
 
 class _LimitGuard:
@@ -239,7 +281,7 @@ class _LimitGuard:
         limited = np.isfinite(model.lower) & np.isfinite(model.upper) & (model.lower < model.upper)
         self.lower = np.where(limited, model.lower, -np.inf)
         self.upper = np.where(limited, model.upper, np.inf)
-        self.reported: set[int] = set()
+        self.reported: set[tuple] = set()
         self.events: list[str] = []
 
     def check(self, t, q, qd, clamp=True):
@@ -247,18 +289,22 @@ class _LimitGuard:
         if not (below.any() or above.any()):
             return q, qd
         q, qd = q.copy(), qd.copy()
-        for j in np.flatnonzero(below | above):
-            side, bound = ("lower", self.lower[j]) if below[j] else ("upper", self.upper[j])
+        for index in np.argwhere(below | above):
+            index = tuple(index)
+            j = index[-1]
+            member = f"member {index[0]}: " if q.ndim == 2 else ""
+            side, bound = ("lower", self.lower[j]) if below[index] else ("upper", self.upper[j])
             name = self.model.joint_names[j]
             if self.mode == "stop" and clamp:
-                if j not in self.reported:
-                    self.events.append(f"t = {t:.6g} s: joint '{name}' stopped at its {side} limit {bound:g}")
-                q[j] = bound
-                if (qd[j] < 0) if below[j] else (qd[j] > 0):
-                    qd[j] = 0.0
-            elif j not in self.reported:
-                self.events.append(f"t = {t:.6g} s: joint '{name}' passed its {side} limit {bound:g} (q = {q[j]:.6g})")
-            self.reported.add(j)
+                if index not in self.reported:
+                    self.events.append(f"t = {t:.6g} s: {member}joint '{name}' stopped at its {side} limit {bound:g}")
+                q[index] = bound
+                if (qd[index] < 0) if below[index] else (qd[index] > 0):
+                    qd[index] = 0.0
+            elif index not in self.reported:
+                self.events.append(f"t = {t:.6g} s: {member}joint '{name}' passed its {side} limit {bound:g} "
+                                   f"(q = {q[index]:.6g})")
+            self.reported.add(index)
         return q, qd
 
 

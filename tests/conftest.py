@@ -4,7 +4,14 @@ Shared helpers (the agreement assertion, URDF builders) are in ``helpers.py``.
 """
 from __future__ import annotations
 
+import os
+import tempfile
+
 import pytest
+
+# Compiled models go to a cache of the test session's own, not the user's.
+SESSION_CACHE = tempfile.mkdtemp(prefix="course-dynamics-test-cache-")
+os.environ.setdefault("COURSE_DYNAMICS_CACHE", SESSION_CACHE)
 
 from course_dynamics import load_urdf
 from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
@@ -37,3 +44,9 @@ def browser():
         browser = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
         yield browser
         browser.close()
+
+
+def pytest_sessionfinish(session, exitstatus):
+    import shutil
+
+    shutil.rmtree(SESSION_CACHE, ignore_errors=True)

@@ -11,8 +11,8 @@ BENCHMARKS = Path(__file__).resolve().parent.parent / "benchmarks"
 
 
 @pytest.mark.parametrize("script, args, expected", [
-    ("bench_inverse_dynamics.py", ["--batch", "50", "--repeat", "1"], "rneaInPar(1)"),
-    ("bench_simulation.py", ["--duration", "0.02"], "ratio (ours / aba)"),
+    ("bench_performance.py", ["--batch", "20", "--repeat", "1", "--duration", "0.01", "--members", "3"],
+     "one ensemble, compiled / aba for every member"),
     ("bench_symbolic.py", ["--robots", "rp_arm"], "rp_arm"),
 ])
 def test_benchmark_runs(script, args, expected):

@@ -131,3 +131,55 @@ def test_a_state_that_blows_up_is_an_error():
     with np.errstate(over="ignore", invalid="ignore"):
         with pytest.raises(SimulationError, match="the state became non-finite near t = .* \\(try a smaller dt\\)"):
             simulate(model, [0.1], [0.0], duration=1.0, dt=0.5, integrator="euler", torque=lambda t, q, qd: np.array([1e300]))
+
+
+def test_compiled_and_interpreted_runs_agree():
+    model = load_robot("ur5")
+    q0 = np.array([0.0, -1.2, 1.0, -0.5, 0.5, 0.0])
+    fast = simulate(model, q0, np.zeros(6), duration=0.3, dt=1e-3, compiled=True)
+    slow = simulate(model, q0, np.zeros(6), duration=0.3, dt=1e-3, compiled=False)
+    np.testing.assert_allclose(fast.q, slow.q, rtol=1e-10, atol=1e-12)
+    np.testing.assert_allclose(fast.qdd, slow.qdd, rtol=1e-9, atol=1e-10)
+
+
+@pytest.mark.parametrize("integrator", ["euler", "semi-implicit", "rk4", "adaptive"])
+def test_an_ensemble_is_its_members_run_one_by_one(double_pendulum, integrator):
+    rng = np.random.default_rng(5)
+    q0 = np.array([2.0, 0.0]) + 0.01 * rng.standard_normal((4, 2))
+    qd0 = 0.1 * rng.standard_normal((4, 2))
+    together = simulate(double_pendulum, q0, qd0, duration=0.2, dt=1e-3, integrator=integrator)
+    assert together.q.shape == (201, 4, 2) and together.energy.shape == (201, 4) and together.members == 4
+    for k in range(4):
+        alone = simulate(double_pendulum, q0[k], qd0[k], duration=0.2, dt=1e-3, integrator=integrator)
+        # the adaptive integrator's shared step differs from a member's own: both meet rtol = atol = 1e-10
+        tolerance = 1e-7 if integrator == "adaptive" else 1e-12
+        np.testing.assert_allclose(together.q[:, k], alone.q, rtol=tolerance, atol=tolerance)
+        np.testing.assert_allclose(together.tau[:, k], alone.tau, atol=1e-12)
+    header, rows = together.table()
+    assert header[:2] == ["t", "member"] and rows.shape == (201 * 4, 2 + 4 * 2 + 1)
+
+
+def test_ensemble_limits_name_the_member():
+    model = load_robot("rp_arm")
+    q0 = np.array([[0.0, 0.5], [0.0, 0.3]])
+    run = simulate(model, q0, np.zeros(2), duration=1.0, dt=1e-3, torque=[0.0, 5.0], limits="stop")
+    assert run.q[:, :, 1].max() == 0.8
+    assert any("member 0: joint 'd2' stopped at its upper limit 0.8" in e for e in run.events)
+    assert any("member 1: joint 'd2' stopped" in e for e in run.events)
+
+
+def test_ensemble_matches_pinocchio_aba_members():
+    """1000 double pendulums through our compiled dynamics and through aba in the same RK4 loop."""
+    from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
+
+    model = load_robot("double_pendulum_continuous")
+    oracle = PinocchioOracle(robot_path("double_pendulum_continuous"), model.joint_names)
+
+    def aba(q, qd, tau):
+        rows = [oracle.aba(a, b, c) for a, b, c in zip(q.reshape(-1, 2), qd.reshape(-1, 2), tau.reshape(-1, 2))]
+        return np.reshape(rows, q.shape)
+
+    q0 = np.array([2.0, 0.0]) + 1e-3 * np.random.default_rng(0).standard_normal((50, 2))
+    ours = simulate(model, q0, np.zeros(2), duration=0.1, dt=1e-3)
+    theirs = simulate(model, q0, np.zeros(2), duration=0.1, dt=1e-3, dynamics=aba)
+    np.testing.assert_allclose(ours.q[-1], theirs.q[-1], rtol=0, atol=1e-12)

@@ -3,11 +3,13 @@ from __future__ import annotations
 
 import sys
 
+import numpy as np
+
 from ... import io
 from ...robots import resolve
 from ...simulation import INTEGRATORS, LIMIT_MODES, TorqueTable, simulate, time_grid
 from ..animation import add_animation_options, export_animation
-from ..options import add_robot_argument, joint_values, load_robot_argument, print_json, progress_bar
+from ..options import UsageError, add_robot_argument, joint_values, load_robot_argument, print_json, progress_bar
 
 HELP = "forward dynamics in time (6.115)-(6.117), written as CSV"
 DESCRIPTION = ("Integrate qdd = M^-1 (tau - V - G - F) from q0, qd0. The output CSV has t, q_<joint>, qd_<joint>, "
@@ -36,6 +38,14 @@ def add_arguments(parser) -> None:
     parser.add_argument("--out", required=True, help="output CSV (written whole or not at all)")
     parser.add_argument("--plot", help="also draw q(t), qd(t) and energy(t) to this PNG file")
     add_animation_options(parser, html_required=False)
+    parser.add_argument("--ensemble", type=int, metavar="K",
+                        help="integrate K copies at once: member 0 starts at --q0, the others at --q0 plus a seeded "
+                             "normal perturbation (the CSV gets a member column; --plot draws their divergence)")
+    parser.add_argument("--perturbation", type=float, default=1e-6,
+                        help="standard deviation of the ensemble's perturbation of q0, rad or m (default 1e-6)")
+    parser.add_argument("--seed", type=int, default=0, help="seed of the ensemble's perturbation (default 0)")
+    parser.add_argument("--no-compile", action="store_true",
+                        help="use the interpreted recursions, not a compiled model (see README: compiled models)")
     parser.add_argument("--json", action="store_true", help="print a JSON summary")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
 
@@ -65,6 +75,16 @@ def run(args) -> int:
     model = load_robot_argument(args.urdf)
     q0 = joint_values(args.q0, "--q0", model)
     qd0 = joint_values(args.qd0, "--qd0", model)
+    if args.ensemble is not None:
+        if args.ensemble < 1:
+            raise UsageError("--ensemble must be at least 1")
+        if not (np.isfinite(args.perturbation) and args.perturbation >= 0):
+            raise UsageError(f"--perturbation must be a non-negative number, got {args.perturbation}")
+        if args.html:
+            raise UsageError("--html animates one run; it cannot be combined with --ensemble")
+        noise = np.random.default_rng(args.seed).standard_normal((args.ensemble, model.n)) * args.perturbation
+        noise[0] = 0.0
+        q0 = q0 + noise
     torque, friction = _torque(args, model), _friction(args, model)
     for target in (args.out, args.plot, args.html):
         if target:
@@ -72,26 +92,36 @@ def run(args) -> int:
     steps = len(time_grid(args.duration, args.dt)) - 1
     progress = progress_bar(total=steps, enabled=not args.quiet, delay=1.0)
     trajectory = simulate(model, q0, qd0, args.duration, args.dt, integrator=args.integrator, torque=torque,
-                          friction=friction, limits=args.limits, progress=progress.update)
+                          friction=friction, limits=args.limits, progress=progress.update,
+                          compiled=False if args.no_compile else None)
     progress.close()
     header, data = trajectory.table()
     io.write_csv(args.out, header, data)
     if args.plot:
-        from ...plotting import plot_trajectory
+        from ...plotting import plot_ensemble, plot_trajectory
 
-        plot_trajectory(trajectory, args.plot, title=f"{model.name}: {args.integrator}, dt = {args.dt:g} s")
+        draw = plot_trajectory if trajectory.members is None else plot_ensemble
+        draw(trajectory, args.plot, title=f"{model.name}: {args.integrator}, dt = {args.dt:g} s"
+             + (f", {trajectory.members} members, perturbation {args.perturbation:g}" if trajectory.members else ""))
     if args.html:
         export_animation(args.html, model, resolve(args.urdf), trajectory.t, trajectory.q, trajectory.tau, args)
     for event in trajectory.events:
         print(f"warning: {event}", file=sys.stderr)
     summary = dict(robot=model.name, joints=list(model.joint_names), integrator=args.integrator, dt=args.dt,
-                   duration=args.duration, samples=len(trajectory.t), energy_start=float(trajectory.energy[0]),
-                   energy_end=float(trajectory.energy[-1]), events=list(trajectory.events), out=str(args.out),
+                   duration=args.duration, samples=len(trajectory.t), energy_start=float(np.mean(trajectory.energy[0])),
+                   energy_end=float(np.mean(trajectory.energy[-1])), events=list(trajectory.events), out=str(args.out),
                    plot=args.plot)
+    if trajectory.members is not None:
+        summary.update(members=trajectory.members, perturbation=args.perturbation,
+                       final_spread=float(np.abs(trajectory.q[-1] - trajectory.q[-1, 0]).max()))
     if args.json:
         print_json(summary)
     else:
-        print(f"simulated {model.name} for {args.duration:g} s ({len(trajectory.t)} samples, {args.integrator}, "
-              f"dt = {args.dt:g} s); energy {summary['energy_start']:.6g} J -> {summary['energy_end']:.6g} J; "
+        members = f"{trajectory.members} members, " if trajectory.members else ""
+        energy = "mean energy" if trajectory.members else "energy"
+        print(f"simulated {model.name} for {args.duration:g} s ({members}{len(trajectory.t)} samples, {args.integrator}, "
+              f"dt = {args.dt:g} s); {energy} {summary['energy_start']:.6g} J -> {summary['energy_end']:.6g} J; "
               f"wrote {args.out}")
+        if trajectory.members:
+            print(f"largest distance from member 0 at the end: {summary['final_spread']:.3g} (rad or m)")
     return 0

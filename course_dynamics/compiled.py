@@ -1,0 +1,477 @@
+"""Compiled models: our own recursions traced once into straight-line Python, for speed.
+
+Python spends most of a single evaluation on its own bookkeeping, not on the
+arithmetic. :func:`compile_model` therefore runs the library's recursions once
+on *traced* scalars (:class:`Traced`): every +, −, ×, ÷, cos and sin they do is
+recorded as one line of a program, identical operations are recorded once
+(common-subexpression elimination by hash-consing), and operations on
+constants are done on the spot (0·x, 1·x, the model's numbers). The program is
+then written out as plain Python (:attr:`CompiledModel.source`: a student can
+read it) and compiled twice: with ``math`` for one state (Python floats, the
+fastest scalar arithmetic) and with ``numpy`` for a batch (one array per line).
+
+=====================  ==========================================================
+program                traced from
+=====================  ==========================================================
+``tau``                :func:`~course_dynamics.newton_euler.torque_entries` (6.45)–(6.53)
+``mass_matrix``        :func:`~course_dynamics.crba.mass_matrix_entries` (upper triangle)
+``bias``               V + G = τ(Θ, Θ̇, 0), the same Newton–Euler recursion
+``coriolis``           :func:`~course_dynamics.coriolis.coriolis_matrix_entries`
+``forward_dynamics``   M and the bias as above, then Θ̈ = M⁻¹(τ − V − G) (6.115)
+                       by an unrolled LDLᵀ factorization, with its pivots
+=====================  ==========================================================
+
+No second copy of any algorithm exists: the programs are what the library's
+code does, so they agree with the interpreted path to the last bit in most
+entries (the tests hold them to 1e-12 and to Pinocchio to 1e-9). The model's
+gravity is built in; a different gravity means a different model.
+
+Tracing takes milliseconds; compiling the Python takes most of the time (UR5
+about 0.2 s, Panda 0.5 s). So the generated module is cached on disk, as
+``<key>.py`` with its bytecode beside it, in ``$COURSE_DYNAMICS_CACHE``, else
+``$XDG_CACHE_HOME/course-dynamics``, else ``~/.cache/course-dynamics`` (made
+private to the user). The key is a hash of the model's numbers, the library
+version and the source of every traced module, so any change makes a new
+entry. A cached module is never trusted as it stands: its first line must
+carry the key, its bytecode is Python's *checked* hash-based kind (recompiled
+whenever it does not match the source), and before use its τ is compared with
+the interpreted recursion at a random state; on any doubt the module is
+generated again and the entry replaced. A folder that cannot be written
+means no cache, not an error.
+"""
+from __future__ import annotations
+
+import hashlib
+import importlib.util
+import json
+import os
+import py_compile
+import time
+from dataclasses import dataclass, field
+from importlib import metadata
+from pathlib import Path
+
+import numpy as np
+
+from . import coriolis, crba, io
+from .kinematics import joint_transforms
+from .model import Model
+from .newton_euler import gravity_vector, torque_entries
+from .state import as_state
+
+OPERATIONS = {"add": "{} + {}", "sub": "{} - {}", "mul": "{} * {}", "div": "{} / {}", "neg": "-{}", "cos": "cos({})",
+              "sin": "sin({})"}
+TRACED_MODULES = ("algebra", "kinematics", "newton_euler", "spatial", "crba", "coriolis", "compiled")
+SINGULAR_PIVOT_RATIO = 1e-14  # as forward_dynamics: smallest allowed ratio of LDLᵀ pivots
+
+
+# ---------------------------------------------------------------------------------------- tracing
+
+
+class Tape:
+    """The program being recorded: nodes (op, argument, argument), each recorded once."""
+
+    def __init__(self):
+        self.nodes: list[tuple] = []
+        self.index: dict[tuple, int] = {}
+
+    def record(self, op: str, *arguments) -> "Traced":
+        key = (op, *arguments)
+        i = self.index.get(key)
+        if i is None:
+            i = len(self.nodes)
+            self.nodes.append(key)
+            self.index[key] = i
+        return Traced(self, i)
+
+    def input(self, name: str) -> "Traced":
+        return self.record("input", name)
+
+
+def _ref(x):
+    """A node argument: ("t", index) for a traced value, ("c", float) for a constant."""
+    return ("t", x.i) if isinstance(x, Traced) else ("c", float(x))
+
+
+class Traced:
+    """A scalar that records the arithmetic done on it (see the module docstring)."""
+
+    __slots__ = ("tape", "i")
+    __array_ufunc__ = None
+
+    def __init__(self, tape: Tape, i: int):
+        self.tape, self.i = tape, i
+
+    def _binary(self, op, other, commutative):
+        a, b = _ref(self), _ref(other)
+        if commutative and b < a:
+            a, b = b, a
+        return self.tape.record(op, a, b)
+
+    def __add__(self, other):
+        if isinstance(other, Traced):
+            return self._binary("add", other, True)
+        if not isinstance(other, (int, float)):
+            return NotImplemented
+        return self if other == 0 else self._binary("add", other, True)
+
+    __radd__ = __add__
+
+    def __sub__(self, other):
+        if isinstance(other, Traced):
+            return 0.0 if other.i == self.i else self._binary("sub", other, False)
+        if not isinstance(other, (int, float)):
+            return NotImplemented
+        return self if other == 0 else self._binary("sub", other, False)
+
+    def __rsub__(self, other):
+        if not isinstance(other, (int, float)):
+            return NotImplemented
+        return -self if other == 0 else self.tape.record("sub", ("c", float(other)), _ref(self))
+
+    def __neg__(self):
+        op, *arguments = self.tape.nodes[self.i]
+        if op == "neg":
+            return Traced(self.tape, arguments[0][1])
+        return self.tape.record("neg", _ref(self))
+
+    def __mul__(self, other):
+        if isinstance(other, Traced):
+            return self._binary("mul", other, True)
+        if not isinstance(other, (int, float)):
+            return NotImplemented
+        if other == 0:
+            return 0.0
+        if other == 1:
+            return self
+        return -self if other == -1 else self._binary("mul", other, True)
+
+    __rmul__ = __mul__
+
+    def __truediv__(self, other):
+        if isinstance(other, Traced):
+            return self._binary("div", other, False)
+        if not isinstance(other, (int, float)):
+            return NotImplemented
+        return self if other == 1 else self._binary("div", other, False)
+
+    def __rtruediv__(self, other):
+        if not isinstance(other, (int, float)):
+            return NotImplemented
+        return 0.0 if other == 0 else self.tape.record("div", ("c", float(other)), _ref(self))
+
+    def __eq__(self, other):  # a traced value is never a known number
+        return isinstance(other, Traced) and other.i == self.i
+
+    __hash__ = None
+
+    def cos_sin(self):
+        return self.tape.record("cos", _ref(self)), self.tape.record("sin", _ref(self))
+
+
+@dataclass
+class Program:
+    """A straight-line program: named inputs, nodes, and the outputs (node references or constants)."""
+
+    name: str
+    inputs: list[str]
+    nodes: list[list]
+    outputs: list
+
+    def as_data(self) -> dict:
+        return {"name": self.name, "inputs": self.inputs, "nodes": self.nodes, "outputs": self.outputs}
+
+
+def _program(name: str, tape: Tape, input_names: list[str], outputs: list) -> Program:
+    """Keep only the nodes the outputs need, renumbered in order."""
+    needed, stack = set(), [o.i for o in outputs if isinstance(o, Traced)]
+    while stack:
+        i = stack.pop()
+        if i not in needed:
+            needed.add(i)
+            stack += [a[1] for a in tape.nodes[i][1:] if isinstance(a, tuple) and a[0] == "t"]
+    order = sorted(needed)
+    number = {old: new for new, old in enumerate(order)}
+    nodes = []
+    for i in order:
+        op, *arguments = tape.nodes[i]
+        nodes.append([op] + [a if op == "input" else ([a[0], number[a[1]]] if a[0] == "t" else list(a))
+                             for a in arguments])
+    return Program(name, input_names, nodes,
+                   [["t", number[o.i]] if isinstance(o, Traced) else ["c", float(o)] for o in outputs])
+
+
+def _inputs(tape: Tape, prefix: str, n: int) -> list:
+    return [tape.input(f"{prefix}{j}") for j in range(n)]
+
+
+def trace_programs(model: Model) -> dict[str, Program]:
+    """Run the library's recursions on traced scalars and keep what they computed (module docstring)."""
+    n, g = model.n, gravity_vector(model)
+    programs = {}
+
+    tape = Tape()
+    q, qd, qdd = _inputs(tape, "q", n), _inputs(tape, "qd", n), _inputs(tape, "qdd", n)
+    tau = torque_entries(model, joint_transforms(model, q), qd, qdd, g)
+    programs["tau"] = _program("tau", tape, ["q", "qd", "qdd"], tau)
+
+    tape = Tape()
+    q = _inputs(tape, "q", n)
+    M = crba.mass_matrix_entries(model, q)
+    programs["mass_matrix"] = _program("mass_matrix", tape, ["q"], [M[i][j] for i in range(n) for j in range(i, n)])
+
+    tape = Tape()
+    q, qd = _inputs(tape, "q", n), _inputs(tape, "qd", n)
+    bias = torque_entries(model, joint_transforms(model, q), qd, [0] * n, g)
+    programs["bias"] = _program("bias", tape, ["q", "qd"], bias)
+
+    tape = Tape()
+    q, qd = _inputs(tape, "q", n), _inputs(tape, "qd", n)
+    C = coriolis.coriolis_matrix_entries(model, q, qd)
+    programs["coriolis"] = _program("coriolis", tape, ["q", "qd"], [C[i][j] for i in range(n) for j in range(n)])
+
+    tape = Tape()
+    q, qd, tau = _inputs(tape, "q", n), _inputs(tape, "qd", n), _inputs(tape, "tau", n)
+    M = crba.mass_matrix_entries(model, q)
+    bias = torque_entries(model, joint_transforms(model, q), qd, [0] * n, g)
+    qdd, pivots = _ldl_solve(M, [t - b for t, b in zip(tau, bias)])  # (6.115)
+    programs["forward_dynamics"] = _program("forward_dynamics", tape, ["q", "qd", "tau"], qdd + pivots)
+    return programs
+
+
+def _ldl_solve(M: list, rhs: list) -> tuple[list, list]:
+    """x = M⁻¹ rhs by M = L D Lᵀ (L unit lower triangular), unrolled; returns x and the pivots D."""
+    n = len(rhs)
+    L = [[0] * n for _ in range(n)]
+    D = [0] * n
+    for j in range(n):
+        D[j] = M[j][j] - sum((L[j][k] * L[j][k] * D[k] for k in range(j)), 0)
+        for i in range(j + 1, n):
+            L[i][j] = (M[i][j] - sum((L[i][k] * L[j][k] * D[k] for k in range(j)), 0)) / D[j]
+    y = list(rhs)
+    for i in range(n):
+        y[i] = rhs[i] - sum((L[i][k] * y[k] for k in range(i)), 0)
+    x = [0] * n
+    for i in reversed(range(n)):
+        x[i] = y[i] / D[i] - sum((L[k][i] * x[k] for k in range(i + 1, n)), 0)
+    return x, D
+
+
+# ---------------------------------------------------------------------------------------- source
+
+
+def _argument(a, nodes) -> str:
+    kind, value = a
+    if kind == "t":
+        op, *arguments = nodes[value]
+        return arguments[0] if op == "input" else f"t{value}"  # inputs by their own names: q0, qd1, …
+    return repr(float(value)) if value >= 0 else f"({float(value)!r})"
+
+
+def program_source(program: Program, n: int, free: bool = False) -> str:
+    """The program as one Python function: unpack the inputs, one line per operation, return the outputs.
+
+    With ``free`` every value is deleted after its last use, so that a batch keeps only the arrays it still
+    needs (the one-state version keeps its floats: the readable form).
+    """
+    lines = [f"def {program.name}({', '.join(program.inputs)}):"]
+    for name in program.inputs:
+        lines.append(f"    {', '.join(f'{name}{j}' for j in range(n))}{',' if n == 1 else ''} = {name}")
+    last_use = {}
+    if free:
+        kept = {value for kind, value in program.outputs if kind == "t"}
+        kept |= {i for i, (op, *_) in enumerate(program.nodes) if op == "input"}
+        for i, (op, *arguments) in enumerate(program.nodes):
+            for a in arguments:
+                if op != "input" and a[0] == "t" and a[1] not in kept:
+                    last_use[a[1]] = i
+    dead: dict[int, list[int]] = {}
+    for value, i in last_use.items():
+        dead.setdefault(i, []).append(value)
+    nodes = program.nodes
+    for i, (op, *arguments) in enumerate(nodes):
+        if op != "input":
+            lines.append(f"    t{i} = {OPERATIONS[op].format(*(_argument(a, nodes) for a in arguments))}")
+        if i in dead:
+            lines.append(f"    del {', '.join(f't{v}' for v in sorted(dead[i]))}")
+    lines.append(f"    return ({', '.join(_argument(o, nodes) for o in program.outputs)},)")
+    return "\n".join(lines)
+
+
+def module_source(model: Model, programs: dict[str, Program], key: str) -> str:
+    """One module with every program twice: ``<name>`` on floats (math) and ``<name>_batch`` on arrays (numpy)."""
+    n = model.n
+    header = (f"# course-dynamics compiled model {key}\n"
+              f'"""Generated by course_dynamics.compiled for robot {model.name!r} ({n} joints, in the order '
+              f'{", ".join(model.joint_names)}).\n\n'
+              "Each function is one of the library's recursions for this robot, traced: every line is one operation\n"
+              "the recursion does, done once; the numbers are the robot's parameters. The functions ending in _batch\n"
+              'are the same lines on numpy arrays, each value deleted after its last use."""\n'
+              "from math import cos, sin\n\nimport numpy\n")
+    scalar = [program_source(p, n) for p in programs.values()]
+    batch = [program_source(p, n, free=True).replace(f"def {p.name}(", f"def {p.name}_batch(", 1)
+             .replace("cos(", "numpy.cos(").replace("sin(", "numpy.sin(") for p in programs.values()]
+    return header + "\n\n" + "\n\n\n".join(scalar + batch) + "\n"
+
+
+# ---------------------------------------------------------------------------------------- the compiled model
+
+
+def cache_folder() -> Path:
+    if os.environ.get("COURSE_DYNAMICS_CACHE"):
+        return Path(os.environ["COURSE_DYNAMICS_CACHE"])
+    base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
+    return Path(base) / "course-dynamics"
+
+
+def model_key(model: Model) -> str:
+    """A hash of everything the programs depend on: the model's numbers, the library version and the traced code."""
+    here = Path(__file__).resolve().parent
+    digest = hashlib.sha256()
+    try:
+        digest.update(metadata.version("course-dynamics").encode())
+    except metadata.PackageNotFoundError:
+        pass
+    for module in TRACED_MODULES:
+        digest.update((here / f"{module}.py").read_bytes())
+    description = [model.name, model.gravity.tolist(), [
+        [b.joint, b.joint_type, b.parent, b.R0.tolist(), b.P.tolist(), b.axis.tolist(), float(b.mass), b.p_com.tolist(),
+         b.I_com.tolist()] for b in model.bodies]]
+    digest.update(json.dumps(description).encode())
+    return digest.hexdigest()
+
+
+@dataclass
+class CompiledModel:
+    """The compiled programs of one model (module docstring); methods mirror the library's functions."""
+
+    model: Model
+    source: str
+    generation_seconds: float
+    from_cache: bool
+    path: Path | None = None
+    functions: dict = field(repr=False, default_factory=dict)
+
+    def _run(self, name: str, *arrays) -> np.ndarray:
+        if all(a.ndim == 1 for a in arrays):
+            return np.array(self.functions[name](*(a.tolist() for a in arrays)))
+        batch = np.broadcast_shapes(*(a.shape[:-1] for a in arrays))
+        columns = [(a if a.shape[:-1] == batch else np.broadcast_to(a, batch + a.shape[-1:])) for a in arrays]
+        out = self.functions[f"{name}_batch"](*(c.T if c.ndim == 2 else np.moveaxis(c, -1, 0) for c in columns))
+        return np.stack([o if np.shape(o) == batch else np.broadcast_to(o, batch) for o in out], axis=-1)
+
+    def inverse_dynamics(self, q, qd, qdd) -> np.ndarray:
+        """τ, shape (n,) or (N, n), as :func:`~course_dynamics.newton_euler.inverse_dynamics`."""
+        m = self.model
+        return self._run("tau", as_state(m, q, "q"), as_state(m, qd, "qd"), as_state(m, qdd, "qdd"))
+
+    def mass_matrix(self, q) -> np.ndarray:
+        """M(Θ), shape (n, n) or (N, n, n)."""
+        upper = self._run("mass_matrix", as_state(self.model, q, "q"))
+        n = self.model.n
+        M = np.empty(upper.shape[:-1] + (n, n))
+        rows, cols = np.triu_indices(n)
+        M[..., rows, cols] = upper
+        M[..., cols, rows] = upper
+        return M
+
+    def bias(self, q, qd) -> np.ndarray:
+        """V(Θ, Θ̇) + G(Θ), shape (n,) or (N, n)."""
+        return self._run("bias", as_state(self.model, q, "q"), as_state(self.model, qd, "qd"))
+
+    def coriolis_matrix(self, q, qd) -> np.ndarray:
+        """C(Θ, Θ̇), shape (n, n) or (N, n, n)."""
+        C = self._run("coriolis", as_state(self.model, q, "q"), as_state(self.model, qd, "qd"))
+        return C.reshape(C.shape[:-1] + (self.model.n, self.model.n))
+
+    def forward_dynamics(self, q, qd, tau, friction=None) -> np.ndarray:
+        """Θ̈ (6.115), shape (n,) or (N, n), as :func:`~course_dynamics.forward_dynamics.forward_dynamics`."""
+        m = self.model
+        q, qd, tau = as_state(m, q, "q"), as_state(m, qd, "qd"), as_state(m, tau, "tau")
+        if friction is not None:
+            tau = tau - friction.torques(qd)  # (6.114)
+        return self.accelerations(q, qd, tau)
+
+    def accelerations(self, q: np.ndarray, qd: np.ndarray, tau: np.ndarray) -> np.ndarray:
+        """Θ̈ for checked float arrays (n,) or (K, n): an AccelerationFunction for ``simulate``."""
+        n = self.model.n
+        try:
+            with np.errstate(divide="ignore", invalid="ignore"):
+                out = self._run("forward_dynamics", q, qd, tau)
+        except ZeroDivisionError:  # a zero pivot: M is singular
+            out = np.zeros(np.broadcast_shapes(q.shape, qd.shape, tau.shape)[:-1] + (2 * n,))
+        pivots = out[..., n:]
+        if not np.all(pivots.min(axis=-1) > SINGULAR_PIVOT_RATIO * np.abs(pivots).max(axis=-1)):
+            from .forward_dynamics import accelerations
+
+            return accelerations(self.model, q, qd, tau)  # raises SingularMassMatrixError, naming the joint
+        return out[..., :n]
+
+
+PROGRAMS = ("tau", "mass_matrix", "bias", "coriolis", "forward_dynamics")
+
+
+def _functions(module) -> dict:
+    return {name: getattr(module, name) for p in PROGRAMS for name in (p, f"{p}_batch")}
+
+
+def _import(path: Path, key: str):
+    """The cached module at ``path`` if its first line carries ``key``; None otherwise or on any error."""
+    try:
+        with open(path, encoding="utf-8") as handle:
+            if handle.readline().strip() != f"# course-dynamics compiled model {key}":
+                return None
+        spec = importlib.util.spec_from_file_location(f"course_dynamics_compiled_{key[:16]}", path)
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)  # its bytecode is checked against the source's hash
+        _functions(module)
+        return module
+    except Exception:  # a truncated or garbled entry: generate it again
+        return None
+
+
+def _agrees_with_the_recursion(model: Model, functions: dict) -> bool:
+    """τ of the compiled module against the interpreted recursion at one random state, to 1e-12."""
+    from .newton_euler import inverse_dynamics
+
+    q, qd, qdd = np.random.default_rng().uniform(-1, 1, (3, model.n))
+    try:
+        ours = inverse_dynamics(model, q, qd, qdd)
+        compiled = np.array(functions["tau"](q.tolist(), qd.tolist(), qdd.tolist()))
+    except Exception:
+        return False
+    return bool(np.all(np.abs(compiled - ours) <= 1e-12 * (1 + np.abs(ours))))
+
+
+def _store(path: Path, source: str):
+    """Write the module and its checked hash-based bytecode; None if the folder cannot take them."""
+    try:
+        path.parent.mkdir(mode=0o700, parents=True, exist_ok=True)
+        io.write_text(path, source)
+        py_compile.compile(str(path), cfile=importlib.util.cache_from_source(str(path)), doraise=True,
+                           invalidation_mode=py_compile.PycInvalidationMode.CHECKED_HASH)
+    except (OSError, ValueError, py_compile.PyCompileError):
+        return None
+    return path
+
+
+def compile_model(model: Model, cache: bool = True) -> CompiledModel:
+    """Trace (or load from the cache) and compile the programs of ``model`` (module docstring)."""
+    start = time.perf_counter()
+    key = model_key(model)
+    path = cache_folder() / f"{key}.py"
+    module = _import(path, key) if cache and path.is_file() else None
+    if module is not None and _agrees_with_the_recursion(model, _functions(module)):
+        with open(path, encoding="utf-8") as handle:
+            source = handle.read()
+        return CompiledModel(model, source, time.perf_counter() - start, True, path, _functions(module))
+    source = module_source(model, trace_programs(model), key)
+    stored = _store(path, source) if cache else None
+    module = _import(path, key) if stored else None
+    if module is not None:
+        functions = _functions(module)
+    else:
+        functions = {}
+        exec(compile(source, f"<compiled {model.name}>", "exec"), functions)  # our own program, just generated
+        functions = {name: functions[name] for p in PROGRAMS for name in (p, f"{p}_batch")}
+    return CompiledModel(model, source, time.perf_counter() - start, False, stored, functions)

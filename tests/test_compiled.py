@@ -1,0 +1,111 @@
+"""course_dynamics/compiled.py: traced programs against Pinocchio and the interpreted recursions; the cache."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from course_dynamics import coriolis_matrix, inverse_dynamics, load_robot, load_urdf, mass_matrix
+from course_dynamics.compiled import compile_model
+from course_dynamics.dynamics import mass_matrix_and_bias
+from course_dynamics.forward_dynamics import SingularMassMatrixError, forward_dynamics
+from helpers import arm_urdf, assert_agrees
+
+
+@pytest.fixture(scope="module")
+def compiled(robot):
+    name, model, oracle, states = robot
+    return name, model, oracle, states, compile_model(model)
+
+
+def test_every_program_agrees_with_pinocchio(compiled):
+    name, model, oracle, (q, qd, qdd), c = compiled
+    tau, M, C = c.inverse_dynamics(q, qd, qdd), c.mass_matrix(q), c.coriolis_matrix(q, qd)
+    bias, qdd_fd = c.bias(q, qd), c.forward_dynamics(q, qd, qdd)
+    for k in range(len(q)):
+        M_ref = oracle.M(q[k])
+        scale = np.abs(M_ref).max()
+        speed, accel = np.abs(qd[k]).max(), np.abs(qdd[k]).max()
+        assert_agrees(tau[k], oracle.tau(q[k], qd[k], qdd[k]), scale * (accel + speed**2), what=f"{name} tau {k}")
+        assert_agrees(M[k], M_ref, what=f"{name} M {k}")
+        assert_agrees(C[k], oracle.C(q[k], qd[k]), scale * speed, what=f"{name} C {k}")
+        assert_agrees(bias[k], oracle.V(q[k], qd[k]) + oracle.G(q[k]), scale * (speed**2 + 9.81), what=f"{name} bias {k}")
+        assert_agrees(qdd_fd[k], oracle.aba(q[k], qd[k], qdd[k]), what=f"{name} forward dynamics {k}")
+
+
+def test_programs_equal_the_interpreted_recursions(compiled):
+    """The same operations in the same order: τ, M and C come out identical to the last bit or nearly."""
+    name, model, _, (q, qd, qdd), c = compiled
+    M_ref, bias_ref = mass_matrix_and_bias(model, q, qd)
+    for ours, ref in ((c.inverse_dynamics(q, qd, qdd), inverse_dynamics(model, q, qd, qdd)),
+                      (c.mass_matrix(q), mass_matrix(model, q)), (c.coriolis_matrix(q, qd), coriolis_matrix(model, q, qd)),
+                      (c.bias(q, qd), bias_ref), (c.forward_dynamics(q, qd, qdd), forward_dynamics(model, q, qd, qdd))):
+        np.testing.assert_allclose(ours, ref, rtol=1e-12, atol=1e-12 * max(1.0, np.abs(ref).max()))
+
+
+def test_one_state_equals_the_batch(compiled):
+    name, model, _, (q, qd, qdd), c = compiled
+    batch = c.forward_dynamics(q[:10], qd[:10], qdd[:10])
+    for k in range(10):
+        np.testing.assert_allclose(c.forward_dynamics(q[k], qd[k], qdd[k]), batch[k], rtol=1e-13, atol=1e-13)
+        np.testing.assert_allclose(c.inverse_dynamics(q[k], qd[k], qdd[k]), c.inverse_dynamics(q, qd, qdd)[k],
+                                   rtol=1e-14, atol=1e-14)
+
+
+def test_the_source_is_readable_python():
+    c = compile_model(load_robot("two_link"))
+    lines = c.source.splitlines()
+    assert lines[0].startswith("# course-dynamics compiled model ")
+    assert "def tau(q, qd, qdd):" in c.source and "def forward_dynamics_batch(q, qd, tau):" in c.source
+    assert "    q0, q1 = q" in c.source and "cos(q0)" in c.source
+    assert all(len(line) < 200 for line in lines)
+    assert c.generation_seconds > 0
+
+
+def test_second_compile_comes_from_the_cache(tmp_path, monkeypatch):
+    monkeypatch.setenv("COURSE_DYNAMICS_CACHE", str(tmp_path / "cache"))
+    model = load_robot("rp_arm")
+    first, second = compile_model(model), compile_model(model)
+    assert not first.from_cache and second.from_cache and second.path == first.path
+    assert second.source == first.source
+    assert (tmp_path / "cache").stat().st_mode & 0o777 == 0o700
+
+
+@pytest.mark.parametrize("damage", ["truncate", "other key", "wrong number", "garbage"])
+def test_a_stale_or_corrupt_cache_is_rebuilt(tmp_path, monkeypatch, damage):
+    monkeypatch.setenv("COURSE_DYNAMICS_CACHE", str(tmp_path))
+    model = load_robot("two_link")
+    path = compile_model(model).path
+    text = path.read_text()
+    if damage == "truncate":
+        path.write_text(text[: len(text) // 2])
+    elif damage == "other key":
+        path.write_text(text.replace("compiled model ", "compiled model 0", 1))
+    elif damage == "wrong number":  # the header still matches, the bytecode is checked against the new source
+        assert "0.5 * " in text
+        path.write_text(text.replace("0.5 * ", "0.6 * "))
+    else:
+        path.write_bytes(b"\x00\xff" * 100)
+    rebuilt = compile_model(model)
+    assert not rebuilt.from_cache
+    q, qd, qdd = [0.3, -0.2], [1.0, 0.5], [0.2, 0.1]
+    np.testing.assert_allclose(rebuilt.inverse_dynamics(q, qd, qdd), inverse_dynamics(model, q, qd, qdd), rtol=1e-14)
+    assert compile_model(model).from_cache
+
+
+def test_no_cache_where_none_can_be_written(tmp_path, monkeypatch):
+    blocker = tmp_path / "file"
+    blocker.write_text("not a folder")
+    monkeypatch.setenv("COURSE_DYNAMICS_CACHE", str(blocker / "cache"))
+    c = compile_model(load_robot("pendulum"))
+    assert c.path is None and not c.from_cache
+    assert c.inverse_dynamics([0.5], [0.0], [0.0])[0] == pytest.approx(9.81 * np.sin(0.5))
+
+
+def test_a_singular_mass_matrix_is_named(tmp_path):
+    path = tmp_path / "massless.urdf"
+    path.write_text(arm_urdf(mass="0", ixx="0", iyy="0", izz="0"))
+    c = compile_model(load_urdf(path), cache=False)
+    with pytest.raises(SingularMassMatrixError, match="joint 'joint2' moves no mass"):
+        c.forward_dynamics([0.1, 0.2], [0, 0], [0, 0])
+    with pytest.raises(SingularMassMatrixError):
+        c.forward_dynamics(np.zeros((3, 2)), np.zeros((3, 2)), np.zeros((3, 2)))
