@@ -310,3 +310,41 @@ def test_derive_latex_and_markdown(capsys):
 def test_symbolic_bad_input(capsys, argv, fragments):
     code, _, err = run(capsys, *argv)
     assert_one_line_error(code, err, *fragments)
+
+
+def test_simulate_ensemble_writes_members_and_plots_divergence(capsys, tmp_path):
+    out, plot = tmp_path / "chaos.csv", tmp_path / "chaos.png"
+    code, stdout, _ = run(capsys, "simulate", "double_pendulum_continuous", "--q0", "0.5,0.5", "--duration", "0.5",
+                          "--dt", "0.005", "--ensemble", "5", "--perturbation", "1e-6", "--out", str(out),
+                          "--plot", str(plot), "--json", "--quiet")
+    assert code == 0
+    summary = json.loads(stdout)
+    assert summary["members"] == 5 and summary["samples"] == 101 and 0 < summary["final_spread"] < 1e-3
+    data = np.loadtxt(out, delimiter=",", skiprows=1)
+    assert out.read_text().split("\n")[0].startswith("t,member,q_joint1")
+    assert data.shape == (101 * 5, 2 + 4 * 2 + 1) and set(data[:, 1]) == {0, 1, 2, 3, 4}
+    np.testing.assert_array_equal(data[data[:, 1] == 0][0, 2:4], [0.5, 0.5])  # member 0 starts at --q0
+    import matplotlib.image
+
+    assert matplotlib.image.imread(plot)[..., :3].std() > 0.05
+
+
+def test_simulate_compiled_and_interpreted_write_the_same_run(capsys, tmp_path):
+    argv = ["simulate", "ur5", "--q0", "0,-1,1,0,0.5,0", "--duration", "0.2", "--dt", "0.001", "--quiet"]
+    assert run(capsys, *argv, "--out", str(tmp_path / "a.csv"))[0] == 0
+    assert run(capsys, *argv, "--out", str(tmp_path / "b.csv"), "--no-compile")[0] == 0
+    a, b = (np.loadtxt(tmp_path / name, delimiter=",", skiprows=1) for name in ("a.csv", "b.csv"))
+    np.testing.assert_allclose(a, b, rtol=1e-9, atol=1e-10)
+
+
+@pytest.mark.parametrize("extra, fragment", [
+    (["--ensemble", "0"], "--ensemble must be at least 1"),
+    (["--ensemble", "3", "--perturbation", "-1"], "--perturbation must be a non-negative number"),
+    (["--ensemble", "3", "--html", "x.html"], "--html animates one run"),
+])
+def test_bad_ensemble_options(capsys, tmp_path, extra, fragment):
+    out = tmp_path / "sim.csv"
+    code, _, err = run(capsys, "simulate", "two_link", "--q0", "0,0", "--duration", "0.1", "--dt", "0.01",
+                       "--out", str(out), *extra)
+    assert_one_line_error(code, err, fragment)
+    assert not out.exists()
