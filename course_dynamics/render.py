@@ -115,11 +115,16 @@ def trace_table(t: Trace) -> str:
     return "\n".join(lines)
 
 
-def latex_names(joints, prismatic) -> dict:
-    """Craig's letters for the joint symbols: q_<joint> → θᵢ (dᵢ if prismatic), qd → θ̇ᵢ, qdd → θ̈ᵢ."""
+def latex_names(joints, prismatic, parameters=None) -> dict:
+    """Craig's letters for the joint symbols: q_<joint> → θᵢ (dᵢ if prismatic), qd → θ̇ᵢ, qdd → θ̈ᵢ;
+    and for the parameter symbols that need it: lc<i> → l_{c_i}."""
     import sympy
 
     names = {}
+    for name, symbol in (parameters or {}).items():
+        match = re.fullmatch(r"lc(\d*)", name)
+        if match:
+            names[symbol] = rf"l_{{c_{{{match.group(1)}}}}}" if match.group(1) else "l_{c}"
     for i, (joint, is_prismatic) in enumerate(zip(joints, prismatic), start=1):
         letter = "d" if is_prismatic else r"\theta"
         for prefix, accent in (("q", ""), ("qd", r"\dot"), ("qdd", r"\ddot")):
@@ -193,7 +198,7 @@ def derivation_text(d, fmt: str) -> str:
     import sympy
 
     n = len(d.joints)
-    names = latex_names(d.joints, d.prismatic)
+    names = latex_names(d.joints, d.prismatic, d.parameters)
     pairs = ", ".join(f"{names[d.qd[j]]}{names[d.qd[k]]}" for j, k in d.pairs)
     blocks = [
         (r"\tau", sympy.Matrix(d.tau)), (r"M(\Theta)", sympy.Matrix(d.M)), (r"V(\Theta,\dot\Theta)", sympy.Matrix(d.V)),

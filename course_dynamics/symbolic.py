@@ -25,8 +25,15 @@ name            stands for
 ``l<i>``        the length of link i: the distance along a frame-i axis to the next
                 joint's origin (or, for the last link, to its COM); it replaces that
                 value wherever it is a coordinate of ⁱP_Cᵢ or of a child's ⁱP
+``lc<i>``       l_{c_i}, the distance from joint i to the centre of mass of link i
+                (the single coordinate of ⁱP_Cᵢ); it replaces ⁱP_Cᵢ alone, so a link
+                whose mass is not at its tip keeps l<i> and lc<i> apart
 ``g``           the magnitude of gravity (its direction stays as in the model)
 ==============  ==============================================================
+
+``decimals=N`` (``--decimal N`` on the command line) writes the model's numbers
+as N-digit decimals instead of exact fractions: readable closed forms for
+real robots, whose URDF numbers become long rationals otherwise.
 """
 from __future__ import annotations
 
@@ -77,7 +84,8 @@ def rationalize(model: Model, tolerance: float = ROUND_OFF) -> Model:
         )
         for body in model.bodies
     )
-    return replace(model, bodies=bodies, gravity=_exact(model.gravity, tolerance))
+    frames = tuple(replace(frame, R=_exact(frame.R, tolerance), P=_exact(frame.P, tolerance)) for frame in model.frames)
+    return replace(model, bodies=bodies, frames=frames, gravity=_exact(model.gravity, tolerance))
 
 
 def link_length(model: Model, i: int) -> float | None:
@@ -92,6 +100,12 @@ def link_length(model: Model, i: int) -> float | None:
     return None
 
 
+def com_distance(body) -> float | None:
+    """l_{c_i}: the single non-zero coordinate of ⁱP_Cᵢ (None if the COM is at the origin or off-axis)."""
+    nonzero = np.flatnonzero(np.abs(np.asarray(body.p_com, dtype=float)) > ROUND_OFF)
+    return abs(float(body.p_com[nonzero[0]])) if len(nonzero) == 1 else None
+
+
 def parameter_values(model: Model) -> dict[str, float]:
     """Every parameter symbol this robot has (non-zero ones), with its value from the URDF."""
     values = {}
@@ -104,6 +118,9 @@ def parameter_values(model: Model) -> dict[str, float]:
         length = link_length(model, i - 1)
         if length:
             values[f"l{i}"] = length
+        com = com_distance(body)
+        if com:
+            values[f"lc{i}"] = com
     gravity = float(np.linalg.norm(model.gravity))
     if gravity:
         values["g"] = gravity
@@ -138,7 +155,7 @@ def symbolic_model(model: Model, symbols=()) -> tuple[Model, dict[str, object]]:
     table = {name: sympy.Symbol(name, positive=True) for name in symbols}
     known = parameter_values(model)
     resolved = {_resolve(model, name, known): symbol for name, symbol in table.items()}
-    bodies = list(exact.bodies)
+    bodies, frames = list(exact.bodies), list(exact.frames)
     for i in range(model.n):
         number = i + 1
         body = bodies[i]
@@ -150,18 +167,24 @@ def symbolic_model(model: Model, symbols=()) -> tuple[Model, dict[str, object]]:
             if f"I{name}{number}" in resolved:
                 inertia[a, b] = inertia[b, a] = resolved[f"I{name}{number}"]
         changes["I_com"] = inertia
+        if f"lc{number}" in resolved:
+            changes["p_com"] = _substitute_length(body.p_com, _exact_number(com_distance(model.bodies[i])),
+                                                  resolved[f"lc{number}"])
         if f"l{number}" in resolved:
             length = _exact_number(link_length(model, i))
             symbol = resolved[f"l{number}"]
-            changes["p_com"] = _substitute_length(body.p_com, length, symbol)
+            if f"lc{number}" not in resolved:
+                changes["p_com"] = _substitute_length(body.p_com, length, symbol)
             for c in model.children[i]:
                 bodies[c] = replace(bodies[c], P=_substitute_length(bodies[c].P, length, symbol))
+            frames = [replace(frame, P=_substitute_length(frame.P, length, symbol)) if frame.body == i else frame
+                      for frame in frames]  # frames fixed to link i, such as a tool frame at its tip
         bodies[i] = replace(body, **changes)  # body carries any P its parent's l substituted
     gravity = exact.gravity
     if "g" in resolved:
         magnitude = _exact_number(float(np.linalg.norm(model.gravity)))
         gravity = np.array([resolved["g"] * (component / magnitude) for component in exact.gravity], dtype=object)
-    return replace(exact, bodies=tuple(bodies), gravity=gravity), table
+    return replace(exact, bodies=tuple(bodies), frames=tuple(frames), gravity=gravity), table
 
 
 def _substitute_length(vector: np.ndarray, length, symbol) -> np.ndarray:
@@ -235,12 +258,22 @@ class Derivation:
     pairs: list
 
 
-def derive(model: Model, symbols=(), method: str = "newton-euler", simplify: bool = True) -> Derivation:
+def decimal(expression, digits: int | None):
+    """``expression`` with its fractions written as ``digits``-digit decimals (unchanged for None)."""
+    if digits is None:
+        return expression
+    sympy = _sympy()
+    expression = sympy.sympify(expression)
+    return expression.xreplace({r: sympy.Float(r, digits) for r in expression.atoms(sympy.Rational) if not r.is_Integer})
+
+
+def derive(model: Model, symbols=(), method: str = "newton-euler", simplify: bool = True,
+           decimals: int | None = None) -> Derivation:
     """τ, M(Θ), V(Θ, Θ̇), G(Θ), B(Θ), C(Θ) in closed form, by Newton–Euler or Lagrange.
 
     ``symbols`` names parameters kept symbolic (module table); the rest are the
-    URDF's numbers, made exact. B and C are read off V as the coefficients of
-    θ̇ⱼθ̇ₖ (j < k) and θ̇ⱼ² (6.63)–(6.65).
+    URDF's numbers, made exact (or ``decimals``-digit decimals in the result).
+    B and C are read off V as the coefficients of θ̇ⱼθ̇ₖ (j < k) and θ̇ⱼ² (6.63)–(6.65).
     """
     from . import lagrange
     from .dynamics import gravity_torques, mass_matrix_by_unit_accelerations, velocity_torques
@@ -259,7 +292,13 @@ def derive(model: Model, symbols=(), method: str = "newton-euler", simplify: boo
     else:
         tau, M = lagrange.inverse_dynamics(exact, q, qd, qdd), lagrange.mass_matrix(exact, q)
         V, G = lagrange.velocity_torques(exact, q, qd), lagrange.gravity_torques(exact, q)
-    form = (lambda e: tidy(e, q)) if simplify else (lambda e: canonical(e, q))
+    if decimals is not None and not (isinstance(decimals, int) and 1 <= decimals <= 30):
+        raise SymbolError(f"decimals must be a whole number of digits from 1 to 30, got {decimals!r}")
+    exact_form = (lambda e: tidy(e, q)) if simplify else (lambda e: canonical(e, q))
+
+    def form(e):
+        return decimal(exact_form(e), decimals)
+
     n = model.n
     V = [canonical(v, q) for v in V]
     pairs = velocity_pairs(n)
@@ -306,3 +345,55 @@ def numeric_functions(derivation: Derivation, parameter_values: dict | None = No
         "G": compile_(derivation.G, q, (n,)),
         "tau": compile_(derivation.tau, q + qd + qdd, (n,)),
     }
+
+
+@dataclass(frozen=True)
+class CartesianDerivation:
+    """Closed forms of (6.99) for one frame and task rows: J, M_x, V_x, G_x as sympy matrices."""
+
+    frame: str
+    rows: tuple[str, ...]
+    q: tuple
+    qd: tuple
+    parameters: dict
+    J: object
+    Mx: object
+    Vx: object
+    Gx: object
+
+
+def derive_cartesian(model: Model, frame: str, rows=None, expressed_in: str = "base", symbols=(),
+                     decimals: int | None = None) -> CartesianDerivation:
+    """M_x = J⁻ᵀ M J⁻¹, V_x = J⁻ᵀ (V − M J⁻¹ J̇ Θ̇), G_x = J⁻ᵀ G (6.99) in closed form.
+
+    The same Jacobian and dynamics functions as the numeric path, on symbols; the
+    selected task rows must make J square. For the two-link arm in its tool frame
+    this is Craig's example 6.6.
+    """
+    from .cartesian import ROW_NAMES, _row_indices, jacobian, jacobian_dot
+    from .dynamics import gravity_torques, mass_matrix, velocity_torques
+
+    sympy = _sympy()
+    check_symbolic_size(model)
+    exact, parameters = symbolic_model(model, symbols)
+    q, qd, _ = joint_symbols(model)
+    indices = _row_indices(rows)
+    if len(indices) != model.n:
+        raise SymbolError(f"the task has {len(indices)} rows but robot '{model.name}' has {model.n} joints: "
+                          f"(6.99) needs a square Jacobian; choose {model.n} rows")
+    J = sympy.Matrix(jacobian(exact, q, frame, expressed_in, indices))
+    J_dot = sympy.Matrix(jacobian_dot(exact, q, qd, frame, expressed_in, indices))
+    M, V, G = sympy.Matrix(mass_matrix(exact, q)), sympy.Matrix(velocity_torques(exact, q, qd)), sympy.Matrix(gravity_torques(exact, q))
+    J_inv = J.inv()
+    J_inv_T = J_inv.T
+    theta_dot = sympy.Matrix(qd)
+
+    def clean(matrix):
+        return matrix.applyfunc(lambda e: decimal(sympy.factor_terms(sympy.simplify(e)), decimals))
+
+    return CartesianDerivation(
+        frame=frame, rows=tuple(ROW_NAMES[i] for i in indices), q=tuple(q), qd=tuple(qd), parameters=parameters,
+        J=clean(J), Mx=clean(J_inv_T * M * J_inv),  # (6.99)
+        Vx=clean(J_inv_T * (V - M * J_inv * J_dot * theta_dot)),  # (6.99)
+        Gx=clean(J_inv_T * G),  # (6.99)
+    )

@@ -30,13 +30,14 @@ class Trace:
     symbolic: bool
 
 
-def trace(model: Model, q, qd, qdd, symbols=None) -> Trace:
+def trace(model: Model, q, qd, qdd, symbols=None, decimals: int | None = None) -> Trace:
     """Run both iterations and keep every intermediate quantity.
 
     ``symbols`` = None gives numbers at the state (q, qd, qdd). Otherwise the
     trace is symbolic: joint variables are the symbols q_<joint>, qd_<joint>,
     qdd_<joint> (q, qd, qdd are ignored), ``symbols`` names the parameters kept
-    symbolic (see :mod:`course_dynamics.symbolic`), and entries are simplified.
+    symbolic (see :mod:`course_dynamics.symbolic`), and entries are simplified
+    (with the model's numbers as ``decimals``-digit decimals if given).
     """
     keys = OUTWARD_QUANTITIES + INWARD_QUANTITIES
     if symbols is None:
@@ -44,14 +45,18 @@ def trace(model: Model, q, qd, qdd, symbols=None) -> Trace:
         values = {key: getattr(links, key).tolist() for key in keys}
         tau = links.tau.tolist()
     else:
-        from .symbolic import check_symbolic_size, joint_symbols, symbolic_model, tidy
+        from .symbolic import check_symbolic_size, decimal, joint_symbols, symbolic_model, tidy
 
         check_symbolic_size(model)
         exact, _ = symbolic_model(model, symbols)
         q_s, qd_s, qdd_s = joint_symbols(model)
         links = newton_euler_links(exact, q_s, qd_s, qdd_s)
-        values = {key: [[tidy(x, q_s) for x in row] for row in getattr(links, key)] for key in keys}
-        tau = [tidy(x, q_s) for x in links.tau]
+
+        def form(x):
+            return decimal(tidy(x, q_s), decimals)
+
+        values = {key: [[form(x) for x in row] for row in getattr(links, key)] for key in keys}
+        tau = [form(x) for x in links.tau]
     return Trace(model_name=model.name, joints=model.joint_names, links=tuple(b.name for b in model.bodies),
                  prismatic=tuple(b.is_prismatic for b in model.bodies), values=values, tau=tau, symbolic=symbols is not None)
 

@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import ModelError
+from .inertia import physical_problems
 from .model import STANDARD_GRAVITY, Body, Frame, Model
 
 SUPPORTED_TYPES = ("revolute", "continuous", "prismatic", "fixed")
@@ -170,18 +171,9 @@ def _check_inertia(where: str, link: str, inertia: np.ndarray) -> None:
 
     Zero is allowed: Craig's point masses (section 6.7) have no rotational inertia.
     """
-    if not np.allclose(inertia, inertia.T, rtol=0, atol=INERTIA_TOLERANCE):
-        raise ModelError(f"{where}: link '{link}': inertia tensor is not symmetric")
-    moments = np.linalg.eigvalsh(inertia)
-    scale = max(float(np.abs(moments).max()), 1.0) * INERTIA_TOLERANCE
-    if moments[0] < -scale:
-        raise ModelError(f"{where}: link '{link}': inertia tensor is not positive semi-definite (principal moments {moments.tolist()})")
-    a, b, c = moments
-    if a + b < c - scale:
-        raise ModelError(
-            f"{where}: link '{link}': inertia breaks the triangle inequality "
-            f"(principal moments {a:g} + {b:g} < {c:g})"
-        )
+    problems = physical_problems(inertia, INERTIA_TOLERANCE)
+    if problems:
+        raise ModelError(f"{where}: link '{link}': inertia {problems[0]}")
 
 
 def _body(where: str, spec: dict, lump: list) -> Body:

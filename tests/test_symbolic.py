@@ -107,12 +107,53 @@ def test_generated_functions_agree_with_pinocchio(name):
 
 def test_parameter_names_and_errors():
     two_link = load_robot("two_link")
-    assert parameter_values(two_link) == {"m1": 2.0, "l1": 0.5, "m2": 1.0, "l2": 0.4, "g": 9.81}
+    assert parameter_values(two_link) == {"m1": 2.0, "l1": 0.5, "lc1": 0.5, "m2": 1.0, "l2": 0.4, "lc2": 0.4, "g": 9.81}
     model, table = symbolic_model(two_link, ("l1",))
     assert model.bodies[0].p_com[0] == table["l1"] and model.bodies[1].P[0] == table["l1"]
-    with pytest.raises(SymbolError, match="unknown symbol 'm3' for robot 'two_link'; known: g, l1, l2, m1, m2"):
+    with pytest.raises(SymbolError, match="unknown symbol 'm3' for robot 'two_link'; known: g, l1, l2, lc1, lc2, m1, m2"):
         symbolic_model(two_link, ("m3",))
     with pytest.raises(SymbolError, match="robot 'ur5' has 6 joints; the symbolic path handles at most 4"):
         derive(load_robot("ur5"))
     with pytest.raises(SymbolError, match="give values for the parameter symbols m1"):
         numeric_functions(derive(two_link, ("m1",)))
+
+
+def test_centre_of_mass_symbols_keep_length_and_com_apart():
+    """lc<i> replaces ⁱP_Cᵢ alone: Craig's two-link arm with its masses off the tips."""
+    d = derivation("two_link", ("m1", "m2", "l1", "l2", "lc1", "lc2", "g"))
+    m1, m2, l1, l2, lc1, lc2, g = (d.parameters[k] for k in ("m1", "m2", "l1", "l2", "lc1", "lc2", "g"))
+    t1, t2 = d.q
+    expected_M11 = m1 * lc1**2 + m2 * (l1**2 + lc2**2 + 2 * l1 * lc2 * sympy.cos(t2))
+    expected_G1 = m1 * g * lc1 * sympy.cos(t1) + m2 * g * (l1 * sympy.cos(t1) + lc2 * sympy.cos(t1 + t2))
+    assert sympy.simplify(d.M[0][0] - expected_M11) == 0
+    assert sympy.simplify(d.G[0] - expected_G1) == 0
+    assert parameter_values(load_robot("two_link"))["lc1"] == 0.5
+
+
+def test_decimals_make_real_robots_readable():
+    exact = derivation("rrr_arm", ())
+    rounded = derive(load_robot("rrr_arm"), (), decimals=4)
+    assert any(isinstance(a, sympy.Rational) and a.q > 1000 for a in sympy.sympify(exact.G[1]).atoms(sympy.Rational))
+    assert not [a for a in sympy.sympify(rounded.G[1]).atoms(sympy.Rational) if not a.is_Integer]
+    values = {q: 0.3 for q in exact.q}
+    assert float(sympy.sympify(rounded.G[1]).subs(values)) == pytest.approx(float(sympy.sympify(exact.G[1]).subs(values)),
+                                                                          rel=1e-3)
+    with pytest.raises(SymbolError, match="decimals must be a whole number"):
+        derive(load_robot("pendulum"), (), decimals=0)
+
+
+def test_cartesian_closed_forms_are_craig_example_6_6():
+    """M_x = diag(m2 + m1/s2², m2) (6.101), V_x (6.102), G_x (6.103): the two-link arm in its tool frame."""
+    from course_dynamics.symbolic import derive_cartesian
+    from course_dynamics_reference import textbook
+
+    d = derive_cartesian(load_robot("two_link"), "tool", rows=["x", "y"], expressed_in="frame",
+                         symbols=("m1", "m2", "l1", "l2", "g"))
+    m1, m2, l1, l2, g = (d.parameters[k] for k in ("m1", "m2", "l1", "l2", "g"))
+    t1, t2 = d.q
+    assert sympy.simplify(d.J - sympy.Matrix([[l1 * sympy.sin(t2), 0], [l1 * sympy.cos(t2) + l2, l2]])) == sympy.zeros(2)
+    assert sympy.simplify(d.Mx - sympy.diag(m2 + m1 / sympy.sin(t2) ** 2, m2)) == sympy.zeros(2)
+    numbers = {m1: 2.0, m2: 1.0, l1: 0.5, l2: 0.4, g: 9.81, t1: 0.4, t2: 0.9, d.qd[0]: 0.7, d.qd[1]: -1.2}
+    _, Mx, Vx, Gx = textbook.two_link_cartesian([0.4, 0.9], [0.7, -1.2], **textbook.COURSE_PARAMETERS["two_link"])
+    np.testing.assert_allclose(np.array(d.Vx.subs(numbers), dtype=float).ravel(), Vx, rtol=1e-12)
+    np.testing.assert_allclose(np.array(d.Gx.subs(numbers), dtype=float).ravel(), Gx, rtol=1e-12)

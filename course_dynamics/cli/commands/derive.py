@@ -13,9 +13,12 @@ DESCRIPTION = ("Derive the equations of motion symbolically by Newton-Euler or b
 
 def add_arguments(parser) -> None:
     add_robot_argument(parser, help=f"URDF file or shipped robot name (at most {MAX_SYMBOLIC_JOINTS} joints)")
-    parser.add_argument("--symbols", help="parameters kept symbolic: m<i>, l<i>, I<xx|yy|zz|xy|xz|yz><i>, g "
-                                          "(a one-joint robot also takes m, l)")
+    parser.add_argument("--symbols", help="parameters kept symbolic: m<i>, l<i> (link length), lc<i> (distance to "
+                                          "the link's centre of mass), I<xx|yy|zz|xy|xz|yz><i>, g (a one-joint robot "
+                                          "also takes m, l, lc)")
     parser.add_argument("--method", choices=METHODS, default="newton-euler")
+    parser.add_argument("--decimal", type=int, metavar="N",
+                        help="write the URDF's numbers as N-digit decimals instead of exact fractions (real robots)")
     parser.add_argument("--format", choices=render.DERIVATION_FORMATS, default="markdown",
                         help="json has keys joints, tau, M, V, G, B, C; each entry a string sympy.sympify parses")
 
@@ -24,7 +27,7 @@ def run(args) -> int:
     from ...symbolic import derive
 
     model = load_robot_argument(args.urdf)
-    derivation = derive(model, symbol_names(args.symbols), method=args.method)
+    derivation = derive(model, symbol_names(args.symbols), method=args.method, decimals=args.decimal)
     if args.format == "json":
         print_json(render.derivation_record(derivation))
     else:

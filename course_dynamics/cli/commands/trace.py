@@ -16,6 +16,8 @@ def add_arguments(parser) -> None:
     parser.add_argument("--qdd", help="joint accelerations (default 0)")
     parser.add_argument("--symbolic", action="store_true", help="symbolic trace in q_<joint>, qd_<joint>, qdd_<joint>")
     parser.add_argument("--symbols", help="with --symbolic: parameters kept as symbols, e.g. m1,m2,l1,l2,g")
+    parser.add_argument("--decimal", type=int, metavar="N",
+                        help="with --symbolic: the URDF's numbers as N-digit decimals instead of exact fractions")
     parser.add_argument("--format", choices=render.TRACE_FORMATS, default="table", help="output format (default table)")
 
 
@@ -24,7 +26,7 @@ def run(args) -> int:
 
     model = load_robot_argument(args.urdf)
     if args.symbolic:
-        result = trace(model, None, None, None, symbols=symbol_names(args.symbols))
+        result = trace(model, None, None, None, symbols=symbol_names(args.symbols), decimals=args.decimal)
     else:
         if args.q is None:
             raise UsageError("--q is required unless --symbolic is given")
