@@ -14,11 +14,10 @@ import sympy
 from course_dynamics import inverse_dynamics, load_robot, newton_euler_links, robot_path
 from course_dynamics import lagrange
 from course_dynamics.cartesian import cartesian_dynamics
-from course_dynamics.kinematics import JointTransforms, joint_transforms
-from course_dynamics.newton_euler import inward_iteration, outward_iteration
-from course_dynamics.algebra import Vec3
+from course_dynamics.kinematics import joint_transforms
 from course_dynamics.state import entries
 from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
+from course_dynamics_reference.misprints import printed_outward_rotation, serial_inward
 from course_dynamics_reference.validate import random_states
 
 t = sympy.Symbol("t", real=True)
@@ -126,14 +125,6 @@ def panda():
     return model, oracle, q[0], qd[0], qdd[0]
 
 
-def printed_outward_rotation(model, q, qd, qdd):
-    """(6.45)–(6.47) as printed: ⁱR^{i+1} (the rotation of frame i+1 in i) where ⁱ⁺¹ᵢR belongs."""
-    X = joint_transforms(model, entries(q))
-    X_printed = JointTransforms(R=X.R, R_T=X.R, P=X.P)
-    out = outward_iteration(model, X_printed, entries(qd), entries(qdd), Vec3.of(model.gravity))
-    return np.array(inward_iteration(model, X, out).tau)
-
-
 def test_6_45_to_6_47_rotation_is_inverted_in_print(panda):
     model, oracle, q, qd, qdd = panda
     reference = oracle.tau(q, qd, qdd)
@@ -165,31 +156,6 @@ def test_6_50_euler_uses_the_com_inertia_twice(panda):
     assert np.abs(np.array(printed) - ref["N"]).max() > 1e-3
 
 
-def serial_inward_printed(model, links, X, variant):
-    """The inward iteration of a serial chain with one printed misprint switched on."""
-    n = model.n
-    f, m_ = [None] * n, [None] * n
-    for i in reversed(range(n)):
-        body = model.bodies[i]
-        F, N = links.F[i], links.N[i]
-        f_i, n_i = F.copy(), N + np.cross(body.p_com, F)
-        if i + 1 < n:
-            R = np.array(X.R[i + 1].rows, dtype=float)
-            P = np.array(tuple(X.P[i + 1]), dtype=float)
-            if variant == "6.51":  # ⁱfᵢ = ⁱI ⁱR f + F: the stray inertia factor
-                f_i = body.I_com @ R @ f[i + 1] + F
-            else:
-                f_i = R @ f[i + 1] + F
-            if variant == "6.52":  # N_{i+1}, ⁱPᵢ × Fᵢ (= 0) and ⁱ⁺¹R^{i+1} (= 1) as printed
-                n_i = links.N[i + 1] + R @ m_[i + 1] + np.zeros(3) + np.cross(P, f[i + 1])
-            else:
-                n_i = n_i + R @ m_[i + 1] + np.cross(P, R @ f[i + 1])
-        elif variant == "6.52":
-            n_i = np.zeros(3) + np.zeros(3)  # Nₙ₊₁ = 0 and ⁿPₙ × Fₙ = 0 leave nothing
-        f[i], m_[i] = f_i, n_i
-    return np.array([n_i @ b.axis for n_i, b in zip(m_, model.bodies)])
-
-
 @pytest.mark.parametrize("variant", ["6.51", "6.52"])
 def test_6_51_and_6_52_inward_iteration(variant):
     model = load_robot("ur5")  # a serial chain of revolute joints
@@ -198,8 +164,8 @@ def test_6_51_and_6_52_inward_iteration(variant):
     links = newton_euler_links(model, q, qd, qdd)
     X = joint_transforms(model, entries(q))
     reference = oracle.tau(q, qd, qdd)
-    np.testing.assert_allclose(serial_inward_printed(model, links, X, "corrected"), reference, rtol=1e-12, atol=1e-12)
-    assert np.abs(serial_inward_printed(model, links, X, variant) - reference).max() > 0.1
+    np.testing.assert_allclose(serial_inward(model, links, X, "corrected"), reference, rtol=1e-12, atol=1e-12)
+    assert np.abs(serial_inward(model, links, X, variant) - reference).max() > 0.1
 
 
 # ---------------------------------------------------------------- the worked two-link example (section 6.7)

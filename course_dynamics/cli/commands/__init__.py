@@ -2,4 +2,4 @@
 ``add_arguments(parser)`` and ``run(args) -> exit code``, and calls the library."""
 
 # In the order ``course-dynamics --help`` lists them.
-COMMANDS = ("info", "terms", "torques", "cartesian", "simulate", "trace", "derive", "animate", "validate", "report", "grade")
+COMMANDS = ("info", "terms", "torques", "cartesian", "simulate", "trace", "derive", "animate", "validate", "report", "grade", "student_notebooks", "publish_notebooks")

@@ -1,0 +1,31 @@
+"""``course-dynamics publish-notebooks``: run the course and render it to static HTML pages with an index."""
+from __future__ import annotations
+
+import sys
+
+from ..options import progress_bar
+
+HELP = "run every notebook and render the course to static HTML pages (with an index) for a course site"
+DESCRIPTION = ("Execute the nine notebooks in fresh kernels and render each to OUTDIR/<notebook>.html with nbconvert, "
+               "plus OUTDIR/index.html listing them. Student versions by default (exercises unanswered, checks "
+               "saying 'not done yet'); --solutions publishes the worked answers. Animations are embedded and play "
+               "offline.")
+
+
+def add_arguments(parser) -> None:
+    parser.add_argument("out", metavar="OUTDIR", help="folder for the pages (made if missing)")
+    parser.add_argument("--solutions", action="store_true", help="publish with the solutions")
+    parser.add_argument("--only", help="comma-separated notebook numbers to publish, e.g. 01,03 (default: all)")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def run(args) -> int:
+    from ...course import notebook_paths, publish
+
+    only = tuple(x.strip() for x in args.only.split(",")) if args.only else None
+    count = len([p for p in notebook_paths() if only is None or p.name[:2] in only])
+    progress = progress_bar(total=count, enabled=not args.quiet and sys.stderr.isatty(), unit="notebook")
+    written = publish(args.out, solutions=args.solutions, only=only, progress=progress.update)
+    progress.close()
+    print(f"wrote {len(written) - 1} pages and {args.out}/index.html", file=sys.stderr)
+    return 0

@@ -1,0 +1,126 @@
+# %% [markdown]
+# # 4. The structure of the equations: M, V, G, and the Coriolis matrix
+#
+# **What this notebook teaches.** How the Newton–Euler torques of any manipulator fall into the state-space form
+# τ = M(Θ)Θ̈ + V(Θ, Θ̇) + G(Θ) (6.59); how V splits into Coriolis and centrifugal terms, B(Θ)[Θ̇Θ̇] + C(Θ)[Θ̇²]
+# (6.63); and the properties these terms always have — M symmetric and positive definite, V quadratic in Θ̇, and a
+# Coriolis matrix with C Θ̇ = V and Ṁ − 2C skew-symmetric — shown numerically, with M's eigenvalues plotted over the
+# workspace.
+#
+# **Notation** (Craig): Θ, Θ̇, Θ̈ the joint positions, velocities and accelerations (n each); M(Θ) the n × n mass
+# matrix; V(Θ, Θ̇) the velocity terms; G(Θ) gravity; [Θ̇Θ̇] the products θ̇ⱼθ̇ₖ (j < k) and [Θ̇²] the squares θ̇ⱼ² (6.64),
+# (6.65); B(Θ) and C(Θ) their coefficient matrices.
+
+# %%
+import numpy as np
+import matplotlib.pyplot as plt
+from IPython.display import Markdown, display
+
+from course_dynamics import coriolis_matrix, gravity_torques, load_robot, mass_matrix, velocity_torques
+from course_dynamics.exercises import check
+from course_dynamics.lagrange import configuration_space_terms, velocity_pairs
+
+arm = load_robot("two_link")
+
+# %% [markdown]
+# ## Reading M, V and G off the recursion
+#
+# The Newton–Euler recursion computes τ for any state. Choosing the state picks out each term (Craig section 6.8):
+# G(Θ) = τ(Θ, 0, 0); V(Θ, Θ̇) = τ(Θ, Θ̇, 0) without gravity; column j of M(Θ) is τ(Θ, 0, eⱼ) without gravity. The
+# library does exactly this by default for G and V, and computes M by the composite-rigid-body algorithm (the same
+# matrix, in one pass).
+
+# %%
+q, qd = np.array([0.3, -0.8]), np.array([1.1, 0.6])
+print("M =\n", mass_matrix(arm, q).round(5))
+print("V =", velocity_torques(arm, q, qd).round(5), "  G =", gravity_torques(arm, q).round(5))
+
+# %% [markdown]
+# ## Properties that always hold
+#
+# The kinetic energy is k = ½ Θ̇ᵀ M Θ̇ (6.71) and is positive whenever anything moves, so **M is symmetric and
+# positive definite**. Its eigenvalues say how hard the arm is to accelerate in the easiest and the hardest joint
+# direction; for the two-link arm they depend only on θ₂, since only the elbow changes the mass distribution:
+
+# %%
+elbow = np.linspace(-np.pi, np.pi, 181)
+eigenvalues = np.linalg.eigvalsh(mass_matrix(arm, np.column_stack([np.zeros_like(elbow), elbow])))
+figure, ax = plt.subplots(figsize=(6.8, 3.6))
+ax.plot(elbow, eigenvalues[:, 0], label="smallest eigenvalue")
+ax.plot(elbow, eigenvalues[:, 1], label="largest eigenvalue")
+ax.set_xlabel("θ₂ (rad)")
+ax.set_ylabel("eigenvalue of M(Θ) (kg·m²)")
+ax.set_title("Two-link arm: M(Θ) is positive definite over the whole workspace")
+ax.legend()
+ax.grid(alpha=0.3)
+plt.show()
+
+# %% [markdown]
+# **V is quadratic in Θ̇**: every term is a product of two joint rates, so V(Θ, 2Θ̇) = 4 V(Θ, Θ̇). Its coefficients
+# are Craig's B (Coriolis, θ̇ⱼθ̇ₖ) and C (centrifugal, θ̇ⱼ²) of (6.63):
+
+# %%
+B, C = configuration_space_terms(arm, q)
+print("pairs of [Θ̇Θ̇]:", velocity_pairs(2), " B =", B.round(5).tolist(), " C =", C.round(5).tolist())
+products, squares = np.array([qd[0] * qd[1]]), qd**2
+print("B[Θ̇Θ̇] + C[Θ̇²] =", (B @ products + C @ squares).round(6), " V =", velocity_torques(arm, q, qd).round(6))
+print("V(Θ, 2Θ̇) / V(Θ, Θ̇) =", (velocity_torques(arm, q, 2 * qd) / velocity_torques(arm, q, qd)).round(12))
+
+# %% [markdown]
+# The **Coriolis matrix** C(Θ, Θ̇) — not Craig's centrifugal C(Θ) above, but the n × n matrix with C Θ̇ = V whose
+# entries come from the Christoffel symbols of M, Cᵢⱼ = Σₖ Γᵢⱼₖ θ̇ₖ — has one more property: Ṁ − 2C is
+# skew-symmetric, which is what makes energy arguments in control work. Ṁ here comes from a finite difference,
+# independent of C:
+
+# %%
+C_matrix = coriolis_matrix(arm, q, qd)
+dt = 1e-7
+M_dot = (mass_matrix(arm, q + dt * qd) - mass_matrix(arm, q - dt * qd)) / (2 * dt)
+S = M_dot - 2 * C_matrix
+print(f"largest |C Θ̇ − V|        = {np.abs(C_matrix @ qd - velocity_torques(arm, q, qd)).max():.1e} N·m")
+print(f"largest |S + Sᵀ|, S = Ṁ − 2C = {np.abs(S + S.T).max():.1e} kg·m²/s (round-off of the finite difference)")
+
+# %% [markdown]
+# ### Exercises 4.1–4.3 — the closed forms (6.60)–(6.62)
+# Write the two-link arm's terms as functions of numpy arrays: `M_two_link(q)` returning a 2 × 2 array,
+# `V_two_link(q, qd)` and `G_two_link(q)` returning 2 numbers (m₁ = 2 kg, m₂ = 1 kg, l₁ = 0.5 m, l₂ = 0.4 m,
+# g = 9.81 m/s² along −Y₀, point masses at the link ends). The checks name the wrong entries of M and the wrong
+# Coriolis or centrifugal coefficients of V.
+
+# %%
+m1, m2, l1, l2, g = 2.0, 1.0, 0.5, 0.4, 9.81
+
+
+def M_two_link(q):
+    ### BEGIN SOLUTION
+    c2 = np.cos(q[1])
+    off_diagonal = l2**2 * m2 + l1 * l2 * m2 * c2
+    return np.array([[l2**2 * m2 + 2 * l1 * l2 * m2 * c2 + l1**2 * (m1 + m2), off_diagonal],
+                     [off_diagonal, l2**2 * m2]])
+    ### END SOLUTION
+
+
+# %%
+check("M_two_link")
+
+# %%
+def V_two_link(q, qd):
+    ### BEGIN SOLUTION
+    h = m2 * l1 * l2 * np.sin(q[1])
+    return np.array([-h * qd[1] ** 2 - 2 * h * qd[0] * qd[1], h * qd[0] ** 2])
+    ### END SOLUTION
+
+
+# %%
+check("V_two_link")
+
+# %%
+def G_two_link(q):
+    ### BEGIN SOLUTION
+    c1, c12 = np.cos(q[0]), np.cos(q[0] + q[1])
+    return np.array([m2 * l2 * g * c12 + (m1 + m2) * l1 * g * c1, m2 * l2 * g * c12])
+    ### END SOLUTION
+
+
+# %%
+check("G_two_link")

@@ -1,0 +1,110 @@
+"""course_dynamics/course.py and the notebooks: every notebook and every student version runs top to bottom.
+
+The solution versions must answer every exercise right; the student versions must run without an error, report
+every exercise as not done yet, and keep no line of any solution. Both run in a fresh Jupyter kernel (nbclient),
+from a folder outside the repository, each within the course's per-cell time limit.
+"""
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+import pytest
+
+from course_dynamics.cli import main
+from course_dynamics.course import (BEGIN, END, execute, first_heading, notebook_paths, read_notebook, solution_regions,
+                                    solution_version, student_version)
+
+NOTEBOOKS = notebook_paths()
+NOTEBOOK_SECONDS = 120  # the course's budget per notebook; a cell has CELL_TIMEOUT on top
+
+
+def outputs_of(cell) -> str:
+    return "".join(o.get("text", "") + o.get("data", {}).get("text/plain", "") for o in cell.outputs)
+
+
+def test_one_notebook_per_section_in_reading_order():
+    assert [p.name[:2] for p in NOTEBOOKS] == [f"{k:02d}" for k in range(1, 10)]
+    for path in NOTEBOOKS:
+        notebook = read_notebook(path)
+        first = notebook.cells[0]
+        assert first.cell_type == "markdown" and "What this notebook teaches" in first.source, path.name
+        assert first_heading(notebook).startswith(f"{int(path.name[:2])}. ")
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
+def test_every_exercise_has_a_check_after_it(path):
+    cells = read_notebook(path).cells
+    exercises = [k for k, c in enumerate(cells) if c.cell_type == "code" and solution_regions(c.source)]
+    assert len(exercises) >= 2, path.name
+    for k in exercises:
+        assert "check(" in cells[k + 1].source, (path.name, cells[k].source[:80])
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
+def test_solution_version_runs_and_answers_every_exercise(path, tmp_path):
+    start = time.monotonic()
+    notebook = execute(solution_version(read_notebook(path), path.stem), tmp_path)
+    assert time.monotonic() - start < NOTEBOOK_SECONDS
+    outputs = [o for cell in notebook.cells if cell.cell_type == "code" for o in cell.outputs]
+    assert not [o for o in outputs if o.output_type == "error"]
+    checks = [outputs_of(c) for c in notebook.cells if c.cell_type == "code" and c.source.startswith("check(")]
+    assert checks and all("✓ right" in text for text in checks), checks
+    assert any("image/png" in o.get("data", {}) or "iframe srcdoc" in o.get("data", {}).get("text/html", "")
+               for o in outputs), "no figure or animation"
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
+def test_student_version_runs_clean_with_no_solution_left(path, tmp_path):
+    source = read_notebook(path)
+    student = student_version(source, path.stem)
+    text = "\n".join(c.source for c in student.cells)
+    assert BEGIN not in text and END not in text
+    for cell in source.cells:
+        lines = cell.source.splitlines()
+        for first, last in solution_regions(cell.source):
+            for line in lines[first + 1:last]:
+                if len(line.strip()) > 12 and not line.strip().startswith("#"):
+                    assert line.strip() not in text, (path.name, line)
+    assert all(not c.get("outputs") for c in student.cells if c.cell_type == "code")
+    executed = execute(student, tmp_path)
+    outputs = [o for cell in executed.cells if cell.cell_type == "code" for o in cell.outputs]
+    assert not [o for o in outputs if o.output_type == "error"]
+    checks = [outputs_of(c) for c in executed.cells if c.cell_type == "code" and c.source.startswith("check(")]
+    assert checks and all("not done yet" in text for text in checks), checks
+
+
+def test_nbgrader_metadata_marks_solutions_and_checks():
+    notebook = student_version(read_notebook(NOTEBOOKS[0]), NOTEBOOKS[0].stem)
+    marked = [c.metadata["nbgrader"] for c in notebook.cells if "nbgrader" in c.metadata]
+    solutions = [m for m in marked if m["solution"]]
+    graded = [m for m in marked if m["grade"]]
+    assert len(solutions) >= 2 and len(graded) == len(solutions)
+    assert len({m["grade_id"] for m in marked}) == len(marked)
+
+
+def test_student_notebooks_command_writes_the_course(tmp_path, capsys):
+    assert main(["student-notebooks", str(tmp_path / "course")]) == 0
+    written = sorted((tmp_path / "course").glob("*.ipynb"))
+    assert [p.stem for p in written] == [p.stem for p in NOTEBOOKS]
+    document = json.loads(written[0].read_text())
+    assert document["nbformat"] == 4 and all(not c.get("outputs") for c in document["cells"] if c["cell_type"] == "code")
+    assert "YOUR CODE HERE" in written[0].read_text()
+    assert main(["student-notebooks", str(tmp_path / "key"), "--solutions"]) == 0
+    assert BEGIN in (tmp_path / "key" / written[0].name).read_text()
+
+
+def test_publish_renders_pages_with_an_index(tmp_path):
+    assert main(["publish-notebooks", str(tmp_path / "site"), "--only", "01", "--solutions", "--quiet"]) == 0
+    assert sorted(p.name for p in (tmp_path / "site").iterdir()) == ["01_acceleration.html", "index.html"]
+    page = (tmp_path / "site" / "01_acceleration.html").read_text()
+    assert "Acceleration of a rigid body" in page and "data:image/png;base64" in page and "✅" in page
+    index = (tmp_path / "site" / "index.html").read_text()
+    assert 'href="01_acceleration.html"' in index
+
+
+def test_publish_rejects_an_unknown_notebook(tmp_path, capsys):
+    assert main(["publish-notebooks", str(tmp_path / "site"), "--only", "42"]) == 2
+    assert "no notebook numbered 42" in capsys.readouterr().err
+    assert not (tmp_path / "site").exists()
