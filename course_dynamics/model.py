@@ -17,6 +17,11 @@ name                meaning (shape, unit)
                     URDF ``ixy``… values, i.e. Craig's −I_xy)
 ``parent``          index of the parent body, −1 for the fixed base
 ``parent_link``     the URDF parent link of joint i (may be merged into body ``parent``)
+``lower, upper``    joint position limits (rad or m; ±inf where the URDF gives none)
+``effort``          the joint's torque (N·m) or force (N) limit, inf where none is given
+``velocity``        the joint's speed limit (rad/s or m/s), inf where none is given
+``damping``         viscous friction coefficient from ``<dynamics damping>``
+``friction``        Coulomb friction from ``<dynamics friction>`` (N·m or N)
 ``gravity``         g: gravitational acceleration in the base frame (3,), m/s²
 ==================  =============================================================
 
@@ -75,6 +80,8 @@ class Body:
     I_com: np.ndarray
     lower: float = -np.inf
     upper: float = np.inf
+    effort: float = np.inf
+    velocity: float = np.inf
     damping: float = 0.0
     friction: float = 0.0
     parent_link: str = ""
@@ -191,6 +198,16 @@ class Model:
     @cached_property
     def upper(self) -> np.ndarray:
         return np.array([b.upper for b in self.bodies], dtype=float)
+
+    @cached_property
+    def effort(self) -> np.ndarray:
+        """Torque (N·m) or force (N) limits, inf where the URDF gives none."""
+        return np.array([b.effort for b in self.bodies], dtype=float)
+
+    @cached_property
+    def velocity(self) -> np.ndarray:
+        """Speed limits (rad/s or m/s), inf where the URDF gives none."""
+        return np.array([b.velocity for b in self.bodies], dtype=float)
 
     @property
     def frame_names(self) -> tuple[str, ...]:

@@ -3,7 +3,7 @@
 =============================  ===============================================
 name                           file
 =============================  ===============================================
-``two_link``                   robots/two_link.urdf (Craig 6.7)
+``two_link``                   robots/two_link.urdf (Craig 6.7; installed as package data)
 ``rp_arm``                     robots/rp_arm.urdf (Craig example 6.5)
 ``pendulum``                   robots/pendulum.urdf (the notes' pendulum)
 ``rrr_arm``                    robots/rrr_arm.urdf (a spatial 3R arm, for 3-joint derivations)
@@ -30,7 +30,22 @@ from .errors import UnknownRobotError
 from .model import STANDARD_GRAVITY, Model
 from .urdf import load_urdf
 
-ROBOTS_DIR = Path(__file__).resolve().parent.parent / "robots"
+
+
+def _robots_folder() -> Path:
+    """The course URDFs: the installed package data (``course_dynamics_robots``), else the checkout's robots/."""
+    try:
+        from importlib import resources
+
+        folder = Path(str(resources.files("course_dynamics_robots")))
+        if (folder / "two_link.urdf").is_file():
+            return folder
+    except (ModuleNotFoundError, TypeError):
+        pass
+    return Path(__file__).resolve().parent.parent / "robots"
+
+
+ROBOTS_DIR = _robots_folder()
 
 COURSE_ROBOTS = {
     "two_link": "two_link.urdf",

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import logging
 import math
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -33,7 +34,11 @@ SUPPORTED_TYPES = ("revolute", "continuous", "prismatic", "fixed")
 INERTIA_TOLERANCE = 1e-12
 
 
-def load_urdf(path, gravity=STANDARD_GRAVITY) -> Model:
+class InertiaWarning(UserWarning):
+    """A link's inertia is not physical, loaded anyway because the caller allowed it."""
+
+
+def load_urdf(path, gravity=STANDARD_GRAVITY, allow_nonphysical_inertia: bool = False) -> Model:
     """Load a fixed-base URDF as a :class:`Model`.
 
     Parameters
@@ -42,12 +47,17 @@ def load_urdf(path, gravity=STANDARD_GRAVITY) -> Model:
         The URDF file.
     gravity : array_like, shape (3,)
         g in the base frame, m/s²; default (0, 0, −9.81).
+    allow_nonphysical_inertia : bool
+        Load a link whose inertia breaks the triangle inequality or is not positive
+        semi-definite (as classroom URDFs that give only izz do), with an
+        :class:`InertiaWarning` per link instead of an error.
 
     Raises
     ------
     ModelError
         For a missing or malformed file, an unsupported joint, a kinematic loop,
-        several roots, a non-physical inertial, a zero axis or a non-finite value.
+        several roots, two joints with one name, a non-physical inertial, a zero
+        axis or a non-finite value.
     """
     path = Path(path)
     where = str(path)
@@ -58,9 +68,12 @@ def load_urdf(path, gravity=STANDARD_GRAVITY) -> Model:
     links = {link.name: link for link in robot.links}
     if len(links) != len(robot.links):
         raise ModelError(f"{where}: two links share a name")
-    parent_joint = {}
+    parent_joint, seen = {}, set()
     children = {name: [] for name in links}
     for joint in robot.joints:
+        if joint.name in seen:
+            raise ModelError(f"{where}: two joints are named '{joint.name}'")
+        seen.add(joint.name)
         for role, link in (("parent", joint.parent), ("child", joint.child)):
             if link not in links:
                 raise ModelError(f"{where}: joint '{joint.name}': {role} link '{link}' is not defined")
@@ -100,9 +113,10 @@ def load_urdf(path, gravity=STANDARD_GRAVITY) -> Model:
             body, T_body_link = len(specs) - 1, np.eye(4)
         frames.append(Frame(name=link_name, body=body, R=T_body_link[:3, :3], P=T_body_link[:3, 3]))
         if body >= 0:
-            lumps[body].append(_inertial_in_body(where, links[link_name], T_body_link))
+            lumps[body].append(_inertial_in_body(where, links[link_name], T_body_link, allow_nonphysical_inertia))
         for child in reversed(children[link_name]):
-            T = T_body_link @ _checked(where, f"joint '{child.name}' origin", child.origin)
+            origin = child.origin if child.origin is not None else np.eye(4)  # no <origin>: the identity
+            T = T_body_link @ _checked(where, f"joint '{child.name}' origin", origin)
             pending.append((child.child, body, T, child))
     if not specs:
         raise ModelError(f"{where}: no revolute, continuous or prismatic joint: nothing moves")
@@ -149,7 +163,7 @@ def _checked(where: str, what: str, values) -> np.ndarray:
     return array
 
 
-def _inertial_in_body(where: str, link, T_body_link: np.ndarray):
+def _inertial_in_body(where: str, link, T_body_link: np.ndarray, allow_nonphysical: bool = False):
     """(m, c, I) of one link in its body's frame: mass, COM, inertia about the COM."""
     inertial = link.inertial
     if inertial is None:
@@ -160,20 +174,25 @@ def _inertial_in_body(where: str, link, T_body_link: np.ndarray):
         raise ModelError(f"{where}: link '{link.name}': negative mass {mass} kg")
     T_origin = _checked(where, f"{what} origin", inertial.origin if inertial.origin is not None else np.eye(4))
     inertia = _checked(where, f"{what} inertia", inertial.inertia if inertial.inertia is not None else np.zeros((3, 3)))
-    _check_inertia(where, link.name, inertia)
+    _check_inertia(where, link.name, inertia, allow_nonphysical)
     T = T_body_link @ T_origin
     R = T[:3, :3]
     return mass, T[:3, 3].copy(), R @ inertia @ R.T
 
 
-def _check_inertia(where: str, link: str, inertia: np.ndarray) -> None:
+def _check_inertia(where: str, link: str, inertia: np.ndarray, allow_nonphysical: bool = False) -> None:
     """Symmetric, positive semi-definite, and principal moments obeying the triangle inequality.
 
     Zero is allowed: Craig's point masses (section 6.7) have no rotational inertia.
     """
     problems = physical_problems(inertia, INERTIA_TOLERANCE)
-    if problems:
-        raise ModelError(f"{where}: link '{link}': inertia {problems[0]}")
+    if not problems:
+        return
+    if problems[0].startswith("tensor is not symmetric") or not allow_nonphysical:
+        hint = "" if problems[0].startswith("tensor is not symmetric") else \
+            " (allow_nonphysical_inertia / --allow-nonphysical-inertia loads it with a warning)"
+        raise ModelError(f"{where}: link '{link}': inertia {problems[0]}{hint}")
+    warnings.warn(InertiaWarning(f"{where}: link '{link}': inertia {problems[0]}; loaded anyway"), stacklevel=4)
 
 
 def _body(where: str, spec: dict, lump: list) -> Body:
@@ -182,12 +201,19 @@ def _body(where: str, spec: dict, lump: list) -> Body:
     norm = float(np.linalg.norm(axis))
     if norm < 1e-12:
         raise ModelError(f"{where}: joint '{joint.name}': zero axis")
-    lower, upper = -math.inf, math.inf
-    if joint.type != "continuous" and joint.limit is not None:
-        lower = -math.inf if joint.limit.lower is None else float(joint.limit.lower)
-        upper = math.inf if joint.limit.upper is None else float(joint.limit.upper)
-        if math.isnan(lower) or math.isnan(upper) or lower > upper:
-            raise ModelError(f"{where}: joint '{joint.name}': limits lower={lower} upper={upper} are not an interval")
+    lower, upper, effort, velocity = -math.inf, math.inf, math.inf, math.inf
+    if joint.limit is not None:
+        if joint.type != "continuous":
+            lower = -math.inf if joint.limit.lower is None else float(joint.limit.lower)
+            upper = math.inf if joint.limit.upper is None else float(joint.limit.upper)
+            if math.isnan(lower) or math.isnan(upper) or lower > upper:
+                raise ModelError(f"{where}: joint '{joint.name}': limits lower={lower} upper={upper} are not an interval")
+        for name, value in (("effort", joint.limit.effort), ("velocity", joint.limit.velocity)):
+            if value is not None and not (float(value) >= 0):
+                raise ModelError(f"{where}: joint '{joint.name}': {name} limit {value} must be a non-negative number")
+        # 0 or absent: the URDF gives no limit (many exporters write effort="0" velocity="0")
+        effort = float(joint.limit.effort) if joint.limit.effort else math.inf
+        velocity = float(joint.limit.velocity) if joint.limit.velocity else math.inf
     dynamics = joint.dynamics
     damping = float(dynamics.damping or 0.0) if dynamics is not None else 0.0
     friction = float(dynamics.friction or 0.0) if dynamics is not None else 0.0
@@ -196,7 +222,8 @@ def _body(where: str, spec: dict, lump: list) -> Body:
     return Body(
         name=spec["link"], joint=joint.name, joint_type=joint.type, parent=spec["parent"],
         R0=T[:3, :3], P=T[:3, 3], axis=axis / norm, mass=mass, p_com=p_com, I_com=I_com,
-        lower=lower, upper=upper, damping=damping, friction=friction, parent_link=joint.parent,
+        lower=lower, upper=upper, effort=effort, velocity=velocity, damping=damping, friction=friction,
+        parent_link=joint.parent,
     )
 
 
