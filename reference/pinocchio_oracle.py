@@ -64,6 +64,29 @@ class PinocchioOracle:
     def tau(self, q, qd, qdd) -> np.ndarray:
         return self._ours(pin.rnea(self.model, self.data, self.configuration(q), self.velocity(qd), self.velocity(qdd)).copy())
 
+    def add_payload(self, link: str, mass: float, com, inertia) -> None:
+        """Fix a rigid body to URDF link ``link`` (Pinocchio's ``appendBodyToJoint``): mass (kg),
+        centre of mass (3,) and inertia about it (3, 3), both in the link's frame."""
+        frame = self.model.frames[self.model.getFrameId(link)]
+        body = pin.Inertia(float(mass), np.asarray(com, dtype=float), np.asarray(inertia, dtype=float))
+        self.model.appendBodyToJoint(frame.parentJoint, body, frame.placement)
+        self.data = self.model.createData()
+
+    def tau_with_wrench(self, q, qd, qdd, link: str, force, moment) -> np.ndarray:
+        """``rnea`` with external forces: the robot exerts (force, moment) at the origin of ``link``
+        (base coordinates), so the surroundings push back with the opposite wrench on its joint."""
+        q_pin = self.configuration(q)
+        pin.framesForwardKinematics(self.model, self.data, q_pin)
+        frame_id = self.model.getFrameId(link)
+        joint = self.model.frames[frame_id].parentJoint
+        origin = self.data.oMf[frame_id].translation
+        f, n = -np.asarray(force, dtype=float), -np.asarray(moment, dtype=float)
+        on_robot = pin.Force(f, n + np.cross(origin, f))               # about the world origin, world axes
+        fext = [pin.Force.Zero() for _ in range(self.model.njoints)]
+        fext[joint] = self.data.oMi[joint].actInv(on_robot)             # in the joint's frame
+        tau = pin.rnea(self.model, self.data, q_pin, self.velocity(qd), self.velocity(qdd), fext)
+        return self._ours(tau.copy())
+
     def M(self, q) -> np.ndarray:
         A = pin.crba(self.model, self.data, self.configuration(q)).copy()
         A = np.triu(A) + np.triu(A, 1).T  # crba fills the upper triangle only

@@ -94,3 +94,22 @@ BAD_URDFS = {
                        "joint 'j3': child link 'ghost' is not defined"),
     "nothing moves": ('<robot name="x"><link name="a"/></robot>', "nothing moves"),
 }
+
+
+def run(capsys, *argv):
+    """The CLI in this process: (exit code, stdout, stderr)."""
+    from course_dynamics.cli import main
+
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def assert_one_line_error(code, err, *fragments):
+    """Bad input: exit 2 and exactly one ``error: …`` line on stderr containing every fragment, no traceback."""
+    assert code == 2
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: "), err
+    assert "Traceback" not in err
+    for fragment in fragments:
+        assert fragment in lines[0], (fragment, lines[0])

@@ -10,23 +10,9 @@ import pytest
 
 from course_dynamics import dynamics_terms, inverse_dynamics, load_robot
 from course_dynamics.cli import main
-from helpers import AWKWARD
-from helpers import BAD_URDFS
+from helpers import AWKWARD, BAD_URDFS, assert_one_line_error, run
 
 
-def run(capsys, *argv):
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
-
-
-def assert_one_line_error(code, err, *fragments):
-    assert code == 2
-    lines = err.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("error: "), err
-    assert "Traceback" not in err
-    for fragment in fragments:
-        assert fragment in lines[0], (fragment, lines[0])
 
 
 def test_info_json(capsys):
@@ -76,8 +62,9 @@ def write_trajectory(path, model, rng, rows=25):
 def test_torques_csv(capsys, tmp_path):
     model = load_robot("panda")
     q, qd, qdd = write_trajectory(tmp_path / "in.csv", model, np.random.default_rng(1))
-    code, _, _ = run(capsys, "torques", "panda", "--trajectory", str(tmp_path / "in.csv"), "--out", str(tmp_path / "out.csv"))
-    assert code == 0
+    code, out, _ = run(capsys, "torques", "panda", "--trajectory", str(tmp_path / "in.csv"), "--out", str(tmp_path / "out.csv"))
+    # Uniform rates in [-1, 1] rad/s exceed the fingers' 0.2 m/s: reported, and exit status 1 as for validate.
+    assert code == 1 and "LIMIT EXCEEDED: joint 'panda_finger_joint1': velocity" in out
     lines = (tmp_path / "out.csv").read_text().splitlines()
     assert lines[0].split(",") == ["t"] + [f"tau_{j}" for j in model.joint_names]
     data = np.loadtxt(tmp_path / "out.csv", delimiter=",", skiprows=1)
@@ -138,8 +125,11 @@ def test_bad_arguments(capsys, argv, fragments):
 
 
 @pytest.mark.parametrize("edit, fragment", [
-    (lambda h, rows: (h.replace(",qdd_theta2", ""), [r.rsplit(",", 1)[0] for r in rows]), "missing columns: qdd_theta2"),
-    (lambda h, rows: (h + ",extra", [r + ",1" for r in rows]), "unexpected columns: extra"),
+    (lambda h, rows: (h.replace(",qdd_theta2", ""), [r.rsplit(",", 1)[0] for r in rows]),
+     "qdd is given for some joints but not for qdd_theta2"),
+    (lambda h, rows: (h.replace(",q_theta2", ""), [",".join(r.split(",")[:2] + r.split(",")[3:]) for r in rows]),
+     "missing columns: q_theta2"),
+    (lambda h, rows: (h + ",t", [r + ",1" for r in rows]), "line 1: column 't' appears twice"),
     (lambda h, rows: (h, [rows[0].replace(rows[0].split(",")[1], "oops", 1)] + rows[1:]), "line 2, column 'q_theta1': 'oops' is not a number"),
     (lambda h, rows: (h, [rows[0].replace(rows[0].split(",")[1], "nan", 1)] + rows[1:]), "line 2, column 'q_theta1': value is nan"),
     (lambda h, rows: (h, [rows[0] + ",3"] + rows[1:]), "line 2 has 8 values, the header has 7"),
@@ -194,8 +184,9 @@ def test_simulate_then_torques_round_trip(capsys, tmp_path):
     header = out.read_text().splitlines()[0].split(",")
     joints = load_robot("ur5").joint_names
     assert header == ["t"] + [f"{k}_{j}" for k in ("q", "qd", "qdd", "tau") for j in joints] + ["energy"]
-    code, _, _ = run(capsys, "torques", "ur5", "--trajectory", str(out), "--out", str(back))
-    assert code == 0
+    code, report, _ = run(capsys, "torques", "ur5", "--trajectory", str(out), "--out", str(back))
+    # Falling for 0.2 s, the wrist swings faster than its 3.2 rad/s: the limits report says so (exit 1).
+    assert code == 1 and "joint 'wrist_1_joint': velocity" in report
     np.testing.assert_allclose(np.loadtxt(back, delimiter=",", skiprows=1)[:, 1:],
                                np.tile([1, 2, 3, 0.5, 0.2, 0.1], (201, 1)), rtol=1e-9, atol=1e-9)
 
@@ -348,3 +339,72 @@ def test_bad_ensemble_options(capsys, tmp_path, extra, fragment):
                        "--out", str(out), *extra)
     assert_one_line_error(code, err, fragment)
     assert not out.exists()
+
+
+def test_info_json_has_effort_and_velocity_limits(capsys):
+    code, out, _ = run(capsys, "info", "ur5", "--json")
+    joints = json.loads(out)["joints"]
+    model = load_robot("ur5")
+    assert [j["effort"] for j in joints] == model.effort.tolist()
+    assert [j["velocity"] for j in joints] == model.velocity.tolist()
+    code, out, _ = run(capsys, "info", "double_pendulum", "--json")
+    assert {j["effort"] for j in json.loads(out)["joints"]} == {None}  # no limit in the URDF
+
+
+GRAVITY = ["--gravity", "1.5,-2,-7"]
+
+
+@pytest.mark.parametrize("argv", [
+    ["terms", "ur5", "--q", "0.1,0.2,0.3,0.4,0.5,0.6", "--json"],
+    ["trace", "two_link", "--q", "0.3,0.4", "--format", "json"],
+    ["cartesian", "ur5", "--frame", "tool0", "--q", "0,-1.2,1,-0.5,0.5,0", "--json"],
+    ["simulate", "two_link", "--q0", "0.3,0.4", "--duration", "0.05", "--dt", "0.01", "--json", "--out", "-"],
+    ["derive", "pendulum", "--format", "json"],
+])
+def test_every_dynamics_command_takes_gravity(capsys, argv):
+    """The same command under another gravity gives other numbers, and the library's under that gravity."""
+    code, standard, _ = run(capsys, *argv)
+    assert code == 0
+    code, other, _ = run(capsys, *argv, *GRAVITY)
+    assert code == 0 and other != standard
+
+
+def test_terms_under_gravity_equal_the_library(capsys):
+    code, out, _ = run(capsys, "terms", "ur5", "--q", "0.1,0.2,0.3,0.4,0.5,0.6", "--json", *GRAVITY)
+    expected = dynamics_terms(load_robot("ur5", gravity=[1.5, -2, -7]), [0.1, 0.2, 0.3, 0.4, 0.5, 0.6], np.zeros(6),
+                              np.zeros(6))
+    np.testing.assert_array_equal(json.loads(out)["G"], expected.G)
+
+
+def test_validate_and_report_compare_under_the_given_gravity(capsys, tmp_path):
+    code, out, err = run(capsys, "validate", "ur5", "--samples", "5", "--json", *GRAVITY)
+    assert code == 0 and json.loads(out)["ok"] and "warning" not in err
+    code, _, _ = run(capsys, "report", "two_link", "--samples", "3", "--out", str(tmp_path / "r"), "--quiet", *GRAVITY)
+    assert code == 0
+    report = json.loads((tmp_path / "r" / "report.json").read_text())
+    assert report["robots"][0]["textbook"] is None  # the printed closed forms hold for the course's gravity only
+
+
+@pytest.mark.parametrize("command", [["validate", "two_link", "--samples", "4"], ["terms", "two_link", "--q", "0.1,0.2"]])
+def test_gravity_that_cannot_act_is_said_once(capsys, command):
+    """two_link's joint axes are along the base's y axis: gravity along y gives G ≡ 0."""
+    code, _, err = run(capsys, *command, "--gravity", "0,9.81,0")
+    assert code == 0
+    warnings = [line for line in err.splitlines() if line.startswith("warning:")]
+    assert len(warnings) == 1 and "G(q) = 0 at every sampled state" in warnings[0]
+    code, _, err = run(capsys, *command)
+    assert "warning" not in err
+
+
+def test_nonphysical_inertia_is_refused_with_a_hint_or_loaded_with_a_warning(capsys, tmp_path):
+    from helpers import arm_urdf
+
+    urdf = tmp_path / "planar.urdf"
+    urdf.write_text(arm_urdf(ixx="0", iyy="0", izz="0.05"))  # only izz, as classroom URDFs give
+    args = ["--q", "0.1,0.2", "--gravity", "0,-9.81,0"]  # the arm is planar in x-y: gravity along -y acts on it
+    code, _, err = run(capsys, "terms", str(urdf), *args)
+    assert_one_line_error(code, err, "link 'link2': inertia", "triangle", "--allow-nonphysical-inertia")
+    code, out, err = run(capsys, "terms", str(urdf), *args, "--json", "--allow-nonphysical-inertia")
+    assert code == 0 and json.loads(out)["tau"]
+    assert [line for line in err.splitlines() if line.startswith("warning:")] == [
+        f"warning: {urdf}: link 'link2': inertia {err.split('inertia ', 1)[1].split('; loaded anyway')[0]}; loaded anyway"]

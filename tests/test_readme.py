@@ -27,26 +27,38 @@ def test_python_quick_start_runs():
     assert namespace["tau"].shape == (2,)
 
 
-def example_commands() -> list[str]:
+def example_commands() -> list[tuple[str, int]]:
+    """(command, expected exit status): 0, or the N of a trailing ``# exit N`` comment."""
     commands = []
     for block in re.findall(r"```sh\n(.*?)```", README, re.S):
         text = block.replace("\\\n", " ")
         for line in text.splitlines():
-            line = line.split("  #")[0].strip()
+            line, _, comment = line.partition("  #")
+            line = line.strip()
+            status = re.match(r"\s*exit (\d+)", comment)
             if line.startswith("course-dynamics ") and not any(p in line for p in PLACEHOLDERS):
-                commands.append(line)
+                commands.append((line, int(status.group(1)) if status else 0))
     return commands
 
 
-@pytest.mark.parametrize("command", example_commands())
-def test_cli_example_runs(command, tmp_path, monkeypatch, capsys):
+@pytest.mark.parametrize("command, status", example_commands())
+def test_cli_example_runs(command, status, tmp_path, monkeypatch, capsys):
     shutil.copytree(ROOT / "examples", tmp_path / "examples")
     monkeypatch.chdir(tmp_path)
     argv = shlex.split(command)[1:]
     if ">" in argv:  # a redirection of standard output: the shell's job, not the command's
         argv = argv[:argv.index(">")]
     code = main(argv)
-    assert code == 0, capsys.readouterr().err
+    assert code == status, capsys.readouterr().err
+
+
+def test_python_log_example_runs(tmp_path, monkeypatch):
+    block = next(b for b in re.findall(r"```python\n(.*?)```", README, re.S) if "torques_from_log(" in b)
+    shutil.copytree(ROOT / "examples", tmp_path / "examples")
+    monkeypatch.chdir(tmp_path)
+    namespace: dict = {}
+    exec(compile(block, "README log example", "exec"), namespace)
+    assert namespace["result"].report.exceeded and namespace["result"].tau.shape == (2001, 6)
 
 
 def test_error_examples_show_real_messages(capsys):

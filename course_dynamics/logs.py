@@ -1,0 +1,301 @@
+"""From a recorded trajectory log to joint torques and a limits report.
+
+==================  =============  ===================================================
+code                Craig          meaning (shape, unit)
+==================  =============  ===================================================
+``t``               t              sample times (N,), s
+``q``               Θ              joint positions (N, n), rad or m
+``qd``              Θ̇              joint rates (N, n): read, or differentiated from Θ
+``qdd``             Θ̈              joint accelerations (N, n): read, or differentiated
+``tau``             τ              τ = M(Θ)Θ̈ + V(Θ,Θ̇) + G(Θ) + F(Θ̇) + Jᵀ F_ext (6.59),
+                                   (6.114), (6.105), (N, n), N·m or N
+==================  =============  ===================================================
+
+A log is any table of numbers with named columns: a file read by
+:func:`course_dynamics.io.read_table`, a pandas DataFrame, a dict of arrays or
+a numpy structured array. Our names are ``t``, ``q_<joint>``, ``qd_<joint>`` and
+``qdd_<joint>``; ``columns`` maps ours to the log's (``{"q_shoulder_pan_joint":
+"joint1_pos"}``), and every other column of the log is ignored.
+
+Positions only: when a log has no ``qd_`` (or no ``qdd_``) columns, they are
+differentiated from Θ(t) by a Savitzky–Golay filter (scipy): a cubic fitted by
+least squares to a window of samples around each one, differentiated exactly.
+It smooths as it differentiates, which plain finite differences of a measured
+signal do not (they amplify its noise by 1/Δt, and Θ̈ by 1/Δt²). The window
+(odd, in samples) is ``window``; by default the odd count nearest to 20 ms of
+samples, and at least 7. The samples must be evenly spaced (within 10 % of the
+median step). What was differentiated is said in :attr:`TorqueLog.notes`, and
+the CLI writes it at the top of its output.
+
+>>> import numpy as np
+>>> from course_dynamics import load_robot
+>>> from course_dynamics.logs import torques_from_log
+>>> t = np.arange(0, 1, 1e-3)
+>>> log = {"t": t, "q_theta1": np.sin(t), "q_theta2": 0.5 * t}          # positions only
+>>> result = torques_from_log(load_robot("two_link"), log)
+>>> result.tau.shape, result.notes[0].split(":")[0]
+((1000, 2), 'qd')
+>>> result.report.exceeded                                              # two_link has no limits
+False
+"""
+from __future__ import annotations
+
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from . import io
+from .errors import InputError
+from .friction import Friction
+from .limits import LimitsReport, limits_report
+from .loads import Payload, Wrench, with_payload, wrench_torques
+from .model import Model
+from .newton_euler import inverse_dynamics
+
+KINDS = ("q", "qd", "qdd")
+POLYORDER = 3                 # a cubic: Θ̈ is its second derivative, still linear in time within a window
+DEFAULT_WINDOW_SECONDS = 0.02
+MIN_WINDOW = 7
+EVEN_SPACING = 0.1            # largest deviation of a step from the median step, relative
+COMPILE_FROM_ROWS = 5000      # from here on a compiled model (cached after the first run) pays off
+
+
+@dataclass(frozen=True)
+class JointLog:
+    """Θ, Θ̇, Θ̈ on the samples of a log; ``notes`` says what was computed rather than read."""
+
+    t: np.ndarray
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    notes: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class TorqueLog:
+    """The torques a log needs, the state they were computed from, and the limits report."""
+
+    log: JointLog
+    tau: np.ndarray
+    report: LimitsReport
+    model: Model
+
+    @property
+    def t(self) -> np.ndarray:
+        return self.log.t
+
+    @property
+    def notes(self) -> tuple[str, ...]:
+        return self.log.notes
+
+    def table(self, with_state: bool = False) -> tuple[list[str], np.ndarray]:
+        """Header and rows: t, tau_<joint> (and q_, qd_, qdd_ with ``with_state``)."""
+        kinds = (KINDS if with_state else ()) + ("tau",)
+        header = ["t"] + io.joint_columns(kinds, self.model.joint_names)
+        blocks = [getattr(self.log, k) for k in kinds[:-1]] + [self.tau]
+        return header, np.column_stack([self.t] + blocks)
+
+
+def as_columns(table) -> tuple[dict[str, np.ndarray], str]:
+    """Named 1-D float columns of a table, and a name for it in messages.
+
+    Takes an :class:`io.Table`, a pandas DataFrame, a dict of arrays or a numpy structured array.
+    """
+    if isinstance(table, io.Table):
+        return table.columns(), table.path
+    if isinstance(table, np.ndarray) and table.dtype.names:
+        return {name: np.asarray(table[name], dtype=float) for name in table.dtype.names}, "the table"
+    if hasattr(table, "columns") and hasattr(table, "__getitem__") and not isinstance(table, Mapping):
+        return {str(name): np.asarray(table[name], dtype=float) for name in table.columns}, "the table"  # pandas
+    if isinstance(table, Mapping):
+        try:
+            return {str(k): np.asarray(v, dtype=float).reshape(-1) for k, v in table.items()}, "the table"
+        except (TypeError, ValueError) as exc:
+            raise InputError(f"the table's columns must be numbers: {exc}") from None
+    raise InputError(f"a log must be a table with named columns (a DataFrame, a dict of arrays, a structured array), "
+                     f"got {type(table).__name__}")
+
+
+def parse_column_map(text: str) -> dict[str, str]:
+    """``ours=theirs,…`` or the path of a TOML file of ``ours = "theirs"`` lines (optionally under ``[columns]``)."""
+    if text.endswith(".toml") or (Path(text).is_file() and "=" not in text):
+        try:
+            document = tomllib.loads(Path(text).read_text(encoding="utf-8"))
+        except OSError as exc:
+            raise InputError(f"{text}: cannot read: {exc.strerror}") from None
+        except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+            raise InputError(f"{text}: not a valid TOML column map: {exc}") from None
+        document = document.get("columns", document)
+        if not all(isinstance(v, str) for v in document.values()):
+            raise InputError(f"{text}: every entry must be ours = \"theirs\" (a column name in quotes)")
+        return dict(document)
+    mapping = {}
+    for item in filter(None, (part.strip() for part in text.split(","))):
+        ours, sep, theirs = item.partition("=")
+        if not sep or not ours.strip() or not theirs.strip():
+            raise InputError(f"column map entry '{item}' must be ours=theirs, e.g. q_joint1=joint1_pos")
+        mapping[ours.strip()] = theirs.strip()
+    return mapping
+
+
+def _window(samples: int, dt: float, window: int | None, where: str) -> int:
+    if window is not None:
+        if window < POLYORDER + 2 or window % 2 == 0:
+            raise InputError(f"the smoothing window must be an odd number of samples, at least {POLYORDER + 2}; got {window}")
+        if window > samples:
+            raise InputError(f"{where}: the smoothing window ({window} samples) is longer than the log ({samples} rows)")
+        return window
+    chosen = max(MIN_WINDOW, 2 * int(round(DEFAULT_WINDOW_SECONDS / dt / 2)) + 1)
+    chosen = min(chosen, samples if samples % 2 else samples - 1)
+    if chosen < POLYORDER + 2:
+        raise InputError(f"{where}: {samples} rows are too few to differentiate (at least {POLYORDER + 2} are needed)")
+    return chosen
+
+
+def _even_step(t: np.ndarray, where: str, line) -> float:
+    steps = np.diff(t)
+    dt = float(np.median(steps))
+    worst = int(np.argmax(np.abs(steps - dt)))
+    if abs(steps[worst] - dt) > EVEN_SPACING * dt:
+        raise InputError(f"{where}: t is not evenly spaced (the step before {line(worst + 1)} is {steps[worst]:.6g} s, "
+                         f"the median step is {dt:.6g} s); differentiating needs even steps: resample the log, "
+                         f"or give qd_ and qdd_ columns")
+    return dt
+
+
+def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[str, str] | None = None,
+              window: int | None = None) -> JointLog:
+    """Θ, Θ̇, Θ̈ of ``model``'s joints from a log (module docstring).
+
+    Parameters
+    ----------
+    table : a log (see :func:`as_columns`)
+    dt : float, s — the sample step of a log without a ``t`` column
+    columns : our column name → the log's
+    window : odd int — Savitzky–Golay window in samples (default: about 20 ms)
+
+    Raises
+    ------
+    InputError
+        A mapped or needed column that is missing, a column of the wrong length, some joints
+        with rates and others without, t not increasing or unevenly spaced, a bad ``dt`` or window.
+    """
+    data, where = as_columns(table)
+    lines = table.lines if isinstance(table, io.Table) else None
+
+    def line(row: int) -> str:
+        return f"line {int(lines[row])}" if lines is not None else f"row {row + 1}"
+
+    columns = dict(columns or {})
+    ours = ["t"] + io.joint_columns(KINDS, model.joint_names)
+    for name, theirs in columns.items():
+        if name not in ours:
+            raise InputError(f"column map: '{name}' is none of our columns (t, q_<joint>, qd_<joint>, qdd_<joint> "
+                             f"for joints {', '.join(model.joint_names)})")
+        if theirs not in data:
+            raise InputError(f"{where}: no column '{theirs}' (mapped from {name}); columns: {', '.join(data)}")
+    renamed = {name: data[columns.get(name, name)] for name in ours if columns.get(name, name) in data}
+    lengths = {len(v) for v in renamed.values()}
+    if len(lengths) > 1:
+        raise InputError(f"{where}: columns have different lengths {sorted(lengths)}")
+
+    present = {kind: [f"{kind}_{j}" in renamed for j in model.joint_names] for kind in KINDS}
+    if not all(present["q"]):
+        missing = [f"q_{j}" for j, p in zip(model.joint_names, present["q"]) if not p]
+        raise InputError(f"{where}: missing columns: {', '.join(missing)} (a column map, --map, can name the log's own)")
+    for kind in ("qd", "qdd"):
+        if any(present[kind]) and not all(present[kind]):
+            missing = [f"{kind}_{j}" for j, p in zip(model.joint_names, present[kind]) if not p]
+            raise InputError(f"{where}: {kind} is given for some joints but not for {', '.join(missing)}: "
+                             f"give all of them or none (then they are differentiated)")
+    q = io.stack_joint_columns(renamed, "q", model.joint_names)
+    samples = len(q)
+    if samples == 0:
+        raise InputError(f"{where}: no data rows")
+    for name, values in renamed.items():
+        bad = np.flatnonzero(~np.isfinite(values))
+        if len(bad):
+            raise InputError(f"{where}: {line(bad[0])}, column '{columns.get(name, name)}': value is {values[bad[0]]} "
+                             f"(must be finite)")
+
+    if "t" in renamed:
+        if dt is not None:
+            raise InputError(f"{where} has a time column; --dt (dt) is only for logs without one")
+        t = renamed["t"]
+        steps = np.diff(t)
+        if np.any(steps <= 0):
+            row = int(np.flatnonzero(steps <= 0)[0]) + 1
+            raise InputError(f"{where}: {line(row)}: t = {t[row]:.9g} s does not come after {t[row - 1]:.9g} s "
+                             f"(t must increase)")
+    else:
+        if dt is None:
+            raise InputError(f"{where}: no column 't' (map one, or give the sample step --dt for a log without times)")
+        if not (np.isfinite(dt) and dt > 0):
+            raise InputError(f"dt must be a positive number of seconds, got {dt}")
+        t = np.arange(samples) * float(dt)
+
+    notes = []
+    need_qd, need_qdd = not all(present["qd"]), not all(present["qdd"])
+    if need_qd or need_qdd:
+        from scipy.signal import savgol_filter
+
+        if samples < 2:
+            raise InputError(f"{where}: one row cannot be differentiated (give qd_ and qdd_ columns)")
+        step = _even_step(t, where, line) if "t" in renamed else float(dt)
+        w = _window(samples, step, window, where)
+        how = f"Savitzky-Golay derivative ({w}-sample window = {w * step:.4g} s, cubic)"
+
+        def derivative(y, order):
+            return savgol_filter(y, w, POLYORDER, deriv=order, delta=step, axis=0, mode="interp")
+
+    if need_qd:
+        qd = derivative(q, 1)
+        notes.append(f"qd: first {how} of q")
+    else:
+        qd = io.stack_joint_columns(renamed, "qd", model.joint_names)
+    if need_qdd:
+        qdd = derivative(q, 2) if need_qd else derivative(qd, 1)
+        notes.append(f"qdd: {'second ' + how + ' of q' if need_qd else 'first ' + how + ' of qd'}")
+    else:
+        qdd = io.stack_joint_columns(renamed, "qdd", model.joint_names)
+    return JointLog(t=t, q=q, qd=qd, qdd=qdd, notes=tuple(notes))
+
+
+def torques_from_log(model: Model, table, *, dt: float | None = None, columns: Mapping[str, str] | None = None,
+                     window: int | None = None, gravity=None, friction: Friction | None = None,
+                     payload: Payload | None = None, wrench: Wrench | None = None,
+                     compiled: bool | None = None) -> TorqueLog:
+    """The joint torques a logged motion needs, and whether they and its rates stay within the URDF's limits.
+
+    τ = M(Θ)Θ̈ + V(Θ,Θ̇) + G(Θ) (Newton–Euler, (6.45)–(6.53)) + F(Θ̇) (friction, (6.114))
+    + Jᵀ F_ext (a wrench at a frame, (6.105)), on the model with ``payload`` lumped in
+    and under ``gravity`` (3,) m/s² if given. ``compiled``: None compiles the model for
+    logs of :data:`COMPILE_FROM_ROWS` rows or more; True/False force it.
+    Other parameters as :func:`joint_log`. Returns a :class:`TorqueLog`: ``tau`` (N, n),
+    ``report`` (:class:`~course_dynamics.limits.LimitsReport`), ``notes``.
+    """
+    if gravity is not None:
+        model = model.with_gravity(gravity)
+    if payload is not None:
+        model = with_payload(model, payload)
+    log = joint_log(model, table, dt=dt, columns=columns, window=window)
+    if compiled is None:
+        compiled = len(log.t) >= COMPILE_FROM_ROWS
+    if compiled:
+        from .compiled import compile_model
+
+        tau = compile_model(model).inverse_dynamics(log.q, log.qd, log.qdd)
+    else:
+        tau = inverse_dynamics(model, log.q, log.qd, log.qdd)
+    if friction is not None:
+        tau = tau + friction.torques(log.qd)                         # (6.114)
+    if wrench is not None:
+        tau = tau + wrench_torques(model, log.q, wrench)            # (6.105)
+    if not np.all(np.isfinite(tau)):
+        row = int(np.flatnonzero(~np.all(np.isfinite(tau), axis=1))[0])
+        raise InputError(f"the torques overflow at t = {log.t[row]:.9g} s (row {row + 1}): the log's values are too "
+                         f"large to give finite torques")
+    return TorqueLog(log=log, tau=tau, report=limits_report(model, log.t, log.qd, tau), model=model)

@@ -1,0 +1,141 @@
+"""course_dynamics/cli/commands/torques.py: the engineer's path from a real log to torques and a limits report."""
+from __future__ import annotations
+
+import json
+import os
+import re
+import stat
+
+import numpy as np
+import pytest
+from helpers import ROOT, assert_one_line_error, run
+
+from course_dynamics import io, load_robot
+from course_dynamics.friction import Friction
+from course_dynamics.loads import Payload, Wrench
+from course_dynamics.logs import parse_column_map, torques_from_log
+
+LOG = ROOT / "examples" / "ur5_log.csv"
+MAP = ROOT / "examples" / "ur5_log_columns.toml"
+
+
+def sample(*extra):
+    return ("torques", "ur5", "--log", str(LOG), "--map", str(MAP)) + extra
+
+
+def test_the_sample_log_positions_only_semicolons_crlf_extra_columns(capsys, tmp_path):
+    out = tmp_path / "tau.csv"
+    code, report, err = run(capsys, *sample("--out", str(out)))
+    assert code == 0 and "every joint stays within its limits" in report
+    assert "note: qd: first Savitzky-Golay derivative" in report
+    text = out.read_text()
+    assert text.startswith("# course-dynamics torques ur5") and "# qdd: second Savitzky-Golay" in text
+    written = io.read_table(out)
+    model = load_robot("ur5")
+    expected = torques_from_log(model, io.read_table(LOG), columns=parse_column_map(str(MAP)))
+    assert written.header == ("t",) + tuple(f"tau_{j}" for j in model.joint_names)
+    np.testing.assert_array_equal(written.data[:, 1:], expected.tau)
+    assert f"wrote {len(expected.t)} rows" in err
+
+
+def test_a_payload_that_overloads_the_shoulder_exits_1_with_json(capsys):
+    code, out, _ = run(capsys, *sample("--payload", "20@tool0", "--json"))
+    assert code == 1
+    doc = json.loads(out)
+    assert doc["exceeded"] is True and doc["rows"] == 2001
+    assert {v["joint"] for v in doc["violations"]} == {"shoulder_lift_joint"}
+    assert all(v["kind"] == "effort" and v["peak"] > v["limit"] == 150 for v in doc["violations"])
+    shoulder = next(j for j in doc["joints"] if j["joint"] == "shoulder_lift_joint")
+    assert shoulder["effort_used"] > 1 and shoulder["velocity_limit"] == 3.15
+
+
+def test_columns_lists_what_is_used(capsys):
+    code, out, _ = run(capsys, *sample("--columns"))
+    assert code == 0
+    assert re.search(r"\njoint1_pos +q_shoulder_pan_joint\n", out) and re.search(r"\nmotor_temp_c +\(ignored\)\n", out)
+
+
+def test_out_dash_streams_the_csv_and_moves_the_report_to_stderr(capsys):
+    code, out, err = run(capsys, *sample("--out", "-"))
+    assert code == 0
+    lines = [line for line in out.splitlines() if not line.startswith("#")]
+    assert lines[0].startswith("t,tau_shoulder_pan_joint") and len(lines) == 2002
+    assert "every joint stays within its limits" in err
+
+
+def test_out_onto_a_device_writes_into_it_and_never_replaces_it(capsys):
+    before = os.stat("/dev/null")
+    code, _, _ = run(capsys, *sample("--out", "/dev/null"))
+    after = os.stat("/dev/null")
+    assert code == 0 and stat.S_ISCHR(after.st_mode) and after.st_ino == before.st_ino
+
+
+@pytest.mark.parametrize("suffix, magic", [(".png", b"\x89PNG"), (".svg", b"<?xml"), (".html", b"<!DOCTYPE html>")])
+def test_plots(capsys, tmp_path, suffix, magic):
+    plot = tmp_path / f"tau{suffix}"
+    code, _, _ = run(capsys, *sample("--payload", "20@tool0", "--plot", str(plot)))
+    assert code == 1 and plot.read_bytes().startswith(magic)
+    if suffix == ".html":
+        page = plot.read_text()
+        assert "<svg" in page and "shoulder_lift_joint" in page and "A limit is exceeded." in page
+
+
+def test_a_bad_plot_name_fails_before_anything_is_written(capsys, tmp_path):
+    out = tmp_path / "tau.csv"
+    code, _, err = run(capsys, *sample("--out", str(out), "--plot", str(tmp_path / "tau.gif")))
+    assert_one_line_error(code, err, "tau.gif: a plot is written as .png, .svg, .html")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_physics_options_equal_the_api(capsys, tmp_path):
+    out = tmp_path / "tau.csv"
+    code, _, _ = run(capsys, *sample("--out", str(out), "--gravity", "0,-2,-9", "--friction", "urdf", "--coulomb",
+                                     "1,1,1,0.5,0.5,0.5", "--payload", "2.5@wrist_3_link,0,0.01,0.05",
+                                     "--payload-size", "0.1,0.1,0.05", "--wrench", "tool0:0,0,-15,0,0.5,0",
+                                     "--smooth", "15"))
+    assert code == 0
+    model = load_robot("ur5")
+    expected = torques_from_log(
+        model, io.read_table(LOG), columns=parse_column_map(str(MAP)), window=15, gravity=[0, -2, -9],
+        friction=Friction(viscous=Friction.from_urdf(model).viscous, coulomb=[1, 1, 1, 0.5, 0.5, 0.5]),
+        payload=Payload(2.5, "wrist_3_link", (0, 0.01, 0.05), (0.1, 0.1, 0.05)),
+        wrench=Wrench("tool0", (0, 0, -15), (0, 0.5, 0)))
+    np.testing.assert_array_equal(io.read_table(out).data[:, 1:], expected.tau)
+
+
+def test_a_log_without_times_takes_dt_and_with_state_writes_the_state(capsys, tmp_path):
+    log, out = tmp_path / "log.tsv", tmp_path / "tau.csv"
+    q = 0.1 * np.sin(np.arange(50)[:, None] * 0.05 * np.array([1.0, 2.0]))
+    log.write_text("q_theta1\tq_theta2\n" + "\n".join(f"{a}\t{b}" for a, b in q) + "\n")
+    code, _, _ = run(capsys, "torques", "two_link", "--log", str(log), "--dt", "0.01", "--with-state", "--out", str(out))
+    assert code == 0
+    table = io.read_table(out)
+    assert table.header[:3] == ("t", "q_theta1", "q_theta2") and table.header[-1] == "tau_theta2"
+    np.testing.assert_allclose(table.column("t"), np.arange(50) * 0.01)
+
+
+@pytest.mark.parametrize("extra, fragment", [
+    (("--payload", "heavy"), "--payload must be MASS[@LINK][,CX,CY,CZ]"),
+    (("--payload", "2@tool0,1,2"), "the centre of mass needs three numbers"),
+    (("--payload", "-2"), "payload mass must be a positive number"),
+    (("--payload", "2@nowhere"), "robot 'ur5' has no link or frame 'nowhere'"),
+    (("--payload-size", "1,1,1"), "--payload-size needs --payload"),
+    (("--wrench", "tool0:1,2"), "--wrench must be LINK:FX,FY,FZ[,NX,NY,NZ]"),
+    (("--wrench", "nowhere:1,2,3"), "no link or frame 'nowhere'"),
+    (("--smooth", "8"), "odd number of samples"),
+    (("--map", "q_elbow=joint3_pos"), "'q_elbow' is none of our columns"),
+    (("--map", "q_elbow_joint"), "must be ours=theirs"),
+    (("--dt", "0.002"), "has a time column; --dt"),
+    (("--gravity", "0,0"), "--gravity needs three finite numbers"),
+    (("--out", "-", "--json"), "--out - and --json both want standard output"),
+])
+def test_bad_options(capsys, tmp_path, extra, fragment):
+    out = tmp_path / "tau.csv"
+    code, _, err = run(capsys, *sample("--out", str(out), *extra))
+    assert_one_line_error(code, err, fragment)
+    assert not out.exists()
+
+
+def test_positions_only_without_a_map_names_the_missing_columns(capsys):
+    code, _, err = run(capsys, "torques", "ur5", "--log", str(LOG))
+    assert_one_line_error(code, err, str(LOG), "missing columns: q_shoulder_pan_joint", "--map")

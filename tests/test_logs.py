@@ -1,0 +1,201 @@
+"""course_dynamics/logs.py: logs in every shape, differentiated rates, torques and the limits report."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from helpers import assert_agrees, urdf_of
+
+from course_dynamics import InputError, inverse_dynamics, load_robot, load_urdf
+from course_dynamics.friction import Friction
+from course_dynamics.loads import Payload, Wrench, with_payload, wrench_torques
+from course_dynamics.logs import DEFAULT_WINDOW_SECONDS, MIN_WINDOW, joint_log, parse_column_map, torques_from_log
+from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
+
+OMEGA = np.array([1.3, 2.1])
+
+
+def sine_motion(dt=1e-3, duration=2.0):
+    """Θ = 0.4 sin(ωt) + offsets on the two-link arm, with exact Θ̇ and Θ̈."""
+    t = np.arange(0, duration, dt)
+    q = 0.4 * np.sin(np.outer(t, OMEGA)) + [0.2, -0.3]
+    qd = 0.4 * OMEGA * np.cos(np.outer(t, OMEGA))
+    qdd = -0.4 * OMEGA**2 * np.sin(np.outer(t, OMEGA))
+    return t, q, qd, qdd
+
+
+def columns(t, q, qd=None, qdd=None, joints=("theta1", "theta2")):
+    table = {"t": t} if t is not None else {}
+    for kind, values in (("q", q), ("qd", qd), ("qdd", qdd)):
+        if values is not None:
+            table.update({f"{kind}_{j}": values[:, i] for i, j in enumerate(joints)})
+    return table
+
+
+def test_full_state_logs_give_exactly_our_torques_and_pinocchios():
+    model = load_robot("two_link")
+    t, q, qd, qdd = sine_motion(dt=0.01)
+    result = torques_from_log(model, columns(t, q, qd, qdd))
+    np.testing.assert_array_equal(result.tau, inverse_dynamics(model, q, qd, qdd))
+    assert result.notes == ()
+    oracle = PinocchioOracle(urdf_of("two_link"), model.joint_names, model.gravity)
+    for k in range(0, len(t), 20):
+        assert_agrees(result.tau[k], oracle.tau(q[k], qd[k], qdd[k]), what=f"row {k}")
+
+
+def test_positions_only_are_differentiated_and_said_so():
+    model = load_robot("two_link")
+    t, q, qd, qdd = sine_motion()
+    log = joint_log(model, columns(t, q))
+    # A cubic fitted over 21 samples (21 ms) of sines with ωT ≈ 0.04: the fit's bias is of order (ωT)² for Θ̈
+    # (a few 1e-5 of its amplitude) and smaller for Θ̇; the end windows are one-sided fits and a few times worse.
+    inner = slice(10, -10)
+    np.testing.assert_allclose(log.qd[inner], qd[inner], atol=1e-8 * np.abs(qd).max())
+    np.testing.assert_allclose(log.qdd[inner], qdd[inner], atol=1e-4 * np.abs(qdd).max())
+    np.testing.assert_allclose(log.qd, qd, atol=1e-5 * np.abs(qd).max())
+    np.testing.assert_allclose(log.qdd, qdd, atol=1e-3 * np.abs(qdd).max())
+    assert [note.split(":")[0] for note in log.notes] == ["qd", "qdd"]
+    window = 2 * round(DEFAULT_WINDOW_SECONDS / 1e-3 / 2) + 1
+    assert f"{window}-sample window" in log.notes[0] and "of q" in log.notes[1]
+
+
+def test_given_rates_are_differentiated_for_accelerations_only():
+    model = load_robot("two_link")
+    t, q, qd, qdd = sine_motion()
+    log = joint_log(model, columns(t, q, qd))
+    np.testing.assert_array_equal(log.qd, qd)
+    np.testing.assert_allclose(log.qdd, qdd, atol=1e-5 * np.abs(qdd).max())
+    assert len(log.notes) == 1 and log.notes[0].startswith("qdd: first") and log.notes[0].endswith("of qd")
+
+
+def test_the_window_is_chosen_or_set():
+    model = load_robot("two_link")
+    t, q, _, _ = sine_motion(dt=0.01)
+    assert f"{MIN_WINDOW}-sample" in joint_log(model, columns(t, q)).notes[0]  # 20 ms is 2 samples: at least 7
+    assert "31-sample" in joint_log(model, columns(t, q), window=31).notes[0]
+    for bad in (4, 6, 3):
+        with pytest.raises(InputError, match="odd number of samples"):
+            joint_log(model, columns(t, q), window=bad)
+
+
+def test_a_log_without_t_takes_dt():
+    model = load_robot("two_link")
+    t, q, qd, qdd = sine_motion(dt=0.005)
+    log = joint_log(model, columns(None, q, qd, qdd), dt=0.005)
+    np.testing.assert_allclose(log.t, t)
+    with pytest.raises(InputError, match="no column 't'"):
+        joint_log(model, columns(None, q, qd, qdd))
+    with pytest.raises(InputError, match="only for logs without one"):
+        joint_log(model, columns(t, q, qd, qdd), dt=0.005)
+    with pytest.raises(InputError, match="dt must be a positive number"):
+        joint_log(model, columns(None, q, qd, qdd), dt=-1.0)
+
+
+def test_column_maps_and_ignored_columns():
+    model = load_robot("two_link")
+    t, q, qd, qdd = sine_motion(dt=0.01)
+    log = {"time": t, "j1": q[:, 0], "j2": q[:, 1], "temperature": np.ones_like(t)}
+    for k, kind in enumerate(("qd", "qdd")):
+        log.update({f"{kind}1": (qd, qdd)[k][:, 0], f"{kind}2": (qd, qdd)[k][:, 1]})
+    mapping = parse_column_map("t=time,q_theta1=j1,q_theta2=j2,qd_theta1=qd1,qd_theta2=qd2,qdd_theta1=qdd1,qdd_theta2=qdd2")
+    result = torques_from_log(model, log, columns=mapping)
+    np.testing.assert_array_equal(result.tau, inverse_dynamics(model, q, qd, qdd))
+
+
+def test_column_map_from_toml(tmp_path):
+    path = tmp_path / "map.toml"
+    path.write_text('[columns]\nt = "time_s"\nq_theta1 = "a"\n')
+    assert parse_column_map(str(path)) == {"t": "time_s", "q_theta1": "a"}
+    path.write_text('t = 3\n')
+    with pytest.raises(InputError, match="every entry must be"):
+        parse_column_map(str(path))
+
+
+@pytest.mark.parametrize("mapping, fragment", [
+    ({"q_elbow": "j1"}, "'q_elbow' is none of our columns"),
+    ({"q_theta1": "nope"}, "no column 'nope' (mapped from q_theta1)"),
+])
+def test_bad_column_maps(mapping, fragment):
+    t, q, _, _ = sine_motion(dt=0.01)
+    with pytest.raises(InputError, match=fragment.replace("(", r"\(").replace(")", r"\)")):
+        joint_log(load_robot("two_link"), columns(t, q), columns=mapping)
+
+
+def test_inconsistent_logs_are_refused():
+    model = load_robot("two_link")
+    t, q, qd, _ = sine_motion(dt=0.01)
+    partial = columns(t, q)
+    partial["qd_theta1"] = qd[:, 0]
+    with pytest.raises(InputError, match="qd is given for some joints but not for qd_theta2"):
+        joint_log(model, partial)
+    with pytest.raises(InputError, match="missing columns: q_theta2"):
+        joint_log(model, {"t": t, "q_theta1": q[:, 0]})
+    backwards = columns(t.copy(), q)
+    backwards["t"][5] = backwards["t"][4]
+    with pytest.raises(InputError, match="row 6: t = 0.04 s does not come after 0.04 s"):
+        joint_log(model, backwards)
+    uneven = columns(np.concatenate([t[:50], t[50:] + 0.5]), q)
+    with pytest.raises(InputError, match="not evenly spaced"):
+        joint_log(model, uneven)
+    with pytest.raises(InputError, match="too few to differentiate"):
+        joint_log(model, columns(t[:3], q[:3]))
+    with pytest.raises(InputError, match="must be finite"):
+        joint_log(model, columns(t, np.where(np.arange(len(t))[:, None] == 7, np.nan, q)))
+
+
+class FakeFrame:
+    """What a pandas DataFrame offers that the log reader uses: ``columns`` and ``frame[name]``."""
+
+    def __init__(self, data):
+        self._data = data
+        self.columns = list(data)
+
+    def __getitem__(self, name):
+        return self._data[name]
+
+
+def test_dataframes_and_structured_arrays_are_logs_too():
+    model = load_robot("two_link")
+    t, q, qd, qdd = sine_motion(dt=0.01)
+    log = columns(t, q, qd, qdd)
+    expected = inverse_dynamics(model, q, qd, qdd)
+    np.testing.assert_array_equal(torques_from_log(model, FakeFrame(log)).tau, expected)
+    structured = np.zeros(len(t), dtype=[(name, float) for name in log])
+    for name, values in log.items():
+        structured[name] = values
+    np.testing.assert_array_equal(torques_from_log(model, structured).tau, expected)
+    with pytest.raises(InputError, match="named columns"):
+        torques_from_log(model, np.zeros((3, 3)))
+
+
+def test_physics_options_add_up():
+    """τ with gravity, friction, payload and wrench = the sum of the library's own terms."""
+    model = load_robot("ur5")
+    t = np.arange(0, 0.5, 0.01)
+    rng = np.random.default_rng(4)
+    q, qd, qdd = (rng.standard_normal((len(t), 6)) for _ in range(3))
+    log = columns(t, q, qd, qdd, joints=model.joint_names)
+    g = np.array([0.0, 3.0, -9.0])
+    friction = Friction(viscous=np.full(6, 0.3), coulomb=np.full(6, 1.5))
+    payload, wrench = Payload(mass=3.0, link="tool0", com=(0, 0, 0.05)), Wrench("tool0", (0, 0, -20.0), (0, 1.0, 0))
+    result = torques_from_log(model, log, gravity=g, friction=friction, payload=payload, wrench=wrench)
+    loaded = with_payload(model.with_gravity(g), payload)
+    expected = inverse_dynamics(loaded, q, qd, qdd) + friction.torques(qd) + wrench_torques(loaded, q, wrench)
+    np.testing.assert_allclose(result.tau, expected, rtol=1e-13, atol=1e-12)
+
+
+def test_compiled_and_interpreted_agree_on_long_logs():
+    model = load_urdf(urdf_of("ur5"))
+    t = np.arange(6000) * 1e-3
+    q = 0.5 * np.sin(np.outer(t, np.arange(1, 7)))
+    log = columns(t, q, joints=model.joint_names)
+    fast, slow = torques_from_log(model, log), torques_from_log(model, log, compiled=False)
+    np.testing.assert_allclose(fast.tau, slow.tau, rtol=1e-12, atol=1e-10)
+
+
+@pytest.mark.filterwarnings("ignore::RuntimeWarning")
+def test_overflowing_values_are_refused_not_written_as_nan():
+    model = load_robot("two_link")
+    t, q, qd, qdd = sine_motion(dt=0.01)
+    qd[3] = 1e200
+    with pytest.raises(InputError, match="torques overflow at t = 0.03 s"):
+        torques_from_log(model, columns(t, q, qd, qdd))
