@@ -110,6 +110,6 @@ def resolve(name_or_path) -> Path:
     return path
 
 
-def load(name_or_path, gravity=STANDARD_GRAVITY) -> Model:
-    """The robot of a URDF path or a shipped robot's name (see :func:`resolve`)."""
-    return load_urdf(resolve(name_or_path), gravity=gravity)
+def load(name_or_path, gravity=STANDARD_GRAVITY, allow_nonphysical_inertia: bool = False) -> Model:
+    """The robot of a URDF path or a shipped robot's name (see :func:`resolve`; flags as :func:`load_urdf`)."""
+    return load_urdf(resolve(name_or_path), gravity=gravity, allow_nonphysical_inertia=allow_nonphysical_inertia)

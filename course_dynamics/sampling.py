@@ -46,6 +46,22 @@ def random_states(model: Model, samples: int, seed: int) -> tuple[np.ndarray, np
     return q, qd, qdd
 
 
+def gravity_free(model: Model, samples: int = 16, seed: int = 0) -> bool:
+    """True when G(Θ) vanishes at every sampled state: gravity cannot act on any joint.
+
+    A planar arm whose joint axes are parallel to g is such a robot: a comparison of G
+    with anything then tests nothing, and the CLI says so. "Vanishes" is relative to the
+    largest gravity torque the robot's masses could feel, Σ m |g| (1 m + |p|).
+    """
+    from .dynamics import gravity_torques
+
+    q, _, _ = random_states(model, samples, seed)
+    G = gravity_torques(model, q)
+    reach = sum(b.mass * (1.0 + float(np.linalg.norm(b.P)) + float(np.linalg.norm(b.p_com))) for b in model.bodies)
+    scale = float(np.linalg.norm(model.gravity)) * reach
+    return bool(scale == 0.0 or np.abs(G).max() <= 1e-12 * scale)
+
+
 def term_scales(M: np.ndarray, G: np.ndarray, qd, qdd, gravity) -> dict[str, float]:
     """The scale s of each term at one state (module docstring), from the reference M and G."""
     norm_M = float(np.abs(M).max())

@@ -110,10 +110,15 @@ def _trajectory_plot(t, ours, theirs, joints):
     return draw
 
 
-def robot_section(name_or_path: str, samples: int, seed: int, tolerance: float = TOLERANCE, progress=None) -> RobotSection:
-    """Compute one robot's section: errors per term, a trajectory, the textbook comparison, figures."""
+def robot_section(name_or_path: str, samples: int, seed: int, tolerance: float = TOLERANCE, progress=None,
+                  gravity=None, allow_nonphysical_inertia: bool = False) -> RobotSection:
+    """Compute one robot's section: errors per term, a trajectory, the textbook comparison, figures.
+
+    Under a ``gravity`` of the caller's the textbook comparison is left out: the printed
+    closed forms hold for the course's own gravity only.
+    """
     urdf = resolve(name_or_path)
-    model = load(urdf)
+    model = load(urdf, allow_nonphysical_inertia=allow_nonphysical_inertia, **({} if gravity is None else {"gravity": gravity}))
     oracle = PinocchioOracle(urdf, model.joint_names, model.gravity)
     q, qd, qdd = random_states(model, samples, seed)
     errors = term_errors(model, oracle, q, qd, qdd, progress=progress)
@@ -130,7 +135,7 @@ def robot_section(name_or_path: str, samples: int, seed: int, tolerance: float =
         joints=[{"name": b.joint, "type": b.joint_type, "lower": _finite(b.lower), "upper": _finite(b.upper)}
                 for b in model.bodies],
         bodies=[{"link": b.name, "mass": float(b.mass)} for b in model.bodies], terms=terms, trajectory=trajectory,
-        textbook=_textbook(name_or_path, model, q, qd),
+        textbook=_textbook(name_or_path, model, q, qd) if gravity is None else None,
     )
     section.figures["errors"] = _figure_svg(_error_histograms({k: r for k, (_, r) in errors.items()}, tolerance))
     section.figures["trajectory"] = _figure_svg(_trajectory_plot(t, ours, theirs, model.joint_names))
@@ -190,9 +195,10 @@ class Report:
                 "tolerance": self.tolerance, "misprints_in_the_notes": self.misprints, "environment": self.environment}
 
 
-def build_report(targets, samples: int = 200, seed: int = 0, tolerance: float = TOLERANCE, progress=None) -> Report:
-    """Compute the report for every robot in ``targets`` (paths or shipped names)."""
-    sections = [robot_section(t, samples, seed, tolerance, progress) for t in targets]
+def build_report(targets, samples: int = 200, seed: int = 0, tolerance: float = TOLERANCE, progress=None,
+                 gravity=None, allow_nonphysical_inertia: bool = False) -> Report:
+    """Compute the report for every robot in ``targets`` (paths or shipped names); options as :func:`robot_section`."""
+    sections = [robot_section(t, samples, seed, tolerance, progress, gravity, allow_nonphysical_inertia) for t in targets]
     return Report(sections, environment(seed, samples), tolerance, errata_count())
 
 

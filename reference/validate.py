@@ -73,13 +73,16 @@ def term_errors(model, oracle: PinocchioOracle, q, qd, qdd, progress=None) -> di
     return {t: (absolute[t], relative[t]) for t in TERMS}
 
 
-def validate(name_or_path: str, samples: int = 200, seed: int = 0, tolerance: float = TOLERANCE, progress=None) -> RobotReport:
+def validate(name_or_path: str, samples: int = 200, seed: int = 0, tolerance: float = TOLERANCE, progress=None,
+             gravity=None, allow_nonphysical_inertia: bool = False) -> RobotReport:
     """Compare τ, M, C, V, G of course_dynamics and Pinocchio on seeded random states.
 
-    ``progress``, if given, is called with the number of samples just finished.
+    ``progress``, if given, is called with the number of samples just finished; ``gravity``
+    (3,) m/s² replaces the standard one on both sides.
     """
     urdf = resolve(name_or_path)
-    model = load_urdf(urdf)
+    model = load_urdf(urdf, allow_nonphysical_inertia=allow_nonphysical_inertia,
+                      **({} if gravity is None else {"gravity": gravity}))
     oracle = PinocchioOracle(urdf, model.joint_names, model.gravity)
     errors = term_errors(model, oracle, *random_states(model, samples, seed), progress=progress)
     return RobotReport(

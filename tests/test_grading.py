@@ -12,6 +12,7 @@ from pathlib import Path
 
 import pytest
 
+from course_dynamics import CourseDynamicsError
 from course_dynamics.cli import main
 from course_dynamics.grading import EXAMPLE, load_assignment
 from submissions import HOSTILE, INJECTION, INJECTION_NAME, PROCESSES, SCORING, SNOOP
@@ -203,6 +204,19 @@ def test_example_assignment_is_a_valid_assignment(tmp_path, capsys):
     assert assignment.terms == ("tau", "M", "V", "G") and assignment.robot.name == "two_link"
 
 
+def test_the_assignment_sets_gravity_and_the_inertia_check(tmp_path):
+    from helpers import arm_urdf
+
+    (tmp_path / "planar.urdf").write_text(arm_urdf(ixx="0", iyy="0", izz="0.05"))
+    (tmp_path / "a.toml").write_text("robot = 'planar.urdf'\ngravity = [0, -9.81, 0]\n"
+                                     "allow_nonphysical_inertia = true\n[points]\ntau = 1\n")
+    assignment = load_assignment(tmp_path / "a.toml")
+    assert assignment.robot.gravity.tolist() == [0, -9.81, 0]
+    (tmp_path / "a.toml").write_text("robot = 'planar.urdf'\n[points]\ntau = 1\n")
+    with pytest.raises(CourseDynamicsError, match="--allow-nonphysical-inertia"):
+        load_assignment(tmp_path / "a.toml")
+
+
 def test_json_summary(tmp_path, capsys):
     paths = write_class(tmp_path, {"closed_forms": SCORING["closed_forms"][0], "only_gravity": SCORING["only_gravity"][0]})
     code = main(["grade", str(tmp_path / "assignment.toml"), *map(str, paths), "--out", str(tmp_path / "out"), "--json"])
@@ -222,6 +236,8 @@ def test_json_summary(tmp_path, capsys):
     ("robot = 'missing.urdf'\n[points]\ntau = 1\n", "missing.urdf: no such file"),
     ("robot = 'two_link'\npartial_credit = 'half'\n[points]\ntau = 1\n", "partial_credit must be one of states, none"),
     ("robot = \n", "not valid TOML"),
+    ("robot = 'two_link'\ngravity = [0, 9.81]\n[points]\ntau = 1\n", "gravity must be three finite numbers"),
+    ("robot = 'two_link'\nallow_nonphysical_inertia = 'yes'\n[points]\ntau = 1\n", "must be true or false"),
 ])
 def test_bad_assignment_is_one_clear_line(tmp_path, capsys, text, message):
     (tmp_path / "a.toml").write_text(text)

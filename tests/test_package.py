@@ -54,3 +54,37 @@ def test_a_users_own_reference_folder_does_not_shadow_the_oracle(tmp_path):
                             cwd=tmp_path, capture_output=True, text=True)
     assert result.returncode == 0, result.stderr
     assert "all robots agree" in result.stdout
+
+
+def test_a_non_editable_install_runs_from_any_folder(tmp_path):
+    """``pip install .`` (not editable) ships the robots, the errata and the notebooks as package data."""
+    import shutil
+
+    root = Path(__file__).resolve().parent.parent
+    source = tmp_path / "source"
+    shutil.copytree(root, source, ignore=shutil.ignore_patterns(".git", "__pycache__", "build", "*.egg-info",
+                                                                ".pytest_cache", ".ruff_cache"))
+    venv = tmp_path / "venv"
+    subprocess.run([sys.executable, "-m", "venv", "--system-site-packages", str(venv)], check=True)
+    python = venv / "bin" / "python"
+    install = subprocess.run([python, "-m", "pip", "install", "-q", "--no-deps", str(source)],
+                             capture_output=True, text=True)
+    assert install.returncode == 0, install.stderr
+    shutil.rmtree(source)  # nothing may be read from the checkout
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    check = subprocess.run(
+        [python, "-c", "import course_dynamics, course_dynamics_robots as r, course_dynamics_reference.report as rep\n"
+                       "from course_dynamics.course import notebook_paths\n"
+                       "from course_dynamics.robots import ROBOTS_DIR\n"
+                       "print(course_dynamics.__file__, ROBOTS_DIR, rep.errata_count(), len(notebook_paths()))"],
+        cwd=elsewhere, capture_output=True, text=True)
+    assert check.returncode == 0, check.stderr
+    module, robots, errata, notebooks = check.stdout.split()
+    assert module.startswith(str(venv)) and robots.startswith(str(venv)), check.stdout
+    assert int(errata) > 0 and int(notebooks) == 9
+    for argv in (["validate", "two_link", "--samples", "3"], ["info", "rp_arm"], ["terms", "pendulum", "--q", "0.3"]):
+        result = subprocess.run([venv / "bin" / "course-dynamics", *argv], cwd=elsewhere, capture_output=True, text=True)
+        assert result.returncode == 0, (argv, result.stderr)
+    assert "all robots agree" in subprocess.run([venv / "bin" / "course-dynamics", "validate", "two_link", "--samples",
+                                                 "3"], cwd=elsewhere, capture_output=True, text=True).stdout

@@ -15,7 +15,9 @@ from ..errors import InputError
 from ..robots import load, robot_names
 
 # Options whose values are comma-separated numbers that may start with a minus sign.
-VALUE_OPTIONS = ("--q", "--qd", "--qdd", "--gravity", "--q0", "--qd0", "--torque", "--viscous", "--coulomb")
+VALUE_OPTIONS = ("--q", "--qd", "--qdd", "--gravity", "--q0", "--qd0", "--torque", "--viscous", "--coulomb",
+                 "--payload-size")
+FRICTION_SOURCES = ("none", "urdf")
 
 
 class UsageError(InputError):
@@ -40,8 +42,15 @@ def join_value_options(argv: list[str]) -> list[str]:
     return out
 
 
-def add_robot_argument(parser, nargs=None, help: str = "URDF file or shipped robot name") -> None:
+def add_robot_argument(parser, nargs=None, help: str = "URDF file or shipped robot name", gravity: bool = True) -> None:
+    """The URDF argument, ``--allow-nonphysical-inertia`` and (for commands that compute dynamics) ``--gravity``."""
     parser.add_argument("urdf", nargs=nargs, help=help)
+    if gravity:
+        parser.add_argument("--gravity", metavar="GX,GY,GZ",
+                            help="gravitational acceleration in the base frame, m/s^2 (default 0,0,-9.81)")
+    parser.add_argument("--allow-nonphysical-inertia", action="store_true",
+                        help="load links whose inertia breaks the triangle inequality or is not positive "
+                             "semi-definite (e.g. only izz given), with one warning per link, instead of refusing")
 
 
 def numbers(text: str, option: str) -> np.ndarray:
@@ -76,9 +85,56 @@ def gravity(args):
     return g
 
 
-def load_robot_argument(target: str, gravity=None):
-    """The model of a URDF path or shipped robot name, under ``gravity`` if given."""
-    return load(target) if gravity is None else load(target, gravity=gravity)
+def load_robot_argument(args, target: str | None = None):
+    """The model of ``target`` (default ``args.urdf``) under the command's ``--gravity`` and inertia options.
+
+    A link loaded despite a non-physical inertia prints one ``warning:`` line on stderr.
+    """
+    import warnings
+
+    from ..urdf import InertiaWarning
+
+    target = args.urdf if target is None else target
+    g = gravity(args)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", InertiaWarning)
+        model = load(target, allow_nonphysical_inertia=getattr(args, "allow_nonphysical_inertia", False),
+                     **({} if g is None else {"gravity": g}))
+    for warning in caught:
+        if issubclass(warning.category, InertiaWarning):
+            print(f"warning: {warning.message}", file=sys.stderr)
+        else:
+            warnings.warn_explicit(warning.message, warning.category, warning.filename, warning.lineno)
+    return model
+
+
+def add_friction_arguments(parser) -> None:
+    """Joint friction F(qd) of (6.110)-(6.112): from the URDF, per joint, or none."""
+    parser.add_argument("--friction", choices=FRICTION_SOURCES, default="none",
+                        help="joint friction: none, or viscous = URDF damping and Coulomb = URDF friction (default none)")
+    parser.add_argument("--viscous", help="viscous coefficients v1,v2,... (N m s/rad), overriding --friction")
+    parser.add_argument("--coulomb", help="Coulomb coefficients c1,c2,... (N m), overriding --friction")
+    parser.add_argument("--smoothing", type=float, default=0.0, help="Coulomb sgn(qd) -> tanh(qd/smoothing) if > 0")
+
+
+def friction(args, model):
+    """The :class:`~course_dynamics.friction.Friction` the options ask for, or None for none."""
+    from ..friction import Friction
+
+    if args.friction != "urdf" and args.viscous is None and args.coulomb is None:
+        return None
+    base = Friction.from_urdf(model) if args.friction == "urdf" else Friction.none(model)
+    return Friction(viscous=joint_values(args.viscous, "--viscous", model, base.viscous),
+                    coulomb=joint_values(args.coulomb, "--coulomb", model, base.coulomb), smoothing=args.smoothing)
+
+
+def warn_if_gravity_free(model) -> None:
+    """One warning line when G(q) vanishes everywhere (the gravity path is then untested)."""
+    from ..sampling import gravity_free
+
+    if gravity_free(model):
+        print(f"warning: robot '{model.name}': G(q) = 0 at every sampled state (gravity {model.gravity.tolist()} m/s^2 "
+              "cannot act on its joints), so gravity is not tested here", file=sys.stderr)
 
 
 def print_json(document) -> None:

@@ -9,12 +9,14 @@ from __future__ import annotations
 
 import math
 import tomllib
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..errors import InputError
-from ..model import Model
+from ..model import STANDARD_GRAVITY, Model
 from ..robots import load, robot_names
+from ..urdf import InertiaWarning
 
 TERMS = ("tau", "M", "V", "G", "C")
 PARTIAL_CREDIT = ("states", "none")
@@ -26,6 +28,8 @@ EXAMPLE = '''\
 # A course-dynamics assignment: `course-dynamics grade THIS_FILE submissions/*.py --out grades/`
 
 robot = "two_link"          # a shipped robot's name, or a URDF path relative to this file
+# gravity = [0.0, 0.0, -9.81]        # m/s^2 in the base frame (the default); tell students if you change it
+# allow_nonphysical_inertia = false  # true loads a URDF whose inertias break the triangle inequality
 samples = 40                # seeded random states (within joint limits; velocities, accelerations ~ N(0, 1))
 seed = 7                    # the same seed gives every student the same states
 tolerance = 1e-6            # relative error allowed per state and term, against course_dynamics
@@ -83,7 +87,7 @@ class Assignment:
 
 
 KEYS = {"robot", "samples", "seed", "tolerance", "time_limit", "memory_limit", "output_limit", "forbidden_imports",
-        "partial_credit", "points"}
+        "partial_credit", "points", "gravity", "allow_nonphysical_inertia"}
 
 
 def load_assignment(path) -> Assignment:
@@ -118,7 +122,16 @@ def load_assignment(path) -> Assignment:
     if robot_argument not in robot_names() and not Path(target).exists() and not Path(target).suffix:
         raise InputError(f"{path}: robot '{robot_argument}' is neither a shipped robot ({', '.join(robot_names())}) "
                          f"nor a URDF file next to the assignment")
-    model = load(target)
+    gravity = data.get("gravity", list(STANDARD_GRAVITY))
+    if (not isinstance(gravity, list) or len(gravity) != 3
+            or not all(isinstance(g, (int, float)) and not isinstance(g, bool) and math.isfinite(g) for g in gravity)):
+        raise InputError(f"{path}: gravity must be three finite numbers [gx, gy, gz] (m/s^2), got {gravity!r}")
+    allow = data.get("allow_nonphysical_inertia", False)
+    if not isinstance(allow, bool):
+        raise InputError(f"{path}: allow_nonphysical_inertia must be true or false, got {allow!r}")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", InertiaWarning)  # the instructor asked for it
+        model = load(target, gravity=[float(g) for g in gravity], allow_nonphysical_inertia=allow)
     points = data.get("points")
     if not isinstance(points, dict) or not points:
         raise InputError(f"{path}: [points] must give points to at least one of {', '.join(TERMS)}")

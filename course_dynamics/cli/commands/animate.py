@@ -18,13 +18,13 @@ DESCRIPTION = ("Draw the robot (URDF meshes or a stick model) and animate a traj
 
 
 def add_arguments(parser) -> None:
-    add_robot_argument(parser)
+    add_robot_argument(parser, gravity=False)
     parser.add_argument("--trajectory", required=True, help="CSV with t, q_<joint> (qd_, qdd_, tau_, energy allowed)")
     add_animation_options(parser, html_required=True)
 
 
 def run(args) -> int:
-    model = load_robot_argument(args.urdf)
+    model = load_robot_argument(args)
     joints = model.joint_names
     io.check_writable(args.html)
     columns = io.read_columns(args.trajectory, ["t"] + io.joint_columns(("q",), joints),

@@ -26,7 +26,7 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> int:
-    model = load_robot_argument(args.urdf)
+    model = load_robot_argument(args)
     q = joint_values(args.q, "--q", model)
     qd = joint_values(args.qd, "--qd", model)
     rows = args.rows.split(",") if args.rows else None

@@ -26,7 +26,7 @@ def add_arguments(parser) -> None:
 def run(args) -> int:
     from ...symbolic import derive
 
-    model = load_robot_argument(args.urdf)
+    model = load_robot_argument(args)
     derivation = derive(model, symbol_names(args.symbols), method=args.method, decimals=args.decimal)
     if args.format == "json":
         print_json(render.derivation_record(derivation))

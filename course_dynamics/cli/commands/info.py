@@ -10,15 +10,17 @@ HELP = "joints (order, type, axis, limits, parent) and moving bodies (mass, COM)
 
 
 def add_arguments(parser) -> None:
-    add_robot_argument(parser)
+    add_robot_argument(parser, gravity=False)
     parser.add_argument("--json", action="store_true", help="print one JSON document")
 
 
 def run(args) -> int:
-    model = load_robot_argument(args.urdf)
+    model = load_robot_argument(args)
     joints = [
         dict(index=j, name=b.joint, type=b.joint_type, axis=b.axis.tolist(),
              lower=None if not np.isfinite(b.lower) else b.lower, upper=None if not np.isfinite(b.upper) else b.upper,
+             effort=None if not np.isfinite(b.effort) else b.effort,
+             velocity=None if not np.isfinite(b.velocity) else b.velocity,
              parent_link=b.parent_link, damping=b.damping, friction=b.friction)
         for j, b in enumerate(model.bodies)
     ]
@@ -29,12 +31,13 @@ def run(args) -> int:
         return 0
     print(f"robot {model.name} ({model.source}): {model.n} joints, base link '{model.base_link}', "
           f"gravity {model.gravity.tolist()} m/s²")
-    rows = [["#", "joint", "type", "axis", "limits", "parent link"]]
+    rows = [["#", "joint", "type", "axis", "limits", "effort", "velocity", "parent link"]]
     for j in joints:
         limits = "-" if j["lower"] is None else f"[{j['lower']:g}, {j['upper']:g}]"
         axis = "(" + ", ".join(f"{a:.4g}" for a in j["axis"]) + ")"
-        rows.append([str(j["index"]), j["name"], j["type"], axis, limits, j["parent_link"]])
-    print(render.text_table(rows, align="><<<<<"))
+        effort, velocity = ("-" if j[k] is None else f"{j[k]:g}" for k in ("effort", "velocity"))
+        rows.append([str(j["index"]), j["name"], j["type"], axis, limits, effort, velocity, j["parent_link"]])
+    print(render.text_table(rows, align="><<<<>><"))
     rows = [["moving body", "mass (kg)", "COM in body frame (m)"]]
     rows += [[b["link"], f"{b['mass']:.4g}", "(" + ", ".join(f"{c:.4g}" for c in b["com"]) + ")"] for b in bodies]
     print()

@@ -6,7 +6,7 @@ from pathlib import Path
 
 from course_dynamics_reference import TOLERANCE
 
-from ..options import UsageError, add_robot_argument, load_robot_argument, progress_bar
+from ..options import UsageError, add_robot_argument, gravity, load_robot_argument, progress_bar
 
 HELP = "write a comparison report against Pinocchio (HTML, Markdown, JSON) for the course page"
 DESCRIPTION = ("For each ROBOT: the largest and median error of tau, M, C, V, G against Pinocchio on seeded random "
@@ -36,14 +36,15 @@ def run(args) -> int:
         raise UsageError(f"{out}: exists and is not a directory")
     io.check_writable(out / "index.html") if out.is_dir() else io.check_writable(out)
     for target in args.urdf:  # bad input fails before any long work
-        load_robot_argument(target)
+        load_robot_argument(args, target)
     # The oracle is imported by this command only, so the library itself never loads Pinocchio.
     from course_dynamics_reference.report import build_report, write_report
 
     progress = progress_bar(total=len(args.urdf) * args.samples, enabled=not args.quiet and sys.stderr.isatty(),
                             unit="state")
     report = build_report(args.urdf, samples=args.samples, seed=args.seed, tolerance=args.tolerance,
-                          progress=progress.update)
+                          progress=progress.update, gravity=gravity(args),
+                          allow_nonphysical_inertia=args.allow_nonphysical_inertia)
     progress.close()
     write_report(out, report)
     agree = all(t["agrees"] for r in report.robots for t in r.terms.values())

@@ -9,12 +9,12 @@ from ... import io
 from ...robots import resolve
 from ...simulation import INTEGRATORS, LIMIT_MODES, TorqueTable, simulate, time_grid
 from ..animation import add_animation_options, export_animation
-from ..options import UsageError, add_robot_argument, joint_values, load_robot_argument, print_json, progress_bar
+from ..options import (UsageError, add_friction_arguments, add_robot_argument, friction, joint_values, load_robot_argument,
+                       print_json, progress_bar)
 
 HELP = "forward dynamics in time (6.115)-(6.117), written as CSV"
 DESCRIPTION = ("Integrate qdd = M^-1 (tau - V - G - F) from q0, qd0. The output CSV has t, q_<joint>, qd_<joint>, "
                "qdd_<joint>, tau_<joint> and energy (kinetic + potential, J), and can be fed back to 'torques'.")
-FRICTION_SOURCES = ("none", "urdf")
 
 
 def add_arguments(parser) -> None:
@@ -28,11 +28,7 @@ def add_arguments(parser) -> None:
     torque = parser.add_mutually_exclusive_group()
     torque.add_argument("--torque", help="constant applied torques tau1,tau2,... (default 0)")
     torque.add_argument("--torque-csv", help="CSV with t and tau_<joint> columns, interpolated linearly in time")
-    parser.add_argument("--friction", choices=FRICTION_SOURCES, default="none",
-                        help="joint friction: none, or viscous = URDF damping and Coulomb = URDF friction (default none)")
-    parser.add_argument("--viscous", help="viscous coefficients v1,v2,... (N m s/rad), overriding --friction")
-    parser.add_argument("--coulomb", help="Coulomb coefficients c1,c2,... (N m), overriding --friction")
-    parser.add_argument("--smoothing", type=float, default=0.0, help="Coulomb sgn(qd) -> tanh(qd/smoothing) if > 0")
+    add_friction_arguments(parser)
     parser.add_argument("--limits", choices=LIMIT_MODES, default="report",
                         help="at a joint limit: report it and go on, or stop the joint there (default report)")
     parser.add_argument("--out", required=True, help="output CSV (written whole or not at all)")
@@ -61,18 +57,8 @@ def _torque(args, model):
     return None
 
 
-def _friction(args, model):
-    from ...friction import Friction
-
-    if args.friction != "urdf" and args.viscous is None and args.coulomb is None:
-        return None
-    base = Friction.from_urdf(model) if args.friction == "urdf" else Friction.none(model)
-    return Friction(viscous=joint_values(args.viscous, "--viscous", model, base.viscous),
-                    coulomb=joint_values(args.coulomb, "--coulomb", model, base.coulomb), smoothing=args.smoothing)
-
-
 def run(args) -> int:
-    model = load_robot_argument(args.urdf)
+    model = load_robot_argument(args)
     q0 = joint_values(args.q0, "--q0", model)
     qd0 = joint_values(args.qd0, "--qd0", model)
     if args.ensemble is not None:
@@ -85,14 +71,14 @@ def run(args) -> int:
         noise = np.random.default_rng(args.seed).standard_normal((args.ensemble, model.n)) * args.perturbation
         noise[0] = 0.0
         q0 = q0 + noise
-    torque, friction = _torque(args, model), _friction(args, model)
+    torque, joint_friction = _torque(args, model), friction(args, model)
     for target in (args.out, args.plot, args.html):
         if target:
             io.check_writable(target)
     steps = len(time_grid(args.duration, args.dt)) - 1
     progress = progress_bar(total=steps, enabled=not args.quiet, delay=1.0)
     trajectory = simulate(model, q0, qd0, args.duration, args.dt, integrator=args.integrator, torque=torque,
-                          friction=friction, limits=args.limits, progress=progress.update,
+                          friction=joint_friction, limits=args.limits, progress=progress.update,
                           compiled=False if args.no_compile else None)
     progress.close()
     header, data = trajectory.table()

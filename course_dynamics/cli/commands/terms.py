@@ -5,7 +5,7 @@ import numpy as np
 
 from ... import render
 from ...dynamics import dynamics_terms
-from ..options import add_robot_argument, gravity, load_robot_argument, numbers, print_json
+from ..options import add_robot_argument, load_robot_argument, numbers, print_json, warn_if_gravity_free
 
 HELP = "tau, M, C, V, G at one state"
 DESCRIPTION = "Evaluate tau = M(q) qdd + V(q, qd) + G(q) and the Coriolis matrix C (C qd = V)."
@@ -16,12 +16,12 @@ def add_arguments(parser) -> None:
     parser.add_argument("--q", required=True, help="joint positions q1,q2,... (rad or m)")
     parser.add_argument("--qd", help="joint velocities (default 0)")
     parser.add_argument("--qdd", help="joint accelerations (default 0)")
-    parser.add_argument("--gravity", help="gx,gy,gz in the base frame, m/s^2 (default 0,0,-9.81)")
     parser.add_argument("--json", action="store_true", help="print JSON with keys joints, tau, M, C, V, G")
 
 
 def run(args) -> int:
-    model = load_robot_argument(args.urdf, gravity(args))
+    model = load_robot_argument(args)
+    warn_if_gravity_free(model)
     # The library checks the lengths and values, naming the joint at fault.
     q = numbers(args.q, "--q")
     qd = numbers(args.qd, "--qd") if args.qd is not None else np.zeros(model.n)

@@ -24,7 +24,7 @@ def add_arguments(parser) -> None:
 def run(args) -> int:
     from ...trace import trace
 
-    model = load_robot_argument(args.urdf)
+    model = load_robot_argument(args)
     if args.symbolic:
         result = trace(model, None, None, None, symbols=symbol_names(args.symbols), decimals=args.decimal)
     else:

@@ -5,7 +5,8 @@ import sys
 
 from course_dynamics_reference import TERMS, TOLERANCE
 
-from ..options import UsageError, add_robot_argument, load_robot_argument, print_json, progress_bar
+from ..options import (UsageError, add_robot_argument, gravity, load_robot_argument, print_json, progress_bar,
+                       warn_if_gravity_free)
 
 HELP = "compare every term with Pinocchio on random states"
 DESCRIPTION = ("Evaluate tau, M, C, V, G with course_dynamics and with Pinocchio on seeded random states within joint "
@@ -28,10 +29,11 @@ def run(args) -> int:
 
     targets = args.urdf or bundled_targets()
     for target in targets:  # fail on bad input before any long work
-        load_robot_argument(target)
+        warn_if_gravity_free(load_robot_argument(args, target))
     progress = progress_bar(total=len(targets) * args.samples, enabled=not args.json and sys.stderr.isatty(),
                             unit="state")
-    reports = [validate(target, samples=args.samples, seed=args.seed, tolerance=args.tolerance, progress=progress.update)
+    reports = [validate(target, samples=args.samples, seed=args.seed, tolerance=args.tolerance, progress=progress.update,
+                        gravity=gravity(args), allow_nonphysical_inertia=args.allow_nonphysical_inertia)
                for target in targets]
     progress.close()
     ok = all(r.ok for r in reports)
