@@ -9,8 +9,21 @@ the Coriolis matrix C(Θ, Θ̇), for one state, a batch of states or sympy symbo
 >>> arm.joint_names
 ('theta1', 'theta2')
 """
-from .dynamics import DynamicsTerms, coriolis_matrix, dynamics_terms, gravity_torques, mass_matrix, velocity_torques
-from .errors import CourseDynamicsError, InputError, ModelError, StateError, UnknownRobotError
+from .dynamics import (
+    DynamicsTerms,
+    coriolis_matrix,
+    dynamics_terms,
+    gravity_torques,
+    mass_matrix,
+    velocity_torques,
+)
+from .errors import (
+    CourseDynamicsError,
+    InputError,
+    ModelError,
+    StateError,
+    UnknownRobotError,
+)
 from .forward_dynamics import forward_dynamics
 from .kinematics import forward_kinematics, potential_energy
 from .model import Body, Model

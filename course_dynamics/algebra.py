@@ -20,8 +20,8 @@ in its parent p).
 """
 from __future__ import annotations
 
-import math
 import cmath
+import math
 
 import numpy as np
 

@@ -25,7 +25,11 @@ import numpy as np
 from .algebra import Dual
 from .dynamics import gravity_torques, mass_matrix, velocity_torques
 from .errors import CourseDynamicsError, InputError
-from .kinematics import frame_placement_entries, placement_entries, point_jacobian_columns
+from .kinematics import (
+    frame_placement_entries,
+    placement_entries,
+    point_jacobian_columns,
+)
 from .model import Model
 from .state import as_state, entries, layout_of
 

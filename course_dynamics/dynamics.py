@@ -137,15 +137,19 @@ class DynamicsTerms:
     G: np.ndarray
 
 
-def dynamics_terms(model: Model, q, qd, qdd, gravity=None) -> DynamicsTerms:
-    """τ, M, C, V and G at one state; ``gravity`` overrides ``model.gravity``."""
+def dynamics_terms(model: Model, q, qd, qdd, gravity=None, progress=None) -> DynamicsTerms:
+    """τ, M, C, V and G at one state; ``gravity`` overrides ``model.gravity``.
+
+    ``progress``, if given, is called with the name of each term just computed (five calls).
+    """
     if gravity is not None:
         model = model.with_gravity(gravity)
-    return DynamicsTerms(
-        joints=model.joint_names,
-        tau=inverse_dynamics(model, q, qd, qdd),
-        M=mass_matrix(model, q),
-        C=coriolis_matrix(model, q, qd),
-        V=velocity_torques(model, q, qd),
-        G=gravity_torques(model, q),
-    )
+    steps = (("tau", lambda: inverse_dynamics(model, q, qd, qdd)), ("M", lambda: mass_matrix(model, q)),
+             ("C", lambda: coriolis_matrix(model, q, qd)), ("V", lambda: velocity_torques(model, q, qd)),
+             ("G", lambda: gravity_torques(model, q)))
+    values = {}
+    for name, compute in steps:
+        values[name] = compute()
+        if progress is not None:
+            progress(name)
+    return DynamicsTerms(joints=model.joint_names, **values)

@@ -276,7 +276,12 @@ def _check_term(name: str, exercise: Exercise, function) -> Verdict:
     from .grading.assignment import Assignment
     from .grading.diagnosis import diagnose
     from .grading.harness import FUNCTIONS, evaluate
-    from .grading.plan import expected_terms, make_plan, returned_coefficients, returned_terms
+    from .grading.plan import (
+        expected_terms,
+        make_plan,
+        returned_coefficients,
+        returned_terms,
+    )
 
     if not callable(function):
         return Verdict(name, "wrong", [f"`{name}` should be a function, it is a {type(function).__name__}"])

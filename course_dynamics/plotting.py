@@ -28,8 +28,12 @@ def plot_format(path, formats=PLOT_FORMATS) -> str:
 
 
 def figure_bytes(figure, fmt: str) -> bytes:
+    """The figure drawn as ``fmt`` (png or svg); the figure is closed."""
+    import matplotlib.pyplot as plt
+
     buffer = BytesIO()
     figure.savefig(buffer, format=fmt, dpi=110)
+    plt.close(figure)
     return buffer.getvalue()
 
 
@@ -52,6 +56,11 @@ def _pyplot():
 
 def plot_trajectory(trajectory: Trajectory, path, title: str = "") -> None:
     """Joint positions Θ(t), velocities Θ̇(t) and total energy E(t), stacked, saved as ``path`` (PNG or SVG)."""
+    _save(trajectory_figure(trajectory, title), path)
+
+
+def trajectory_figure(trajectory: Trajectory, title: str = ""):
+    """The figure of :func:`plot_trajectory`."""
     plt = _pyplot()
 
     figure, axes = plt.subplots(3, 1, sharex=True, figsize=(8, 7.5), constrained_layout=True)
@@ -68,11 +77,16 @@ def plot_trajectory(trajectory: Trajectory, path, title: str = "") -> None:
         axes[0].set_title(title)
     for axis in axes:
         axis.grid(alpha=0.3)
-    _save(figure, path)
+    return figure
 
 
 def plot_ensemble(trajectory: Trajectory, path, title: str = "") -> None:
     """Divergence of an ensemble from member 0: max over joints of |Θₖ(t) − Θ₀(t)|, log scale, and Θ of every member."""
+    _save(ensemble_figure(trajectory, title), path)
+
+
+def ensemble_figure(trajectory: Trajectory, title: str = ""):
+    """The figure of :func:`plot_ensemble`."""
     import numpy as np
 
     plt = _pyplot()
@@ -94,7 +108,7 @@ def plot_ensemble(trajectory: Trajectory, path, title: str = "") -> None:
     axes[0].set_title(title or f"{q.shape[1]} members: divergence from member 0")
     for axis in axes:
         axis.grid(alpha=0.3)
-    _save(figure, path)
+    return figure
 
 
 def torque_figure(result, title: str = ""):

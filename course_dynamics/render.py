@@ -86,6 +86,14 @@ def code_block(text, language: str = "text") -> str:
     return f"{fence}{language}\n{text}\n{fence}"
 
 
+def format_bytes(count: float) -> str:
+    """A byte count for people: 23.5 GiB, 6.94e+283 EiB."""
+    for unit, size in (("EiB", 2**60), ("PiB", 2**50), ("TiB", 2**40), ("GiB", 2**30), ("MiB", 2**20)):
+        if count >= size:
+            return f"{count / size:.3g} {unit}"
+    return f"{count:.0f} bytes"
+
+
 def json_text(document) -> str:
     """Indented JSON; a NaN or inf is a ValueError rather than invalid JSON."""
     return json.dumps(document, indent=2, allow_nan=False)

@@ -31,7 +31,6 @@ from .model import STANDARD_GRAVITY, Model
 from .urdf import load_urdf
 
 
-
 def _robots_folder() -> Path:
     """The course URDFs: the installed package data (``course_dynamics_robots``), else the checkout's robots/."""
     try:

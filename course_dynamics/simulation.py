@@ -37,6 +37,7 @@ stop), also recorded. Nothing passes a limit silently.
 """
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
 from typing import Callable
 
@@ -48,6 +49,7 @@ from .forward_dynamics import AccelerationFunction, newton_euler_dynamics
 from .friction import Friction
 from .kinematics import potential_energy
 from .model import Model
+from .render import format_bytes
 from .state import as_state
 
 INTEGRATORS = ("euler", "semi-implicit", "rk4", "adaptive")
@@ -133,12 +135,30 @@ def torque_function(model: Model, torque) -> Callable:
     return lambda t, q, qd: constant
 
 
-def time_grid(duration: float, dt: float) -> np.ndarray:
-    """t = 0, dt, 2 dt, …, duration (s): the samples of a run; the last step is shortened to end at ``duration``."""
+def memory_budget() -> int:
+    """Bytes a run may keep: half the machine's physical memory."""
+    try:
+        return os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE") // 2
+    except (ValueError, OSError, AttributeError):
+        return 8 * 2**30
+
+
+def time_grid(duration: float, dt: float, values_per_sample: int = 1) -> np.ndarray:
+    """t = 0, dt, 2 dt, …, duration (s): the samples of a run; the last step is shortened to end at ``duration``.
+
+    Raises SimulationError for a dt or duration that is not a positive finite number, and for a
+    grid whose samples (``values_per_sample`` floats each) would not fit in :func:`memory_budget`.
+    """
     for name, value in (("dt", dt), ("duration", duration)):
         if not (np.isfinite(value) and value > 0):
             raise SimulationError(f"{name} must be a positive number of seconds, got {value}")
-    times = np.arange(int(np.ceil(duration / dt - 1e-9)) + 1) * dt
+    steps = duration / dt
+    needed = (steps + 1) * 8.0 * max(values_per_sample, 1)
+    if not needed <= memory_budget():
+        raise SimulationError(f"{duration:g} s in steps of {dt:g} s is {steps:.3g} steps; keeping them would need "
+                              f"{format_bytes(needed)} of memory, more than half of this machine's "
+                              f"{format_bytes(2 * memory_budget())}: take a larger dt or a shorter duration")
+    times = np.arange(int(np.ceil(steps - 1e-9)) + 1) * dt
     times[-1] = duration
     return times
 
@@ -159,7 +179,8 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
         raise SimulationError(f"q0 and qd0 must have shape (n,) or (K, n) alike, got {q0.shape} and {qd0.shape}")
     q0, qd0 = np.broadcast_arrays(q0, qd0)
     q0, qd0 = q0.copy(), qd0.copy()
-    times = time_grid(duration, dt)
+    members = q0.shape[0] if q0.ndim == 2 else 1
+    times = time_grid(duration, dt, values_per_sample=members * (4 * model.n + 1) + 1)  # t; q, qd, qdd, tau, energy
     if integrator not in INTEGRATORS:
         raise SimulationError(f"unknown integrator '{integrator}' (choose from {', '.join(INTEGRATORS)})")
     if limits not in LIMIT_MODES:
@@ -249,7 +270,9 @@ def _integrate_fixed(step, f, times, q0, qd0, guard, progress):
 
 
 def _integrate_adaptive(model, f, times, q0, qd0, progress):
-    from scipy.integrate import solve_ivp  # SciPy: a well-tested adaptive integrator with error control
+    from scipy.integrate import (
+        solve_ivp,  # SciPy: a well-tested adaptive integrator with error control
+    )
 
     shape, size = q0.shape, q0.size  # an ensemble is one stacked system with a shared step
     reached = [0]

@@ -37,6 +37,7 @@ real robots, whose URDF numbers become long rationals otherwise.
 """
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -197,9 +198,23 @@ def _substitute_length(vector: np.ndarray, length, symbol) -> np.ndarray:
     return out
 
 
+SYMBOL_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+
+
 def joint_symbols(model: Model) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(Θ, Θ̇, Θ̈) as object arrays of real sympy symbols q_<joint>, qd_<joint>, qdd_<joint>."""
+    """(Θ, Θ̇, Θ̈) as object arrays of real sympy symbols q_<joint>, qd_<joint>, qdd_<joint>.
+
+    Raises
+    ------
+    SymbolError
+        For a joint name that is not an ASCII identifier: its symbols would print as text that
+        reads back as another expression (``q_a-b`` is ``q_a − b``), or as code.
+    """
     sympy = _sympy()
+    for name in model.joint_names:
+        if not SYMBOL_NAME.fullmatch(name):
+            raise SymbolError(f"joint '{name}': symbolic results name symbols q_<joint>, so joint names must be ASCII "
+                              "identifiers (letters, digits, _, not starting with a digit); rename the joint in the URDF")
 
     def symbols(prefix):
         return np.array([sympy.Symbol(f"{prefix}_{name}", real=True) for name in model.joint_names], dtype=object)
@@ -276,7 +291,11 @@ def derive(model: Model, symbols=(), method: str = "newton-euler", simplify: boo
     B and C are read off V as the coefficients of θ̇ⱼθ̇ₖ (j < k) and θ̇ⱼ² (6.63)–(6.65).
     """
     from . import lagrange
-    from .dynamics import gravity_torques, mass_matrix_by_unit_accelerations, velocity_torques
+    from .dynamics import (
+        gravity_torques,
+        mass_matrix_by_unit_accelerations,
+        velocity_torques,
+    )
     from .lagrange import velocity_pairs
     from .newton_euler import inverse_dynamics
 

@@ -45,7 +45,13 @@ def trace(model: Model, q, qd, qdd, symbols=None, decimals: int | None = None) -
         values = {key: getattr(links, key).tolist() for key in keys}
         tau = links.tau.tolist()
     else:
-        from .symbolic import check_symbolic_size, decimal, joint_symbols, symbolic_model, tidy
+        from .symbolic import (
+            check_symbolic_size,
+            decimal,
+            joint_symbols,
+            symbolic_model,
+            tidy,
+        )
 
         check_symbolic_size(model)
         exact, _ = symbolic_model(model, symbols)

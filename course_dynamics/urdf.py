@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import logging
 import math
+import re
 import warnings
 from pathlib import Path
 
@@ -64,7 +65,7 @@ def load_urdf(path, gravity=STANDARD_GRAVITY, allow_nonphysical_inertia: bool = 
     gravity = np.asarray(gravity, dtype=float)
     if gravity.shape != (3,) or not np.all(np.isfinite(gravity)):
         raise ModelError(f"gravity must be three finite numbers, got {gravity.tolist()}")
-    robot = _parse(path)
+    robot = read_description(path)
     links = {link.name: link for link in robot.links}
     if len(links) != len(robot.links):
         raise ModelError(f"{where}: two links share a name")
@@ -124,22 +125,79 @@ def load_urdf(path, gravity=STANDARD_GRAVITY, allow_nonphysical_inertia: bool = 
     return Model(name=robot.name, bodies=tuple(bodies), gravity=gravity, source=where, base_link=roots[0], frames=tuple(frames))
 
 
-def _parse(path: Path):
-    """The yourdfpy robot description, after a strict XML parse for clear errors."""
-    from lxml import etree
-    import yourdfpy
+MAX_URDF_BYTES = 64 * 2**20  # a 1 000-joint chain is under 1 MiB; anything far larger is not a robot description
 
-    if not path.is_file():
+
+def xml_parser():
+    """lxml configured for files nobody vouches for.
+
+    No DTD is loaded, no entity is substituted, nothing is fetched from the network,
+    and lxml's limits on depth (256) and amplification stay on (no ``huge_tree``).
+    Documents that declare a DTD at all are refused by :func:`read_description`.
+    """
+    from lxml import etree
+
+    return etree.XMLParser(resolve_entities=False, load_dtd=False, no_network=True, dtd_validation=False, huge_tree=False)
+
+
+def _xml_problem(raw: bytes, exc: Exception) -> str:
+    if b"encoding=" not in raw[:200]:
+        try:
+            raw.decode("utf-8")
+        except UnicodeDecodeError as bad:
+            return (f"not UTF-8 (byte {bad.start} is 0x{raw[bad.start]:02x}) and no other encoding is declared "
+                    f"(<?xml version=\"1.0\" encoding=\"...\"?>)")
+    return f"malformed XML: {exc}"
+
+
+def read_description(path):
+    """The yourdfpy description of a URDF file, read defensively.
+
+    The file must be a regular file of at most :data:`MAX_URDF_BYTES`, well-formed XML
+    (parsed by :func:`xml_parser`) with no DTD; yourdfpy then reads the checked tree, never
+    the file again. Meshes are not loaded here.
+
+    Raises
+    ------
+    ModelError
+        Naming the file and the problem.
+    """
+    from io import BytesIO
+
+    import yourdfpy
+    from lxml import etree
+
+    path = Path(path)
+    if path.is_dir():
+        raise ModelError(f"{path}: is a directory, not a URDF file")
+    if not path.exists():
         raise ModelError(f"{path}: no such file")
+    if not path.is_file():
+        raise ModelError(f"{path}: not a regular file")
+    size = path.stat().st_size
+    if size > MAX_URDF_BYTES:
+        raise ModelError(f"{path}: {size / 2**20:.0f} MiB is more than a URDF file may be ({MAX_URDF_BYTES // 2**20} MiB)")
     try:
-        etree.parse(str(path))
-    except etree.XMLSyntaxError as exc:
-        raise ModelError(f"{path}: malformed XML: {exc}") from None
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise ModelError(f"{path}: cannot read: {exc.strerror}") from None
+    if not raw.strip():
+        raise ModelError(f"{path}: empty file")
+    if b"<!ENTITY" in raw or re.search(rb"<!DOCTYPE[^>]*\[", raw):
+        raise ModelError(f"{path}: declares a DTD (<!DOCTYPE ... [...]>); URDF files have none, and XML entities "
+                         "are refused")
+    try:
+        root = etree.fromstring(raw, parser=xml_parser())
+    except (etree.LxmlError, ValueError) as exc:
+        raise ModelError(f"{path}: {_xml_problem(raw, exc)}") from None
+    if root.getroottree().docinfo.internalDTD is not None or b"<!ENTITY" in raw:
+        raise ModelError(f"{path}: declares a DTD (<!DOCTYPE ... [...]>); URDF files have none, and XML entities "
+                         "are refused")
     logging.getLogger("yourdfpy").setLevel(logging.CRITICAL)
     try:
         urdf = yourdfpy.URDF.load(
-            str(path), build_scene_graph=False, build_collision_scene_graph=False,
-            load_meshes=False, load_collision_meshes=False,
+            BytesIO(etree.tostring(root)), mesh_dir=str(path.parent), build_scene_graph=False,
+            build_collision_scene_graph=False, load_meshes=False, load_collision_meshes=False,
         )
     except Exception as exc:  # yourdfpy reports bad values with assorted exception types
         raise ModelError(f"{path}: malformed URDF: {exc}") from None

@@ -92,6 +92,14 @@ def validate(name_or_path: str, samples: int = 200, seed: int = 0, tolerance: fl
     )
 
 
+BYTES_PER_CUBED_JOINT = 70  # measured: a validate of an n-joint chain peaks near 70 n³ bytes (4.3 GB at n = 400)
+
+
+def memory_estimate(n: int) -> float:
+    """Bytes a comparison of an n-joint robot needs at its peak (Pinocchio's data and ours), a measured fit."""
+    return 0.3 * 2**30 + BYTES_PER_CUBED_JOINT * float(n) ** 3
+
+
 def bundled_targets() -> list[str]:
     """Every shipped robot, by name (see :mod:`course_dynamics.robots`)."""
     from course_dynamics.robots import robot_names
@@ -104,4 +112,4 @@ def display_name(name_or_path: str) -> str:
 
 
 __all__ = ["RobotReport", "TermAgreement", "bundled_targets", "display_name", "ours_batch", "random_states",
-           "sampling_bounds", "term_errors", "validate"]
+           "memory_estimate", "sampling_bounds", "term_errors", "validate"]

@@ -113,3 +113,13 @@ def assert_one_line_error(code, err, *fragments):
     assert "Traceback" not in err
     for fragment in fragments:
         assert fragment in lines[0], (fragment, lines[0])
+
+
+def chain_urdf(n: int, joint_type: str = "revolute") -> str:
+    """An n-joint serial chain as URDF text: alternating z and y axes, each link 0.1 m long."""
+    parts = ['<?xml version="1.0"?><robot name="chain"><link name="base"/>']
+    for i in range(1, n + 1):
+        parts.append(LINK.format(name=f"link{i}", mass="1.0", ixx="0.01", iyy="0.01", izz="0.01"))
+        parts.append(JOINT.format(name=f"joint{i}", type=joint_type, parent="base" if i == 1 else f"link{i - 1}",
+                                  child=f"link{i}", axis="0 0 1" if i % 2 else "0 1 0"))
+    return "".join(parts) + "</robot>"

@@ -14,6 +14,8 @@ from __future__ import annotations
 import importlib
 import sys
 
+import numpy as np
+
 from ..errors import CourseDynamicsError
 from .commands import COMMANDS
 from .options import Parser, join_value_options, robots_epilog
@@ -40,7 +42,9 @@ def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     try:
         args = build_parser().parse_args(join_value_options(argv))
-        return args.run(args)
+        # Overflow shows as inf/nan in the results, which every command checks and reports as one error line.
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            return args.run(args)
     except CourseDynamicsError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2

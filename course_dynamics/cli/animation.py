@@ -14,15 +14,26 @@ def add_animation_options(parser, html_required: bool) -> None:
                              "faithful one (default)")
     parser.add_argument("--torques", action="store_true", help="draw joint torques as bars along the joint axes")
     parser.add_argument("--path", dest="draw_path", action="store_true", help="draw the end-effector path")
+    parser.add_argument("--allow-any-mesh-path", action="store_true",
+                        help="read mesh files outside the URDF's folder and its packages (by default they are not "
+                             "read, and the stick model is drawn: the HTML file would carry them to whoever opens it)")
 
 
-def export_animation(path, model, urdf, t, q, tau, args) -> None:
-    """Write the HTML animation; mesh warnings become ``warning: …`` lines on stderr."""
-    from ..viewer import MeshWarning, export_html
+def animation_document(model, urdf, t, q, tau, args) -> str:
+    """The HTML animation as text (nothing written); mesh warnings become ``warning: …`` lines on stderr."""
+    from ..viewer import MeshWarning, scene_document
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", MeshWarning)
-        export_html(path, model, urdf, geometry=args.geometry, t=t, q=q, tau=tau if args.torques else None,
-                    draw_path=args.draw_path)
+        document, _ = scene_document(model, urdf, args.geometry, t, q, tau if args.torques else None,
+                                     args.draw_path, args.allow_any_mesh_path)
     for warning in caught:
         print(f"warning: {warning.message}", file=sys.stderr)
+    return document
+
+
+def export_animation(path, model, urdf, t, q, tau, args) -> None:
+    """Write the HTML animation to ``path``, whole or not at all."""
+    from .. import io
+
+    io.write_text(path, animation_document(model, urdf, t, q, tau, args))

@@ -55,8 +55,10 @@ def add_robot_argument(parser, nargs=None, help: str = "URDF file or shipped rob
 
 def numbers(text: str, option: str) -> np.ndarray:
     """Comma-separated numbers; UsageError naming the option otherwise."""
+    if any(v.strip() == "" for v in text.split(",")):
+        raise UsageError(f"{option} has an empty value in '{text}' (comma-separated numbers, none left out)")
     try:
-        values = [float(v) for v in text.split(",") if v.strip() != ""]
+        values = [float(v) for v in text.split(",")]
     except ValueError:
         raise UsageError(f"{option} must be comma-separated numbers, got '{text}'") from None
     return np.array(values)
@@ -135,6 +137,32 @@ def warn_if_gravity_free(model) -> None:
     if gravity_free(model):
         print(f"warning: robot '{model.name}': G(q) = 0 at every sampled state (gravity {model.gravity.tolist()} m/s^2 "
               "cannot act on its joints), so gravity is not tested here", file=sys.stderr)
+
+
+def check_finite(what: str, *arrays) -> None:
+    """InputError when a result holds inf or nan: inputs beyond floating-point range must not print as numbers."""
+    for array in arrays:
+        if not np.all(np.isfinite(np.asarray(array, dtype=float))):
+            raise InputError(f"{what} is not finite (inf or nan): the given values are too large for floating-point "
+                             "arithmetic")
+
+
+def check_oracle_memory(model) -> None:
+    """Refuse, before any work, a robot whose comparison with Pinocchio would not fit in memory."""
+    from course_dynamics_reference.validate import memory_estimate
+
+    from ..simulation import memory_budget
+
+    needed = memory_estimate(model.n)
+    if needed > memory_budget():
+        raise InputError(f"robot '{model.name}' has {model.n} joints: comparing it with Pinocchio would need about "
+                         f"{render.format_bytes(needed)} of memory, more than half of this machine's {render.format_bytes(2 * memory_budget())} "
+                         "('terms' computes one state of it with our library alone)")
+
+
+def check_tolerance(value: float) -> None:
+    if not (np.isfinite(value) and value > 0):
+        raise UsageError(f"--tolerance must be a positive finite number, got {value}")
 
 
 def print_json(document) -> None:

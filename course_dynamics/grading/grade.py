@@ -35,7 +35,14 @@ from pathlib import Path
 from ..errors import InputError
 from .assignment import TERMS, Assignment
 from .diagnosis import Diagnosis, diagnose
-from .plan import Expected, Plan, expected_terms, make_plan, returned_coefficients, returned_terms
+from .plan import (
+    Expected,
+    Plan,
+    expected_terms,
+    make_plan,
+    returned_coefficients,
+    returned_terms,
+)
 from .sandbox import Limits, check_sandbox, run_submission
 
 MAX_SOURCE_BYTES = 1_000_000

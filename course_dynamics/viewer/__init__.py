@@ -11,7 +11,14 @@ module             job
 =================  ===============================================================
 """
 from .export import RecordingWindow, export_html, html_document, scene_document
-from .geometry import GEOMETRIES, MeshWarning, RobotGeometry, ViewerError, resolve_mesh_path, robot_geometry
+from .geometry import (
+    GEOMETRIES,
+    MeshWarning,
+    RobotGeometry,
+    ViewerError,
+    resolve_mesh_path,
+    robot_geometry,
+)
 from .live import LiveViewer, show, start_server
 from .scene import animate, body_placements, build_scene, draw_robot, tip_frame
 

@@ -54,19 +54,19 @@ window.sceneReady = true;
 
 
 def scene_document(model: Model, urdf, geometry: str = "auto", t=None, q=None, tau=None,
-                   draw_path: bool = False) -> tuple[str, RobotGeometry]:
+                   draw_path: bool = False, mesh_anywhere: bool = False) -> tuple[str, RobotGeometry]:
     """The scene (and animation) recorded into one self-contained HTML page, with the geometry drawn."""
     import meshcat
 
     window = RecordingWindow()
-    shapes = build_scene(meshcat.Visualizer(window=window), model, urdf, geometry, t, q, tau, draw_path)
+    shapes = build_scene(meshcat.Visualizer(window=window), model, urdf, geometry, t, q, tau, draw_path, mesh_anywhere)
     return html_document(window.commands, title=f"{model.name} — course-dynamics"), shapes
 
 
 def export_html(path, model: Model, urdf, geometry: str = "auto", t=None, q=None, tau=None,
-                draw_path: bool = False) -> RobotGeometry:
+                draw_path: bool = False, mesh_anywhere: bool = False) -> RobotGeometry:
     """Write a self-contained HTML file of the robot (and its animation) to ``path``, whole or not at all."""
     io.check_writable(path)
-    document, shapes = scene_document(model, urdf, geometry, t, q, tau, draw_path)
+    document, shapes = scene_document(model, urdf, geometry, t, q, tau, draw_path, mesh_anywhere)
     io.write_text(path, document)
     return shapes

@@ -104,13 +104,12 @@ def _colour(rgba) -> tuple[int, float]:
 
 def _urdf_shapes(model: Model, urdf: Path, which: str):
     """Shapes of every link's <visual> or <collision>, in body frames; also the mesh files they need."""
-    import yourdfpy
+    from ..urdf import read_description
 
-    robot = yourdfpy.URDF.load(str(urdf), build_scene_graph=False, build_collision_scene_graph=False,
-                               load_meshes=False, load_collision_meshes=False).robot
+    robot = read_description(urdf)
     materials = {m.name: m for m in robot.materials}
     frames = {f.name: f for f in model.frames}
-    shapes, meshes = {}, []
+    shapes, meshes, references = {}, [], []
     for link in robot.links:
         frame = frames.get(link.name)
         if frame is None:
@@ -138,10 +137,11 @@ def _urdf_shapes(model: Model, urdf: Path, which: str):
                 scale = tuple(geometry.mesh.scale) if geometry.mesh.scale is not None else (1.0, 1.0, 1.0)
                 shape = Shape("mesh", T, path=path, scale=scale, colour=colour, opacity=opacity)
                 meshes.append(path)
+                references.append(geometry.mesh.filename)
             else:
                 continue
             shapes.setdefault(frame.body, []).append(shape)
-    return shapes, meshes
+    return shapes, meshes, references
 
 
 def stick_shapes(model: Model) -> dict:
@@ -186,8 +186,31 @@ def _segment(start: np.ndarray, end: np.ndarray, radius: float, colour: int) -> 
     return Shape("cylinder_y", T, (radius, max(length, 1e-6)), colour=colour)
 
 
-def robot_geometry(model: Model, urdf, geometry: str = "auto") -> RobotGeometry:
-    """Choose and collect the shapes to draw (see the module docstring)."""
+def mesh_allowed(filename: str, path: Path, urdf: Path) -> bool:
+    """Whether a mesh reference stays inside the folder it may read: its package's for ``package://``, else the URDF's."""
+    if filename.startswith("package://"):
+        relative = Path(filename[len("package://"):])
+        root = path
+        for _ in relative.parts:
+            root = root.parent
+        root = root / relative.parts[0]
+    else:
+        root = urdf.parent
+    try:
+        return path.resolve().is_relative_to(root.resolve())
+    except OSError:
+        return False
+
+
+def robot_geometry(model: Model, urdf, geometry: str = "auto", mesh_anywhere: bool = False) -> RobotGeometry:
+    """Choose and collect the shapes to draw (see the module docstring).
+
+    Mesh files are read only from the URDF's folder (and below) and, for ``package://``
+    references, from the package's folder: an exported HTML file carries every mesh it
+    draws, and a URDF from elsewhere could otherwise make it carry any file on disk. A
+    mesh outside falls back to the stick model with a warning; ``mesh_anywhere=True``
+    reads it (with a warning saying so).
+    """
     if geometry not in GEOMETRIES:
         raise ViewerError(f"unknown geometry '{geometry}' (choose from {', '.join(GEOMETRIES)})")
     urdf = Path(urdf)
@@ -197,9 +220,27 @@ def robot_geometry(model: Model, urdf, geometry: str = "auto") -> RobotGeometry:
         return result
     candidates = ["visual", "collision"] if geometry == "auto" else [geometry]
     for which in candidates:
-        shapes, meshes = _urdf_shapes(model, urdf, which)
+        shapes, meshes, references = _urdf_shapes(model, urdf, which)
         if not shapes:
             continue
+        urls = [ref for ref in references if "://" in ref and not ref.startswith(("package://", "file://"))]
+        if urls:
+            message = (f"mesh {urls[0]} is a URL: meshes are never fetched ({which} geometry of {urdf}); "
+                       "drawing the stick model")
+            result.warnings.append(message)
+            warnings.warn(message, MeshWarning, stacklevel=2)
+            break
+        outside = [p for p, ref in zip(meshes, references) if not mesh_allowed(ref, p, urdf)]
+        if outside:
+            if not mesh_anywhere:
+                message = (f"mesh file {outside[0]} lies outside the URDF's folder and its packages ({which} geometry "
+                           f"of {urdf}): not read, drawing the stick model (--allow-any-mesh-path reads it)")
+                result.warnings.append(message)
+                warnings.warn(message, MeshWarning, stacklevel=2)
+                break
+            message = f"reading mesh file {outside[0]} from outside the URDF's folder, as asked"
+            result.warnings.append(message)
+            warnings.warn(message, MeshWarning, stacklevel=2)
         missing = [p for p in meshes if not p.is_file()]
         if missing:
             message = f"mesh file {missing[0]} not found ({which} geometry of {urdf}); drawing the stick model"

@@ -11,6 +11,7 @@ from .export import scene_document
 from .geometry import ViewerError
 from .scene import build_scene
 
+
 @dataclass
 class LiveViewer:
     """A meshcat server of ours (loopback only, dies with this process) and a Visualizer on it."""
@@ -74,7 +75,7 @@ def start_server(timeout: float = 20.0) -> LiveViewer:
 
 
 def show(model: Model, urdf, geometry: str = "auto", t=None, q=None, tau=None, draw_path: bool = False,
-         static: bool = False):
+         static: bool = False, mesh_anywhere: bool = False):
     """Show the robot in a notebook cell: live meshcat viewer, or with ``static=True`` an embedded offline animation.
 
     Returns an object that Jupyter displays (the live viewer's page in an
@@ -85,7 +86,7 @@ def show(model: Model, urdf, geometry: str = "auto", t=None, q=None, tau=None, d
     if static:
         import html
 
-        document, _ = scene_document(model, urdf, geometry, t, q, tau, draw_path)
+        document, _ = scene_document(model, urdf, geometry, t, q, tau, draw_path, mesh_anywhere)
         return _StaticHTML(f'<iframe srcdoc="{html.escape(document)}" style="width: 100%; height: 420px; border: none"></iframe>')
     viewer = start_server()
     build_scene(viewer.vis, model, urdf, geometry, t, q, tau, draw_path)

@@ -12,7 +12,16 @@ import numpy as np
 
 from ..kinematics import forward_kinematics
 from ..model import Model
-from .geometry import ANIMATION_FPS, PATH_COLOUR, TORQUE_COLOUR, RobotGeometry, Shape, load_mesh, robot_geometry, y_along
+from .geometry import (
+    ANIMATION_FPS,
+    PATH_COLOUR,
+    TORQUE_COLOUR,
+    RobotGeometry,
+    Shape,
+    load_mesh,
+    robot_geometry,
+    y_along,
+)
 
 
 def _meshcat_object(shape: Shape):
@@ -104,9 +113,12 @@ def _torque_bar(T_body: np.ndarray, axis: np.ndarray, length: float) -> np.ndarr
 
 
 def build_scene(vis, model: Model, urdf, geometry: str = "auto", t=None, q=None, tau=None,
-                draw_path: bool = False) -> RobotGeometry:
-    """Draw the robot into ``vis`` and, if a trajectory is given, its animation (and the tip's path if ``draw_path``)."""
-    shapes = robot_geometry(model, urdf, geometry)
+                draw_path: bool = False, mesh_anywhere: bool = False) -> RobotGeometry:
+    """Draw the robot into ``vis`` and, if a trajectory is given, its animation (and the tip's path if ``draw_path``).
+
+    ``mesh_anywhere``: read mesh files outside the URDF's folder and package (see :func:`robot_geometry`).
+    """
+    shapes = robot_geometry(model, urdf, geometry, mesh_anywhere=mesh_anywhere)
     q0 = np.zeros(model.n) if q is None else np.asarray(q, float)[0]
     _place_camera(vis, model, q)
     draw_robot(vis, model, shapes, q0)

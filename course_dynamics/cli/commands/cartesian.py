@@ -3,7 +3,13 @@ from __future__ import annotations
 
 from ... import render
 from ...cartesian import EXPRESSED_IN, MAX_CONDITION, ROW_NAMES, cartesian_dynamics
-from ..options import add_robot_argument, joint_values, load_robot_argument, print_json
+from ..options import (
+    add_robot_argument,
+    check_finite,
+    joint_values,
+    load_robot_argument,
+    print_json,
+)
 
 HELP = "Cartesian-space dynamics Mx, Vx, Gx (6.99) of a frame"
 DESCRIPTION = ("Jacobian J, its time derivative, and F = Mx Xdd + Vx + Gx (6.91) for a URDF link or frame. "
@@ -32,6 +38,7 @@ def run(args) -> int:
     rows = args.rows.split(",") if args.rows else None
     terms = cartesian_dynamics(model, q, qd, args.frame, expressed_in=args.expressed_in, rows=rows,
                                max_condition=args.max_condition)
+    check_finite("the result", terms.J, terms.J_dot, terms.Mx, terms.Vx, terms.Gx)
     document = dict(joints=list(model.joint_names), frame=terms.frame, rows=list(terms.rows), J=terms.J.tolist(),
                     J_dot=terms.J_dot.tolist(), Mx=terms.Mx.tolist(), Vx=terms.Vx.tolist(), Gx=terms.Gx.tolist(),
                     condition=terms.condition)

@@ -20,7 +20,8 @@ def add_arguments(parser) -> None:
     parser.add_argument("--decimal", type=int, metavar="N",
                         help="write the URDF's numbers as N-digit decimals instead of exact fractions (real robots)")
     parser.add_argument("--format", choices=render.DERIVATION_FORMATS, default="markdown",
-                        help="json has keys joints, tau, M, V, G, B, C; each entry a string sympy.sympify parses")
+                        help="json has keys joints, tau, M, V, G, B, C; each entry an expression string in q_<joint>, qd_<joint>, "
+                             "qdd_<joint> and the parameters")
 
 
 def run(args) -> int:

@@ -27,7 +27,13 @@ def add_arguments(parser) -> None:
 
 def run(args) -> int:
     from ... import io
-    from ...grading import EXAMPLE, check_sandbox, grade_class, load_assignment, write_outputs
+    from ...grading import (
+        EXAMPLE,
+        check_sandbox,
+        grade_class,
+        load_assignment,
+        write_outputs,
+    )
     from ...grading.grade import student_names
 
     if args.example_assignment:

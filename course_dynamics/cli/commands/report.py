@@ -6,7 +6,15 @@ from pathlib import Path
 
 from course_dynamics_reference import TOLERANCE
 
-from ..options import UsageError, add_robot_argument, gravity, load_robot_argument, progress_bar
+from ..options import (
+    UsageError,
+    add_robot_argument,
+    check_oracle_memory,
+    check_tolerance,
+    gravity,
+    load_robot_argument,
+    progress_bar,
+)
 
 HELP = "write a comparison report against Pinocchio (HTML, Markdown, JSON) for the course page"
 DESCRIPTION = ("For each ROBOT: the largest and median error of tau, M, C, V, G against Pinocchio on seeded random "
@@ -29,14 +37,13 @@ def run(args) -> int:
 
     if args.samples < 1:
         raise UsageError("--samples must be at least 1")
-    if not args.tolerance > 0:
-        raise UsageError(f"--tolerance must be a positive number, got {args.tolerance}")
+    check_tolerance(args.tolerance)
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise UsageError(f"{out}: exists and is not a directory")
     io.check_writable(out / "index.html") if out.is_dir() else io.check_writable(out)
     for target in args.urdf:  # bad input fails before any long work
-        load_robot_argument(args, target)
+        check_oracle_memory(load_robot_argument(args, target))
     # The oracle is imported by this command only, so the library itself never loads Pinocchio.
     from course_dynamics_reference.report import build_report, write_report
 

@@ -7,10 +7,25 @@ import numpy as np
 
 from ... import io
 from ...robots import resolve
-from ...simulation import INTEGRATORS, LIMIT_MODES, TorqueTable, simulate, time_grid
-from ..animation import add_animation_options, export_animation
-from ..options import (UsageError, add_friction_arguments, add_robot_argument, friction, joint_values, load_robot_argument,
-                       print_json, progress_bar)
+from ...simulation import (
+    INTEGRATORS,
+    LIMIT_MODES,
+    SimulationError,
+    TorqueTable,
+    simulate,
+    time_grid,
+)
+from ..animation import add_animation_options, animation_document
+from ..options import (
+    UsageError,
+    add_friction_arguments,
+    add_robot_argument,
+    friction,
+    joint_values,
+    load_robot_argument,
+    print_json,
+    progress_bar,
+)
 
 HELP = "forward dynamics in time (6.115)-(6.117), written as CSV"
 DESCRIPTION = ("Integrate qdd = M^-1 (tau - V - G - F) from q0, qd0. The output CSV has t, q_<joint>, qd_<joint>, "
@@ -72,25 +87,45 @@ def run(args) -> int:
         noise[0] = 0.0
         q0 = q0 + noise
     torque, joint_friction = _torque(args, model), friction(args, model)
+    if args.plot:
+        from ...plotting import plot_format
+
+        plot_format(args.plot)
     for target in (args.out, args.plot, args.html):
         if target:
             io.check_writable(target)
-    steps = len(time_grid(args.duration, args.dt)) - 1
+    members = args.ensemble or 1
+    steps = len(time_grid(args.duration, args.dt, values_per_sample=members * (4 * model.n + 1) + 1)) - 1
     progress = progress_bar(total=steps, enabled=not args.quiet, delay=1.0)
     trajectory = simulate(model, q0, qd0, args.duration, args.dt, integrator=args.integrator, torque=torque,
                           friction=joint_friction, limits=args.limits, progress=progress.update,
                           compiled=False if args.no_compile else None)
     progress.close()
+    if not (np.all(np.isfinite(trajectory.q)) and np.all(np.isfinite(trajectory.qd))):
+        raise SimulationError("the motion left the range of floating-point numbers (inf or nan): the torques or "
+                              "initial rates are too large for this step; nothing written")
+    # Every output is made in memory first and written only when all of them are ready.
     header, data = trajectory.table()
-    io.write_csv(args.out, header, data)
+    picture = document = None
     if args.plot:
-        from ...plotting import plot_ensemble, plot_trajectory
+        from ...plotting import (
+            ensemble_figure,
+            figure_bytes,
+            plot_format,
+            trajectory_figure,
+        )
 
-        draw = plot_trajectory if trajectory.members is None else plot_ensemble
-        draw(trajectory, args.plot, title=f"{model.name}: {args.integrator}, dt = {args.dt:g} s"
-             + (f", {trajectory.members} members, perturbation {args.perturbation:g}" if trajectory.members else ""))
+        draw = trajectory_figure if trajectory.members is None else ensemble_figure
+        picture = figure_bytes(draw(trajectory, title=f"{model.name}: {args.integrator}, dt = {args.dt:g} s"
+                                    + (f", {trajectory.members} members, perturbation {args.perturbation:g}"
+                                       if trajectory.members else "")), plot_format(args.plot))
     if args.html:
-        export_animation(args.html, model, resolve(args.urdf), trajectory.t, trajectory.q, trajectory.tau, args)
+        document = animation_document(model, resolve(args.urdf), trajectory.t, trajectory.q, trajectory.tau, args)
+    io.write_csv(args.out, header, data)
+    if picture is not None:
+        io.write_bytes(args.plot, picture)
+    if document is not None:
+        io.write_text(args.html, document)
     for event in trajectory.events:
         print(f"warning: {event}", file=sys.stderr)
     summary = dict(robot=model.name, joints=list(model.joint_names), integrator=args.integrator, dt=args.dt,

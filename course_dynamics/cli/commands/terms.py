@@ -1,11 +1,21 @@
 """``course-dynamics terms``: τ, M, C, V and G at one state."""
 from __future__ import annotations
 
+import sys
+
 import numpy as np
 
 from ... import render
 from ...dynamics import dynamics_terms
-from ..options import add_robot_argument, load_robot_argument, numbers, print_json, warn_if_gravity_free
+from ..options import (
+    add_robot_argument,
+    check_finite,
+    load_robot_argument,
+    numbers,
+    print_json,
+    progress_bar,
+    warn_if_gravity_free,
+)
 
 HELP = "tau, M, C, V, G at one state"
 DESCRIPTION = "Evaluate tau = M(q) qdd + V(q, qd) + G(q) and the Coriolis matrix C (C qd = V)."
@@ -26,7 +36,10 @@ def run(args) -> int:
     q = numbers(args.q, "--q")
     qd = numbers(args.qd, "--qd") if args.qd is not None else np.zeros(model.n)
     qdd = numbers(args.qdd, "--qdd") if args.qdd is not None else np.zeros(model.n)
-    terms = dynamics_terms(model, q, qd, qdd)
+    bar = progress_bar(total=5, enabled=sys.stderr.isatty(), delay=1.0, unit="term")
+    terms = dynamics_terms(model, q, qd, qdd, progress=lambda name: bar.update(1))
+    bar.close()
+    check_finite("the result", terms.tau, terms.M, terms.C, terms.V, terms.G)
     if args.json:
         print_json(dict(joints=list(terms.joints), tau=terms.tau.tolist(), M=terms.M.tolist(), C=terms.C.tolist(),
                         V=terms.V.tolist(), G=terms.G.tolist()))

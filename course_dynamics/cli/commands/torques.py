@@ -5,9 +5,22 @@ import sys
 
 from ... import io, render
 from ...loads import Payload, Wrench
-from ...logs import COMPILE_FROM_ROWS, KINDS, as_columns, parse_column_map, torques_from_log
-from ..options import (UsageError, add_friction_arguments, add_robot_argument, friction, load_robot_argument, numbers,
-                       print_json)
+from ...logs import (
+    COMPILE_FROM_ROWS,
+    KINDS,
+    as_columns,
+    parse_column_map,
+    torques_from_log,
+)
+from ..options import (
+    UsageError,
+    add_friction_arguments,
+    add_robot_argument,
+    friction,
+    load_robot_argument,
+    numbers,
+    print_json,
+)
 
 HELP = "joint torques along a trajectory log, and a limits report"
 DESCRIPTION = (

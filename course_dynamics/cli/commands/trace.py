@@ -2,7 +2,15 @@
 from __future__ import annotations
 
 from ... import render
-from ..options import UsageError, add_robot_argument, joint_values, load_robot_argument, print_json, symbol_names
+from ..options import (
+    UsageError,
+    add_robot_argument,
+    check_finite,
+    joint_values,
+    load_robot_argument,
+    print_json,
+    symbol_names,
+)
 
 HELP = "the Newton-Euler iterations link by link (numeric or symbolic)"
 DESCRIPTION = ("Show omega, omega_dot, v_dot, v_dot_C, F, N (outward, 6.45-6.50) and f, n, tau (inward, 6.51-6.53) "
@@ -32,6 +40,7 @@ def run(args) -> int:
             raise UsageError("--q is required unless --symbolic is given")
         result = trace(model, joint_values(args.q, "--q", model), joint_values(args.qd, "--qd", model),
                        joint_values(args.qdd, "--qdd", model))
+        check_finite("the result", result.tau)
     if args.format == "json":
         print_json(render.trace_record(result))
     else:

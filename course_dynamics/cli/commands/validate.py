@@ -5,8 +5,17 @@ import sys
 
 from course_dynamics_reference import TERMS, TOLERANCE
 
-from ..options import (UsageError, add_robot_argument, gravity, load_robot_argument, print_json, progress_bar,
-                       warn_if_gravity_free)
+from ..options import (
+    UsageError,
+    add_robot_argument,
+    check_oracle_memory,
+    check_tolerance,
+    gravity,
+    load_robot_argument,
+    print_json,
+    progress_bar,
+    warn_if_gravity_free,
+)
 
 HELP = "compare every term with Pinocchio on random states"
 DESCRIPTION = ("Evaluate tau, M, C, V, G with course_dynamics and with Pinocchio on seeded random states within joint "
@@ -24,12 +33,19 @@ def add_arguments(parser) -> None:
 def run(args) -> int:
     if args.samples < 1:
         raise UsageError("--samples must be at least 1")
+    check_tolerance(args.tolerance)
     # The oracle is imported by this command only, so the library itself never loads Pinocchio.
-    from course_dynamics_reference.validate import bundled_targets, display_name, validate
+    from course_dynamics_reference.validate import (
+        bundled_targets,
+        display_name,
+        validate,
+    )
 
     targets = args.urdf or bundled_targets()
     for target in targets:  # fail on bad input before any long work
-        warn_if_gravity_free(load_robot_argument(args, target))
+        model = load_robot_argument(args, target)
+        check_oracle_memory(model)
+        warn_if_gravity_free(model)
     progress = progress_bar(total=len(targets) * args.samples, enabled=not args.json and sys.stderr.isatty(),
                             unit="state")
     reports = [validate(target, samples=args.samples, seed=args.seed, tolerance=args.tolerance, progress=progress.update,

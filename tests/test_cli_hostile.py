@@ -1,0 +1,292 @@
+"""The command line under hostile or broken input: one ``error:`` line and exit 2, nothing written, nothing run.
+
+Each test names the rule it keeps. Files are made in the test's own folder; nothing outside it is touched.
+"""
+from __future__ import annotations
+
+import json
+import os
+import signal
+import stat
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+from helpers import arm_urdf, assert_one_line_error, chain_urdf, run
+
+from course_dynamics import load_urdf
+from course_dynamics.urdf import MAX_URDF_BYTES
+
+BODY = arm_urdf().split("?>", 1)[1]
+
+
+# ---------------------------------------------------------------------------- URDF files
+
+@pytest.mark.parametrize("name, content, fragment", [
+    ("xxe", '<?xml version="1.0"?><!DOCTYPE r [<!ENTITY x SYSTEM "file:///etc/hostname">]>'
+            + BODY.replace('name="probe"', 'name="&x;"'), "declares a DTD"),
+    ("billion laughs", '<?xml version="1.0"?><!DOCTYPE r [<!ENTITY a "aaaaaaaaaa">'
+                       + "".join(f'<!ENTITY {c} "{("&" + p + ";") * 10}">' for p, c in zip("abcdefg", "bcdefgh"))
+                       + "]>" + BODY.replace('name="probe"', 'name="&h;"'), "declares a DTD"),
+    ("deep nesting", '<?xml version="1.0"?><robot name="x">' + "<a>" * 5000 + "</a>" * 5000 + "</robot>",
+     "malformed XML: Excessive depth"),
+    ("empty", "", "empty file"),
+    ("blank", "   \n", "empty file"),
+])
+def test_hostile_xml_is_refused(capsys, tmp_path, name, content, fragment):
+    urdf = tmp_path / "robot.urdf"
+    urdf.write_text(content)
+    code, out, err = run(capsys, "info", str(urdf))
+    assert_one_line_error(code, err, str(urdf), fragment)
+    assert out == "" and "hostname" not in err
+
+
+def test_the_parser_is_configured_against_entities():
+    from course_dynamics.urdf import xml_parser
+
+    from lxml import etree
+
+    text = b'<?xml version="1.0"?><!DOCTYPE r [<!ENTITY x SYSTEM "file:///etc/hostname">]><r>&x;</r>'
+    root = etree.fromstring(text, parser=xml_parser())
+    assert etree.tostring(root) == b"<r>&x;</r>"  # the reference stays a reference: nothing is read or substituted
+
+
+def test_non_utf8_urdf_names_the_byte(capsys, tmp_path):
+    urdf = tmp_path / "robot.urdf"
+    urdf.write_bytes(arm_urdf().replace('name="probe"', 'name="prøbe"').encode("latin-1"))
+    code, _, err = run(capsys, "info", str(urdf))
+    assert_one_line_error(code, err, "not UTF-8 (byte", "0xf8", "no other encoding is declared")
+
+
+def test_declared_encodings_are_honoured(tmp_path):
+    urdf = tmp_path / "robot.urdf"
+    urdf.write_bytes(arm_urdf().replace('<?xml version="1.0"?>', '<?xml version="1.0" encoding="UTF-16"?>')
+                     .encode("utf-16"))
+    assert load_urdf(urdf).n == 2
+
+
+def test_a_directory_a_fifo_and_a_huge_file_are_not_urdfs(capsys, tmp_path):
+    code, _, err = run(capsys, "info", str(tmp_path))
+    assert_one_line_error(code, err, "is a directory, not a URDF file")
+    fifo = tmp_path / "robot.urdf"
+    os.mkfifo(fifo)
+    code, _, err = run(capsys, "info", str(fifo))  # reading it would wait forever
+    assert_one_line_error(code, err, "not a regular file")
+    fifo.unlink()
+    with open(fifo, "wb") as handle:  # sparse: no disk used
+        handle.truncate(MAX_URDF_BYTES + 1)
+    code, _, err = run(capsys, "info", str(fifo))
+    assert_one_line_error(code, err, "more than a URDF file may be")
+
+
+def test_duplicate_joint_names_are_refused(capsys, tmp_path):
+    urdf = tmp_path / "robot.urdf"
+    urdf.write_text(arm_urdf().replace('name="joint2"', 'name="joint1"'))
+    code, _, err = run(capsys, "info", str(urdf))
+    assert_one_line_error(code, err, "two joints are named 'joint1'")
+
+
+def test_a_joint_without_origin_is_at_the_identity(tmp_path):
+    urdf = tmp_path / "robot.urdf"
+    urdf.write_text(arm_urdf().replace('<origin xyz="0 0 0.1" rpy="0 0 0"/><axis xyz="0 0 1"/>', '<axis xyz="0 0 1"/>', 1))
+    model = load_urdf(urdf)
+    np.testing.assert_array_equal(model.bodies[0].P, np.zeros(3))
+    np.testing.assert_array_equal(model.bodies[0].R0, np.eye(3))
+
+
+# ---------------------------------------------------------------------------- long chains
+
+def test_a_200_joint_chain_validates(capsys, tmp_path):
+    urdf = tmp_path / "chain.urdf"
+    urdf.write_text(chain_urdf(200))
+    code, out, _ = run(capsys, "validate", str(urdf), "--samples", "2", "--json")
+    assert code == 0 and json.loads(out)["ok"]
+
+
+def test_a_1000_joint_chain_is_computed_and_its_validation_refused_for_memory(capsys, tmp_path):
+    urdf = tmp_path / "chain.urdf"
+    urdf.write_text(chain_urdf(1000))
+    code, out, _ = run(capsys, "terms", str(urdf), "--q", ",".join(["0.01"] * 1000), "--json")
+    assert code == 0 and len(json.loads(out)["tau"]) == 1000  # no recursion limit reached, seconds not minutes
+    code, _, err = run(capsys, "validate", str(urdf))
+    assert_one_line_error(code, err, "robot 'chain' has 1000 joints", "GiB of memory")
+
+
+# ---------------------------------------------------------------------------- numbers
+
+@pytest.mark.parametrize("argv, fragment", [
+    (["terms", "two_link", "--q", "0,0", "--qd", "1e200,0"], "the result is not finite"),
+    (["terms", "two_link", "--q", "0,0", "--qd", "1e200,0", "--json"], "the result is not finite"),
+    (["trace", "two_link", "--q", "0,0", "--qd", "1e200,0"], "the result is not finite"),
+    (["cartesian", "ur5", "--frame", "tool0", "--q", "0,-1.2,1,-0.5,0.5,0", "--qd", "1e200,0,0,0,0,0"],
+     "the result is not finite"),
+    (["terms", "two_link", "--q", "0,,1"], "--q has an empty value in '0,,1'"),
+    (["terms", "two_link", "--q", "0.1,"], "--q has an empty value"),
+    (["validate", "two_link", "--tolerance", "nan"], "--tolerance must be a positive finite number, got nan"),
+    (["validate", "two_link", "--tolerance", "-1"], "--tolerance must be a positive finite number"),
+    (["report", "two_link", "--tolerance", "inf", "--out", "r"], "--tolerance must be a positive finite number"),
+])
+def test_numbers_out_of_range_are_errors_not_output(capsys, argv, fragment):
+    code, out, err = run(capsys, *argv)
+    assert_one_line_error(code, err, fragment)
+    assert out == ""
+
+
+@pytest.mark.parametrize("extra, fragment", [
+    (["--duration", "inf", "--dt", "0.01"], "duration must be a positive number of seconds, got inf"),
+    (["--duration", "1", "--dt", "1e-300"], "is 1e+300 steps; keeping them would need"),
+    (["--duration", "1e12", "--dt", "1e-6"], "EiB of memory"),
+    (["--duration", "0.1", "--dt", "0.01", "--qd0", "1e200,0"], "non-finite"),
+])
+def test_simulate_refuses_what_it_cannot_hold(capsys, tmp_path, extra, fragment):
+    out = tmp_path / "sim.csv"
+    code, _, err = run(capsys, "simulate", "two_link", "--q0", "0,0", "--out", str(out), "--quiet", *extra)
+    assert_one_line_error(code, err, fragment)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_huge_log_values_are_refused(capsys, tmp_path):
+    log, out = tmp_path / "log.csv", tmp_path / "tau.csv"
+    log.write_text("t,q_theta1,q_theta2,qd_theta1,qd_theta2,qdd_theta1,qdd_theta2\n0,0,0,1e300,0,0,0\n")
+    code, _, err = run(capsys, "torques", "two_link", "--log", str(log), "--out", str(out))
+    assert_one_line_error(code, err, "the torques overflow at t = 0 s")
+    assert not out.exists()
+
+
+# ---------------------------------------------------------------------------- symbolic output
+
+@pytest.mark.parametrize("name", ["__import__('os').system('id')", "a-b", "joint 2", "θ2"])
+def test_symbolic_paths_refuse_names_that_are_not_identifiers(capsys, tmp_path, name):
+    urdf = tmp_path / "robot.urdf"
+    urdf.write_text(arm_urdf().replace('name="joint2"', f'name="{name}"'))
+    for argv in (["derive", str(urdf), "--format", "json"], ["trace", str(urdf), "--symbolic"]):
+        code, out, err = run(capsys, *argv)
+        assert_one_line_error(code, err, "must be ASCII identifiers")
+        assert out == ""
+
+
+# ---------------------------------------------------------------------------- HTML and meshes
+
+HOSTILE_NAME = '</title><script>alert(1)</script>'
+
+
+def test_robot_and_joint_names_never_reach_html_unescaped(capsys, tmp_path):
+    import html
+
+    urdf = tmp_path / "robot.urdf"
+    text = arm_urdf().replace('name="probe"', f'name="{html.escape(HOSTILE_NAME)}"')
+    urdf.write_text(text.replace('name="joint2"', f'name="{html.escape(HOSTILE_NAME)}x"'))
+    trajectory = tmp_path / "t.csv"
+    joint = HOSTILE_NAME + "x"
+    trajectory.write_text(f"t,q_joint1,q_{joint}\n0,0,0\n0.1,0.1,0.1\n")
+    page = tmp_path / "a.html"
+    code, _, err = run(capsys, "animate", str(urdf), "--trajectory", str(trajectory), "--html", str(page))
+    assert code == 0, err
+    assert "<script>alert(1)" not in page.read_text()
+    plot = tmp_path / "tau.html"
+    code, _, err = run(capsys, "torques", str(urdf), "--log", str(trajectory), "--plot", str(plot), "--smooth", "5")
+    assert code == 2  # two rows are too few to differentiate; nothing written
+    log = tmp_path / "full.csv"
+    rows = "\n".join(f"{k * 0.01},0,0,0,0,0,0" for k in range(10))
+    log.write_text(f"t,q_joint1,q_{joint},qd_joint1,qd_{joint},qdd_joint1,qdd_{joint}\n{rows}\n")
+    code, _, err = run(capsys, "torques", str(urdf), "--log", str(log), "--plot", str(plot))
+    assert code == 0, err
+    assert "<script>alert(1)" not in plot.read_text()
+
+
+def mesh_urdf(filename: str) -> str:
+    visual = f'<visual><geometry><mesh filename="{filename}"/></geometry></visual>'
+    return arm_urdf().replace('<link name="link1">', '<link name="link1">' + visual)
+
+
+@pytest.mark.parametrize("filename, fragment", [
+    ("/etc/hostname", "lies outside the URDF's folder and its packages"),
+    ("../secret.stl", "lies outside the URDF's folder and its packages"),
+    ("package://pkg/../../../../../../etc/hostname", "lies outside"),
+    ("http://127.0.0.1:9/x.stl", "is a URL: meshes are never fetched"),
+    ("https://example.com/x.stl", "is a URL: meshes are never fetched"),
+])
+def test_meshes_outside_the_urdfs_folder_are_not_read(capsys, tmp_path, filename, fragment):
+    folder = tmp_path / "robot"
+    folder.mkdir()
+    (tmp_path / "secret.stl").write_text("solid secret\nendsolid secret\n")
+    urdf = folder / "robot.urdf"
+    urdf.write_text(mesh_urdf(filename))
+    trajectory = folder / "t.csv"
+    trajectory.write_text("t,q_joint1,q_joint2\n0,0,0\n0.1,0.1,0.1\n")
+    page = folder / "a.html"
+    code, _, err = run(capsys, "animate", str(urdf), "--trajectory", str(trajectory), "--html", str(page))
+    assert code == 0
+    warnings = [line for line in err.splitlines() if line.startswith("warning:")]
+    assert len(warnings) == 1 and fragment in warnings[0] and "stick model" in warnings[0]
+
+
+def test_meshes_outside_are_read_when_asked(capsys, tmp_path):
+    from course_dynamics.viewer import robot_geometry
+
+    (tmp_path / "part.stl").write_text("solid p\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
+                                       "vertex 0 1 0\nendloop\nendfacet\nendsolid p\n")
+    folder = tmp_path / "robot"
+    folder.mkdir()
+    urdf = folder / "robot.urdf"
+    urdf.write_text(mesh_urdf("../part.stl"))
+    model = load_urdf(urdf)
+    with pytest.warns(UserWarning, match="from outside the URDF's folder, as asked"):
+        geometry = robot_geometry(model, urdf, "visual", mesh_anywhere=True)
+    assert geometry.kind == "visual"
+
+
+# ---------------------------------------------------------------------------- outputs
+
+def test_out_dash_is_standard_output_not_a_file(capsys, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    code, out, _ = run(capsys, "simulate", "two_link", "--q0", "0,0", "--duration", "0.02", "--dt", "0.01", "--out", "-",
+                       "--quiet")
+    assert code == 0 and out.startswith("t,q_theta1") and not (tmp_path / "-").exists()
+
+
+def test_simulate_writes_nothing_when_a_later_output_fails(capsys, tmp_path):
+    out = tmp_path / "sim.csv"
+    code, _, err = run(capsys, "simulate", "two_link", "--q0", "0,0", "--duration", "0.02", "--dt", "0.01",
+                       "--out", str(out), "--plot", str(tmp_path / "plot.gif"), "--quiet")
+    assert_one_line_error(code, err, "plot.gif: a plot is written as .png, .svg")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_planted_link_at_the_html_target_is_replaced_not_followed(capsys, tmp_path):
+    victim = tmp_path / "victim.txt"
+    victim.write_text("precious")
+    page = tmp_path / "a.html"
+    page.symlink_to(victim)
+    trajectory = tmp_path / "t.csv"
+    trajectory.write_text("t,q_theta1,q_theta2\n0,0,0\n0.1,0.1,0.1\n")
+    code, _, _ = run(capsys, "animate", "two_link", "--trajectory", str(trajectory), "--html", str(page))
+    assert code == 0 and victim.read_text() == "precious"
+    assert not page.is_symlink() and page.read_text().startswith("<!DOCTYPE html>")
+    assert stat.S_IMODE(page.stat().st_mode) & 0o044  # follows the umask, not 0600
+
+
+@pytest.mark.parametrize("command", ["simulate", "torques"])
+def test_ctrl_c_exits_130_with_one_line_and_no_file(tmp_path, command):
+    out = tmp_path / "out.csv"
+    if command == "simulate":
+        argv = ["simulate", "ur5", "--q0", "0,-1,1,0,0.5,0", "--duration", "60", "--dt", "0.0005", "--no-compile",
+                "--out", str(out), "--quiet"]
+    else:
+        log = tmp_path / "log.csv"
+        t = np.arange(200_000) * 1e-3
+        q = 0.3 * np.sin(np.outer(t, np.arange(1, 7)))
+        np.savetxt(log, np.column_stack([t, q]), delimiter=",", comments="",
+                   header="t," + ",".join(f"q_{j}" for j in ("shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint",
+                                                              "wrist_1_joint", "wrist_2_joint", "wrist_3_joint")))
+        argv = ["torques", "ur5", "--log", str(log), "--out", str(out), "--no-compile"]
+    process = subprocess.Popen([sys.executable, "-m", "course_dynamics.cli", *argv], stdout=subprocess.PIPE,
+                               stderr=subprocess.PIPE, text=True)
+    time.sleep(2.5)
+    process.send_signal(signal.SIGINT)
+    _, err = process.communicate(timeout=60)
+    assert process.returncode == 130, err
+    assert err == "error: interrupted\n"
+    assert not out.exists() and not [p for p in tmp_path.iterdir() if p.name.endswith(".partial")]
