@@ -14,6 +14,7 @@ BENCHMARKS = Path(__file__).resolve().parent.parent / "benchmarks"
     ("bench_performance.py", ["--batch", "20", "--repeat", "1", "--duration", "0.01", "--members", "3"],
      "one ensemble, compiled / aba for every member"),
     ("bench_symbolic.py", ["--robots", "rp_arm"], "rp_arm"),
+    ("bench_torques.py", ["--rows", "500", "--repeat", "1"], "tau stage, ours / Pinocchio"),
 ])
 def test_benchmark_runs(script, args, expected):
     result = subprocess.run([sys.executable, str(BENCHMARKS / script), *args], capture_output=True, text=True,

@@ -160,9 +160,19 @@ def check_oracle_memory(model) -> None:
                          "('terms' computes one state of it with our library alone)")
 
 
-def check_tolerance(value: float) -> None:
-    if not (np.isfinite(value) and value > 0):
-        raise UsageError(f"--tolerance must be a positive finite number, got {value}")
+def add_sampling_arguments(parser, tolerance: float) -> None:
+    """--samples, --seed, --tolerance: the seeded random states of a comparison with Pinocchio."""
+    parser.add_argument("--samples", type=int, default=200, help="random states per robot (default 200)")
+    parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    parser.add_argument("--tolerance", type=float, default=tolerance, help=f"relative tolerance (default {tolerance:g})")
+
+
+def check_sampling(args) -> None:
+    """At least one sample, and a tolerance that is a positive finite number."""
+    if args.samples < 1:
+        raise UsageError("--samples must be at least 1")
+    if not (np.isfinite(args.tolerance) and args.tolerance > 0):
+        raise UsageError(f"--tolerance must be a positive finite number, got {args.tolerance}")
 
 
 def print_json(document) -> None:

@@ -9,8 +9,9 @@ from course_dynamics_reference import TOLERANCE
 from ..options import (
     UsageError,
     add_robot_argument,
+    add_sampling_arguments,
     check_oracle_memory,
-    check_tolerance,
+    check_sampling,
     gravity,
     load_robot_argument,
     progress_bar,
@@ -26,18 +27,14 @@ DESCRIPTION = ("For each ROBOT: the largest and median error of tau, M, C, V, G 
 def add_arguments(parser) -> None:
     add_robot_argument(parser, nargs="+", help="URDF files or shipped robot names")
     parser.add_argument("--out", required=True, help="output folder (made if missing)")
-    parser.add_argument("--samples", type=int, default=200, help="random states per robot (default 200)")
-    parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
-    parser.add_argument("--tolerance", type=float, default=TOLERANCE, help=f"relative tolerance (default {TOLERANCE:g})")
+    add_sampling_arguments(parser, TOLERANCE)
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
 def run(args) -> int:
     from ... import io
 
-    if args.samples < 1:
-        raise UsageError("--samples must be at least 1")
-    check_tolerance(args.tolerance)
+    check_sampling(args)
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise UsageError(f"{out}: exists and is not a directory")

@@ -6,10 +6,10 @@ import sys
 from course_dynamics_reference import TERMS, TOLERANCE
 
 from ..options import (
-    UsageError,
     add_robot_argument,
+    add_sampling_arguments,
     check_oracle_memory,
-    check_tolerance,
+    check_sampling,
     gravity,
     load_robot_argument,
     print_json,
@@ -24,16 +24,12 @@ DESCRIPTION = ("Evaluate tau, M, C, V, G with course_dynamics and with Pinocchio
 
 def add_arguments(parser) -> None:
     add_robot_argument(parser, nargs="*", help="URDF files or robot names (default: every shipped robot)")
-    parser.add_argument("--samples", type=int, default=200, help="random states per robot (default 200)")
-    parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
-    parser.add_argument("--tolerance", type=float, default=TOLERANCE, help=f"relative tolerance (default {TOLERANCE:g})")
+    add_sampling_arguments(parser, TOLERANCE)
     parser.add_argument("--json", action="store_true", help="print the report as JSON")
 
 
 def run(args) -> int:
-    if args.samples < 1:
-        raise UsageError("--samples must be at least 1")
-    check_tolerance(args.tolerance)
+    check_sampling(args)
     # The oracle is imported by this command only, so the library itself never loads Pinocchio.
     from course_dynamics_reference.validate import (
         bundled_targets,
