@@ -263,3 +263,17 @@ def test_bad_grade_arguments(tmp_path, monkeypatch, capsys, argv, message):
     code = main(argv)
     err = capsys.readouterr().err
     assert code == 2 and message in err and err.count("\n") == 1, err
+
+
+def test_grading_from_a_python_installed_under_tmp(tmp_path):
+    """A venv in /tmp (as CI makes one) stays visible in the sandbox, whose own /tmp is private."""
+    import subprocess
+    import sys
+
+    venv = tmp_path / "venv"
+    subprocess.run([sys.executable, "-m", "venv", "--system-site-packages", str(venv)], check=True)
+    paths = write_class(tmp_path, {"closed_forms": SCORING["closed_forms"][0]})
+    result = subprocess.run([venv / "bin" / "python", "-m", "course_dynamics.cli", "grade", str(tmp_path / "assignment.toml"),
+                             *map(str, paths), "--out", str(tmp_path / "out"), "--json"], capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    assert json.loads(result.stdout)["students"][0]["total"] == 100.0

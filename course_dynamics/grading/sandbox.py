@@ -134,8 +134,10 @@ def _system_binds() -> list[str]:
 
 
 def _sandbox_command(bwrap: str, submission: Path, results_fd: int) -> list[str]:
-    return [bwrap, *_namespaces(), *_system_binds(),
+    # The private /tmp comes before the binds: a Python installed under /tmp (a venv there) is bound on top of it.
+    return [bwrap, *_namespaces(),
             "--size", str(SCRATCH_BYTES), "--tmpfs", "/scratch", "--size", str(SCRATCH_BYTES), "--tmpfs", "/tmp",
+            *_system_binds(),
             "--ro-bind", str(submission), f"/submission/{submission.name}",
             "--ro-bind", str(HARNESS), "/harness/harness.py", "--chdir", "/scratch",
             "--", sys.executable, "-I", "/harness/harness.py", str(results_fd)]
