@@ -61,6 +61,31 @@ def _is_streamed(path: Path) -> bool:
     return not stat.S_ISREG(mode)
 
 
+def check_distinct(inputs, outputs) -> None:
+    """InputError when an output would overwrite an input or another output (the same file by any name)."""
+    def key(path):
+        path = Path(path)
+        try:
+            st = os.stat(path)
+            return ("inode", st.st_dev, st.st_ino) if stat.S_ISREG(st.st_mode) else None
+        except OSError:
+            return ("path", str(path.resolve()))
+
+    seen = {}
+    for role, paths in (("input", inputs), ("output", outputs)):
+        for path in paths:
+            if path is None or str(path) == STDOUT or _is_streamed(Path(path)):
+                continue
+            k = key(path)
+            if k is None:
+                continue
+            if k in seen and role == "output":
+                first_role, first = seen[k]
+                raise InputError(f"{path}: the output would overwrite the input {first}" if first_role == "input"
+                                 else f"{path}: named for two outputs ({first} and {path} are the same file)")
+            seen.setdefault(k, (role, path))
+
+
 def check_writable(path) -> None:
     """Fail before long work if ``path`` cannot be written (InputError naming it)."""
     path = Path(path)
@@ -234,7 +259,8 @@ def read_table(path, comment: str = "#") -> Table:
     """Read a delimited numeric table, as trajectory logs come.
 
     Accepted: comma, semicolon or tab as delimiter (sniffed from the header; with
-    semicolons or tabs a decimal comma is read too), UTF-8 with or without BOM,
+    semicolons or tabs a decimal comma is read too; a separator after the last
+    column is ignored), UTF-8 with or without BOM,
     UTF-16 with BOM, Latin-1, CRLF line ends, blank lines and lines starting with
     ``comment`` anywhere. Every cell must be a finite number.
 
@@ -258,6 +284,12 @@ def read_table(path, comment: str = "#") -> Table:
         raise InputError(f"{path}: empty file, expected a header row")
     (header_line_number, header_line), rows = numbered[0], numbered[1:]
     delimiter = _sniff(header_line)
+    if header_line.rstrip(" \r\n").endswith(delimiter):  # a separator after the last column, as some exports write
+        def cut(line):
+            line = line.rstrip(" \r\n")
+            return line[:-1] if line.endswith(delimiter) else line
+
+        header_line, rows = cut(header_line), [(n, cut(line)) for n, line in rows]
     header = tuple(name.strip().strip('"').strip() for name in header_line.split(delimiter))
     for c, name in enumerate(header):
         if not name:

@@ -37,7 +37,7 @@ from .model import Model
 
 @dataclass(frozen=True)
 class Payload:
-    """A point or box mass fixed to link ``link`` (None: the link of the last joint)."""
+    """A point or box mass fixed to link ``link`` (None: the tip, see :func:`payload_link`)."""
 
     mass: float
     link: str | None = None
@@ -63,8 +63,11 @@ class Payload:
 
 
 def payload_link(model: Model, payload: Payload) -> str:
-    """The link a payload is fixed to: the one it names, else the last joint's link."""
-    return payload.link if payload.link is not None else model.bodies[-1].name
+    """The link a payload is fixed to: the one it names, else the tip — the last URDF link carried
+    by the last moving body (a tool frame such as UR5's ``tool0`` where the URDF has one)."""
+    if payload.link is not None:
+        return payload.link
+    return [f.name for f in model.frames if f.body == model.n - 1][-1]
 
 
 def with_payload(model: Model, payload: Payload) -> Model:

@@ -137,6 +137,8 @@ def parse_column_map(text: str) -> dict[str, str]:
         ours, sep, theirs = item.partition("=")
         if not sep or not ours.strip() or not theirs.strip():
             raise InputError(f"column map entry '{item}' must be ours=theirs, e.g. q_joint1=joint1_pos")
+        if ours.strip() in mapping:
+            raise InputError(f"column map: '{ours.strip()}' is mapped twice")
         mapping[ours.strip()] = theirs.strip()
     return mapping
 
@@ -166,8 +168,12 @@ def _even_step(t: np.ndarray, where: str, line) -> float:
     return dt
 
 
+TIME_UNITS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9}
+
+
 def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[str, str] | None = None,
-              window: int | None = None) -> JointLog:
+              window: int | None = None, constants: Mapping[str, float] | None = None,
+              time_unit: str = "s") -> JointLog:
     """Θ, Θ̇, Θ̈ of ``model``'s joints from a log (module docstring).
 
     Parameters
@@ -176,12 +182,16 @@ def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[
     dt : float, s — the sample step of a log without a ``t`` column
     columns : our column name → the log's
     window : odd int — Savitzky–Golay window in samples (default: about 20 ms)
+    constants : our column name → a value for every row, for signals the log lacks
+        (e.g. ``{"q_panda_finger_joint1": 0.04}``; a constant q has zero rates)
+    time_unit : the unit of the log's ``t`` column: s, ms, us or ns
 
     Raises
     ------
     InputError
-        A mapped or needed column that is missing, a column of the wrong length, some joints
-        with rates and others without, t not increasing or unevenly spaced, a bad ``dt`` or window.
+        A mapped or needed column that is missing, a column of the wrong length, two of our
+        columns mapped to one of the log's, t not increasing or unevenly spaced, a bad ``dt``,
+        time unit or window.
     """
     data, where = as_columns(table)
     lines = table.lines if isinstance(table, io.Table) else None
@@ -189,30 +199,44 @@ def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[
     def line(row: int) -> str:
         return f"line {int(lines[row])}" if lines is not None else f"row {row + 1}"
 
-    columns = dict(columns or {})
+    columns, constants = dict(columns or {}), dict(constants or {})
+    if time_unit not in TIME_UNITS:
+        raise InputError(f"unknown time unit '{time_unit}' (choose from {', '.join(TIME_UNITS)})")
     ours = ["t"] + io.joint_columns(KINDS, model.joint_names)
-    for name, theirs in columns.items():
+    for name in list(columns) + list(constants):
         if name not in ours:
             raise InputError(f"column map: '{name}' is none of our columns (t, q_<joint>, qd_<joint>, qdd_<joint> "
                              f"for joints {', '.join(model.joint_names)})")
+    for name, theirs in columns.items():
         if theirs not in data:
             raise InputError(f"{where}: no column '{theirs}' (mapped from {name}); columns: {', '.join(data)}")
+    taken = [theirs for theirs in columns.values()]
+    for theirs in set(taken):
+        if taken.count(theirs) > 1:
+            both = [name for name, other in columns.items() if other == theirs]
+            raise InputError(f"column map: {' and '.join(both)} are both mapped to the log's column '{theirs}'")
+    for name, value in constants.items():
+        if not np.isfinite(value):
+            raise InputError(f"the constant value of {name} must be finite, got {value}")
+        if name in columns or name in data:
+            raise InputError(f"{name} is both given a constant value and read from {where}")
     renamed = {name: data[columns.get(name, name)] for name in ours if columns.get(name, name) in data}
     lengths = {len(v) for v in renamed.values()}
     if len(lengths) > 1:
         raise InputError(f"{where}: columns have different lengths {sorted(lengths)}")
+    samples = lengths.pop() if lengths else 0
+    for name, value in constants.items():
+        renamed[name] = np.full(samples, float(value))
+        if name.startswith("q_"):  # a joint held still: its rates are zero unless given
+            for kind in ("qd", "qdd"):
+                renamed.setdefault(f"{kind}_{name[2:]}", np.zeros(samples))
 
     present = {kind: [f"{kind}_{j}" in renamed for j in model.joint_names] for kind in KINDS}
     if not all(present["q"]):
         missing = [f"q_{j}" for j, p in zip(model.joint_names, present["q"]) if not p]
-        raise InputError(f"{where}: missing columns: {', '.join(missing)} (a column map, --map, can name the log's own)")
-    for kind in ("qd", "qdd"):
-        if any(present[kind]) and not all(present[kind]):
-            missing = [f"{kind}_{j}" for j, p in zip(model.joint_names, present[kind]) if not p]
-            raise InputError(f"{where}: {kind} is given for some joints but not for {', '.join(missing)}: "
-                             f"give all of them or none (then they are differentiated)")
+        raise InputError(f"{where}: missing columns: {', '.join(missing)} (a column map can name the log's own; "
+                         f"a joint the log does not record can be given a constant)")
     q = io.stack_joint_columns(renamed, "q", model.joint_names)
-    samples = len(q)
     if samples == 0:
         raise InputError(f"{where}: no data rows")
     for name, values in renamed.items():
@@ -223,8 +247,8 @@ def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[
 
     if "t" in renamed:
         if dt is not None:
-            raise InputError(f"{where} has a time column; --dt (dt) is only for logs without one")
-        t = renamed["t"]
+            raise InputError(f"{where} has a time column; dt (--dt) is only for logs without one")
+        t = renamed["t"] * TIME_UNITS[time_unit]
         steps = np.diff(t)
         if np.any(steps <= 0):
             row = int(np.flatnonzero(steps <= 0)[0]) + 1
@@ -232,14 +256,19 @@ def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[
                              f"(t must increase)")
     else:
         if dt is None:
-            raise InputError(f"{where}: no column 't' (map one, or give the sample step --dt for a log without times)")
+            raise InputError(f"{where}: no column 't' (map one, or give the sample step dt (--dt) for a log without "
+                             f"times)")
         if not (np.isfinite(dt) and dt > 0):
             raise InputError(f"dt must be a positive number of seconds, got {dt}")
         t = np.arange(samples) * float(dt)
 
     notes = []
-    need_qd, need_qdd = not all(present["qd"]), not all(present["qdd"])
-    if need_qd or need_qdd:
+    given = {kind: {j for j, p in zip(model.joint_names, present[kind]) if p} for kind in ("qd", "qdd")}
+    derived_qd = [j for j in model.joint_names if j not in given["qd"]]
+    derived_qdd = [j for j in model.joint_names if j not in given["qdd"]]
+    qd = np.empty_like(q)
+    qdd = np.empty_like(q)
+    if derived_qd or derived_qdd:
         from scipy.signal import savgol_filter
 
         if samples < 2:
@@ -251,37 +280,55 @@ def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[
         def derivative(y, order):
             return savgol_filter(y, w, POLYORDER, deriv=order, delta=step, axis=0, mode="interp")
 
-    if need_qd:
-        qd = derivative(q, 1)
-        notes.append(f"qd: first {how} of q")
-    else:
-        qd = io.stack_joint_columns(renamed, "qd", model.joint_names)
-    if need_qdd:
-        qdd = derivative(q, 2) if need_qd else derivative(qd, 1)
-        notes.append(f"qdd: {'second ' + how + ' of q' if need_qd else 'first ' + how + ' of qd'}")
-    else:
-        qdd = io.stack_joint_columns(renamed, "qdd", model.joint_names)
+    def which(joints):
+        return "" if len(joints) == model.n else f" (joints {', '.join(joints)})"
+
+    for i, j in enumerate(model.joint_names):
+        qd[:, i] = renamed[f"qd_{j}"] if j in given["qd"] else derivative(q[:, i], 1)
+        if j in given["qdd"]:
+            qdd[:, i] = renamed[f"qdd_{j}"]
+        else:
+            qdd[:, i] = derivative(qd[:, i], 1) if j in given["qd"] else derivative(q[:, i], 2)
+    if derived_qd:
+        notes.append(f"qd: first {how} of q{which(derived_qd)}")
+    from_q = [j for j in derived_qdd if j not in given["qd"]]
+    from_qd = [j for j in derived_qdd if j in given["qd"]]
+    if from_q:
+        notes.append(f"qdd: second {how} of q{which(from_q)}")
+    if from_qd:
+        notes.append(f"qdd: first {how} of qd{which(from_qd)}")
+    for name, value in constants.items():
+        notes.append(f"{name} = {value:g} throughout (not in the log)")
     return JointLog(t=t, q=q, qd=qd, qdd=qdd, notes=tuple(notes))
 
 
+def _as_list(value) -> list:
+    if value is None:
+        return []
+    return list(value) if isinstance(value, (list, tuple)) else [value]
+
+
 def torques_from_log(model: Model, table, *, dt: float | None = None, columns: Mapping[str, str] | None = None,
-                     window: int | None = None, gravity=None, friction: Friction | None = None,
-                     payload: Payload | None = None, wrench: Wrench | None = None,
+                     window: int | None = None, constants: Mapping[str, float] | None = None, time_unit: str = "s",
+                     gravity=None, friction: Friction | None = None, payload=None, wrench=None,
                      compiled: bool | None = None) -> TorqueLog:
     """The joint torques a logged motion needs, and whether they and its rates stay within the URDF's limits.
 
     τ = M(Θ)Θ̈ + V(Θ,Θ̇) + G(Θ) (Newton–Euler, (6.45)–(6.53)) + F(Θ̇) (friction, (6.114))
-    + Jᵀ F_ext (a wrench at a frame, (6.105)), on the model with ``payload`` lumped in
-    and under ``gravity`` (3,) m/s² if given. ``compiled``: None compiles the model for
-    logs of :data:`COMPILE_FROM_ROWS` rows or more; True/False force it.
-    Other parameters as :func:`joint_log`. Returns a :class:`TorqueLog`: ``tau`` (N, n),
-    ``report`` (:class:`~course_dynamics.limits.LimitsReport`), ``notes``.
+    + Σ Jᵀ F_ext (wrenches at frames, (6.105)), on the model with every ``payload`` lumped
+    in and under ``gravity`` (3,) m/s² if given. ``payload``: a :class:`~course_dynamics.loads.Payload`
+    or a list of them; ``wrench``: a :class:`~course_dynamics.loads.Wrench` or a list.
+    ``compiled``: None compiles the model for logs of :data:`COMPILE_FROM_ROWS` rows or more;
+    True/False force it. Other parameters as :func:`joint_log`.
+
+    Returns a :class:`TorqueLog`: ``tau`` (N, n); ``log`` with ``t``, ``q``, ``qd``, ``qdd`` as
+    used; ``report`` (:class:`~course_dynamics.limits.LimitsReport`); ``notes``; ``table()``.
     """
     if gravity is not None:
         model = model.with_gravity(gravity)
-    if payload is not None:
-        model = with_payload(model, payload)
-    log = joint_log(model, table, dt=dt, columns=columns, window=window)
+    for load in _as_list(payload):
+        model = with_payload(model, load)
+    log = joint_log(model, table, dt=dt, columns=columns, window=window, constants=constants, time_unit=time_unit)
     if compiled is None:
         compiled = len(log.t) >= COMPILE_FROM_ROWS
     if compiled:
@@ -292,10 +339,11 @@ def torques_from_log(model: Model, table, *, dt: float | None = None, columns: M
         tau = inverse_dynamics(model, log.q, log.qd, log.qdd)
     if friction is not None:
         tau = tau + friction.torques(log.qd)                         # (6.114)
-    if wrench is not None:
-        tau = tau + wrench_torques(model, log.q, wrench)            # (6.105)
+    for push in _as_list(wrench):
+        tau = tau + wrench_torques(model, log.q, push)              # (6.105)
     if not np.all(np.isfinite(tau)):
         row = int(np.flatnonzero(~np.all(np.isfinite(tau), axis=1))[0])
-        raise InputError(f"the torques overflow at t = {log.t[row]:.9g} s (row {row + 1}): the log's values are too "
+        where = f"line {int(table.lines[row])} of {table.path}" if isinstance(table, io.Table) else f"row {row + 1}"
+        raise InputError(f"the torques overflow at t = {log.t[row]:.9g} s ({where}): the log's values there are too "
                          f"large to give finite torques")
     return TorqueLog(log=log, tau=tau, report=limits_report(model, log.t, log.qd, tau), model=model)

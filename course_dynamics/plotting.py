@@ -132,14 +132,16 @@ def torque_figure(result, title: str = ""):
         else:
             used = "no effort limit in the URDF"
         for v in report.violations:
-            if v.joint == name and v.kind == "effort":
-                axis.axvspan(v.start, v.end, color="tab:red", alpha=0.3, linewidth=0)
+            if v.joint == name:
+                axis.axvspan(v.start, v.end, color="tab:red" if v.kind == "effort" else "tab:orange", alpha=0.3,
+                             linewidth=0)
         axis.set_ylabel(f"τ {name}", fontsize="small")
         axis.set_title(f"{name}: peak {report.peak_tau[j]:.4g}, rms {report.rms_tau[j]:.4g} ({used})",
                        fontsize="small", loc="left")
         axis.grid(alpha=0.3)
     axes[-1, 0].set_xlabel("t (s)")
-    figure.suptitle(title or f"{model.name}: joint torques (N m, or N for prismatic joints); red: beyond the effort limit")
+    figure.suptitle(title or f"{model.name}: joint torques (N m, or N for prismatic joints)\n"
+                             "red bands: the effort limit; shaded in time: red beyond it, orange beyond the velocity limit")
     return figure
 
 
@@ -151,13 +153,16 @@ def torques_page(result, title: str = "") -> str:
     plt.close(figure)
     svg = svg[svg.index("<svg"):]  # drop the XML prolog: the page is HTML
 
-    def cell(x):
-        return "–" if x is None else (f"{x:.4g}" if isinstance(x, float) else html.escape(str(x)))
+    def cell(x, share=False):
+        if x is None:
+            return "–"
+        if share:
+            return f"{100 * x:.0f}%"
+        return f"{x:.4g}" if isinstance(x, float) else html.escape(str(x))
 
     header = ("joint", "peak |τ|", "RMS τ", "effort limit", "used", "peak |q̇|", "velocity limit", "used")
-    rows = "".join("<tr>" + "".join(f"<td>{cell(r[k])}</td>" for k in ("joint", "peak_tau", "rms_tau", "effort_limit",
-                                                                          "effort_used", "peak_qd", "velocity_limit",
-                                                                          "velocity_used")) + "</tr>"
+    keys = ("joint", "peak_tau", "rms_tau", "effort_limit", "effort_used", "peak_qd", "velocity_limit", "velocity_used")
+    rows = "".join("<tr>" + "".join(f"<td>{cell(r[k], k.endswith('_used'))}</td>" for k in keys) + "</tr>"
                    for r in result.report.rows())
     violations = "".join(f"<li>{html.escape(v.describe())}</li>" for v in result.report.violations)
     notes = "".join(f"<li>{html.escape(n)}</li>" for n in result.notes)

@@ -126,7 +126,7 @@ def test_bad_arguments(capsys, argv, fragments):
 
 @pytest.mark.parametrize("edit, fragment", [
     (lambda h, rows: (h.replace(",qdd_theta2", ""), [r.rsplit(",", 1)[0] for r in rows]),
-     "qdd is given for some joints but not for qdd_theta2"),
+     "3 rows are too few to differentiate"),  # qdd_theta2 would be differentiated, from three samples
     (lambda h, rows: (h.replace(",q_theta2", ""), [",".join(r.split(",")[:2] + r.split(",")[3:]) for r in rows]),
      "missing columns: q_theta2"),
     (lambda h, rows: (h + ",t", [r + ",1" for r in rows]), "line 1: column 't' appears twice"),

@@ -119,13 +119,18 @@ def test_a_log_without_times_takes_dt_and_with_state_writes_the_state(capsys, tm
     (("--payload", "2@tool0,1,2"), "the centre of mass needs three numbers"),
     (("--payload", "-2"), "payload mass must be a positive number"),
     (("--payload", "2@nowhere"), "robot 'ur5' has no link or frame 'nowhere'"),
+    (("--payload", "1", "--payload", "2", "--payload-size", "1,1,1"), "--payload-size describes one payload"),
+    (("--map", "t=time_s", "--map", "t=time_s"), "--map: 't' is mapped twice"),
+    (("--set", "q_wrist_3_joint"), "--set entries must be OURS=VALUE"),
+    (("--set", "q_wrist_3_joint=0"), "q_wrist_3_joint is both given a constant value and read"),
+    (("--time-unit", "h"), "argument --time-unit: invalid choice"),
     (("--payload-size", "1,1,1"), "--payload-size needs --payload"),
     (("--wrench", "tool0:1,2"), "--wrench must be LINK:FX,FY,FZ[,NX,NY,NZ]"),
     (("--wrench", "nowhere:1,2,3"), "no link or frame 'nowhere'"),
     (("--smooth", "8"), "odd number of samples"),
     (("--map", "q_elbow=joint3_pos"), "'q_elbow' is none of our columns"),
     (("--map", "q_elbow_joint"), "must be ours=theirs"),
-    (("--dt", "0.002"), "has a time column; --dt"),
+    (("--dt", "0.002"), "has a time column; dt (--dt) is only for logs without one"),
     (("--gravity", "0,0"), "--gravity needs three finite numbers"),
     (("--out", "-", "--json"), "--out - and --json both want standard output"),
 ])
@@ -138,4 +143,64 @@ def test_bad_options(capsys, tmp_path, extra, fragment):
 
 def test_positions_only_without_a_map_names_the_missing_columns(capsys):
     code, _, err = run(capsys, "torques", "ur5", "--log", str(LOG))
-    assert_one_line_error(code, err, str(LOG), "missing columns: q_shoulder_pan_joint", "--map")
+    assert_one_line_error(code, err, str(LOG), "missing columns: q_shoulder_pan_joint", "a column map can name")
+
+
+def test_an_output_never_overwrites_the_log_or_another_output(capsys, tmp_path):
+    log = tmp_path / "log.csv"
+    log.write_bytes(LOG.read_bytes())
+    code, _, err = run(capsys, "torques", "ur5", "--log", str(log), "--map", str(MAP), "--out", str(log))
+    assert_one_line_error(code, err, "the output would overwrite the input")
+    assert log.read_bytes() == LOG.read_bytes()
+    code, _, err = run(capsys, *sample("--out", str(tmp_path / "x.png"), "--plot", str(tmp_path / "x.png")))
+    assert_one_line_error(code, err, "named for two outputs")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["log.csv"]
+
+
+def test_repeated_payloads_and_wrenches_all_count(capsys, tmp_path):
+    out = tmp_path / "tau.csv"
+    code, _, _ = run(capsys, *sample("--out", str(out), "--payload", "2", "--payload", "1@wrist_1_link,0,0,0.1",
+                                     "--wrench", "tool0:0,0,-15", "--wrench", "wrist_2_link:3,0,0,0,0,1"))
+    assert code == 0
+    model = load_robot("ur5")
+    expected = torques_from_log(model, io.read_table(LOG), columns=parse_column_map(str(MAP)),
+                                payload=[Payload(2.0), Payload(1.0, "wrist_1_link", (0, 0, 0.1))],
+                                wrench=[Wrench("tool0", (0, 0, -15)), Wrench("wrist_2_link", (3, 0, 0), (0, 0, 1))])
+    np.testing.assert_array_equal(io.read_table(out).data[:, 1:], expected.tau)
+    header = [line for line in out.read_text().splitlines() if line.startswith("#")]
+    assert "# payload 2 kg at tool0, centre [0.0, 0.0, 0.0] m, point mass" in header
+    assert sum(line.startswith("# wrench at") for line in header) == 2
+
+
+def test_a_controller_export_in_milliseconds_with_unlogged_fingers(capsys, tmp_path):
+    """Panda logs record seven arm joints; the fingers are held with --set, t is in ms, lines end in ';'."""
+    model = load_robot("panda")
+    arm = [j for j in model.joint_names if "finger" not in j]
+    t = np.arange(0, 2, 0.004)
+    q = 0.2 * np.sin(np.outer(t, np.arange(1, 8))) + [0, -0.8, 0, -2.3, 0, 1.6, 0.8]
+    lines = ["time_ms;" + ";".join(f"q{i + 1}" for i in range(7)) + ";"]
+    lines += [f"{1000 * a:.0f};" + ";".join(repr(float(x)) for x in row) + ";" for a, row in zip(t, q)]
+    log, out = tmp_path / "franka.csv", tmp_path / "tau.csv"
+    log.write_text("\n".join(lines) + "\n")
+    mapping = ",".join(["t=time_ms"] + [f"q_{j}=q{i + 1}" for i, j in enumerate(arm)])
+    argv = ["torques", "panda", "--log", str(log), "--map", mapping, "--out", str(out),
+            "--set", "q_panda_finger_joint1=0.02,q_panda_finger_joint2=0.02"]
+    code, report, err = run(capsys, *argv)
+    assert "warning: the samples are 4 s apart; if t is not in seconds, give --time-unit" in err
+    code, report, err = run(capsys, *argv, "--time-unit", "ms")
+    assert "warning" not in err and "500 samples over 1.996 s" in report
+    fingers = {f"q_{j}": 0.02 for j in model.joint_names if "finger" in j}
+    expected = torques_from_log(model, {"t": t, **{f"q_{j}": q[:, i] for i, j in enumerate(arm)}}, constants=fingers)
+    np.testing.assert_allclose(io.read_table(out).data[:, 1:], expected.tau, rtol=1e-9, atol=1e-9)
+
+
+def test_columns_names_what_is_missing(capsys):
+    code, out, _ = run(capsys, "torques", "panda", "--log", str(LOG), "--columns", "--map", "t=time_s")
+    assert code == 0
+    assert "missing (map them, or --set a constant): q_panda_joint1," in out
+    assert "qd, qdd: differentiated from q for every joint" in out
+
+
+def test_streamed_csv_comes_after_the_report(capsys):
+    code, out, err = run(capsys, *sample("--out", "-", "--payload", "20"))
+    assert code == 1 and "a limit is exceeded" in err and out.lstrip().startswith("#")

@@ -53,10 +53,10 @@ def test_wrench_torques_batch_equals_single_states():
         np.testing.assert_allclose(batch[k], wrench_torques(model, q[k], wrench), rtol=1e-14, atol=1e-14)
 
 
-def test_payload_defaults_to_the_last_joints_link_and_a_point_mass():
-    model = load_urdf(urdf_of("two_link"))
+def test_payload_defaults_to_the_tip_and_a_point_mass():
     payload = Payload(mass=1.0)
-    assert payload_link(model, payload) == model.bodies[-1].name
+    assert payload_link(load_urdf(urdf_of("ur5")), payload) == "tool0"
+    assert payload_link(load_urdf(urdf_of("two_link")), payload) == tip_frame(load_urdf(urdf_of("two_link")))
     np.testing.assert_array_equal(payload.inertia(), np.zeros((3, 3)))
     np.testing.assert_array_equal(Payload(mass=12.0, size=(1, 2, 3)).inertia(), box(12.0, 1, 2, 3))
 

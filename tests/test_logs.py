@@ -123,10 +123,6 @@ def test_bad_column_maps(mapping, fragment):
 def test_inconsistent_logs_are_refused():
     model = load_robot("two_link")
     t, q, qd, _ = sine_motion(dt=0.01)
-    partial = columns(t, q)
-    partial["qd_theta1"] = qd[:, 0]
-    with pytest.raises(InputError, match="qd is given for some joints but not for qd_theta2"):
-        joint_log(model, partial)
     with pytest.raises(InputError, match="missing columns: q_theta2"):
         joint_log(model, {"t": t, "q_theta1": q[:, 0]})
     backwards = columns(t.copy(), q)
@@ -199,3 +195,43 @@ def test_overflowing_values_are_refused_not_written_as_nan():
     qd[3] = 1e200
     with pytest.raises(InputError, match="torques overflow at t = 0.03 s"):
         torques_from_log(model, columns(t, q, qd, qdd))
+
+
+def test_rates_given_for_some_joints_are_used_and_the_others_differentiated():
+    model = load_robot("two_link")
+    t, q, qd, qdd = sine_motion()
+    partial = columns(t, q)
+    partial["qd_theta1"] = qd[:, 0]
+    log = joint_log(model, partial)
+    np.testing.assert_array_equal(log.qd[:, 0], qd[:, 0])
+    np.testing.assert_allclose(log.qd[:, 1], qd[:, 1], atol=1e-5 * np.abs(qd).max())
+    np.testing.assert_allclose(log.qdd, qdd, atol=1e-3 * np.abs(qdd).max())
+    assert log.notes[0].endswith("of q (joints theta2)")
+    assert any(n.startswith("qdd: first") and n.endswith("of qd (joints theta1)") for n in log.notes)
+
+
+def test_time_units_and_constants_for_unlogged_joints():
+    model = load_robot("panda")
+    arm = [j for j in model.joint_names if "finger" not in j]
+    t = np.arange(0, 1, 0.004)
+    q = 0.3 * np.sin(np.outer(t, np.arange(1, 8)))
+    log = {"t_ms": t * 1000, **{f"q_{j}": q[:, i] for i, j in enumerate(arm)}}
+    fingers = {f"q_{j}": 0.02 for j in model.joint_names if "finger" in j}
+    result = torques_from_log(model, log, columns={"t": "t_ms"}, time_unit="ms", constants=fingers)
+    np.testing.assert_allclose(result.t, t)
+    held = [model.joint_names.index(j) for j in model.joint_names if "finger" in j]
+    assert np.all(result.log.q[:, held] == 0.02) and np.all(result.log.qd[:, held] == 0)
+    assert any("q_panda_finger_joint1 = 0.02 throughout" in n for n in result.notes)
+    with pytest.raises(InputError, match="unknown time unit 'min'"):
+        joint_log(model, log, columns={"t": "t_ms"}, time_unit="min", constants=fingers)
+    with pytest.raises(InputError, match="both given a constant value and read"):
+        joint_log(model, log, columns={"t": "t_ms"}, constants={f"q_{arm[0]}": 0.0})
+
+
+def test_one_log_column_for_two_of_ours_and_a_key_mapped_twice_are_refused():
+    t, q, _, _ = sine_motion(dt=0.01)
+    log = {"t": t, "a": q[:, 0]}
+    with pytest.raises(InputError, match="q_theta1 and q_theta2 are both mapped to the log's column 'a'"):
+        joint_log(load_robot("two_link"), log, columns={"q_theta1": "a", "q_theta2": "a"})
+    with pytest.raises(InputError, match="'q_theta1' is mapped twice"):
+        parse_column_map("q_theta1=a,q_theta1=b")

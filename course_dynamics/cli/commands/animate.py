@@ -26,6 +26,7 @@ def add_arguments(parser) -> None:
 def run(args) -> int:
     model = load_robot_argument(args)
     joints = model.joint_names
+    io.check_distinct([args.trajectory], [args.html])
     io.check_writable(args.html)
     columns = io.read_columns(args.trajectory, ["t"] + io.joint_columns(("q",), joints),
                               io.joint_columns(("qd", "qdd", "tau"), joints) + ["energy"])

@@ -91,6 +91,7 @@ def run(args) -> int:
         from ...plotting import plot_format
 
         plot_format(args.plot)
+    io.check_distinct([args.torque_csv], [args.out, args.plot, args.html])
     for target in (args.out, args.plot, args.html):
         if target:
             io.check_writable(target)

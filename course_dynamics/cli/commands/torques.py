@@ -3,15 +3,11 @@ from __future__ import annotations
 
 import sys
 
+import numpy as np
+
 from ... import io, render
-from ...loads import Payload, Wrench
-from ...logs import (
-    COMPILE_FROM_ROWS,
-    KINDS,
-    as_columns,
-    parse_column_map,
-    torques_from_log,
-)
+from ...loads import Payload, Wrench, payload_link
+from ...logs import COMPILE_FROM_ROWS, KINDS, TIME_UNITS, as_columns, parse_column_map, torques_from_log
 from ..options import (
     UsageError,
     add_friction_arguments,
@@ -23,6 +19,7 @@ from ..options import (
 )
 
 HELP = "joint torques along a trajectory log, and a limits report"
+SLOW_SAMPLES = 0.5  # s between samples: more suggests a t column in ms read as seconds
 DESCRIPTION = (
     "Read a trajectory log (comma, semicolon or tab separated; columns t, q_<joint> and optionally qd_<joint>, "
     "qdd_<joint>; other columns are ignored) and write t, tau_<joint>: tau = M qdd + V + G (+ friction, payload, "
@@ -38,103 +35,187 @@ def add_arguments(parser) -> None:
     parser.add_argument("--out", help="output CSV, or - for standard output (written whole or not at all)")
     parser.add_argument("--columns", action="store_true",
                         help="list the log's columns and which of them would be used, then stop")
-    parser.add_argument("--map", metavar="OURS=THEIRS,...|FILE.toml",
+    parser.add_argument("--map", metavar="OURS=THEIRS,...|FILE.toml", action="append",
                         help="our column names for the log's, e.g. q_shoulder_pan_joint=joint1_pos, or a TOML file "
-                             "of such lines")
+                             "of such lines (may be repeated)")
+    parser.add_argument("--set", metavar="OURS=VALUE,...", action="append",
+                        help="a constant for a signal the log lacks, e.g. q_panda_finger_joint1=0.04 (a constant q "
+                             "has zero rates; may be repeated)")
     parser.add_argument("--dt", type=float, help="sample step, s, for a log without a t column")
+    parser.add_argument("--time-unit", choices=tuple(TIME_UNITS), default="s",
+                        help="the unit of the log's t column (default s)")
     parser.add_argument("--smooth", type=int, metavar="W",
                         help="Savitzky-Golay window in samples (odd, >= 5) for differentiated rates "
                              "(default: about 20 ms of samples, at least 7)")
     parser.add_argument("--with-state", action="store_true", help="also write q_, qd_, qdd_ columns (as used)")
     add_friction_arguments(parser)
-    parser.add_argument("--payload", metavar="MASS[@LINK][,CX,CY,CZ]",
-                        help="a payload of MASS kg fixed to LINK (default: the last joint's link), its centre of mass "
-                             "at CX,CY,CZ m in the link's frame")
+    parser.add_argument("--payload", metavar="MASS[@LINK][,CX,CY,CZ]", action="append",
+                        help="a payload of MASS kg fixed to LINK (default: the tip, the last link on the last moving "
+                             "body, e.g. ur5's tool0), its centre of mass at CX,CY,CZ m in the link's frame "
+                             "(may be repeated)")
     parser.add_argument("--payload-size", metavar="A,B,C",
-                        help="make the payload a uniform box with these edges (m) along the link's axes "
+                        help="make the (single) payload a uniform box with these edges (m) along the link's axes "
                              "(default: a point mass)")
-    parser.add_argument("--wrench", metavar="LINK:FX,FY,FZ[,NX,NY,NZ]",
+    parser.add_argument("--wrench", metavar="LINK:FX,FY,FZ[,NX,NY,NZ]", action="append",
                         help="force (N) and moment (N m, about the link's origin) the robot exerts on its "
-                             "surroundings at LINK, in base coordinates; adds J^T F (6.105)")
+                             "surroundings at LINK, in base coordinates; adds J^T F (6.105) (may be repeated)")
     parser.add_argument("--plot", metavar="FILE", help="draw tau(t) per joint with the effort limits: .png, .svg or .html")
     parser.add_argument("--json", action="store_true", help="print the limits report as JSON")
     parser.add_argument("--no-compile", action="store_true",
                         help=f"use the interpreted recursion even for logs of {COMPILE_FROM_ROWS} rows or more")
 
 
-def payload_argument(args) -> Payload | None:
-    if args.payload is None:
+def payload_arguments(args) -> list[Payload]:
+    if not args.payload:
         if args.payload_size is not None:
             raise UsageError("--payload-size needs --payload")
-        return None
-    head, *rest = args.payload.split(",")
+        return []
+    if args.payload_size is not None and len(args.payload) > 1:
+        raise UsageError("--payload-size describes one payload; with several --payload, each is a point mass")
+    return [_payload(text, args.payload_size) for text in args.payload]
+
+
+def _payload(text: str, size_text) -> Payload:
+    head, *rest = text.split(",")
     mass_text, _, link = head.partition("@")
     try:
         mass = float(mass_text)
     except ValueError:
-        raise UsageError(f"--payload must be MASS[@LINK][,CX,CY,CZ], got '{args.payload}'") from None
+        raise UsageError(f"--payload must be MASS[@LINK][,CX,CY,CZ], got '{text}'") from None
     com = numbers(",".join(rest), "--payload") if rest else (0.0, 0.0, 0.0)
     if len(com) != 3:
         raise UsageError(f"--payload: the centre of mass needs three numbers CX,CY,CZ, got '{','.join(rest)}'")
-    size = None if args.payload_size is None else numbers(args.payload_size, "--payload-size")
+    size = None if size_text is None else numbers(size_text, "--payload-size")
     return Payload(mass=mass, link=link.strip() or None, com=tuple(com), size=None if size is None else tuple(size))
 
 
-def wrench_argument(args) -> Wrench | None:
-    if args.wrench is None:
-        return None
-    link, sep, values = args.wrench.partition(":")
-    F = numbers(values, "--wrench") if sep else ()
-    if not link.strip() or len(F) not in (3, 6):
-        raise UsageError(f"--wrench must be LINK:FX,FY,FZ[,NX,NY,NZ], got '{args.wrench}'")
-    return Wrench(link=link.strip(), force=tuple(F[:3]), moment=tuple(F[3:]) if len(F) == 6 else (0.0, 0.0, 0.0))
+def wrench_arguments(args) -> list[Wrench]:
+    wrenches = []
+    for text in args.wrench or ():
+        link, sep, values = text.partition(":")
+        F = numbers(values, "--wrench") if sep else ()
+        if not link.strip() or len(F) not in (3, 6):
+            raise UsageError(f"--wrench must be LINK:FX,FY,FZ[,NX,NY,NZ], got '{text}'")
+        wrenches.append(Wrench(link=link.strip(), force=tuple(F[:3]),
+                               moment=tuple(F[3:]) if len(F) == 6 else (0.0, 0.0, 0.0)))
+    return wrenches
 
 
-def _list_columns(table, model, mapping) -> int:
+def column_map(args) -> dict[str, str]:
+    mapping = {}
+    for text in args.map or ():
+        for ours, theirs in parse_column_map(text).items():
+            if ours in mapping:
+                raise UsageError(f"--map: '{ours}' is mapped twice")
+            mapping[ours] = theirs
+    return mapping
+
+
+def constants(args) -> dict[str, float]:
+    values = {}
+    for text in args.set or ():
+        for item in filter(None, (part.strip() for part in text.split(","))):
+            name, sep, value = item.partition("=")
+            try:
+                number = float(value)
+            except ValueError:
+                number = None
+            if not sep or number is None:
+                raise UsageError(f"--set entries must be OURS=VALUE, e.g. q_panda_finger_joint1=0.04; got '{item}'")
+            if name.strip() in values:
+                raise UsageError(f"--set: '{name.strip()}' is set twice")
+            values[name.strip()] = number
+    return values
+
+
+def settings(args, model, payloads, wrenches, joint_friction) -> list[str]:
+    """The options that change the torques, for the output file's header."""
+    lines = []
+    if args.gravity is not None:
+        lines.append(f"gravity {model.gravity.tolist()} m/s^2")
+    if joint_friction is not None:
+        lines.append(f"friction: viscous {joint_friction.viscous.tolist()}, Coulomb {joint_friction.coulomb.tolist()}")
+    for p in payloads:
+        lines.append(f"payload {p.mass:g} kg at {payload_link(model, p)}, centre {list(p.com)} m"
+                     + (f", box {list(p.size)} m" if p.size else ", point mass"))
+    for w in wrenches:
+        lines.append(f"wrench at {w.link}: force {list(w.force)} N, moment {list(w.moment)} N m (base coordinates)")
+    return lines
+
+
+def _list_columns(table, model, mapping, fixed) -> int:
     columns, _ = as_columns(table)
-    used = {mapping.get(name, name): name for name in ["t"] + io.joint_columns(KINDS, model.joint_names)}
+    ours = ["t"] + io.joint_columns(KINDS, model.joint_names)
+    used = {mapping.get(name, name): name for name in ours}
     rows = [["log column", "used as"]] + [[c, used.get(c, "(ignored)")] for c in columns]
     print(f"{table.path}: {len(table.data)} rows, {len(columns)} columns")
     print(render.text_table(rows, align="<<"))
+    found = {used[c] for c in columns if c in used} | set(fixed)
+    missing_q = [name for name in ours if name.startswith("q_") and name not in found]
+    derived = [name for name in ours if name.startswith(("qd_", "qdd_")) and name not in found]
+    if "t" not in found:
+        print("t: not found (map it, or give --dt)")
+    if missing_q:
+        print(f"missing (map them, or --set a constant): {', '.join(missing_q)}")
+    if len(derived) == 2 * model.n:
+        print("qd, qdd: differentiated from q for every joint")
+    elif derived:
+        print(f"differentiated: {', '.join(derived)}")
     return 0
 
 
 def run(args) -> int:
     model = load_robot_argument(args)
-    mapping = parse_column_map(args.map) if args.map else {}
-    joint_friction, payload, wrench = friction(args, model), payload_argument(args), wrench_argument(args)
-    if wrench is not None:
-        model.frame(wrench.link)
+    mapping, fixed = column_map(args), constants(args)
+    joint_friction, payloads, wrenches = friction(args, model), payload_arguments(args), wrench_arguments(args)
+    for w in wrenches:
+        model.frame(w.link)
     if args.out == io.STDOUT and args.json:
         raise UsageError("--out - and --json both want standard output; write the CSV to a file")
     if args.plot:
         from ...plotting import PLOT_FORMATS, plot_format
 
         plot_format(args.plot, PLOT_FORMATS + ("html",))
+    io.check_distinct([args.trajectory], [args.out, args.plot])
     for target in (args.out, args.plot):  # fail before reading a long log
         if target:
             io.check_writable(target)
     table = io.read_table(args.trajectory)
     if args.columns:
-        return _list_columns(table, model, mapping)
-    result = torques_from_log(model, table, dt=args.dt, columns=mapping, window=args.smooth, friction=joint_friction,
-                              payload=payload, wrench=wrench, compiled=False if args.no_compile else None)
+        return _list_columns(table, model, mapping, fixed)
+    result = torques_from_log(model, table, dt=args.dt, columns=mapping, window=args.smooth, constants=fixed,
+                              time_unit=args.time_unit, friction=joint_friction, payload=payloads, wrench=wrenches,
+                              compiled=False if args.no_compile else None)
     header, data = result.table(with_state=args.with_state)
-    # Derived signals are said at the top of the file (a '#' line, which read_table and pandas' comment='#' skip).
-    comments = [f"course-dynamics torques {model.name} from {args.trajectory}"] + list(result.notes) if result.notes else []
-    # Every output is computed before any is written: the plot first (it can fail), then the CSV.
+    # What was derived and which options changed the torques are said at the top of the file
+    # ('#' lines, which read_table and pandas' comment='#' skip); a plain run writes a plain CSV.
+    extra = list(result.notes) + settings(args, result.model, payloads, wrenches, joint_friction)
+    comments = [f"course-dynamics torques {model.name} from {args.trajectory}"] + extra if extra else []
+    report = result.report
+    step = float(np.median(np.diff(result.t))) if len(result.t) > 1 else 0.0
+    if step > SLOW_SAMPLES:
+        print(f"warning: the samples are {step:g} s apart; if t is not in seconds, give --time-unit", file=sys.stderr)
+    if args.out == io.STDOUT and not args.json:
+        _print_report(result, sys.stderr)  # before the CSV: a reader that stops early (| head) still sees it
     if args.plot:
         from ...plotting import plot_torques
 
         plot_torques(result, args.plot)
     if args.out:
         io.write_csv(args.out, header, data, comments=comments)
-    report = result.report
     if args.json:
         print_json(dict(robot=model.name, log=str(args.trajectory), rows=len(result.t), out=args.out, plot=args.plot,
                         notes=list(result.notes), **report.record()))
         return 1 if report.exceeded else 0
-    stream = sys.stderr if args.out == io.STDOUT else sys.stdout
+    if args.out != io.STDOUT:
+        _print_report(result, sys.stdout)
+    if args.out and args.out != io.STDOUT:
+        print(f"wrote {len(result.t)} rows of joint torques to {args.out}", file=sys.stderr)
+    return 1 if report.exceeded else 0
+
+
+def _print_report(result, stream) -> None:
+    report, model = result.report, result.model
     for note in result.notes:
         print(f"note: {note}", file=stream)
     rows = [["joint", "peak |tau|", "rms tau", "effort limit", "used", "peak |qd|", "velocity limit", "used"]]
@@ -147,9 +228,6 @@ def run(args) -> int:
     for v in report.violations:
         print(f"LIMIT EXCEEDED: {v.describe()}", file=stream)
     print("a limit is exceeded" if report.exceeded else "every joint stays within its limits", file=stream)
-    if args.out and args.out != io.STDOUT:
-        print(f"wrote {len(result.t)} rows of joint torques to {args.out}", file=sys.stderr)
-    return 1 if report.exceeded else 0
 
 
 def _limit(value) -> str:
