@@ -51,7 +51,7 @@ from . import io
 from .errors import InputError
 from .friction import Friction
 from .limits import LimitsReport, limits_report
-from .loads import Payload, Wrench, with_payload, wrench_torques
+from .loads import with_payload, wrench_torques
 from .model import Model
 from .newton_euler import inverse_dynamics
 

@@ -106,7 +106,7 @@ def diagnose(term: str, plan: Plan, expected: Expected, returned: Returned, max_
     ``coefficients`` is :func:`~course_dynamics.grading.plan.returned_coefficients`'s answer (for V and τ);
     ``parts`` maps "G", "M", "V" to the student's :class:`Returned` parts of τ (for τ).
     """
-    N, n = len(plan.q), plan.n
+    N = len(plan.q)
     if returned.source == "derived from tau" and term == "C":
         tolerance = max(tolerance, DERIVED_C_TOLERANCE)
     result = Diagnosis(term, 0.0, max_points, 0, N, returned.source, tolerance)

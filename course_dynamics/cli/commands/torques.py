@@ -7,7 +7,14 @@ import numpy as np
 
 from ... import io, render
 from ...loads import Payload, Wrench, payload_link
-from ...logs import COMPILE_FROM_ROWS, KINDS, TIME_UNITS, as_columns, parse_column_map, torques_from_log
+from ...logs import (
+    COMPILE_FROM_ROWS,
+    KINDS,
+    TIME_UNITS,
+    as_columns,
+    parse_column_map,
+    torques_from_log,
+)
 from ..options import (
     UsageError,
     add_friction_arguments,
