@@ -135,10 +135,22 @@ def write_notebooks(out: Path, solutions: bool = False) -> list[Path]:
 
 def execute(notebook, folder: Path, timeout: int = CELL_TIMEOUT):
     """Run every cell in a fresh kernel with ``folder`` as working directory; a failing cell raises."""
+    import subprocess
+
     from nbclient import NotebookClient
 
-    NotebookClient(notebook, timeout=timeout, kernel_name="python3",
-                   resources={"metadata": {"path": str(folder)}}).execute()
+    client = NotebookClient(notebook, timeout=timeout, kernel_name="python3",
+                            resources={"metadata": {"path": str(folder)}})
+    try:
+        # The kernel gets its own session (Ctrl-C on the terminal is ours to handle) and no stderr (its
+        # start-up notices and, when it is stopped, its tracebacks are not the user's business).
+        client.execute(stderr=subprocess.DEVNULL, start_new_session=True)
+    except BaseException:
+        # nbclient answers SIGINT/SIGTERM itself (it shuts the kernel down and leaves this future behind),
+        # then fails in its own ways: report that as the interruption it was.
+        if getattr(client, "_async_cleanup_kernel_future", None) is not None:
+            raise KeyboardInterrupt from None
+        raise
     return notebook
 
 

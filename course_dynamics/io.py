@@ -150,8 +150,11 @@ def output(path, binary: bool = False):
             handle = open(path, "wb" if binary else "w", **({} if binary else {"newline": ""}))
         except OSError as exc:
             raise InputError(f"{path}: cannot write: {exc.strerror}") from None
-        with handle:
-            yield handle
+        try:
+            with handle:
+                yield handle
+        except OSError as exc:
+            raise InputError(f"{path}: cannot write: {exc.strerror or exc}") from None
         return
     check_writable(path)
     try:
@@ -291,11 +294,13 @@ def read_table(path, comment: str = "#") -> Table:
 
         header_line, rows = cut(header_line), [(n, cut(line)) for n, line in rows]
     header = tuple(name.strip().strip('"').strip() for name in header_line.split(delimiter))
+    seen = set()
     for c, name in enumerate(header):
         if not name:
             raise InputError(f"{path}: line {header_line_number}: column {c + 1} has no name")
-        if header.index(name) != c:
+        if name in seen:
             raise InputError(f"{path}: line {header_line_number}: column '{name}' appears twice")
+        seen.add(name)
     if not rows:
         raise InputError(f"{path}: no data rows")
     decimal_comma = delimiter != "," and any("," in line for _, line in rows[:10])

@@ -115,5 +115,8 @@ def limits_report(model: Model, t, qd, tau) -> LimitsReport:
                 violations.append(Violation(joint=joint, kind=kind, start=float(t[first]), end=float(t[last]),
                                             peak=float(values[first:last + 1, i].max()), limit=float(limits[i])))
     violations.sort(key=lambda v: (v.start, v.joint, v.kind))
-    return LimitsReport(joints=model.joint_names, peak_tau=np.abs(tau).max(axis=0), rms_tau=np.sqrt(np.mean(tau**2, axis=0)),
+    peak = np.abs(tau).max(axis=0)
+    scale = np.where(peak > 0, peak, 1.0)
+    rms = scale * np.sqrt(np.mean((tau / scale) ** 2, axis=0))  # scaled: no overflow for large torques
+    return LimitsReport(joints=model.joint_names, peak_tau=peak, rms_tau=rms,
                         peak_qd=np.abs(qd).max(axis=0), effort=effort, velocity=velocity, violations=tuple(violations))

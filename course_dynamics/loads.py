@@ -45,16 +45,16 @@ class Payload:
     size: tuple[float, float, float] | None = None
 
     def __post_init__(self):
-        if not (np.isfinite(self.mass) and self.mass > 0):
-            raise InputError(f"payload mass must be a positive number of kg, got {self.mass}")
+        if not (np.isfinite(self.mass) and 0 < self.mass <= 1e9):
+            raise InputError(f"payload mass must be a positive number of kg (at most 1e9), got {self.mass}")
         com = np.asarray(self.com, dtype=float)
-        if com.shape != (3,) or not np.all(np.isfinite(com)):
-            raise InputError(f"payload centre of mass must be three finite numbers cx,cy,cz (m), got {self.com}")
+        if com.shape != (3,) or not np.all(np.isfinite(com)) or np.abs(com).max() > 1e3:
+            raise InputError(f"payload centre of mass must be three numbers cx,cy,cz within 1000 m, got {self.com}")
         object.__setattr__(self, "com", tuple(com.tolist()))
         if self.size is not None:
             size = np.asarray(self.size, dtype=float)
-            if size.shape != (3,) or not np.all(np.isfinite(size)) or np.any(size < 0):
-                raise InputError(f"payload box size must be three non-negative numbers a,b,c (m), got {self.size}")
+            if size.shape != (3,) or not np.all(np.isfinite(size)) or np.any(size < 0) or np.any(size > 1e3):
+                raise InputError(f"payload box size must be three numbers a,b,c between 0 and 1000 m, got {self.size}")
             object.__setattr__(self, "size", tuple(size.tolist()))
 
     def inertia(self) -> np.ndarray:
@@ -107,8 +107,9 @@ class Wrench:
     def __post_init__(self):
         for name in ("force", "moment"):
             values = np.asarray(getattr(self, name), dtype=float)
-            if values.shape != (3,) or not np.all(np.isfinite(values)):
-                raise InputError(f"wrench {name} must be three finite numbers, got {getattr(self, name)}")
+            if values.shape != (3,) or not np.all(np.isfinite(values)) or np.abs(values).max() > 1e12:
+                raise InputError(f"wrench {name} must be three finite numbers (at most 1e12 in size), "
+                                 f"got {getattr(self, name)}")
             object.__setattr__(self, name, tuple(values.tolist()))
 
     @property

@@ -277,8 +277,16 @@ def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[
         w = _window(samples, step, window, where)
         how = f"Savitzky-Golay derivative ({w}-sample window = {w * step:.4g} s, cubic)"
 
+        if not 1e-9 <= step <= 1e6:
+            raise InputError(f"{where}: the sample step {step:g} s is outside 1e-9 s to 1e6 s; is t in seconds "
+                             f"(time_unit, --time-unit)?")
+
         def derivative(y, order):
-            return savgol_filter(y, w, POLYORDER, deriv=order, delta=step, axis=0, mode="interp")
+            with np.errstate(all="ignore"):
+                values = savgol_filter(y, w, POLYORDER, deriv=order, delta=step, axis=0, mode="interp")
+            if not np.all(np.isfinite(values)):
+                raise InputError(f"{where}: differentiating q gives values beyond floating-point range")
+            return values
 
     def which(joints):
         return "" if len(joints) == model.n else f" (joints {', '.join(joints)})"

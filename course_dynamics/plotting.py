@@ -49,6 +49,8 @@ def _pyplot():
     import matplotlib
 
     matplotlib.use("Agg")  # no screen needed
+    matplotlib.rcParams["text.parse_math"] = False  # a '$' in a joint name is a dollar sign, not TeX
+    matplotlib.rcParams["svg.fonttype"] = "path"    # labels as paths: no text from a URDF reaches the SVG
     import matplotlib.pyplot as plt
 
     return plt

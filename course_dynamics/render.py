@@ -95,8 +95,19 @@ def format_bytes(count: float) -> str:
 
 
 def json_text(document) -> str:
-    """Indented JSON; a NaN or inf is a ValueError rather than invalid JSON."""
-    return json.dumps(document, indent=2, allow_nan=False)
+    """Indented JSON; a NaN or inf is an InputError (its values were out of range), never invalid JSON."""
+    from .errors import InputError
+
+    try:
+        return json.dumps(document, indent=2, allow_nan=False)
+    except ValueError:
+        raise InputError("a result is not finite (inf or nan): the given values are too large for floating-point "
+                         "arithmetic") from None
+
+
+def one_line(text) -> str:
+    """``text`` with every control character (line breaks, escape sequences) written as an escape: one safe line."""
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(text))
 
 
 # ---------------------------------------------------------------------------- the Newton–Euler trace

@@ -53,6 +53,7 @@ from .render import format_bytes
 from .state import as_state
 
 INTEGRATORS = ("euler", "semi-implicit", "rk4", "adaptive")
+ADAPTIVE_CALLS_PER_STEP = 1000  # right-hand-side evaluations per output sample before the adaptive integrator gives up
 LIMIT_MODES = ("report", "stop")
 COMPILE_FROM = 100  # steps: from here on a compiled model pays for itself
 
@@ -152,6 +153,8 @@ def time_grid(duration: float, dt: float, values_per_sample: int = 1) -> np.ndar
     for name, value in (("dt", dt), ("duration", duration)):
         if not (np.isfinite(value) and value > 0):
             raise SimulationError(f"{name} must be a positive number of seconds, got {value}")
+    if dt > duration:
+        raise SimulationError(f"dt = {dt:g} s is longer than the duration {duration:g} s")
     steps = duration / dt
     needed = (steps + 1) * 8.0 * max(values_per_sample, 1)
     if not needed <= memory_budget():
@@ -275,9 +278,15 @@ def _integrate_adaptive(model, f, times, q0, qd0, progress):
     )
 
     shape, size = q0.shape, q0.size  # an ensemble is one stacked system with a shared step
-    reached = [0]
+    reached, calls = [0], [0]
+    budget = ADAPTIVE_CALLS_PER_STEP * len(times) + 100_000
 
     def rhs(t, y):
+        calls[0] += 1
+        if calls[0] > budget:
+            raise SimulationError(f"the adaptive integrator needed more than {budget} evaluations and had reached only "
+                                  f"t = {t:.6g} s: the motion is too fast or too stiff for it here; use rk4 with a "
+                                  "small dt")
         if progress is not None:
             k = int(np.searchsorted(times, t, side="right")) - 1
             if k > reached[0]:

@@ -40,6 +40,10 @@ def trace(model: Model, q, qd, qdd, symbols=None, decimals: int | None = None) -
     (with the model's numbers as ``decimals``-digit decimals if given).
     """
     keys = OUTWARD_QUANTITIES + INWARD_QUANTITIES
+    if decimals is not None and not (isinstance(decimals, int) and 1 <= decimals <= 30):
+        from .symbolic import SymbolError
+
+        raise SymbolError(f"decimals must be a whole number of digits from 1 to 30, got {decimals!r}")
     if symbols is None:
         links = newton_euler_links(model, q, qd, qdd)
         values = {key: getattr(links, key).tolist() for key in keys}

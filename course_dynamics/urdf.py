@@ -66,6 +66,11 @@ def load_urdf(path, gravity=STANDARD_GRAVITY, allow_nonphysical_inertia: bool = 
     if gravity.shape != (3,) or not np.all(np.isfinite(gravity)):
         raise ModelError(f"gravity must be three finite numbers, got {gravity.tolist()}")
     robot = read_description(path)
+    for kind, names in (("robot", [robot.name or ""]), ("link", [link.name for link in robot.links]),
+                        ("joint", [joint.name for joint in robot.joints])):
+        for name in names:
+            if not str(name).isprintable():
+                raise ModelError(f"{where}: {kind} name {name!r} holds a control character (a line break, a tab, ...)")
     links = {link.name: link for link in robot.links}
     if len(links) != len(robot.links):
         raise ModelError(f"{where}: two links share a name")
@@ -214,10 +219,15 @@ def _descendants(root: str, children: dict) -> set[str]:
     return seen
 
 
+MAX_MAGNITUDE = 1e9  # m, kg, kg·m²: larger lengths, masses or inertias describe no robot, and overflow later
+
+
 def _checked(where: str, what: str, values) -> np.ndarray:
     array = np.asarray(values, dtype=float)
     if not np.all(np.isfinite(array)):
         raise ModelError(f"{where}: {what} has a non-finite value (NaN or inf)")
+    if array.size and np.abs(array).max() > MAX_MAGNITUDE:
+        raise ModelError(f"{where}: {what} has a value of {np.abs(array).max():g}, more than {MAX_MAGNITUDE:g} in size")
     return array
 
 

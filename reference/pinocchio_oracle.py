@@ -19,6 +19,29 @@ import numpy as np
 import pinocchio as pin
 
 
+def _build_model(urdf):
+    """``pin.buildModelFromUrdf``; what urdfdom prints on failure becomes one InputError, not stray lines."""
+    import os
+    import tempfile
+
+    from course_dynamics.errors import InputError
+
+    with tempfile.TemporaryFile() as captured:
+        saved = os.dup(2)
+        os.dup2(captured.fileno(), 2)  # urdfdom writes its complaints to file descriptor 2 directly
+        try:
+            return pin.buildModelFromUrdf(str(urdf))
+        except (ValueError, RuntimeError) as exc:
+            captured.seek(0)
+            said = [line.strip() for line in captured.read().decode("utf-8", "replace").splitlines() if line.strip()]
+            reason = said[0] if said else str(exc).splitlines()[0]
+            raise InputError(f"{urdf}: Pinocchio cannot read this URDF ({reason}); our loader is more lenient "
+                             "(for example about joints without <limit>), so there is nothing to compare with") from None
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+
+
 class PinocchioOracle:
     """Pinocchio model of a URDF, evaluated on states in our joint order.
 
@@ -31,7 +54,7 @@ class PinocchioOracle:
     """
 
     def __init__(self, urdf, joint_names, gravity=(0.0, 0.0, -9.81)):
-        self.model = pin.buildModelFromUrdf(str(urdf))
+        self.model = _build_model(urdf)
         self.model.gravity.linear = np.asarray(gravity, dtype=float)
         self.data = self.model.createData()
         self.joint_names = tuple(joint_names)

@@ -32,6 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from course_dynamics import io, render
+from course_dynamics.errors import InputError
 from course_dynamics.dynamics import gravity_torques, mass_matrix, velocity_torques
 from course_dynamics.newton_euler import inverse_dynamics
 from course_dynamics.robots import load, resolve
@@ -70,6 +71,7 @@ def _figure_svg(draw) -> str:
     import matplotlib.pyplot as plt
 
     matplotlib.rcParams["svg.fonttype"] = "path"  # labels as paths: no text from a URDF reaches the SVG
+    matplotlib.rcParams["text.parse_math"] = False  # a '$' in a joint name is a dollar sign, not TeX
     figure = draw(plt)
     buffer = text_io.StringIO()
     figure.savefig(buffer, format="svg")
@@ -271,7 +273,10 @@ def write_report(out: Path, report: Report) -> list[Path]:
     for index, r in enumerate(report.robots):
         for key, svg in r.figures.items():
             documents[f"figures/robot{index}_{key}.svg"] = svg
-    (out / "figures").mkdir(parents=True, exist_ok=True)
+    figures = out / "figures"
+    if figures.is_symlink() or (figures.exists() and not figures.is_dir()):
+        raise InputError(f"{figures}: is not a plain folder (a link or a file); refusing to write through it")
+    figures.mkdir(parents=True, exist_ok=True)
     for name, text in documents.items():
         io.write_text(out / name, text)
     return [out / name for name in documents]

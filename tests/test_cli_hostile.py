@@ -14,7 +14,7 @@ import time
 
 import numpy as np
 import pytest
-from helpers import arm_urdf, assert_one_line_error, chain_urdf, run
+from helpers import ROOT, arm_urdf, assert_one_line_error, chain_urdf, run
 
 from course_dynamics import load_urdf
 from course_dynamics.urdf import MAX_URDF_BYTES
@@ -290,3 +290,170 @@ def test_ctrl_c_exits_130_with_one_line_and_no_file(tmp_path, command):
     assert process.returncode == 130, err
     assert err == "error: interrupted\n"
     assert not out.exists() and not [p for p in tmp_path.iterdir() if p.name.endswith(".partial")]
+
+
+# ---------------------------------------------------------------------------- found by trying to break it
+
+def test_full_devices_and_unusable_paths_are_one_line(capsys, tmp_path):
+    code, _, err = run(capsys, "simulate", "two_link", "--q0", "0,0", "--duration", "0.1", "--dt", "0.01",
+                       "--out", "/dev/full", "--quiet")
+    assert_one_line_error(code, err, "/dev/full: cannot write: No space left on device")
+    result = subprocess.run([sys.executable, "-m", "course_dynamics.cli", "info", "two_link"],
+                            stdout=open("/dev/full", "w"), stderr=subprocess.PIPE, text=True)
+    assert result.returncode == 2 and result.stderr == "error: standard output: cannot write: No space left on device\n"
+    (tmp_path / "afile").write_text("x")
+    code, _, err = run(capsys, "student-notebooks", str(tmp_path / "afile" / "sub"))
+    assert_one_line_error(code, err, "Not a directory")
+    code, _, err = run(capsys, "info", "a" * 5000)
+    assert_one_line_error(code, err, "File name too long")
+    code, _, err = run(capsys, "student-notebooks", "")
+    assert_one_line_error(code, err, "an output name is empty")
+
+
+@pytest.mark.parametrize("argv, fragment", [
+    (["validate", "two_link", "--seed", "-1"], "--seed must be a non-negative integer"),
+    (["validate", "two_link", "--samples", "100000000"], "--samples must be between 1 and 100000"),
+    (["simulate", "two_link", "--q0", "0,0", "--duration", "1", "--dt", "0.1", "--ensemble", "2", "--seed", "-1",
+      "--out", "x.csv"], "--seed must be a non-negative integer"),
+    (["cartesian", "ur5", "--frame", "tool0", "--q", "0,0,0,0,0,0", "--max-condition", "inf"], "--max-condition must be"),
+    (["simulate", "two_link", "--q0", "0,0", "--duration", "1", "--dt", "1e9", "--out", "x.csv"],
+     "dt = 1e+09 s is longer than the duration"),
+    (["simulate", "two_link", "--q0", "0,0", "--qd0", "1e10,0", "--duration", "1", "--dt", "0.01", "--integrator",
+      "adaptive", "--out", "x.csv", "--quiet"], "the adaptive integrator needed more than"),
+    (["trace", "two_link", "--symbolic", "--decimal", "0"], "decimals must be a whole number of digits from 1 to 30"),
+    (["terms", "two_link", "--q", "0,0", "--gravity", "1e308,0,0"], "--gravity components must be at most"),
+])
+def test_out_of_range_options(capsys, tmp_path, monkeypatch, argv, fragment):
+    monkeypatch.chdir(tmp_path)
+    code, _, err = run(capsys, *argv)
+    assert_one_line_error(code, err, fragment)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_terms_refuses_a_robot_too_large_for_memory(capsys, monkeypatch):
+    monkeypatch.setattr("course_dynamics.simulation.memory_budget", lambda: 1000)
+    code, _, err = run(capsys, "terms", "ur5", "--q", "0,0,0,0,0,0")
+    assert_one_line_error(code, err, "robot 'ur5' has 6 joints", "more than half of this machine's memory")
+
+
+@pytest.mark.parametrize("edit, fragment", [
+    (lambda t: t.replace('<origin xyz="0 0 0.1"', '<origin xyz="0 0 1e308"', 1), "more than 1e+09 in size"),
+    (lambda t: t.replace('<mass value="1.0"/>', '<mass value="1e300"/>', 1), "more than 1e+09 in size"),
+    (lambda t: t.replace('name="joint2"', 'name="evil&#10;error: fake"'), r"joint name 'evil\nerror: fake' holds"),
+])
+def test_urdf_values_and_names_no_robot_has(capsys, tmp_path, edit, fragment):
+    urdf = tmp_path / "robot.urdf"
+    urdf.write_text(edit(arm_urdf()))
+    code, _, err = run(capsys, "validate", str(urdf), "--json")
+    assert_one_line_error(code, err, fragment)
+
+
+def test_control_characters_in_messages_are_escaped(capsys, tmp_path):
+    log = tmp_path / "log.csv"
+    log.write_text("t,q_theta1,q_theta2\n0,0,0\n0.1,\x1b]0;PWN\x07,0\n")
+    code, _, err = run(capsys, "torques", "two_link", "--log", str(log))
+    assert_one_line_error(code, err, r"'\x1b]0;PWN\x07' is not a number")
+    assert "\x1b" not in err
+
+
+def test_dollar_signs_in_names_are_text_in_plots(capsys, tmp_path):
+    urdf = tmp_path / "robot.urdf"
+    urdf.write_text(arm_urdf().replace('name="joint2"', r'name="$\frac{a}$"'))
+    log = tmp_path / "log.csv"
+    rows = "\n".join(f"{k * 0.01},{0.1 * k},0" for k in range(20))
+    log.write_text("t,q_joint1,q_$\\frac{a}$\n" + rows + "\n")
+    for suffix in ("png", "svg", "html"):
+        code, _, err = run(capsys, "torques", str(urdf), "--log", str(log), "--plot", str(tmp_path / f"p.{suffix}"))
+        assert code in (0, 1) and err == "" and (tmp_path / f"p.{suffix}").stat().st_size > 0, err  # 1: beyond 1 N m
+
+
+def test_torques_with_huge_but_finite_values_stay_finite(capsys, tmp_path):
+    log = tmp_path / "log.csv"
+    rows = "\n".join(f"{k * 0.01},0,0,0,0,{1e160 if k == 3 else 0},0" for k in range(10))
+    log.write_text("t,q_theta1,q_theta2,qd_theta1,qd_theta2,qdd_theta1,qdd_theta2\n" + rows + "\n")
+    code, out, err = run(capsys, "torques", "two_link", "--log", str(log), "--json")
+    assert code == 1, err
+    doc = json.loads(out)  # valid JSON: no inf, no nan
+    assert doc["exceeded"] and np.isfinite(doc["joints"][0]["rms_tau"])
+
+
+@pytest.mark.parametrize("t, fragment", [("1e-300", "sample step"), ("1e300", "sample step")])
+def test_torques_with_absurd_sample_steps(capsys, tmp_path, t, fragment):
+    log = tmp_path / "log.csv"
+    log.write_text("t,q_theta1,q_theta2\n" + "\n".join(f"{k * float(t)!r},{k * 0.01},0" for k in range(20)) + "\n")
+    code, _, err = run(capsys, "torques", "two_link", "--log", str(log))
+    assert_one_line_error(code, err, fragment)
+
+
+def test_payload_box_too_large_is_refused(capsys):
+    code, _, err = run(capsys, "torques", "ur5", "--log", str(ROOT / "examples" / "ur5_log.csv"), "--map",
+                       str(ROOT / "examples" / "ur5_log_columns.toml"), "--payload", "1", "--payload-size", "1e200,1,1")
+    assert_one_line_error(code, err, "payload box size must be three numbers")
+
+
+def test_urdfs_pinocchio_cannot_read_are_refused_for_comparison(capsys, tmp_path):
+    urdf = tmp_path / "robot.urdf"
+    urdf.write_text(arm_urdf().replace('<limit lower="-1" upper="1" effort="1" velocity="1"/>', ""))
+    code, _, err = run(capsys, "validate", str(urdf), "--samples", "2")
+    assert code == 2
+    errors = [line for line in err.splitlines() if line.startswith("error:")]
+    assert len(errors) == 1 and "Pinocchio cannot read this URDF" in errors[0] and "does not specify limits" in errors[0]
+    assert all(line.startswith(("error:", "warning:")) for line in err.splitlines())
+
+
+def test_grading_refuses_names_of_the_class_files_and_formulas_in_the_gradebook(capsys, tmp_path):
+    from course_dynamics.grading.feedback import gradebook_csv
+    from course_dynamics.grading.grade import student_names
+
+    (tmp_path / "summary.py").write_text("")
+    with pytest.raises(Exception, match="would overwrite the class's summary file"):
+        student_names([tmp_path / "summary.py"])
+
+    class Grade:
+        student, total, status, sandbox = "=1+2", 0.0, "ok", "bubblewrap"
+
+        def points(self, term):
+            return 0.0
+
+    class Assignment:
+        terms = ("tau",)
+
+    assert "\n'=1+2,0,0,ok,bubblewrap\n" in gradebook_csv([Grade()], Assignment())
+
+
+def test_report_never_writes_through_a_planted_figures_link(capsys, tmp_path):
+    out, elsewhere = tmp_path / "out", tmp_path / "elsewhere"
+    out.mkdir()
+    elsewhere.mkdir()
+    (out / "figures").symlink_to(elsewhere)
+    code, _, err = run(capsys, "report", "pendulum", "--samples", "2", "--out", str(out), "--quiet")
+    assert_one_line_error(code, err, "figures: is not a plain folder")
+    assert list(elsewhere.iterdir()) == []
+
+
+def test_meshes_too_large_or_with_non_finite_sizes_draw_sticks(capsys, tmp_path):
+    folder = tmp_path / "robot"
+    folder.mkdir()
+    with open(folder / "huge.stl", "wb") as handle:  # sparse
+        handle.truncate(300 * 2**20)
+    trajectory = folder / "t.csv"
+    trajectory.write_text("t,q_joint1,q_joint2\n0,0,0\n0.1,0.1,0.1\n")
+    for visual, fragment in (('<mesh filename="huge.stl"/>', "MiB, more than 200 MiB"),
+                             ('<box size="nan 1 1"/>', "non-finite size")):
+        urdf = folder / "robot.urdf"
+        urdf.write_text(arm_urdf().replace('<link name="link1">',
+                                           f'<link name="link1"><visual><geometry>{visual}</geometry></visual>'))
+        code, _, err = run(capsys, "animate", str(urdf), "--trajectory", str(trajectory), "--html",
+                           str(folder / "a.html"), "--geometry", "visual")
+        warnings = [line for line in err.splitlines() if line.startswith("warning:")]
+        assert code == 0 and len(warnings) == 1 and fragment in warnings[0], err
+
+
+def test_ctrl_c_while_publishing_notebooks(tmp_path):
+    out = tmp_path / "site"
+    process = subprocess.Popen([sys.executable, "-m", "course_dynamics.cli", "publish-notebooks", str(out)],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    time.sleep(6)
+    os.killpg(process.pid, signal.SIGINT)  # as the terminal does: the whole process group
+    _, err = process.communicate(timeout=120)
+    assert process.returncode == 130 and err == "error: interrupted\n", err

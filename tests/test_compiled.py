@@ -112,14 +112,17 @@ def test_a_singular_mass_matrix_is_named(tmp_path):
 
 
 def test_urdf_names_cannot_become_code_in_the_generated_module(tmp_path, monkeypatch):
-    """A joint or robot name holding quotes and line breaks stays a comment in the generated source."""
+    """A joint or robot name holding quotes and line breaks stays a comment in the generated source.
+
+    The URDF loader refuses line breaks in names; the generator must not rely on it.
+    """
+    from dataclasses import replace
+
     monkeypatch.setenv("COURSE_DYNAMICS_CACHE", str(tmp_path / "cache"))
     mark = tmp_path / "PWNED"
-    payload = f'x"""&#10;import os; open({str(mark)!r}, "w").write("owned")&#10;"""'.replace('"', "&quot;")
-    urdf = tmp_path / "robot.urdf"
-    urdf.write_text(arm_urdf().replace('name="joint2"', f'name="{payload}"').replace('name="probe"', f'name="{payload}"'))
-    model = load_urdf(urdf)
-    assert "\n" in model.joint_names[1] and '"""' in model.joint_names[1]
+    hostile = f'x"""\nimport os; open({str(mark)!r}, "w").write("owned")\n"""'
+    model = load_robot("two_link")
+    model = replace(model, name=hostile, bodies=(model.bodies[0], replace(model.bodies[1], joint=hostile)))
     compiled = compile_model(model)
     q = np.array([0.3, -0.2])
     np.testing.assert_allclose(compiled.inverse_dynamics(q, q, q), inverse_dynamics(model, q, q, q), rtol=1e-12)

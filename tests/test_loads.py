@@ -64,8 +64,8 @@ def test_payload_defaults_to_the_tip_and_a_point_mass():
 @pytest.mark.parametrize("make, fragment", [
     (lambda: Payload(mass=-1.0), "payload mass must be a positive number"),
     (lambda: Payload(mass=float("nan")), "payload mass must be a positive number"),
-    (lambda: Payload(mass=1.0, com=(0, 0)), "three finite numbers"),
-    (lambda: Payload(mass=1.0, size=(1, -1, 1)), "non-negative"),
+    (lambda: Payload(mass=1.0, com=(0, 0)), "three numbers cx,cy,cz within 1000 m"),
+    (lambda: Payload(mass=1.0, size=(1, -1, 1)), "between 0 and 1000 m"),
     (lambda: Wrench(link="tool0", force=(0, float("inf"), 0)), "three finite numbers"),
 ])
 def test_bad_loads_are_refused(make, fragment):

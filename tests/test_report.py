@@ -77,7 +77,7 @@ def test_names_from_a_urdf_are_escaped(tmp_path):
 
 @pytest.mark.parametrize("argv, message", [
     (["report", "r2d2", "--out", "o"], "'r2d2' is neither a URDF file nor a shipped robot"),
-    (["report", "two_link", "--out", "o", "--samples", "0"], "--samples must be at least 1"),
+    (["report", "two_link", "--out", "o", "--samples", "0"], "--samples must be between 1 and"),
     (["report", "two_link"], "the following arguments are required: --out"),
 ])
 def test_bad_report_arguments(tmp_path, monkeypatch, capsys, argv, message):

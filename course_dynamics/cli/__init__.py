@@ -12,13 +12,15 @@ exit code 130. No output file is left behind half-written.
 from __future__ import annotations
 
 import importlib
+import os
 import sys
 
 import numpy as np
 
 from ..errors import CourseDynamicsError
+from ..render import one_line
 from .commands import COMMANDS
-from .options import Parser, join_value_options, robots_epilog
+from .options import Parser, check_output_names, join_value_options, robots_epilog
 
 
 def build_parser() -> Parser:
@@ -42,17 +44,27 @@ def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     try:
         args = build_parser().parse_args(join_value_options(argv))
+        check_output_names(args)
         # Overflow shows as inf/nan in the results, which every command checks and reports as one error line.
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-            return args.run(args)
+            code = args.run(args)
+        sys.stdout.flush()  # a full or broken standard output is reported here, not at exit
+        return code
     except CourseDynamicsError as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        print(f"error: {one_line(exc)}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("error: interrupted", file=sys.stderr)
         return 130
     except BrokenPipeError:
         return 0
+    except OSError as exc:  # a path the system refuses (too long, not a folder, a full device)
+        if exc.filename is None:  # standard output itself: drop what it could not take, so exit stays quiet
+            sys.stdout = open(os.devnull, "w")
+        where = exc.filename if exc.filename is not None else "standard output"
+        print(f"error: {one_line(where)}: cannot write: {exc.strerror or exc}" if exc.filename is None
+              else f"error: {one_line(where)}: {exc.strerror or exc}", file=sys.stderr)
+        return 2
 
 
 __all__ = ["build_parser", "main"]

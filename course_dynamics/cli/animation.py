@@ -27,8 +27,10 @@ def animation_document(model, urdf, t, q, tau, args) -> str:
         warnings.simplefilter("always", MeshWarning)
         document, _ = scene_document(model, urdf, args.geometry, t, q, tau if args.torques else None,
                                      args.draw_path, args.allow_any_mesh_path)
+    from ..render import one_line
+
     for warning in caught:
-        print(f"warning: {warning.message}", file=sys.stderr)
+        print(f"warning: {one_line(warning.message)}", file=sys.stderr)
     return document
 
 

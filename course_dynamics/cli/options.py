@@ -18,6 +18,8 @@ from ..robots import load, robot_names
 VALUE_OPTIONS = ("--q", "--qd", "--qdd", "--gravity", "--q0", "--qd0", "--torque", "--viscous", "--coulomb",
                  "--payload-size")
 FRICTION_SOURCES = ("none", "urdf")
+MAX_SAMPLES = 100_000  # random states per robot in a comparison: more adds nothing but memory
+MAX_GRAVITY = 1e6      # m/s^2 per component (1e5 g): beyond it no result is meaningful
 
 
 class UsageError(InputError):
@@ -84,6 +86,8 @@ def gravity(args):
     g = numbers(args.gravity, "--gravity")
     if g.shape != (3,) or not np.all(np.isfinite(g)):
         raise UsageError(f"--gravity needs three finite numbers gx,gy,gz, got '{args.gravity}'")
+    if np.abs(g).max() > MAX_GRAVITY:
+        raise UsageError(f"--gravity components must be at most {MAX_GRAVITY:g} m/s^2 in size, got '{args.gravity}'")
     return g
 
 
@@ -104,7 +108,7 @@ def load_robot_argument(args, target: str | None = None):
                      **({} if g is None else {"gravity": g}))
     for warning in caught:
         if issubclass(warning.category, InertiaWarning):
-            print(f"warning: {warning.message}", file=sys.stderr)
+            print(f"warning: {render.one_line(warning.message)}", file=sys.stderr)
         else:
             warnings.warn_explicit(warning.message, warning.category, warning.filename, warning.lineno)
     return model
@@ -135,7 +139,7 @@ def warn_if_gravity_free(model) -> None:
     from ..sampling import gravity_free
 
     if gravity_free(model):
-        print(f"warning: robot '{model.name}': G(q) = 0 at every sampled state (gravity {model.gravity.tolist()} m/s^2 "
+        print(f"warning: robot '{render.one_line(model.name)}': G(q) = 0 at every sampled state (gravity {model.gravity.tolist()} m/s^2 "
               "cannot act on its joints), so gravity is not tested here", file=sys.stderr)
 
 
@@ -160,6 +164,14 @@ def check_oracle_memory(model) -> None:
                          "('terms' computes one state of it with our library alone)")
 
 
+def check_output_names(args) -> None:
+    """An empty output name ('') would mean the current folder: refuse it for every output option."""
+    for option in ("out", "plot", "html"):
+        value = getattr(args, option, None)
+        if value is not None and not str(value).strip():
+            raise UsageError("an output name is empty ('' would mean the current folder); name a file or folder")
+
+
 def add_sampling_arguments(parser, tolerance: float) -> None:
     """--samples, --seed, --tolerance: the seeded random states of a comparison with Pinocchio."""
     parser.add_argument("--samples", type=int, default=200, help="random states per robot (default 200)")
@@ -169,8 +181,10 @@ def add_sampling_arguments(parser, tolerance: float) -> None:
 
 def check_sampling(args) -> None:
     """At least one sample, and a tolerance that is a positive finite number."""
-    if args.samples < 1:
-        raise UsageError("--samples must be at least 1")
+    if not 1 <= args.samples <= MAX_SAMPLES:
+        raise UsageError(f"--samples must be between 1 and {MAX_SAMPLES}, got {args.samples}")
+    if args.seed < 0:
+        raise UsageError(f"--seed must be a non-negative integer, got {args.seed}")
     if not (np.isfinite(args.tolerance) and args.tolerance > 0):
         raise UsageError(f"--tolerance must be a positive finite number, got {args.tolerance}")
 

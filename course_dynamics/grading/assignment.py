@@ -124,8 +124,10 @@ def load_assignment(path) -> Assignment:
                          f"nor a URDF file next to the assignment")
     gravity = data.get("gravity", list(STANDARD_GRAVITY))
     if (not isinstance(gravity, list) or len(gravity) != 3
-            or not all(isinstance(g, (int, float)) and not isinstance(g, bool) and math.isfinite(g) for g in gravity)):
-        raise InputError(f"{path}: gravity must be three finite numbers [gx, gy, gz] (m/s^2), got {gravity!r}")
+            or not all(isinstance(g, (int, float)) and not isinstance(g, bool) and math.isfinite(g) and abs(g) <= 1e6
+                       for g in gravity)):
+        raise InputError(f"{path}: gravity must be three finite numbers [gx, gy, gz] of at most 1e6 m/s^2, "
+                         f"got {gravity!r}")
     allow = data.get("allow_nonphysical_inertia", False)
     if not isinstance(allow, bool):
         raise InputError(f"{path}: allow_nonphysical_inertia must be true or false, got {allow!r}")
@@ -138,8 +140,9 @@ def load_assignment(path) -> Assignment:
     for term, value in points.items():
         if term not in TERMS:
             raise InputError(f"{path}: points: unknown term '{term}' (terms are {', '.join(TERMS)})")
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value < 0:
-            raise InputError(f"{path}: points.{term} must be a non-negative number, got {value!r}")
+        if (isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value < 0
+                or value > 1e6):
+            raise InputError(f"{path}: points.{term} must be a number from 0 to 1e6, got {value!r}")
     forbidden = data.get("forbidden_imports", list(DEFAULT_FORBIDDEN))
     if not isinstance(forbidden, list) or not all(isinstance(x, str) and x.isidentifier() for x in forbidden):
         raise InputError(f"{path}: forbidden_imports must be a list of module names, got {forbidden!r}")

@@ -45,7 +45,8 @@ def gradebook_csv(grades: list[SubmissionGrade], assignment: Assignment) -> str:
     writer = csv.writer(out, lineterminator="\n")
     writer.writerow(["student", *assignment.terms, "total", "status", "sandbox"])
     for g in grades:
-        writer.writerow([g.student, *(f"{g.points(t):g}" for t in assignment.terms), f"{g.total:g}", g.status, g.sandbox])
+        student = "'" + g.student if g.student[:1] in ("=", "+", "-", "@") else g.student  # not a spreadsheet formula
+        writer.writerow([student, *(f"{g.points(t):g}" for t in assignment.terms), f"{g.total:g}", g.status, g.sandbox])
     return out.getvalue()
 
 
@@ -113,6 +114,7 @@ def _histogram_svg(totals: list[float], maximum: float) -> str:
     import matplotlib
 
     matplotlib.use("Agg")
+    matplotlib.rcParams["text.parse_math"] = False  # students' names are text, not TeX
     import matplotlib.pyplot as plt
 
     figure, axis = plt.subplots(figsize=(6.4, 3.2), constrained_layout=True)

@@ -181,6 +181,9 @@ def grade_submission(assignment: Assignment, plan: Plan, expected: Expected, pat
     return grade
 
 
+RESERVED_NAMES = ("summary", "gradebook")  # the class's own files in the output folder
+
+
 def student_names(paths) -> list[str]:
     """The file stems, which name the students; InputError for a missing file or two files with one name."""
     names = {}
@@ -190,6 +193,9 @@ def student_names(paths) -> list[str]:
             raise InputError(f"{path}: no such submission file")
         if path.stem in names:
             raise InputError(f"{path} and {names[path.stem]}: two submissions named '{path.stem}' (a student is a file name)")
+        if path.stem in RESERVED_NAMES:
+            raise InputError(f"{path}: a submission named '{path.stem}' would overwrite the class's {path.stem} file; "
+                             "rename it")
         names[path.stem] = path
     return list(names)
 

@@ -28,6 +28,7 @@ from ..model import Model
 
 GEOMETRIES = ("auto", "visual", "collision", "stick")
 MESH_BUDGET_BYTES = 1_500_000  # auto: larger visual meshes fall back to collision meshes
+MAX_MESH_BYTES = 200 * 2**20   # any geometry: a mesh file larger than this is not drawn (stick model instead)
 DEFAULT_COLOUR = (0.65, 0.67, 0.72)
 STICK_COLOUR = 0x4a6fa5
 AXIS_COLOUR = 0xd08030
@@ -230,6 +231,15 @@ def robot_geometry(model: Model, urdf, geometry: str = "auto", mesh_anywhere: bo
             result.warnings.append(message)
             warnings.warn(message, MeshWarning, stacklevel=2)
             break
+        odd = [shape for body in shapes.values() for shape in body
+               if not (np.all(np.isfinite(np.asarray(shape.size, dtype=float)))
+                       and np.all(np.isfinite(np.asarray(shape.scale, dtype=float))) and np.all(np.isfinite(shape.T)))]
+        if odd:
+            message = f"a {odd[0].kind} of the {which} geometry of {urdf} has a non-finite size, scale or placement; " \
+                      "drawing the stick model"
+            result.warnings.append(message)
+            warnings.warn(message, MeshWarning, stacklevel=2)
+            break
         outside = [p for p, ref in zip(meshes, references) if not mesh_allowed(ref, p, urdf)]
         if outside:
             if not mesh_anywhere:
@@ -244,6 +254,13 @@ def robot_geometry(model: Model, urdf, geometry: str = "auto", mesh_anywhere: bo
         missing = [p for p in meshes if not p.is_file()]
         if missing:
             message = f"mesh file {missing[0]} not found ({which} geometry of {urdf}); drawing the stick model"
+            result.warnings.append(message)
+            warnings.warn(message, MeshWarning, stacklevel=2)
+            break
+        huge = [p for p in set(meshes) if p.stat().st_size > MAX_MESH_BYTES]
+        if huge:
+            message = (f"mesh file {huge[0]} is {huge[0].stat().st_size / 2**20:.0f} MiB, more than "
+                       f"{MAX_MESH_BYTES // 2**20} MiB ({which} geometry of {urdf}); drawing the stick model")
             result.warnings.append(message)
             warnings.warn(message, MeshWarning, stacklevel=2)
             break

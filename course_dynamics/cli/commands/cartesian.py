@@ -1,9 +1,12 @@
 """``course-dynamics cartesian``: operational-space dynamics Mx, Vx, Gx (6.99) of a frame."""
 from __future__ import annotations
 
+import numpy as np
+
 from ... import render
 from ...cartesian import EXPRESSED_IN, MAX_CONDITION, ROW_NAMES, cartesian_dynamics
 from ..options import (
+    UsageError,
     add_robot_argument,
     check_finite,
     joint_values,
@@ -32,6 +35,8 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> int:
+    if not (np.isfinite(args.max_condition) and args.max_condition >= 1):
+        raise UsageError(f"--max-condition must be a finite number of at least 1, got {args.max_condition}")
     model = load_robot_argument(args)
     q = joint_values(args.q, "--q", model)
     qd = joint_values(args.qd, "--qd", model)

@@ -79,6 +79,8 @@ def run(args) -> int:
     if args.ensemble is not None:
         if args.ensemble < 1:
             raise UsageError("--ensemble must be at least 1")
+        if args.seed < 0:
+            raise UsageError(f"--seed must be a non-negative integer, got {args.seed}")
         if not (np.isfinite(args.perturbation) and args.perturbation >= 0):
             raise UsageError(f"--perturbation must be a non-negative number, got {args.perturbation}")
         if args.html:

@@ -8,6 +8,7 @@ import numpy as np
 from ... import render
 from ...dynamics import dynamics_terms
 from ..options import (
+    UsageError,
     add_robot_argument,
     check_finite,
     load_robot_argument,
@@ -18,6 +19,7 @@ from ..options import (
 )
 
 HELP = "tau, M, C, V, G at one state"
+TERMS_BYTES_PER_SQUARED_JOINT = 200  # n x n matrices of floats, about 25 of them alive at once at the peak
 DESCRIPTION = "Evaluate tau = M(q) qdd + V(q, qd) + G(q) and the Coriolis matrix C (C qd = V)."
 
 
@@ -31,6 +33,13 @@ def add_arguments(parser) -> None:
 
 def run(args) -> int:
     model = load_robot_argument(args)
+    from ...render import format_bytes
+    from ...simulation import memory_budget
+
+    needed = TERMS_BYTES_PER_SQUARED_JOINT * model.n**2
+    if needed > memory_budget():
+        raise UsageError(f"robot '{model.name}' has {model.n} joints: its M and C and their intermediates would need "
+                         f"about {format_bytes(needed)}, more than half of this machine's memory")
     warn_if_gravity_free(model)
     # The library checks the lengths and values, naming the joint at fault.
     q = numbers(args.q, "--q")

@@ -242,4 +242,4 @@ def _limit(value) -> str:
 
 
 def _share(value) -> str:
-    return "-" if value is None else f"{100 * value:.0f}%"
+    return "-" if value is None else (f"{100 * value:.0f}%" if value < 1e6 else f"{100 * value:.3g}%")
