@@ -210,7 +210,7 @@ def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[
     for name, theirs in columns.items():
         if theirs not in data:
             raise InputError(f"{where}: no column '{theirs}' (mapped from {name}); columns: {', '.join(data)}")
-    taken = [theirs for theirs in columns.values()]
+    taken = list(columns.values())
     for theirs in set(taken):
         if taken.count(theirs) > 1:
             both = [name for name, other in columns.items() if other == theirs]
@@ -231,9 +231,9 @@ def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[
             for kind in ("qd", "qdd"):
                 renamed.setdefault(f"{kind}_{name[2:]}", np.zeros(samples))
 
-    present = {kind: [f"{kind}_{j}" in renamed for j in model.joint_names] for kind in KINDS}
-    if not all(present["q"]):
-        missing = [f"q_{j}" for j, p in zip(model.joint_names, present["q"]) if not p]
+    given = {kind: {j for j in model.joint_names if f"{kind}_{j}" in renamed} for kind in KINDS}
+    if len(given["q"]) < model.n:
+        missing = [f"q_{j}" for j in model.joint_names if j not in given["q"]]
         raise InputError(f"{where}: missing columns: {', '.join(missing)} (a column map can name the log's own; "
                          f"a joint the log does not record can be given a constant)")
     q = io.stack_joint_columns(renamed, "q", model.joint_names)
@@ -263,7 +263,6 @@ def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[
         t = np.arange(samples) * float(dt)
 
     notes = []
-    given = {kind: {j for j, p in zip(model.joint_names, present[kind]) if p} for kind in ("qd", "qdd")}
     derived_qd = [j for j in model.joint_names if j not in given["qd"]]
     derived_qdd = [j for j in model.joint_names if j not in given["qdd"]]
     qd = np.empty_like(q)
