@@ -293,7 +293,8 @@ def read_table(path, comment: str = "#") -> Table:
             return line[:-1] if line.endswith(delimiter) else line
 
         header_line, rows = cut(header_line), [(n, cut(line)) for n, line in rows]
-    header = tuple(name.strip().strip('"').strip() for name in header_line.split(delimiter))
+    # The header as the csv module writes it: a name holding the delimiter or a quote is quoted.
+    header = tuple(name.strip() for name in next(csv.reader([header_line], delimiter=delimiter)))
     seen = set()
     for c, name in enumerate(header):
         if not name:

@@ -174,3 +174,9 @@ def test_csv_comments_come_before_the_header_and_are_skipped_on_reading(tmp_path
     io.write_csv(tmp_path / "x.csv", ["t", "q"], [[0.0, 1.0]], comments=["qd: differentiated\nfrom q"])
     assert (tmp_path / "x.csv").read_text().splitlines()[0] == "# qd: differentiated from q"
     assert io.read_table(tmp_path / "x.csv").header == ("t", "q")
+
+
+def test_names_holding_the_delimiter_or_quotes_read_back(tmp_path):
+    header = ["t", "q_a,b", 'q_say "hi"']
+    io.write_csv(tmp_path / "x.csv", header, [[0.0, 1.0, 2.0]])
+    assert io.read_table(tmp_path / "x.csv").header == tuple(header)
