@@ -336,20 +336,17 @@ def _parse_rows(path, header, rows, delimiter: str, decimal_comma: bool) -> np.n
     return data
 
 
-def read_columns(path, required: list[str], optional: list[str] = (), extra: str = "error") -> dict[str, np.ndarray]:
-    """The named columns of a table file (:func:`read_table`), checked: every required one present.
-
-    ``extra="error"`` refuses a column that is neither required nor optional;
-    ``extra="ignore"`` drops it (as logs with more signals than we need).
-    """
+def read_columns(path, required: list[str], optional: list[str] = ()) -> dict[str, np.ndarray]:
+    """The named columns of a table file (:func:`read_table`), checked: every required one present and no
+    column that is neither required nor optional (logs with more signals go through :mod:`course_dynamics.logs`)."""
     table = read_table(path)
     missing = [c for c in required if c not in table.header]
     if missing:
         raise InputError(f"{path}: missing columns: {', '.join(missing)}")
     unknown = [c for c in table.header if c not in required and c not in optional]
-    if unknown and extra == "error":
+    if unknown:
         raise InputError(f"{path}: unexpected columns: {', '.join(unknown)} (expected {', '.join(required)})")
-    return {name: values for name, values in table.columns().items() if name not in unknown}
+    return table.columns()
 
 
 def joint_columns(kinds, joints) -> list[str]:
