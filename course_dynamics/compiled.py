@@ -27,26 +27,47 @@ entries (the tests hold them to 1e-12 and to Pinocchio to 1e-9). The model's
 gravity is built in; a different gravity means a different model.
 
 Tracing takes milliseconds; compiling the Python takes most of the time (UR5
-about 0.2 s, Panda 0.5 s). So the generated module is cached on disk, as
-``<key>.py`` with its bytecode beside it, in ``$COURSE_DYNAMICS_CACHE``, else
-``$XDG_CACHE_HOME/course-dynamics``, else ``~/.cache/course-dynamics`` (made
-private to the user). The key is a hash of the model's numbers, the library
-version and the source of every traced module, so any change makes a new
-entry. A cached module is never trusted as it stands: its first line must
-carry the key, its bytecode is Python's *checked* hash-based kind (recompiled
-whenever it does not match the source), and before use its τ is compared with
-the interpreted recursion at a random state; on any doubt the module is
-generated again and the entry replaced. A folder that cannot be written
-means no cache, not an error.
+about 0.2 s, Panda 0.5 s). So the compiled module is cached on disk, one file
+``<key>.entry`` (its source and its bytecode), in ``$COURSE_DYNAMICS_CACHE``,
+else ``$XDG_CACHE_HOME/course-dynamics``, else ``~/.cache/course-dynamics``
+(made private to the user); ``COURSE_DYNAMICS_CACHE=off`` turns the cache off.
+The key is a hash of the model's numbers, the Python and library versions and
+the source of every traced module, so any change makes a new entry.
+
+A cached entry is code we are about to run, so nothing in it is trusted until
+checked, and checked *before* anything is executed:
+
+* the folder must be owned by the current user and writable by no one else,
+  and no folder above it writable by another user (unless sticky, as /tmp);
+* the entry must be a regular file (never followed through a link) owned by
+  the current user and writable by no one else;
+* its content must carry a keyed hash (HMAC-SHA256) made with a secret of 32
+  random bytes that lives in the folder, readable by the user alone: anyone
+  else can compute the key of an entry, but not its hash;
+* only then are its bytes (the very bytes that were checked) executed, and
+  every compiled function is compared with the interpreted recursions at a
+  random state.
+
+A folder that fails these checks is warned about once (:class:`CacheWarning`)
+and the model is compiled in memory; a bad entry is generated again and
+replaced. A folder that cannot be written means no cache, not an error.
+
+A robot whose programs would exceed :data:`MAX_OPERATIONS` operations (a chain
+of about 20 joints; the Coriolis program grows as n³) is not compiled:
+:class:`ProgramTooLargeError`, which the callers that compile on their own
+(``simulate``, long logs) answer by running the interpreted recursions.
 """
 from __future__ import annotations
 
 import hashlib
-import importlib.util
+import hmac
 import json
+import marshal
 import os
-import py_compile
+import stat
+import sys
 import time
+import warnings
 from dataclasses import dataclass, field
 from importlib import metadata
 from pathlib import Path
@@ -54,6 +75,7 @@ from pathlib import Path
 import numpy as np
 
 from . import coriolis, crba, io
+from .errors import CourseDynamicsError
 from .kinematics import joint_transforms
 from .model import Model
 from .newton_euler import gravity_vector, torque_entries
@@ -63,6 +85,34 @@ OPERATIONS = {"add": "{} + {}", "sub": "{} - {}", "mul": "{} * {}", "div": "{} /
               "sin": "sin({})"}
 TRACED_MODULES = ("algebra", "kinematics", "newton_euler", "spatial", "crba", "coriolis", "compiled")
 SINGULAR_PIVOT_RATIO = 1e-14  # as forward_dynamics: smallest allowed ratio of LDLᵀ pivots
+# Operations of all five programs together. Panda takes 19 000, a 20-joint chain 74 000 (2 s to compile, 5 MB of
+# source); a 30-joint chain would take 163 000 (7 s) and a 60-joint one several GB of memory.
+MAX_OPERATIONS = 80_000
+CACHE_OFF = "off"            # COURSE_DYNAMICS_CACHE=off: no cache
+MAX_ENTRY_BYTES = 64 * 2**20  # a cached entry larger than this is not read (it is far above MAX_OPERATIONS' size)
+
+
+class ProgramTooLargeError(CourseDynamicsError):
+    """A robot whose compiled programs would take more than :data:`MAX_OPERATIONS` operations."""
+
+    def __init__(self, what: str = "", remedy: str = "; use the interpreted recursions (--no-compile, compiled=False)"):
+        self.what = what
+        super().__init__(f"{what} is too large to compile: its programs would take more than {MAX_OPERATIONS} "
+                         f"operations{remedy}")
+
+
+class CompileWarning(UserWarning):
+    """A model that was run interpreted because it is too large to compile (the message says so)."""
+
+
+def too_large_to_compile(error: ProgramTooLargeError) -> None:
+    """What a caller that compiles on its own does with a robot too large for it: warn, then run interpreted."""
+    warnings.warn(str(ProgramTooLargeError(error.what, "; running the interpreted recursions")), CompileWarning,
+                  stacklevel=3)
+
+
+class CacheWarning(UserWarning):
+    """The cache folder cannot be trusted with code (the message says why): compiled in memory instead."""
 
 
 # ---------------------------------------------------------------------------------------- tracing
@@ -71,15 +121,18 @@ SINGULAR_PIVOT_RATIO = 1e-14  # as forward_dynamics: smallest allowed ratio of L
 class Tape:
     """The program being recorded: nodes (op, argument, argument), each recorded once."""
 
-    def __init__(self):
+    def __init__(self, limit: int = MAX_OPERATIONS):
         self.nodes: list[tuple] = []
         self.index: dict[tuple, int] = {}
+        self.limit = limit
 
     def record(self, op: str, *arguments) -> "Traced":
         key = (op, *arguments)
         i = self.index.get(key)
         if i is None:
             i = len(self.nodes)
+            if i >= self.limit:
+                raise ProgramTooLargeError()
             self.nodes.append(key)
             self.index[key] = i
         return Traced(self, i)
@@ -206,36 +259,46 @@ def _inputs(tape: Tape, prefix: str, n: int) -> list:
 
 
 def trace_programs(model: Model) -> dict[str, Program]:
-    """Run the library's recursions on traced scalars and keep what they computed (module docstring)."""
+    """Run the library's recursions on traced scalars and keep what they computed (module docstring).
+
+    Raises :class:`ProgramTooLargeError` as soon as the programs together pass :data:`MAX_OPERATIONS`.
+    """
     n, g = model.n, gravity_vector(model)
-    programs = {}
+    programs, tapes = {}, []
 
-    tape = Tape()
-    q, qd, qdd = _inputs(tape, "q", n), _inputs(tape, "qd", n), _inputs(tape, "qdd", n)
-    tau = torque_entries(model, joint_transforms(model, q), qd, qdd, g)
-    programs["tau"] = _program("tau", tape, ["q", "qd", "qdd"], tau)
+    def tape() -> Tape:
+        tapes.append(Tape(MAX_OPERATIONS - sum(len(t.nodes) for t in tapes)))
+        return tapes[-1]
 
-    tape = Tape()
-    q = _inputs(tape, "q", n)
-    M = crba.mass_matrix_entries(model, q)
-    programs["mass_matrix"] = _program("mass_matrix", tape, ["q"], [M[i][j] for i in range(n) for j in range(i, n)])
+    try:
+        t = tape()
+        q, qd, qdd = _inputs(t, "q", n), _inputs(t, "qd", n), _inputs(t, "qdd", n)
+        tau = torque_entries(model, joint_transforms(model, q), qd, qdd, g)
+        programs["tau"] = _program("tau", t, ["q", "qd", "qdd"], tau)
 
-    tape = Tape()
-    q, qd = _inputs(tape, "q", n), _inputs(tape, "qd", n)
-    bias = torque_entries(model, joint_transforms(model, q), qd, [0] * n, g)
-    programs["bias"] = _program("bias", tape, ["q", "qd"], bias)
+        t = tape()
+        q = _inputs(t, "q", n)
+        M = crba.mass_matrix_entries(model, q)
+        programs["mass_matrix"] = _program("mass_matrix", t, ["q"], [M[i][j] for i in range(n) for j in range(i, n)])
 
-    tape = Tape()
-    q, qd = _inputs(tape, "q", n), _inputs(tape, "qd", n)
-    C = coriolis.coriolis_matrix_entries(model, q, qd)
-    programs["coriolis"] = _program("coriolis", tape, ["q", "qd"], [C[i][j] for i in range(n) for j in range(n)])
+        t = tape()
+        q, qd = _inputs(t, "q", n), _inputs(t, "qd", n)
+        bias = torque_entries(model, joint_transforms(model, q), qd, [0] * n, g)
+        programs["bias"] = _program("bias", t, ["q", "qd"], bias)
 
-    tape = Tape()
-    q, qd, tau = _inputs(tape, "q", n), _inputs(tape, "qd", n), _inputs(tape, "tau", n)
-    M = crba.mass_matrix_entries(model, q)
-    bias = torque_entries(model, joint_transforms(model, q), qd, [0] * n, g)
-    qdd, pivots = _ldl_solve(M, [t - b for t, b in zip(tau, bias)])  # (6.115)
-    programs["forward_dynamics"] = _program("forward_dynamics", tape, ["q", "qd", "tau"], qdd + pivots)
+        t = tape()
+        q, qd = _inputs(t, "q", n), _inputs(t, "qd", n)
+        C = coriolis.coriolis_matrix_entries(model, q, qd)
+        programs["coriolis"] = _program("coriolis", t, ["q", "qd"], [C[i][j] for i in range(n) for j in range(n)])
+
+        t = tape()
+        q, qd, tau = _inputs(t, "q", n), _inputs(t, "qd", n), _inputs(t, "tau", n)
+        M = crba.mass_matrix_entries(model, q)
+        bias = torque_entries(model, joint_transforms(model, q), qd, [0] * n, g)
+        qdd, pivots = _ldl_solve(M, [t_ - b for t_, b in zip(tau, bias)])  # (6.115)
+        programs["forward_dynamics"] = _program("forward_dynamics", t, ["q", "qd", "tau"], qdd + pivots)
+    except ProgramTooLargeError:
+        raise ProgramTooLargeError(f"robot {model.name!r} ({n} joints)") from None
     return programs
 
 
@@ -319,21 +382,26 @@ def module_source(model: Model, programs: dict[str, Program], key: str) -> str:
 # ---------------------------------------------------------------------------------------- the compiled model
 
 
-def cache_folder() -> Path:
-    if os.environ.get("COURSE_DYNAMICS_CACHE"):
-        return Path(os.environ["COURSE_DYNAMICS_CACHE"])
+def cache_folder() -> Path | None:
+    """The cache folder (module docstring); None when ``COURSE_DYNAMICS_CACHE=off``."""
+    chosen = os.environ.get("COURSE_DYNAMICS_CACHE")
+    if chosen == CACHE_OFF:
+        return None
+    if chosen:
+        return Path(chosen)
     base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
     return Path(base) / "course-dynamics"
 
 
 def model_key(model: Model) -> str:
-    """A hash of everything the programs depend on: the model's numbers, the library version and the traced code."""
+    """A hash of everything the programs depend on: the model's numbers, the library and Python versions, the code."""
     here = Path(__file__).resolve().parent
     digest = hashlib.sha256()
     try:
         digest.update(metadata.version("course-dynamics").encode())
     except metadata.PackageNotFoundError:
         pass
+    digest.update(f"{sys.version} {sys.implementation.cache_tag} marshal {marshal.version}".encode())
     for module in TRACED_MODULES:
         digest.update((here / f"{module}.py").read_bytes())
     description = [model.name, model.gravity.tolist(), [
@@ -413,67 +481,183 @@ class CompiledModel:
 PROGRAMS = ("tau", "mass_matrix", "bias", "coriolis", "forward_dynamics")
 
 
-def _functions(module) -> dict:
-    return {name: getattr(module, name) for p in PROGRAMS for name in (p, f"{p}_batch")}
-
-
-def _import(path: Path, key: str):
-    """The cached module at ``path`` if its first line carries ``key``; None otherwise or on any error."""
-    try:
-        with open(path, encoding="utf-8") as handle:
-            if handle.readline().strip() != f"# course-dynamics compiled model {key}":
-                return None
-        spec = importlib.util.spec_from_file_location(f"course_dynamics_compiled_{key[:16]}", path)
-        module = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(module)  # its bytecode is checked against the source's hash
-        _functions(module)
-        return module
-    except Exception:  # a truncated or garbled entry: generate it again
-        return None
+def _functions_of(source: str, code, name: str) -> dict:
+    namespace: dict = {"__name__": f"course_dynamics_compiled_{name}"}
+    exec(code, namespace)  # our own program: just generated, or read back after its keyed hash was checked
+    return {n: namespace[n] for p in PROGRAMS for n in (p, f"{p}_batch")}
 
 
 def _agrees_with_the_recursion(model: Model, functions: dict) -> bool:
-    """τ of the compiled module against the interpreted recursion at one random state, to 1e-12."""
+    """Every compiled function at one random state against the interpreted recursions, to 1e-12."""
+    from .dynamics import coriolis_matrix, mass_matrix_and_bias
     from .newton_euler import inverse_dynamics
 
-    q, qd, qdd = np.random.default_rng().uniform(-1, 1, (3, model.n))
+    n = model.n
+    q, qd, qdd = np.random.default_rng().uniform(-1, 1, (3, n))
+    rows, cols = np.triu_indices(n)
     try:
-        ours = inverse_dynamics(model, q, qd, qdd)
-        compiled = np.array(functions["tau"](q.tolist(), qd.tolist(), qdd.tolist()))
-    except Exception:
+        M, bias = mass_matrix_and_bias(model, q, qd)
+        expected = {"tau": inverse_dynamics(model, q, qd, qdd), "mass_matrix": M[rows, cols], "bias": bias,
+                    "coriolis": coriolis_matrix(model, q, qd).ravel(),
+                    "forward_dynamics": np.linalg.solve(M, qdd - bias)}
+        arguments = {"tau": (q, qd, qdd), "mass_matrix": (q,), "bias": (q, qd), "coriolis": (q, qd),
+                     "forward_dynamics": (q, qd, qdd)}
+        for name, ours in expected.items():
+            got = np.array(functions[name](*(a.tolist() for a in arguments[name])))[:len(ours)]
+            out = functions[f"{name}_batch"](*(a[:, None] for a in arguments[name]))
+            batch = np.array([np.broadcast_to(np.asarray(o, dtype=float), (1,))[0] for o in out])[:len(ours)]
+            scale = 1 + np.abs(ours).max()
+            if not (np.all(np.abs(got - ours) <= 1e-9 * scale) and np.all(np.abs(batch - ours) <= 1e-9 * scale)):
+                return False
+    except Exception:  # a garbled program: generate it again
         return False
-    return bool(np.all(np.abs(compiled - ours) <= 1e-12 * (1 + np.abs(ours))))
+    return True
 
 
-def _store(path: Path, source: str):
-    """Write the module and its checked hash-based bytecode; None if the folder cannot take them."""
+# ---------------------------------------------------------------------------------------- the cache
+
+_warned_folders: set[str] = set()
+
+
+def _distrust(folder: Path) -> str | None:
+    """Why ``folder`` may not hold code we run (module docstring), or None when only this user can change it."""
+    uid = os.getuid()
     try:
-        path.parent.mkdir(mode=0o700, parents=True, exist_ok=True)
-        io.write_text(path, source)
-        py_compile.compile(str(path), cfile=importlib.util.cache_from_source(str(path)), doraise=True,
-                           invalidation_mode=py_compile.PycInvalidationMode.CHECKED_HASH)
-    except (OSError, ValueError, py_compile.PyCompileError):
+        st = os.stat(folder)
+        if not stat.S_ISDIR(st.st_mode):
+            return "it is not a folder"
+        if st.st_uid != uid:
+            return f"it belongs to another user (uid {st.st_uid})"
+        if st.st_mode & 0o022:
+            return f"other users can write to it (mode {stat.S_IMODE(st.st_mode):o})"
+        for above in folder.resolve().parents:
+            st = os.stat(above)
+            if st.st_uid not in (uid, 0):
+                return f"the folder {above} above it belongs to another user (uid {st.st_uid})"
+            if st.st_mode & 0o022 and not st.st_mode & stat.S_ISVTX:
+                return f"other users can write to the folder {above} above it"
+    except OSError as exc:
+        return f"it cannot be inspected ({exc.strerror})"
+    return None
+
+
+def _read_private(path: Path, private_mode: int, limit: int) -> bytes | None:
+    """The bytes of ``path`` if it is a regular file of ours, no link, no bits of ``private_mode`` set; else None."""
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
+    except OSError:
         return None
-    return path
+    try:
+        st = os.fstat(fd)
+        if not stat.S_ISREG(st.st_mode) or st.st_uid != os.getuid() or st.st_mode & private_mode \
+                or st.st_size > limit:
+            return None
+        with os.fdopen(fd, "rb", closefd=False) as handle:
+            data = handle.read(limit + 1)
+        return data if len(data) <= limit else None
+    except OSError:
+        return None
+    finally:
+        os.close(fd)
+
+
+SECRET_BYTES = 32
+
+
+def _secret(folder: Path) -> bytes | None:
+    """The folder's 32 secret bytes, made on first use (readable by this user alone)."""
+    path = folder / "secret"
+    secret = _read_private(path, 0o077, SECRET_BYTES)
+    if secret is not None and len(secret) == SECRET_BYTES:
+        return secret
+    if os.path.lexists(path):
+        return None  # not ours, not private, or damaged: never replaced behind the user's back
+    try:
+        fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o600)
+    except OSError:
+        return None
+    with os.fdopen(fd, "wb") as handle:
+        handle.write(os.urandom(SECRET_BYTES))
+    secret = _read_private(path, 0o077, SECRET_BYTES)
+    return secret if secret is not None and len(secret) == SECRET_BYTES else None
+
+
+class _Cache:
+    """Entries ``<key>.entry`` in a trusted folder: HMAC (32 bytes), source length (8), source, marshalled code."""
+
+    def __init__(self, folder: Path | None):
+        self.folder, self.secret = folder, None
+        if folder is None:
+            return
+        try:
+            folder.mkdir(mode=0o700, parents=True, exist_ok=True)
+        except OSError:
+            self.folder = None  # cannot be made: no cache, as documented
+            return
+        reason = _distrust(folder)
+        self.secret = _secret(folder) if reason is None else None
+        if reason is None and self.secret is None:
+            reason = f"its secret file {folder / 'secret'} is not a private file of this user"
+        if reason is not None:
+            self.folder = None
+            if str(folder) not in _warned_folders:
+                _warned_folders.add(str(folder))
+                warnings.warn(f"the compiled-model cache {folder} is not used: {reason}; compiling in memory "
+                              f"(make it a private folder of yours, or set COURSE_DYNAMICS_CACHE={CACHE_OFF})",
+                              CacheWarning, stacklevel=3)
+
+    def path(self, key: str) -> Path | None:
+        return None if self.folder is None else self.folder / f"{key}.entry"
+
+    def _mac(self, key: str, body: bytes) -> bytes:
+        return hmac.new(self.secret, key.encode() + b"\0" + body, hashlib.sha256).digest()
+
+    def load(self, key: str) -> tuple[str, object] | None:
+        """(source, code) of a checked entry, or None."""
+        if self.folder is None:
+            return None
+        data = _read_private(self.path(key), 0o022, MAX_ENTRY_BYTES)
+        if data is None or len(data) < 40 or not hmac.compare_digest(data[:32], self._mac(key, data[32:])):
+            return None
+        length = int.from_bytes(data[32:40], "little")
+        try:
+            return data[40:40 + length].decode("utf-8"), marshal.loads(data[40 + length:])
+        except (ValueError, EOFError, TypeError, UnicodeDecodeError):
+            return None
+
+    def store(self, key: str, source: str, code) -> Path | None:
+        if self.folder is None:
+            return None
+        text = source.encode("utf-8")
+        body = len(text).to_bytes(8, "little") + text + marshal.dumps(code)
+        path = self.path(key)
+        try:
+            io.write_bytes(path, self._mac(key, body) + body)
+            os.chmod(path, 0o600)
+        except (OSError, CourseDynamicsError):
+            return None
+        return path
 
 
 def compile_model(model: Model, cache: bool = True) -> CompiledModel:
-    """Trace (or load from the cache) and compile the programs of ``model`` (module docstring)."""
+    """Trace (or load from the cache) and compile the programs of ``model`` (module docstring).
+
+    Raises :class:`ProgramTooLargeError` for a robot too large to compile.
+    """
     start = time.perf_counter()
     key = model_key(model)
-    path = cache_folder() / f"{key}.py"
-    module = _import(path, key) if cache and path.is_file() else None
-    if module is not None and _agrees_with_the_recursion(model, _functions(module)):
-        with open(path, encoding="utf-8") as handle:
-            source = handle.read()
-        return CompiledModel(model, source, time.perf_counter() - start, True, path, _functions(module))
+    store = _Cache(cache_folder() if cache else None)
+    entry = store.load(key)
+    if entry is not None:
+        source, code = entry
+        try:
+            functions = _functions_of(source, code, key[:16])
+        except Exception:  # a program that does not run: generate it again
+            functions = None
+        if functions is not None and _agrees_with_the_recursion(model, functions):
+            return CompiledModel(model, source, time.perf_counter() - start, True, store.path(key), functions)
     source = module_source(model, trace_programs(model), key)
-    stored = _store(path, source) if cache else None
-    module = _import(path, key) if stored else None
-    if module is not None:
-        functions = _functions(module)
-    else:
-        functions = {}
-        exec(compile(source, f"<compiled {model.name}>", "exec"), functions)  # our own program, just generated
-        functions = {name: functions[name] for p in PROGRAMS for name in (p, f"{p}_batch")}
+    code = compile(source, f"<compiled {key[:16]}>", "exec")
+    functions = _functions_of(source, code, key[:16])
+    stored = store.store(key, source, code)
     return CompiledModel(model, source, time.perf_counter() - start, False, stored, functions)

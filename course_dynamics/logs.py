@@ -336,13 +336,20 @@ def torques_from_log(model: Model, table, *, dt: float | None = None, columns: M
     for load in _as_list(payload):
         model = with_payload(model, load)
     log = joint_log(model, table, dt=dt, columns=columns, window=window, constants=constants, time_unit=time_unit)
-    if compiled is None:
+    automatic = compiled is None
+    if automatic:
         compiled = len(log.t) >= COMPILE_FROM_ROWS
+    tau = None
     if compiled:
-        from .compiled import compile_model
+        from .compiled import ProgramTooLargeError, compile_model, too_large_to_compile
 
-        tau = compile_model(model).inverse_dynamics(log.q, log.qd, log.qdd)
-    else:
+        try:
+            tau = compile_model(model).inverse_dynamics(log.q, log.qd, log.qdd)
+        except ProgramTooLargeError as exc:
+            if compiled is True and not automatic:
+                raise
+            too_large_to_compile(exc)
+    if tau is None:
         tau = inverse_dynamics(model, log.q, log.qd, log.qdd)
     if friction is not None:
         tau = tau + friction.torques(log.qd)                         # (6.114)

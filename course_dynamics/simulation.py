@@ -192,12 +192,16 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
         raise SimulationError("limits='stop' needs a fixed-step integrator (euler, semi-implicit or rk4)")
     tau_of = torque_function(model, torque)
     if dynamics is None:
+        dynamics = newton_euler_dynamics(model)
         if compiled or (compiled is None and len(times) - 1 >= COMPILE_FROM):
-            from .compiled import compile_model
+            from .compiled import ProgramTooLargeError, compile_model, too_large_to_compile
 
-            dynamics = compile_model(model).accelerations
-        else:
-            dynamics = newton_euler_dynamics(model)
+            try:
+                dynamics = compile_model(model).accelerations
+            except ProgramTooLargeError as exc:
+                if compiled:
+                    raise
+                too_large_to_compile(exc)
     solve_accelerations = dynamics
 
     def applied(t, q, qd):

@@ -75,14 +75,14 @@ def test_a_stale_or_corrupt_cache_is_rebuilt(tmp_path, monkeypatch, damage):
     monkeypatch.setenv("COURSE_DYNAMICS_CACHE", str(tmp_path))
     model = load_robot("two_link")
     path = compile_model(model).path
-    text = path.read_text()
+    data = path.read_bytes()
     if damage == "truncate":
-        path.write_text(text[: len(text) // 2])
-    elif damage == "other key":
-        path.write_text(text.replace("compiled model ", "compiled model 0", 1))
-    elif damage == "wrong number":  # the header still matches, the bytecode is checked against the new source
-        assert "0.5 * " in text
-        path.write_text(text.replace("0.5 * ", "0.6 * "))
+        path.write_bytes(data[: len(data) // 2])
+    elif damage == "other key":  # a valid entry of another robot, put under this robot's key
+        path.write_bytes(compile_model(load_robot("pendulum")).path.read_bytes())
+    elif damage == "wrong number":  # one number changed in the stored source: the keyed hash no longer matches
+        assert b"0.5 * " in data
+        path.write_bytes(data.replace(b"0.5 * ", b"0.6 * ", 1))
     else:
         path.write_bytes(b"\x00\xff" * 100)
     rebuilt = compile_model(model)
@@ -90,6 +90,116 @@ def test_a_stale_or_corrupt_cache_is_rebuilt(tmp_path, monkeypatch, damage):
     q, qd, qdd = [0.3, -0.2], [1.0, 0.5], [0.2, 0.1]
     np.testing.assert_allclose(rebuilt.inverse_dynamics(q, qd, qdd), inverse_dynamics(model, q, qd, qdd), rtol=1e-14)
     assert compile_model(model).from_cache
+
+
+PLANTED = """# course-dynamics compiled model {key}
+open({mark!r}, "w").write("owned")
+"""
+
+
+def _plant(folder, model, mark):
+    """What an attacker who can compute the key writes: a module and an entry that run code when loaded."""
+    import marshal
+
+    from course_dynamics.compiled import model_key
+
+    key = model_key(model)
+    source = PLANTED.format(key=key, mark=str(mark))
+    (folder / f"{key}.py").write_text(source)
+    body = len(source).to_bytes(8, "little") + source.encode() + marshal.dumps(compile(source, "x", "exec"))
+    (folder / f"{key}.entry").write_bytes(b"\0" * 32 + body)
+    return key
+
+
+def test_a_planted_entry_is_never_run(tmp_path, monkeypatch):
+    """An entry with the right key but no valid keyed hash: checked before anything is executed."""
+    folder = tmp_path / "cache"
+    monkeypatch.setenv("COURSE_DYNAMICS_CACHE", str(folder))
+    model = load_robot("two_link")
+    compile_model(load_robot("pendulum"))  # the folder exists and has its secret
+    mark = tmp_path / "PWNED"
+    _plant(folder, model, mark)
+    c = compile_model(model)
+    assert not mark.exists() and not c.from_cache
+    assert compile_model(model).from_cache and not mark.exists()
+
+
+@pytest.mark.parametrize("how", ["world-writable folder", "group-writable folder", "another user's folder",
+                                 "world-writable parent", "another user's secret"])
+def test_an_untrusted_cache_folder_is_not_used(tmp_path, monkeypatch, how):
+    import os
+
+    from course_dynamics.compiled import CacheWarning
+
+    parent = tmp_path / "shared"
+    parent.mkdir(mode=0o755)
+    folder = parent / "cache"
+    monkeypatch.setenv("COURSE_DYNAMICS_CACHE", str(folder))
+    model = load_robot("two_link")
+    compile_model(load_robot("pendulum"))
+    mark = tmp_path / "PWNED"
+    _plant(folder, model, mark)
+    if how == "world-writable folder":
+        folder.chmod(0o777)
+    elif how == "group-writable folder":
+        folder.chmod(0o770)
+    elif how == "another user's folder":
+        if os.getuid() != 0:
+            pytest.skip("needs root to give a folder to another user")
+        os.chown(folder, 65534, 65534)
+    elif how == "world-writable parent":
+        parent.chmod(0o777)
+    else:
+        if os.getuid() != 0:
+            pytest.skip("needs root to give a file to another user")
+        os.chown(folder / "secret", 65534, 65534)
+    with pytest.warns(CacheWarning, match="is not used"):
+        c = compile_model(model)
+    assert not mark.exists() and not c.from_cache and c.path is None
+    np.testing.assert_allclose(c.inverse_dynamics([0.1, 0.2], [0, 0], [0, 0]),
+                               inverse_dynamics(model, [0.1, 0.2], [0, 0], [0, 0]), rtol=1e-14)
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", CacheWarning)  # warned once per folder
+        compile_model(model)
+
+
+def test_an_entry_through_a_link_or_of_another_mode_is_not_read(tmp_path, monkeypatch):
+    import os
+
+    monkeypatch.setenv("COURSE_DYNAMICS_CACHE", str(tmp_path / "cache"))
+    model = load_robot("two_link")
+    path = compile_model(model).path
+    elsewhere = tmp_path / "entry"
+    path.rename(elsewhere)
+    path.symlink_to(elsewhere)
+    assert not compile_model(model).from_cache
+    path.chmod(0o622)
+    if os.getuid() == 0:  # root bypasses modes; the check is on the bits, not on access
+        assert not compile_model(model).from_cache
+
+
+def test_the_cache_can_be_turned_off(tmp_path, monkeypatch):
+    monkeypatch.setenv("COURSE_DYNAMICS_CACHE", "off")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    c = compile_model(load_robot("two_link"))
+    assert c.path is None and not c.from_cache and not any(tmp_path.iterdir())
+
+
+def test_a_robot_too_large_to_compile_is_refused_quickly(tmp_path):
+    import time
+
+    from course_dynamics.compiled import ProgramTooLargeError
+    from helpers import chain_urdf
+
+    path = tmp_path / "chain.urdf"
+    path.write_text(chain_urdf(60))
+    model = load_urdf(path)
+    start = time.perf_counter()
+    with pytest.raises(ProgramTooLargeError, match="60 joints.*too large to compile"):
+        compile_model(model, cache=False)
+    assert time.perf_counter() - start < 10
 
 
 def test_no_cache_where_none_can_be_written(tmp_path, monkeypatch):
@@ -127,3 +237,31 @@ def test_urdf_names_cannot_become_code_in_the_generated_module(tmp_path, monkeyp
     q = np.array([0.3, -0.2])
     np.testing.assert_allclose(compiled.inverse_dynamics(q, q, q), inverse_dynamics(model, q, q, q), rtol=1e-12)
     assert not mark.exists()
+
+
+def test_simulate_through_the_cli_never_runs_a_planted_cache(tmp_path, monkeypatch, capsys):
+    """The attack as a hostile local user makes it: a world-writable cache folder with a planted module."""
+    from helpers import run
+
+    folder = tmp_path / "cache"
+    monkeypatch.setenv("COURSE_DYNAMICS_CACHE", str(folder))
+    compile_model(load_robot("pendulum"))
+    mark = tmp_path / "PWNED"
+    _plant(folder, load_robot("two_link"), mark)
+    folder.chmod(0o777)
+    code, out, err = run(capsys, "simulate", "two_link", "--q0", "0.1,0.2", "--dt", "0.001", "--duration", "0.2",
+                         "--out", str(tmp_path / "run.csv"))
+    assert code == 0 and not mark.exists()
+    assert err.count("warning: the compiled-model cache") == 1 and "other users can write to it" in err
+
+
+def test_simulate_of_a_robot_too_large_to_compile_runs_interpreted(tmp_path, capsys):
+    from helpers import chain_urdf, run
+
+    path = tmp_path / "chain.urdf"
+    path.write_text(chain_urdf(40))
+    code, out, err = run(capsys, "simulate", str(path), "--q0", ",".join(["0.1"] * 40), "--dt", "0.001",
+                         "--duration", "0.1", "--out", str(tmp_path / "run.csv"), "--quiet")
+    assert code == 0, err
+    assert "warning: robot 'chain' (40 joints) is too large to compile" in err and "Traceback" not in err
+    assert (tmp_path / "run.csv").is_file()

@@ -14,6 +14,7 @@ from __future__ import annotations
 import importlib
 import os
 import sys
+import warnings
 
 import numpy as np
 
@@ -40,8 +41,19 @@ def build_parser() -> Parser:
     return parser
 
 
+def _warning_line(message, category, filename, lineno, file=None, line=None) -> None:
+    """A warning as one ``warning: …`` line, without the source line Python would print under it."""
+    print(f"warning: {one_line(message)}", file=sys.stderr)
+
+
 def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
+    with warnings.catch_warnings():
+        warnings.showwarning = _warning_line
+        return _main(argv)
+
+
+def _main(argv: list) -> int:
     try:
         args = build_parser().parse_args(join_value_options(argv))
         check_output_names(args)
