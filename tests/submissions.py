@@ -136,7 +136,49 @@ HOSTILE = {
                    "output limit", ["printed"]),
     "tamper": ("open(__file__, 'w').write('overwritten')\n" + CLOSED_FORMS, "file access", ["Read-only file system"]),
     "crash": ("raise RuntimeError('boom')\n", "crashed", ["RuntimeError: boom (line 1)"]),
+    # The import guard removed, the name computed: the package is simply not in the submission's Python.
+    "guard_removed": ("import sys\nsys.meta_path[:] = [f for f in sys.meta_path if type(f).__name__ != 'ImportGuard']\n"
+                      "__import__('pino' + 'cchio')\n" + CLOSED_FORMS, "crashed", ["No module named 'pinocchio'"]),
+    # Every site-packages folder on the disk put on the path: there is none to find.
+    "path_hunt": ("import os, sys\nsys.meta_path[:] = [f for f in sys.meta_path if type(f).__name__ != 'ImportGuard']\n"
+                  "for top in (sys.prefix, '/usr/lib', '/usr/local/lib', '/root', '/home', '/opt'):\n"
+                  "    for root, folders, _ in os.walk(top):\n"
+                  "        sys.path += [os.path.join(root, f) for f in folders if f.endswith('-packages')]\n"
+                  "        folders[:] = [f for f in folders if root.count('/') < 6]\n"
+                  "__import__('course_' + 'dynamics')\n" + CLOSED_FORMS, "crashed", ["No module named 'course_dynamics'"]),
 }
+
+# Submissions that write the results channel themselves: each must be 'invalid result' for itself alone.
+FORGE = """import os, sys
+with os.fdopen(int(sys.argv[1]), "wb") as channel:
+    channel.write({payload})
+os._exit(0)
+"""
+FORGED = {  # Python expressions for the bytes each writes
+    "forged_deep": 'b"[" * 200_000 + b"]" * 200_000',
+    "forged_big_integer": """b'{"status": "ok", "defined": ["G"], "results": {"G": [{"value": [1' + b"0" * 400 + b', 0.0], """
+                          """"shape": [2]}]}}'""",
+    "forged_empty_results": """b'{"status": "ok", "defined": ["tau"], "results": []}'""",
+    "forged_list_for_text": """b'{"status": "ok", "message": ["x"], "defined": ["tau"], "results": {}}'""",
+    "forged_status": """b'{"status": "=HYPERLINK(\\\\"http://example.invalid\\\\")", "defined": [], "results": {}}'""",
+    "forged_flood": 'b"[" + b"{}," * (64 * 2**20 // 3) + b"{}]"',
+}
+HOSTILE |= {name: (FORGE.format(payload=payload), "invalid result", ["cannot be used"]) for name, payload in FORGED.items()}
+
+# Fills every writable mount it can find: each must stop at its size, whatever cgroups the machine has.
+FILL_MOUNTS = '''
+import os
+for folder in ("/dev/shm", "/tmp", "/scratch", "/", "/dev"):
+    written = 0
+    try:
+        for k in range(75):  # 300 MiB in files of 4 MiB (each file under the file-size limit)
+            with open(os.path.join(folder, f"fill{k}"), "wb") as handle:
+                handle.write(b"x" * 4 * 2**20)
+            written += 4
+    except OSError as exc:
+        pass
+    print("filled", folder, written, "MiB")
+''' + CLOSED_FORMS
 
 # Behaviours that must not harm the grader or outlive grading; each still defines correct functions.
 PROCESSES = '''
@@ -170,7 +212,8 @@ try:
     print("network: connected")
 except OSError as exc:
     print("network:", exc.strerror or exc)
-for secret in ("/etc/shadow",):
+print("/etc", sorted(os.listdir("/etc")))
+for secret in ("/etc/shadow", "/etc/shadow-", "/etc/gshadow-", "/proc/self/mountinfo", "/proc/1/cmdline"):
     try:
         print(secret, "has", len(open(secret).read()), "characters")
     except OSError as exc:

@@ -15,7 +15,7 @@ import pytest
 from course_dynamics import CourseDynamicsError
 from course_dynamics.cli import main
 from course_dynamics.grading import EXAMPLE, load_assignment
-from submissions import HOSTILE, INJECTION, INJECTION_NAME, PROCESSES, SCORING, SNOOP
+from submissions import FILL_MOUNTS, HOSTILE, INJECTION, INJECTION_NAME, PROCESSES, SCORING, SNOOP
 
 ASSIGNMENT = """\
 robot = "two_link"
@@ -68,7 +68,7 @@ def running_sleeps() -> list[str]:
 def graded(tmp_path_factory):
     root = tmp_path_factory.mktemp("class")
     sources = {name: spec[0] for name, spec in SCORING.items()} | {name: spec[0] for name, spec in HOSTILE.items()}
-    sources |= {"processes": PROCESSES, "snoop": SNOOP, INJECTION_NAME: INJECTION}
+    sources |= {"processes": PROCESSES, "snoop": SNOOP, INJECTION_NAME: INJECTION, "fill_mounts": FILL_MOUNTS}
     paths = write_class(root, sources)
     out = root / "out"
     before = snapshot(root, out)
@@ -88,7 +88,7 @@ def test_gradebook_has_every_student_and_sums_its_terms(graded):
     with open(graded["out"] / "gradebook.csv", newline="") as handle:
         header = next(csv.reader(handle))
     assert header == ["student", "tau", "M", "V", "G", "C", "total", "status", "sandbox"]
-    assert len(graded["book"]) == len(SCORING) + len(HOSTILE) + 3
+    assert len(graded["book"]) == len(SCORING) + len(HOSTILE) + 4
     for row in graded["book"].values():
         assert float(row["total"]) == pytest.approx(sum(float(row[t]) for t in POINTS))
         assert row["sandbox"] == "bubblewrap"
@@ -139,7 +139,41 @@ def test_a_submission_sees_only_itself_and_no_network(graded):
     for other in ("closed_forms", "newton_euler", "gradebook", "assignment.toml"):
         assert other not in printed
     assert "network: Network is unreachable" in printed
-    assert "/etc/shadow has" not in printed
+    for hidden in ("/etc/shadow", "/etc/shadow-", "/etc/gshadow-", "/proc/self/mountinfo", "/proc/1/cmdline"):
+        assert f"{hidden} has" not in printed and f"{hidden} unreadable" in printed
+    etc = eval(printed.split("/etc ", 1)[1].splitlines()[0])  # the listing the submission printed
+    assert set(etc) <= {"ld.so.cache", "ld.so.conf", "ld.so.conf.d", "alternatives", "localtime"}, etc
+
+
+def test_no_writable_mount_holds_more_than_its_share_of_the_memory_limit(graded):
+    """Without a memory cgroup a tmpfs of half the RAM would let a submission fill the host's memory."""
+    printed = feedback(graded, "fill_mounts")
+    filled = {line.split()[1]: int(line.split()[2]) for line in printed.splitlines() if line.startswith("filled ")}
+    assert set(filled) == {"/dev/shm", "/tmp", "/scratch", "/", "/dev"}
+    assert filled["/"] == filled["/dev"] == 0
+    memory_limit = 512  # MiB, ASSIGNMENT's
+    assert sum(filled.values()) <= memory_limit, filled
+    assert graded["book"]["fill_mounts"]["status"] == "ok"
+
+
+def test_forged_results_affect_only_their_own_grade(graded):
+    """Submissions that wrote the results channel themselves: the class is graded, each of them is invalid."""
+    assert graded["code"] == 0
+    forged = [name for name in graded["book"] if name.startswith("forged_")]
+    assert len(forged) == 6
+    assert all(graded["book"][name]["status"] == "invalid result" for name in forged)
+    assert graded["book"]["closed_forms"]["total"] == "100"
+    with open(graded["out"] / "gradebook.csv", newline="") as handle:
+        text = handle.read()
+    assert "HYPERLINK" not in text
+
+
+def test_gradebook_cells_from_students_are_never_formulas():
+    from course_dynamics.grading.feedback import spreadsheet_text
+
+    for name in ("=1+1", "+1", "-1", "@SUM(A1)", "\t=1+1", "\r=1+1", " =1+1", "|cmd"):
+        assert spreadsheet_text(name).startswith("'"), name
+    assert spreadsheet_text("alice") == "alice" and spreadsheet_text("o'brien") == "o'brien"
 
 
 def test_nothing_is_written_outside_the_output_folder(graded):
@@ -193,6 +227,59 @@ def test_without_a_sandbox_it_refuses_unless_asked(tmp_path, monkeypatch, capsys
     assert [r["sandbox"] for r in rows] == ["none", "none"] and [r["total"] for r in rows] == ["100", "100"]
     assert "graded without a sandbox" in (out / "closed_forms.md").read_text()
     assert running_sleeps() == []
+
+
+def test_without_a_sandbox_or_cgroups_nothing_a_submission_detached_survives(tmp_path, monkeypatch, capsys):
+    import course_dynamics.grading.sandbox as sandbox
+
+    monkeypatch.setattr(sandbox.ControlGroups, "_make", staticmethod(lambda *args: None))
+    paths = write_class(tmp_path, {"processes": PROCESSES})
+    try:
+        code = main(["grade", str(tmp_path / "assignment.toml"), *map(str, paths), "--out", str(tmp_path / "out"),
+                     "--no-sandbox", "--quiet"])
+        assert code == 0
+        assert running_sleeps() == []
+    finally:
+        import os
+        import signal
+
+        for cmdline in Path("/proc").glob("[0-9]*/cmdline"):  # never leave the sleeps behind, even on failure
+            try:
+                if any(cmdline.read_bytes().startswith(s) for s in SLEEPS):
+                    os.kill(int(cmdline.parent.name), signal.SIGKILL)
+            except OSError:
+                pass
+
+
+def test_without_a_sandbox_forbidden_packages_are_not_on_the_path(tmp_path, capsys):
+    paths = write_class(tmp_path, {"guard_removed": HOSTILE["guard_removed"][0]})
+    code = main(["grade", str(tmp_path / "assignment.toml"), *map(str, paths), "--out", str(tmp_path / "out"),
+                 "--no-sandbox", "--quiet"])
+    assert code == 0
+    with open(tmp_path / "out" / "gradebook.csv", newline="") as handle:
+        row = next(csv.DictReader(handle))
+    assert row["status"] == "crashed" and row["total"] == "0"
+    assert "No module named 'pinocchio'" in (tmp_path / "out" / "guard_removed.md").read_text().replace("\\", "")
+
+
+def test_a_huge_or_special_submission_file_is_refused_without_reading_it(tmp_path):
+    import os
+    import time
+
+    from course_dynamics.grading import load_assignment
+    from course_dynamics.grading.grade import inspect_source
+
+    write_class(tmp_path, {})
+    assignment = load_assignment(tmp_path / "assignment.toml")
+    sparse = tmp_path / "sparse.py"
+    with open(sparse, "wb") as handle:
+        handle.truncate(3 * 2**30)  # 3 GB that take no disk
+    start = time.perf_counter()
+    assert inspect_source(sparse, assignment)[0] == "not python"
+    assert time.perf_counter() - start < 1
+    fifo = tmp_path / "fifo.py"
+    os.mkfifo(fifo)
+    assert inspect_source(fifo, assignment) == ("not python", "not a regular file")
 
 
 def test_example_assignment_is_a_valid_assignment(tmp_path, capsys):

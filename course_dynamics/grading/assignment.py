@@ -38,6 +38,10 @@ time_limit = 20             # CPU seconds per submission; the wall clock allows 
 memory_limit = 1024         # MiB per submission
 output_limit = 1000000      # bytes a submission may print; more is status "output limit" and no points
 forbidden_imports = ["pinocchio", "course_dynamics", "course_dynamics_reference"]
+# A submission's Python holds the standard library and numpy, nothing else installed: forbidden packages
+# are not there to be imported. allowed_imports adds installed packages by module name (list a package's
+# own dependencies too, e.g. ["sympy", "mpmath"]).
+allowed_imports = []
 
 # Partial credit per term: "states" gives points x (fraction of states that agree);
 # "none" gives the points only when every state agrees.
@@ -73,6 +77,7 @@ class Assignment:
     memory_limit: int = 1024
     output_limit: int = 1_000_000
     forbidden_imports: tuple[str, ...] = DEFAULT_FORBIDDEN
+    allowed_imports: tuple[str, ...] = ()
     partial_credit: str = "states"
     notes: tuple[str, ...] = field(default=())
 
@@ -87,7 +92,7 @@ class Assignment:
 
 
 KEYS = {"robot", "samples", "seed", "tolerance", "time_limit", "memory_limit", "output_limit", "forbidden_imports",
-        "partial_credit", "points", "gravity", "allow_nonphysical_inertia"}
+        "allowed_imports", "partial_credit", "points", "gravity", "allow_nonphysical_inertia"}
 
 
 def load_assignment(path) -> Assignment:
@@ -146,6 +151,12 @@ def load_assignment(path) -> Assignment:
     forbidden = data.get("forbidden_imports", list(DEFAULT_FORBIDDEN))
     if not isinstance(forbidden, list) or not all(isinstance(x, str) and x.isidentifier() for x in forbidden):
         raise InputError(f"{path}: forbidden_imports must be a list of module names, got {forbidden!r}")
+    allowed = data.get("allowed_imports", [])
+    if not isinstance(allowed, list) or not all(isinstance(x, str) and x.isidentifier() for x in allowed):
+        raise InputError(f"{path}: allowed_imports must be a list of module names, got {allowed!r}")
+    both = sorted(set(allowed) & set(forbidden))
+    if both:
+        raise InputError(f"{path}: '{both[0]}' is both forbidden and allowed")
     partial = data.get("partial_credit", "states")
     if partial not in PARTIAL_CREDIT:
         raise InputError(f"{path}: partial_credit must be one of {', '.join(PARTIAL_CREDIT)}, got {partial!r}")
@@ -159,5 +170,5 @@ def load_assignment(path) -> Assignment:
         samples=samples, seed=number("seed", 0, int, positive=False),
         tolerance=number("tolerance", 1e-6), time_limit=number("time_limit", 20.0),
         memory_limit=memory, output_limit=number("output_limit", 1_000_000, int),
-        forbidden_imports=tuple(forbidden), partial_credit=partial,
+        forbidden_imports=tuple(forbidden), allowed_imports=tuple(allowed), partial_credit=partial,
     )

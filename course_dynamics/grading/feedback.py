@@ -45,9 +45,17 @@ def gradebook_csv(grades: list[SubmissionGrade], assignment: Assignment) -> str:
     writer = csv.writer(out, lineterminator="\n")
     writer.writerow(["student", *assignment.terms, "total", "status", "sandbox"])
     for g in grades:
-        student = "'" + g.student if g.student[:1] in ("=", "+", "-", "@") else g.student  # not a spreadsheet formula
-        writer.writerow([student, *(f"{g.points(t):g}" for t in assignment.terms), f"{g.total:g}", g.status, g.sandbox])
+        writer.writerow([spreadsheet_text(g.student), *(f"{g.points(t):g}" for t in assignment.terms), f"{g.total:g}",
+                         spreadsheet_text(g.status), g.sandbox])
     return out.getvalue()
+
+
+FORMULA_STARTS = ("=", "+", "-", "@", "\t", "\r", "\n", "|", "%")
+
+
+def spreadsheet_text(text: str) -> str:
+    """A cell a spreadsheet shows as text, never runs as a formula (a leading quote, as OWASP's CSV advice)."""
+    return "'" + text if text[:1] in FORMULA_STARTS or text.lstrip()[:1] in FORMULA_STARTS else text
 
 
 def results_json(grade: SubmissionGrade, assignment: Assignment) -> dict:

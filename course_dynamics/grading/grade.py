@@ -21,13 +21,20 @@ status               meaning
 ``timeout``          it used more than the CPU or wall-clock time allowed
 ``memory``           it ran out of its memory allowance
 ``output limit``     it printed more than the assignment's output_limit
+``invalid result``   what came back is not what the harness writes (a
+                     submission that wrote on the results channel itself)
 ===================  =========================================================
+
+Everything a submission's process sends back is read as hostile
+(:mod:`~course_dynamics.grading.results`): one bad submission affects only its
+own grade.
 """
 from __future__ import annotations
 
 import ast
 import os
 import signal
+import stat
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -43,6 +50,7 @@ from .plan import (
     returned_coefficients,
     returned_terms,
 )
+from .environment import submission_environment
 from .sandbox import Limits, check_sandbox, run_submission
 
 MAX_SOURCE_BYTES = 1_000_000
@@ -98,11 +106,21 @@ def _forbidden_in_source(tree: ast.AST, forbidden) -> tuple[str, int] | None:
 def inspect_source(path: Path, assignment: Assignment) -> tuple[str, str] | None:
     """(status, message) when the file cannot be graded at all, read without running it; None otherwise."""
     try:
-        data = path.read_bytes()
+        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)  # a FIFO planted as a submission must not block us
+        try:
+            st = os.fstat(fd)
+            if not stat.S_ISREG(st.st_mode):
+                return "not python", "not a regular file"
+            if st.st_size > MAX_SOURCE_BYTES:
+                return "not python", f"the file has {st.st_size} bytes; a submission may have at most {MAX_SOURCE_BYTES}"
+            with os.fdopen(os.dup(fd), "rb") as handle:
+                data = handle.read(MAX_SOURCE_BYTES + 1)
+        finally:
+            os.close(fd)
     except OSError as exc:
         return "not python", f"cannot read the file: {exc.strerror}"
     if len(data) > MAX_SOURCE_BYTES:
-        return "not python", f"the file has {len(data)} bytes; a submission may have at most {MAX_SOURCE_BYTES}"
+        return "not python", f"the file has more than {MAX_SOURCE_BYTES} bytes; a submission may have at most that"
     try:
         source = data.decode("utf-8")
     except UnicodeDecodeError:
@@ -126,6 +144,8 @@ def _ended(run, assignment: Assignment) -> tuple[str, str] | None:
         return "timeout", f"still running after {Limits(assignment.time_limit).wall_seconds:g} s of wall-clock time"
     if run.output_bytes > assignment.output_limit:
         return "output limit", f"printed {run.output_bytes} bytes; the limit is {assignment.output_limit}"
+    if run.invalid:
+        return "invalid result", f"the results that came back cannot be used: {run.invalid}"
     if run.results is not None:
         status = run.results.get("status", "crashed")
         if status != "ok":
@@ -147,7 +167,8 @@ def _ended(run, assignment: Assignment) -> tuple[str, str] | None:
     return "crashed", f"the process ended without results: {tail[:300]}"
 
 
-def grade_submission(assignment: Assignment, plan: Plan, expected: Expected, path: Path, bwrap: str | None) -> SubmissionGrade:
+def grade_submission(assignment: Assignment, plan: Plan, expected: Expected, path: Path, bwrap: str | None,
+                     environment=None) -> SubmissionGrade:
     """Grade one file: inspect, run in the sandbox, score every term."""
     grade = SubmissionGrade(student=path.stem, path=path, status="ok", max_total=assignment.total_points,
                             sandbox="bubblewrap" if bwrap else "none")
@@ -159,7 +180,7 @@ def grade_submission(assignment: Assignment, plan: Plan, expected: Expected, pat
                     "functions": plan.harness_functions()}
     limits = Limits(time_limit=assignment.time_limit, memory_limit=assignment.memory_limit,
                     output_limit=assignment.output_limit)
-    run = run_submission(path, harness_plan, limits, bwrap)
+    run = run_submission(path, harness_plan, limits, bwrap, environment)
     grade.stdout = (run.stdout + run.stderr)[:FEEDBACK_OUTPUT]
     grade.notes += run.notes
     ended = _ended(run, assignment)
@@ -210,12 +231,13 @@ def grade_class(assignment: Assignment, paths, sandbox: bool = True, jobs: int |
     paths = [Path(p) for p in paths]
     student_names(paths)
     bwrap = check_sandbox() if sandbox else None
+    environment = submission_environment(assignment.allowed_imports)
     plan = make_plan(assignment)
     expected = expected_terms(assignment, plan)
     jobs = jobs or max(1, min(len(paths), os.cpu_count() or 1))
 
     def one(path):
-        grade = grade_submission(assignment, plan, expected, path.resolve(), bwrap)
+        grade = grade_submission(assignment, plan, expected, path.resolve(), bwrap, environment)
         grade.path = path
         if progress is not None:
             progress(1)

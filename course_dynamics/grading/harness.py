@@ -1,14 +1,20 @@
 """Runs one student's submission and evaluates its functions on a plan of calls.
 
 This file is the only code of ours that runs next to student code. In grading
-it runs as a script, ``python -I harness.py RESULTS_FD``, in its own process
-(inside the sandbox): it reads the plan as JSON from standard input, imports
-the submission, calls its functions, and writes plain JSON (numbers, strings)
-to the file descriptor RESULTS_FD. It imports nothing but the standard library
-and numpy, so it never loads the grader or the library it checks against. The
-notebooks' exercise checks call :func:`evaluate` in the student's own kernel.
+it runs as a script, ``python -I -S harness.py RESULTS_FD``, in its own process
+(inside the sandbox), on an interpreter that sees only the standard library and
+the folders the plan's ``path`` names (numpy and the assignment's allowed
+packages: :mod:`course_dynamics.grading.environment`): it reads the plan as
+JSON from standard input, imports the submission, calls its functions, and
+writes plain JSON (numbers, strings) to the file descriptor RESULTS_FD. It
+imports nothing but the standard library and numpy, so it never loads the
+grader or the library it checks against; the grader reads what comes back as
+hostile (:mod:`course_dynamics.grading.results`), since the submission can write
+to the same descriptor. The import guard below only names a forbidden import
+in the feedback: what keeps a forbidden package out is that it is not there.
+The notebooks' exercise checks call :func:`evaluate` in the student's own kernel.
 
-Plan: ``{"module": path, "forbidden": [names], "functions": {name: [[arg, …], …]}}``
+Plan: ``{"module": path, "path": [folders], "forbidden": [names], "functions": {name: [[arg, …], …]}}``
 where each argument is a list of floats (one state vector).
 
 Results: ``{"status", "message", "defined", "forbidden_attempts",
@@ -26,7 +32,10 @@ import os
 import sys
 import traceback
 
-import numpy as np
+try:  # in grading, numpy is importable only once main() has put the plan's folders on the path
+    import numpy as np
+except ImportError:
+    np = None
 
 FUNCTIONS = ("tau", "M", "V", "G", "C")
 MAX_VALUES = 10_000  # a returned array larger than this is reported, not sent back
@@ -140,9 +149,12 @@ def run(plan: dict) -> dict:
 
 
 def main() -> None:
+    global np
     results_fd = int(sys.argv[1])
     plan = json.loads(sys.stdin.read())
     sys.stdin.close()
+    sys.path[:0] = plan.get("path", [])
+    import numpy as np
     outcome = run(plan)
     data = json.dumps(outcome).encode()
     with os.fdopen(results_fd, "wb") as channel:

