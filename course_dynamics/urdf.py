@@ -71,6 +71,11 @@ def load_urdf(path, gravity=STANDARD_GRAVITY, allow_nonphysical_inertia: bool = 
         for name in names:
             if not str(name).isprintable():
                 raise ModelError(f"{where}: {kind} name {name!r} holds a control character (a line break, a tab, ...)")
+            if kind != "robot" and not str(name).strip():
+                raise ModelError(f"{where}: a {kind} has an empty name")
+            if len(str(name)) > MAX_NAME:
+                raise ModelError(f"{where}: a {kind} name has {len(str(name))} characters, more than {MAX_NAME}: "
+                                 f"{str(name)[:40]!r}...")
     links = {link.name: link for link in robot.links}
     if len(links) != len(robot.links):
         raise ModelError(f"{where}: two links share a name")
@@ -131,6 +136,50 @@ def load_urdf(path, gravity=STANDARD_GRAVITY, allow_nonphysical_inertia: bool = 
 
 
 MAX_URDF_BYTES = 64 * 2**20  # a 1 000-joint chain is under 1 MiB; anything far larger is not a robot description
+MAX_ANGLE = 1e4  # rad in an rpy: exporters write angles within a turn or two; 1e300 rad is no orientation
+MAX_NAME = 1000  # characters of a link or joint name: a name becomes a CSV column, a label, part of messages
+
+# Numbers as URDF (XML Schema's double) writes them, in ASCII. Python's float() also takes '1_000', '٣' (any
+# Unicode digit), '１' (full width) and spaces: read silently, each would be a number nobody wrote on purpose.
+URDF_NUMBER = re.compile(r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?|[+-]?(?:inf|infinity|nan)", re.ASCII | re.I)
+NUMERIC_ATTRIBUTES = {"xyz", "rpy", "ixx", "ixy", "ixz", "iyy", "iyz", "izz", "lower", "upper", "effort", "velocity",
+                      "damping", "friction", "radius", "length", "size", "scale", "rgba", "multiplier", "offset",
+                      "soft_lower_limit", "soft_upper_limit", "k_position", "k_velocity", "rising", "falling"}
+
+VALUE_COUNTS = {"xyz": 3, "rpy": 3, "size": 3, "scale": 3, "rgba": 4}
+
+
+def _owner(element) -> str:
+    """'link 'x'' or 'joint 'y'' for the element holding ``element``, as messages name them."""
+    while element is not None and element.tag not in ("link", "joint"):
+        element = element.getparent()
+    return "the robot" if element is None else f"{element.tag} '{element.get('name')}'"
+
+
+def _check_numbers(root, where: str) -> None:
+    """Every number of the links and joints written as URDF writes numbers (:data:`URDF_NUMBER`), none lost to 0."""
+    for top in root:
+        if top.tag not in ("link", "joint"):
+            continue  # gazebo, transmission and other extensions are not read
+        for element in top.iter():
+            for attribute, text in element.attrib.items():
+                if not (attribute in NUMERIC_ATTRIBUTES or (element.tag == "mass" and attribute == "value")):
+                    continue
+                count = VALUE_COUNTS.get(attribute)
+                if count is not None and len(text.split()) != count:
+                    raise ModelError(f"{where}: {_owner(element)}: <{element.tag} {attribute}=\"{text[:60]}\">: "
+                                     f"{len(text.split())} values, expected {count}")
+                for token in text.split():
+                    if not URDF_NUMBER.fullmatch(token):
+                        raise ModelError(f"{where}: {_owner(element)}: <{element.tag} {attribute}=\"{text[:60]}\">: "
+                                         f"{token[:30]!r} is not a number as URDF writes them (ASCII digits, '.', "
+                                         "an exponent)")
+                    if attribute == "rpy" and abs(float(token)) > MAX_ANGLE:
+                        raise ModelError(f"{where}: {_owner(element)}: <{element.tag} rpy=\"{text[:60]}\">: an angle "
+                                         f"of {float(token):g} rad, more than {MAX_ANGLE:g} in size")
+                    if float(token) == 0 and re.search(r"[1-9]", token.lower().split("e")[0]):
+                        raise ModelError(f"{where}: {_owner(element)}: <{element.tag} {attribute}=\"{text[:60]}\">: "
+                                         f"{token!r} is too small for a double and would be read as 0")
 
 
 def xml_parser():
@@ -198,6 +247,7 @@ def read_description(path):
     if root.getroottree().docinfo.internalDTD is not None or b"<!ENTITY" in raw:
         raise ModelError(f"{path}: declares a DTD (<!DOCTYPE ... [...]>); URDF files have none, and XML entities "
                          "are refused")
+    _check_numbers(root, str(path))
     logging.getLogger("yourdfpy").setLevel(logging.CRITICAL)
     try:
         urdf = yourdfpy.URDF.load(

@@ -88,7 +88,7 @@ BAD_URDFS = {
     "zero axis": (arm_urdf(axis="0 0 0"), "joint 'joint2': zero axis"),
     "NaN mass": (arm_urdf(mass="nan"), "link 'link2' inertial mass has a non-finite value"),
     "inf axis": (arm_urdf(axis="0 inf 0"), "joint 'joint2' axis has a non-finite value"),
-    "non-numeric mass": (arm_urdf(mass="heavy"), "malformed URDF: could not convert string to float: 'heavy'"),
+    "non-numeric mass": (arm_urdf(mass="heavy"), "link 'link2': <mass value=\"heavy\">: 'heavy' is not a number as URDF writes them"),
     "malformed XML": ('<robot name="x"><link name="a"></robot>', "malformed XML"),
     "undefined link": (arm_urdf(extra=JOINT.format(name="j3", type="fixed", parent="link2", child="ghost", axis="1 0 0")),
                        "joint 'j3': child link 'ghost' is not defined"),

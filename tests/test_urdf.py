@@ -6,7 +6,7 @@ import pinocchio as pin
 import pytest
 
 from course_dynamics import ModelError, load_urdf, mass_matrix
-from helpers import AWKWARD, BAD_URDFS, arm_urdf
+from helpers import AWKWARD, BAD_URDFS, arm_urdf, assert_one_line_error, run
 
 @pytest.mark.parametrize("case", sorted(BAD_URDFS))
 def test_bad_urdf_is_rejected_with_a_named_cause(tmp_path, case):
@@ -73,3 +73,31 @@ def test_gravity_can_be_set():
     assert model.gravity.tolist() == [0, 0, -1.62]
     with pytest.raises(ModelError, match="gravity"):
         load_urdf(AWKWARD, gravity=(0, float("nan"), 0))
+
+
+@pytest.mark.parametrize("value, message", [
+    ("1_0", "'1_0' is not a number as URDF writes them"),
+    ("\u0661", "is not a number as URDF writes them"),        # an Arabic-Indic digit: float() reads it as 1
+    ("\uff11", "is not a number as URDF writes them"),        # a full-width 1
+    ("0x10", "'0x10' is not a number as URDF writes them"),
+    ("1e-400", "'1e-400' is too small for a double and would be read as 0"),
+])
+def test_numbers_are_read_only_as_urdf_writes_them(tmp_path, capsys, value, message):
+    """float() accepts all of these; each would be a mass nobody wrote on purpose."""
+    path = tmp_path / "odd.urdf"
+    path.write_text(arm_urdf(mass=value), encoding="utf-8")
+    code, _, err = run(capsys, "info", str(path))
+    assert_one_line_error(code, err, str(path), "link 'link2': <mass value=", message)
+
+
+@pytest.mark.parametrize("text, message", [
+    (arm_urdf(axis="0 1"), "joint 'joint2': <axis xyz=\"0 1\">: 2 values, expected 3"),
+    (arm_urdf().replace('rpy="0 0 0"', 'rpy="1e300 0 0"', 1), "an angle of 1e+300 rad, more than 10000 in size"),
+    (arm_urdf().replace('name="joint2"', 'name=""'), "a joint has an empty name"),
+    (arm_urdf().replace('name="joint2"', 'name="' + "j" * 5000 + '"'), "a joint name has 5000 characters, more than 1000"),
+])
+def test_extreme_attributes_are_refused_with_the_element(tmp_path, capsys, text, message):
+    path = tmp_path / "odd.urdf"
+    path.write_text(text)
+    code, _, err = run(capsys, "info", str(path))
+    assert_one_line_error(code, err, str(path), message)
