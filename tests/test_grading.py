@@ -364,3 +364,24 @@ def test_grading_from_a_python_installed_under_tmp(tmp_path):
                              *map(str, paths), "--out", str(tmp_path / "out"), "--json"], capture_output=True, text=True)
     assert result.returncode == 0, result.stderr
     assert json.loads(result.stdout)["students"][0]["total"] == 100.0
+
+
+@pytest.mark.parametrize("name, message", [
+    (b"caf\xe9", "the file name is not UTF-8"),
+    (b"new\nline", "holds a control character"),
+    (b"tab\tname", "holds a control character"),
+    ("\u202eevil".encode(), "holds a control character"),
+    (b"x" * 220, "longer than 200 bytes"),
+])
+def test_a_file_name_that_cannot_name_a_student_is_one_clear_line(tmp_path, capsys, name, message):
+    """Any bytes a file name can hold: refused before grading, never a traceback or a broken gradebook."""
+    import os
+
+    write_class(tmp_path, {})
+    path = os.path.join(os.fsencode(tmp_path), name + b".py")
+    with open(path, "w") as handle:
+        handle.write(SCORING["closed_forms"][0])
+    code = main(["grade", str(tmp_path / "assignment.toml"), os.fsdecode(path), "--out", str(tmp_path / "out")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1 and err.startswith("error: ") and message in err, err
+    assert "Traceback" not in err and not (tmp_path / "out").exists()

@@ -205,6 +205,33 @@ def grade_submission(assignment: Assignment, plan: Plan, expected: Expected, pat
 RESERVED_NAMES = ("summary", "gradebook")  # the class's own files in the output folder
 
 
+MAX_NAME_BYTES = 200  # a student's name plus ".html" must fit a file name (255 bytes on Linux)
+
+
+def shown_path(path: Path) -> str:
+    """A path as it can be printed whatever bytes its name holds."""
+    return ascii(str(path))[1:-1] if not str(path).isprintable() or _surrogates(str(path)) else str(path)
+
+
+def _surrogates(text: str) -> bool:
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:
+        return True
+    return False
+
+
+def _unusable_name(name: str) -> str:
+    """Why a file stem cannot be a student's name in the outputs, or ''."""
+    if _surrogates(name):
+        return "the file name is not UTF-8"
+    if not name.isprintable():
+        return "the file name holds a control character (a line break, a tab, a direction mark...)"
+    if len(name.encode("utf-8")) > MAX_NAME_BYTES:
+        return f"the file name is longer than {MAX_NAME_BYTES} bytes"
+    return ""
+
+
 def student_names(paths) -> list[str]:
     """The file stems, which name the students; InputError for a missing file or two files with one name."""
     names = {}
@@ -212,6 +239,9 @@ def student_names(paths) -> list[str]:
         path = Path(path)
         if not path.is_file():
             raise InputError(f"{path}: no such submission file")
+        problem = _unusable_name(path.stem)
+        if problem:
+            raise InputError(f"{shown_path(path)}: {problem}, so it cannot name a student's files and rows; rename it")
         if path.stem in names:
             raise InputError(f"{path} and {names[path.stem]}: two submissions named '{path.stem}' (a student is a file name)")
         if path.stem in RESERVED_NAMES:
