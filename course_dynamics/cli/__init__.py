@@ -41,15 +41,19 @@ def build_parser() -> Parser:
     return parser
 
 
-def _warning_line(message, category, filename, lineno, file=None, line=None) -> None:
-    """A warning as one ``warning: …`` line, without the source line Python would print under it."""
-    print(f"warning: {one_line(message)}", file=sys.stderr)
-
-
 def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     with warnings.catch_warnings():
-        warnings.showwarning = _warning_line
+        shown = warnings.showwarning
+
+        def warning_line(message, category, filename, lineno, file=None, line=None):
+            """Our warnings as one ``warning: …`` line (without the source line Python prints); others as before."""
+            if category.__module__.startswith("course_dynamics"):
+                print(f"warning: {one_line(message)}", file=sys.stderr)
+            else:
+                shown(message, category, filename, lineno, file, line)
+
+        warnings.showwarning = warning_line
         return _main(argv)
 
 

@@ -30,7 +30,10 @@ def animation_document(model, urdf, t, q, tau, args) -> str:
     from ..render import one_line
 
     for warning in caught:
-        print(f"warning: {one_line(warning.message)}", file=sys.stderr)
+        if issubclass(warning.category, MeshWarning):
+            print(f"warning: {one_line(warning.message)}", file=sys.stderr)
+        else:  # a library's own warning (pyzmq's deprecations on import): as Python would show it
+            warnings.warn_explicit(warning.message, warning.category, warning.filename, warning.lineno)
     return document
 
 
