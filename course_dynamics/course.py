@@ -17,7 +17,10 @@ from __future__ import annotations
 
 import copy
 import html
+import os
 import re
+import stat
+from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
 
@@ -26,6 +29,7 @@ from .errors import InputError
 BEGIN, END = "### BEGIN SOLUTION", "### END SOLUTION"
 PLACEHOLDER = "...  # YOUR CODE HERE"
 CELL_TIMEOUT = 300  # s
+PUBLISH_OWNER = "publish-notebooks"  # the command named in an output folder's manifest
 
 
 def notebooks_folder() -> Path:
@@ -113,8 +117,30 @@ def solution_version(notebook, stem: str = "notebook"):
     return notebook
 
 
-def write_notebooks(out: Path, solutions: bool = False) -> list[Path]:
-    """Every notebook of the course as ``.ipynb`` in ``out`` (made if missing): student versions, or with solutions."""
+@dataclass(frozen=True)
+class NotebooksWritten:
+    """What :func:`write_notebooks` did.
+
+    ``written``: the notebooks written; ``kept``: (path, why) for each left as it was — ``"exists"``
+    for a file (a student's work, perhaps), or what else is there (``"is a symbolic link"``, …);
+    ``backups``: the copies kept of the notebooks replaced with ``force``.
+    """
+
+    written: tuple[Path, ...]
+    kept: tuple[tuple[Path, str], ...]
+    backups: tuple[Path, ...]
+
+
+def write_notebooks(out: Path, solutions: bool = False, force: bool = False) -> NotebooksWritten:
+    """Every notebook of the course as ``.ipynb`` in ``out`` (made if missing): student versions, or with solutions.
+
+    A notebook that is already there is kept as it is — a student's answers live in it — so a second
+    run adds only the notebooks that are missing. With ``force`` it is replaced, after a copy is kept
+    beside it (``NN_topic.ipynb.bak-YYYYmmdd-HHMMSS``, :func:`course_dynamics.io.keep_backup`). What
+    is not a regular file at a notebook's name (a symbolic link, a folder, a pipe) is left alone even
+    with ``force``: nothing is written through it or put in its place. Every notebook is rendered
+    before the first is written.
+    """
     import nbformat
 
     from . import io
@@ -128,9 +154,25 @@ def write_notebooks(out: Path, solutions: bool = False) -> list[Path]:
         made = solution_version(notebook, path.stem) if solutions else student_version(notebook, path.stem)
         documents[out / f"{path.stem}.ipynb"] = nbformat.writes(made)
     out.mkdir(parents=True, exist_ok=True)
+    written, kept, backups = [], [], []
     for target, text in documents.items():
-        io.write_text(target, text)
-    return list(documents)
+        try:
+            mode = os.lstat(target).st_mode
+        except FileNotFoundError:
+            if io.write_new(target, text):
+                written.append(target)
+            else:  # it appeared meanwhile
+                kept.append((target, "exists"))
+            continue
+        if not stat.S_ISREG(mode):
+            kept.append((target, "is a symbolic link" if stat.S_ISLNK(mode) else "is not a regular file"))
+        elif not force:
+            kept.append((target, "exists"))
+        else:
+            backups.append(io.keep_backup(target))
+            io.write_text(target, text)
+            written.append(target)
+    return NotebooksWritten(written=tuple(written), kept=tuple(kept), backups=tuple(backups))
 
 
 def execute(notebook, folder: Path, timeout: int = CELL_TIMEOUT):
@@ -166,7 +208,10 @@ def first_heading(notebook) -> str:
 def publish(out: Path, solutions: bool = False, only=None, progress=None) -> list[Path]:
     """Run every notebook and render it to a static HTML page in ``out``, with ``index.html`` listing them.
 
-    Pages are nbconvert's HTML; the animations are embedded in the page and play offline.
+    Pages are nbconvert's HTML; the animations are embedded in the page and play offline. ``out``
+    may hold other files: it is written by :func:`course_dynamics.io.write_folder`, which replaces
+    only pages an earlier run of this command wrote and nobody changed since, and refuses (before
+    any notebook runs) when another file is in the way.
     """
     import tempfile
 
@@ -175,12 +220,12 @@ def publish(out: Path, solutions: bool = False, only=None, progress=None) -> lis
     from . import io
 
     out = Path(out)
-    if out.exists() and not out.is_dir():
-        raise InputError(f"{out}: exists and is not a directory")
+    paths = notebook_paths(only)
+    io.check_folder(out, [f"{path.stem}.html" for path in paths] + ["index.html"], PUBLISH_OWNER)  # before minutes of work
     exporter = HTMLExporter(template_name="lab")
     pages, entries = {}, []
     with tempfile.TemporaryDirectory(prefix="course-dynamics-publish-") as folder:
-        for path in notebook_paths(only):
+        for path in paths:
             source = read_notebook(path)
             notebook = solution_version(source, path.stem) if solutions else student_version(source, path.stem)
             execute(notebook, Path(folder))
@@ -194,7 +239,4 @@ def publish(out: Path, solutions: bool = False, only=None, progress=None) -> lis
     pages["index.html"] = (f'<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8"><title>Manipulator dynamics: '
                            f"the course</title></head><body><h1>Manipulator dynamics (Craig, chapter 6): the course "
                            f"({kind})</h1><ol>{items}</ol></body></html>\n")
-    out.mkdir(parents=True, exist_ok=True)
-    for name, text in pages.items():
-        io.write_text(out / name, text)
-    return [out / name for name in pages]
+    return io.write_folder(out, pages, PUBLISH_OWNER)

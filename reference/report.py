@@ -32,7 +32,6 @@ from pathlib import Path
 import numpy as np
 
 from course_dynamics import io, render
-from course_dynamics.errors import InputError
 from course_dynamics.dynamics import gravity_torques, mass_matrix, velocity_torques
 from course_dynamics.newton_euler import inverse_dynamics
 from course_dynamics.robots import load, resolve
@@ -266,17 +265,26 @@ def report_markdown(report: Report) -> str:
     return "\n".join(lines) + "\n"
 
 
+OWNER = "report"  # the command named in the output folder's manifest
+FIGURES = ("errors", "trajectory")
+
+
+def report_files(robots: int) -> list[str]:
+    """The names :func:`write_report` writes for ``robots`` robots, relative to its folder."""
+    return (["index.html", "report.md", "report.json"]
+            + [f"figures/robot{index}_{key}.svg" for index in range(robots) for key in FIGURES])
+
+
 def write_report(out: Path, report: Report) -> list[Path]:
-    """index.html, report.md, report.json and figures/ in ``out`` (made if missing), each file whole or not at all."""
+    """index.html, report.md, report.json and figures/ in ``out`` (made if missing), each file whole or not at all.
+
+    ``out`` may hold other files: :func:`course_dynamics.io.write_folder` replaces only the files an
+    earlier report wrote there and nobody changed since, refuses anything else in the way (a file it
+    did not write, a ``figures`` that is a link) before writing any, and deletes nothing.
+    """
     documents = {"index.html": report_html(report), "report.md": report_markdown(report),
                  "report.json": json.dumps(report.as_dict(), indent=2, allow_nan=False) + "\n"}
     for index, r in enumerate(report.robots):
-        for key, svg in r.figures.items():
-            documents[f"figures/robot{index}_{key}.svg"] = svg
-    figures = out / "figures"
-    if figures.is_symlink() or (figures.exists() and not figures.is_dir()):
-        raise InputError(f"{figures}: is not a plain folder (a link or a file); refusing to write through it")
-    figures.mkdir(parents=True, exist_ok=True)
-    for name, text in documents.items():
-        io.write_text(out / name, text)
-    return [out / name for name in documents]
+        for key in FIGURES:
+            documents[f"figures/robot{index}_{key}.svg"] = r.figures[key]
+    return io.write_folder(out, documents, OWNER)

@@ -457,3 +457,55 @@ def test_ctrl_c_while_publishing_notebooks(tmp_path):
     os.killpg(process.pid, signal.SIGINT)  # as the terminal does: the whole process group
     _, err = process.communicate(timeout=120)
     assert process.returncode == 130 and err == "error: interrupted\n", err
+
+
+def _manifest_naming(name: str, content: bytes) -> bytes:
+    import hashlib
+
+    version = {"bytes": len(content), "sha256": hashlib.sha256(content).hexdigest()}
+    return json.dumps({"course-dynamics": 1, "files": {name: {"command": "report", "versions": [version]}}}).encode()
+
+
+@pytest.mark.parametrize("kind", ["not JSON", "names ../victim.txt", "names an absolute path", "a link to a list",
+                                  "lists index.html for another command"])
+def test_a_planted_manifest_authorises_no_write(capsys, tmp_path, kind):
+    """An output folder's manifest says which files course-dynamics may replace; one it did not write says nothing."""
+    from course_dynamics.io import MANIFEST
+
+    out, victim = tmp_path / "out", tmp_path / "victim.txt"
+    out.mkdir()
+    victim.write_bytes(b"precious")
+    (out / "index.html").write_bytes(b"my page")
+    manifest = out / MANIFEST
+    if kind == "not JSON":
+        manifest.write_bytes(b"\x00" * 100)
+    elif kind == "names ../victim.txt":
+        manifest.write_bytes(_manifest_naming("../victim.txt", b"precious"))
+    elif kind == "names an absolute path":
+        manifest.write_bytes(_manifest_naming(str(out / "index.html"), b"my page"))
+    elif kind == "a link to a list":
+        (tmp_path / "list.json").write_bytes(_manifest_naming("index.html", b"my page"))
+        manifest.symlink_to(tmp_path / "list.json")
+    else:
+        manifest.write_bytes(_manifest_naming("index.html", b"my page").replace(b'"report"', b'"grade"'))
+    before = {p: p.read_bytes() for p in tmp_path.rglob("*") if p.is_file()}
+    code, _, err = run(capsys, "report", "pendulum", "--samples", "2", "--out", str(out), "--quiet")
+    assert_one_line_error(code, err, "nothing was written")
+    assert {p: p.read_bytes() for p in tmp_path.rglob("*") if p.is_file()} == before
+    assert sorted(p.name for p in out.iterdir()) == sorted([MANIFEST, "index.html"])
+
+
+def test_grading_output_folders_can_use_the_same_manifest(tmp_path):
+    """The API the grader's --out writes through: a class's files, replaced run after run, a teacher's file kept."""
+    from course_dynamics import InputError
+    from course_dynamics.io import check_folder, write_folder
+
+    (tmp_path / "rubric.md").write_text("the teacher's")
+    files = {"gradebook.csv": "student,total\n", "summary.html": "<p/>", "alice.md": "ok"}
+    check_folder(tmp_path, list(files), "grade")
+    write_folder(tmp_path, files, "grade")
+    write_folder(tmp_path, {**files, "gradebook.csv": "student,total\nalice,1\n"}, "grade")
+    assert (tmp_path / "gradebook.csv").read_text().endswith("alice,1\n")
+    with pytest.raises(InputError, match="rubric.md: exists and was not written by course-dynamics"):
+        write_folder(tmp_path, {"rubric.md": "x"}, "grade")
+    assert (tmp_path / "rubric.md").read_text() == "the teacher's"

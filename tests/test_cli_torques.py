@@ -204,3 +204,53 @@ def test_columns_names_what_is_missing(capsys):
 def test_streamed_csv_comes_after_the_report(capsys):
     code, out, err = run(capsys, *sample("--out", "-", "--payload", "20"))
     assert code == 1 and "a limit is exceeded" in err and out.lstrip().startswith("#")
+
+
+def cli(*argv, timeout=60):
+    """The CLI in a child process with 3 GiB of address space: a log read whole fails fast instead of filling memory."""
+    import resource
+    import subprocess
+    import sys
+
+    def limit():
+        resource.setrlimit(resource.RLIMIT_AS, (3 * 2**30, 3 * 2**30))
+
+    return subprocess.run([sys.executable, "-m", "course_dynamics.cli", *argv], capture_output=True, text=True,
+                          timeout=timeout, preexec_fn=limit)
+
+
+@pytest.mark.parametrize("special, fragment", [
+    ("/dev/zero", "/dev/zero: not a regular file (a character device), not a table"),
+    ("fifo", "log.csv: not a regular file (a named pipe), not a table"),
+])
+def test_a_log_that_is_a_device_or_a_pipe_is_one_error_line_at_once(tmp_path, special, fragment):
+    log = tmp_path / "log.csv"
+    if special == "fifo":
+        os.mkfifo(log)  # nobody writes: reading would wait forever
+    result = cli("torques", "two_link", "--log", "/dev/zero" if special == "/dev/zero" else str(log),
+                 "--out", str(tmp_path / "tau.csv"))
+    assert result.returncode == 2 and result.stderr.count("\n") == 1 and fragment in result.stderr, result.stderr
+    assert not (tmp_path / "tau.csv").exists()
+
+
+def test_a_log_larger_than_memory_allows_says_how_much_it_would_need(capsys, tmp_path, monkeypatch):
+    monkeypatch.setattr("course_dynamics.simulation.memory_budget", lambda: 2**20)
+    out = tmp_path / "tau.csv"
+    code, _, err = run(capsys, *sample("--out", str(out)))
+    assert_one_line_error(code, err, str(LOG), "rows of 9 values: reading and using them would need about",
+                          "more than half of this machine's 2 MiB")
+    assert not out.exists()
+
+
+def test_an_ambiguous_decimal_separator_is_refused_unless_given(capsys, tmp_path):
+    log = tmp_path / "log.csv"
+    rows = "".join(f"{k};{k + 1},{k:03d};0\n" for k in range(20))  # 1,000 2,001 …: decimal or thousands?
+    log.write_text("t;q_theta1;q_theta2\n" + rows)
+    code, _, err = run(capsys, "torques", "two_link", "--log", str(log))
+    assert_one_line_error(code, err, f"{log}: line 2, column 'q_theta1': '1,000' could be 1.000 with a decimal comma "
+                                     "or 1000 with a thousands separator", "--decimal comma")
+    code, out, err = run(capsys, "torques", "two_link", "--log", str(log), "--decimal", "comma", "--out", "-")
+    assert code in (0, 1), err
+    table = np.loadtxt(out.splitlines(), delimiter=",", skiprows=next(i for i, line in enumerate(out.splitlines())
+                                                                      if line.startswith("t,")) + 1)
+    assert len(table) == 20

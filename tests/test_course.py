@@ -12,6 +12,7 @@ import time
 import pytest
 
 from course_dynamics.cli import main
+from course_dynamics.io import MANIFEST
 from course_dynamics.course import (BEGIN, END, execute, first_heading, notebook_paths, read_notebook, solution_regions,
                                     solution_version, student_version)
 
@@ -96,7 +97,10 @@ def test_student_notebooks_command_writes_the_course(tmp_path, capsys):
 
 def test_publish_renders_pages_with_an_index(tmp_path):
     assert main(["publish-notebooks", str(tmp_path / "site"), "--only", "01", "--solutions", "--quiet"]) == 0
-    assert sorted(p.name for p in (tmp_path / "site").iterdir()) == ["01_acceleration.html", "index.html"]
+    assert sorted(p.name for p in (tmp_path / "site").iterdir()) == [MANIFEST, "01_acceleration.html", "index.html"]
+    listed = json.loads((tmp_path / "site" / MANIFEST).read_text())["files"]
+    assert {name: entry["command"] for name, entry in listed.items()} == {"01_acceleration.html": "publish-notebooks",
+                                                                           "index.html": "publish-notebooks"}
     page = (tmp_path / "site" / "01_acceleration.html").read_text()
     assert "Acceleration of a rigid body" in page and "data:image/png;base64" in page and "✅" in page
     index = (tmp_path / "site" / "index.html").read_text()
@@ -107,3 +111,75 @@ def test_publish_rejects_an_unknown_notebook(tmp_path, capsys):
     assert main(["publish-notebooks", str(tmp_path / "site"), "--only", "42"]) == 2
     assert "no notebook numbered 42" in capsys.readouterr().err
     assert not (tmp_path / "site").exists()
+
+
+def test_publish_refuses_a_page_it_did_not_write_before_running_anything(tmp_path, capsys):
+    site = tmp_path / "site"
+    site.mkdir()
+    (site / "index.html").write_text("the course's own front page")
+    start = time.monotonic()
+    assert main(["publish-notebooks", str(site), "--only", "01", "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"error: {site / 'index.html'}: exists and was not written by course-dynamics" in err
+    assert time.monotonic() - start < 10  # refused before a notebook ran
+    assert sorted(p.name for p in site.iterdir()) == ["index.html"]
+    assert (site / "index.html").read_text() == "the course's own front page"
+
+
+def answered(path):
+    """A notebook as a student leaves it: an answer typed into the first exercise."""
+    document = json.loads(path.read_text())
+    cell = next(c for c in document["cells"] if c["cell_type"] == "code" and "YOUR CODE HERE" in "".join(c["source"]))
+    cell["source"] = "answer = 42  # my work\n"
+    path.write_text(json.dumps(document))
+    return path.read_text()
+
+
+def test_student_notebooks_never_replace_a_students_work(tmp_path, capsys):
+    course = tmp_path / "course"
+    assert main(["student-notebooks", str(course)]) == 0
+    first, second = sorted(course.glob("*.ipynb"))[:2]
+    work = answered(first)
+    second.unlink()
+    capsys.readouterr()
+    assert main(["student-notebooks", str(course)]) == 0  # again: adds what is missing, keeps the rest
+    err = capsys.readouterr().err
+    assert first.read_text() == work and second.exists()
+    assert f"note: {first} exists, kept (student-notebooks --force replaces it, keeping a backup)" in err
+    assert f"wrote 1 notebooks (student versions) to {course}, kept {len(NOTEBOOKS) - 1} already there" in err
+    assert main(["student-notebooks", str(course), "--solutions"]) == 0
+    assert first.read_text() == work and sorted(p.name for p in course.iterdir()) == sorted(
+        f"{p.stem}.ipynb" for p in NOTEBOOKS)
+
+
+def test_student_notebooks_force_keeps_a_backup_of_each_notebook_replaced(tmp_path, capsys, monkeypatch):
+    import course_dynamics.io
+
+    monkeypatch.setattr(course_dynamics.io.time, "strftime", lambda _: "20250102-030405")
+    course = tmp_path / "course"
+    assert main(["student-notebooks", str(course)]) == 0
+    first = sorted(course.glob("*.ipynb"))[0]
+    work = answered(first)
+    taken = first.with_name(first.name + ".bak-20250102-030405")
+    taken.write_text("a backup already there")
+    capsys.readouterr()
+    assert main(["student-notebooks", str(course), "--solutions", "--force"]) == 0
+    err = capsys.readouterr().err
+    backup = first.with_name(first.name + ".bak-20250102-030405-2")
+    assert backup.read_text() == work and taken.read_text() == "a backup already there"
+    assert BEGIN in first.read_text() and f"note: kept the notebook it replaces as {backup}" in err
+    assert f"wrote {len(NOTEBOOKS)} notebooks (with solutions)" in err
+
+
+def test_student_notebooks_never_write_through_a_link_or_into_a_folder(tmp_path, capsys):
+    course, victim = tmp_path / "course", tmp_path / "victim.ipynb"
+    course.mkdir()
+    victim.write_text("precious")
+    link = course / f"{NOTEBOOKS[0].stem}.ipynb"
+    link.symlink_to(victim)
+    (course / f"{NOTEBOOKS[1].stem}.ipynb").mkdir()
+    assert main(["student-notebooks", str(course), "--force"]) == 0
+    err = capsys.readouterr().err
+    assert victim.read_text() == "precious" and link.is_symlink() and (course / f"{NOTEBOOKS[1].stem}.ipynb").is_dir()
+    assert f"note: {link} is a symbolic link, left alone (nothing is written through it, even with --force)" in err
+    assert "is not a regular file, left alone" in err and not list(course.glob("*.bak-*"))

@@ -385,3 +385,26 @@ def test_a_file_name_that_cannot_name_a_student_is_one_clear_line(tmp_path, caps
     err = capsys.readouterr().err
     assert code == 2 and err.count("\n") == 1 and err.startswith("error: ") and message in err, err
     assert "Traceback" not in err and not (tmp_path / "out").exists()
+
+
+def test_grade_into_an_existing_folder_replaces_only_its_own_files(tmp_path, capsys):
+    """An instructor's folder: a re-run replaces the class's files, never a file of theirs, and checks first."""
+    paths = write_class(tmp_path, {"alice": SCORING["closed_forms"][0]})
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "notes.txt").write_text("the instructor's notes")
+    argv = ["grade", str(tmp_path / "assignment.toml"), *map(str, paths), "--out", str(out), "--quiet"]
+    assert main(argv) == 0 and main(argv) == 0  # the second run replaces what the first wrote
+    assert (out / "notes.txt").read_text() == "the instructor's notes"
+    (out / "alice.md").write_text("edited by hand")
+    code = main(argv)
+    err = capsys.readouterr().err
+    assert code == 2 and err.startswith("error: ") and "alice.md" in err and err.count("\n") == 1, err
+    assert (out / "alice.md").read_text() == "edited by hand"
+    (out / "alice.md").unlink()
+    (out / "bob.md").write_text("a file of the instructor's that a student's name would replace")
+    paths = write_class(tmp_path / "again", {"bob": SCORING["closed_forms"][0]})
+    code = main(["grade", str(tmp_path / "assignment.toml"), *map(str, paths), "--out", str(out), "--quiet"])
+    err = capsys.readouterr().err
+    assert code == 2 and "bob.md" in err and "not written by course-dynamics" in err
+    assert (out / "bob.md").read_text().startswith("a file of the instructor's")

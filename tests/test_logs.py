@@ -238,3 +238,38 @@ def test_one_log_column_for_two_of_ours_and_a_key_mapped_twice_are_refused():
         joint_log(load_robot("two_link"), log, columns={"q_theta1": "a", "q_theta2": "a"})
     with pytest.raises(InputError, match="'q_theta1' is mapped twice"):
         parse_column_map("q_theta1=a,q_theta1=b")
+
+
+def test_torques_in_blocks_of_rows_are_the_torques_at_once(monkeypatch):
+    """τ is computed ROWS_AT_A_TIME rows at a time to bound memory; the rows' results do not depend on it."""
+    model = load_robot("ur5")
+    t = np.arange(0, 0.5, 0.01)
+    rng = np.random.default_rng(5)
+    q, qd, qdd = (rng.standard_normal((len(t), 6)) for _ in range(3))
+    friction = Friction(viscous=np.full(6, 0.3), coulomb=np.full(6, 1.5))
+    wrench = Wrench("tool0", (0, 0, -20.0), (0, 1.0, 0))
+    monkeypatch.setattr("course_dynamics.logs.ROWS_AT_A_TIME", 7)
+    blocks = torques_from_log(model, columns(t, q, qd, qdd, joints=model.joint_names), friction=friction, wrench=wrench,
+                              compiled=False)
+    expected = inverse_dynamics(model, q, qd, qdd) + friction.torques(qd) + wrench_torques(model, q, wrench)
+    np.testing.assert_array_equal(blocks.tau, expected)
+
+
+def test_a_column_map_that_is_no_regular_file_or_too_large_is_refused(tmp_path):
+    import os
+    import signal
+
+    fifo = tmp_path / "map.toml"
+    os.mkfifo(fifo)  # reading it would wait for a writer forever
+    signal.signal(signal.SIGALRM, lambda *_: pytest.fail("parse_column_map waited on a pipe"))
+    signal.alarm(10)
+    try:
+        with pytest.raises(InputError, match=r"map.toml: not a regular file \(a named pipe\), not a column map"):
+            parse_column_map(str(fifo))
+    finally:
+        signal.alarm(0)
+    fifo.unlink()
+    with open(fifo, "wb") as handle:
+        handle.truncate(2 * 2**20)
+    with pytest.raises(InputError, match="map.toml: 2 MiB is more than a column map may be"):
+        parse_column_map(str(fifo))

@@ -6,6 +6,7 @@ import json
 import pytest
 
 from course_dynamics.cli import main
+from course_dynamics.io import MANIFEST
 from course_dynamics_reference.report import errata_count
 from helpers import AWKWARD, ROOT
 
@@ -20,7 +21,7 @@ def report(tmp_path_factory):
 def test_report_files_and_json(report):
     code, out = report
     assert code == 0
-    assert {p.name for p in out.iterdir()} == {"index.html", "report.md", "report.json", "figures"}
+    assert {p.name for p in out.iterdir()} == {"index.html", "report.md", "report.json", "figures", MANIFEST}
     document = json.loads((out / "report.json").read_text())
     assert [r["name"] for r in document["robots"]] == ["two_link", "awkward.urdf"]
     for robot in document["robots"]:
@@ -93,3 +94,34 @@ def test_errata_count_matches_the_document():
     table = text.split("## Misprints")[1].split("## Found correct")[0]
     rows = [line for line in table.splitlines() if line.startswith("| ") and not line.startswith("| where")]
     assert errata_count() == len(rows)
+
+
+def test_a_report_folder_is_rewritten_but_files_it_did_not_write_are_never_touched(tmp_path, capsys):
+    out = tmp_path / "site"
+    argv = ["report", "pendulum", "--samples", "2", "--out", str(out), "--quiet"]
+    assert main(argv) == 0
+    (out / "notes.md").write_text("the instructor's notes")
+    (out / "figures" / "logo.svg").write_text("<svg/>")
+    assert main(argv) == 0  # its own files, unchanged since: replaced
+    assert (out / "notes.md").read_text() == "the instructor's notes" and (out / "figures" / "logo.svg").exists()
+    listed = json.loads((out / MANIFEST).read_text())["files"]
+    assert sorted(listed) == ["figures/robot0_errors.svg", "figures/robot0_trajectory.svg", "index.html",
+                              "report.json", "report.md"]
+    capsys.readouterr()
+    (out / "report.md").write_text("edited by hand")
+    before = {p: p.read_bytes() for p in out.rglob("*") if p.is_file()}
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "report.md: was changed since course-dynamics report wrote it" in err
+    assert "nothing was written" in err
+    assert {p: p.read_bytes() for p in out.rglob("*") if p.is_file()} == before
+
+
+def test_a_report_refuses_an_index_it_did_not_write_before_computing(tmp_path, capsys):
+    out = tmp_path / "site"
+    out.mkdir()
+    (out / "index.html").write_text("the course's page")
+    assert main(["report", "two_link", "--out", str(out), "--quiet"]) == 2  # 200 samples: refused before they run
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "index.html: exists and was not written by course-dynamics" in err
+    assert sorted(p.name for p in out.iterdir()) == ["index.html"]

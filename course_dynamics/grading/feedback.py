@@ -30,7 +30,6 @@ from pathlib import Path
 from urllib.parse import quote
 
 from .. import io, render
-from ..errors import InputError
 from .assignment import Assignment
 from .grade import SubmissionGrade
 
@@ -168,8 +167,17 @@ def summary_html(grades: list[SubmissionGrade], assignment: Assignment) -> str:
     return _page(f"{assignment.source.name}: class summary", "\n".join(body))
 
 
+OWNER = "grade"  # the command named in the output folder's manifest
+
+
+def output_names(students) -> list[str]:
+    """The files :func:`write_outputs` writes for these students (what ``grade`` checks before grading)."""
+    return ["gradebook.csv", "summary.html"] + [f"{s}{suffix}" for s in students for suffix in (".md", ".html", ".json")]
+
+
 def write_outputs(out: Path, grades: list[SubmissionGrade], assignment: Assignment) -> list[Path]:
-    """Every output file in ``out`` (made if missing); returns the paths written."""
+    """Every output file in ``out`` (made if missing), through the folder's manifest (:func:`io.write_folder`):
+    only files an earlier ``grade`` wrote there are replaced, and nothing else in the folder is touched."""
     import json
 
     documents = {"gradebook.csv": gradebook_csv(grades, assignment), "summary.html": summary_html(grades, assignment)}
@@ -177,11 +185,4 @@ def write_outputs(out: Path, grades: list[SubmissionGrade], assignment: Assignme
         documents[f"{g.student}.md"] = feedback_markdown(g, assignment)
         documents[f"{g.student}.html"] = feedback_html(g, assignment)
         documents[f"{g.student}.json"] = json.dumps(results_json(g, assignment), indent=2, allow_nan=False) + "\n"
-    if out.exists() and not out.is_dir():
-        raise InputError(f"{out}: exists and is not a directory")
-    out.mkdir(parents=True, exist_ok=True)
-    written = []
-    for name, text in documents.items():
-        io.write_text(out / name, text)
-        written.append(out / name)
-    return written
+    return io.write_folder(out, documents, OWNER)

@@ -10,7 +10,9 @@ HELP = "grade students' dynamics code (sandboxed) against the library, with feed
 DESCRIPTION = ("Run each SUBMISSION.py in its own sandboxed process (bubblewrap: no network, read-only system, "
                "CPU/memory/process/output limits), call its tau, M, V, G or C on the assignment's seeded states, "
                "score every term against course_dynamics and explain each mistake. Writes gradebook.csv, "
-               "<student>.md/.html/.json (Gradescope results.json) and summary.html to --out.")
+               "<student>.md/.html/.json (Gradescope results.json) and summary.html to --out. An existing --out folder "
+               "keeps a manifest (.course-dynamics-files.json): only files an earlier grade wrote there are "
+               "replaced; any other file in the way is an error before anything runs.")
 
 
 def add_arguments(parser) -> None:
@@ -34,6 +36,7 @@ def run(args) -> int:
         load_assignment,
         write_outputs,
     )
+    from ...grading.feedback import OWNER, output_names
     from ...grading.grade import student_names
 
     if args.example_assignment:
@@ -49,7 +52,7 @@ def run(args) -> int:
         raise UsageError(f"{out}: exists and is not a directory")
     io.check_writable(out / "gradebook.csv") if out.is_dir() else io.check_writable(out)
     assignment = load_assignment(args.assignment)
-    student_names(args.submissions)
+    io.check_folder(out, output_names(student_names(args.submissions)), OWNER)  # before any student code runs
     if not args.no_sandbox:
         check_sandbox()  # before any output: no sandbox is an error, not a quiet downgrade
     progress = progress_bar(total=len(args.submissions), enabled=not (args.quiet or args.json) and sys.stderr.isatty(),

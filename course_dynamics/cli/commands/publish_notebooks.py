@@ -9,7 +9,9 @@ HELP = "run every notebook and render the course to static HTML pages (with an i
 DESCRIPTION = ("Execute the nine notebooks in fresh kernels and render each to OUTDIR/<notebook>.html with nbconvert, "
                "plus OUTDIR/index.html listing them. Student versions by default (exercises unanswered, checks "
                "saying 'not done yet'); --solutions publishes the worked answers. Animations are embedded and play "
-               "offline.")
+               "offline. OUTDIR may hold other files: a run replaces only the pages an earlier run wrote there and "
+               "nobody changed since (listed in OUTDIR/.course-dynamics-files.json), and refuses, before any notebook "
+               "runs, when another file is in the way.")
 
 
 def add_arguments(parser) -> None:

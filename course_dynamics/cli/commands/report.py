@@ -21,7 +21,9 @@ HELP = "write a comparison report against Pinocchio (HTML, Markdown, JSON) for t
 DESCRIPTION = ("For each ROBOT: the largest and median error of tau, M, C, V, G against Pinocchio on seeded random "
                "states, their distribution, tau along a smooth trajectory by both libraries, the textbook's closed "
                "forms for the course robots, the errata count and the environment. Writes DIR/index.html (one "
-               "self-contained page), DIR/report.md with DIR/figures/, and DIR/report.json.")
+               "self-contained page), DIR/report.md with DIR/figures/, and DIR/report.json. DIR may hold other "
+               "files: only the files an earlier report wrote there and nobody changed since are replaced (listed in "
+               "DIR/.course-dynamics-files.json); any other file in the way is an error before any work.")
 
 
 def add_arguments(parser) -> None:
@@ -42,7 +44,9 @@ def run(args) -> int:
     for target in args.urdf:  # bad input fails before any long work
         check_oracle_memory(load_robot_argument(args, target))
     # The oracle is imported by this command only, so the library itself never loads Pinocchio.
-    from course_dynamics_reference.report import build_report, write_report
+    from course_dynamics_reference.report import OWNER, build_report, report_files, write_report
+
+    io.check_folder(out, report_files(len(args.urdf)), OWNER)  # a file in the way fails before minutes of work
 
     progress = progress_bar(total=len(args.urdf) * args.samples, enabled=not args.quiet and sys.stderr.isatty(),
                             unit="state")

@@ -48,6 +48,9 @@ def add_arguments(parser) -> None:
     parser.add_argument("--set", metavar="OURS=VALUE,...", action="append",
                         help="a constant for a signal the log lacks, e.g. q_panda_finger_joint1=0.04 (a constant q "
                              "has zero rates; may be repeated)")
+    parser.add_argument("--decimal", choices=io.DECIMALS,
+                        help="the log's decimal separator, when it cannot tell (default: read from the log; a log "
+                             "that could be read two ways is refused)")
     parser.add_argument("--dt", type=float, help="sample step, s, for a log without a t column")
     parser.add_argument("--time-unit", choices=tuple(TIME_UNITS), default="s",
                         help="the unit of the log's t column (default s)")
@@ -187,7 +190,7 @@ def run(args) -> int:
     for target in (args.out, args.plot):  # fail before reading a long log
         if target:
             io.check_writable(target)
-    table = io.read_table(args.trajectory)
+    table = io.read_table(args.trajectory, decimal=args.decimal)
     if args.columns:
         return _list_columns(table, model, mapping, fixed)
     result = torques_from_log(model, table, dt=args.dt, columns=mapping, window=args.smooth, constants=fixed,
