@@ -265,3 +265,50 @@ def test_simulate_of_a_robot_too_large_to_compile_runs_interpreted(tmp_path, cap
     assert code == 0, err
     assert "warning: robot 'chain' (40 joints) is too large to compile" in err and "Traceback" not in err
     assert (tmp_path / "run.csv").is_file()
+
+
+def test_a_link_to_a_private_folder_placed_by_another_user_is_not_trusted(tmp_path, monkeypatch):
+    """The link decides where entries go: one in another user's folder could be swapped at any moment."""
+    import os
+
+    from course_dynamics.compiled import CacheWarning
+
+    if os.getuid() != 0:
+        pytest.skip("needs root to give a folder to another user")
+    mine = tmp_path / "mine"
+    mine.mkdir(mode=0o700)
+    theirs = tmp_path / "theirs"
+    theirs.mkdir()
+    (theirs / "cache").symlink_to(mine)
+    os.chown(theirs, 65534, 65534)
+    os.lchown(theirs / "cache", 65534, 65534)
+    monkeypatch.setenv("COURSE_DYNAMICS_CACHE", str(theirs / "cache"))
+    with pytest.warns(CacheWarning, match="belongs to another user"):
+        c = compile_model(load_robot("two_link"))
+    assert c.path is None and not any(mine.iterdir())
+
+
+@pytest.mark.parametrize("kind", ["fifo", "device link"])
+def test_an_entry_that_is_no_regular_file_is_replaced_never_opened(tmp_path, monkeypatch, kind):
+    import os
+    import stat
+
+    from course_dynamics.compiled import model_key
+
+    folder = tmp_path / "cache"
+    monkeypatch.setenv("COURSE_DYNAMICS_CACHE", str(folder))
+    model = load_robot("two_link")
+    compile_model(load_robot("pendulum"))
+    entry = folder / f"{model_key(model)}.entry"
+    device = tmp_path / "null"
+    if kind == "fifo":
+        os.mkfifo(entry)
+    else:
+        os.mknod(device, 0o666 | stat.S_IFCHR, os.makedev(1, 3))  # a /dev/null of our own
+        os.chmod(device, 0o666)  # whatever the umask
+        entry.symlink_to(device)
+    c = compile_model(model)  # would block forever on a FIFO opened for writing
+    assert entry.is_file() and not entry.is_symlink() and c.path == entry
+    if kind == "device link":
+        assert stat.S_IMODE(os.stat(device).st_mode) == 0o666  # never chmod'ed through the link
+    assert compile_model(model).from_cache
