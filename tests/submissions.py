@@ -148,6 +148,21 @@ HOSTILE = {
                   "__import__('course_' + 'dynamics')\n" + CLOSED_FORMS, "crashed", ["No module named 'course_dynamics'"]),
 }
 
+# Memory outside the address-space limit and the mounts' sizes: refused by the sandbox's seccomp filter.
+HIDDEN_MEMORY = '''
+import ctypes, os
+try:
+    os.memfd_create("hoard")
+    print("memfd: created")
+except OSError as exc:
+    print("memfd:", exc.strerror)
+libc = ctypes.CDLL(None, use_errno=True)
+print("shmget:", "created" if libc.shmget(0, 1 << 20, 0o1600) >= 0 else os.strerror(ctypes.get_errno()))
+''' + CLOSED_FORMS
+
+# Odd but honest answers: graded as wrong, never a crash of the grader or a misleading status.
+ODD_ANSWERS = closed_forms("\ndef G(q):\n    return [[[[1.0]]]]\n\ndef M(q):\n    return [[1e308, 1e308], [-1e308, 1e308]]\n")
+
 # Submissions that write the results channel themselves: each must be 'invalid result' for itself alone.
 FORGE = """import os, sys
 with os.fdopen(int(sys.argv[1]), "wb") as channel:
@@ -202,7 +217,7 @@ else:
 
 SNOOP = '''
 import os, socket
-for folder in ("/", "/submission", "/root", "/home", "/tmp", "/scratch", "/work"):
+for folder in ("/", "/submission", "/root", "/home", "/tmp", "/scratch", "/work", "/usr"):
     try:
         print(folder, sorted(os.listdir(folder)))
     except OSError as exc:
@@ -213,6 +228,7 @@ try:
 except OSError as exc:
     print("network:", exc.strerror or exc)
 print("/etc", sorted(os.listdir("/etc")))
+print("/lib/python3/dist-packages exists:", os.path.exists("/lib/python3/dist-packages"))
 for secret in ("/etc/shadow", "/etc/shadow-", "/etc/gshadow-", "/proc/self/mountinfo", "/proc/1/cmdline"):
     try:
         print(secret, "has", len(open(secret).read()), "characters")

@@ -15,7 +15,17 @@ import pytest
 from course_dynamics import CourseDynamicsError
 from course_dynamics.cli import main
 from course_dynamics.grading import EXAMPLE, load_assignment
-from submissions import FILL_MOUNTS, HOSTILE, INJECTION, INJECTION_NAME, PROCESSES, SCORING, SNOOP
+from submissions import (
+    FILL_MOUNTS,
+    HIDDEN_MEMORY,
+    HOSTILE,
+    INJECTION,
+    INJECTION_NAME,
+    ODD_ANSWERS,
+    PROCESSES,
+    SCORING,
+    SNOOP,
+)
 
 ASSIGNMENT = """\
 robot = "two_link"
@@ -68,7 +78,8 @@ def running_sleeps() -> list[str]:
 def graded(tmp_path_factory):
     root = tmp_path_factory.mktemp("class")
     sources = {name: spec[0] for name, spec in SCORING.items()} | {name: spec[0] for name, spec in HOSTILE.items()}
-    sources |= {"processes": PROCESSES, "snoop": SNOOP, INJECTION_NAME: INJECTION, "fill_mounts": FILL_MOUNTS}
+    sources |= {"processes": PROCESSES, "snoop": SNOOP, INJECTION_NAME: INJECTION, "fill_mounts": FILL_MOUNTS,
+                "hidden_memory": HIDDEN_MEMORY, "odd_answers": ODD_ANSWERS}
     paths = write_class(root, sources)
     out = root / "out"
     before = snapshot(root, out)
@@ -88,7 +99,7 @@ def test_gradebook_has_every_student_and_sums_its_terms(graded):
     with open(graded["out"] / "gradebook.csv", newline="") as handle:
         header = next(csv.reader(handle))
     assert header == ["student", "tau", "M", "V", "G", "C", "total", "status", "sandbox"]
-    assert len(graded["book"]) == len(SCORING) + len(HOSTILE) + 4
+    assert len(graded["book"]) == len(SCORING) + len(HOSTILE) + 6
     for row in graded["book"].values():
         assert float(row["total"]) == pytest.approx(sum(float(row[t]) for t in POINTS))
         assert row["sandbox"] == "bubblewrap"
@@ -154,6 +165,26 @@ def test_no_writable_mount_holds_more_than_its_share_of_the_memory_limit(graded)
     memory_limit = 512  # MiB, ASSIGNMENT's
     assert sum(filled.values()) <= memory_limit, filled
     assert graded["book"]["fill_mounts"]["status"] == "ok"
+
+
+def test_memory_outside_the_limits_cannot_be_taken(graded):
+    """A memfd or a System V segment would hold memory no address-space limit or mount size counts."""
+    printed = feedback(graded, "hidden_memory")
+    assert "memfd: Operation not permitted" in printed and "shmget: Operation not permitted" in printed
+
+
+def test_odd_answers_are_graded_not_mislabelled(graded):
+    row = graded["book"]["odd_answers"]
+    assert row["status"] == "ok" and float(row["G"]) == 0 and float(row["M"]) == 0
+    assert "4 dimensions" in feedback(graded, "odd_answers")
+
+
+def test_the_sandbox_shows_no_other_software(graded):
+    """Only what a Python needs of /usr: no other program's vendored packages, no site folders via /lib."""
+    printed = feedback(graded, "snoop")
+    usr = eval(printed.split("/usr ", 1)[1].splitlines()[0])
+    assert set(usr) <= {"bin", "lib", "lib64", "sbin"}, usr
+    assert "/lib/python3/dist-packages exists: False" in printed
 
 
 def test_forged_results_affect_only_their_own_grade(graded):

@@ -22,6 +22,7 @@ from __future__ import annotations
 import importlib.util
 import os
 import sys
+import sysconfig
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -34,10 +35,15 @@ PACKAGE_FOLDERS = ("site-packages", "dist-packages")
 
 @dataclass(frozen=True)
 class Environment:
-    """The interpreter, its installation folder, and the allowed packages as (name in SITE, folder or file)."""
+    """The interpreter, what of its installation it needs, and the allowed packages as (name in SITE, path).
+
+    ``stdlib`` is the standard library's folder (lib-dynload inside it), ``libraries`` the interpreter's
+    own shared library where it has one (``libpython3.X.so``).
+    """
 
     interpreter: Path
-    prefix: Path
+    stdlib: Path
+    libraries: tuple[Path, ...]
     packages: tuple[tuple[str, Path], ...]
 
     def linked_site(self, folder: Path) -> Path:
@@ -81,7 +87,11 @@ def submission_environment(allowed=()) -> Environment:
     for name in dict.fromkeys((*ALWAYS, *allowed)):
         for site_name, source in _package_files(name):
             packages[site_name] = source
-    return Environment(base_interpreter(), Path(sys.base_prefix).resolve(), tuple(packages.items()))
+    libdir, soname = sysconfig.get_config_var("LIBDIR"), sysconfig.get_config_var("INSTSONAME")
+    library = Path(libdir) / soname if libdir and soname and sysconfig.get_config_var("Py_ENABLE_SHARED") else None
+    libraries = (library.resolve(),) if library is not None and library.is_file() else ()
+    return Environment(base_interpreter(), Path(sysconfig.get_paths()["stdlib"]).resolve(), libraries,
+                       tuple(packages.items()))
 
 
 def package_folders(roots) -> list[Path]:

@@ -39,6 +39,8 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
+
 from ..errors import InputError
 from .assignment import TERMS, Assignment
 from .diagnosis import Diagnosis, diagnose
@@ -267,7 +269,10 @@ def grade_class(assignment: Assignment, paths, sandbox: bool = True, jobs: int |
     jobs = jobs or max(1, min(len(paths), os.cpu_count() or 1))
 
     def one(path):
-        grade = grade_submission(assignment, plan, expected, path.resolve(), bwrap, environment)
+        # A student's 1e308 overflows in the comparison: inf, which the diagnosis reports (numpy's error
+        # state is per thread, so the command line's does not reach the pool's threads).
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            grade = grade_submission(assignment, plan, expected, path.resolve(), bwrap, environment)
         grade.path = path
         if progress is not None:
             progress(1)

@@ -80,6 +80,8 @@ def _value(result):
         return {"error": f"returned {kind if result is not None else 'None'}, expected numbers"}
     if array.size > MAX_VALUES:
         return {"error": f"returned {array.size} values"}
+    if array.ndim > 3:
+        return {"error": f"returned an array of {array.ndim} dimensions"}
     return {"value": array.tolist(), "shape": list(array.shape)}
 
 

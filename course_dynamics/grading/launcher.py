@@ -1,16 +1,38 @@
 """Starts the sandbox with limits: ``python -I -S launcher.py CONFIG COMMAND…``.
 
 Run by the grader as a fresh process (standard library only): it moves itself
-into the grading cgroups named in CONFIG (JSON), sets the resource limits, and
-replaces itself with COMMAND, so that the limits hold from the first
-instruction of the sandbox and of everything it starts. Doing this in a
+into the grading cgroups named in CONFIG (JSON), sets the resource limits,
+installs the seccomp filter CONFIG carries (a BPF program, hex; see
+``sandbox.seccomp_program``), and replaces itself with COMMAND, so that the
+limits and the filter hold from the first instruction of the sandbox and of
+everything it starts. Doing this in a
 process of its own keeps the grader free of ``preexec_fn``, which is unsafe
 in a program that runs several submissions at once in threads.
 """
+import ctypes
 import json
 import os
 import resource
 import sys
+
+PR_SET_NO_NEW_PRIVS = 38
+PR_SET_SECCOMP = 22
+SECCOMP_MODE_FILTER = 2
+
+
+class SockFprog(ctypes.Structure):
+    _fields_ = [("len", ctypes.c_ushort), ("filter", ctypes.c_char_p)]
+
+
+def install_filter(program: bytes) -> None:
+    """Install a seccomp BPF program (8 bytes per instruction) for this process and all it starts."""
+    libc = ctypes.CDLL(None, use_errno=True)
+    fprog = SockFprog(len(program) // 8, program)
+    if libc.prctl(PR_SET_NO_NEW_PRIVS, 1, 0, 0, 0) != 0 or \
+            libc.prctl(PR_SET_SECCOMP, SECCOMP_MODE_FILTER, ctypes.byref(fprog), 0, 0) != 0:
+        sys.stderr.write(f"course-dynamics launcher: cannot install the seccomp filter: "
+                         f"{os.strerror(ctypes.get_errno())}\n")
+        os._exit(126)
 
 
 def main() -> None:
@@ -21,6 +43,8 @@ def main() -> None:
             handle.write(str(os.getpid()))
     for name, (soft, hard) in config.get("rlimits", {}).items():
         resource.setrlimit(getattr(resource, name), (soft, hard))
+    if config.get("seccomp"):
+        install_filter(bytes.fromhex(config["seccomp"]))
     os.execv(command[0], command)
 
 

@@ -65,7 +65,6 @@ LAUNCHER = HERE / "launcher.py"
 SCRATCH_BYTES = 64 * 2**20  # each writable mount at most; a quarter of the memory limit when that is less
 FILE_SIZE_BYTES = 16 * 2**20
 PROCESSES = 64
-SYSTEM_FOLDERS = ("/usr", "/bin", "/sbin", "/lib", "/lib32", "/lib64")
 ETC_FILES = ("/etc/ld.so.cache", "/etc/ld.so.conf", "/etc/ld.so.conf.d", "/etc/alternatives", "/etc/localtime")
 
 
@@ -142,20 +141,38 @@ def _namespaces() -> list[str]:
             "--setenv", "LANG", "C.UTF-8", "--setenv", "OPENBLAS_NUM_THREADS", "1", "--setenv", "OMP_NUM_THREADS", "1"]
 
 
+def system_folders() -> list[str]:
+    """What of the system a submission's Python needs: commands, the shared libraries, the dynamic loader.
+
+    Not all of ``/usr``: the rest holds other software, packages vendored by it, and what is installed.
+    """
+    import glob
+
+    folders = ["/usr/bin", *sorted(glob.glob("/usr/lib/*-linux-gnu*")), "/usr/lib64"]
+    for top in ("/bin", "/sbin", "/lib", "/lib32", "/lib64"):
+        if os.path.isdir(top) and not os.path.islink(top):
+            folders.append(top)  # a system without a merged /usr: the folder itself
+    return [folder for folder in folders if os.path.isdir(folder)]
+
+
 def _file_system(environment: Environment, limits: Limits) -> list[str]:
     """The sandbox's file system (module docstring), in bubblewrap's order: later mounts cover earlier ones."""
     size = str(limits.mount_bytes)
     # The private /tmp comes before the binds: an interpreter installed under /tmp is bound on top of it.
     args = ["--size", size, "--tmpfs", "/scratch", "--size", size, "--tmpfs", "/tmp"]
-    roots = [folder for folder in SYSTEM_FOLDERS if os.path.isdir(folder)]
+    roots = system_folders()
     for folder in roots:
         args += ["--ro-bind", folder, folder]
-    if not any(environment.prefix.is_relative_to(folder) for folder in roots):
-        args += ["--ro-bind", str(environment.prefix), str(environment.prefix)]
-        roots.append(str(environment.prefix))
+    for top in ("/bin", "/sbin", "/lib", "/lib32", "/lib64"):
+        if os.path.islink(top):  # merged /usr: the same link as on the host, so it leads to what is bound
+            args += ["--symlink", os.readlink(top), top]
+    interpreter = [environment.interpreter, *environment.libraries, environment.stdlib]
+    for path in interpreter:
+        if not any(path.is_relative_to(folder) for folder in roots):
+            args += ["--ro-bind", str(path), str(path)]
     for path in ETC_FILES:
         args += ["--ro-bind-try", path, path]
-    for folder in package_folders(roots):  # no installed package is visible ...
+    for folder in package_folders([*roots, environment.stdlib]):  # no installed package is visible ...
         args += ["--size", "4096", "--tmpfs", str(folder), "--remount-ro", str(folder)]
     for name, source in environment.packages:  # ... but the allowed ones
         args += ["--ro-bind", str(source), f"{SITE}/{name}"]
@@ -167,6 +184,46 @@ def _sandbox_command(bwrap: str, submission: Path, results_fd: int, environment:
             "--ro-bind", str(submission), f"/submission/{submission.name}",
             "--ro-bind", str(HARNESS), "/harness/harness.py", "--chdir", "/scratch", "--remount-ro", "/",
             "--", *harness_arguments(environment), "/harness/harness.py", str(results_fd)]
+
+
+# ---------------------------------------------------------------------------------------- seccomp
+
+# Memory a process can hold outside its address-space limit and outside any mount's size: a memfd, or a
+# System V shared memory segment touched and detached. Both are refused (EPERM) by a seccomp filter, so
+# that without a memory cgroup a submission still cannot fill the host's memory. Numbers per architecture:
+# (audit architecture, {name: system call number}).
+FILTERED_CALLS = {
+    "x86_64": (0xC000003E, {"memfd_create": 319, "shmget": 29, "memfd_secret": 447}),
+    "aarch64": (0xC00000B7, {"memfd_create": 279, "shmget": 194, "memfd_secret": 447}),
+}
+SECCOMP_RET_ALLOW, SECCOMP_RET_ERRNO, EPERM = 0x7FFF0000, 0x00050000, 1
+X32_SYSCALL_BIT = 0x40000000
+
+
+def seccomp_program(machine: str | None = None) -> bytes | None:
+    """The BPF program of the filter for this machine (None where we know no numbers: the run says so).
+
+    Any other ABI than the machine's own (32-bit calls, x32) is refused too: it would number calls otherwise.
+    """
+    import platform
+    import struct
+
+    known = FILTERED_CALLS.get(machine or platform.machine())
+    if known is None:
+        return None
+    arch, calls = known
+    deny = SECCOMP_RET_ERRNO | EPERM
+    numbers = sorted(calls.values())
+
+    def op(code, k, jt=0, jf=0):
+        return struct.pack("=HBBI", code, jt, jf, k)
+
+    LOAD, JEQ, JGE, RET = 0x20, 0x15, 0x35, 0x06  # BPF_LD|W|ABS, BPF_JMP|JEQ|K, BPF_JMP|JGE|K, BPF_RET|K
+    program = [op(LOAD, 4), op(JEQ, arch, 1, 0), op(RET, deny), op(LOAD, 0), op(JGE, X32_SYSCALL_BIT, 0, 1),
+               op(RET, deny)]
+    for number in numbers:
+        program += [op(JEQ, number, 0, 1), op(RET, deny)]
+    return b"".join(program + [op(RET, SECCOMP_RET_ALLOW)])
 
 
 # ---------------------------------------------------------------------------------------- cgroups
@@ -342,7 +399,8 @@ def run_submission(submission: Path, plan: dict, limits: Limits, bwrap: str | No
         nproc = _process_limit()
         if nproc is not None:
             rlimits["RLIMIT_NPROC"] = (nproc, nproc)
-        config = json.dumps({"cgroups": groups.procs, "rlimits": rlimits})
+        program = seccomp_program()
+        config = json.dumps({"cgroups": groups.procs, "rlimits": rlimits, "seccomp": program.hex() if program else ""})
         env = {"PATH": "/usr/bin:/bin", "LANG": "C.UTF-8", "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1",
                "HOME": str(scratch or "/scratch"), "COURSE_DYNAMICS_RUN": run_id}
         with _STARTING:
@@ -393,8 +451,9 @@ def run_submission(submission: Path, plan: dict, limits: Limits, bwrap: str | No
             stderr=bytes(err_reader.data).decode("utf-8", "replace"),
             output_bytes=out_reader.total + err_reader.total, returncode=process.returncode, timed_out=timed_out,
             out_of_memory=out_of_memory, run_id=run_id, invalid=invalid,
-            notes=[] if limited or nproc is not None else ["no process-count limit (no pids cgroup here, and the kernel "
-                                                           "does not limit root's processes)"],
+            notes=([] if limited or nproc is not None else ["no process-count limit (no pids cgroup here, and the "
+                                                            "kernel does not limit root's processes)"])
+            + ([] if program else ["memfd_create and shmget are not filtered on this architecture"]),
         )
     finally:
         for fd in [write_results, write_out, write_err] + unread:
