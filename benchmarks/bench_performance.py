@@ -10,7 +10,7 @@ Every figure is the best of --repeat runs of the same loop. It prints, for UR5:
    compiled) against ``pin.rneaInParallel`` with one thread, and against Python
    loops over ``pin.crba`` and ``pin.computeCoriolisMatrix``;
 3. ``simulate``, --duration s of RK4 at 1 ms, in the same RK4 loop
-   (``course_dynamics.simulation``) with our compiled forward dynamics (cache
+   (``course_dynamics.tools.simulation``) with our compiled forward dynamics (cache
    warm) or with ``pin.aba``;
 4. --members double pendulums for 0.5 s of RK4 at 1 ms as one ensemble, against
    the same RK4 loop calling ``pin.aba`` for every member, and how far apart the
@@ -26,13 +26,19 @@ import time
 
 import numpy as np
 import pinocchio as pin
-
-from course_dynamics import coriolis_matrix, inverse_dynamics, load_robot, mass_matrix, robot_path
-from course_dynamics.compiled import compile_model
-from course_dynamics.forward_dynamics import forward_dynamics
-from course_dynamics.simulation import simulate
 from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
 from course_dynamics_reference.validate import random_states
+
+from course_dynamics import (
+    coriolis_matrix,
+    inverse_dynamics,
+    load_robot,
+    mass_matrix,
+    robot_path,
+)
+from course_dynamics.core.compiled import compile_model
+from course_dynamics.core.forward_dynamics import forward_dynamics
+from course_dynamics.tools.simulation import simulate
 
 TARGETS = {"M/τ": 2.5, "C/τ": 6, "FD/τ": 4, "τ batch": 1.0, "M batch": 2, "C batch": 3, "simulate": 8, "ensemble": 1}
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 import time
 
 from course_dynamics import load_robot
-from course_dynamics.symbolic import derive
+from course_dynamics.core.symbolic import derive
 
 CASES = [("two_link", ("m1", "m2", "l1", "l2", "g")), ("rp_arm", ("m1", "m2", "l1", "Izz1", "Izz2", "g")),
          ("rrr_arm", ()), ("rrr_arm", ("m1", "m2", "m3", "l2", "l3", "g"))]

@@ -4,8 +4,8 @@ Run:  python benchmarks/bench_torques.py [--rows 100000] [--repeat 3]
 
 It writes a log of --rows samples at 1 kHz (t and six positions, plus an
 ignored column) to a temporary folder, then takes the best of --repeat runs of
-each stage of ``course_dynamics.logs.torques_from_log``: reading the file
-(``io.read_table``), differentiating (Savitzky–Golay), τ by the compiled model
+each stage of ``course_dynamics.tools.logs.torques_from_log``: reading the file
+(``read_table``), differentiating (Savitzky–Golay), τ by the compiled model
 (cache warm) and the limits report; and, on the very same q, q̇, q̈, τ by
 Pinocchio's ``rneaInParallel`` with one thread, measured the same way. The
 ratio printed is ours / Pinocchio's for the τ stage; the end-to-end time is
@@ -20,12 +20,13 @@ from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
-
-from course_dynamics import io, load_robot, robot_path
-from course_dynamics.compiled import compile_model
-from course_dynamics.limits import limits_report
-from course_dynamics.logs import joint_log, torques_from_log
 from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
+
+from course_dynamics import load_robot, robot_path
+from course_dynamics.core.compiled import compile_model
+from course_dynamics.tools.limits import limits_report
+from course_dynamics.tools.logs import joint_log, torques_from_log
+from course_dynamics.tools.tables import read_table
 
 
 def best(function, repeat: int) -> tuple[float, object]:
@@ -51,12 +52,12 @@ def main() -> None:
         np.savetxt(path, np.column_stack([t, q, np.full(len(t), 35.0)]), delimiter=",", header=header, comments="",
                    fmt="%.6f")
         compile_model(model)  # warm the cache: generation is timed by bench_performance.py
-        read, table = best(lambda: io.read_table(path), args.repeat)
+        read, table = best(lambda: read_table(path), args.repeat)
         derive, log = best(lambda: joint_log(model, table), args.repeat)
         compiled = compile_model(model)
         ours, tau = best(lambda: compiled.inverse_dynamics(log.q, log.qd, log.qdd), args.repeat)
         report, _ = best(lambda: limits_report(model, log.t, log.qd, tau), args.repeat)
-        end_to_end, result = best(lambda: torques_from_log(model, io.read_table(path)), args.repeat)
+        end_to_end, result = best(lambda: torques_from_log(model, read_table(path)), args.repeat)
 
         oracle = PinocchioOracle(robot_path("ur5"), model.joint_names, model.gravity)
         Q = np.array([oracle.configuration(x) for x in log.q]).T.copy()  # Pinocchio's layout: (nq, N)
@@ -68,7 +69,7 @@ def main() -> None:
         difference = np.abs(oracle._ours(out).T - tau).max()
     print(f"UR5 log, {args.rows} rows at 1 kHz, positions only (best of {args.repeat})")
     print(f"{'stage':<44}{'seconds':>10}")
-    for label, seconds in (("read the CSV (io.read_table)", read), ("differentiate (Savitzky-Golay)", derive),
+    for label, seconds in (("read the CSV (read_table)", read), ("differentiate (Savitzky-Golay)", derive),
                            ("tau, compiled", ours), ("tau, pin.rneaInParallel (1 thread)", theirs),
                            ("limits report", report), ("torques_from_log, reading included", end_to_end)):
         print(f"{label:<44}{seconds:>10.3f}")

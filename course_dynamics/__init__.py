@@ -9,7 +9,14 @@ the Coriolis matrix C(Θ, Θ̇), for one state, a batch of states or sympy symbo
 >>> arm.joint_names
 ('theta1', 'theta2')
 """
-from .dynamics import (
+from .base.errors import (
+    CourseDynamicsError,
+    InputError,
+    ModelError,
+    StateError,
+    UnknownRobotError,
+)
+from .core.dynamics import (
     DynamicsTerms,
     coriolis_matrix,
     dynamics_terms,
@@ -17,19 +24,12 @@ from .dynamics import (
     mass_matrix,
     velocity_torques,
 )
-from .errors import (
-    CourseDynamicsError,
-    InputError,
-    ModelError,
-    StateError,
-    UnknownRobotError,
-)
-from .forward_dynamics import forward_dynamics
-from .kinematics import forward_kinematics, potential_energy
-from .model import Body, Model
-from .newton_euler import LinkQuantities, inverse_dynamics, newton_euler_links
-from .robots import load_robot, robot_names, robot_path
-from .urdf import load_urdf
+from .core.forward_dynamics import forward_dynamics
+from .core.kinematics import forward_kinematics, potential_energy
+from .core.model import Body, Model
+from .core.newton_euler import LinkQuantities, inverse_dynamics, newton_euler_links
+from .core.robots import load_robot, robot_names, robot_path
+from .core.urdf import load_urdf
 
 __all__ = [
     "Body", "CourseDynamicsError", "DynamicsTerms", "InputError", "LinkQuantities", "Model", "ModelError",

@@ -15,8 +15,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from course_dynamics import load_robot  # noqa: E402
-from course_dynamics.simulation import INTEGRATORS, simulate  # noqa: E402
+from course_dynamics import load_robot
+from course_dynamics.tools.simulation import INTEGRATORS, simulate
 
 
 def main() -> None:

@@ -16,8 +16,8 @@ import numpy as np
 import matplotlib.pyplot as plt
 from scipy.spatial.transform import Rotation
 
-from course_dynamics.algebra import Vec3, point_acceleration as library_point_acceleration
-from course_dynamics.exercises import check, given
+from course_dynamics.core.algebra import Vec3, point_acceleration as library_point_acceleration
+from course_dynamics.teaching.exercises import check, given
 
 # %% [markdown]
 # ## Linear acceleration

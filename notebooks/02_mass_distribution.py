@@ -14,8 +14,8 @@ import numpy as np
 import matplotlib.pyplot as plt
 import sympy
 
-from course_dynamics import inertia
-from course_dynamics.exercises import check, given, symbols
+from course_dynamics.core import inertia
+from course_dynamics.teaching.exercises import check, given, symbols
 
 # %% [markdown]
 # ## The tensor
@@ -24,7 +24,7 @@ from course_dynamics.exercises import check, given, symbols
 # $${}^AI = \begin{bmatrix} I_{xx} & -I_{xy} & -I_{xz}\\ -I_{xy} & I_{yy} & -I_{yz}\\ -I_{xz} & -I_{yz} & I_{zz}\end{bmatrix},\quad
 #   I_{xx} = \iiint (y^2+z^2)\rho\,dv,\ \ldots,\quad I_{xy} = \iiint xy\,\rho\,dv,\ \ldots$$
 # The moments I_xx, I_yy, I_zz resist rotation about each axis; the products I_xy, I_xz, I_yz measure how far the
-# mass distribution is from being symmetric about the axes. `course_dynamics.inertia` has the tensors of simple
+# mass distribution is from being symmetric about the axes. `course_dynamics.core.inertia` has the tensors of simple
 # bodies about their centres (exact, and checked against the integrals and against Pinocchio):
 
 # %%

@@ -17,12 +17,13 @@ import numpy as np
 import matplotlib.pyplot as plt
 from IPython.display import Markdown, display
 
-from course_dynamics import inertia, inverse_dynamics, gravity_torques, load_robot
-from course_dynamics.exercises import check, given
-from course_dynamics.render import derivation_text, trace_latex, trace_table
-from course_dynamics.sampling import smooth_trajectory
-from course_dynamics.symbolic import derive
-from course_dynamics.trace import trace
+from course_dynamics.core import inertia
+from course_dynamics import inverse_dynamics, gravity_torques, load_robot
+from course_dynamics.teaching.exercises import check, given
+from course_dynamics.output.render import derivation_text, trace_latex, trace_table
+from course_dynamics.core.sampling import smooth_trajectory
+from course_dynamics.core.symbolic import derive
+from course_dynamics.tools.trace import trace
 
 # %% [markdown]
 # ## One body

@@ -17,8 +17,8 @@ import matplotlib.pyplot as plt
 from IPython.display import Markdown, display
 
 from course_dynamics import coriolis_matrix, gravity_torques, load_robot, mass_matrix, velocity_torques
-from course_dynamics.exercises import check
-from course_dynamics.lagrange import configuration_space_terms, velocity_pairs
+from course_dynamics.teaching.exercises import check
+from course_dynamics.core.lagrange import configuration_space_terms, velocity_pairs
 
 arm = load_robot("two_link")
 

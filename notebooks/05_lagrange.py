@@ -15,11 +15,12 @@ import matplotlib.pyplot as plt
 import sympy
 from IPython.display import Markdown, display
 
-from course_dynamics import lagrange, load_robot
-from course_dynamics.exercises import check, symbols
-from course_dynamics.render import derivation_text
-from course_dynamics.simulation import simulate
-from course_dynamics.symbolic import canonical, derive, joint_symbols, symbolic_model
+from course_dynamics.core import lagrange
+from course_dynamics import load_robot
+from course_dynamics.teaching.exercises import check, symbols
+from course_dynamics.output.render import derivation_text
+from course_dynamics.tools.simulation import simulate
+from course_dynamics.core.symbolic import canonical, derive, joint_symbols, symbolic_model
 
 # %% [markdown]
 # ## The equations

@@ -16,9 +16,9 @@ import sympy
 from IPython.display import Markdown, display
 
 from course_dynamics import inverse_dynamics, load_robot
-from course_dynamics.cartesian import SingularityError, cartesian_dynamics, jacobian
-from course_dynamics.exercises import check, given, symbols
-from course_dynamics.symbolic import derive_cartesian
+from course_dynamics.core.cartesian import SingularityError, cartesian_dynamics, jacobian
+from course_dynamics.teaching.exercises import check, given, symbols
+from course_dynamics.core.symbolic import derive_cartesian
 
 arm = load_robot("two_link")
 

@@ -14,9 +14,9 @@ import numpy as np
 import matplotlib.pyplot as plt
 
 from course_dynamics import inverse_dynamics, load_robot
-from course_dynamics.exercises import check, given
-from course_dynamics.friction import Friction
-from course_dynamics.sampling import smooth_trajectory
+from course_dynamics.teaching.exercises import check, given
+from course_dynamics.core.friction import Friction
+from course_dynamics.core.sampling import smooth_trajectory
 
 # %% [markdown]
 # ## The models

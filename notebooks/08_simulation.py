@@ -14,10 +14,10 @@ import numpy as np
 import matplotlib.pyplot as plt
 
 from course_dynamics import load_robot, robot_path
-from course_dynamics.exercises import check
-from course_dynamics.forward_dynamics import forward_dynamics
-from course_dynamics.simulation import simulate
-from course_dynamics.viewer import show
+from course_dynamics.teaching.exercises import check
+from course_dynamics.core.forward_dynamics import forward_dynamics
+from course_dynamics.tools.simulation import simulate
+from course_dynamics.output.viewer import show
 
 pendulum = load_robot("double_pendulum_continuous")   # two links; θ = 0 points straight up
 

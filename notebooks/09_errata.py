@@ -12,7 +12,7 @@ import numpy as np
 import matplotlib.pyplot as plt
 from IPython.display import Markdown, display
 
-from course_dynamics.exercises import check, given
+from course_dynamics.teaching.exercises import check, given
 from course_dynamics_reference.misprints import demonstrations
 
 # %% [markdown]

@@ -14,11 +14,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from course_dynamics import inverse_dynamics, load_robot, newton_euler_links, robot_path
-from course_dynamics.algebra import Vec3
-from course_dynamics.cartesian import cartesian_dynamics, jacobian
-from course_dynamics.kinematics import JointTransforms, joint_transforms
-from course_dynamics.newton_euler import inward_iteration, outward_iteration
-from course_dynamics.state import entries
+from course_dynamics.core.algebra import Vec3
+from course_dynamics.core.cartesian import cartesian_dynamics, jacobian
+from course_dynamics.core.kinematics import JointTransforms, joint_transforms
+from course_dynamics.core.newton_euler import inward_iteration, outward_iteration
+from course_dynamics.core.state import entries
 
 from .pinocchio_oracle import PinocchioOracle
 from .validate import random_states

@@ -24,7 +24,7 @@ def _build_model(urdf):
     import os
     import tempfile
 
-    from course_dynamics.errors import InputError
+    from course_dynamics.base.errors import InputError
 
     with tempfile.TemporaryFile() as captured:
         saved = os.dup(2)

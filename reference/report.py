@@ -31,11 +31,17 @@ from pathlib import Path
 
 import numpy as np
 
-from course_dynamics import io, render
-from course_dynamics.dynamics import gravity_torques, mass_matrix, velocity_torques
-from course_dynamics.newton_euler import inverse_dynamics
-from course_dynamics.robots import load, resolve
-from course_dynamics.sampling import random_states, relative_error, smooth_trajectory, term_scales
+from course_dynamics.core.dynamics import gravity_torques, mass_matrix, velocity_torques
+from course_dynamics.core.newton_euler import inverse_dynamics
+from course_dynamics.core.robots import load, resolve
+from course_dynamics.core.sampling import (
+    random_states,
+    relative_error,
+    smooth_trajectory,
+    term_scales,
+)
+from course_dynamics.output import render
+from course_dynamics.output.folders import write_folder
 
 from . import TERMS, TOLERANCE, textbook
 from .pinocchio_oracle import PinocchioOracle
@@ -278,7 +284,7 @@ def report_files(robots: int) -> list[str]:
 def write_report(out: Path, report: Report) -> list[Path]:
     """index.html, report.md, report.json and figures/ in ``out`` (made if missing), each file whole or not at all.
 
-    ``out`` may hold other files: :func:`course_dynamics.io.write_folder` replaces only the files an
+    ``out`` may hold other files: :func:`course_dynamics.output.folders.write_folder` replaces only the files an
     earlier report wrote there and nobody changed since, refuses anything else in the way (a file it
     did not write, a ``figures`` that is a link) before writing any, and deletes nothing.
     """
@@ -287,4 +293,4 @@ def write_report(out: Path, report: Report) -> list[Path]:
     for index, r in enumerate(report.robots):
         for key in FIGURES:
             documents[f"figures/robot{index}_{key}.svg"] = r.figures[key]
-    return io.write_folder(out, documents, OWNER)
+    return write_folder(out, documents, OWNER)

@@ -1,6 +1,6 @@
 """Ours against Pinocchio on seeded random states: the agreement report.
 
-States and the error measure are the library's own (:mod:`course_dynamics.sampling`):
+States and the error measure are the library's own (:mod:`course_dynamics.core.sampling`):
 ‖ours − Pinocchio‖∞ / max(‖Pinocchio‖∞, s), with s the scale each term is built
 at. The report keeps, per term, the largest absolute and relative error over
 the samples; a robot agrees when every relative error is at most the tolerance.
@@ -12,9 +12,21 @@ from pathlib import Path
 
 import numpy as np
 
-from course_dynamics import coriolis_matrix, gravity_torques, inverse_dynamics, load_urdf, mass_matrix, velocity_torques
-from course_dynamics.robots import resolve
-from course_dynamics.sampling import random_states, relative_error, sampling_bounds, term_scales
+from course_dynamics import (
+    coriolis_matrix,
+    gravity_torques,
+    inverse_dynamics,
+    load_urdf,
+    mass_matrix,
+    velocity_torques,
+)
+from course_dynamics.core.robots import resolve
+from course_dynamics.core.sampling import (
+    random_states,
+    relative_error,
+    sampling_bounds,
+    term_scales,
+)
 
 from . import TERMS, TOLERANCE
 from .pinocchio_oracle import PinocchioOracle
@@ -101,8 +113,8 @@ def memory_estimate(n: int) -> float:
 
 
 def bundled_targets() -> list[str]:
-    """Every shipped robot, by name (see :mod:`course_dynamics.robots`)."""
-    from course_dynamics.robots import robot_names
+    """Every shipped robot, by name (see :mod:`course_dynamics.core.robots`)."""
+    from course_dynamics.core.robots import robot_names
 
     return list(robot_names())
 

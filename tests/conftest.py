@@ -13,10 +13,11 @@ import pytest
 SESSION_CACHE = tempfile.mkdtemp(prefix="course-dynamics-test-cache-")
 os.environ.setdefault("COURSE_DYNAMICS_CACHE", SESSION_CACHE)
 
-from course_dynamics import load_urdf
 from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
 from course_dynamics_reference.validate import random_states
 from helpers import CHECKED_ROBOTS, SAMPLES, urdf_of
+
+from course_dynamics import load_urdf
 
 
 @pytest.fixture(scope="module", params=CHECKED_ROBOTS)

@@ -12,8 +12,8 @@ from pathlib import Path
 
 import numpy as np
 
-from course_dynamics.robots import robot_names, robot_path
-from course_dynamics.sampling import relative_error
+from course_dynamics.core.robots import robot_names, robot_path
+from course_dynamics.core.sampling import relative_error
 
 ROOT = Path(__file__).resolve().parent.parent
 DATA = Path(__file__).parent / "data"
@@ -49,7 +49,7 @@ def tip_frame(model) -> str:
 def derivation(name: str, symbols: tuple[str, ...], method: str = "newton-euler"):
     """``symbolic.derive`` of a shipped robot, computed once per test session (3-joint derivations take seconds)."""
     from course_dynamics import load_robot
-    from course_dynamics.symbolic import derive
+    from course_dynamics.core.symbolic import derive
 
     return derive(load_robot(name), symbols, method)
 

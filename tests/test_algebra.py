@@ -1,4 +1,4 @@
-"""course_dynamics/algebra.py: Vec3/Mat3 against numpy, dual numbers against exact derivatives, every scalar kind."""
+"""course_dynamics/core/algebra.py: Vec3/Mat3 against numpy, dual numbers against exact derivatives, every scalar kind."""
 from __future__ import annotations
 
 import cmath
@@ -7,11 +7,20 @@ import math
 import numpy as np
 import pytest
 import sympy
+from helpers import AWKWARD
 from scipy.spatial.transform import Rotation
 
 from course_dynamics import load_urdf
-from course_dynamics.algebra import Dual, Mat3, Vec3, cos_sin, cross, dot, point_acceleration, rotation_from_parts
-from helpers import AWKWARD
+from course_dynamics.core.algebra import (
+    Dual,
+    Mat3,
+    Vec3,
+    cos_sin,
+    cross,
+    dot,
+    point_acceleration,
+    rotation_from_parts,
+)
 
 rng = np.random.default_rng(0)
 

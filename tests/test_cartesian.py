@@ -1,14 +1,19 @@
-"""course_dynamics/cartesian.py: J and J̇ against Pinocchio's frame Jacobians, (6.99) against Pinocchio and example 6.6."""
+"""course_dynamics/core/cartesian.py: J and J̇ against Pinocchio's frame Jacobians, (6.99) against Pinocchio and example 6.6."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
-
-from course_dynamics import load_robot
-from course_dynamics.cartesian import SingularityError, cartesian_dynamics, jacobian, jacobian_dot
 from course_dynamics_reference import textbook
 from course_dynamics_reference.validate import random_states
 from helpers import assert_agrees, tip_frame, urdf_of
+
+from course_dynamics import load_robot
+from course_dynamics.core.cartesian import (
+    SingularityError,
+    cartesian_dynamics,
+    jacobian,
+    jacobian_dot,
+)
 
 
 @pytest.mark.parametrize("expressed_in", ["base", "frame"])
@@ -24,8 +29,9 @@ def test_jacobian_and_its_derivative_agree_with_pinocchio(robot, expressed_in):
 
 
 def test_every_frame_of_ur5_agrees_with_pinocchio():
-    from course_dynamics import robot_path
     from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
+
+    from course_dynamics import robot_path
 
     model = load_robot("ur5")
     oracle = PinocchioOracle(robot_path("ur5"), model.joint_names)
@@ -45,8 +51,9 @@ SQUARE_TASKS = {  # robot: (frame, rows in base coordinates) giving a square Jac
 @pytest.mark.parametrize("name", sorted(SQUARE_TASKS))
 def test_cartesian_terms_from_pinocchio_quantities(name):
     """Mx = J⁻ᵀ M J⁻¹ equals (J M⁻¹ Jᵀ)⁻¹ built from Pinocchio's J and M; Vx, Gx likewise."""
-    from course_dynamics import load_urdf
     from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
+
+    from course_dynamics import load_urdf
 
     model = load_urdf(urdf_of(name))
     oracle = PinocchioOracle(urdf_of(name), model.joint_names)

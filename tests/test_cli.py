@@ -7,12 +7,10 @@ import sys
 
 import numpy as np
 import pytest
+from helpers import AWKWARD, BAD_URDFS, assert_one_line_error, run
 
 from course_dynamics import dynamics_terms, inverse_dynamics, load_robot
 from course_dynamics.cli import main
-from helpers import AWKWARD, BAD_URDFS, assert_one_line_error, run
-
-
 
 
 def test_info_json(capsys):

@@ -10,10 +10,11 @@ import numpy as np
 import pytest
 from helpers import ROOT, assert_one_line_error, run
 
-from course_dynamics import io, load_robot
-from course_dynamics.friction import Friction
-from course_dynamics.loads import Payload, Wrench
-from course_dynamics.logs import parse_column_map, torques_from_log
+from course_dynamics import load_robot
+from course_dynamics.core.friction import Friction
+from course_dynamics.tools.loads import Payload, Wrench
+from course_dynamics.tools.logs import parse_column_map, torques_from_log
+from course_dynamics.tools.tables import read_table
 
 LOG = ROOT / "examples" / "ur5_log.csv"
 MAP = ROOT / "examples" / "ur5_log_columns.toml"
@@ -30,9 +31,9 @@ def test_the_sample_log_positions_only_semicolons_crlf_extra_columns(capsys, tmp
     assert "note: qd: first Savitzky-Golay derivative" in report
     text = out.read_text()
     assert text.startswith("# course-dynamics torques ur5") and "# qdd: second Savitzky-Golay" in text
-    written = io.read_table(out)
+    written = read_table(out)
     model = load_robot("ur5")
-    expected = torques_from_log(model, io.read_table(LOG), columns=parse_column_map(str(MAP)))
+    expected = torques_from_log(model, read_table(LOG), columns=parse_column_map(str(MAP)))
     assert written.header == ("t",) + tuple(f"tau_{j}" for j in model.joint_names)
     np.testing.assert_array_equal(written.data[:, 1:], expected.tau)
     assert f"wrote {len(expected.t)} rows" in err
@@ -96,11 +97,11 @@ def test_physics_options_equal_the_api(capsys, tmp_path):
     assert code == 0
     model = load_robot("ur5")
     expected = torques_from_log(
-        model, io.read_table(LOG), columns=parse_column_map(str(MAP)), window=15, gravity=[0, -2, -9],
+        model, read_table(LOG), columns=parse_column_map(str(MAP)), window=15, gravity=[0, -2, -9],
         friction=Friction(viscous=Friction.from_urdf(model).viscous, coulomb=[1, 1, 1, 0.5, 0.5, 0.5]),
         payload=Payload(2.5, "wrist_3_link", (0, 0.01, 0.05), (0.1, 0.1, 0.05)),
         wrench=Wrench("tool0", (0, 0, -15), (0, 0.5, 0)))
-    np.testing.assert_array_equal(io.read_table(out).data[:, 1:], expected.tau)
+    np.testing.assert_array_equal(read_table(out).data[:, 1:], expected.tau)
 
 
 def test_a_log_without_times_takes_dt_and_with_state_writes_the_state(capsys, tmp_path):
@@ -109,7 +110,7 @@ def test_a_log_without_times_takes_dt_and_with_state_writes_the_state(capsys, tm
     log.write_text("q_theta1\tq_theta2\n" + "\n".join(f"{a}\t{b}" for a, b in q) + "\n")
     code, _, _ = run(capsys, "torques", "two_link", "--log", str(log), "--dt", "0.01", "--with-state", "--out", str(out))
     assert code == 0
-    table = io.read_table(out)
+    table = read_table(out)
     assert table.header[:3] == ("t", "q_theta1", "q_theta2") and table.header[-1] == "tau_theta2"
     np.testing.assert_allclose(table.column("t"), np.arange(50) * 0.01)
 
@@ -163,10 +164,10 @@ def test_repeated_payloads_and_wrenches_all_count(capsys, tmp_path):
                                      "--wrench", "tool0:0,0,-15", "--wrench", "wrist_2_link:3,0,0,0,0,1"))
     assert code == 0
     model = load_robot("ur5")
-    expected = torques_from_log(model, io.read_table(LOG), columns=parse_column_map(str(MAP)),
+    expected = torques_from_log(model, read_table(LOG), columns=parse_column_map(str(MAP)),
                                 payload=[Payload(2.0), Payload(1.0, "wrist_1_link", (0, 0, 0.1))],
                                 wrench=[Wrench("tool0", (0, 0, -15)), Wrench("wrist_2_link", (3, 0, 0), (0, 0, 1))])
-    np.testing.assert_array_equal(io.read_table(out).data[:, 1:], expected.tau)
+    np.testing.assert_array_equal(read_table(out).data[:, 1:], expected.tau)
     header = [line for line in out.read_text().splitlines() if line.startswith("#")]
     assert "# payload 2 kg at tool0, centre [0.0, 0.0, 0.0] m, point mass" in header
     assert sum(line.startswith("# wrench at") for line in header) == 2
@@ -191,7 +192,7 @@ def test_a_controller_export_in_milliseconds_with_unlogged_fingers(capsys, tmp_p
     assert "warning" not in err and "500 samples over 1.996 s" in report
     fingers = {f"q_{j}": 0.02 for j in model.joint_names if "finger" in j}
     expected = torques_from_log(model, {"t": t, **{f"q_{j}": q[:, i] for i, j in enumerate(arm)}}, constants=fingers)
-    np.testing.assert_allclose(io.read_table(out).data[:, 1:], expected.tau, rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(read_table(out).data[:, 1:], expected.tau, rtol=1e-9, atol=1e-9)
 
 
 def test_columns_names_what_is_missing(capsys):
@@ -234,7 +235,7 @@ def test_a_log_that_is_a_device_or_a_pipe_is_one_error_line_at_once(tmp_path, sp
 
 
 def test_a_log_larger_than_memory_allows_says_how_much_it_would_need(capsys, tmp_path, monkeypatch):
-    monkeypatch.setattr("course_dynamics.simulation.memory_budget", lambda: 2**20)
+    monkeypatch.setattr("course_dynamics.base.resources.memory_budget", lambda: 2**20)
     out = tmp_path / "tau.csv"
     code, _, err = run(capsys, *sample("--out", str(out)))
     assert_one_line_error(code, err, str(LOG), "rows of 9 values: reading and using them would need about",

@@ -1,14 +1,23 @@
-"""course_dynamics/compiled.py: traced programs against Pinocchio and the interpreted recursions; the cache."""
+"""course_dynamics/core/compiled.py: traced programs against Pinocchio and the interpreted recursions; the cache."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
-
-from course_dynamics import coriolis_matrix, inverse_dynamics, load_robot, load_urdf, mass_matrix
-from course_dynamics.compiled import compile_model
-from course_dynamics.dynamics import mass_matrix_and_bias
-from course_dynamics.forward_dynamics import SingularMassMatrixError, forward_dynamics
 from helpers import arm_urdf, assert_agrees
+
+from course_dynamics import (
+    coriolis_matrix,
+    inverse_dynamics,
+    load_robot,
+    load_urdf,
+    mass_matrix,
+)
+from course_dynamics.core.compiled import compile_model
+from course_dynamics.core.dynamics import mass_matrix_and_bias
+from course_dynamics.core.forward_dynamics import (
+    SingularMassMatrixError,
+    forward_dynamics,
+)
 
 
 @pytest.fixture(scope="module")
@@ -101,7 +110,7 @@ def _plant(folder, model, mark):
     """What an attacker who can compute the key writes: a module and an entry that run code when loaded."""
     import marshal
 
-    from course_dynamics.compiled import model_key
+    from course_dynamics.core.compiled import model_key
 
     key = model_key(model)
     source = PLANTED.format(key=key, mark=str(mark))
@@ -129,7 +138,7 @@ def test_a_planted_entry_is_never_run(tmp_path, monkeypatch):
 def test_an_untrusted_cache_folder_is_not_used(tmp_path, monkeypatch, how):
     import os
 
-    from course_dynamics.compiled import CacheWarning
+    from course_dynamics.core.compiled import CacheWarning
 
     parent = tmp_path / "shared"
     parent.mkdir(mode=0o755)
@@ -190,8 +199,9 @@ def test_the_cache_can_be_turned_off(tmp_path, monkeypatch):
 def test_a_robot_too_large_to_compile_is_refused_quickly(tmp_path):
     import time
 
-    from course_dynamics.compiled import ProgramTooLargeError
     from helpers import chain_urdf
+
+    from course_dynamics.core.compiled import ProgramTooLargeError
 
     path = tmp_path / "chain.urdf"
     path.write_text(chain_urdf(60))
@@ -271,7 +281,7 @@ def test_a_link_to_a_private_folder_placed_by_another_user_is_not_trusted(tmp_pa
     """The link decides where entries go: one in another user's folder could be swapped at any moment."""
     import os
 
-    from course_dynamics.compiled import CacheWarning
+    from course_dynamics.core.compiled import CacheWarning
 
     if os.getuid() != 0:
         pytest.skip("needs root to give a folder to another user")
@@ -293,7 +303,7 @@ def test_an_entry_that_is_no_regular_file_is_replaced_never_opened(tmp_path, mon
     import os
     import stat
 
-    from course_dynamics.compiled import model_key
+    from course_dynamics.core.compiled import model_key
 
     folder = tmp_path / "cache"
     monkeypatch.setenv("COURSE_DYNAMICS_CACHE", str(folder))

@@ -1,13 +1,14 @@
-"""course_dynamics/coriolis.py: the O(n²) C against Pinocchio, against the Christoffel definition, and its identities."""
+"""course_dynamics/core/coriolis.py: the O(n²) C against Pinocchio, against the Christoffel definition, and its identities."""
 from __future__ import annotations
 
 import numpy as np
 import sympy
-
-from course_dynamics import coriolis, load_robot, mass_matrix, velocity_torques
-from course_dynamics.dynamics import coriolis_matrix_christoffel
-from course_dynamics.symbolic import joint_symbols, symbolic_model
 from helpers import assert_agrees
+
+from course_dynamics import load_robot, mass_matrix, velocity_torques
+from course_dynamics.core import coriolis
+from course_dynamics.core.dynamics import coriolis_matrix_christoffel
+from course_dynamics.core.symbolic import joint_symbols, symbolic_model
 
 STEP = 1e-30  # complex step
 

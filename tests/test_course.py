@@ -1,4 +1,4 @@
-"""course_dynamics/course.py and the notebooks: every notebook and every student version runs top to bottom.
+"""course_dynamics/teaching/course.py and the notebooks: every notebook and every student version runs top to bottom.
 
 The solution versions must answer every exercise right; the student versions must run without an error, report
 every exercise as not done yet, and keep no line of any solution. Both run in a fresh Jupyter kernel (nbclient),
@@ -12,9 +12,18 @@ import time
 import pytest
 
 from course_dynamics.cli import main
-from course_dynamics.io import MANIFEST
-from course_dynamics.course import (BEGIN, END, execute, first_heading, notebook_paths, read_notebook, solution_regions,
-                                    solution_version, student_version)
+from course_dynamics.output.folders import MANIFEST
+from course_dynamics.teaching.course import (
+    BEGIN,
+    END,
+    execute,
+    first_heading,
+    notebook_paths,
+    read_notebook,
+    solution_regions,
+    solution_version,
+    student_version,
+)
 
 NOTEBOOKS = notebook_paths()
 NOTEBOOK_SECONDS = 120  # the course's budget per notebook; a cell has CELL_TIMEOUT on top
@@ -153,9 +162,9 @@ def test_student_notebooks_never_replace_a_students_work(tmp_path, capsys):
 
 
 def test_student_notebooks_force_keeps_a_backup_of_each_notebook_replaced(tmp_path, capsys, monkeypatch):
-    import course_dynamics.io
+    import course_dynamics.output.io
 
-    monkeypatch.setattr(course_dynamics.io.time, "strftime", lambda _: "20250102-030405")
+    monkeypatch.setattr(course_dynamics.output.io.time, "strftime", lambda _: "20250102-030405")
     course = tmp_path / "course"
     assert main(["student-notebooks", str(course)]) == 0
     first = sorted(course.glob("*.ipynb"))[0]

@@ -1,13 +1,14 @@
-"""course_dynamics/crba.py: the composite-rigid-body M against Pinocchio's crba, Craig's definition and (6.60)."""
+"""course_dynamics/core/crba.py: the composite-rigid-body M against Pinocchio's crba, Craig's definition and (6.60)."""
 from __future__ import annotations
 
 import numpy as np
 import sympy
-
-from course_dynamics import crba, load_robot
-from course_dynamics.dynamics import mass_matrix_by_unit_accelerations
-from course_dynamics.symbolic import joint_symbols, symbolic_model
 from helpers import assert_agrees
+
+from course_dynamics import load_robot
+from course_dynamics.core import crba
+from course_dynamics.core.dynamics import mass_matrix_by_unit_accelerations
+from course_dynamics.core.symbolic import joint_symbols, symbolic_model
 
 
 def test_agrees_with_pinocchio_crba(robot):

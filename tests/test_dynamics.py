@@ -1,11 +1,18 @@
-"""course_dynamics/dynamics.py: M, V, G and the Coriolis matrix against Pinocchio, and their identities."""
+"""course_dynamics/core/dynamics.py: M, V, G and the Coriolis matrix against Pinocchio, and their identities."""
 from __future__ import annotations
 
 import numpy as np
-
-from course_dynamics import coriolis_matrix, gravity_torques, mass_matrix, potential_energy, velocity_torques
-from course_dynamics import dynamics_terms, load_robot
 from helpers import assert_agrees
+
+from course_dynamics import (
+    coriolis_matrix,
+    dynamics_terms,
+    gravity_torques,
+    load_robot,
+    mass_matrix,
+    potential_energy,
+    velocity_torques,
+)
 
 STEP = 1e-30  # complex-step size: derivatives exact to round-off, no subtraction
 

@@ -10,15 +10,15 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import sympy
+from course_dynamics_reference.misprints import printed_outward_rotation, serial_inward
+from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
+from course_dynamics_reference.validate import random_states
 
 from course_dynamics import inverse_dynamics, load_robot, newton_euler_links, robot_path
-from course_dynamics import lagrange
-from course_dynamics.cartesian import cartesian_dynamics
-from course_dynamics.kinematics import joint_transforms
-from course_dynamics.state import entries
-from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
-from course_dynamics_reference.misprints import printed_outward_rotation, serial_inward
-from course_dynamics_reference.validate import random_states
+from course_dynamics.core import lagrange
+from course_dynamics.core.cartesian import cartesian_dynamics
+from course_dynamics.core.kinematics import joint_transforms
+from course_dynamics.core.state import entries
 
 t = sympy.Symbol("t", real=True)
 
@@ -243,8 +243,8 @@ def test_pendulum_lagrange_equation_sign():
 
 def test_example_6_5_steps_are_correct():
     """k₁, k₂, u₁, u₂ and the Lagrange terms of example 6.5 against our symbolic Lagrangian path."""
-    from course_dynamics.kinematics import potential_energy
-    from course_dynamics.symbolic import joint_symbols, symbolic_model
+    from course_dynamics.core.kinematics import potential_energy
+    from course_dynamics.core.symbolic import joint_symbols, symbolic_model
 
     model, p = symbolic_model(load_robot("rp_arm"), ("m1", "m2", "l1", "Izz1", "Izz2", "g"))
     q, qd, _ = joint_symbols(model)

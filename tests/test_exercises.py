@@ -1,11 +1,11 @@
-"""course_dynamics/exercises.py: each kind of check says right, wrong (and why) or not done yet, and never raises."""
+"""course_dynamics/teaching/exercises.py: each kind of check says right, wrong (and why) or not done yet, and never raises."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
 import sympy
 
-from course_dynamics.exercises import EXERCISES, check, given, symbols
+from course_dynamics.teaching.exercises import EXERCISES, check, given, symbols
 
 
 def test_not_done_yet_for_missing_placeholder_and_empty_function():

@@ -1,14 +1,16 @@
-"""course_dynamics/forward_dynamics.py: (6.115) against Pinocchio's aba, and singular mass matrices."""
+"""course_dynamics/core/forward_dynamics.py: (6.115) against Pinocchio's aba, and singular mass matrices."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
+from helpers import arm_urdf, assert_agrees
 
 from course_dynamics import inverse_dynamics, load_urdf
-from course_dynamics.forward_dynamics import SingularMassMatrixError, forward_dynamics
-from course_dynamics.friction import Friction
-from helpers import assert_agrees
-from helpers import arm_urdf
+from course_dynamics.core.forward_dynamics import (
+    SingularMassMatrixError,
+    forward_dynamics,
+)
+from course_dynamics.core.friction import Friction
 
 
 def test_forward_dynamics_agrees_with_aba(robot):

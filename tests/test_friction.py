@@ -1,11 +1,11 @@
-"""course_dynamics/friction.py: (6.110)–(6.112), URDF defaults, behaviour at zero velocity."""
+"""course_dynamics/core/friction.py: (6.110)–(6.112), URDF defaults, behaviour at zero velocity."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
 from course_dynamics import load_robot
-from course_dynamics.friction import Friction
+from course_dynamics.core.friction import Friction
 
 
 def test_viscous_coulomb_and_combined():
@@ -33,8 +33,9 @@ def test_smoothing_is_tanh():
 
 def test_defaults_come_from_urdf_dynamics():
     """Viscous and Coulomb coefficients as Pinocchio's own URDF parser reads <dynamics damping friction>."""
-    from course_dynamics import robot_path
     from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
+
+    from course_dynamics import robot_path
 
     model = load_robot("panda")
     oracle = PinocchioOracle(robot_path("panda"), model.joint_names)

@@ -11,10 +11,6 @@ import json
 from pathlib import Path
 
 import pytest
-
-from course_dynamics import CourseDynamicsError
-from course_dynamics.cli import main
-from course_dynamics.grading import EXAMPLE, load_assignment
 from submissions import (
     FILL_MOUNTS,
     HIDDEN_MEMORY,
@@ -26,6 +22,10 @@ from submissions import (
     SCORING,
     SNOOP,
 )
+
+from course_dynamics import CourseDynamicsError
+from course_dynamics.cli import main
+from course_dynamics.grading import EXAMPLE, load_assignment
 
 ASSIGNMENT = """\
 robot = "two_link"

@@ -1,4 +1,4 @@
-"""course_dynamics/inertia.py: the simple bodies against exact integrals and Pinocchio, examples 6.1 and 6.2, the checks."""
+"""course_dynamics/core/inertia.py: the simple bodies against exact integrals and Pinocchio, examples 6.1 and 6.2, the checks."""
 from __future__ import annotations
 
 import numpy as np
@@ -7,8 +7,18 @@ import pytest
 import sympy
 from scipy.spatial.transform import Rotation
 
-from course_dynamics.inertia import (box, cylinder, parallel_axis, physical_problems, point_mass, principal_axes,
-                                     products_of_inertia, rod, rotate, sphere)
+from course_dynamics.core.inertia import (
+    box,
+    cylinder,
+    parallel_axis,
+    physical_problems,
+    point_mass,
+    principal_axes,
+    products_of_inertia,
+    rod,
+    rotate,
+    sphere,
+)
 
 x, y, z, r, phi, theta = sympy.symbols("x y z r phi theta", real=True)
 m, a, b, c, w, l, h, R = sympy.symbols("m a b c w l h R", positive=True)

@@ -1,4 +1,4 @@
-"""course_dynamics/io.py: whole-or-nothing writes, modes, links and special files; CSV reading."""
+"""course_dynamics/output/io.py: whole-or-nothing writes, modes, links and special files; CSV reading."""
 from __future__ import annotations
 
 import codecs
@@ -9,13 +9,28 @@ import numpy as np
 import pytest
 
 from course_dynamics import InputError
-from course_dynamics import io
+from course_dynamics.output import io
+from course_dynamics.output.folders import (
+    MANIFEST,
+    MANIFEST_MAX_BYTES,
+    check_folder,
+    write_folder,
+)
+from course_dynamics.tools.tables import (
+    BYTES_PER_VALUE,
+    MAX_LINE_CHARS,
+    SAMPLE_ROWS,
+    joint_columns,
+    read_columns,
+    read_table,
+    stack_joint_columns,
+)
 
 
 def test_csv_round_trip_is_exact(tmp_path):
     data = np.random.default_rng(0).standard_normal((5, 3))
     io.write_csv(tmp_path / "x.csv", ["t", "q_a", "q_b"], data)
-    columns = io.read_columns(tmp_path / "x.csv", ["t", "q_a", "q_b"])
+    columns = read_columns(tmp_path / "x.csv", ["t", "q_a", "q_b"])
     np.testing.assert_array_equal(np.column_stack([columns["t"], columns["q_a"], columns["q_b"]]), data)
 
 
@@ -101,9 +116,9 @@ def test_unwritable_targets_are_named(tmp_path, monkeypatch, target, message):
 
 
 def test_joint_columns_and_stacking():
-    names = io.joint_columns(("q", "qd"), ("a", "b"))
+    names = joint_columns(("q", "qd"), ("a", "b"))
     assert names == ["q_a", "q_b", "qd_a", "qd_b"]
-    stacked = io.stack_joint_columns({"q_a": np.array([1.0, 2.0]), "q_b": np.array([3.0, 4.0])}, "q", ("a", "b"))
+    stacked = stack_joint_columns({"q_a": np.array([1.0, 2.0]), "q_b": np.array([3.0, 4.0])}, "q", ("a", "b"))
     np.testing.assert_array_equal(stacked, [[1.0, 3.0], [2.0, 4.0]])
 
 
@@ -121,14 +136,14 @@ TABLE = [[0.0, 1.5, -2.25], [0.01, 1.75, -2.5]]
 ])
 def test_read_table_takes_logs_as_they_come(tmp_path, name, raw):
     (tmp_path / "log.csv").write_bytes(raw)
-    table = io.read_table(tmp_path / "log.csv")
+    table = read_table(tmp_path / "log.csv")
     assert table.header == ("t", "q_a", "q_b"), name
     np.testing.assert_array_equal(table.data, TABLE)
 
 
 def test_read_table_falls_back_to_latin1_headers(tmp_path):
     (tmp_path / "log.csv").write_bytes("t,température\n0,1\n".encode("latin-1"))
-    assert io.read_table(tmp_path / "log.csv").header == ("t", "température")
+    assert read_table(tmp_path / "log.csv").header == ("t", "température")
 
 
 @pytest.mark.parametrize("content, fragment", [
@@ -146,15 +161,15 @@ def test_read_table_falls_back_to_latin1_headers(tmp_path):
 def test_read_table_names_the_line_and_column(tmp_path, content, fragment):
     (tmp_path / "log.csv").write_text(content)
     with pytest.raises(InputError) as caught:
-        io.read_table(tmp_path / "log.csv")
+        read_table(tmp_path / "log.csv")
     assert str(tmp_path / "log.csv") in str(caught.value) and fragment in str(caught.value)
 
 
 def test_read_table_of_a_directory_or_missing_file(tmp_path):
     with pytest.raises(InputError, match="is a directory"):
-        io.read_table(tmp_path)
+        read_table(tmp_path)
     with pytest.raises(InputError, match="cannot read: No such file"):
-        io.read_table(tmp_path / "missing.csv")
+        read_table(tmp_path / "missing.csv")
 
 
 def test_a_killed_writers_temporary_file_is_cleaned_by_the_next_write(tmp_path):
@@ -173,13 +188,13 @@ def test_a_killed_writers_temporary_file_is_cleaned_by_the_next_write(tmp_path):
 def test_csv_comments_come_before_the_header_and_are_skipped_on_reading(tmp_path):
     io.write_csv(tmp_path / "x.csv", ["t", "q"], [[0.0, 1.0]], comments=["qd: differentiated\nfrom q"])
     assert (tmp_path / "x.csv").read_text().splitlines()[0] == "# qd: differentiated from q"
-    assert io.read_table(tmp_path / "x.csv").header == ("t", "q")
+    assert read_table(tmp_path / "x.csv").header == ("t", "q")
 
 
 def test_names_holding_the_delimiter_or_quotes_read_back(tmp_path):
     header = ["t", "q_a,b", 'q_say "hi"']
     io.write_csv(tmp_path / "x.csv", header, [[0.0, 1.0, 2.0]])
-    assert io.read_table(tmp_path / "x.csv").header == tuple(header)
+    assert read_table(tmp_path / "x.csv").header == tuple(header)
 
 
 # ---------------------------------------------------------------------------- numbers that could be read two ways
@@ -207,7 +222,7 @@ def test_names_holding_the_delimiter_or_quotes_read_back(tmp_path):
 def test_numbers_that_could_be_read_two_ways_are_refused(tmp_path, content, fragment):
     (tmp_path / "log.csv").write_text(content, encoding="utf-8")
     with pytest.raises(InputError) as caught:
-        io.read_table(tmp_path / "log.csv")
+        read_table(tmp_path / "log.csv")
     assert str(caught.value).startswith(f"{tmp_path / 'log.csv'}: ") and fragment in str(caught.value), caught.value
 
 
@@ -228,19 +243,19 @@ def test_float_takes_what_the_table_reader_refuses():
 ])
 def test_numbers_read_one_way_only(tmp_path, content, decimal, expected):
     (tmp_path / "log.csv").write_text(content, encoding="utf-8", newline="")
-    np.testing.assert_array_equal(io.read_table(tmp_path / "log.csv", decimal=decimal).data, expected)
+    np.testing.assert_array_equal(read_table(tmp_path / "log.csv", decimal=decimal).data, expected)
 
 
 def test_a_given_decimal_separator_refuses_the_other(tmp_path):
     (tmp_path / "log.csv").write_text("t;q\n0;1,5\n")
     with pytest.raises(InputError, match="line 2, column 'q': '1,5' has a comma, but the decimal separator was given"):
-        io.read_table(tmp_path / "log.csv", decimal="point")
+        read_table(tmp_path / "log.csv", decimal="point")
     (tmp_path / "log.csv").write_text("t;q\n0;1.5\n")
     with pytest.raises(InputError, match="'1.5' has a decimal point, but the decimal separator was given as a comma"):
-        io.read_table(tmp_path / "log.csv", decimal="comma")
+        read_table(tmp_path / "log.csv", decimal="comma")
     (tmp_path / "log.csv").write_text("t,q\n0,1\n")
     with pytest.raises(InputError, match="line 1: the columns are separated by commas, so no comma can be a decimal"):
-        io.read_table(tmp_path / "log.csv", decimal="comma")
+        read_table(tmp_path / "log.csv", decimal="comma")
 
 
 # ---------------------------------------------------------------------------- inputs that are no regular files
@@ -254,37 +269,37 @@ def test_special_files_are_refused_without_reading_or_waiting(tmp_path):
     signal.alarm(10)
     try:
         with pytest.raises(InputError, match=r"log.csv: not a regular file \(a named pipe\), not a table"):
-            io.read_table(fifo)
+            read_table(fifo)
     finally:
         signal.alarm(0)
     with pytest.raises(InputError, match=r"/dev/zero: not a regular file \(a character device\)"):
-        io.read_table("/dev/zero")
+        read_table("/dev/zero")
     with pytest.raises(InputError, match="a table is read from a file, not from standard input"):
-        io.read_table("-")
+        read_table("-")
 
 
 def test_a_line_longer_than_any_table_is_refused(tmp_path):
     with open(tmp_path / "log.csv", "wb") as handle:  # sparse: no disk used, nothing but zero bytes
-        handle.truncate(io.MAX_LINE_CHARS + 10)
+        handle.truncate(MAX_LINE_CHARS + 10)
     with pytest.raises(InputError, match="line 1 is longer than 16 MiB"):
-        io.read_table(tmp_path / "log.csv")
+        read_table(tmp_path / "log.csv")
 
 
 def test_a_log_too_large_for_memory_is_refused_before_it_is_read(tmp_path, monkeypatch):
-    monkeypatch.setattr("course_dynamics.simulation.memory_budget", lambda: 10**6)
+    monkeypatch.setattr("course_dynamics.base.resources.memory_budget", lambda: 10**6)
     rows = "".join(f"{k * 0.001!r},{k * 1e-4!r},0.5\n" for k in range(50_000))
     (tmp_path / "log.csv").write_text("t,q_a,q_b\n" + rows)
     with pytest.raises(InputError, match=r"log.csv: 1.\d+ MiB, about 5.\d+e\+04 rows of 3 values: reading and using "
                                          r"them would need about 1\d.\d MiB of memory, more than half of this machine's"):
-        io.read_table(tmp_path / "log.csv")
+        read_table(tmp_path / "log.csv")
 
 
 def test_a_log_whose_first_rows_mislead_the_estimate_is_still_bounded(tmp_path, monkeypatch):
-    monkeypatch.setattr("course_dynamics.simulation.memory_budget", lambda: 3 * io.BYTES_PER_VALUE * 1000)
-    long_rows = "".join(" " * 5000 + f"{k},0,0\n" for k in range(io.SAMPLE_ROWS))
+    monkeypatch.setattr("course_dynamics.base.resources.memory_budget", lambda: 3 * BYTES_PER_VALUE * 1000)
+    long_rows = "".join(" " * 5000 + f"{k},0,0\n" for k in range(SAMPLE_ROWS))
     (tmp_path / "log.csv").write_text("t,q_a,q_b\n" + long_rows + "1,0,0\n" * 5000)
     with pytest.raises(InputError, match="more than 1000 rows of 3 values: reading and using them would need more"):
-        io.read_table(tmp_path / "log.csv")
+        read_table(tmp_path / "log.csv")
 
 
 def test_reading_a_log_does_not_hold_its_text(tmp_path):
@@ -298,7 +313,7 @@ def test_reading_a_log_does_not_hold_its_text(tmp_path):
     size = (tmp_path / "log.csv").stat().st_size
     tracemalloc.start()
     try:
-        table = io.read_table(tmp_path / "log.csv")
+        table = read_table(tmp_path / "log.csv")
         peak = tracemalloc.get_traced_memory()[1]
     finally:
         tracemalloc.stop()
@@ -334,42 +349,42 @@ def test_backups_take_a_free_name_and_are_copies(tmp_path, monkeypatch):
 def manifest_of(folder):
     import json
 
-    return json.loads((folder / io.MANIFEST).read_text())["files"]
+    return json.loads((folder / MANIFEST).read_text())["files"]
 
 
 def test_an_output_folder_replaces_only_its_own_files(tmp_path):
     out = tmp_path / "out"
     out.mkdir()
     (out / "notes.txt").write_text("mine")
-    written = io.write_folder(out, {"index.html": "<p>1</p>", "figures/a.svg": b"<svg/>"}, "report")
+    written = write_folder(out, {"index.html": "<p>1</p>", "figures/a.svg": b"<svg/>"}, "report")
     assert written == [out / "index.html", out / "figures" / "a.svg"]
     assert {name: entry["command"] for name, entry in manifest_of(out).items()} == {"index.html": "report",
                                                                                      "figures/a.svg": "report"}
-    io.write_folder(out, {"index.html": "<p>2</p>", "figures/a.svg": "<svg>2</svg>"}, "report")  # ours, unchanged
+    write_folder(out, {"index.html": "<p>2</p>", "figures/a.svg": "<svg>2</svg>"}, "report")  # ours, unchanged
     assert (out / "index.html").read_text() == "<p>2</p>" and (out / "notes.txt").read_text() == "mine"
-    assert sorted(p.name for p in out.iterdir()) == [io.MANIFEST, "figures", "index.html", "notes.txt"]
+    assert sorted(p.name for p in out.iterdir()) == [MANIFEST, "figures", "index.html", "notes.txt"]
 
 
 def test_files_an_earlier_run_wrote_are_kept_and_stay_ours(tmp_path):
-    io.write_folder(tmp_path, {"a.md": "a", "b.md": "b"}, "grade")
-    io.write_folder(tmp_path, {"a.md": "a2"}, "grade")
+    write_folder(tmp_path, {"a.md": "a", "b.md": "b"}, "grade")
+    write_folder(tmp_path, {"a.md": "a2"}, "grade")
     assert (tmp_path / "b.md").read_text() == "b" and set(manifest_of(tmp_path)) == {"a.md", "b.md"}
-    io.write_folder(tmp_path, {"b.md": "b2"}, "grade")
+    write_folder(tmp_path, {"b.md": "b2"}, "grade")
     assert (tmp_path / "b.md").read_text() == "b2"
     (tmp_path / "a.md").unlink()
-    io.write_folder(tmp_path, {"b.md": "b3"}, "grade")
+    write_folder(tmp_path, {"b.md": "b3"}, "grade")
     assert set(manifest_of(tmp_path)) == {"b.md"}  # a file gone is no longer listed
 
 
 @pytest.mark.parametrize("prepare, fragment", [
     (lambda out: (out / "index.html").write_text("a page of my own"), "index.html: exists and was not written by "
                                                                          "course-dynamics"),
-    (lambda out: (io.write_folder(out, {"index.html": "x"}, "report"), (out / "index.html").write_text("edited")),
+    (lambda out: (write_folder(out, {"index.html": "x"}, "report"), (out / "index.html").write_text("edited")),
      "index.html: was changed since course-dynamics report wrote it"),
-    (lambda out: io.write_folder(out, {"index.html": "x"}, "publish-notebooks"),
+    (lambda out: write_folder(out, {"index.html": "x"}, "publish-notebooks"),
      "index.html: was written by course-dynamics publish-notebooks, not report"),
     (lambda out: (out / "index.html").mkdir(), "index.html: is a directory, not a file course-dynamics wrote"),
-    (lambda out: (io.write_folder(out, {"index.html": "x"}, "report"), (out / "index.html").unlink(),
+    (lambda out: (write_folder(out, {"index.html": "x"}, "report"), (out / "index.html").unlink(),
                   (out / "index.html").symlink_to(out.parent / "victim")),
      "index.html: is a symbolic link, not a file course-dynamics wrote"),
     (lambda out: (out / "figures").symlink_to(out.parent / "elsewhere"), "figures: is not a plain folder"),
@@ -383,7 +398,7 @@ def test_an_output_folder_refuses_what_it_did_not_write_before_writing_anything(
     prepare(out)
     before = {p: p.read_bytes() for p in tmp_path.rglob("*") if p.is_file() and not p.is_symlink()}
     with pytest.raises(InputError) as caught:
-        io.write_folder(out, {"new.md": "n", "index.html": "<p>new</p>", "figures/a.svg": "<svg/>"}, "report")
+        write_folder(out, {"new.md": "n", "index.html": "<p>new</p>", "figures/a.svg": "<svg/>"}, "report")
     assert fragment in str(caught.value) and "nothing was written" in str(caught.value), caught.value
     assert {p: p.read_bytes() for p in tmp_path.rglob("*") if p.is_file() and not p.is_symlink()} == before
     assert not (out / "new.md").exists() and list(elsewhere.iterdir()) == []
@@ -417,7 +432,7 @@ def test_a_hostile_manifest_is_refused_and_authorises_nothing(tmp_path, kind):
     out.mkdir()
     victim = tmp_path / "victim"
     victim.write_bytes(b"precious")
-    manifest = out / io.MANIFEST
+    manifest = out / MANIFEST
     if kind == "names ../victim":
         manifest.write_bytes(hostile_entry("../victim", b"precious"))
     elif kind == "names an absolute path":
@@ -428,47 +443,49 @@ def test_a_hostile_manifest_is_refused_and_authorises_nothing(tmp_path, kind):
         manifest.symlink_to(real)
     elif kind == "too large":
         with open(manifest, "wb") as handle:
-            handle.truncate(io.MANIFEST_MAX_BYTES + 1)
+            handle.truncate(MANIFEST_MAX_BYTES + 1)
     else:
         manifest.write_bytes(HOSTILE_MANIFESTS[kind])
     (out / "index.html").write_bytes(b"mine")
     with pytest.raises(InputError) as caught:
-        io.write_folder(out, {"index.html": "x"}, "report")
+        write_folder(out, {"index.html": "x"}, "report")
     assert "nothing was written" in str(caught.value), caught.value
     assert victim.read_bytes() == b"precious" and (out / "index.html").read_bytes() == b"mine"
 
 
 def test_a_run_interrupted_half_way_leaves_files_the_next_run_may_replace(tmp_path, monkeypatch):
-    io.write_folder(tmp_path, {"a.md": "a1", "b.md": "b1"}, "grade")
-    real = io._whole_file
+    write_folder(tmp_path, {"a.md": "a1", "b.md": "b1"}, "grade")
+    from course_dynamics.output import folders
+
+    real = folders.whole_file
 
     def interrupted(path, *args, **kwargs):
         if path.name == "b.md":
             raise KeyboardInterrupt
         return real(path, *args, **kwargs)
 
-    monkeypatch.setattr(io, "_whole_file", interrupted)
+    monkeypatch.setattr(folders, "whole_file", interrupted)
     with pytest.raises(KeyboardInterrupt):
-        io.write_folder(tmp_path, {"a.md": "a2", "b.md": "b2"}, "grade")
-    monkeypatch.setattr(io, "_whole_file", real)
+        write_folder(tmp_path, {"a.md": "a2", "b.md": "b2"}, "grade")
+    monkeypatch.setattr(folders, "whole_file", real)
     assert (tmp_path / "a.md").read_text() == "a2" and (tmp_path / "b.md").read_text() == "b1"
-    io.write_folder(tmp_path, {"a.md": "a3", "b.md": "b3"}, "grade")  # both recognised: the old b, the new a
+    write_folder(tmp_path, {"a.md": "a3", "b.md": "b3"}, "grade")  # both recognised: the old b, the new a
     assert (tmp_path / "a.md").read_text() == "a3" and (tmp_path / "b.md").read_text() == "b3"
 
 
-@pytest.mark.parametrize("name", ["../x", "/etc/x", "a/../../x", "", "a//b", "./a", io.MANIFEST])
+@pytest.mark.parametrize("name", ["../x", "/etc/x", "a/../../x", "", "a//b", "./a", MANIFEST])
 def test_output_folder_names_stay_inside(tmp_path, name):
     with pytest.raises(InputError):
-        io.write_folder(tmp_path / "out", {name: "x"}, "report")
+        write_folder(tmp_path / "out", {name: "x"}, "report")
     assert not (tmp_path / "out").exists() and not (tmp_path / "x").exists()
 
 
 def test_check_folder_fails_early_and_writes_nothing(tmp_path):
-    io.check_folder(tmp_path / "new" / "site", ["index.html"], "report")  # a folder to be made: fine
+    check_folder(tmp_path / "new" / "site", ["index.html"], "report")  # a folder to be made: fine
     assert not (tmp_path / "new").exists()
     (tmp_path / "index.html").write_text("mine")
     with pytest.raises(InputError, match="index.html: exists and was not written by course-dynamics"):
-        io.check_folder(tmp_path, ["index.html", "report.md"], "report")
+        check_folder(tmp_path, ["index.html", "report.md"], "report")
     (tmp_path / "file").write_text("x")
     with pytest.raises(InputError, match="Not a directory"):
-        io.check_folder(tmp_path / "file" / "site", ["index.html"], "report")
+        check_folder(tmp_path / "file" / "site", ["index.html"], "report")

@@ -1,11 +1,15 @@
-"""course_dynamics/kinematics.py: placements of every body and every URDF frame, and u, against Pinocchio."""
+"""course_dynamics/core/kinematics.py: placements of every body and every URDF frame, and u, against Pinocchio."""
 from __future__ import annotations
 
 import numpy as np
+from helpers import assert_agrees
 
 from course_dynamics import forward_kinematics, potential_energy
-from course_dynamics.kinematics import frame_placement, joint_transforms, placement_entries
-from helpers import assert_agrees
+from course_dynamics.core.kinematics import (
+    frame_placement,
+    joint_transforms,
+    placement_entries,
+)
 
 
 def test_body_placements_agree_with_pinocchio_frames(robot):

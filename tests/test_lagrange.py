@@ -1,10 +1,11 @@
-"""course_dynamics/lagrange.py: the Lagrangian path against Pinocchio and against our Newton–Euler."""
+"""course_dynamics/core/lagrange.py: the Lagrangian path against Pinocchio and against our Newton–Euler."""
 from __future__ import annotations
 
 import numpy as np
-
-from course_dynamics import dynamics, lagrange, potential_energy
 from helpers import assert_agrees
+
+from course_dynamics import potential_energy
+from course_dynamics.core import dynamics, lagrange
 
 STEP = 1e-30  # complex step
 

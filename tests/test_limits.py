@@ -1,11 +1,11 @@
-"""course_dynamics/limits.py: peaks, RMS, shares of the limits and violation intervals."""
+"""course_dynamics/tools/limits.py: peaks, RMS, shares of the limits and violation intervals."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
 from course_dynamics import load_robot
-from course_dynamics.limits import MERGE_GAP, limits_report
+from course_dynamics.tools.limits import MERGE_GAP, limits_report
 
 
 def test_peaks_rms_and_shares():

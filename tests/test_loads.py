@@ -1,15 +1,21 @@
-"""course_dynamics/loads.py: a payload lumped into a link and a wrench through Jᵀ, against Pinocchio."""
+"""course_dynamics/tools/loads.py: a payload lumped into a link and a wrench through Jᵀ, against Pinocchio."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
+from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
 from helpers import CHECKED_ROBOTS, assert_agrees, tip_frame, urdf_of
 
 from course_dynamics import InputError, ModelError, inverse_dynamics, load_urdf
-from course_dynamics.inertia import box
-from course_dynamics.loads import Payload, Wrench, payload_link, with_payload, wrench_torques
-from course_dynamics.sampling import random_states
-from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
+from course_dynamics.core.inertia import box
+from course_dynamics.core.sampling import random_states
+from course_dynamics.tools.loads import (
+    Payload,
+    Wrench,
+    payload_link,
+    with_payload,
+    wrench_torques,
+)
 
 SAMPLES = 40
 

@@ -1,15 +1,21 @@
-"""course_dynamics/logs.py: logs in every shape, differentiated rates, torques and the limits report."""
+"""course_dynamics/tools/logs.py: logs in every shape, differentiated rates, torques and the limits report."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
+from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
 from helpers import assert_agrees, urdf_of
 
 from course_dynamics import InputError, inverse_dynamics, load_robot, load_urdf
-from course_dynamics.friction import Friction
-from course_dynamics.loads import Payload, Wrench, with_payload, wrench_torques
-from course_dynamics.logs import DEFAULT_WINDOW_SECONDS, MIN_WINDOW, joint_log, parse_column_map, torques_from_log
-from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
+from course_dynamics.core.friction import Friction
+from course_dynamics.tools.loads import Payload, Wrench, with_payload, wrench_torques
+from course_dynamics.tools.logs import (
+    DEFAULT_WINDOW_SECONDS,
+    MIN_WINDOW,
+    joint_log,
+    parse_column_map,
+    torques_from_log,
+)
 
 OMEGA = np.array([1.3, 2.1])
 
@@ -248,7 +254,7 @@ def test_torques_in_blocks_of_rows_are_the_torques_at_once(monkeypatch):
     q, qd, qdd = (rng.standard_normal((len(t), 6)) for _ in range(3))
     friction = Friction(viscous=np.full(6, 0.3), coulomb=np.full(6, 1.5))
     wrench = Wrench("tool0", (0, 0, -20.0), (0, 1.0, 0))
-    monkeypatch.setattr("course_dynamics.logs.ROWS_AT_A_TIME", 7)
+    monkeypatch.setattr("course_dynamics.tools.logs.ROWS_AT_A_TIME", 7)
     blocks = torques_from_log(model, columns(t, q, qd, qdd, joints=model.joint_names), friction=friction, wrench=wrench,
                               compiled=False)
     expected = inverse_dynamics(model, q, qd, qdd) + friction.torques(qd) + wrench_torques(model, q, wrench)

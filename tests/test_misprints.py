@@ -2,7 +2,6 @@
 from __future__ import annotations
 
 import pytest
-
 from course_dynamics_reference.misprints import demonstrations
 from helpers import ROOT
 

@@ -1,12 +1,12 @@
-"""course_dynamics/newton_euler.py: τ by Craig's iterations against Pinocchio's rnea."""
+"""course_dynamics/core/newton_euler.py: τ by Craig's iterations against Pinocchio's rnea."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
+from helpers import assert_agrees
 
 from course_dynamics import inverse_dynamics, load_robot, newton_euler_links
-from course_dynamics.state import StateError
-from helpers import assert_agrees
+from course_dynamics.core.state import StateError
 
 
 def test_tau_agrees_with_pinocchio_rnea(robot):

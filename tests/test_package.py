@@ -75,8 +75,8 @@ def test_a_non_editable_install_runs_from_any_folder(tmp_path):
     elsewhere.mkdir()
     check = subprocess.run(
         [python, "-c", "import course_dynamics, course_dynamics_robots as r, course_dynamics_reference.report as rep\n"
-                       "from course_dynamics.course import notebook_paths\n"
-                       "from course_dynamics.robots import ROBOTS_DIR\n"
+                       "from course_dynamics.teaching.course import notebook_paths\n"
+                       "from course_dynamics.core.robots import ROBOTS_DIR\n"
                        "print(course_dynamics.__file__, ROBOTS_DIR, rep.errata_count(), len(notebook_paths()))"],
         cwd=elsewhere, capture_output=True, text=True)
     assert check.returncode == 0, check.stderr

@@ -8,13 +8,13 @@ rotated), attached to random earlier links so that branches occur.
 from __future__ import annotations
 
 import numpy as np
+from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
+from course_dynamics_reference.validate import random_states
+from helpers import assert_agrees
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from course_dynamics import coriolis_matrix, inverse_dynamics, load_urdf, mass_matrix
-from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
-from course_dynamics_reference.validate import random_states
-from helpers import assert_agrees
 
 real = st.floats(-1.0, 1.0, allow_nan=False)
 triple = st.tuples(real, real, real)

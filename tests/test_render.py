@@ -1,16 +1,23 @@
-"""course_dynamics/render.py: tables, the trace in three formats, typeset derivations, strict JSON."""
+"""course_dynamics/output/render.py: tables, the trace in three formats, typeset derivations, strict JSON."""
 from __future__ import annotations
 
 import json
 import re
 
 import pytest
+from helpers import derivation
 
 from course_dynamics import load_robot
-from course_dynamics.render import (derivation_record, derivation_text, json_text, text_table, trace_latex,
-                                    trace_record, trace_table)
-from course_dynamics.trace import trace
-from helpers import derivation
+from course_dynamics.output.render import (
+    derivation_record,
+    derivation_text,
+    json_text,
+    text_table,
+    trace_latex,
+    trace_record,
+    trace_table,
+)
+from course_dynamics.tools.trace import trace
 
 
 def test_trace_formats():

@@ -4,11 +4,11 @@ from __future__ import annotations
 import json
 
 import pytest
-
-from course_dynamics.cli import main
-from course_dynamics.io import MANIFEST
 from course_dynamics_reference.report import errata_count
 from helpers import AWKWARD, ROOT
+
+from course_dynamics.cli import main
+from course_dynamics.output.folders import MANIFEST
 
 
 @pytest.fixture(scope="module")

@@ -1,10 +1,10 @@
-"""course_dynamics/robots.py: shipped robots are found by name, example-robot-data included."""
+"""course_dynamics/core/robots.py: shipped robots are found by name, example-robot-data included."""
 from __future__ import annotations
 
 import pytest
 
 from course_dynamics import load_robot, robot_names, robot_path
-from course_dynamics.robots import example_robot_data_share
+from course_dynamics.core.robots import example_robot_data_share
 
 
 @pytest.mark.parametrize("name", robot_names())

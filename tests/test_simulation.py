@@ -1,13 +1,18 @@
-"""course_dynamics/simulation.py: integrators, energy, round trip, limits, bad input."""
+"""course_dynamics/tools/simulation.py: integrators, energy, round trip, limits, bad input."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
 from course_dynamics import inverse_dynamics, load_robot, robot_path
-from course_dynamics.forward_dynamics import forward_dynamics
-from course_dynamics.friction import Friction
-from course_dynamics.simulation import SimulationError, TorqueTable, simulate, total_energy
+from course_dynamics.core.forward_dynamics import forward_dynamics
+from course_dynamics.core.friction import Friction
+from course_dynamics.tools.simulation import (
+    SimulationError,
+    TorqueTable,
+    simulate,
+    total_energy,
+)
 
 # Released 65° from hanging (q1 = 0 is upright for this URDF): large, nonlinear swings of both links.
 DOUBLE_PENDULUM_START = ([2.0, 0.0], [0.0, 0.0])

@@ -1,4 +1,4 @@
-"""course_dynamics/state.py: checking states, splitting them into per-joint entries and assembling results."""
+"""course_dynamics/core/state.py: checking states, splitting them into per-joint entries and assembling results."""
 from __future__ import annotations
 
 import numpy as np
@@ -6,7 +6,7 @@ import pytest
 import sympy
 
 from course_dynamics import StateError, load_robot
-from course_dynamics.state import as_state, entries, layout_of
+from course_dynamics.core.state import as_state, entries, layout_of
 
 ARM = load_robot("two_link")
 

@@ -1,16 +1,23 @@
-"""course_dynamics/symbolic.py: closed forms, two derivations that agree, and Craig's printed results."""
+"""course_dynamics/core/symbolic.py: closed forms, two derivations that agree, and Craig's printed results."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
 import sympy
-
-from course_dynamics import load_robot
-from course_dynamics.symbolic import SymbolError, canonical, derive, numeric_functions, parameter_values, symbolic_model
 from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
 from course_dynamics_reference.validate import random_states
-from course_dynamics.robots import robot_path
 from helpers import derivation
+
+from course_dynamics import load_robot
+from course_dynamics.core.robots import robot_path
+from course_dynamics.core.symbolic import (
+    SymbolError,
+    canonical,
+    derive,
+    numeric_functions,
+    parameter_values,
+    symbolic_model,
+)
 
 NOTES_SYMBOLS = {
     "two_link": ("m1", "m2", "l1", "l2", "g"),
@@ -144,8 +151,9 @@ def test_decimals_make_real_robots_readable():
 
 def test_cartesian_closed_forms_are_craig_example_6_6():
     """M_x = diag(m2 + m1/s2², m2) (6.101), V_x (6.102), G_x (6.103): the two-link arm in its tool frame."""
-    from course_dynamics.symbolic import derive_cartesian
     from course_dynamics_reference import textbook
+
+    from course_dynamics.core.symbolic import derive_cartesian
 
     d = derive_cartesian(load_robot("two_link"), "tool", rows=["x", "y"], expressed_in="frame",
                          symbols=("m1", "m2", "l1", "l2", "g"))

@@ -4,13 +4,19 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import sympy
-
-from course_dynamics import gravity_torques, inverse_dynamics, load_robot, mass_matrix, velocity_torques
-from course_dynamics.robots import robot_path
-from course_dynamics.symbolic import joint_symbols, rationalize
 from course_dynamics_reference import textbook
 from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
 from course_dynamics_reference.validate import random_states
+
+from course_dynamics import (
+    gravity_torques,
+    inverse_dynamics,
+    load_robot,
+    mass_matrix,
+    velocity_torques,
+)
+from course_dynamics.core.robots import robot_path
+from course_dynamics.core.symbolic import joint_symbols, rationalize
 
 CLOSED_FORMS = {"two_link": textbook.two_link, "rp_arm": textbook.rp_arm, "pendulum": textbook.pendulum}
 

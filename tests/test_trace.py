@@ -1,12 +1,12 @@
-"""course_dynamics/trace.py: every entry of the step-by-step iterations against Pinocchio's own per-joint data."""
+"""course_dynamics/tools/trace.py: every entry of the step-by-step iterations against Pinocchio's own per-joint data."""
 from __future__ import annotations
 
 import numpy as np
 import sympy
+from helpers import assert_agrees
 
 from course_dynamics import load_robot
-from course_dynamics.trace import trace
-from helpers import assert_agrees
+from course_dynamics.tools.trace import trace
 
 QUANTITIES = ("omega", "omega_dot", "v_dot", "v_dot_c", "F", "N", "f", "n")
 

@@ -1,12 +1,13 @@
-"""course_dynamics/urdf.py: what the loader reads, merges and rejects."""
+"""course_dynamics/core/urdf.py: what the loader reads, merges and rejects."""
 from __future__ import annotations
 
 import numpy as np
 import pinocchio as pin
 import pytest
+from helpers import AWKWARD, BAD_URDFS, arm_urdf, assert_one_line_error, run
 
 from course_dynamics import ModelError, load_urdf, mass_matrix
-from helpers import AWKWARD, BAD_URDFS, arm_urdf, assert_one_line_error, run
+
 
 @pytest.mark.parametrize("case", sorted(BAD_URDFS))
 def test_bad_urdf_is_rejected_with_a_named_cause(tmp_path, case):

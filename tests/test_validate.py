@@ -2,9 +2,14 @@
 from __future__ import annotations
 
 import numpy as np
+from course_dynamics_reference.validate import (
+    TERMS,
+    random_states,
+    sampling_bounds,
+    validate,
+)
 
 from course_dynamics import load_robot
-from course_dynamics_reference.validate import TERMS, random_states, sampling_bounds, validate
 
 
 def test_states_are_seeded_and_within_limits():

@@ -22,18 +22,18 @@ import pytest
 
 from course_dynamics import load_robot, load_urdf, robot_path
 from course_dynamics.cli import main
-from course_dynamics.viewer import (
+from course_dynamics.output.viewer import (
     MeshWarning,
     RecordingWindow,
     ViewerError,
     export_html,
+    mesh_limits,
     resolve_mesh_path,
     robot_geometry,
     show,
 )
-from course_dynamics.viewer import geometry as geometry_module
-from course_dynamics.viewer import mesh_limits
-from course_dynamics.viewer.geometry import load_mesh
+from course_dynamics.output.viewer import geometry as geometry_module
+from course_dynamics.output.viewer.geometry import load_mesh
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -398,7 +398,7 @@ def test_live_server_listens_on_loopback_and_closes():
 
 def test_live_server_dies_with_a_killed_python():
     script = ("from course_dynamics import load_robot, robot_path\n"
-              "from course_dynamics.viewer import show\n"
+              "from course_dynamics.output.viewer import show\n"
               "v = show(load_robot('pendulum'), robot_path('pendulum'))\n"
               "print('PID', v.process.pid, flush=True)\n"
               "import time; time.sleep(60)\n")

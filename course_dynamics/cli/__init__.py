@@ -1,11 +1,11 @@
-"""``course-dynamics``: the command line, a thin layer over the library.
+"""Layer 6, ``course-dynamics``: the command line, a thin layer over the library (it may import every layer).
 
 Every command reads a URDF (or the name of a shipped robot), calls
 course_dynamics, and prints a table or, with ``--json``, one JSON document.
 Each lives in its own module in :mod:`course_dynamics.cli.commands`; shared
 option handling is in :mod:`course_dynamics.cli.options`.
 
-Bad input of any kind (a :class:`~course_dynamics.errors.CourseDynamicsError`)
+Bad input of any kind (a :class:`~course_dynamics.base.errors.CourseDynamicsError`)
 ends with one line ``error: …`` on stderr and exit code 2; Ctrl-C ends with
 exit code 130. No output file is left behind half-written.
 """
@@ -18,8 +18,8 @@ import warnings
 
 import numpy as np
 
-from ..errors import CourseDynamicsError
-from ..render import one_line
+from ..base.errors import CourseDynamicsError
+from ..output.render import one_line
 from .commands import COMMANDS
 from .options import Parser, check_output_names, join_value_options, robots_epilog
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 import sys
 import warnings
 
-from ..viewer import GEOMETRIES
+from ..output.viewer import GEOMETRIES
 
 
 def add_animation_options(parser, html_required: bool) -> None:
@@ -21,13 +21,13 @@ def add_animation_options(parser, html_required: bool) -> None:
 
 def animation_document(model, urdf, t, q, tau, args) -> str:
     """The HTML animation as text (nothing written); mesh warnings become ``warning: …`` lines on stderr."""
-    from ..viewer import MeshWarning, scene_document
+    from ..output.viewer import MeshWarning, scene_document
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", MeshWarning)
         document, _ = scene_document(model, urdf, args.geometry, t, q, tau if args.torques else None,
                                      args.draw_path, args.allow_any_mesh_path)
-    from ..render import one_line
+    from ..output.render import one_line
 
     for warning in caught:
         if issubclass(warning.category, MeshWarning):
@@ -39,6 +39,6 @@ def animation_document(model, urdf, t, q, tau, args) -> str:
 
 def export_animation(path, model, urdf, t, q, tau, args) -> None:
     """Write the HTML animation to ``path``, whole or not at all."""
-    from .. import io
+    from ..output import io
 
     io.write_text(path, animation_document(model, urdf, t, q, tau, args))

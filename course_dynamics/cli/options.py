@@ -10,9 +10,9 @@ import sys
 
 import numpy as np
 
-from .. import render
-from ..errors import InputError
-from ..robots import load, robot_names
+from ..base.errors import InputError
+from ..core.robots import load, robot_names
+from ..output import render
 
 # Options whose values are comma-separated numbers that may start with a minus sign.
 VALUE_OPTIONS = ("--q", "--qd", "--qdd", "--gravity", "--q0", "--qd0", "--torque", "--viscous", "--coulomb",
@@ -98,7 +98,7 @@ def load_robot_argument(args, target: str | None = None):
     """
     import warnings
 
-    from ..urdf import InertiaWarning
+    from ..core.urdf import InertiaWarning
 
     target = args.urdf if target is None else target
     g = gravity(args)
@@ -124,8 +124,8 @@ def add_friction_arguments(parser) -> None:
 
 
 def friction(args, model):
-    """The :class:`~course_dynamics.friction.Friction` the options ask for, or None for none."""
-    from ..friction import Friction
+    """The :class:`~course_dynamics.core.friction.Friction` the options ask for, or None for none."""
+    from ..core.friction import Friction
 
     if args.friction != "urdf" and args.viscous is None and args.coulomb is None:
         return None
@@ -136,7 +136,7 @@ def friction(args, model):
 
 def warn_if_gravity_free(model) -> None:
     """One warning line when G(q) vanishes everywhere (the gravity path is then untested)."""
-    from ..sampling import gravity_free
+    from ..core.sampling import gravity_free
 
     if gravity_free(model):
         print(f"warning: robot '{render.one_line(model.name)}': G(q) = 0 at every sampled state (gravity {model.gravity.tolist()} m/s^2 "
@@ -155,13 +155,10 @@ def check_oracle_memory(model) -> None:
     """Refuse, before any work, a robot whose comparison with Pinocchio would not fit in memory."""
     from course_dynamics_reference.validate import memory_estimate
 
-    from ..simulation import memory_budget
+    from ..base.resources import check_memory
 
-    needed = memory_estimate(model.n)
-    if needed > memory_budget():
-        raise InputError(f"robot '{model.name}' has {model.n} joints: comparing it with Pinocchio would need about "
-                         f"{render.format_bytes(needed)} of memory, more than half of this machine's {render.format_bytes(2 * memory_budget())} "
-                         "('terms' computes one state of it with our library alone)")
+    check_memory(memory_estimate(model.n), f"robot '{model.name}' has {model.n} joints: comparing it with Pinocchio",
+                 " ('terms' computes one state of it with our library alone)")
 
 
 def check_output_names(args) -> None:

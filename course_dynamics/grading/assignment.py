@@ -2,7 +2,7 @@
 
 An assignment is a small TOML file (see :data:`EXAMPLE`, printed by
 ``course-dynamics grade --example-assignment``). Every key is checked when the
-file is read; a bad one is an :class:`~course_dynamics.errors.InputError`
+file is read; a bad one is an :class:`~course_dynamics.base.errors.InputError`
 naming the file and the key.
 """
 from __future__ import annotations
@@ -13,10 +13,10 @@ import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..errors import InputError
-from ..model import STANDARD_GRAVITY, Model
-from ..robots import load, robot_names
-from ..urdf import InertiaWarning
+from ..base.errors import InputError
+from ..core.model import STANDARD_GRAVITY, Model
+from ..core.robots import load, robot_names
+from ..core.urdf import InertiaWarning
 
 TERMS = ("tau", "M", "V", "G", "C")
 PARTIAL_CREDIT = ("states", "none")

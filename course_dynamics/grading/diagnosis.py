@@ -33,7 +33,7 @@ from itertools import permutations
 
 import numpy as np
 
-from ..sampling import relative_error, term_scales
+from ..core.sampling import relative_error, term_scales
 from .plan import Expected, Plan, Returned, coefficient_names
 
 DERIVED_C_TOLERANCE = 1e-7  # central differences reach about 1e-8

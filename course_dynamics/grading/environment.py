@@ -26,7 +26,7 @@ import sysconfig
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..errors import InputError
+from ..base.errors import InputError
 
 SITE = "/site"
 ALWAYS = ("numpy",)  # what every submission may use besides the standard library

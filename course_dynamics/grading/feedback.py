@@ -29,7 +29,8 @@ from collections import Counter
 from pathlib import Path
 from urllib.parse import quote
 
-from .. import io, render
+from ..output import render
+from ..output.folders import write_folder
 from .assignment import Assignment
 from .grade import SubmissionGrade
 
@@ -176,7 +177,7 @@ def output_names(students) -> list[str]:
 
 
 def write_outputs(out: Path, grades: list[SubmissionGrade], assignment: Assignment) -> list[Path]:
-    """Every output file in ``out`` (made if missing), through the folder's manifest (:func:`io.write_folder`):
+    """Every output file in ``out`` (made if missing), through the folder's manifest (:func:`write_folder`):
     only files an earlier ``grade`` wrote there are replaced, and nothing else in the folder is touched."""
     import json
 
@@ -185,4 +186,4 @@ def write_outputs(out: Path, grades: list[SubmissionGrade], assignment: Assignme
         documents[f"{g.student}.md"] = feedback_markdown(g, assignment)
         documents[f"{g.student}.html"] = feedback_html(g, assignment)
         documents[f"{g.student}.json"] = json.dumps(results_json(g, assignment), indent=2, allow_nan=False) + "\n"
-    return io.write_folder(out, documents, OWNER)
+    return write_folder(out, documents, OWNER)

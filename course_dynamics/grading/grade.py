@@ -41,9 +41,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ..base.errors import InputError
 from .assignment import TERMS, Assignment
 from .diagnosis import Diagnosis, diagnose
+from .environment import submission_environment
 from .plan import (
     Expected,
     Plan,
@@ -52,7 +53,6 @@ from .plan import (
     returned_coefficients,
     returned_terms,
 )
-from .environment import submission_environment
 from .sandbox import Limits, check_sandbox, run_submission
 
 MAX_SOURCE_BYTES = 1_000_000

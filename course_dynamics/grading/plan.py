@@ -28,10 +28,15 @@ from itertools import combinations_with_replacement
 
 import numpy as np
 
-from ..dynamics import coriolis_matrix, gravity_torques, mass_matrix, velocity_torques
-from ..lagrange import configuration_space_terms, velocity_pairs
-from ..newton_euler import inverse_dynamics
-from ..sampling import random_states
+from ..core.dynamics import (
+    coriolis_matrix,
+    gravity_torques,
+    mass_matrix,
+    velocity_torques,
+)
+from ..core.lagrange import configuration_space_terms, velocity_pairs
+from ..core.newton_euler import inverse_dynamics
+from ..core.sampling import random_states
 from .assignment import Assignment
 
 STEP = 1e-5  # rad or m: central-difference step for a C derived from tau

@@ -21,7 +21,7 @@ import json
 
 import numpy as np
 
-from ..errors import CourseDynamicsError
+from ..base.errors import CourseDynamicsError
 
 STATUSES = ("ok", "syntax error", "forbidden import", "exited", "memory", "file access", "crashed")
 FUNCTIONS = ("tau", "M", "V", "G", "C")

@@ -44,19 +44,33 @@ from __future__ import annotations
 import json
 import os
 import shutil
-import signal
 import subprocess
 import sys
 import tempfile
 import threading
-import time
 import uuid
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..errors import CourseDynamicsError
-from .environment import SITE, Environment, harness_arguments, package_folders, submission_environment
+from ..base.errors import CourseDynamicsError
 from . import results as results_document
+from .containment import (
+    LAUNCHED,
+    STARTING,
+    ControlGroups,
+    become_subreaper,
+    kill_group,
+    kill_orphans,
+    process_limit,
+    seccomp_program,
+)
+from .environment import (
+    SITE,
+    Environment,
+    harness_arguments,
+    package_folders,
+    submission_environment,
+)
 from .results import InvalidResults, results_cap
 
 HERE = Path(__file__).resolve().parent
@@ -64,7 +78,6 @@ HARNESS = HERE / "harness.py"
 LAUNCHER = HERE / "launcher.py"
 SCRATCH_BYTES = 64 * 2**20  # each writable mount at most; a quarter of the memory limit when that is less
 FILE_SIZE_BYTES = 16 * 2**20
-PROCESSES = 64
 ETC_FILES = ("/etc/ld.so.cache", "/etc/ld.so.conf", "/etc/ld.so.conf.d", "/etc/alternatives", "/etc/localtime")
 
 
@@ -186,160 +199,6 @@ def _sandbox_command(bwrap: str, submission: Path, results_fd: int, environment:
             "--", *harness_arguments(environment), "/harness/harness.py", str(results_fd)]
 
 
-# ---------------------------------------------------------------------------------------- seccomp
-
-# Memory a process can hold outside its address-space limit and outside any mount's size: a memfd, or a
-# System V shared memory segment touched and detached. Both are refused (EPERM) by a seccomp filter, so
-# that without a memory cgroup a submission still cannot fill the host's memory. Numbers per architecture:
-# (audit architecture, {name: system call number}).
-FILTERED_CALLS = {
-    "x86_64": (0xC000003E, {"memfd_create": 319, "shmget": 29, "memfd_secret": 447}),
-    "aarch64": (0xC00000B7, {"memfd_create": 279, "shmget": 194, "memfd_secret": 447}),
-}
-SECCOMP_RET_ALLOW, SECCOMP_RET_ERRNO, EPERM = 0x7FFF0000, 0x00050000, 1
-X32_SYSCALL_BIT = 0x40000000
-
-
-def seccomp_program(machine: str | None = None) -> bytes | None:
-    """The BPF program of the filter for this machine (None where we know no numbers: the run says so).
-
-    Any other ABI than the machine's own (32-bit calls, x32) is refused too: it would number calls otherwise.
-    """
-    import platform
-    import struct
-
-    known = FILTERED_CALLS.get(machine or platform.machine())
-    if known is None:
-        return None
-    arch, calls = known
-    deny = SECCOMP_RET_ERRNO | EPERM
-    numbers = sorted(calls.values())
-
-    def op(code, k, jt=0, jf=0):
-        return struct.pack("=HBBI", code, jt, jf, k)
-
-    LOAD, JEQ, JGE, RET = 0x20, 0x15, 0x35, 0x06  # BPF_LD|W|ABS, BPF_JMP|JEQ|K, BPF_JMP|JGE|K, BPF_RET|K
-    program = [op(LOAD, 4), op(JEQ, arch, 1, 0), op(RET, deny), op(LOAD, 0), op(JGE, X32_SYSCALL_BIT, 0, 1),
-               op(RET, deny)]
-    for number in numbers:
-        program += [op(JEQ, number, 0, 1), op(RET, deny)]
-    return b"".join(program + [op(RET, SECCOMP_RET_ALLOW)])
-
-
-# ---------------------------------------------------------------------------------------- cgroups
-
-
-class ControlGroups:
-    """pids and memory cgroups for one run, where this machine lets us make them (cgroup v1 or v2).
-
-    ``procs`` lists the cgroup.procs files the launcher joins; ``available``
-    says whether a process limit holds for the whole tree.
-    """
-
-    def __init__(self, name: str, memory_bytes: int):
-        self.folders: list[Path] = []
-        self.procs: list[str] = []
-        self.memory: Path | None = None
-        for controller, settings in (("pids", {"pids.max": str(PROCESSES)}),
-                                     ("memory", {"memory.limit_in_bytes": str(memory_bytes),
-                                                 "memory.max": str(memory_bytes)})):
-            folder = self._make(controller, name, settings)
-            if folder is not None:
-                self.folders.append(folder)
-                self.procs.append(str(folder / "cgroup.procs"))
-                if controller == "memory":
-                    self.memory = folder
-
-    @property
-    def available(self) -> bool:
-        return any((folder / "pids.max").exists() for folder in self.folders)
-
-    @staticmethod
-    def _make(controller: str, name: str, settings: dict) -> Path | None:
-        for base in _cgroup_bases(controller):
-            folder = base / name
-            try:
-                folder.mkdir()
-            except OSError:
-                continue
-            written = False
-            for key, value in settings.items():
-                try:
-                    (folder / key).write_text(value)
-                    written = True
-                except OSError:
-                    pass
-            if written:
-                return folder
-            folder.rmdir()
-        return None
-
-    def pids(self) -> set[int]:
-        found = set()
-        for procs in self.procs:
-            try:
-                found |= {int(x) for x in Path(procs).read_text().split()}
-            except OSError:
-                pass
-        return found
-
-    def out_of_memory(self) -> bool:
-        """Whether the memory cgroup killed a process (read before :meth:`kill_and_remove`)."""
-        if self.memory is None:
-            return False
-        for events in ("memory.events", "memory.oom_control"):
-            try:
-                text = (self.memory / events).read_text()
-            except OSError:
-                continue
-            for line in text.splitlines():
-                key, _, value = line.partition(" ")
-                if key == "oom_kill" and int(value) > 0:
-                    return True
-        try:
-            return int((self.memory / "memory.failcnt").read_text()) > 0
-        except (OSError, ValueError):
-            return False
-
-    def kill_and_remove(self) -> None:
-        """Kill whatever is still in the groups, then remove them."""
-        deadline = time.monotonic() + 10
-        while self.pids() and time.monotonic() < deadline:
-            for pid in self.pids():
-                try:
-                    os.kill(pid, signal.SIGKILL)
-                except ProcessLookupError:
-                    pass
-            time.sleep(0.02)
-        for folder in self.folders:
-            for _ in range(100):
-                try:
-                    folder.rmdir()
-                    break
-                except FileNotFoundError:
-                    break
-                except OSError:  # the kernel has not yet released the last process
-                    time.sleep(0.02)
-        self.folders, self.procs, self.memory = [], [], None
-
-
-def _cgroup_bases(controller: str) -> list[Path]:
-    """Folders where a child cgroup for ``controller`` may be made: our own cgroup, then the hierarchy root."""
-    bases = []
-    try:
-        lines = Path("/proc/self/cgroup").read_text().splitlines()
-    except OSError:
-        return bases
-    for line in lines:
-        _, controllers, path = line.split(":", 2)
-        if controller in controllers.split(","):
-            root = Path("/sys/fs/cgroup") / controller
-            bases += [root / path.lstrip("/"), root]
-        elif controllers == "":
-            bases += [Path("/sys/fs/cgroup/unified") / path.lstrip("/"), Path("/sys/fs/cgroup") / path.lstrip("/")]
-    return [b for b in dict.fromkeys(bases) if b.is_dir() and os.access(b, os.W_OK)]
-
-
 # ---------------------------------------------------------------------------------------- one run
 
 
@@ -384,7 +243,7 @@ def run_submission(submission: Path, plan: dict, limits: Limits, bwrap: str | No
             plan = dict(plan, module=f"/submission/{submission.name}", path=[SITE])
             command, cwd = _sandbox_command(bwrap, submission, write_results, environment, limits), None
         else:
-            _become_subreaper()
+            become_subreaper()
             scratch = Path(tempfile.mkdtemp(prefix="course-dynamics-scratch-"))
             site = environment.linked_site(Path(tempfile.mkdtemp(prefix="site-", dir=scratch)))
             plan = dict(plan, module=str(submission), path=[str(site)])
@@ -396,20 +255,20 @@ def run_submission(submission: Path, plan: dict, limits: Limits, bwrap: str | No
             "RLIMIT_FSIZE": (FILE_SIZE_BYTES,) * 2,
             "RLIMIT_CORE": (0, 0),
         }
-        nproc = _process_limit()
+        nproc = process_limit()
         if nproc is not None:
             rlimits["RLIMIT_NPROC"] = (nproc, nproc)
         program = seccomp_program()
         config = json.dumps({"cgroups": groups.procs, "rlimits": rlimits, "seccomp": program.hex() if program else ""})
         env = {"PATH": "/usr/bin:/bin", "LANG": "C.UTF-8", "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1",
                "HOME": str(scratch or "/scratch"), "COURSE_DYNAMICS_RUN": run_id}
-        with _STARTING:
+        with STARTING:
             process = subprocess.Popen(
                 [sys.executable, "-I", "-S", str(LAUNCHER), config, *command], stdin=subprocess.PIPE,
                 stdout=write_out, stderr=write_err, pass_fds=(write_results,), cwd=cwd, env=env,
                 start_new_session=True,
             )
-            _LAUNCHED.add(process.pid)
+            LAUNCHED.add(process.pid)
         for fd in (write_results, write_out, write_err):
             os.close(fd)
         write_results = write_out = write_err = -1
@@ -429,13 +288,13 @@ def run_submission(submission: Path, plan: dict, limits: Limits, bwrap: str | No
             process.wait(timeout=limits.wall_seconds)
         except subprocess.TimeoutExpired:
             timed_out = True
-            _kill_group(process.pid)
+            kill_group(process.pid)
             process.wait()
-        _kill_group(process.pid)  # anything the run left in its process group
+        kill_group(process.pid)  # anything the run left in its process group
         out_of_memory, limited = groups.out_of_memory(), groups.available
         groups.kill_and_remove()
         if bwrap is None:
-            _kill_orphans()
+            kill_orphans()
         for reader in readers:
             reader.join(timeout=10)
         results_reader, out_reader, err_reader = readers
@@ -461,89 +320,6 @@ def run_submission(submission: Path, plan: dict, limits: Limits, bwrap: str | No
                 os.close(fd)
         groups.kill_and_remove()
         if process is not None:
-            _LAUNCHED.discard(process.pid)
+            LAUNCHED.discard(process.pid)
         if scratch is not None:
             shutil.rmtree(scratch, ignore_errors=True)
-
-
-# ---------------------------------------------------------------------------------------- detached processes
-
-_STARTING = threading.Lock()
-_LAUNCHED: set[int] = set()     # launchers of runs under way: the grader's own children
-_BEFORE: set[int] | None = None  # the grader's children when it became a subreaper: not ours to kill
-PR_SET_CHILD_SUBREAPER = 36
-
-
-def _children() -> set[int]:
-    """The grader's child processes, from /proc (the parent pid follows the command name's closing parenthesis)."""
-    me, found = os.getpid(), set()
-    for stat_file in Path("/proc").glob("[0-9]*/stat"):
-        try:
-            fields = stat_file.read_text().rsplit(")", 1)[1].split()
-        except (OSError, IndexError):
-            continue
-        if int(fields[1]) == me:
-            found.add(int(stat_file.parent.name))
-    return found
-
-
-def _become_subreaper() -> None:
-    """Make detached descendants of a run children of the grader (module docstring); once per process."""
-    global _BEFORE
-    if _BEFORE is not None:
-        return
-    import ctypes
-
-    libc = ctypes.CDLL(None, use_errno=True)
-    if libc.prctl(PR_SET_CHILD_SUBREAPER, 1, 0, 0, 0) != 0:
-        raise SandboxError("cannot contain the processes of submissions here (prctl PR_SET_CHILD_SUBREAPER failed); "
-                           "grade with the sandbox")
-    with _STARTING:
-        _BEFORE = _children() - _LAUNCHED
-
-
-def _kill_orphans() -> None:
-    """Kill and reap every child of the grader that is neither a launcher nor one it had before grading."""
-    deadline = time.monotonic() + 10
-    while time.monotonic() < deadline:
-        with _STARTING:
-            orphans = _children() - _LAUNCHED - (_BEFORE or set())
-        if not orphans:
-            return
-        for pid in orphans:
-            try:
-                os.kill(pid, signal.SIGKILL)
-            except ProcessLookupError:
-                pass
-        for pid in orphans:
-            try:
-                os.waitpid(pid, 0)
-            except ChildProcessError:
-                pass
-
-
-def _process_limit() -> int | None:
-    """RLIMIT_NPROC counts every process of the user, so allow the ones already running plus PROCESSES.
-
-    None for root, to whom the kernel does not apply the limit.
-    """
-    uid = os.getuid()
-    if uid == 0:
-        return None
-    running = 0
-    for status in Path("/proc").glob("[0-9]*/status"):
-        try:
-            for line in status.read_text().splitlines():
-                if line.startswith("Uid:"):
-                    running += int(line.split()[1]) == uid
-                    break
-        except OSError:
-            continue
-    return running + PROCESSES
-
-
-def _kill_group(pid: int) -> None:
-    try:
-        os.killpg(pid, signal.SIGKILL)
-    except (ProcessLookupError, PermissionError):
-        pass

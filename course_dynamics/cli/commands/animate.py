@@ -6,9 +6,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ... import io
-from ...newton_euler import inverse_dynamics
-from ...robots import resolve
+from ...core.newton_euler import inverse_dynamics
+from ...core.robots import resolve
+from ...output import io
+from ...tools.tables import joint_columns, read_columns, stack_joint_columns
 from ..animation import add_animation_options, export_animation
 from ..options import UsageError, add_robot_argument, load_robot_argument
 
@@ -28,16 +29,16 @@ def run(args) -> int:
     joints = model.joint_names
     io.check_distinct([args.trajectory], [args.html])
     io.check_writable(args.html)
-    columns = io.read_columns(args.trajectory, ["t"] + io.joint_columns(("q",), joints),
-                              io.joint_columns(("qd", "qdd", "tau"), joints) + ["energy"])
-    q = io.stack_joint_columns(columns, "q", joints)
+    columns = read_columns(args.trajectory, ["t"] + joint_columns(("q",), joints),
+                              joint_columns(("qd", "qdd", "tau"), joints) + ["energy"])
+    q = stack_joint_columns(columns, "q", joints)
     tau = None
     if args.torques:
         if all(f"tau_{j}" in columns for j in joints):
-            tau = io.stack_joint_columns(columns, "tau", joints)
+            tau = stack_joint_columns(columns, "tau", joints)
         elif all(f"{k}_{j}" in columns for k in ("qd", "qdd") for j in joints):
-            tau = inverse_dynamics(model, q, io.stack_joint_columns(columns, "qd", joints),
-                                   io.stack_joint_columns(columns, "qdd", joints))
+            tau = inverse_dynamics(model, q, stack_joint_columns(columns, "qd", joints),
+                                   stack_joint_columns(columns, "qdd", joints))
         else:
             raise UsageError(f"{args.trajectory}: --torques needs tau_<joint> columns, or qd_<joint> and qdd_<joint> "
                              "to compute them")

@@ -3,8 +3,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ... import render
-from ...cartesian import EXPRESSED_IN, MAX_CONDITION, ROW_NAMES, cartesian_dynamics
+from ...core.cartesian import EXPRESSED_IN, MAX_CONDITION, ROW_NAMES, cartesian_dynamics
+from ...output import render
 from ..options import (
     UsageError,
     add_robot_argument,

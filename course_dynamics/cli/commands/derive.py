@@ -1,8 +1,8 @@
 """``course-dynamics derive``: closed-form τ, M, V, G and Craig's B, C (symbolic)."""
 from __future__ import annotations
 
-from ... import render
-from ...symbolic import MAX_SYMBOLIC_JOINTS, METHODS
+from ...core.symbolic import MAX_SYMBOLIC_JOINTS, METHODS
+from ...output import render
 from ..options import add_robot_argument, load_robot_argument, print_json, symbol_names
 
 HELP = "closed-form tau, M, V, G and Craig's B, C (symbolic)"
@@ -25,7 +25,7 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> int:
-    from ...symbolic import derive
+    from ...core.symbolic import derive
 
     model = load_robot_argument(args)
     derivation = derive(model, symbol_names(args.symbols), method=args.method, decimals=args.decimal)

@@ -28,7 +28,6 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> int:
-    from ... import io
     from ...grading import (
         EXAMPLE,
         check_sandbox,
@@ -38,6 +37,8 @@ def run(args) -> int:
     )
     from ...grading.feedback import OWNER, output_names
     from ...grading.grade import student_names
+    from ...output import io
+    from ...output.folders import check_folder
 
     if args.example_assignment:
         sys.stdout.write(EXAMPLE)
@@ -52,7 +53,7 @@ def run(args) -> int:
         raise UsageError(f"{out}: exists and is not a directory")
     io.check_writable(out / "gradebook.csv") if out.is_dir() else io.check_writable(out)
     assignment = load_assignment(args.assignment)
-    io.check_folder(out, output_names(student_names(args.submissions)), OWNER)  # before any student code runs
+    check_folder(out, output_names(student_names(args.submissions)), OWNER)  # before any student code runs
     if not args.no_sandbox:
         check_sandbox()  # before any output: no sandbox is an error, not a quiet downgrade
     progress = progress_bar(total=len(args.submissions), enabled=not (args.quiet or args.json) and sys.stderr.isatty(),

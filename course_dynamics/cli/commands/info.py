@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ... import render
+from ...output import render
 from ..options import add_robot_argument, load_robot_argument, print_json
 
 HELP = "joints (order, type, axis, limits, parent) and moving bodies (mass, COM)"

@@ -22,7 +22,7 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> int:
-    from ...course import notebook_paths, publish
+    from ...teaching.course import notebook_paths, publish
 
     only = tuple(x.strip() for x in args.only.split(",")) if args.only else None
     count = len([p for p in notebook_paths() if only is None or p.name[:2] in only])

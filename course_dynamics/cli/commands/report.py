@@ -34,7 +34,8 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> int:
-    from ... import io
+    from ...output import io
+    from ...output.folders import check_folder
 
     check_sampling(args)
     out = Path(args.out)
@@ -44,9 +45,14 @@ def run(args) -> int:
     for target in args.urdf:  # bad input fails before any long work
         check_oracle_memory(load_robot_argument(args, target))
     # The oracle is imported by this command only, so the library itself never loads Pinocchio.
-    from course_dynamics_reference.report import OWNER, build_report, report_files, write_report
+    from course_dynamics_reference.report import (
+        OWNER,
+        build_report,
+        report_files,
+        write_report,
+    )
 
-    io.check_folder(out, report_files(len(args.urdf)), OWNER)  # a file in the way fails before minutes of work
+    check_folder(out, report_files(len(args.urdf)), OWNER)  # a file in the way fails before minutes of work
 
     progress = progress_bar(total=len(args.urdf) * args.samples, enabled=not args.quiet and sys.stderr.isatty(),
                             unit="state")

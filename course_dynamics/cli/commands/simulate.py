@@ -5,9 +5,9 @@ import sys
 
 import numpy as np
 
-from ... import io
-from ...robots import resolve
-from ...simulation import (
+from ...core.robots import resolve
+from ...output import io
+from ...tools.simulation import (
     INTEGRATORS,
     LIMIT_MODES,
     SimulationError,
@@ -15,6 +15,7 @@ from ...simulation import (
     simulate,
     time_grid,
 )
+from ...tools.tables import joint_columns, read_columns, stack_joint_columns
 from ..animation import add_animation_options, animation_document
 from ..options import (
     UsageError,
@@ -66,9 +67,9 @@ def _torque(args, model):
         return joint_values(args.torque, "--torque", model)
     if args.torque_csv is not None:
         joints = model.joint_names
-        columns = io.read_columns(args.torque_csv, ["t"] + io.joint_columns(("tau",), joints),
-                                  io.joint_columns(("q", "qd", "qdd"), joints) + ["energy"])
-        return TorqueTable(columns["t"], io.stack_joint_columns(columns, "tau", joints))
+        columns = read_columns(args.torque_csv, ["t"] + joint_columns(("tau",), joints),
+                                  joint_columns(("q", "qd", "qdd"), joints) + ["energy"])
+        return TorqueTable(columns["t"], stack_joint_columns(columns, "tau", joints))
     return None
 
 
@@ -90,7 +91,7 @@ def run(args) -> int:
         q0 = q0 + noise
     torque, joint_friction = _torque(args, model), friction(args, model)
     if args.plot:
-        from ...plotting import plot_format
+        from ...output.plotting import plot_format
 
         plot_format(args.plot)
     io.check_distinct([args.torque_csv], [args.out, args.plot, args.html])
@@ -111,7 +112,7 @@ def run(args) -> int:
     header, data = trajectory.table()
     picture = document = None
     if args.plot:
-        from ...plotting import (
+        from ...output.plotting import (
             ensemble_figure,
             figure_bytes,
             plot_format,

@@ -19,7 +19,7 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> int:
-    from ...course import write_notebooks
+    from ...teaching.course import write_notebooks
 
     result = write_notebooks(args.out, solutions=args.solutions, force=args.force)
     for path, why in result.kept:

@@ -5,8 +5,8 @@ import sys
 
 import numpy as np
 
-from ... import render
-from ...dynamics import dynamics_terms
+from ...core.dynamics import dynamics_terms
+from ...output import render
 from ..options import (
     UsageError,
     add_robot_argument,
@@ -33,13 +33,10 @@ def add_arguments(parser) -> None:
 
 def run(args) -> int:
     model = load_robot_argument(args)
-    from ...render import format_bytes
-    from ...simulation import memory_budget
+    from ...base.resources import check_memory
 
-    needed = TERMS_BYTES_PER_SQUARED_JOINT * model.n**2
-    if needed > memory_budget():
-        raise UsageError(f"robot '{model.name}' has {model.n} joints: its M and C and their intermediates would need "
-                         f"about {format_bytes(needed)}, more than half of this machine's memory")
+    check_memory(TERMS_BYTES_PER_SQUARED_JOINT * model.n**2,
+                 f"robot '{model.name}' has {model.n} joints: its M and C and their intermediates", error=UsageError)
     warn_if_gravity_free(model)
     # The library checks the lengths and values, naming the joint at fault.
     q = numbers(args.q, "--q")

@@ -5,9 +5,9 @@ import sys
 
 import numpy as np
 
-from ... import io, render
-from ...loads import Payload, Wrench, payload_link
-from ...logs import (
+from ...output import io, render
+from ...tools.loads import Payload, Wrench, payload_link
+from ...tools.logs import (
     COMPILE_FROM_ROWS,
     KINDS,
     TIME_UNITS,
@@ -15,6 +15,7 @@ from ...logs import (
     parse_column_map,
     torques_from_log,
 )
+from ...tools.tables import DECIMALS, joint_columns, read_table
 from ..options import (
     UsageError,
     add_friction_arguments,
@@ -48,7 +49,7 @@ def add_arguments(parser) -> None:
     parser.add_argument("--set", metavar="OURS=VALUE,...", action="append",
                         help="a constant for a signal the log lacks, e.g. q_panda_finger_joint1=0.04 (a constant q "
                              "has zero rates; may be repeated)")
-    parser.add_argument("--decimal", choices=io.DECIMALS,
+    parser.add_argument("--decimal", choices=DECIMALS,
                         help="the log's decimal separator, when it cannot tell (default: read from the log; a log "
                              "that could be read two ways is refused)")
     parser.add_argument("--dt", type=float, help="sample step, s, for a log without a t column")
@@ -155,7 +156,7 @@ def settings(args, model, payloads, wrenches, joint_friction) -> list[str]:
 
 def _list_columns(table, model, mapping, fixed) -> int:
     columns, _ = as_columns(table)
-    ours = ["t"] + io.joint_columns(KINDS, model.joint_names)
+    ours = ["t"] + joint_columns(KINDS, model.joint_names)
     used = {mapping.get(name, name): name for name in ours}
     rows = [["log column", "used as"]] + [[c, used.get(c, "(ignored)")] for c in columns]
     print(f"{table.path}: {len(table.data)} rows, {len(columns)} columns")
@@ -183,14 +184,14 @@ def run(args) -> int:
     if args.out == io.STDOUT and args.json:
         raise UsageError("--out - and --json both want standard output; write the CSV to a file")
     if args.plot:
-        from ...plotting import PLOT_FORMATS, plot_format
+        from ...output.plotting import PLOT_FORMATS, plot_format
 
         plot_format(args.plot, PLOT_FORMATS + ("html",))
     io.check_distinct([args.trajectory], [args.out, args.plot])
     for target in (args.out, args.plot):  # fail before reading a long log
         if target:
             io.check_writable(target)
-    table = io.read_table(args.trajectory, decimal=args.decimal)
+    table = read_table(args.trajectory, decimal=args.decimal)
     if args.columns:
         return _list_columns(table, model, mapping, fixed)
     result = torques_from_log(model, table, dt=args.dt, columns=mapping, window=args.smooth, constants=fixed,
@@ -208,7 +209,7 @@ def run(args) -> int:
     if args.out == io.STDOUT and not args.json:
         _print_report(result, sys.stderr)  # before the CSV: a reader that stops early (| head) still sees it
     if args.plot:
-        from ...plotting import plot_torques
+        from ...output.plotting import plot_torques
 
         plot_torques(result, args.plot)
     if args.out:

@@ -1,7 +1,7 @@
 """``course-dynamics trace``: the Newton–Euler iterations link by link, numeric or symbolic."""
 from __future__ import annotations
 
-from ... import render
+from ...output import render
 from ..options import (
     UsageError,
     add_robot_argument,
@@ -30,7 +30,7 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> int:
-    from ...trace import trace
+    from ...tools.trace import trace
 
     model = load_robot_argument(args)
     if args.symbolic:

@@ -1,0 +1,154 @@
+"""Cartesian-space dynamics: Jacobians and the operational-space terms (6.91)–(6.105).
+
+=============  ===========  ===================================================
+code           Craig        meaning (shape, unit)
+=============  ===========  ===================================================
+``J``          J(Θ)         frame Jacobian, rows (vx, vy, vz, ωx, ωy, ωz) of the
+                            frame origin's velocity (6, n) or selected rows (k, n)
+``J_dot``      J̇(Θ, Θ̇)      its time derivative along Θ̇ (exact, dual numbers)
+``Mx``         M_x(Θ)       J⁻ᵀ M J⁻¹ (6.99), Cartesian mass matrix
+``Vx``         V_x(Θ, Θ̇)    J⁻ᵀ (V − M J⁻¹ J̇ Θ̇) (6.99)
+``Gx``         G_x(Θ)       J⁻ᵀ G (6.99)
+=============  ===========  ===================================================
+
+``expressed_in="base"`` gives the Jacobian in base-frame coordinates (Pinocchio's
+LOCAL_WORLD_ALIGNED); ``"frame"`` gives it in the frame's own coordinates, as
+Craig's ³J(Θ) of example 6.6 (Pinocchio's LOCAL). J̇ is the time derivative of
+the matrix as expressed, which is what (6.97) differentiates.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..base.errors import CourseDynamicsError, InputError
+from .algebra import Dual
+from .dynamics import gravity_torques, mass_matrix, velocity_torques
+from .kinematics import (
+    frame_placement_entries,
+    placement_entries,
+    point_jacobian_columns,
+)
+from .model import Model
+from .state import as_state, entries, layout_of
+
+ROW_NAMES = ("x", "y", "z", "rx", "ry", "rz")
+EXPRESSED_IN = ("base", "frame")
+MAX_CONDITION = 1e8  # beyond this J is treated as singular
+
+
+class SingularityError(CourseDynamicsError):
+    """The task Jacobian is singular or nearly so at the given state."""
+
+
+def _jacobian_entries(model: Model, theta: list, frame_name: str, expressed_in: str) -> list:
+    """J as 6 rows of n per-joint scalars."""
+    frame = model.frame(frame_name)
+    if frame.body < 0:
+        return [[0] * model.n for _ in range(6)]
+    placed = placement_entries(model, theta)
+    R_frame, P_frame = frame_placement_entries(placed, frame)
+    rows = []
+    for linear, angular in point_jacobian_columns(model, placed, frame.body, P_frame):
+        if expressed_in == "frame":
+            linear, angular = R_frame.T @ linear, R_frame.T @ angular
+        rows.append((*linear, *angular))
+    return [[rows[j][r] for j in range(model.n)] for r in range(6)]
+
+
+def row_indices(rows) -> list[int]:
+    if rows is None:
+        return list(range(6))
+    indices = []
+    for row in rows:
+        if isinstance(row, str):
+            if row not in ROW_NAMES:
+                raise InputError(f"unknown task row '{row}' (rows are {', '.join(ROW_NAMES)})")
+            row = ROW_NAMES.index(row)
+        indices.append(int(row))
+    return indices
+
+
+def _check_expressed_in(expressed_in: str) -> None:
+    if expressed_in not in EXPRESSED_IN:
+        raise InputError(f"expressed_in must be one of {', '.join(EXPRESSED_IN)}, got '{expressed_in}'")
+
+
+def jacobian(model: Model, q, frame: str, expressed_in: str = "base", rows=None) -> np.ndarray:
+    """J(Θ) of URDF link/frame ``frame``: shape (k, n) or (N, k, n); k = 6 or len(rows).
+
+    Rows are (vx, vy, vz, ωx, ωy, ωz) of the frame origin (m/s and rad/s per unit
+    joint rate); ``rows`` selects some by index or name ("x", "y", "z", "rx", "ry", "rz").
+    """
+    _check_expressed_in(expressed_in)
+    q = as_state(model, q, "q")
+    J = _jacobian_entries(model, entries(q), frame, expressed_in)
+    selected = [J[r] for r in row_indices(rows)]
+    return layout_of(q).assemble(selected, (len(selected), model.n))
+
+
+def jacobian_dot(model: Model, q, qd, frame: str, expressed_in: str = "base", rows=None) -> np.ndarray:
+    """J̇(Θ, Θ̇) = d/dt J(Θ(t)): same shape as :func:`jacobian`; exact (dual numbers)."""
+    _check_expressed_in(expressed_in)
+    q, qd = as_state(model, q, "q"), as_state(model, qd, "qd")
+    theta = [Dual(a, b) for a, b in zip(entries(q), entries(qd))]
+    J = _jacobian_entries(model, theta, frame, expressed_in)
+    selected = [[x.b if isinstance(x, Dual) else 0 for x in J[r]] for r in row_indices(rows)]
+    return layout_of(q, qd).assemble(selected, (len(selected), model.n))
+
+
+@dataclass(frozen=True)
+class CartesianTerms:
+    """F = M_x Ẍ + V_x + G_x (6.91) at one state, for one frame and task rows."""
+
+    frame: str
+    rows: tuple[str, ...]
+    J: np.ndarray
+    J_dot: np.ndarray
+    Mx: np.ndarray
+    Vx: np.ndarray
+    Gx: np.ndarray
+    condition: float
+
+    def joint_torques(self, x_ddot) -> np.ndarray:
+        """τ = Jᵀ (M_x Ẍ + V_x + G_x) (6.104) for a task acceleration Ẍ, shape (k,)."""
+        return self.J.T @ (self.Mx @ np.asarray(x_ddot, dtype=float) + self.Vx + self.Gx)  # (6.104)
+
+
+def cartesian_dynamics(model: Model, q, qd, frame: str, expressed_in: str = "base", rows=None,
+                       max_condition: float = MAX_CONDITION) -> CartesianTerms:
+    """M_x, V_x, G_x of (6.99) at one numeric state, for a square task Jacobian.
+
+    Raises
+    ------
+    InputError
+        If the selected rows do not make J square (k ≠ n).
+    SingularityError
+        If cond(J) exceeds ``max_condition`` (the message gives the condition number).
+    """
+    q, qd = as_state(model, q, "q"), as_state(model, qd, "qd")
+    if q.ndim != 1 or q.dtype == object:
+        raise InputError("cartesian_dynamics takes one numeric state")
+    indices = row_indices(rows)
+    if len(indices) != model.n:
+        raise InputError(
+            f"the task has {len(indices)} rows but robot '{model.name}' has {model.n} joints: "
+            f"(6.99) needs a square Jacobian; choose {model.n} rows"
+        )
+    J = jacobian(model, q, frame, expressed_in, indices)
+    condition = float(np.linalg.cond(J))
+    if not condition <= max_condition:
+        raise SingularityError(
+            f"the Jacobian of frame '{frame}' is singular at q = {q.tolist()} "
+            f"(condition number {condition:.3g} > {max_condition:g})"
+        )
+    J_dot = jacobian_dot(model, q, qd, frame, expressed_in, indices)
+    M, V, G = mass_matrix(model, q), velocity_torques(model, q, qd), gravity_torques(model, q)
+    J_inv = np.linalg.inv(J)
+    J_inv_T = J_inv.T
+    Mx = J_inv_T @ M @ J_inv  # (6.99)
+    Vx = J_inv_T @ (V - M @ J_inv @ J_dot @ qd)  # (6.99)
+    Gx = J_inv_T @ G  # (6.99)
+    return CartesianTerms(frame=frame, rows=tuple(ROW_NAMES[i] for i in indices), J=J, J_dot=J_dot,
+                          Mx=Mx, Vx=Vx, Gx=Gx, condition=condition)

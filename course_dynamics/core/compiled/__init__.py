@@ -1,0 +1,276 @@
+"""Compiled models: our own recursions traced once into straight-line Python, for speed.
+
+Python spends most of a single evaluation on its own bookkeeping, not on the
+arithmetic. :func:`compile_model` therefore runs the library's recursions once
+on *traced* scalars (:class:`Traced`): every +, −, ×, ÷, cos and sin they do is
+recorded as one line of a program, identical operations are recorded once
+(common-subexpression elimination by hash-consing), and operations on
+constants are done on the spot (0·x, 1·x, the model's numbers). The program is
+then written out as plain Python (:attr:`CompiledModel.source`: a student can
+read it) and compiled twice: with ``math`` for one state (Python floats, the
+fastest scalar arithmetic) and with ``numpy`` for a batch (one array per line).
+
+=====================  ==========================================================
+program                traced from
+=====================  ==========================================================
+``tau``                :func:`~course_dynamics.core.newton_euler.torque_entries` (6.45)–(6.53)
+``mass_matrix``        :func:`~course_dynamics.core.crba.mass_matrix_entries` (upper triangle)
+``bias``               V + G = τ(Θ, Θ̇, 0), the same Newton–Euler recursion
+``coriolis``           :func:`~course_dynamics.core.coriolis.coriolis_matrix_entries`
+``forward_dynamics``   M and the bias as above, then Θ̈ = M⁻¹(τ − V − G) (6.115)
+                       by an unrolled LDLᵀ factorization, with its pivots
+=====================  ==========================================================
+
+No second copy of any algorithm exists: the programs are what the library's
+code does, so they agree with the interpreted path to the last bit in most
+entries (the tests hold them to 1e-12 and to Pinocchio to 1e-9). The model's
+gravity is built in; a different gravity means a different model.
+
+Tracing takes milliseconds; compiling the Python takes most of the time (UR5
+about 0.2 s, Panda 0.5 s). So the compiled module is cached on disk, one file
+``<key>.entry`` (its source and its bytecode), in ``$COURSE_DYNAMICS_CACHE``,
+else ``$XDG_CACHE_HOME/course-dynamics``, else ``~/.cache/course-dynamics``
+(made private to the user); ``COURSE_DYNAMICS_CACHE=off`` turns the cache off.
+The key is a hash of the model's numbers, the Python and library versions and
+the source of every traced module, so any change makes a new entry.
+
+A cached entry is code we are about to run, so nothing in it is trusted until
+checked, and checked *before* anything is executed:
+
+* the folder must be owned by the current user and writable by no one else,
+  and no folder above it writable by another user (unless sticky, as /tmp);
+* the entry must be a regular file (never followed through a link) owned by
+  the current user and writable by no one else;
+* its content must carry a keyed hash (HMAC-SHA256) made with a secret of 32
+  random bytes that lives in the folder, readable by the user alone: anyone
+  else can compute the key of an entry, but not its hash;
+* only then are its bytes (the very bytes that were checked) executed, and
+  every compiled function is compared with the interpreted recursions at a
+  random state.
+
+A folder that fails these checks is warned about once (:class:`CacheWarning`)
+and the model is compiled in memory; a bad entry is generated again and
+replaced. A folder that cannot be written means no cache, not an error.
+
+A robot whose programs would exceed :data:`MAX_OPERATIONS` operations (a chain
+of about 20 joints; the Coriolis program grows as n³) is not compiled:
+:class:`ProgramTooLargeError`, which the callers that compile on their own
+(``simulate``, long logs) answer by running the interpreted recursions.
+"""
+from __future__ import annotations
+
+import ast
+import functools
+import hashlib
+import json
+import marshal
+import sys
+import time
+import warnings
+from dataclasses import dataclass, field
+from importlib import metadata
+from pathlib import Path
+
+import numpy as np
+
+from ..forward_dynamics import SINGULAR_PIVOT_RATIO
+from ..model import Model
+from ..state import as_state
+from . import codegen, tracing
+from .cache import CACHE_OFF, Cache, CacheWarning, cache_folder
+from .codegen import module_source, program_source
+from .tracing import (
+    MAX_OPERATIONS,
+    Program,
+    ProgramTooLargeError,
+    Tape,
+    Traced,
+    trace_programs,
+)
+
+__all__ = ["CACHE_OFF", "MAX_OPERATIONS", "CacheWarning", "CompileWarning", "CompiledModel", "Program",
+           "ProgramTooLargeError", "Tape", "Traced", "cache_folder", "compile_model", "model_key", "module_source",
+           "program_source", "too_large_to_compile", "trace_programs"]
+
+
+class CompileWarning(UserWarning):
+    """A model that was run interpreted because it is too large to compile (the message says so)."""
+
+
+def too_large_to_compile(error: ProgramTooLargeError) -> None:
+    """What a caller that compiles on its own does with a robot too large for it: warn, then run interpreted."""
+    warnings.warn(str(ProgramTooLargeError(error.what, "; running the interpreted recursions")), CompileWarning,
+                  stacklevel=3)
+
+
+PACKAGE = Path(__file__).resolve().parent.parent.parent  # course_dynamics/
+
+
+@functools.cache
+def traced_sources() -> tuple[Path, ...]:
+    """The source files a compiled program can depend on: the tracer, the code writer, this module, and every
+    module of ours they import, directly or through others (read with ``ast``, lazy imports included)."""
+    pending = [Path(__file__).resolve(), Path(tracing.__file__).resolve(), Path(codegen.__file__).resolve()]
+    found: set[Path] = set()
+    while pending:
+        path = pending.pop()
+        if path in found:
+            continue
+        found.add(path)
+        package = path.parent
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if not (isinstance(node, ast.ImportFrom) and node.level):
+                continue
+            base = package
+            for _ in range(node.level - 1):
+                base = base.parent
+            target = base.joinpath(*(node.module.split(".") if node.module else []))
+            candidates = [target.with_suffix(".py"), target / "__init__.py"]
+            candidates += [target / f"{alias.name}.py" for alias in node.names]  # ``from . import crba``
+            pending += [c.resolve() for c in candidates if c.is_file() and c.resolve().is_relative_to(PACKAGE)]
+    return tuple(sorted(found))
+
+
+def model_key(model: Model) -> str:
+    """A hash of everything the programs depend on: the model's numbers, the library and Python versions, and
+    the source of every module the trace can run (:func:`traced_sources`)."""
+    digest = hashlib.sha256()
+    try:
+        digest.update(metadata.version("course-dynamics").encode())
+    except metadata.PackageNotFoundError:
+        pass
+    digest.update(f"{sys.version} {sys.implementation.cache_tag} marshal {marshal.version}".encode())
+    for path in traced_sources():
+        digest.update(path.relative_to(PACKAGE).as_posix().encode() + b"\0" + path.read_bytes())
+    description = [model.name, model.gravity.tolist(), [
+        [b.joint, b.joint_type, b.parent, b.R0.tolist(), b.P.tolist(), b.axis.tolist(), float(b.mass), b.p_com.tolist(),
+         b.I_com.tolist()] for b in model.bodies]]
+    digest.update(json.dumps(description).encode())
+    return digest.hexdigest()
+
+
+@dataclass
+class CompiledModel:
+    """The compiled programs of one model (module docstring); methods mirror the library's functions."""
+
+    model: Model
+    source: str
+    generation_seconds: float
+    from_cache: bool
+    path: Path | None = None
+    functions: dict = field(repr=False, default_factory=dict)
+
+    def _run(self, name: str, *arrays) -> np.ndarray:
+        if all(a.ndim == 1 for a in arrays):
+            return np.array(self.functions[name](*(a.tolist() for a in arrays)))
+        batch = np.broadcast_shapes(*(a.shape[:-1] for a in arrays))
+        columns = [(a if a.shape[:-1] == batch else np.broadcast_to(a, batch + a.shape[-1:])) for a in arrays]
+        out = self.functions[f"{name}_batch"](*(c.T if c.ndim == 2 else np.moveaxis(c, -1, 0) for c in columns))
+        return np.stack([o if np.shape(o) == batch else np.broadcast_to(o, batch) for o in out], axis=-1)
+
+    def inverse_dynamics(self, q, qd, qdd) -> np.ndarray:
+        """τ, shape (n,) or (N, n), as :func:`~course_dynamics.core.newton_euler.inverse_dynamics`."""
+        m = self.model
+        return self._run("tau", as_state(m, q, "q"), as_state(m, qd, "qd"), as_state(m, qdd, "qdd"))
+
+    def mass_matrix(self, q) -> np.ndarray:
+        """M(Θ), shape (n, n) or (N, n, n)."""
+        upper = self._run("mass_matrix", as_state(self.model, q, "q"))
+        n = self.model.n
+        M = np.empty(upper.shape[:-1] + (n, n))
+        rows, cols = np.triu_indices(n)
+        M[..., rows, cols] = upper
+        M[..., cols, rows] = upper
+        return M
+
+    def bias(self, q, qd) -> np.ndarray:
+        """V(Θ, Θ̇) + G(Θ), shape (n,) or (N, n)."""
+        return self._run("bias", as_state(self.model, q, "q"), as_state(self.model, qd, "qd"))
+
+    def coriolis_matrix(self, q, qd) -> np.ndarray:
+        """C(Θ, Θ̇), shape (n, n) or (N, n, n)."""
+        C = self._run("coriolis", as_state(self.model, q, "q"), as_state(self.model, qd, "qd"))
+        return C.reshape(C.shape[:-1] + (self.model.n, self.model.n))
+
+    def forward_dynamics(self, q, qd, tau, friction=None) -> np.ndarray:
+        """Θ̈ (6.115), shape (n,) or (N, n), as :func:`~course_dynamics.core.forward_dynamics.forward_dynamics`."""
+        m = self.model
+        q, qd, tau = as_state(m, q, "q"), as_state(m, qd, "qd"), as_state(m, tau, "tau")
+        if friction is not None:
+            tau = tau - friction.torques(qd)  # (6.114)
+        return self.accelerations(q, qd, tau)
+
+    def accelerations(self, q: np.ndarray, qd: np.ndarray, tau: np.ndarray) -> np.ndarray:
+        """Θ̈ for checked float arrays (n,) or (K, n): an AccelerationFunction for ``simulate``."""
+        n = self.model.n
+        try:
+            with np.errstate(divide="ignore", invalid="ignore"):
+                out = self._run("forward_dynamics", q, qd, tau)
+        except ZeroDivisionError:  # a zero pivot: M is singular
+            out = np.zeros(np.broadcast_shapes(q.shape, qd.shape, tau.shape)[:-1] + (2 * n,))
+        pivots = out[..., n:]
+        if not np.all(pivots.min(axis=-1) > SINGULAR_PIVOT_RATIO * np.abs(pivots).max(axis=-1)):
+            from ..forward_dynamics import accelerations
+
+            return accelerations(self.model, q, qd, tau)  # raises SingularMassMatrixError, naming the joint
+        return out[..., :n]
+
+
+PROGRAMS = ("tau", "mass_matrix", "bias", "coriolis", "forward_dynamics")
+
+
+def _functions_of(source: str, code, name: str) -> dict:
+    namespace: dict = {"__name__": f"course_dynamics_compiled_{name}"}
+    exec(code, namespace)  # our own program: just generated, or read back after its keyed hash was checked
+    return {n: namespace[n] for p in PROGRAMS for n in (p, f"{p}_batch")}
+
+
+def _agrees_with_the_recursion(model: Model, functions: dict) -> bool:
+    """Every compiled function at one random state against the interpreted recursions, to 1e-12."""
+    from ..dynamics import coriolis_matrix, mass_matrix_and_bias
+    from ..newton_euler import inverse_dynamics
+
+    n = model.n
+    q, qd, qdd = np.random.default_rng().uniform(-1, 1, (3, n))
+    rows, cols = np.triu_indices(n)
+    try:
+        M, bias = mass_matrix_and_bias(model, q, qd)
+        expected = {"tau": inverse_dynamics(model, q, qd, qdd), "mass_matrix": M[rows, cols], "bias": bias,
+                    "coriolis": coriolis_matrix(model, q, qd).ravel(),
+                    "forward_dynamics": np.linalg.solve(M, qdd - bias)}
+        arguments = {"tau": (q, qd, qdd), "mass_matrix": (q,), "bias": (q, qd), "coriolis": (q, qd),
+                     "forward_dynamics": (q, qd, qdd)}
+        for name, ours in expected.items():
+            got = np.array(functions[name](*(a.tolist() for a in arguments[name])))[:len(ours)]
+            out = functions[f"{name}_batch"](*(a[:, None] for a in arguments[name]))
+            batch = np.array([np.broadcast_to(np.asarray(o, dtype=float), (1,))[0] for o in out])[:len(ours)]
+            scale = 1 + np.abs(ours).max()
+            if not (np.all(np.abs(got - ours) <= 1e-9 * scale) and np.all(np.abs(batch - ours) <= 1e-9 * scale)):
+                return False
+    except Exception:  # a garbled program: generate it again
+        return False
+    return True
+
+
+def compile_model(model: Model, cache: bool = True) -> CompiledModel:
+    """Trace (or load from the cache) and compile the programs of ``model`` (module docstring).
+
+    Raises :class:`ProgramTooLargeError` for a robot too large to compile.
+    """
+    start = time.perf_counter()
+    key = model_key(model)
+    with Cache(cache_folder() if cache else None) as store:
+        entry = store.load(key)
+        if entry is not None:
+            source, code = entry
+            try:
+                functions = _functions_of(source, code, key[:16])
+            except Exception:  # a program that does not run: generate it again
+                functions = None
+            if functions is not None and _agrees_with_the_recursion(model, functions):
+                return CompiledModel(model, source, time.perf_counter() - start, True, store.path(key), functions)
+        source = module_source(model, trace_programs(model), key)
+        code = compile(source, f"<compiled {key[:16]}>", "exec")
+        functions = _functions_of(source, code, key[:16])
+        stored = store.store(key, source, code)
+    return CompiledModel(model, source, time.perf_counter() - start, False, stored, functions)

@@ -1,0 +1,233 @@
+"""Tracing: the library's own recursions run once on traced scalars, recorded as straight-line programs.
+
+Every +, −, ×, ÷, cos and sin the recursions do on a :class:`Traced` scalar is
+recorded as one node of a :class:`Tape`; identical operations are recorded once
+(common-subexpression elimination by hash-consing) and operations on constants
+are done on the spot (0·x, 1·x, the model's numbers). No second copy of any
+algorithm exists here: :func:`trace_programs` calls the recursions themselves.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ...base.errors import CourseDynamicsError
+from .. import coriolis, crba
+from ..kinematics import joint_transforms
+from ..model import Model
+from ..newton_euler import gravity_vector, torque_entries
+
+# Operations of all five programs together. Panda takes 19 000, a 20-joint chain 74 000 (2 s to compile, 5 MB of
+# source); a 30-joint chain would take 163 000 (7 s) and a 60-joint one several GB of memory.
+MAX_OPERATIONS = 80_000
+
+
+class ProgramTooLargeError(CourseDynamicsError):
+    """A robot whose compiled programs would take more than :data:`MAX_OPERATIONS` operations."""
+
+    def __init__(self, what: str = "", remedy: str = "; use the interpreted recursions (--no-compile, compiled=False)"):
+        self.what = what
+        super().__init__(f"{what} is too large to compile: its programs would take more than {MAX_OPERATIONS} "
+                         f"operations{remedy}")
+
+
+
+class Tape:
+    """The program being recorded: nodes (op, argument, argument), each recorded once."""
+
+    def __init__(self, limit: int = MAX_OPERATIONS):
+        self.nodes: list[tuple] = []
+        self.index: dict[tuple, int] = {}
+        self.limit = limit
+
+    def record(self, op: str, *arguments) -> "Traced":
+        key = (op, *arguments)
+        i = self.index.get(key)
+        if i is None:
+            i = len(self.nodes)
+            if i >= self.limit:
+                raise ProgramTooLargeError()
+            self.nodes.append(key)
+            self.index[key] = i
+        return Traced(self, i)
+
+    def input(self, name: str) -> "Traced":
+        return self.record("input", name)
+
+
+def _ref(x):
+    """A node argument: ("t", index) for a traced value, ("c", float) for a constant."""
+    return ("t", x.i) if isinstance(x, Traced) else ("c", float(x))
+
+
+class Traced:
+    """A scalar that records the arithmetic done on it (see the module docstring)."""
+
+    __slots__ = ("tape", "i")
+    __array_ufunc__ = None
+
+    def __init__(self, tape: Tape, i: int):
+        self.tape, self.i = tape, i
+
+    def _binary(self, op, other, commutative):
+        a, b = _ref(self), _ref(other)
+        if commutative and b < a:
+            a, b = b, a
+        return self.tape.record(op, a, b)
+
+    def __add__(self, other):
+        if isinstance(other, Traced):
+            return self._binary("add", other, True)
+        if not isinstance(other, (int, float)):
+            return NotImplemented
+        return self if other == 0 else self._binary("add", other, True)
+
+    __radd__ = __add__
+
+    def __sub__(self, other):
+        if isinstance(other, Traced):
+            return 0.0 if other.i == self.i else self._binary("sub", other, False)
+        if not isinstance(other, (int, float)):
+            return NotImplemented
+        return self if other == 0 else self._binary("sub", other, False)
+
+    def __rsub__(self, other):
+        if not isinstance(other, (int, float)):
+            return NotImplemented
+        return -self if other == 0 else self.tape.record("sub", ("c", float(other)), _ref(self))
+
+    def __neg__(self):
+        op, *arguments = self.tape.nodes[self.i]
+        if op == "neg":
+            return Traced(self.tape, arguments[0][1])
+        return self.tape.record("neg", _ref(self))
+
+    def __mul__(self, other):
+        if isinstance(other, Traced):
+            return self._binary("mul", other, True)
+        if not isinstance(other, (int, float)):
+            return NotImplemented
+        if other == 0:
+            return 0.0
+        if other == 1:
+            return self
+        return -self if other == -1 else self._binary("mul", other, True)
+
+    __rmul__ = __mul__
+
+    def __truediv__(self, other):
+        if isinstance(other, Traced):
+            return self._binary("div", other, False)
+        if not isinstance(other, (int, float)):
+            return NotImplemented
+        return self if other == 1 else self._binary("div", other, False)
+
+    def __rtruediv__(self, other):
+        if not isinstance(other, (int, float)):
+            return NotImplemented
+        return 0.0 if other == 0 else self.tape.record("div", ("c", float(other)), _ref(self))
+
+    def __eq__(self, other):  # a traced value is never a known number
+        return isinstance(other, Traced) and other.i == self.i
+
+    __hash__ = None
+
+    def cos_sin(self):
+        return self.tape.record("cos", _ref(self)), self.tape.record("sin", _ref(self))
+
+
+@dataclass
+class Program:
+    """A straight-line program: named inputs, nodes, and the outputs (node references or constants)."""
+
+    name: str
+    inputs: list[str]
+    nodes: list[list]
+    outputs: list
+
+    def as_data(self) -> dict:
+        return {"name": self.name, "inputs": self.inputs, "nodes": self.nodes, "outputs": self.outputs}
+
+
+def _program(name: str, tape: Tape, input_names: list[str], outputs: list) -> Program:
+    """Keep only the nodes the outputs need, renumbered in order."""
+    needed, stack = set(), [o.i for o in outputs if isinstance(o, Traced)]
+    while stack:
+        i = stack.pop()
+        if i not in needed:
+            needed.add(i)
+            stack += [a[1] for a in tape.nodes[i][1:] if isinstance(a, tuple) and a[0] == "t"]
+    order = sorted(needed)
+    number = {old: new for new, old in enumerate(order)}
+    nodes = []
+    for i in order:
+        op, *arguments = tape.nodes[i]
+        nodes.append([op] + [a if op == "input" else ([a[0], number[a[1]]] if a[0] == "t" else list(a))
+                             for a in arguments])
+    return Program(name, input_names, nodes,
+                   [["t", number[o.i]] if isinstance(o, Traced) else ["c", float(o)] for o in outputs])
+
+
+def _inputs(tape: Tape, prefix: str, n: int) -> list:
+    return [tape.input(f"{prefix}{j}") for j in range(n)]
+
+
+def trace_programs(model: Model) -> dict[str, Program]:
+    """Run the library's recursions on traced scalars and keep what they computed (module docstring).
+
+    Raises :class:`ProgramTooLargeError` as soon as the programs together pass :data:`MAX_OPERATIONS`.
+    """
+    n, g = model.n, gravity_vector(model)
+    programs, tapes = {}, []
+
+    def tape() -> Tape:
+        tapes.append(Tape(MAX_OPERATIONS - sum(len(t.nodes) for t in tapes)))
+        return tapes[-1]
+
+    try:
+        t = tape()
+        q, qd, qdd = _inputs(t, "q", n), _inputs(t, "qd", n), _inputs(t, "qdd", n)
+        tau = torque_entries(model, joint_transforms(model, q), qd, qdd, g)
+        programs["tau"] = _program("tau", t, ["q", "qd", "qdd"], tau)
+
+        t = tape()
+        q = _inputs(t, "q", n)
+        M = crba.mass_matrix_entries(model, q)
+        programs["mass_matrix"] = _program("mass_matrix", t, ["q"], [M[i][j] for i in range(n) for j in range(i, n)])
+
+        t = tape()
+        q, qd = _inputs(t, "q", n), _inputs(t, "qd", n)
+        bias = torque_entries(model, joint_transforms(model, q), qd, [0] * n, g)
+        programs["bias"] = _program("bias", t, ["q", "qd"], bias)
+
+        t = tape()
+        q, qd = _inputs(t, "q", n), _inputs(t, "qd", n)
+        C = coriolis.coriolis_matrix_entries(model, q, qd)
+        programs["coriolis"] = _program("coriolis", t, ["q", "qd"], [C[i][j] for i in range(n) for j in range(n)])
+
+        t = tape()
+        q, qd, tau = _inputs(t, "q", n), _inputs(t, "qd", n), _inputs(t, "tau", n)
+        M = crba.mass_matrix_entries(model, q)
+        bias = torque_entries(model, joint_transforms(model, q), qd, [0] * n, g)
+        qdd, pivots = _ldl_solve(M, [t_ - b for t_, b in zip(tau, bias)])  # (6.115)
+        programs["forward_dynamics"] = _program("forward_dynamics", t, ["q", "qd", "tau"], qdd + pivots)
+    except ProgramTooLargeError:
+        raise ProgramTooLargeError(f"robot {model.name!r} ({n} joints)") from None
+    return programs
+
+
+def _ldl_solve(M: list, rhs: list) -> tuple[list, list]:
+    """x = M⁻¹ rhs by M = L D Lᵀ (L unit lower triangular), unrolled; returns x and the pivots D."""
+    n = len(rhs)
+    L = [[0] * n for _ in range(n)]
+    D = [0] * n
+    for j in range(n):
+        D[j] = M[j][j] - sum((L[j][k] * L[j][k] * D[k] for k in range(j)), 0)
+        for i in range(j + 1, n):
+            L[i][j] = (M[i][j] - sum((L[i][k] * L[j][k] * D[k] for k in range(j)), 0)) / D[j]
+    y = list(rhs)
+    for i in range(n):
+        y[i] = rhs[i] - sum((L[i][k] * y[k] for k in range(i)), 0)
+    x = [0] * n
+    for i in reversed(range(n)):
+        x[i] = y[i] / D[i] - sum((L[k][i] * x[k] for k in range(i + 1, n)), 0)
+    return x, D

@@ -1,0 +1,155 @@
+"""The terms of the state-space equation τ = M(Θ)Θ̈ + V(Θ, Θ̇) + G(Θ) (6.59).
+
+G and V are read off the one Newton–Euler recursion
+(:mod:`course_dynamics.core.newton_euler`), as Craig suggests in section 6.8. M and
+C each have two routes: Craig's definition, kept for teaching and as a check,
+and an O(n²) algorithm that is the default:
+
+=============================  ===============================================
+term                           how
+=============================  ===============================================
+G(Θ)          shape (n,)       τ(Θ, 0, 0): gravity only
+V(Θ, Θ̇)       shape (n,)       τ(Θ, Θ̇, 0) with g = 0: centrifugal and Coriolis
+M(Θ)          shape (n, n)     composite-rigid-body algorithm (:mod:`~course_dynamics.core.crba`);
+                               by definition, column j is τ(Θ, 0, eⱼ) with g = 0
+                               (:func:`mass_matrix_by_unit_accelerations`)
+C(Θ, Θ̇)       shape (n, n)     the Christoffel form Cᵢⱼ = Σₖ Γᵢⱼₖ θ̇ₖ, so that C Θ̇ = V
+                               and Ṁ − 2C is skew-symmetric, by Echeandia and
+                               Wensing's O(n²) recursion (:mod:`~course_dynamics.core.coriolis`);
+                               by definition C = ½ (Ṁ + D − Dᵀ), Ṁ = Σₖ ∂M/∂θₖ θ̇ₖ,
+                               D = ∂(M Θ̇)/∂Θ, differentiated exactly with dual
+                               numbers (:func:`coriolis_matrix_christoffel`)
+=============================  ===============================================
+
+Leading batch axes and sympy object arrays work as in
+:func:`course_dynamics.core.newton_euler.inverse_dynamics`.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import coriolis, crba
+from .algebra import Dual, Vec3
+from .kinematics import joint_transforms
+from .model import Model
+from .newton_euler import gravity_vector, inverse_dynamics, torque_entries
+from .state import as_state, entries, layout_of
+
+NO_GRAVITY = Vec3(0, 0, 0)
+
+
+def gravity_torques(model: Model, q, gravity=None) -> np.ndarray:
+    """G(Θ), shape (n,) or (N, n): the torques that hold the arm still against gravity."""
+    q = as_state(model, q, "q")
+    zeros = np.zeros(q.shape[-1:])
+    return inverse_dynamics(model, q, zeros, zeros, gravity)
+
+
+def velocity_torques(model: Model, q, qd) -> np.ndarray:
+    """V(Θ, Θ̇), shape (n,) or (N, n): centrifugal and Coriolis torques."""
+    q = as_state(model, q, "q")
+    return inverse_dynamics(model, q, qd, np.zeros(q.shape[-1:]), gravity=(0.0, 0.0, 0.0))
+
+
+def unit_acceleration_entries(model: Model, theta: list, X=None) -> list:
+    """M as nested scalars, M[i][j], by definition: column j is τ(Θ, 0, eⱼ) at g = 0 (n Newton–Euler passes)."""
+    X = joint_transforms(model, theta) if X is None else X
+    zero = [0] * model.n
+    cols = [torque_entries(model, X, zero, [1 if k == j else 0 for k in range(model.n)], NO_GRAVITY) for j in range(model.n)]
+    return [[cols[j][i] for j in range(model.n)] for i in range(model.n)]
+
+
+def mass_matrix(model: Model, q) -> np.ndarray:
+    """M(Θ), shape (n, n) or (N, n, n): the joint-space mass matrix (kg·m², kg), by the composite-rigid-body algorithm."""
+    return crba.mass_matrix(model, q)
+
+
+def mass_matrix_by_unit_accelerations(model: Model, q) -> np.ndarray:
+    """M(Θ) by its definition in Craig section 6.8: column j is τ(Θ, 0, eⱼ) with g = 0."""
+    q = as_state(model, q, "q")
+    return layout_of(q).assemble(unit_acceleration_entries(model, entries(q)), (model.n, model.n))
+
+
+def coriolis_matrix(model: Model, q, qd) -> np.ndarray:
+    """C(Θ, Θ̇), shape (n, n) or (N, n, n), in Christoffel form, by the O(n²) recursion of :mod:`~course_dynamics.core.coriolis`."""
+    return coriolis.coriolis_matrix(model, q, qd)
+
+
+def coriolis_matrix_christoffel(model: Model, q, qd) -> np.ndarray:
+    """C(Θ, Θ̇) by its definition, ½ (Ṁ + D − Dᵀ), differentiated exactly with dual numbers (no finite differences)."""
+    q, qd = as_state(model, q, "q"), as_state(model, qd, "qd")
+    layout = layout_of(q, qd)
+    theta, theta_dot = entries(q), entries(qd)
+    n = model.n
+    # Ṁ: M evaluated at Θ + ε Θ̇.
+    M_dot = [[_derivative(x) for x in row]
+             for row in unit_acceleration_entries(model, [Dual(a, b) for a, b in zip(theta, theta_dot)])]
+    # D[:, k] = ∂(M Θ̇)/∂θₖ, with M Θ̇ = τ(Θ, 0, Θ̇) at g = 0.
+    zero = [0] * n
+    D_cols = []
+    for k in range(n):
+        X = joint_transforms(model, [Dual(a, 1 if j == k else 0) for j, a in enumerate(theta)])
+        D_cols.append([_derivative(x) for x in torque_entries(model, X, zero, theta_dot, NO_GRAVITY)])
+    C = [[(M_dot[i][j] + D_cols[j][i] - D_cols[i][j]) / 2 for j in range(n)] for i in range(n)]
+    return layout.assemble(C, (n, n))
+
+
+def kinetic_energy(model: Model, q, qd) -> np.ndarray:
+    """k = ½ Θ̇ᵀ M(Θ) Θ̇ (6.71), J: shape () or (N,). One pass: M Θ̇ = τ(Θ, 0, Θ̇) at g = 0."""
+    q, qd = as_state(model, q, "q"), as_state(model, qd, "qd")
+    M_qd = inverse_dynamics(model, q, np.zeros(q.shape[-1:]), qd, gravity=(0.0, 0.0, 0.0))
+    return 0.5 * np.sum(qd * M_qd, axis=-1)  # (6.71)
+
+
+def mass_matrix_and_bias(model: Model, q, qd) -> tuple[np.ndarray, np.ndarray]:
+    """M(Θ) and V(Θ, Θ̇) + G(Θ) for numeric states, sharing one set of joint transforms.
+
+    The pair forward dynamics needs; shapes (n, n), (n,) or batched (N, n, n), (N, n).
+    """
+    q, qd = as_state(model, q, "q"), as_state(model, qd, "qd")
+    layout = layout_of(q, qd)
+    M, bias = mass_matrix_and_bias_entries(model, entries(q), entries(qd))
+    return layout.assemble(M, (model.n, model.n)), layout.assemble(bias, (model.n,))
+
+
+def mass_matrix_and_bias_entries(model: Model, theta: list, theta_dot: list) -> tuple[list, list]:
+    """M[i][j] (composite rigid bodies) and the bias V + G = τ(Θ, Θ̇, 0) (Newton–Euler) as scalars."""
+    X = joint_transforms(model, theta)
+    bias = torque_entries(model, X, theta_dot, [0] * model.n, gravity_vector(model))
+    return crba.mass_matrix_entries(model, theta), bias
+
+
+def _derivative(x):
+    return x.b if isinstance(x, Dual) else 0
+
+
+@dataclass(frozen=True)
+class DynamicsTerms:
+    """Every term of (6.59) at one state (or a batch), joints in model order."""
+
+    joints: tuple[str, ...]
+    tau: np.ndarray
+    M: np.ndarray
+    C: np.ndarray
+    V: np.ndarray
+    G: np.ndarray
+
+
+def dynamics_terms(model: Model, q, qd, qdd, gravity=None, progress=None) -> DynamicsTerms:
+    """τ, M, C, V and G at one state; ``gravity`` overrides ``model.gravity``.
+
+    ``progress``, if given, is called with the name of each term just computed (five calls).
+    """
+    if gravity is not None:
+        model = model.with_gravity(gravity)
+    steps = (("tau", lambda: inverse_dynamics(model, q, qd, qdd)), ("M", lambda: mass_matrix(model, q)),
+             ("C", lambda: coriolis_matrix(model, q, qd)), ("V", lambda: velocity_torques(model, q, qd)),
+             ("G", lambda: gravity_torques(model, q)))
+    values = {}
+    for name, compute in steps:
+        values[name] = compute()
+        if progress is not None:
+            progress(name)
+    return DynamicsTerms(joints=model.joint_names, **values)

@@ -1,0 +1,95 @@
+"""Forward dynamics (6.115): Θ̈ = M⁻¹(Θ) [τ − V(Θ, Θ̇) − G(Θ) − F(Θ̇)].
+
+M, V and G come from our Newton–Euler recursion; the linear system is solved
+by Cholesky factorisation (M is symmetric positive definite for a physical
+robot). A singular M — a chain ending in massless links, say — is an error,
+never a silently huge acceleration.
+
+Anything that maps (Θ, Θ̇, τ) to Θ̈ can drive a simulation: this module's
+:func:`accelerations` is the default, and ``simulate(..., dynamics=…)`` takes
+any other callable with the same signature (:data:`AccelerationFunction`).
+"""
+from __future__ import annotations
+
+from functools import partial
+from typing import Callable
+
+import numpy as np
+
+from ..base.errors import CourseDynamicsError
+from .dynamics import mass_matrix_and_bias, mass_matrix_and_bias_entries
+from .friction import Friction
+from .model import Model
+from .state import as_state
+
+# Smallest allowed ratio of Cholesky pivots (squared), min/max: below it M is singular.
+SINGULAR_PIVOT_RATIO = 1e-14
+
+AccelerationFunction = Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]
+"""(q, qd, tau) → qdd for checked float arrays of shape (n,) or (K, n), friction not included."""
+
+
+class SingularMassMatrixError(CourseDynamicsError):
+    """M(Θ) is singular: some joint moves no mass."""
+
+
+def forward_dynamics(model: Model, q, qd, tau, friction: Friction | None = None) -> np.ndarray:
+    """Θ̈ from Θ, Θ̇ and applied τ (6.115): shape (n,) or (N, n), rad/s² or m/s².
+
+    Parameters
+    ----------
+    q, qd, tau : array_like, shape (n,) or (N, n)
+    friction : Friction, optional
+        Subtracted from τ as F(Θ̇) (6.114); default none.
+
+    Examples
+    --------
+    >>> from course_dynamics import load_robot
+    >>> arm = load_robot("pendulum")          # θ̈ = −(g/l) sin θ when released
+    >>> forward_dynamics(arm, [0.5], [0.0], [0.0]).round(4)
+    array([-4.7032])
+    """
+    q, qd, tau = as_state(model, q, "q"), as_state(model, qd, "qd"), as_state(model, tau, "tau")
+    if friction is not None:
+        tau = tau - friction.torques(qd)  # (6.114)
+    return accelerations(model, q, qd, tau)
+
+
+def accelerations(model: Model, q: np.ndarray, qd: np.ndarray, tau: np.ndarray) -> np.ndarray:
+    """(6.115) without friction for already checked float arrays, (n,) or (K, n): the default backend."""
+    if q.ndim == 1 and qd.ndim == 1:
+        M, bias = mass_matrix_and_bias_entries(model, q.tolist(), qd.tolist())  # floats: the fast path
+        M, bias = np.array(M), np.array(bias)
+    else:
+        M, bias = mass_matrix_and_bias(model, q, qd)
+    return solve(model, M, tau - bias, q)  # (6.115)
+
+
+def newton_euler_dynamics(model: Model) -> AccelerationFunction:
+    """The default :data:`AccelerationFunction` of ``model``: M and V + G by Newton–Euler, Cholesky solve."""
+    return partial(accelerations, model)
+
+
+def solve(model: Model, M: np.ndarray, rhs: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """Θ̈ = M⁻¹ rhs for M (…, n, n), rhs (…, n), after checking that M is positive definite."""
+    _check_positive_definite(model, M, q)
+    return np.linalg.solve(M, rhs[..., None])[..., 0]
+
+
+def _check_positive_definite(model: Model, M: np.ndarray, q: np.ndarray) -> None:
+    """Cholesky pivots all well above round-off, or SingularMassMatrixError naming the joint."""
+    try:
+        pivots = np.diagonal(np.linalg.cholesky(M), axis1=-2, axis2=-1) ** 2
+        if np.all(pivots.min(axis=-1) > SINGULAR_PIVOT_RATIO * pivots.max(axis=-1)):
+            return
+    except np.linalg.LinAlgError:
+        pass
+    eigenvalues = np.linalg.eigvalsh(M)
+    q = np.broadcast_to(q, M.shape[:-1])
+    k = np.unravel_index(np.argmin(eigenvalues[..., 0] / np.maximum(eigenvalues[..., -1], 1e-300)), eigenvalues.shape[:-1])
+    weakest = np.linalg.eigh(M[k])[1][:, 0]
+    joint = model.joint_names[int(np.argmax(np.abs(weakest)))]
+    raise SingularMassMatrixError(
+        f"the mass matrix of robot '{model.name}' is singular at q = {np.round(q[k], 6).tolist()} "
+        f"(smallest eigenvalue {eigenvalues[k][0]:.3g}): joint '{joint}' moves no mass (a massless chain?)"
+    )

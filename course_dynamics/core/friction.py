@@ -1,0 +1,61 @@
+"""Joint friction F(Θ̇), the term added to the dynamics in (6.114): τ = M Θ̈ + V + G + F.
+
+==================  ======================================  ==================
+model               F for one joint                         Craig
+==================  ======================================  ==================
+viscous             v θ̇                                     (6.110)
+Coulomb             c sgn(θ̇)                                (6.111)
+combined            c sgn(θ̇) + v θ̇                          (6.112)
+==================  ======================================  ==================
+
+``v`` is in N·m·s/rad (N·s/m for prismatic joints), ``c`` in N·m (N). By
+default both come from the URDF's ``<dynamics damping="v" friction="c">``.
+
+At zero velocity sgn(0) = 0: Coulomb friction vanishes exactly at rest and
+does not model stiction (the static friction of (6.113)). A joint released
+at rest under a torque smaller than c therefore starts to move, and a Coulomb
+joint crossing θ̇ = 0 chatters at the step size. ``smoothing`` > 0 replaces
+sgn(θ̇) by tanh(θ̇ / smoothing), a common regularisation that removes the chatter.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..base.errors import InputError
+from .model import Model
+
+
+@dataclass(frozen=True)
+class Friction:
+    """Per-joint friction coefficients (arrays of shape (n,))."""
+
+    viscous: np.ndarray
+    coulomb: np.ndarray
+    smoothing: float = 0.0
+
+    def __post_init__(self):
+        for name in ("viscous", "coulomb"):
+            values = np.array(getattr(self, name), dtype=float)
+            if not np.all(np.isfinite(values)) or np.any(values < 0):
+                raise InputError(f"{name} friction coefficients must be finite and non-negative, got {values.tolist()}")
+            values.setflags(write=False)
+            object.__setattr__(self, name, values)
+        if not self.smoothing >= 0:
+            raise InputError(f"friction smoothing must be non-negative, got {self.smoothing}")
+
+    @classmethod
+    def from_urdf(cls, model: Model, smoothing: float = 0.0) -> "Friction":
+        """Viscous = URDF damping, Coulomb = URDF friction, joint by joint."""
+        return cls(viscous=[b.damping for b in model.bodies], coulomb=[b.friction for b in model.bodies], smoothing=smoothing)
+
+    @classmethod
+    def none(cls, model: Model) -> "Friction":
+        return cls(viscous=np.zeros(model.n), coulomb=np.zeros(model.n))
+
+    def torques(self, qd) -> np.ndarray:
+        """F(Θ̇), shape like ``qd``: (n,) or (N, n); opposes the motion."""
+        qd = np.asarray(qd, dtype=float)
+        sign = np.tanh(qd / self.smoothing) if self.smoothing > 0 else np.sign(qd)
+        return self.coulomb * sign + self.viscous * qd  # (6.112)

@@ -1,0 +1,158 @@
+"""Kinematics: joint transforms, placements in the base frame, point Jacobians, potential energy.
+
+Both paths to the dynamics start here: the Newton–Euler recursion uses the
+joint transforms ᵖᵢR, ᵖPᵢ (frame i in its parent p), the Lagrangian path and
+Cartesian dynamics use the base-frame placements and point Jacobians.
+
+================  =========  ==================================================
+code              Craig      meaning (shape, unit)
+================  =========  ==================================================
+``X.R[i]``        ᵖᵢR        orientation of frame i in its parent at Θ (3, 3)
+``X.R_T[i]``      ⁱₚR        its transpose: maps parent-frame vectors into frame i
+``X.P[i]``        ᵖPᵢ        origin of frame i in its parent at Θ (3,), m
+``R[i]``          ⁰ᵢR        orientation of frame i in the base (3, 3)
+``P[i]``          ⁰Pᵢ        origin of frame i in the base (3,), m
+``P_com[i]``      ⁰P_Cᵢ      centre of mass of body i in the base (3,), m
+``u``             u          potential energy (6.73), J, with u_ref = 0
+================  =========  ==================================================
+
+Functions ending in ``_entries`` work on per-joint scalars (see
+:mod:`course_dynamics.core.state`) and return :class:`~course_dynamics.core.algebra.Vec3`,
+:class:`~course_dynamics.core.algebra.Mat3` or scalars, so one state, a batch and
+sympy symbols go through the same lines.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .algebra import Mat3, Vec3, cos_sin, cross, dot, rotation_from_parts
+from .model import Frame, Model
+from .state import as_state, entries, layout_of
+
+
+@dataclass(frozen=True)
+class JointTransforms:
+    """ᵖᵢR, its transpose ⁱₚR, and ᵖPᵢ for every body at one configuration Θ."""
+
+    R: list
+    R_T: list
+    P: list
+
+
+def joint_transforms(model: Model, theta: list) -> JointTransforms:
+    """ᵖᵢR(θᵢ) and ᵖPᵢ(θᵢ) of every body, from per-joint scalars θ."""
+    R, P = [], []
+    for body, q in zip(model.bodies, theta):
+        if body.is_prismatic:
+            R.append(body.R0_m)
+            P.append(body.P_v + q * body.R0_axis_v)
+        else:
+            R.append(rotation_from_parts(body.rotation_parts, *cos_sin(q)))
+            P.append(body.P_v)
+    return JointTransforms(R, [r.T for r in R], P)
+
+
+@dataclass(frozen=True)
+class BasePlacements:
+    """⁰ᵢR, ⁰Pᵢ and ⁰P_Cᵢ of every body, as Mat3/Vec3 of per-joint scalars."""
+
+    R: list
+    P: list
+    P_com: list
+
+
+def placement_entries(model: Model, theta: list) -> BasePlacements:
+    """Where every body is in the base frame: ⁰ᵢR = ⁰ₚR ᵖᵢR, ⁰Pᵢ = ⁰Pₚ + ⁰ₚR ᵖPᵢ."""
+    X = joint_transforms(model, theta)
+    R, P, P_com = [], [], []
+    for i, body in enumerate(model.bodies):
+        if body.parent < 0:
+            R_i, P_i = X.R[i], X.P[i]
+        else:
+            R_p, P_p = R[body.parent], P[body.parent]
+            R_i, P_i = R_p @ X.R[i], P_p + R_p @ X.P[i]
+        R.append(R_i)
+        P.append(P_i)
+        P_com.append(P_i + R_i @ body.p_com_v)
+    return BasePlacements(R, P, P_com)
+
+
+def frame_placement_entries(placements: BasePlacements, frame: Frame) -> tuple[Mat3, Vec3]:
+    """⁰R_F and ⁰P_F of a URDF link frame, from the placements of the body that carries it."""
+    R_F, P_F = Mat3.of(frame.R), Vec3.of(frame.P)
+    if frame.body < 0:
+        return R_F, P_F
+    R_b, P_b = placements.R[frame.body], placements.P[frame.body]
+    return R_b @ R_F, P_b + R_b @ P_F
+
+
+def point_jacobian_columns(model: Model, placements: BasePlacements, body: int, point: Vec3) -> list:
+    """Columns (J_v[:, j], J_ω[:, j]) of a point fixed to ``body``, base coordinates.
+
+    ``point`` is ⁰P of the point. Joint j moves the point when body j is
+    ``body`` or one of its ancestors: a revolute joint adds ⁰Ẑⱼ × (⁰P − ⁰Pⱼ) to
+    its velocity and ⁰Ẑⱼ to the angular velocity, a prismatic joint adds ⁰Ẑⱼ
+    and no rotation. Other columns are zero.
+    """
+    zero = Vec3(0, 0, 0)
+    cols = [(zero, zero)] * model.n
+    j = body
+    while j >= 0:
+        joint = model.bodies[j]
+        z = placements.R[j] @ joint.axis_v  # ⁰Ẑⱼ
+        cols[j] = (z, zero) if joint.is_prismatic else (cross(z, point - placements.P[j]), z)
+        j = joint.parent
+    return cols
+
+
+@dataclass(frozen=True)
+class Placements:
+    """Base-frame placements of every body: R (n, 3, 3), P and P_com (n, 3); batch axes lead."""
+
+    R: np.ndarray
+    P: np.ndarray
+    P_com: np.ndarray
+
+
+def forward_kinematics(model: Model, q) -> Placements:
+    """Where every body is at Θ (shape (n,) or (N, n)).
+
+    >>> from course_dynamics import load_robot
+    >>> arm = load_robot("two_link")
+    >>> forward_kinematics(arm, [0.0, 0.0]).P_com[1].round(3)   # m: both links along world X
+    array([0.9, 0. , 0. ])
+    """
+    q = as_state(model, q, "q")
+    layout = layout_of(q)
+    placed = placement_entries(model, entries(q))
+    n = model.n
+    return Placements(
+        R=layout.assemble([r.rows for r in placed.R], (n, 3, 3)),
+        P=layout.assemble([tuple(p) for p in placed.P], (n, 3)),
+        P_com=layout.assemble([tuple(p) for p in placed.P_com], (n, 3)),
+    )
+
+
+def frame_placement(model: Model, q, frame: str) -> tuple[np.ndarray, np.ndarray]:
+    """⁰R_F (3, 3) and ⁰P_F (3,) of URDF link ``frame`` at Θ; batch axes lead."""
+    q = as_state(model, q, "q")
+    layout = layout_of(q)
+    R, P = frame_placement_entries(placement_entries(model, entries(q)), model.frame(frame))
+    return layout.assemble(R.rows, (3, 3)), layout.assemble(tuple(P), (3,))
+
+
+def potential_energy_entry(model: Model, theta: list):
+    """u = Σᵢ −mᵢ ⁰gᵀ ⁰P_Cᵢ (6.73) from per-joint scalars (u_ref = 0)."""
+    g = Vec3.of(model.gravity)
+    u = 0
+    for body, p in zip(model.bodies, placement_entries(model, theta).P_com):
+        u = u - body.mass_s * dot(g, p)  # (6.73)
+    return u
+
+
+def potential_energy(model: Model, q) -> np.ndarray:
+    """u(Θ), J: shape () for one state, (N,) for a batch."""
+    q = as_state(model, q, "q")
+    return layout_of(q).assemble(potential_energy_entry(model, entries(q)), ())

@@ -1,0 +1,225 @@
+"""The immutable robot model, in Craig's quantities, one record per moving body.
+
+Frames and notation (Craig ch. 6; frame i is the frame of moving body i, which
+is the URDF child link of joint i, with any fixed-joint descendants merged in;
+p is the parent body of i, which in a serial chain is Craig's i−1):
+
+==================  =============================================================
+name                meaning (shape, unit)
+==================  =============================================================
+``R0``              ᵖᵢR at Θ = 0: orientation of frame i in its parent (3, 3)
+``P``               ᵖPᵢ at Θ = 0: origin of frame i in its parent (3,), m
+``axis``            ⁱẐᵢ: unit joint axis in frame i (3,) (any direction, not only z)
+``mass``            mᵢ, kg
+``p_com``           ⁱP_Cᵢ: centre of mass in frame i (3,), m
+``I_com``           ᶜⁱIᵢ: inertia tensor about the COM, axes parallel to frame i
+                    (3, 3), kg·m², as a matrix (off-diagonal entries are the
+                    URDF ``ixy``… values, i.e. Craig's −I_xy)
+``parent``          index of the parent body, −1 for the fixed base
+``parent_link``     the URDF parent link of joint i (may be merged into body ``parent``)
+``lower, upper``    joint position limits (rad or m; ±inf where the URDF gives none)
+``effort``          the joint's torque (N·m) or force (N) limit, inf where none is given
+``velocity``        the joint's speed limit (rad/s or m/s), inf where none is given
+``damping``         viscous friction coefficient from ``<dynamics damping>``
+``friction``        Coulomb friction from ``<dynamics friction>`` (N·m or N)
+``gravity``         g: gravitational acceleration in the base frame (3,), m/s²
+==================  =============================================================
+
+Joint motion: a revolute or continuous joint rotates frame i about ``axis`` by
+θᵢ, so ᵖᵢR(θᵢ) = R0 · Rot(axis, θᵢ) and ᵖPᵢ = P; a prismatic joint slides
+it along ``axis`` by dᵢ, so ᵖᵢR = R0 and ᵖPᵢ(dᵢ) = P + R0 · axis · dᵢ.
+
+One gravity convention, stated once: the base accelerates upward, ⁰v̇₀ = −g
+(Craig's trick), so that gravity loads every link through the recursion.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from functools import cached_property
+
+import numpy as np
+
+from ..base.errors import ModelError
+from .algebra import Mat3, Vec3
+
+STANDARD_GRAVITY = (0.0, 0.0, -9.81)
+JOINT_TYPES = ("revolute", "continuous", "prismatic")
+
+
+def _frozen_array(values, shape, what: str) -> np.ndarray:
+    array = np.array(values, dtype=float if _is_numeric(values) else object)
+    if array.shape != shape:
+        raise ModelError(f"{what}: expected shape {shape}, got {array.shape}")
+    array.setflags(write=False)
+    return array
+
+
+def _is_numeric(values) -> bool:
+    if isinstance(values, np.ndarray) and values.dtype == object:
+        return False  # symbolic entries stay symbolic, even numbers like sympy.Rational(1, 2)
+    try:
+        np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        return False
+    return True
+
+
+@dataclass(frozen=True)
+class Body:
+    """One moving body: the link carried by joint i and everything fixed to it."""
+
+    name: str
+    joint: str
+    joint_type: str
+    parent: int
+    R0: np.ndarray
+    P: np.ndarray
+    axis: np.ndarray
+    mass: object
+    p_com: np.ndarray
+    I_com: np.ndarray
+    lower: float = -np.inf
+    upper: float = np.inf
+    effort: float = np.inf
+    velocity: float = np.inf
+    damping: float = 0.0
+    friction: float = 0.0
+    parent_link: str = ""
+
+    def __post_init__(self):
+        for name, shape in (("R0", (3, 3)), ("P", (3,)), ("axis", (3,)), ("p_com", (3,)), ("I_com", (3, 3))):
+            object.__setattr__(self, name, _frozen_array(getattr(self, name), shape, f"body '{self.name}' {name}"))
+        if self.joint_type not in JOINT_TYPES:
+            raise ModelError(f"joint '{self.joint}': type '{self.joint_type}' is not one of {', '.join(JOINT_TYPES)}")
+
+    @property
+    def is_prismatic(self) -> bool:
+        return self.joint_type == "prismatic"
+
+    # The recursion works on Vec3/Mat3 of plain scalars; build them once per body.
+    @cached_property
+    def R0_m(self) -> Mat3:
+        return Mat3.of(self.R0)
+
+    @cached_property
+    def P_v(self) -> Vec3:
+        return Vec3.of(self.P)
+
+    @cached_property
+    def axis_v(self) -> Vec3:
+        return Vec3.of(self.axis)
+
+    @cached_property
+    def R0_axis_v(self) -> Vec3:
+        return self.R0_m @ self.axis_v
+
+    @cached_property
+    def rotation_parts(self) -> tuple:
+        """(R0 a aᵀ, R0 (1 − a aᵀ), R0 [a]ₓ) as nested tuples: ᵖᵢR(θ) = K₀ + cos θ K_c + sin θ K_s."""
+        a = self.axis
+        A = np.outer(a, a)
+        K = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]], dtype=a.dtype)
+        eye = np.eye(3, dtype=int).astype(a.dtype)
+        parts = (self.R0 @ A, self.R0 @ (eye - A), self.R0 @ K)
+        return tuple(Mat3.of(part).rows for part in parts)
+
+    @cached_property
+    def p_com_v(self) -> Vec3:
+        return Vec3.of(self.p_com)
+
+    @cached_property
+    def I_com_m(self) -> Mat3:
+        return Mat3.of(self.I_com)
+
+    @cached_property
+    def mass_s(self):
+        return float(self.mass) if isinstance(self.mass, (int, float, np.floating)) else self.mass
+
+
+@dataclass(frozen=True)
+class Frame:
+    """A URDF link as a frame rigidly attached to a body: ᵇR_F and ᵇP_F in body ``body``'s frame.
+
+    ``body`` is −1 for links fixed to the base. Every URDF link is a frame,
+    whether it moves on its own joint or was merged into a body by a fixed joint.
+    """
+
+    name: str
+    body: int
+    R: np.ndarray
+    P: np.ndarray
+
+    def __post_init__(self):
+        object.__setattr__(self, "R", _frozen_array(self.R, (3, 3), f"frame '{self.name}' R"))
+        object.__setattr__(self, "P", _frozen_array(self.P, (3,), f"frame '{self.name}' P"))
+
+
+@dataclass(frozen=True)
+class Model:
+    """A fixed-base robot: moving bodies in topological order (parents first).
+
+    ``joint_names[j]`` is the joint whose coordinate is Θ[j]; Θ has one entry
+    per moving joint (rad for revolute and continuous, m for prismatic).
+    """
+
+    name: str
+    bodies: tuple[Body, ...]
+    gravity: np.ndarray = field(default_factory=lambda: np.array(STANDARD_GRAVITY))
+    source: str = ""
+    base_link: str = ""
+    frames: tuple[Frame, ...] = ()
+
+    def __post_init__(self):
+        object.__setattr__(self, "bodies", tuple(self.bodies))
+        object.__setattr__(self, "frames", tuple(self.frames))
+        object.__setattr__(self, "gravity", _frozen_array(self.gravity, (3,), f"robot '{self.name}' gravity"))
+        for i, body in enumerate(self.bodies):
+            if not -1 <= body.parent < i:
+                raise ModelError(f"body '{body.name}': parent index {body.parent} does not come before it")
+
+    @property
+    def n(self) -> int:
+        """Number of joint coordinates, n."""
+        return len(self.bodies)
+
+    @property
+    def joint_names(self) -> tuple[str, ...]:
+        return tuple(body.joint for body in self.bodies)
+
+    @cached_property
+    def children(self) -> tuple[tuple[int, ...], ...]:
+        """children[i]: indices of the bodies whose parent is body i."""
+        return tuple(tuple(j for j, b in enumerate(self.bodies) if b.parent == i) for i in range(self.n))
+
+    @cached_property
+    def lower(self) -> np.ndarray:
+        return np.array([b.lower for b in self.bodies], dtype=float)
+
+    @cached_property
+    def upper(self) -> np.ndarray:
+        return np.array([b.upper for b in self.bodies], dtype=float)
+
+    @cached_property
+    def effort(self) -> np.ndarray:
+        """Torque (N·m) or force (N) limits, inf where the URDF gives none."""
+        return np.array([b.effort for b in self.bodies], dtype=float)
+
+    @cached_property
+    def velocity(self) -> np.ndarray:
+        """Speed limits (rad/s or m/s), inf where the URDF gives none."""
+        return np.array([b.velocity for b in self.bodies], dtype=float)
+
+    @property
+    def frame_names(self) -> tuple[str, ...]:
+        return tuple(f.name for f in self.frames)
+
+    def frame(self, name: str) -> Frame:
+        """The frame of URDF link ``name``; ModelError naming the known frames if absent."""
+        for frame in self.frames:
+            if frame.name == name:
+                return frame
+        raise ModelError(f"robot '{self.name}' has no link or frame '{name}' (frames: {', '.join(self.frame_names)})")
+
+    def with_gravity(self, gravity) -> "Model":
+        """The same robot under another gravity vector g (base frame, m/s²)."""
+        return replace(self, gravity=np.asarray(gravity, dtype=float))

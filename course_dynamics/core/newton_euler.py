@@ -1,0 +1,193 @@
+"""Craig's recursive Newton–Euler dynamics, eqs. (6.45)–(6.53), prismatic (6.35), (6.44).
+
+Notation (every vector is expressed in the frame of the link it belongs to;
+i is a body, p its parent, frames as in :mod:`course_dynamics.core.model`):
+
+=================  ===========  ===============================================
+code               Craig        meaning (unit)
+=================  ===========  ===============================================
+``R[i]``           ᵖᵢR          orientation of frame i in its parent at Θ
+``P[i]``           ᵖPᵢ          origin of frame i in its parent at Θ (m)
+``omega[i]``       ⁱωᵢ          angular velocity of link i (rad/s)
+``omega_dot[i]``   ⁱω̇ᵢ          angular acceleration (rad/s²)
+``v_dot[i]``       ⁱv̇ᵢ          linear acceleration of the origin of frame i (m/s²),
+                                classical (not spatial), including the −g base lift
+``v_dot_c[i]``     ⁱv̇_Cᵢ        linear acceleration of the centre of mass (m/s²)
+``F[i]``, ``N[i]`` ⁱFᵢ, ⁱNᵢ     inertial force (N) and moment (N·m) at the COM
+``f[i]``, ``n[i]`` ⁱfᵢ, ⁱnᵢ     force and moment exerted on link i by its parent
+``tau[i]``         τᵢ           joint torque (N·m) or force (N, prismatic)
+``z``              ⁱẐᵢ          the joint axis (any unit vector, not only z)
+=================  ===========  ===============================================
+
+For a tree, "the child i+1" of Craig's chain becomes "every child c of i",
+and "link i" of the outward iteration follows its parent p rather than i−1.
+The lecture notes print several of these equations with wrong frames or
+indices; the lines below are the corrected forms (reference/errata.md).
+
+The same functions run on one state (floats), a batch (arrays of shape (N,)
+per joint) and sympy symbols: see :mod:`course_dynamics.core.algebra`.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..base.errors import ModelError
+from .algebra import Vec3, cross, dot, point_acceleration
+from .kinematics import JointTransforms, joint_transforms
+from .model import Model
+from .state import as_state, entries, layout_of
+
+
+@dataclass(frozen=True)
+class OutwardPass:
+    """Result of the outward iteration: per-body kinematics and inertial loads."""
+
+    omega: list
+    omega_dot: list
+    v_dot: list
+    v_dot_c: list
+    F: list
+    N: list
+
+
+@dataclass(frozen=True)
+class InwardPass:
+    """Result of the inward iteration: joint reactions and torques."""
+
+    f: list
+    n: list
+    tau: list
+
+
+def outward_iteration(model: Model, X: JointTransforms, theta_dot: list, theta_ddot: list, gravity: Vec3) -> OutwardPass:
+    """Link velocities, accelerations and inertial loads, base to tips."""
+    zero = Vec3(0, 0, 0)
+    base_v_dot = -gravity  # ⁰v̇₀ = −g: gravity as an upward base acceleration
+    omega, omega_dot, v_dot, v_dot_c, F, N = [], [], [], [], [], []
+    for i, body in enumerate(model.bodies):
+        p = body.parent
+        omega_p, omega_dot_p, v_dot_p = (zero, zero, base_v_dot) if p < 0 else (omega[p], omega_dot[p], v_dot[p])
+        R_T, P_i, z = X.R_T[i], X.P[i], body.axis_v
+        qd, qdd = theta_dot[i], theta_ddot[i]
+        v_dot_i = R_T @ point_acceleration(v_dot_p, omega_dot_p, omega_p, P_i)  # (6.47)
+        omega_in_i = R_T @ omega_p  # ⁱₚR ᵖωₚ
+        if body.is_prismatic:
+            w = omega_in_i  # (6.35): a prismatic joint adds no rotation
+            w_dot = R_T @ omega_dot_p
+            v_dot_i = v_dot_i + cross(2 * w, qd * z) + qdd * z  # (6.35)
+        else:
+            w = omega_in_i + qd * z  # (6.45)
+            w_dot = R_T @ omega_dot_p + cross(omega_in_i, qd * z) + qdd * z  # (6.46)
+        v_dot_com = point_acceleration(v_dot_i, w_dot, w, body.p_com_v)  # (6.48)
+        I = body.I_com_m
+        omega.append(w)
+        omega_dot.append(w_dot)
+        v_dot.append(v_dot_i)
+        v_dot_c.append(v_dot_com)
+        F.append(body.mass_s * v_dot_com)  # (6.49)
+        N.append(I @ w_dot + cross(w, I @ w))  # (6.50)
+    return OutwardPass(omega, omega_dot, v_dot, v_dot_c, F, N)
+
+
+def inward_iteration(model: Model, X: JointTransforms, out: OutwardPass) -> InwardPass:
+    """Joint forces, moments and torques, tips to base."""
+    n_bodies = model.n
+    f, n, tau = [None] * n_bodies, [None] * n_bodies, [None] * n_bodies
+    for i in reversed(range(n_bodies)):
+        body = model.bodies[i]
+        f_i = out.F[i]  # (6.51), children added below
+        n_i = out.N[i] + cross(body.p_com_v, out.F[i])  # (6.52), children added below
+        for c in model.children[i]:
+            f_c = X.R[c] @ f[c]  # ⁱ_cR ᶜf_c
+            f_i = f_i + f_c  # (6.51)
+            n_i = n_i + X.R[c] @ n[c] + cross(X.P[c], f_c)  # (6.52)
+        f[i], n[i] = f_i, n_i
+        tau[i] = dot(f_i, body.axis_v) if body.is_prismatic else dot(n_i, body.axis_v)  # (6.44) / (6.53)
+    return InwardPass(f, n, tau)
+
+
+def torque_entries(model: Model, X: JointTransforms, theta_dot: list, theta_ddot: list, gravity: Vec3) -> list:
+    """τ as per-joint scalars, given transforms: the building block of M, V, G and C."""
+    return inward_iteration(model, X, outward_iteration(model, X, theta_dot, theta_ddot, gravity)).tau
+
+
+def inverse_dynamics(model: Model, q, qd, qdd, gravity=None) -> np.ndarray:
+    """τ = M(Θ)Θ̈ + V(Θ, Θ̇) + G(Θ) by Newton–Euler.
+
+    Parameters
+    ----------
+    model : Model
+    q, qd, qdd : array_like, shape (n,) or (N, n)
+        Θ (rad or m), Θ̇ (rad/s or m/s), Θ̈ (rad/s² or m/s²), joints in
+        ``model.joint_names`` order; numpy object arrays of sympy expressions
+        give symbolic torques.
+    gravity : array_like, shape (3,), optional
+        g in the base frame (m/s²); default ``model.gravity``.
+
+    Returns
+    -------
+    tau : ndarray, shape (n,) or (N, n)
+        Joint torques (N·m) and prismatic forces (N).
+
+    Examples
+    --------
+    >>> from course_dynamics import load_robot
+    >>> arm = load_robot("pendulum")          # m = 1 kg at l = 1 m, θ = 0 hanging down
+    >>> inverse_dynamics(arm, [0.5], [0.0], [0.0]).round(4)  # m g l sin θ
+    array([4.7032])
+    """
+    q, qd, qdd = as_state(model, q, "q"), as_state(model, qd, "qd"), as_state(model, qdd, "qdd")
+    layout = layout_of(q, qd, qdd)
+    X = joint_transforms(model, entries(q))
+    tau = torque_entries(model, X, entries(qd), entries(qdd), gravity_vector(model, gravity))
+    return layout.assemble(tau, (model.n,))
+
+
+@dataclass(frozen=True)
+class LinkQuantities:
+    """Every intermediate quantity of one Newton–Euler evaluation, per link.
+
+    Vectors have shape (n, 3) for one state or (N, n, 3) for a batch; each is
+    expressed in its own link's frame (Craig's ⁱ(·)ᵢ). ``tau`` has shape (n,)
+    or (N, n).
+    """
+
+    joints: tuple[str, ...]
+    omega: np.ndarray
+    omega_dot: np.ndarray
+    v_dot: np.ndarray
+    v_dot_c: np.ndarray
+    F: np.ndarray
+    N: np.ndarray
+    f: np.ndarray
+    n: np.ndarray
+    tau: np.ndarray
+
+
+def newton_euler_links(model: Model, q, qd, qdd, gravity=None) -> LinkQuantities:
+    """The outward and inward iterations with every per-link quantity kept."""
+    q, qd, qdd = as_state(model, q, "q"), as_state(model, qd, "qd"), as_state(model, qdd, "qdd")
+    layout = layout_of(q, qd, qdd)
+    X = joint_transforms(model, entries(q))
+    out = outward_iteration(model, X, entries(qd), entries(qdd), gravity_vector(model, gravity))
+    back = inward_iteration(model, X, out)
+
+    def per_link(vectors):
+        return layout.assemble([tuple(v) for v in vectors], (model.n, 3))
+
+    return LinkQuantities(
+        joints=model.joint_names,
+        omega=per_link(out.omega), omega_dot=per_link(out.omega_dot), v_dot=per_link(out.v_dot),
+        v_dot_c=per_link(out.v_dot_c), F=per_link(out.F), N=per_link(out.N),
+        f=per_link(back.f), n=per_link(back.n), tau=layout.assemble(back.tau, (model.n,)),
+    )
+
+
+def gravity_vector(model: Model, gravity=None) -> Vec3:
+    """g as a Vec3: ``gravity`` (3,) if given, else ``model.gravity``; the one place gravity is read."""
+    g = model.gravity if gravity is None else np.asarray(gravity)
+    if g.shape != (3,):
+        raise ModelError(f"gravity must have 3 components, got shape {g.shape}")
+    return Vec3.of(g)

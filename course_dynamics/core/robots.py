@@ -1,0 +1,114 @@
+"""The robots the project ships: the course models and example-robot-data arms.
+
+=============================  ===============================================
+name                           file
+=============================  ===============================================
+``two_link``                   robots/two_link.urdf (Craig 6.7; installed as package data)
+``rp_arm``                     robots/rp_arm.urdf (Craig example 6.5)
+``pendulum``                   robots/pendulum.urdf (the notes' pendulum)
+``rrr_arm``                    robots/rrr_arm.urdf (a spatial 3R arm, for 3-joint derivations)
+``ur5``                        example-robot-data ur_description/urdf/ur5_robot.urdf
+``panda``                      example-robot-data panda_description/urdf/panda.urdf
+                               (7 arm joints and both finger joints)
+``double_pendulum``            example-robot-data double_pendulum.urdf (revolute)
+``double_pendulum_continuous`` example-robot-data double_pendulum_continuous.urdf
+=============================  ===============================================
+
+example-robot-data 6.x installs data only, under
+``site-packages/cmeel.prefix/share/example-robot-data/robots/``; its
+``package://example-robot-data/...`` mesh paths resolve against
+``cmeel.prefix/share``.
+"""
+from __future__ import annotations
+
+import site
+import sys
+import sysconfig
+from pathlib import Path
+
+from ..base.errors import UnknownRobotError
+from .model import STANDARD_GRAVITY, Model
+from .urdf import load_urdf
+
+
+def _robots_folder() -> Path:
+    """The course URDFs: the installed package data (``course_dynamics_robots``), else the checkout's robots/."""
+    try:
+        from importlib import resources
+
+        folder = Path(str(resources.files("course_dynamics_robots")))
+        if (folder / "two_link.urdf").is_file():
+            return folder
+    except (ModuleNotFoundError, TypeError):
+        pass
+    return Path(__file__).resolve().parent.parent / "robots"
+
+
+ROBOTS_DIR = _robots_folder()
+
+COURSE_ROBOTS = {
+    "two_link": "two_link.urdf",
+    "rp_arm": "rp_arm.urdf",
+    "pendulum": "pendulum.urdf",
+    "rrr_arm": "rrr_arm.urdf",
+}
+
+EXAMPLE_ROBOTS = {
+    "ur5": "ur_description/urdf/ur5_robot.urdf",
+    "panda": "panda_description/urdf/panda.urdf",
+    "double_pendulum": "double_pendulum_description/urdf/double_pendulum.urdf",
+    "double_pendulum_continuous": "double_pendulum_description/urdf/double_pendulum_continuous.urdf",
+}
+
+
+def robot_names() -> tuple[str, ...]:
+    """Every robot name :func:`robot_path` knows, course robots first."""
+    return tuple(COURSE_ROBOTS) + tuple(EXAMPLE_ROBOTS)
+
+
+def example_robot_data_share() -> Path:
+    """The ``cmeel.prefix/share`` folder that holds example-robot-data.
+
+    Raises FileNotFoundError when example-robot-data is not installed.
+    """
+    candidates = [Path(p) for p in sys.path if p]
+    candidates += [Path(p) for p in site.getsitepackages() + [sysconfig.get_paths()["purelib"]]]
+    for base in candidates:
+        share = base / "cmeel.prefix" / "share"
+        if (share / "example-robot-data" / "robots").is_dir():
+            return share
+    raise FileNotFoundError("example-robot-data is not installed (pip install example-robot-data)")
+
+
+def robot_path(name: str) -> Path:
+    """The URDF file of a shipped robot, by name (see the module table)."""
+    if name in COURSE_ROBOTS:
+        return ROBOTS_DIR / COURSE_ROBOTS[name]
+    if name in EXAMPLE_ROBOTS:
+        return example_robot_data_share() / "example-robot-data" / "robots" / EXAMPLE_ROBOTS[name]
+    raise UnknownRobotError(f"unknown robot '{name}'; known robots: {', '.join(robot_names())}")
+
+
+def load_robot(name: str, gravity=STANDARD_GRAVITY) -> Model:
+    """:func:`~course_dynamics.core.urdf.load_urdf` of a shipped robot, by name."""
+    return load_urdf(robot_path(name), gravity=gravity)
+
+
+def resolve(name_or_path) -> Path:
+    """A shipped robot's URDF if ``name_or_path`` is a robot name, else the path itself.
+
+    A name that is neither a shipped robot nor an existing path, and has no
+    file suffix, is an :class:`~course_dynamics.base.errors.UnknownRobotError`.
+    """
+    text = str(name_or_path)
+    if text in robot_names():
+        return robot_path(text)
+    path = Path(text)
+    if not path.exists() and not path.suffix:
+        raise UnknownRobotError(f"'{text}' is neither a URDF file nor a shipped robot ({', '.join(robot_names())})")
+    return path
+
+
+def load(name_or_path, gravity=STANDARD_GRAVITY, allow_nonphysical_inertia: bool = False) -> Model:
+    """The robot of a URDF path or a shipped robot's name (see :func:`resolve`; flags as :func:`load_urdf`)."""
+    return load_urdf(resolve(name_or_path), gravity=gravity, allow_nonphysical_inertia=allow_nonphysical_inertia)

@@ -1,0 +1,94 @@
+"""Six-dimensional velocities, forces and inertias, all in the base frame: the language of the O(n²) algorithms.
+
+The composite-rigid-body mass matrix (:mod:`course_dynamics.core.crba`) and the
+Coriolis matrix (:mod:`course_dynamics.core.coriolis`) add up inertias of whole
+subtrees of bodies. Written in one frame, the base frame, about its origin O,
+those sums need no transforms at all; this module is that frame's algebra.
+A 6-vector is a pair of :class:`~course_dynamics.core.algebra.Vec3` (angular part
+first), so one state, a batch and sympy symbols all work, as everywhere else.
+
+=================  ==========================================================
+code               meaning (base frame, about the base origin O)
+=================  ==========================================================
+``(w, v)``         a motion: angular velocity ω and the velocity v of the body
+                   point passing through O (rad/s, m/s)
+``(n, f)``         a force: moment n about O and force f (N·m, N)
+``s[j]``           joint j's motion for a unit rate: revolute (⁰Ẑⱼ, ⁰Pⱼ × ⁰Ẑⱼ),
+                   prismatic (0, ⁰Ẑⱼ)
+``Inertia``        a body's mass m, first moment h = m ⁰P_C (kg·m) and
+                   rotational inertia about O, Ī = ⁰I_C + m([c]ᵀ[c]) (kg·m²);
+                   acting on a motion: I(w, v) = (Ī w + h × v, m v − h × w)
+``cross_motion``   (w₁, v₁) × (w₂, v₂) = (w₁ × w₂, w₁ × v₂ + v₁ × w₂)
+``cross_force``    (w, v) ×* (n, f) = (w × n + v × f, w × f)
+=================  ==========================================================
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from .algebra import Mat3, Vec3, cross, dot
+from .kinematics import BasePlacements
+from .model import Model
+
+
+@dataclass(frozen=True)
+class Inertia:
+    """A rigid body's spatial inertia about the base origin: m, h = m c, Ī (rotational, about O)."""
+
+    m: object
+    h: Vec3
+    I: Mat3
+
+    def __add__(self, other: "Inertia") -> "Inertia":
+        rows = tuple(tuple(a + b for a, b in zip(r1, r2)) for r1, r2 in zip(self.I.rows, other.I.rows))
+        return Inertia(self.m + other.m, self.h + other.h, Mat3(rows))
+
+    def times(self, motion: tuple[Vec3, Vec3]) -> tuple[Vec3, Vec3]:
+        """The force I (w, v) = (Ī w + h × v, m v − h × w), e.g. the momentum of a moving body."""
+        w, v = motion
+        return self.I @ w + cross(self.h, v), self.m * v - cross(self.h, w)
+
+
+def motion_axes(model: Model, placements: BasePlacements) -> list[tuple[Vec3, Vec3]]:
+    """s[j] for every joint: the body's motion for a unit joint rate, in base coordinates."""
+    axes = []
+    for body, R, P in zip(model.bodies, placements.R, placements.P):
+        z = R @ body.axis_v  # ⁰Ẑⱼ
+        axes.append((Vec3(0, 0, 0), z) if body.is_prismatic else (z, cross(P, z)))
+    return axes
+
+
+def body_inertias(model: Model, placements: BasePlacements) -> list[Inertia]:
+    """Every body's spatial inertia about the base origin, from its mass, ⁰P_C and ᶜI rotated to the base."""
+    inertias = []
+    for body, R, c in zip(model.bodies, placements.R, placements.P_com):
+        m = body.mass_s
+        I_c = R @ body.I_com_m @ R.T  # ⁰I_C: inertia about the COM, base axes
+        cc = dot(c, c)
+        shift = ((cc - c.x * c.x, -c.x * c.y, -c.x * c.z),
+                 (-c.y * c.x, cc - c.y * c.y, -c.y * c.z),
+                 (-c.z * c.x, -c.z * c.y, cc - c.z * c.z))  # [c]ᵀ[c]: parallel-axis theorem to O
+        rows = tuple(tuple(a + m * b for a, b in zip(r1, r2)) for r1, r2 in zip(I_c.rows, shift))
+        inertias.append(Inertia(m, m * c, Mat3(rows)))
+    return inertias
+
+
+def cross_motion(a: tuple[Vec3, Vec3], b: tuple[Vec3, Vec3]) -> tuple[Vec3, Vec3]:
+    """(w₁, v₁) × (w₂, v₂): how motion b changes when carried by motion a."""
+    (w1, v1), (w2, v2) = a, b
+    return cross(w1, w2), cross(w1, v2) + cross(v1, w2)
+
+
+def cross_force(a: tuple[Vec3, Vec3], f: tuple[Vec3, Vec3]) -> tuple[Vec3, Vec3]:
+    """(w, v) ×* (n, f): how force f changes when carried by motion a."""
+    (w, v), (n, f_lin) = a, f
+    return cross(w, n) + cross(v, f_lin), cross(w, f_lin)
+
+
+def power(s: tuple[Vec3, Vec3], f: tuple[Vec3, Vec3]):
+    """sᵀ f = w·n + v·f: the work rate of force f along motion s (a generalized force for a joint axis)."""
+    return dot(s[0], f[0]) + dot(s[1], f[1])
+
+
+def add(a: tuple[Vec3, Vec3], b: tuple[Vec3, Vec3]) -> tuple[Vec3, Vec3]:
+    return a[0] + b[0], a[1] + b[1]

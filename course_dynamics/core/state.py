@@ -1,0 +1,74 @@
+"""Joint-space states: checking them, and moving between arrays and per-joint scalars.
+
+A state vector Θ, Θ̇ or Θ̈ is an array whose last axis runs over the model's
+joints (``model.joint_names``): shape (n,) for one state, (N, n) for a batch of
+N states, or a numpy object array of sympy expressions. The recursion works on
+one scalar per joint (a float, an (N,) array or a sympy expression); these
+helpers split arrays into such per-joint *entries* and assemble results,
+nested lists of entries, back into arrays.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..base.errors import StateError
+
+
+@dataclass(frozen=True)
+class Layout:
+    """How results are assembled: leading batch shape and element dtype."""
+
+    batch: tuple[int, ...]
+    dtype: object
+
+    def assemble(self, entries, shape: tuple[int, ...]) -> np.ndarray:
+        """Array of shape ``batch + shape`` from nested lists of scalars (or Vec3s)."""
+        if not self.batch and len(shape) == 1 and self.dtype is float:
+            return np.array(entries, dtype=float)  # one state: the common, fast case
+        out = np.empty(self.batch + shape, dtype=self.dtype)
+        for index in np.ndindex(*shape):
+            value = entries
+            for k in index:
+                value = value[k]
+            out[(Ellipsis, *index)] = value
+        return out
+
+
+def as_state(model, values, name: str = "q") -> np.ndarray:
+    """``values`` as a checked array of shape (..., n); numeric input becomes float."""
+    array = np.asarray(values)
+    if array.dtype != object and array.dtype.kind != "c":  # complex: for complex-step derivatives
+        try:
+            array = array.astype(float)
+        except (TypeError, ValueError):
+            raise StateError(f"{name} must be numbers, got {values!r}") from None
+    if array.ndim == 0 or array.shape[-1] != model.n:
+        got = "a scalar" if array.ndim == 0 else f"{array.shape[-1]} values"
+        raise StateError(
+            f"{name} has {got} but robot '{model.name}' has {model.n} joints ({', '.join(model.joint_names)})"
+        )
+    if array.dtype != object and not np.all(np.isfinite(array)):
+        bad = np.argwhere(~np.isfinite(array))[0]
+        row = f" at row {bad[0]}" if array.ndim == 2 else ""
+        raise StateError(f"{name} for joint '{model.joint_names[bad[-1]]}' is {array[tuple(bad)]}{row} (must be finite)")
+    return array
+
+
+def entries(array: np.ndarray) -> list:
+    """One scalar per joint: Python floats for one state, (N,) arrays for a batch."""
+    if array.ndim == 1:
+        return array.tolist()  # Python floats (much faster than numpy scalars) or sympy objects
+    return [array[..., j] for j in range(array.shape[-1])]
+
+
+def layout_of(*arrays: np.ndarray) -> Layout:
+    """The common batch shape of the inputs; object dtype if any is symbolic, complex if any is complex."""
+    batch = np.broadcast_shapes(*(a.shape[:-1] for a in arrays))
+    dtype = float
+    if any(a.dtype.kind == "c" for a in arrays):
+        dtype = complex
+    if any(a.dtype == object for a in arrays):
+        dtype = object
+    return Layout(batch=tuple(batch), dtype=dtype)

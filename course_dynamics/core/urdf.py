@@ -1,0 +1,358 @@
+"""URDF → :class:`~course_dynamics.core.model.Model`, through yourdfpy (never Pinocchio).
+
+What is read, and how (see README "Known limits" for what is not):
+
+* revolute, continuous and prismatic joints become moving bodies, in depth-first
+  order from the root link (parents before children, URDF child order);
+* fixed joints are merged: the child link's mass is lumped into the moving body
+  that carries it (parallel-axis theorem, rotated inertia), as Pinocchio does,
+  and its children hang from that body; links fixed to the base are ignored;
+* any unit axis (it is normalised; a zero axis is an error), joint origins and
+  inertial frames with rpy, full inertia tensors, links without ``<inertial>``;
+* ``<mimic>`` is ignored: every joint has its own coordinate, as in Pinocchio's
+  default ``buildModelFromUrdf``;
+* ``<dynamics damping friction>`` is kept on the body for the friction models.
+
+Every problem raises :class:`ModelError` with one line naming the file and the
+joint or link at fault.
+"""
+from __future__ import annotations
+
+import logging
+import math
+import re
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+from ..base.errors import ModelError
+from .inertia import physical_problems
+from .model import STANDARD_GRAVITY, Body, Frame, Model
+
+SUPPORTED_TYPES = ("revolute", "continuous", "prismatic", "fixed")
+# Round-off allowed when checking that an inertia is physical (kg·m²).
+INERTIA_TOLERANCE = 1e-12
+
+
+class InertiaWarning(UserWarning):
+    """A link's inertia is not physical, loaded anyway because the caller allowed it."""
+
+
+def load_urdf(path, gravity=STANDARD_GRAVITY, allow_nonphysical_inertia: bool = False) -> Model:
+    """Load a fixed-base URDF as a :class:`Model`.
+
+    Parameters
+    ----------
+    path : str or Path
+        The URDF file.
+    gravity : array_like, shape (3,)
+        g in the base frame, m/s²; default (0, 0, −9.81).
+    allow_nonphysical_inertia : bool
+        Load a link whose inertia breaks the triangle inequality or is not positive
+        semi-definite (as classroom URDFs that give only izz do), with an
+        :class:`InertiaWarning` per link instead of an error.
+
+    Raises
+    ------
+    ModelError
+        For a missing or malformed file, an unsupported joint, a kinematic loop,
+        several roots, two joints with one name, a non-physical inertial, a zero
+        axis or a non-finite value.
+    """
+    path = Path(path)
+    where = str(path)
+    gravity = np.asarray(gravity, dtype=float)
+    if gravity.shape != (3,) or not np.all(np.isfinite(gravity)):
+        raise ModelError(f"gravity must be three finite numbers, got {gravity.tolist()}")
+    robot = read_description(path)
+    for kind, names in (("robot", [robot.name or ""]), ("link", [link.name for link in robot.links]),
+                        ("joint", [joint.name for joint in robot.joints])):
+        for name in names:
+            if not str(name).isprintable():
+                raise ModelError(f"{where}: {kind} name {name!r} holds a control character (a line break, a tab, ...)")
+            if kind != "robot" and not str(name).strip():
+                raise ModelError(f"{where}: a {kind} has an empty name")
+            if len(str(name)) > MAX_NAME:
+                raise ModelError(f"{where}: a {kind} name has {len(str(name))} characters, more than {MAX_NAME}: "
+                                 f"{str(name)[:40]!r}...")
+    links = {link.name: link for link in robot.links}
+    if len(links) != len(robot.links):
+        raise ModelError(f"{where}: two links share a name")
+    parent_joint, seen = {}, set()
+    children = {name: [] for name in links}
+    for joint in robot.joints:
+        if joint.name in seen:
+            raise ModelError(f"{where}: two joints are named '{joint.name}'")
+        seen.add(joint.name)
+        for role, link in (("parent", joint.parent), ("child", joint.child)):
+            if link not in links:
+                raise ModelError(f"{where}: joint '{joint.name}': {role} link '{link}' is not defined")
+        if joint.type not in SUPPORTED_TYPES:
+            raise ModelError(
+                f"{where}: joint '{joint.name}': type '{joint.type}' is not supported "
+                f"(fixed-base robots with {', '.join(SUPPORTED_TYPES)} joints only)"
+            )
+        if joint.child in parent_joint:
+            raise ModelError(
+                f"{where}: kinematic loop: link '{joint.child}' is the child of both "
+                f"joint '{parent_joint[joint.child].name}' and joint '{joint.name}'"
+            )
+        parent_joint[joint.child] = joint
+        children[joint.parent].append(joint)
+    roots = [name for name in links if name not in parent_joint]
+    if len(roots) != 1:
+        if not roots:
+            raise ModelError(f"{where}: kinematic loop: every link has a parent joint, so there is no root link")
+        raise ModelError(f"{where}: {len(roots)} root links ({', '.join(roots)}); a URDF must have exactly one")
+
+    unreachable = sorted(set(links) - _descendants(roots[0], children))
+    if unreachable:
+        raise ModelError(f"{where}: kinematic loop: links {', '.join(unreachable)} are not reachable from root '{roots[0]}'")
+
+    # Depth-first from the root: each link hangs from a body (−1: the fixed base)
+    # through a constant 4×4 transform; a moving joint starts a new body.
+    specs: list[dict] = []
+    lumps: list[list] = []
+    frames: list[Frame] = []
+    pending = [(roots[0], -1, np.eye(4), None)]
+    while pending:
+        link_name, body, T_body_link, joint = pending.pop()
+        if joint is not None and joint.type != "fixed":
+            specs.append(dict(joint=joint, parent=body, T=T_body_link, link=link_name))
+            lumps.append([])
+            body, T_body_link = len(specs) - 1, np.eye(4)
+        frames.append(Frame(name=link_name, body=body, R=T_body_link[:3, :3], P=T_body_link[:3, 3]))
+        if body >= 0:
+            lumps[body].append(_inertial_in_body(where, links[link_name], T_body_link, allow_nonphysical_inertia))
+        for child in reversed(children[link_name]):
+            origin = child.origin if child.origin is not None else np.eye(4)  # no <origin>: the identity
+            T = T_body_link @ _checked(where, f"joint '{child.name}' origin", origin)
+            pending.append((child.child, body, T, child))
+    if not specs:
+        raise ModelError(f"{where}: no revolute, continuous or prismatic joint: nothing moves")
+    bodies = [_body(where, spec, lump) for spec, lump in zip(specs, lumps)]
+    return Model(name=robot.name, bodies=tuple(bodies), gravity=gravity, source=where, base_link=roots[0], frames=tuple(frames))
+
+
+MAX_URDF_BYTES = 64 * 2**20  # a 1 000-joint chain is under 1 MiB; anything far larger is not a robot description
+MAX_ANGLE = 1e4  # rad in an rpy: exporters write angles within a turn or two; 1e300 rad is no orientation
+MAX_NAME = 1000  # characters of a link or joint name: a name becomes a CSV column, a label, part of messages
+
+# Numbers as URDF (XML Schema's double) writes them, in ASCII. Python's float() also takes '1_000', '٣' (any
+# Unicode digit), '１' (full width) and spaces: read silently, each would be a number nobody wrote on purpose.
+URDF_NUMBER = re.compile(r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?|[+-]?(?:inf|infinity|nan)", re.ASCII | re.I)
+NUMERIC_ATTRIBUTES = {"xyz", "rpy", "ixx", "ixy", "ixz", "iyy", "iyz", "izz", "lower", "upper", "effort", "velocity",
+                      "damping", "friction", "radius", "length", "size", "scale", "rgba", "multiplier", "offset",
+                      "soft_lower_limit", "soft_upper_limit", "k_position", "k_velocity", "rising", "falling"}
+
+VALUE_COUNTS = {"xyz": 3, "rpy": 3, "size": 3, "scale": 3, "rgba": 4}
+
+
+def _owner(element) -> str:
+    """'link 'x'' or 'joint 'y'' for the element holding ``element``, as messages name them."""
+    while element is not None and element.tag not in ("link", "joint"):
+        element = element.getparent()
+    return "the robot" if element is None else f"{element.tag} '{element.get('name')}'"
+
+
+def _check_numbers(root, where: str) -> None:
+    """Every number of the links and joints written as URDF writes numbers (:data:`URDF_NUMBER`), none lost to 0."""
+    for top in root:
+        if top.tag not in ("link", "joint"):
+            continue  # gazebo, transmission and other extensions are not read
+        for element in top.iter():
+            for attribute, text in element.attrib.items():
+                if not (attribute in NUMERIC_ATTRIBUTES or (element.tag == "mass" and attribute == "value")):
+                    continue
+                count = VALUE_COUNTS.get(attribute)
+                if count is not None and len(text.split()) != count:
+                    raise ModelError(f"{where}: {_owner(element)}: <{element.tag} {attribute}=\"{text[:60]}\">: "
+                                     f"{len(text.split())} values, expected {count}")
+                for token in text.split():
+                    if not URDF_NUMBER.fullmatch(token):
+                        raise ModelError(f"{where}: {_owner(element)}: <{element.tag} {attribute}=\"{text[:60]}\">: "
+                                         f"{token[:30]!r} is not a number as URDF writes them (ASCII digits, '.', "
+                                         "an exponent)")
+                    if attribute == "rpy" and abs(float(token)) > MAX_ANGLE:
+                        raise ModelError(f"{where}: {_owner(element)}: <{element.tag} rpy=\"{text[:60]}\">: an angle "
+                                         f"of {float(token):g} rad, more than {MAX_ANGLE:g} in size")
+                    if float(token) == 0 and re.search(r"[1-9]", token.lower().split("e")[0]):
+                        raise ModelError(f"{where}: {_owner(element)}: <{element.tag} {attribute}=\"{text[:60]}\">: "
+                                         f"{token!r} is too small for a double and would be read as 0")
+
+
+def xml_parser():
+    """lxml configured for files nobody vouches for.
+
+    No DTD is loaded, no entity is substituted, nothing is fetched from the network,
+    and lxml's limits on depth (256) and amplification stay on (no ``huge_tree``).
+    Documents that declare a DTD at all are refused by :func:`read_description`.
+    """
+    from lxml import etree
+
+    return etree.XMLParser(resolve_entities=False, load_dtd=False, no_network=True, dtd_validation=False, huge_tree=False)
+
+
+def _xml_problem(raw: bytes, exc: Exception) -> str:
+    if b"encoding=" not in raw[:200]:
+        try:
+            raw.decode("utf-8")
+        except UnicodeDecodeError as bad:
+            return (f"not UTF-8 (byte {bad.start} is 0x{raw[bad.start]:02x}) and no other encoding is declared "
+                    f"(<?xml version=\"1.0\" encoding=\"...\"?>)")
+    return f"malformed XML: {exc}"
+
+
+def read_description(path):
+    """The yourdfpy description of a URDF file, read defensively.
+
+    The file must be a regular file of at most :data:`MAX_URDF_BYTES`, well-formed XML
+    (parsed by :func:`xml_parser`) with no DTD; yourdfpy then reads the checked tree, never
+    the file again. Meshes are not loaded here.
+
+    Raises
+    ------
+    ModelError
+        Naming the file and the problem.
+    """
+    from io import BytesIO
+
+    import yourdfpy
+    from lxml import etree
+
+    path = Path(path)
+    if path.is_dir():
+        raise ModelError(f"{path}: is a directory, not a URDF file")
+    if not path.exists():
+        raise ModelError(f"{path}: no such file")
+    if not path.is_file():
+        raise ModelError(f"{path}: not a regular file")
+    size = path.stat().st_size
+    if size > MAX_URDF_BYTES:
+        raise ModelError(f"{path}: {size / 2**20:.0f} MiB is more than a URDF file may be ({MAX_URDF_BYTES // 2**20} MiB)")
+    try:
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise ModelError(f"{path}: cannot read: {exc.strerror}") from None
+    if not raw.strip():
+        raise ModelError(f"{path}: empty file")
+    if b"<!ENTITY" in raw or re.search(rb"<!DOCTYPE[^>]*\[", raw):
+        raise ModelError(f"{path}: declares a DTD (<!DOCTYPE ... [...]>); URDF files have none, and XML entities "
+                         "are refused")
+    try:
+        root = etree.fromstring(raw, parser=xml_parser())
+    except (etree.LxmlError, ValueError) as exc:
+        raise ModelError(f"{path}: {_xml_problem(raw, exc)}") from None
+    if root.getroottree().docinfo.internalDTD is not None or b"<!ENTITY" in raw:
+        raise ModelError(f"{path}: declares a DTD (<!DOCTYPE ... [...]>); URDF files have none, and XML entities "
+                         "are refused")
+    _check_numbers(root, str(path))
+    logging.getLogger("yourdfpy").setLevel(logging.CRITICAL)
+    try:
+        urdf = yourdfpy.URDF.load(
+            BytesIO(etree.tostring(root)), mesh_dir=str(path.parent), build_scene_graph=False,
+            build_collision_scene_graph=False, load_meshes=False, load_collision_meshes=False,
+        )
+    except Exception as exc:  # yourdfpy reports bad values with assorted exception types
+        raise ModelError(f"{path}: malformed URDF: {exc}") from None
+    return urdf.robot
+
+
+def _descendants(root: str, children: dict) -> set[str]:
+    seen, pending = set(), [root]
+    while pending:
+        name = pending.pop()
+        if name not in seen:
+            seen.add(name)
+            pending.extend(joint.child for joint in children[name])
+    return seen
+
+
+MAX_MAGNITUDE = 1e9  # m, kg, kg·m²: larger lengths, masses or inertias describe no robot, and overflow later
+
+
+def _checked(where: str, what: str, values) -> np.ndarray:
+    array = np.asarray(values, dtype=float)
+    if not np.all(np.isfinite(array)):
+        raise ModelError(f"{where}: {what} has a non-finite value (NaN or inf)")
+    if array.size and np.abs(array).max() > MAX_MAGNITUDE:
+        raise ModelError(f"{where}: {what} has a value of {np.abs(array).max():g}, more than {MAX_MAGNITUDE:g} in size")
+    return array
+
+
+def _inertial_in_body(where: str, link, T_body_link: np.ndarray, allow_nonphysical: bool = False):
+    """(m, c, I) of one link in its body's frame: mass, COM, inertia about the COM."""
+    inertial = link.inertial
+    if inertial is None:
+        return 0.0, np.zeros(3), np.zeros((3, 3))
+    what = f"link '{link.name}' inertial"
+    mass = float(_checked(where, f"{what} mass", inertial.mass if inertial.mass is not None else 0.0))
+    if mass < 0:
+        raise ModelError(f"{where}: link '{link.name}': negative mass {mass} kg")
+    T_origin = _checked(where, f"{what} origin", inertial.origin if inertial.origin is not None else np.eye(4))
+    inertia = _checked(where, f"{what} inertia", inertial.inertia if inertial.inertia is not None else np.zeros((3, 3)))
+    _check_inertia(where, link.name, inertia, allow_nonphysical)
+    T = T_body_link @ T_origin
+    R = T[:3, :3]
+    return mass, T[:3, 3].copy(), R @ inertia @ R.T
+
+
+def _check_inertia(where: str, link: str, inertia: np.ndarray, allow_nonphysical: bool = False) -> None:
+    """Symmetric, positive semi-definite, and principal moments obeying the triangle inequality.
+
+    Zero is allowed: Craig's point masses (section 6.7) have no rotational inertia.
+    """
+    problems = physical_problems(inertia, INERTIA_TOLERANCE)
+    if not problems:
+        return
+    if problems[0].startswith("tensor is not symmetric") or not allow_nonphysical:
+        hint = "" if problems[0].startswith("tensor is not symmetric") else \
+            " (allow_nonphysical_inertia / --allow-nonphysical-inertia loads it with a warning)"
+        raise ModelError(f"{where}: link '{link}': inertia {problems[0]}{hint}")
+    warnings.warn(InertiaWarning(f"{where}: link '{link}': inertia {problems[0]}; loaded anyway"), stacklevel=4)
+
+
+def _body(where: str, spec: dict, lump: list) -> Body:
+    joint = spec["joint"]
+    axis = _checked(where, f"joint '{joint.name}' axis", joint.axis if joint.axis is not None else (1.0, 0.0, 0.0))
+    norm = float(np.linalg.norm(axis))
+    if norm < 1e-12:
+        raise ModelError(f"{where}: joint '{joint.name}': zero axis")
+    lower, upper, effort, velocity = -math.inf, math.inf, math.inf, math.inf
+    if joint.limit is not None:
+        if joint.type != "continuous":
+            lower = -math.inf if joint.limit.lower is None else float(joint.limit.lower)
+            upper = math.inf if joint.limit.upper is None else float(joint.limit.upper)
+            if math.isnan(lower) or math.isnan(upper) or lower > upper:
+                raise ModelError(f"{where}: joint '{joint.name}': limits lower={lower} upper={upper} are not an interval")
+        for name, value in (("effort", joint.limit.effort), ("velocity", joint.limit.velocity)):
+            if value is not None and not (float(value) >= 0):
+                raise ModelError(f"{where}: joint '{joint.name}': {name} limit {value} must be a non-negative number")
+        # 0 or absent: the URDF gives no limit (many exporters write effort="0" velocity="0")
+        effort = float(joint.limit.effort) if joint.limit.effort else math.inf
+        velocity = float(joint.limit.velocity) if joint.limit.velocity else math.inf
+    dynamics = joint.dynamics
+    damping = float(dynamics.damping or 0.0) if dynamics is not None else 0.0
+    friction = float(dynamics.friction or 0.0) if dynamics is not None else 0.0
+    mass, p_com, I_com = _combine(lump)
+    T = spec["T"]
+    return Body(
+        name=spec["link"], joint=joint.name, joint_type=joint.type, parent=spec["parent"],
+        R0=T[:3, :3], P=T[:3, 3], axis=axis / norm, mass=mass, p_com=p_com, I_com=I_com,
+        lower=lower, upper=upper, effort=effort, velocity=velocity, damping=damping, friction=friction,
+        parent_link=joint.parent,
+    )
+
+
+def _combine(parts: list) -> tuple[float, np.ndarray, np.ndarray]:
+    """Lump rigidly joined masses: total mass, joint COM, inertia about it (parallel-axis theorem)."""
+    mass = sum(m for m, _, _ in parts)
+    if mass == 0:
+        return 0.0, np.zeros(3), sum((I for _, _, I in parts), np.zeros((3, 3)))
+    com = sum(m * c for m, c, _ in parts) / mass
+    inertia = np.zeros((3, 3))
+    for m, c, I in parts:
+        d = c - com
+        inertia += I + m * (d @ d * np.eye(3) - np.outer(d, d))
+    return mass, com, inertia

@@ -1,0 +1,14 @@
+"""Layer 3, output: files written whole, output folders, text and mathematics, plots, the viewer.
+
+It may import the layers below (base, core, tools); never grading, teaching or the command line.
+
+==============  ================================================================
+module          job
+==============  ================================================================
+``io``          writing a file whole or not at all (the one way we write)
+``folders``     a command's files in a folder that holds other things (a manifest)
+``render``      tables, Markdown, LaTeX and strict JSON as text
+``plotting``    figures of simulations and torques (matplotlib)
+``viewer``      meshcat scenes, animations and offline HTML
+==============  ================================================================
+"""

@@ -1,0 +1,192 @@
+"""Pictures of a motion (matplotlib, drawn off-screen; PNG or SVG by the file's suffix).
+
+:func:`plot_trajectory` draws one run (Θ(t), Θ̇(t), E(t)); :func:`plot_ensemble`
+draws how far the members of an ensemble drift from the first one;
+:func:`plot_torques` draws τ(t) per joint against its effort limit (also as a
+self-contained HTML page with the limits table). Files are written whole or not
+at all (:mod:`course_dynamics.output.io`).
+"""
+from __future__ import annotations
+
+import html
+from io import BytesIO
+from pathlib import Path
+
+from ..base.errors import InputError
+from ..tools.simulation import Trajectory
+from . import io
+
+PLOT_FORMATS = ("png", "svg")
+
+
+def plot_format(path, formats=PLOT_FORMATS) -> str:
+    """The picture format of ``path`` from its suffix; InputError for another one."""
+    fmt = Path(str(path)).suffix.lower().lstrip(".")
+    if fmt not in formats:
+        raise InputError(f"{path}: a plot is written as {', '.join('.' + f for f in formats)} (by the file's suffix)")
+    return fmt
+
+
+def figure_bytes(figure, fmt: str) -> bytes:
+    """The figure drawn as ``fmt`` (png or svg); the figure is closed."""
+    import matplotlib.pyplot as plt
+
+    buffer = BytesIO()
+    figure.savefig(buffer, format=fmt, dpi=110)
+    plt.close(figure)
+    return buffer.getvalue()
+
+
+def _save(figure, path) -> None:
+    import matplotlib.pyplot as plt
+
+    data = figure_bytes(figure, plot_format(path))
+    plt.close(figure)
+    io.write_bytes(path, data)
+
+
+def _pyplot():
+    import matplotlib
+
+    matplotlib.use("Agg")  # no screen needed
+    matplotlib.rcParams["text.parse_math"] = False  # a '$' in a joint name is a dollar sign, not TeX
+    matplotlib.rcParams["svg.fonttype"] = "path"    # labels as paths: no text from a URDF reaches the SVG
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def plot_trajectory(trajectory: Trajectory, path, title: str = "") -> None:
+    """Joint positions Θ(t), velocities Θ̇(t) and total energy E(t), stacked, saved as ``path`` (PNG or SVG)."""
+    _save(trajectory_figure(trajectory, title), path)
+
+
+def trajectory_figure(trajectory: Trajectory, title: str = ""):
+    """The figure of :func:`plot_trajectory`."""
+    plt = _pyplot()
+
+    figure, axes = plt.subplots(3, 1, sharex=True, figsize=(8, 7.5), constrained_layout=True)
+    for j, name in enumerate(trajectory.joints):
+        axes[0].plot(trajectory.t, trajectory.q[:, j], label=name)
+        axes[1].plot(trajectory.t, trajectory.qd[:, j], label=name)
+    axes[2].plot(trajectory.t, trajectory.energy, color="black")
+    axes[0].set_ylabel("Θ (rad or m)")
+    axes[1].set_ylabel("dΘ/dt (rad/s or m/s)")  # the combining dot of Θ̇ is lost in most fonts
+    axes[2].set_ylabel("E = k + u (J)")
+    axes[2].set_xlabel("t (s)")
+    axes[0].legend(loc="upper right", fontsize="small", ncol=min(len(trajectory.joints), 4))
+    if title:
+        axes[0].set_title(title)
+    for axis in axes:
+        axis.grid(alpha=0.3)
+    return figure
+
+
+def plot_ensemble(trajectory: Trajectory, path, title: str = "") -> None:
+    """Divergence of an ensemble from member 0: max over joints of |Θₖ(t) − Θ₀(t)|, log scale, and Θ of every member."""
+    _save(ensemble_figure(trajectory, title), path)
+
+
+def ensemble_figure(trajectory: Trajectory, title: str = ""):
+    """The figure of :func:`plot_ensemble`."""
+    import numpy as np
+
+    plt = _pyplot()
+
+    q, t = trajectory.q, trajectory.t
+    distance = np.abs(q[:, 1:, :] - q[:, :1, :]).max(axis=-1)  # (T, K − 1)
+    figure, axes = plt.subplots(2, 1, sharex=True, figsize=(8, 7), constrained_layout=True)
+    axes[0].semilogy(t, np.maximum(distance, 1e-17), color="tab:blue", alpha=max(0.05, min(0.5, 20 / distance.shape[1])),
+                     linewidth=0.8)
+    axes[0].semilogy(t, np.maximum(np.median(distance, axis=1), 1e-17), color="black", linewidth=2, label="median")
+    axes[0].set_ylabel("max_j |θ_j(t) − θ_j of member 0| (rad or m)")
+    axes[0].legend(loc="lower right")
+    for j, name in enumerate(trajectory.joints):
+        axes[1].plot(t, q[:, :, j], linewidth=0.6, alpha=max(0.05, min(0.6, 20 / q.shape[1])), color=f"C{j}")
+        axes[1].plot([], [], color=f"C{j}", label=name)
+    axes[1].set_ylabel("Θ (rad or m), every member")
+    axes[1].set_xlabel("t (s)")
+    axes[1].legend(loc="upper right", fontsize="small")
+    axes[0].set_title(title or f"{q.shape[1]} members: divergence from member 0")
+    for axis in axes:
+        axis.grid(alpha=0.3)
+    return figure
+
+
+def torque_figure(result, title: str = ""):
+    """τ(t) of a :class:`~course_dynamics.tools.logs.TorqueLog`, one panel per joint, effort limits as bands."""
+    import numpy as np
+
+    plt = _pyplot()
+    model, report = result.model, result.report
+    n = model.n
+    figure, axes = plt.subplots(n, 1, sharex=True, figsize=(8, 1.2 + 1.5 * n), constrained_layout=True, squeeze=False)
+    for j, (axis, name) in enumerate(zip(axes[:, 0], model.joint_names)):
+        tau = result.tau[:, j]
+        axis.plot(result.t, tau, color=f"C{j}", linewidth=1.0)
+        limit = report.effort[j]
+        if np.isfinite(limit):
+            top = max(limit, np.abs(tau).max()) * 1.15
+            axis.axhspan(limit, top, color="tab:red", alpha=0.15, linewidth=0)
+            axis.axhspan(-top, -limit, color="tab:red", alpha=0.15, linewidth=0)
+            axis.set_ylim(-top, top)
+            used = f"{100 * report.effort_used[j]:.0f}% of {limit:g}"
+        else:
+            used = "no effort limit in the URDF"
+        for v in report.violations:
+            if v.joint == name:
+                axis.axvspan(v.start, v.end, color="tab:red" if v.kind == "effort" else "tab:orange", alpha=0.3,
+                             linewidth=0)
+        axis.set_ylabel(f"τ {name}", fontsize="small")
+        axis.set_title(f"{name}: peak {report.peak_tau[j]:.4g}, rms {report.rms_tau[j]:.4g} ({used})",
+                       fontsize="small", loc="left")
+        axis.grid(alpha=0.3)
+    axes[-1, 0].set_xlabel("t (s)")
+    figure.suptitle(title or f"{model.name}: joint torques (N m, or N for prismatic joints)\n"
+                             "red bands: the effort limit; shaded in time: red beyond it, orange beyond the velocity limit")
+    return figure
+
+
+def torques_page(result, title: str = "") -> str:
+    """A self-contained HTML page: the torque figure (SVG) and the limits table; every name escaped."""
+    plt = _pyplot()
+    figure = torque_figure(result, title)
+    svg = figure_bytes(figure, "svg").decode("utf-8")
+    plt.close(figure)
+    svg = svg[svg.index("<svg"):]  # drop the XML prolog: the page is HTML
+
+    def cell(x, share=False):
+        if x is None:
+            return "–"
+        if share:
+            return f"{100 * x:.0f}%"
+        return f"{x:.4g}" if isinstance(x, float) else html.escape(str(x))
+
+    header = ("joint", "peak |τ|", "RMS τ", "effort limit", "used", "peak |q̇|", "velocity limit", "used")
+    keys = ("joint", "peak_tau", "rms_tau", "effort_limit", "effort_used", "peak_qd", "velocity_limit", "velocity_used")
+    rows = "".join("<tr>" + "".join(f"<td>{cell(r[k], k.endswith('_used'))}</td>" for k in keys) + "</tr>"
+                   for r in result.report.rows())
+    violations = "".join(f"<li>{html.escape(v.describe())}</li>" for v in result.report.violations)
+    notes = "".join(f"<li>{html.escape(n)}</li>" for n in result.notes)
+    heading = html.escape(title or f"{result.model.name}: joint torques and limits")
+    verdict = "A limit is exceeded." if result.report.exceeded else "Every joint stays within its limits."
+    return f"""<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8"><title>{heading}</title>
+<style>body{{font-family:sans-serif;max-width:60em;margin:2em auto}}table{{border-collapse:collapse}}
+td,th{{border:1px solid #ccc;padding:0.2em 0.6em;text-align:right}}td:first-child{{text-align:left}}</style></head>
+<body><h1>{heading}</h1><p>{verdict}</p>
+<table><tr>{''.join(f'<th>{html.escape(h)}</th>' for h in header)}</tr>{rows}</table>
+{f'<h2>Violations</h2><ul>{violations}</ul>' if violations else ''}
+{f'<h2>Derived signals</h2><ul>{notes}</ul>' if notes else ''}
+{svg}
+</body></html>
+"""
+
+
+def plot_torques(result, path, title: str = "") -> None:
+    """Draw τ(t) against the effort limits to ``path``: PNG, SVG, or HTML (figure and limits table)."""
+    fmt = plot_format(path, PLOT_FORMATS + ("html",))
+    if fmt == "html":
+        io.write_text(path, torques_page(result, title))
+        return
+    _save(torque_figure(result, title), path)

@@ -1,0 +1,122 @@
+"""Does a motion stay within the motors' limits? Peaks, RMS and violations per joint.
+
+==================  =====================================================================
+field               meaning (shape, unit)
+==================  =====================================================================
+``peak_tau``        max |τᵢ(t)| over the motion (n,), N·m or N
+``rms_tau``         √(mean τᵢ²) (n,): what heats a motor, N·m or N
+``peak_qd``         max |θ̇ᵢ(t)| (n,), rad/s or m/s
+``effort``          the URDF's effort limit (n,), inf where none is given
+``velocity``        the URDF's velocity limit (n,), inf where none is given
+``effort_used``     peak_tau / effort (n,): 1 means at the limit, 0 where there is none
+``velocity_used``   peak_qd / velocity (n,)
+``violations``      every stretch of time a joint spends beyond a limit
+==================  =====================================================================
+
+RMS is over samples, which is the time average for evenly spaced logs. A
+signal hovering at a limit crosses it back and forth; stretches beyond it fewer
+than :data:`MERGE_GAP` samples apart are reported as one violation.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..core.model import Model
+
+MERGE_GAP = 10  # samples
+
+
+@dataclass(frozen=True)
+class Violation:
+    """Joint ``joint`` beyond its ``kind`` limit ("effort" or "velocity") from ``start`` to ``end`` (s)."""
+
+    joint: str
+    kind: str
+    start: float
+    end: float
+    peak: float
+    limit: float
+
+    def describe(self) -> str:
+        unit = "N m or N" if self.kind == "effort" else "rad/s or m/s"
+        return (f"joint '{self.joint}': {self.kind} {self.peak:.4g} exceeds the limit {self.limit:.4g} ({unit}) "
+                f"from t = {self.start:.6g} s to t = {self.end:.6g} s")
+
+
+@dataclass(frozen=True)
+class LimitsReport:
+    joints: tuple[str, ...]
+    peak_tau: np.ndarray
+    rms_tau: np.ndarray
+    peak_qd: np.ndarray
+    effort: np.ndarray
+    velocity: np.ndarray
+    violations: tuple[Violation, ...]
+
+    @property
+    def effort_used(self) -> np.ndarray:
+        return np.where(np.isfinite(self.effort), self.peak_tau / np.where(self.effort > 0, self.effort, np.inf), 0.0)
+
+    @property
+    def velocity_used(self) -> np.ndarray:
+        return np.where(np.isfinite(self.velocity), self.peak_qd / np.where(self.velocity > 0, self.velocity, np.inf), 0.0)
+
+    @property
+    def exceeded(self) -> bool:
+        return bool(self.violations)
+
+    def rows(self) -> list[dict]:
+        """One record per joint (for tables and JSON); a missing limit is None."""
+        def limit(x):
+            return float(x) if np.isfinite(x) else None
+
+        return [dict(joint=j, peak_tau=float(self.peak_tau[i]), rms_tau=float(self.rms_tau[i]),
+                     effort_limit=limit(self.effort[i]),
+                     effort_used=float(self.effort_used[i]) if np.isfinite(self.effort[i]) else None,
+                     peak_qd=float(self.peak_qd[i]), velocity_limit=limit(self.velocity[i]),
+                     velocity_used=float(self.velocity_used[i]) if np.isfinite(self.velocity[i]) else None)
+                for i, j in enumerate(self.joints)]
+
+    def record(self) -> dict:
+        return dict(exceeded=self.exceeded, joints=self.rows(),
+                    violations=[dict(joint=v.joint, kind=v.kind, start=v.start, end=v.end, peak=v.peak, limit=v.limit)
+                                for v in self.violations])
+
+
+def _intervals(t: np.ndarray, over: np.ndarray) -> list[tuple[int, int]]:
+    """(first, last) sample indices of each run of True in ``over``."""
+    edges = np.diff(np.concatenate([[0], over.astype(np.int8), [0]]))
+    runs = []
+    for first, last in zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1):
+        if runs and first - runs[-1][1] <= MERGE_GAP:
+            runs[-1] = (runs[-1][0], last)
+        else:
+            runs.append((first, last))
+    return runs
+
+
+def limits_report(model: Model, t, qd, tau) -> LimitsReport:
+    """Peaks, RMS and limit violations of a motion.
+
+    Parameters
+    ----------
+    t : (N,) s; qd : (N, n) joint rates; tau : (N, n) joint torques/forces.
+    """
+    t, qd, tau = np.asarray(t, dtype=float), np.asarray(qd, dtype=float), np.asarray(tau, dtype=float)
+    effort, velocity = model.effort, model.velocity
+    violations = []
+    for kind, values, limits in (("effort", np.abs(tau), effort), ("velocity", np.abs(qd), velocity)):
+        for i, joint in enumerate(model.joint_names):
+            if not np.isfinite(limits[i]):
+                continue
+            for first, last in _intervals(t, values[:, i] > limits[i]):
+                violations.append(Violation(joint=joint, kind=kind, start=float(t[first]), end=float(t[last]),
+                                            peak=float(values[first:last + 1, i].max()), limit=float(limits[i])))
+    violations.sort(key=lambda v: (v.start, v.joint, v.kind))
+    peak = np.abs(tau).max(axis=0)
+    scale = np.where(peak > 0, peak, 1.0)
+    rms = scale * np.sqrt(np.mean((tau / scale) ** 2, axis=0))  # scaled: no overflow for large torques
+    return LimitsReport(joints=model.joint_names, peak_tau=peak, rms_tau=rms,
+                        peak_qd=np.abs(qd).max(axis=0), effort=effort, velocity=velocity, violations=tuple(violations))

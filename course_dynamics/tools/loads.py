@@ -1,0 +1,127 @@
+"""What a robot carries and what it pushes: a payload lumped into a link, and a wrench at a frame.
+
+==================  ===========  =====================================================
+code                Craig        meaning (shape, unit)
+==================  ===========  =====================================================
+``mass``            m            payload mass, kg
+``com``             ᴸP_C         payload centre of mass in the link's frame (3,), m
+``size``            a, b, c      edges of a uniform box payload along the link's axes, m
+                                 (None: a point mass)
+``force``           f_{N+1}      force the robot exerts on its surroundings (3,), N,
+                                 base coordinates
+``moment``          n_{N+1}      moment it exerts, about the frame's origin (3,), N·m,
+                                 base coordinates
+``J``               J(Θ)         the frame's Jacobian (6, n), base coordinates (6.91)
+==================  ===========  =====================================================
+
+A payload becomes part of the body its link belongs to: masses add, the centre
+of mass is the mass-weighted mean, and both inertias move to the new centre by
+the parallel-axis theorem (6.25). Every algorithm then sees an ordinary model.
+
+A wrench follows Craig's convention for the inward iteration's start (6.51):
+f_{N+1} and n_{N+1} are what the robot applies *to* its surroundings — a tool
+pressing down on a table with 10 N is ``force = (0, 0, −10)``. The joint
+torques that hold it are τ = Jᵀ F with F = (f, n) (6.105): by virtual work the
+power the joints put in, τᵀΘ̇, is the power delivered to the surroundings, Fᵀ J Θ̇.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ..base.errors import InputError
+from ..core.inertia import box, parallel_axis, rotate
+from ..core.model import Model
+
+
+@dataclass(frozen=True)
+class Payload:
+    """A point or box mass fixed to link ``link`` (None: the tip, see :func:`payload_link`)."""
+
+    mass: float
+    link: str | None = None
+    com: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    size: tuple[float, float, float] | None = None
+
+    def __post_init__(self):
+        if not (np.isfinite(self.mass) and 0 < self.mass <= 1e9):
+            raise InputError(f"payload mass must be a positive number of kg (at most 1e9), got {self.mass}")
+        com = np.asarray(self.com, dtype=float)
+        if com.shape != (3,) or not np.all(np.isfinite(com)) or np.abs(com).max() > 1e3:
+            raise InputError(f"payload centre of mass must be three numbers cx,cy,cz within 1000 m, got {self.com}")
+        object.__setattr__(self, "com", tuple(com.tolist()))
+        if self.size is not None:
+            size = np.asarray(self.size, dtype=float)
+            if size.shape != (3,) or not np.all(np.isfinite(size)) or np.any(size < 0) or np.any(size > 1e3):
+                raise InputError(f"payload box size must be three numbers a,b,c between 0 and 1000 m, got {self.size}")
+            object.__setattr__(self, "size", tuple(size.tolist()))
+
+    def inertia(self) -> np.ndarray:
+        """ᶜI of the payload about its own centre, in the link's axes (3, 3), kg·m²."""
+        return np.zeros((3, 3)) if self.size is None else box(self.mass, *self.size)
+
+
+def payload_link(model: Model, payload: Payload) -> str:
+    """The link a payload is fixed to: the one it names, else the tip — the last URDF link carried
+    by the last moving body (a tool frame such as UR5's ``tool0`` where the URDF has one)."""
+    if payload.link is not None:
+        return payload.link
+    return [f.name for f in model.frames if f.body == model.n - 1][-1]
+
+
+def with_payload(model: Model, payload: Payload) -> Model:
+    """The same robot with ``payload`` lumped into the body of its link.
+
+    Raises
+    ------
+    ModelError
+        If the link is unknown (the message lists the frames).
+    InputError
+        If the link is fixed to the base, where a payload moves nothing.
+    """
+    link = payload_link(model, payload)
+    frame = model.frame(link)
+    if frame.body < 0:
+        raise InputError(f"link '{link}' is fixed to the base of robot '{model.name}': a payload there needs no torque")
+    body = model.bodies[frame.body]
+    m_p = payload.mass
+    c_p = frame.R @ np.asarray(payload.com) + frame.P            # payload COM in the body's frame
+    I_p = rotate(payload.inertia(), frame.R)                      # its inertia in the body's axes
+    m = body.mass + m_p
+    c = (body.mass * body.p_com + m_p * c_p) / m                  # the combined centre of mass
+    I_c = parallel_axis(body.I_com, body.mass, body.p_com - c) + parallel_axis(I_p, m_p, c_p - c)  # (6.25)
+    bodies = list(model.bodies)
+    bodies[frame.body] = replace(body, mass=m, p_com=c, I_com=np.asarray(I_c, dtype=float))
+    return replace(model, bodies=tuple(bodies))
+
+
+@dataclass(frozen=True)
+class Wrench:
+    """Force and moment the robot exerts on its surroundings at the origin of frame ``link`` (base coordinates)."""
+
+    link: str
+    force: tuple[float, float, float]
+    moment: tuple[float, float, float] = (0.0, 0.0, 0.0)
+
+    def __post_init__(self):
+        for name in ("force", "moment"):
+            values = np.asarray(getattr(self, name), dtype=float)
+            if values.shape != (3,) or not np.all(np.isfinite(values)) or np.abs(values).max() > 1e12:
+                raise InputError(f"wrench {name} must be three finite numbers (at most 1e12 in size), "
+                                 f"got {getattr(self, name)}")
+            object.__setattr__(self, name, tuple(values.tolist()))
+
+    @property
+    def F(self) -> np.ndarray:
+        """(f, n) stacked, (6,): the rows of J."""
+        return np.array(self.force + self.moment)
+
+
+def wrench_torques(model: Model, q, wrench: Wrench) -> np.ndarray:
+    """τ = Jᵀ F (6.105): the joint torques that apply ``wrench``; shape like ``q``, (n,) or (N, n)."""
+    from ..core.cartesian import jacobian
+
+    model.frame(wrench.link)  # a clear error for an unknown frame
+    J = jacobian(model, q, wrench.link, expressed_in="base")     # (6, n) or (N, 6, n)
+    return np.einsum("...kj,k->...j", J, wrench.F)                # (6.105)

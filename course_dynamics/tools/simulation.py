@@ -1,0 +1,341 @@
+"""Dynamic simulation: integrate Θ̈ = M⁻¹[τ − V − G − F] (6.115) in time.
+
+==================  ==========================================================
+integrator          one step of size Δt from (Θ, Θ̇), with Θ̈ = f(t, Θ, Θ̇)
+==================  ==========================================================
+``euler``           the notes' scheme, exactly (6.116)–(6.117):
+                    Θ̇(t+Δt) = Θ̇ + Θ̈ Δt,  Θ(t+Δt) = Θ + Θ̇ Δt + ½ Θ̈ Δt²
+``semi-implicit``   Θ̇(t+Δt) = Θ̇ + Θ̈ Δt,  Θ(t+Δt) = Θ + Θ̇(t+Δt) Δt (symplectic)
+``rk4``             classical fourth-order Runge–Kutta on (Θ, Θ̇)
+``adaptive``        SciPy ``solve_ivp`` (DOP853, rtol = atol = 1e-10), reported
+                    on the same time grid
+==================  ==========================================================
+
+Dynamics: ``dynamics=None`` uses our forward dynamics, M by composite rigid
+bodies and V + G by Newton–Euler, compiled into straight-line code
+(:mod:`course_dynamics.core.compiled`) when the run is long enough for that to pay
+off (:data:`COMPILE_FROM` steps; ``compiled=True``/``False`` forces the
+choice). Any :data:`~course_dynamics.core.forward_dynamics.AccelerationFunction`
+(q, qd, τ) → Θ̈ can take its place — Pinocchio's ``aba`` in a benchmark.
+Friction, if given, is subtracted from τ before the call (6.114).
+
+Ensembles: with ``q0`` (and ``qd0``) of shape (K, n), K systems are integrated
+at once, each step one batched call; the trajectory's arrays then have shape
+(T, K, n) (energy (T, K)). The fixed-step integrators step every member alike;
+``adaptive`` integrates the stacked system with one shared step, chosen for
+the member that needs the smallest.
+
+Torque input: ``None`` (zero), a constant array (n,), a callable
+``tau(t, q, qd) -> (n,)``, or a :class:`TorqueTable` (linear interpolation in
+time, held at its first/last row outside its range).
+
+Joint limits (joints whose URDF limits form a non-empty interval):
+``limits="report"`` lets the motion continue and records, once per joint, when
+it left its limits (in ``Trajectory.events``); ``limits="stop"`` holds the
+joint at the limit and removes the velocity into it (a perfectly inelastic
+stop), also recorded. Nothing passes a limit silently.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from ..base.errors import CourseDynamicsError, StateError
+from ..base.resources import check_memory
+from ..core.dynamics import kinetic_energy
+from ..core.forward_dynamics import AccelerationFunction, newton_euler_dynamics
+from ..core.friction import Friction
+from ..core.kinematics import potential_energy
+from ..core.model import Model
+from ..core.state import as_state
+
+INTEGRATORS = ("euler", "semi-implicit", "rk4", "adaptive")
+ADAPTIVE_CALLS_PER_STEP = 1000  # right-hand-side evaluations per output sample before the adaptive integrator gives up
+LIMIT_MODES = ("report", "stop")
+COMPILE_FROM = 100  # steps: from here on a compiled model pays for itself
+
+
+class SimulationError(CourseDynamicsError):
+    """Bad simulation input, or a simulation that cannot go on (non-finite torque or state)."""
+
+
+@dataclass(frozen=True)
+class TorqueTable:
+    """Applied torques sampled in time: ``t`` (K,), increasing; ``tau`` (K, n)."""
+
+    t: np.ndarray
+    tau: np.ndarray
+
+    def __post_init__(self):
+        t, tau = np.asarray(self.t, dtype=float), np.asarray(self.tau, dtype=float)
+        if t.ndim != 1 or tau.ndim != 2 or len(t) != len(tau) or len(t) == 0:
+            raise SimulationError(f"a torque table needs t of shape (K,) and tau of shape (K, n), got {t.shape} and {tau.shape}")
+        if np.any(np.diff(t) <= 0):
+            raise SimulationError("torque table times must be strictly increasing")
+        if not (np.all(np.isfinite(t)) and np.all(np.isfinite(tau))):
+            raise SimulationError("torque table has non-finite values")
+        object.__setattr__(self, "t", t)
+        object.__setattr__(self, "tau", tau)
+
+    def __call__(self, t: float, q=None, qd=None) -> np.ndarray:
+        return np.array([np.interp(t, self.t, column) for column in self.tau.T])
+
+
+@dataclass(frozen=True)
+class Trajectory:
+    """A simulated motion, one row per time sample.
+
+    t (T,) s; q, qd, qdd, tau (T, n) in model joint order — (T, K, n) for an
+    ensemble of K; energy (T,) or (T, K), J, kinetic (6.71) plus potential
+    (6.73); events: limit crossings, in time order.
+    """
+
+    joints: tuple[str, ...]
+    t: np.ndarray
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    tau: np.ndarray
+    energy: np.ndarray
+    events: tuple[str, ...] = ()
+
+    @property
+    def members(self) -> int | None:
+        """K for an ensemble, None for a single run."""
+        return self.q.shape[1] if self.q.ndim == 3 else None
+
+    def table(self) -> tuple[list[str], np.ndarray]:
+        """CSV header and rows: t, q_<j>, qd_<j>, qdd_<j>, tau_<j>, energy (and ``member`` after t for an ensemble)."""
+        columns = [f"{kind}_{j}" for kind in ("q", "qd", "qdd", "tau") for j in self.joints] + ["energy"]
+        if self.members is None:
+            return ["t"] + columns, np.column_stack([self.t, self.q, self.qd, self.qdd, self.tau, self.energy])
+        T, K = len(self.t), self.members
+        flat = [a.reshape(T * K, -1) for a in (self.q, self.qd, self.qdd, self.tau)]
+        return ["t", "member"] + columns, np.column_stack([np.repeat(self.t, K), np.tile(np.arange(K), T), *flat,
+                                                           self.energy.reshape(-1)])
+
+
+def total_energy(model: Model, q, qd) -> np.ndarray:
+    """k + u (6.71), (6.73), J; shape () or (N,)."""
+    return kinetic_energy(model, q, qd) + potential_energy(model, q)
+
+
+def torque_function(model: Model, torque) -> Callable:
+    """τ(t, q, qd) from any accepted torque input (see module docstring)."""
+    if torque is None:
+        zero = np.zeros(model.n)
+        return lambda t, q, qd: zero
+    if callable(torque):
+        return torque
+    constant = as_state(model, torque, "torque")
+    if constant.ndim != 1:
+        raise SimulationError(f"a constant torque must have shape ({model.n},), got {constant.shape}")
+    return lambda t, q, qd: constant
+
+
+def time_grid(duration: float, dt: float, values_per_sample: int = 1) -> np.ndarray:
+    """t = 0, dt, 2 dt, …, duration (s): the samples of a run; the last step is shortened to end at ``duration``.
+
+    Raises SimulationError for a dt or duration that is not a positive finite number, and for a
+    grid whose samples (``values_per_sample`` floats each) would not fit in :func:`memory_budget`.
+    """
+    for name, value in (("dt", dt), ("duration", duration)):
+        if not (np.isfinite(value) and value > 0):
+            raise SimulationError(f"{name} must be a positive number of seconds, got {value}")
+    if dt > duration:
+        raise SimulationError(f"dt = {dt:g} s is longer than the duration {duration:g} s")
+    steps = duration / dt
+    check_memory((steps + 1) * 8.0 * max(values_per_sample, 1),
+                 f"{duration:g} s in steps of {dt:g} s is {steps:.3g} steps; keeping them",
+                 ": take a larger dt or a shorter duration", SimulationError)
+    times = np.arange(int(np.ceil(steps - 1e-9)) + 1) * dt
+    times[-1] = duration
+    return times
+
+
+def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str = "rk4", torque=None,
+             friction: Friction | None = None, limits: str = "report", progress: Callable[[int], None] | None = None,
+             dynamics: AccelerationFunction | None = None, compiled: bool | None = None) -> Trajectory:
+    """Integrate the robot's motion from (Θ₀, Θ̇₀) for ``duration`` seconds in steps of ``dt``.
+
+    ``q0``, ``qd0``: shape (n,), or (K, n) for an ensemble (``qd0`` of shape (n,) is shared).
+    Returns the :class:`Trajectory` at the samples of :func:`time_grid`.
+    ``progress``, if given, is called with the number of steps just completed.
+    ``dynamics`` replaces our forward dynamics; ``compiled`` chooses whether ours is compiled
+    (default: from :data:`COMPILE_FROM` steps on; module docstring).
+    """
+    q0, qd0 = as_state(model, q0, "q0"), as_state(model, qd0, "qd0")
+    if q0.ndim > 2 or qd0.ndim > 2 or (qd0.ndim == 2 and qd0.shape != q0.shape):
+        raise SimulationError(f"q0 and qd0 must have shape (n,) or (K, n) alike, got {q0.shape} and {qd0.shape}")
+    q0, qd0 = np.broadcast_arrays(q0, qd0)
+    q0, qd0 = q0.copy(), qd0.copy()
+    members = q0.shape[0] if q0.ndim == 2 else 1
+    times = time_grid(duration, dt, values_per_sample=members * (4 * model.n + 1) + 1)  # t; q, qd, qdd, tau, energy
+    if integrator not in INTEGRATORS:
+        raise SimulationError(f"unknown integrator '{integrator}' (choose from {', '.join(INTEGRATORS)})")
+    if limits not in LIMIT_MODES:
+        raise SimulationError(f"unknown limits mode '{limits}' (choose from {', '.join(LIMIT_MODES)})")
+    if integrator == "adaptive" and limits == "stop":
+        raise SimulationError("limits='stop' needs a fixed-step integrator (euler, semi-implicit or rk4)")
+    tau_of = torque_function(model, torque)
+    if dynamics is None:
+        dynamics = newton_euler_dynamics(model)
+        if compiled or (compiled is None and len(times) - 1 >= COMPILE_FROM):
+            from ..core.compiled import (
+                ProgramTooLargeError,
+                compile_model,
+                too_large_to_compile,
+            )
+
+            try:
+                dynamics = compile_model(model).accelerations
+            except ProgramTooLargeError as exc:
+                if compiled:
+                    raise
+                too_large_to_compile(exc)
+    solve_accelerations = dynamics
+
+    def applied(t, q, qd):
+        tau = np.asarray(tau_of(t, q, qd), dtype=float)
+        if tau.shape not in ((model.n,), q.shape) or not np.all(np.isfinite(tau)):
+            shown = tau.tolist() if tau.size <= 3 * model.n else f"an array of shape {tau.shape}"
+            raise SimulationError(f"the torque at t = {t:.6g} s is {shown}: expected {model.n} finite values"
+                                  + (f" (or shape {q.shape})" if q.ndim == 2 else ""))
+        return np.broadcast_to(tau, q.shape)
+
+    def accelerations(t, q, qd):
+        if not (np.all(np.isfinite(q)) and np.all(np.isfinite(qd))):
+            raise SimulationError(f"the state became non-finite near t = {t:.6g} s (try a smaller dt)")
+        tau = applied(t, q, qd)
+        driving = tau if friction is None else tau - friction.torques(qd)  # (6.114)
+        return solve_accelerations(q, qd, driving), tau
+
+    guard = _LimitGuard(model, limits)
+    if integrator == "adaptive":
+        q, qd = _integrate_adaptive(model, accelerations, times, q0, qd0, progress)
+    else:
+        q, qd = _integrate_fixed(_STEPS[integrator], accelerations, times, q0, qd0, guard, progress)
+    if integrator == "adaptive":
+        for k, t in enumerate(times):
+            guard.check(t, q[k], qd[k], clamp=False)
+    # Θ̈ and τ at every sample: the torques one by one (they may depend on t), the dynamics in one batched call.
+    if not (np.all(np.isfinite(q)) and np.all(np.isfinite(qd))):
+        k = int(np.argmax(~np.all(np.isfinite(np.concatenate([q, qd], axis=-1)).reshape(len(times), -1), axis=1)))
+        raise SimulationError(f"the state became non-finite near t = {times[k]:.6g} s (try a smaller dt)")
+    tau = np.array([applied(t, q[k], qd[k]) for k, t in enumerate(times)])
+    driving = tau if friction is None else tau - friction.torques(qd)  # (6.114)
+    qdd = solve_accelerations(q, qd, driving)
+    return Trajectory(joints=model.joint_names, t=times, q=q, qd=qd, qdd=qdd, tau=tau,
+                      energy=total_energy(model, q, qd), events=tuple(guard.events))
+
+
+def _euler_step(f, t, q, qd, dt):
+    qdd = f(t, q, qd)[0]
+    qd_next = qd + qdd * dt  # (6.116)
+    q_next = q + qd * dt + 0.5 * qdd * dt**2  # (6.117)
+    return q_next, qd_next
+
+
+def _semi_implicit_step(f, t, q, qd, dt):
+    qdd = f(t, q, qd)[0]
+    qd_next = qd + qdd * dt
+    return q + qd_next * dt, qd_next
+
+
+def _rk4_step(f, t, q, qd, dt):
+    a1 = f(t, q, qd)[0]
+    q2, qd2 = q + 0.5 * dt * qd, qd + 0.5 * dt * a1
+    a2 = f(t + 0.5 * dt, q2, qd2)[0]
+    q3, qd3 = q + 0.5 * dt * qd2, qd + 0.5 * dt * a2
+    a3 = f(t + 0.5 * dt, q3, qd3)[0]
+    q4, qd4 = q + dt * qd3, qd + dt * a3
+    a4 = f(t + dt, q4, qd4)[0]
+    return q + dt / 6 * (qd + 2 * qd2 + 2 * qd3 + qd4), qd + dt / 6 * (a1 + 2 * a2 + 2 * a3 + a4)
+
+
+_STEPS = {"euler": _euler_step, "semi-implicit": _semi_implicit_step, "rk4": _rk4_step}
+
+
+def _integrate_fixed(step, f, times, q0, qd0, guard, progress):
+    q, qd = np.empty((len(times),) + q0.shape), np.empty((len(times),) + q0.shape)
+    q[0], qd[0] = guard.check(times[0], q0, qd0)
+    for k in range(len(times) - 1):
+        q_next, qd_next = step(f, times[k], q[k], qd[k], times[k + 1] - times[k])
+        q[k + 1], qd[k + 1] = guard.check(times[k + 1], q_next, qd_next)
+        if progress is not None:
+            progress(1)
+    return q, qd
+
+
+def _integrate_adaptive(model, f, times, q0, qd0, progress):
+    from scipy.integrate import (
+        solve_ivp,  # SciPy: a well-tested adaptive integrator with error control
+    )
+
+    shape, size = q0.shape, q0.size  # an ensemble is one stacked system with a shared step
+    reached, calls = [0], [0]
+    budget = ADAPTIVE_CALLS_PER_STEP * len(times) + 100_000
+
+    def rhs(t, y):
+        calls[0] += 1
+        if calls[0] > budget:
+            raise SimulationError(f"the adaptive integrator needed more than {budget} evaluations and had reached only "
+                                  f"t = {t:.6g} s: the motion is too fast or too stiff for it here; use rk4 with a "
+                                  "small dt")
+        if progress is not None:
+            k = int(np.searchsorted(times, t, side="right")) - 1
+            if k > reached[0]:
+                progress(k - reached[0])
+                reached[0] = k
+        q, qd = y[:size].reshape(shape), y[size:].reshape(shape)
+        return np.concatenate([y[size:], f(t, q, qd)[0].reshape(-1)])
+
+    solution = solve_ivp(rhs, (times[0], times[-1]), np.concatenate([q0.reshape(-1), qd0.reshape(-1)]),
+                         method="DOP853", t_eval=times, rtol=1e-10, atol=1e-10)
+    if not solution.success:
+        raise SimulationError(f"the adaptive integrator failed: {solution.message}")
+    if progress is not None and len(times) - 1 > reached[0]:
+        progress(len(times) - 1 - reached[0])
+    T = len(times)
+    return solution.y[:size].T.reshape((T,) + shape).copy(), solution.y[size:].T.reshape((T,) + shape).copy()
+
+
+class _LimitGuard:
+    """Applies the joint-limit policy after each step and records what happened."""
+
+    def __init__(self, model: Model, mode: str):
+        self.model, self.mode = model, mode
+        limited = np.isfinite(model.lower) & np.isfinite(model.upper) & (model.lower < model.upper)
+        self.lower = np.where(limited, model.lower, -np.inf)
+        self.upper = np.where(limited, model.upper, np.inf)
+        self.reported: set[tuple] = set()
+        self.events: list[str] = []
+
+    def check(self, t, q, qd, clamp=True):
+        below, above = q < self.lower, q > self.upper
+        if not (below.any() or above.any()):
+            return q, qd
+        q, qd = q.copy(), qd.copy()
+        for index in np.argwhere(below | above):
+            index = tuple(index)
+            j = index[-1]
+            member = f"member {index[0]}: " if q.ndim == 2 else ""
+            side, bound = ("lower", self.lower[j]) if below[index] else ("upper", self.upper[j])
+            name = self.model.joint_names[j]
+            if self.mode == "stop" and clamp:
+                if index not in self.reported:
+                    self.events.append(f"t = {t:.6g} s: {member}joint '{name}' stopped at its {side} limit {bound:g}")
+                q[index] = bound
+                if (qd[index] < 0) if below[index] else (qd[index] > 0):
+                    qd[index] = 0.0
+            elif index not in self.reported:
+                self.events.append(f"t = {t:.6g} s: {member}joint '{name}' passed its {side} limit {bound:g} "
+                                   f"(q = {q[index]:.6g})")
+            self.reported.add(index)
+        return q, qd
+
+
+__all__ = ["INTEGRATORS", "LIMIT_MODES", "SimulationError", "StateError", "TorqueTable", "Trajectory", "simulate",
+           "time_grid", "total_energy"]

@@ -1,0 +1,110 @@
+"""The package's layers: every import of ours goes down (or stays within its layer), and the oracle stays apart.
+
+Layers, lowest first: base, core, tools, output, grading, teaching, cli (see each subpackage's docstring).
+Every ``import``/``from … import`` in every module is read with ``ast`` (lazy imports inside functions
+included) and resolved to the module it names.
+"""
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+PACKAGE = Path(__file__).resolve().parent.parent / "course_dynamics"
+LAYERS = ("base", "core", "tools", "output", "grading", "teaching", "cli")
+# Where the Pinocchio oracle may be imported: the report and validate commands and the options that serve them.
+ORACLE_USERS = {"cli/commands/report.py", "cli/commands/validate.py", "cli/options.py"}
+# Code that runs beside student code, in the student's interpreter: nothing of ours at all.
+STANDALONE = {"grading/harness.py", "grading/launcher.py"}
+
+
+def modules():
+    return sorted(p for p in PACKAGE.rglob("*.py"))
+
+
+def layer_of(relative: Path) -> str | None:
+    return relative.parts[0] if len(relative.parts) > 1 and relative.parts[0] in LAYERS else None
+
+
+def imported(path: Path):
+    """(line, absolute dotted name) of every import in ``path``."""
+    relative = path.relative_to(PACKAGE.parent)
+    package = list(relative.with_suffix("").parts)[:-1]
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            for alias in node.names:
+                yield node.lineno, alias.name
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package[:len(package) - node.level + 1]
+                module = ".".join(base + (node.module.split(".") if node.module else []))
+            else:
+                module = node.module or ""
+            yield node.lineno, module
+            for alias in node.names:  # ``from . import io`` names a module
+                yield node.lineno, f"{module}.{alias.name}"
+
+
+def layer_of_name(name: str) -> str | None:
+    parts = name.split(".")
+    return parts[1] if len(parts) > 1 and parts[0] == "course_dynamics" and parts[1] in LAYERS else None
+
+
+@pytest.mark.parametrize("path", modules(), ids=lambda p: str(p.relative_to(PACKAGE)))
+def test_imports_go_down_the_layers(path):
+    relative = path.relative_to(PACKAGE)
+    here = layer_of(relative)
+    wrong = []
+    for line, name in imported(path):
+        if name == "course_dynamics" and here is not None and here != "cli":
+            wrong.append((line, name, "the package's top (its public API) sits above every layer"))
+        there = layer_of_name(name)
+        if here is not None and there is not None and LAYERS.index(there) > LAYERS.index(here):
+            wrong.append((line, name, f"{there} is above {here}"))
+        if name.startswith("course_dynamics_reference") and str(relative) not in ORACLE_USERS:
+            wrong.append((line, name, "only report, validate and their options import the oracle"))
+        if str(relative) in STANDALONE and name.startswith("course_dynamics"):
+            wrong.append((line, name, "runs beside student code: imports nothing of ours"))
+    assert not wrong, wrong
+
+
+def test_the_top_of_the_package_imports_only_the_core():
+    """``import course_dynamics`` gives the chapter's API and loads nothing of the tools, output or grading."""
+    names = {layer_of_name(name) for _, name in imported(PACKAGE / "__init__.py")} - {None}
+    assert names <= {"base", "core"}, names
+
+
+def test_every_layer_is_a_package_with_its_rule():
+    for layer in LAYERS:
+        doc = ast.get_docstring(ast.parse((PACKAGE / layer / "__init__.py").read_text()))
+        assert doc and "import" in doc, layer
+
+
+def test_no_private_name_is_imported_across_modules():
+    wrong = []
+    for path in modules():
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and (node.level or (node.module or "").startswith("course_dynamics")):
+                wrong += [(str(path.relative_to(PACKAGE)), node.lineno, a.name) for a in node.names
+                          if a.name.startswith("_") and not a.name.startswith("__")]
+    assert not wrong, wrong
+
+
+def test_the_oracle_never_loads_with_the_library():
+    import subprocess
+    import sys
+
+    code = ("import sys, course_dynamics, course_dynamics.tools.logs, course_dynamics.tools.simulation, "
+            "course_dynamics.grading, course_dynamics.teaching.exercises\n"
+            "print(sorted(m for m in sys.modules if m.startswith(('pinocchio', 'course_dynamics_reference'))))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "[]", out
+
+
+MAX_LINES = 450  # a module longer than this is two modules
+
+
+@pytest.mark.parametrize("path", modules(), ids=lambda p: str(p.relative_to(PACKAGE)))
+def test_no_module_is_too_long_to_read(path):
+    assert len(path.read_text().splitlines()) <= MAX_LINES
