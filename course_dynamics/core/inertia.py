@@ -1,4 +1,7 @@
-"""Mass distribution (6.11)–(6.30): inertia tensors of simple bodies, moving and turning them, and checking them.
+"""Mass distribution: inertia tensors of simple bodies, moving and turning them, and checking them.
+
+The notes print this section's equations (the inertia tensor, the parallel-axis theorem) without
+numbers; it is Craig's §6.3.
 
 An inertia tensor is the 3×3 matrix ᴬI = ∭ (rᵀr 1 − r rᵀ) ρ dv about the origin
 of a frame {A} (kg·m²). Its diagonal holds the moments of inertia

@@ -1,4 +1,4 @@
-"""Craig's recursive Newton–Euler dynamics, eqs. (6.45)–(6.53), prismatic (6.35), (6.44).
+"""Craig's recursive Newton–Euler dynamics, eqs. (6.45)–(6.53); prismatic joints by (6.35) and (6.44).
 
 Notation (every vector is expressed in the frame of the link it belongs to;
 i is a body, p its parent, frames as in :mod:`course_dynamics.core.model`):
@@ -74,7 +74,7 @@ def outward_iteration(model: Model, X: JointTransforms, theta_dot: list, theta_d
         v_dot_i = R_T @ point_acceleration(v_dot_p, omega_dot_p, omega_p, P_i)  # (6.47)
         omega_in_i = R_T @ omega_p  # ⁱₚR ᵖωₚ
         if body.is_prismatic:
-            w = omega_in_i  # (6.35): a prismatic joint adds no rotation
+            w = omega_in_i  # a prismatic joint adds no rotation (unnumbered in the notes; (6.33) in Craig)
             w_dot = R_T @ omega_dot_p
             v_dot_i = v_dot_i + cross(2 * w, qd * z) + qdd * z  # (6.35)
         else:

@@ -21,7 +21,7 @@ the parallel-axis theorem (6.25). Every algorithm then sees an ordinary model.
 A wrench follows Craig's convention for the inward iteration's start (6.51):
 f_{N+1} and n_{N+1} are what the robot applies *to* its surroundings — a tool
 pressing down on a table with 10 N is ``force = (0, 0, −10)``. The joint
-torques that hold it are τ = Jᵀ F with F = (f, n) (6.105): by virtual work the
+torques that hold it are τ = Jᵀ F with F = (f, n) (chapter 5's static forces): by virtual work the
 power the joints put in, τᵀΘ̇, is the power delivered to the surroundings, Fᵀ J Θ̇.
 """
 from __future__ import annotations
@@ -119,9 +119,9 @@ class Wrench:
 
 
 def wrench_torques(model: Model, q, wrench: Wrench) -> np.ndarray:
-    """τ = Jᵀ F (6.105): the joint torques that apply ``wrench``; shape like ``q``, (n,) or (N, n)."""
+    """τ = Jᵀ F (chapter 5's static-force relation): the joint torques that apply ``wrench``; shape like ``q``, (n,) or (N, n)."""
     from ..core.cartesian import jacobian
 
     model.frame(wrench.link)  # a clear error for an unknown frame
     J = jacobian(model, q, wrench.link, expressed_in="base")     # (6, n) or (N, 6, n)
-    return np.einsum("...kj,k->...j", J, wrench.F)                # (6.105)
+    return np.einsum("...kj,k->...j", J, wrench.F)                # τ = Jᵀ F (chapter 5)

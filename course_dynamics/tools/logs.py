@@ -8,7 +8,7 @@ code                Craig          meaning (shape, unit)
 ``qd``              Θ̇              joint rates (N, n): read, or differentiated from Θ
 ``qdd``             Θ̈              joint accelerations (N, n): read, or differentiated
 ``tau``             τ              τ = M(Θ)Θ̈ + V(Θ,Θ̇) + G(Θ) + F(Θ̇) + Jᵀ F_ext (6.59),
-                                   (6.114), (6.105), (N, n), N·m or N
+                                   (6.114), τ = JᵀF, (N, n), N·m or N
 ==================  =============  ===================================================
 
 A log is any table of numbers with named columns: a file read by
@@ -325,7 +325,7 @@ def torques_from_log(model: Model, table, *, dt: float | None = None, columns: M
     """The joint torques a logged motion needs, and whether they and its rates stay within the URDF's limits.
 
     τ = M(Θ)Θ̈ + V(Θ,Θ̇) + G(Θ) (Newton–Euler, (6.45)–(6.53)) + F(Θ̇) (friction, (6.114))
-    + Σ Jᵀ F_ext (wrenches at frames, (6.105)), on the model with every ``payload`` lumped
+    + Σ Jᵀ F_ext (wrenches at frames, chapter 5's static forces), on the model with every ``payload`` lumped
     in and under ``gravity`` (3,) m/s² if given. ``payload``: a :class:`~course_dynamics.tools.loads.Payload`
     or a list of them; ``wrench``: a :class:`~course_dynamics.tools.loads.Wrench` or a list.
     ``compiled``: None compiles the model for logs of :data:`COMPILE_FROM_ROWS` rows or more;
@@ -368,7 +368,7 @@ def torques_from_log(model: Model, table, *, dt: float | None = None, columns: M
         if friction is not None:
             block = block + friction.torques(qd)                     # (6.114)
         for push in pushes:
-            block = block + wrench_torques(model, q, push)          # (6.105)
+            block = block + wrench_torques(model, q, push)          # τ = Jᵀ F (chapter 5)
         tau[rows] = block
     if not np.all(np.isfinite(tau)):
         row = int(np.flatnonzero(~np.all(np.isfinite(tau), axis=1))[0])

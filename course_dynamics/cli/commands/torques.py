@@ -69,7 +69,7 @@ def add_arguments(parser) -> None:
                              "(default: a point mass)")
     parser.add_argument("--wrench", metavar="LINK:FX,FY,FZ[,NX,NY,NZ]", action="append",
                         help="force (N) and moment (N m, about the link's origin) the robot exerts on its "
-                             "surroundings at LINK, in base coordinates; adds J^T F (6.105) (may be repeated)")
+                             "surroundings at LINK, in base coordinates; adds J^T F, the static-force relation of chapter 5 (may be repeated)")
     parser.add_argument("--plot", metavar="FILE", help="draw tau(t) per joint with the effort limits: .png, .svg or .html")
     parser.add_argument("--json", action="store_true", help="print the limits report as JSON")
     parser.add_argument("--no-compile", action="store_true",
