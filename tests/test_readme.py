@@ -114,3 +114,24 @@ def same_text(printed: str, shown: str) -> bool:
 
 def test_outputs_are_shown_for_several_commands():
     assert {command.split()[1] for command, _ in command_output_pairs()} >= {"info", "terms", "cartesian"}
+
+
+def python_blocks() -> list[str]:
+    return re.findall(r"```python\n(.*?)```", README, re.S)
+
+
+@pytest.mark.parametrize("number", range(len(python_blocks())))
+def test_every_python_block_runs_as_written_in_a_fresh_process(number, tmp_path):
+    """Each block defines what it uses: a reader can paste any one of them alone into a new Python."""
+    import os
+    import subprocess
+    import sys
+
+    shutil.copytree(ROOT / "examples", tmp_path / "examples")
+    block = python_blocks()[number]
+    if "show(" in block:  # the live viewer: served on loopback, then stopped by the block itself
+        block = "import webbrowser\nwebbrowser.open = lambda *a, **k: True\n" + block
+    env = dict(os.environ, MPLBACKEND="Agg")
+    result = subprocess.run([sys.executable, "-c", block], cwd=tmp_path, capture_output=True, text=True, env=env,
+                            timeout=300)
+    assert result.returncode == 0, result.stderr[-3000:]
