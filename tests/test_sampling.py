@@ -1,0 +1,67 @@
+"""course_dynamics/core/sampling.py: seeded states within limits, smooth trajectories, the error measure."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from course_dynamics import gravity_torques, load_robot, load_urdf
+from course_dynamics.core.sampling import (
+    gravity_free,
+    random_states,
+    relative_error,
+    sampling_bounds,
+    smooth_trajectory,
+    term_scales,
+)
+from helpers import CHECKED_ROBOTS, urdf_of
+
+
+@pytest.mark.parametrize("name", CHECKED_ROBOTS)
+def test_states_are_seeded_and_within_the_joint_limits(name):
+    model = load_urdf(urdf_of(name))
+    q, qd, qdd = random_states(model, 50, seed=4)
+    again = random_states(model, 50, seed=4)
+    for ours, repeat in zip((q, qd, qdd), again):
+        np.testing.assert_array_equal(ours, repeat)
+        assert ours.shape == (50, model.n)
+    lower, upper = sampling_bounds(model)
+    assert np.all((lower <= q) & (q <= upper))
+    assert not np.array_equal(q, random_states(model, 50, seed=5)[0])
+
+
+def test_joints_without_limits_are_sampled_over_a_turn():
+    model = load_robot("double_pendulum_continuous")
+    lower, upper = sampling_bounds(model)
+    np.testing.assert_array_equal(lower, -np.pi)
+    np.testing.assert_array_equal(upper, np.pi)
+
+
+def test_a_smooth_trajectory_has_exact_derivatives():
+    model = load_robot("ur5")
+    t, q, qd, qdd = smooth_trajectory(model, duration=1.0, samples=2001)
+    dt = t[1] - t[0]
+    np.testing.assert_allclose(np.gradient(q, dt, axis=0)[1:-1], qd[1:-1], atol=1e-5)
+    np.testing.assert_allclose(np.gradient(qd, dt, axis=0)[1:-1], qdd[1:-1], atol=1e-4)
+    lower, upper = sampling_bounds(model)
+    assert np.all((lower <= q) & (q <= upper))
+
+
+def test_relative_error_is_the_documented_measure():
+    assert relative_error([1.0, 2.0], [1.0, 2.5]) == pytest.approx(0.5 / 2.5)
+    assert relative_error([1e-17], [0.0], scale=1.0) == pytest.approx(1e-17)  # a zero term judged at its scale
+    assert relative_error([0.0], [0.0]) == 0.0
+    assert relative_error([1.0], [0.0]) > 1e300  # no scale: any error of a zero term is infinitely large
+
+
+def test_term_scales_follow_the_table():
+    M, G = np.array([[2.0, 0.5], [0.5, 1.0]]), np.array([3.0, -1.0])
+    scales = term_scales(M, G, qd=[0.5, -2.0], qdd=[1.0, 0.0], gravity=[0, 0, -9.81])
+    assert scales == pytest.approx(dict(tau=2.0 * (1.0 + 4.0) + 3.0, M=2.0, C=2.0 * 2.0, V=2.0 * 4.0, G=2.0 * 9.81))
+
+
+def test_gravity_free_is_a_robot_on_which_gravity_cannot_act():
+    arm = load_robot("two_link")
+    assert not gravity_free(arm)
+    upright = arm.with_gravity(9.81 * (arm.bodies[0].R0 @ arm.bodies[0].axis))  # along the (parallel) joint axes
+    assert gravity_free(upright)
+    assert np.abs(gravity_torques(upright, np.array([0.3, -0.4]))).max() < 1e-12
