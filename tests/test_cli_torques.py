@@ -97,7 +97,7 @@ def test_physics_options_equal_the_api(capsys, tmp_path):
     assert code == 0
     model = load_robot("ur5")
     expected = torques_from_log(
-        model, read_table(LOG), columns=parse_column_map(str(MAP)), window=15, gravity=[0, -2, -9],
+        model.with_gravity([0, -2, -9]), read_table(LOG), columns=parse_column_map(str(MAP)), window=15,
         friction=Friction(viscous=Friction.from_urdf(model).viscous, coulomb=[1, 1, 1, 0.5, 0.5, 0.5]),
         payload=Payload(2.5, "wrist_3_link", (0, 0.01, 0.05), (0.1, 0.1, 0.05)),
         wrench=Wrench("tool0", (0, 0, -15), (0, 0.5, 0)))

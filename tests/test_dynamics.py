@@ -95,5 +95,5 @@ def test_dynamics_terms_fit_the_state_space_equation():
 
 def test_dynamics_terms_gravity_override():
     arm = load_robot("two_link")
-    terms = dynamics_terms(arm, [0.2, 0.3], [0, 0], [0, 0], gravity=[0, 0, 0])
+    terms = dynamics_terms(arm.with_gravity([0, 0, 0]), [0.2, 0.3], [0, 0], [0, 0])
     np.testing.assert_array_equal(terms.G, 0)

@@ -181,7 +181,7 @@ def test_physics_options_add_up():
     g = np.array([0.0, 3.0, -9.0])
     friction = Friction(viscous=np.full(6, 0.3), coulomb=np.full(6, 1.5))
     payload, wrench = Payload(mass=3.0, link="tool0", com=(0, 0, 0.05)), Wrench("tool0", (0, 0, -20.0), (0, 1.0, 0))
-    result = torques_from_log(model, log, gravity=g, friction=friction, payload=payload, wrench=wrench)
+    result = torques_from_log(model.with_gravity(g), log, friction=friction, payload=payload, wrench=wrench)
     loaded = with_payload(model.with_gravity(g), payload)
     expected = inverse_dynamics(loaded, q, qd, qdd) + friction.torques(qd) + wrench_torques(loaded, q, wrench)
     np.testing.assert_allclose(result.tau, expected, rtol=1e-13, atol=1e-12)

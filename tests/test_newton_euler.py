@@ -27,7 +27,7 @@ def test_batch_equals_single_states(robot):
 
 def test_gravity_argument_overrides_model_gravity():
     arm = load_robot("pendulum")
-    zero_g = inverse_dynamics(arm, [0.5], [0.0], [0.0], gravity=[0.0, 0.0, 0.0])
+    zero_g = inverse_dynamics(arm.with_gravity([0.0, 0.0, 0.0]), [0.5], [0.0], [0.0])
     assert zero_g[0] == 0.0
     assert inverse_dynamics(arm, [0.5], [0.0], [0.0])[0] > 0  # holding the bob up against gravity
 

@@ -34,23 +34,34 @@ from . import coriolis, crba
 from .algebra import Dual, Vec3
 from .kinematics import joint_transforms
 from .model import Model
-from .newton_euler import gravity_vector, inverse_dynamics, torque_entries
+from .newton_euler import inverse_dynamics, torque_entries
 from .state import as_state, entries, layout_of
 
 NO_GRAVITY = Vec3(0, 0, 0)
 
 
-def gravity_torques(model: Model, q, gravity=None) -> np.ndarray:
-    """G(Θ), shape (n,) or (N, n): the torques that hold the arm still against gravity."""
+NO_GRAVITY = Vec3(0.0, 0.0, 0.0)  # the recursion at g = 0: V and M Θ̇ alone
+
+
+def gravity_torques(model: Model, q) -> np.ndarray:
+    """G(Θ), shape (n,) or (N, n): the torques that hold the arm still against ``model.gravity``."""
     q = as_state(model, q, "q")
     zeros = np.zeros(q.shape[-1:])
-    return inverse_dynamics(model, q, zeros, zeros, gravity)
+    return inverse_dynamics(model, q, zeros, zeros)
+
+
+def _without_gravity(model: Model, q, qd, qdd) -> np.ndarray:
+    """τ(Θ, Θ̇, Θ̈) at g = 0, shape (n,) or (N, n)."""
+    q, qd, qdd = as_state(model, q, "q"), as_state(model, qd, "qd"), as_state(model, qdd, "qdd")
+    layout = layout_of(q, qd, qdd)
+    tau = torque_entries(model, joint_transforms(model, entries(q)), entries(qd), entries(qdd), NO_GRAVITY)
+    return layout.assemble(tau, (model.n,))
 
 
 def velocity_torques(model: Model, q, qd) -> np.ndarray:
     """V(Θ, Θ̇), shape (n,) or (N, n): centrifugal and Coriolis torques."""
     q = as_state(model, q, "q")
-    return inverse_dynamics(model, q, qd, np.zeros(q.shape[-1:]), gravity=(0.0, 0.0, 0.0))
+    return _without_gravity(model, q, qd, np.zeros(q.shape[-1:]))
 
 
 def unit_acceleration_entries(model: Model, theta: list, X=None) -> list:
@@ -99,7 +110,7 @@ def coriolis_matrix_christoffel(model: Model, q, qd) -> np.ndarray:
 def kinetic_energy(model: Model, q, qd) -> np.ndarray:
     """k = ½ Θ̇ᵀ M(Θ) Θ̇ (6.71), J: shape () or (N,). One pass: M Θ̇ = τ(Θ, 0, Θ̇) at g = 0."""
     q, qd = as_state(model, q, "q"), as_state(model, qd, "qd")
-    M_qd = inverse_dynamics(model, q, np.zeros(q.shape[-1:]), qd, gravity=(0.0, 0.0, 0.0))
+    M_qd = _without_gravity(model, q, np.zeros(q.shape[-1:]), qd)
     return 0.5 * np.sum(qd * M_qd, axis=-1)  # (6.71)
 
 
@@ -117,7 +128,7 @@ def mass_matrix_and_bias(model: Model, q, qd) -> tuple[np.ndarray, np.ndarray]:
 def mass_matrix_and_bias_entries(model: Model, theta: list, theta_dot: list) -> tuple[list, list]:
     """M[i][j] (composite rigid bodies) and the bias V + G = τ(Θ, Θ̇, 0) (Newton–Euler) as scalars."""
     X = joint_transforms(model, theta)
-    bias = torque_entries(model, X, theta_dot, [0] * model.n, gravity_vector(model))
+    bias = torque_entries(model, X, theta_dot, [0] * model.n, model.gravity_v)
     return crba.mass_matrix_entries(model, theta), bias
 
 
@@ -137,13 +148,11 @@ class DynamicsTerms:
     G: np.ndarray
 
 
-def dynamics_terms(model: Model, q, qd, qdd, gravity=None, progress=None) -> DynamicsTerms:
-    """τ, M, C, V and G at one state; ``gravity`` overrides ``model.gravity``.
+def dynamics_terms(model: Model, q, qd, qdd, progress=None) -> DynamicsTerms:
+    """τ, M, C, V and G at one state, under ``model.gravity``.
 
     ``progress``, if given, is called with the name of each term just computed (five calls).
     """
-    if gravity is not None:
-        model = model.with_gravity(gravity)
     steps = (("tau", lambda: inverse_dynamics(model, q, qd, qdd)), ("M", lambda: mass_matrix(model, q)),
              ("C", lambda: coriolis_matrix(model, q, qd)), ("V", lambda: velocity_torques(model, q, qd)),
              ("G", lambda: gravity_torques(model, q)))

@@ -145,7 +145,7 @@ def frame_placement(model: Model, q, frame: str) -> tuple[np.ndarray, np.ndarray
 
 def potential_energy_entry(model: Model, theta: list):
     """u = Σᵢ −mᵢ ⁰gᵀ ⁰P_Cᵢ (6.73) from per-joint scalars (u_ref = 0)."""
-    g = Vec3.of(model.gravity)
+    g = model.gravity_v
     u = 0
     for body, p in zip(model.bodies, placement_entries(model, theta).P_com):
         u = u - body.mass_s * dot(g, p)  # (6.73)

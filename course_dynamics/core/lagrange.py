@@ -77,7 +77,7 @@ def _moves(column) -> bool:
 
 def _gravity_entries(model: Model, theta: list) -> list:
     """G[j] = ∂u/∂θⱼ = −Σᵢ mᵢ gᵀ J_vᵢ[:, j] (6.73)."""
-    g = Vec3.of(model.gravity)
+    g = model.gravity_v
     G = [0] * model.n
     for body, (cols, _) in zip(model.bodies, _link_jacobians(model, theta)):
         for j, (v_j, _) in enumerate(cols):

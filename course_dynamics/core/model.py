@@ -220,6 +220,15 @@ class Model:
                 return frame
         raise ModelError(f"robot '{self.name}' has no link or frame '{name}' (frames: {', '.join(self.frame_names)})")
 
+    @cached_property
+    def gravity_v(self) -> Vec3:
+        """g (m/s², base frame) as a Vec3: the one place the algorithms read gravity from.
+
+        It enters the recursion once, as the base acceleration ⁰v̇₀ = −g; :meth:`with_gravity` is the one
+        way to change it.
+        """
+        return Vec3.of(self.gravity)
+
     def with_gravity(self, gravity) -> "Model":
         """The same robot under another gravity vector g (base frame, m/s²)."""
         return replace(self, gravity=np.asarray(gravity, dtype=float))

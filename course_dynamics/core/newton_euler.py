@@ -33,7 +33,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..base.errors import ModelError
 from .algebra import Vec3, cross, dot, point_acceleration
 from .kinematics import JointTransforms, joint_transforms
 from .model import Model
@@ -113,7 +112,7 @@ def torque_entries(model: Model, X: JointTransforms, theta_dot: list, theta_ddot
     return inward_iteration(model, X, outward_iteration(model, X, theta_dot, theta_ddot, gravity)).tau
 
 
-def inverse_dynamics(model: Model, q, qd, qdd, gravity=None) -> np.ndarray:
+def inverse_dynamics(model: Model, q, qd, qdd) -> np.ndarray:
     """τ = M(Θ)Θ̈ + V(Θ, Θ̇) + G(Θ) by Newton–Euler.
 
     Parameters
@@ -122,9 +121,7 @@ def inverse_dynamics(model: Model, q, qd, qdd, gravity=None) -> np.ndarray:
     q, qd, qdd : array_like, shape (n,) or (N, n)
         Θ (rad or m), Θ̇ (rad/s or m/s), Θ̈ (rad/s² or m/s²), joints in
         ``model.joint_names`` order; numpy object arrays of sympy expressions
-        give symbolic torques.
-    gravity : array_like, shape (3,), optional
-        g in the base frame (m/s²); default ``model.gravity``.
+        give symbolic torques. Gravity is ``model.gravity`` (``model.with_gravity(g)`` changes it).
 
     Returns
     -------
@@ -141,7 +138,7 @@ def inverse_dynamics(model: Model, q, qd, qdd, gravity=None) -> np.ndarray:
     q, qd, qdd = as_state(model, q, "q"), as_state(model, qd, "qd"), as_state(model, qdd, "qdd")
     layout = layout_of(q, qd, qdd)
     X = joint_transforms(model, entries(q))
-    tau = torque_entries(model, X, entries(qd), entries(qdd), gravity_vector(model, gravity))
+    tau = torque_entries(model, X, entries(qd), entries(qdd), model.gravity_v)
     return layout.assemble(tau, (model.n,))
 
 
@@ -166,12 +163,12 @@ class LinkQuantities:
     tau: np.ndarray
 
 
-def newton_euler_links(model: Model, q, qd, qdd, gravity=None) -> LinkQuantities:
+def newton_euler_links(model: Model, q, qd, qdd) -> LinkQuantities:
     """The outward and inward iterations with every per-link quantity kept."""
     q, qd, qdd = as_state(model, q, "q"), as_state(model, qd, "qd"), as_state(model, qdd, "qdd")
     layout = layout_of(q, qd, qdd)
     X = joint_transforms(model, entries(q))
-    out = outward_iteration(model, X, entries(qd), entries(qdd), gravity_vector(model, gravity))
+    out = outward_iteration(model, X, entries(qd), entries(qdd), model.gravity_v)
     back = inward_iteration(model, X, out)
 
     def per_link(vectors):
@@ -183,11 +180,3 @@ def newton_euler_links(model: Model, q, qd, qdd, gravity=None) -> LinkQuantities
         v_dot_c=per_link(out.v_dot_c), F=per_link(out.F), N=per_link(out.N),
         f=per_link(back.f), n=per_link(back.n), tau=layout.assemble(back.tau, (model.n,)),
     )
-
-
-def gravity_vector(model: Model, gravity=None) -> Vec3:
-    """g as a Vec3: ``gravity`` (3,) if given, else ``model.gravity``; the one place gravity is read."""
-    g = model.gravity if gravity is None else np.asarray(gravity)
-    if g.shape != (3,):
-        raise ModelError(f"gravity must have 3 components, got shape {g.shape}")
-    return Vec3.of(g)

@@ -320,13 +320,13 @@ def _as_list(value) -> list:
 
 def torques_from_log(model: Model, table, *, dt: float | None = None, columns: Mapping[str, str] | None = None,
                      window: int | None = None, constants: Mapping[str, float] | None = None, time_unit: str = "s",
-                     gravity=None, friction: Friction | None = None, payload=None, wrench=None,
+                     friction: Friction | None = None, payload=None, wrench=None,
                      compiled: bool | None = None) -> TorqueLog:
     """The joint torques a logged motion needs, and whether they and its rates stay within the URDF's limits.
 
     τ = M(Θ)Θ̈ + V(Θ,Θ̇) + G(Θ) (Newton–Euler, (6.45)–(6.53)) + F(Θ̇) (friction, (6.114))
-    + Σ Jᵀ F_ext (wrenches at frames, chapter 5's static forces), on the model with every ``payload`` lumped
-    in and under ``gravity`` (3,) m/s² if given. ``payload``: a :class:`~course_dynamics.tools.loads.Payload`
+    + Σ Jᵀ F_ext (wrenches at frames, chapter 5's static forces), on the model (under its gravity:
+    ``model.with_gravity(g)`` to change it) with every ``payload`` lumped in. ``payload``: a :class:`~course_dynamics.tools.loads.Payload`
     or a list of them; ``wrench``: a :class:`~course_dynamics.tools.loads.Wrench` or a list.
     ``compiled``: None compiles the model for logs of :data:`COMPILE_FROM_ROWS` rows or more;
     True/False force it. Other parameters as :func:`joint_log`.
@@ -334,8 +334,6 @@ def torques_from_log(model: Model, table, *, dt: float | None = None, columns: M
     Returns a :class:`TorqueLog`: ``tau`` (N, n); ``log`` with ``t``, ``q``, ``qd``, ``qdd`` as
     used; ``report`` (:class:`~course_dynamics.tools.limits.LimitsReport`); ``notes``; ``table()``.
     """
-    if gravity is not None:
-        model = model.with_gravity(gravity)
     for load in _as_list(payload):
         model = with_payload(model, load)
     log = joint_log(model, table, dt=dt, columns=columns, window=window, constants=constants, time_unit=time_unit)

@@ -14,7 +14,7 @@ from ...base.errors import CourseDynamicsError
 from .. import coriolis, crba
 from ..kinematics import joint_transforms
 from ..model import Model
-from ..newton_euler import gravity_vector, torque_entries
+from ..newton_euler import torque_entries
 
 # Operations of all five programs together. Panda takes 19 000, a 20-joint chain 74 000 (2 s to compile, 5 MB of
 # source); a 30-joint chain would take 163 000 (7 s) and a 60-joint one several GB of memory.
@@ -176,7 +176,7 @@ def trace_programs(model: Model) -> dict[str, Program]:
 
     Raises :class:`ProgramTooLargeError` as soon as the programs together pass :data:`MAX_OPERATIONS`.
     """
-    n, g = model.n, gravity_vector(model)
+    n, g = model.n, model.gravity_v
     programs, tapes = {}, []
 
     def tape() -> Tape:
