@@ -27,7 +27,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .algebra import Mat3, Vec3, cos_sin, cross, dot, rotation_from_parts
+from .algebra import Mat3, Vec3, dot
+from .joints import kind_of
 from .model import Frame, Model
 from .state import as_state, entries, layout_of
 
@@ -45,12 +46,9 @@ def joint_transforms(model: Model, theta: list) -> JointTransforms:
     """ᵖᵢR(θᵢ) and ᵖPᵢ(θᵢ) of every body, from per-joint scalars θ."""
     R, P = [], []
     for body, q in zip(model.bodies, theta):
-        if body.is_prismatic:
-            R.append(body.R0_m)
-            P.append(body.P_v + q * body.R0_axis_v)
-        else:
-            R.append(rotation_from_parts(body.rotation_parts, *cos_sin(q)))
-            P.append(body.P_v)
+        R_i, P_i = kind_of(body).transform(body, q)
+        R.append(R_i)
+        P.append(P_i)
     return JointTransforms(R, [r.T for r in R], P)
 
 
@@ -102,7 +100,7 @@ def point_jacobian_columns(model: Model, placements: BasePlacements, body: int, 
     while j >= 0:
         joint = model.bodies[j]
         z = placements.R[j] @ joint.axis_v  # ⁰Ẑⱼ
-        cols[j] = (z, zero) if joint.is_prismatic else (cross(z, point - placements.P[j]), z)
+        cols[j] = kind_of(joint).point_column(z, point, placements.P[j])
         j = joint.parent
     return cols
 

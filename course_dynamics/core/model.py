@@ -41,9 +41,10 @@ import numpy as np
 
 from ..base.errors import ModelError
 from .algebra import Mat3, Vec3
+from .joints import KINDS
 
 STANDARD_GRAVITY = (0.0, 0.0, -9.81)
-JOINT_TYPES = ("revolute", "continuous", "prismatic")
+JOINT_TYPES = tuple(KINDS)  # what each does: course_dynamics.core.joints
 
 
 def _frozen_array(values, shape, what: str) -> np.ndarray:

@@ -27,6 +27,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from .algebra import Mat3, Vec3, cross, dot
+from .joints import kind_of
 from .kinematics import BasePlacements
 from .model import Model
 
@@ -54,7 +55,7 @@ def motion_axes(model: Model, placements: BasePlacements) -> list[tuple[Vec3, Ve
     axes = []
     for body, R, P in zip(model.bodies, placements.R, placements.P):
         z = R @ body.axis_v  # ⁰Ẑⱼ
-        axes.append((Vec3(0, 0, 0), z) if body.is_prismatic else (z, cross(P, z)))
+        axes.append(kind_of(body).motion(z, P))
     return axes
 
 

@@ -389,7 +389,7 @@ def derive_cartesian(model: Model, frame: str, rows=None, expressed_in: str = "b
     selected task rows must make J square. For the two-link arm in its tool frame
     this is Craig's example 6.6.
     """
-    from .cartesian import ROW_NAMES, row_indices, jacobian, jacobian_dot
+    from .cartesian import ROW_NAMES, jacobian, jacobian_dot, row_indices
     from .dynamics import gravity_torques, mass_matrix, velocity_torques
 
     sympy = _sympy()

@@ -28,9 +28,10 @@ import numpy as np
 
 from ..base.errors import ModelError
 from .inertia import physical_problems
+from .joints import KINDS
 from .model import STANDARD_GRAVITY, Body, Frame, Model
 
-SUPPORTED_TYPES = ("revolute", "continuous", "prismatic", "fixed")
+SUPPORTED_TYPES = (*KINDS, "fixed")  # the moving kinds of course_dynamics.core.joints, and fixed joints (merged)
 # Round-off allowed when checking that an inertia is physical (kg·m²).
 INERTIA_TOLERANCE = 1e-12
 

@@ -34,6 +34,7 @@ from ..core.dynamics import (
     mass_matrix,
     velocity_torques,
 )
+from ..core.joints import kind_of
 from ..core.lagrange import configuration_space_terms, velocity_pairs
 from ..core.newton_euler import inverse_dynamics
 from ..core.sampling import random_states
@@ -143,7 +144,7 @@ def expected_terms(assignment: Assignment, plan: Plan) -> Expected:
     terms = _all_terms(model, plan.q, plan.qd, plan.qdd)
     d = list(plan.diagnostic)
     B, C = configuration_space_terms(model, plan.q[d])
-    revolute = np.array([not b.is_prismatic for b in model.bodies])
+    revolute = np.array([kind_of(b).rotates for b in model.bodies])
     mistakes: dict[str, dict[str, np.ndarray]] = {t: {} for t in terms}
     for label, factor in (("angles read as degrees", np.pi / 180), ("angles turned into degrees", 180 / np.pi)):
         scale = np.where(revolute, factor, 1.0)

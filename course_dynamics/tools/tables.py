@@ -19,9 +19,9 @@ from pathlib import Path
 
 import numpy as np
 
+from ..base import resources
 from ..base.errors import InputError
 from ..base.files import open_regular
-from ..base import resources
 from ..base.resources import check_memory, format_bytes
 
 STDIN = "-"  # what a user may try for standard input: logs are read from files only

@@ -1,0 +1,78 @@
+"""Joint kinds: what each kind of joint does to its body, in one place.
+
+Kinematics (the joint transform), the spatial algorithms (a joint's unit motion)
+and point Jacobians ask the body's :class:`JointKind` instead of branching on the
+type themselves, so a new kind of joint is one class here and its tests. (The
+Newton–Euler recursion keeps its own visible revolute/prismatic branch: there
+it is Craig's text, (6.45)–(6.50) against (6.35), (6.53) against (6.44).)
+
+=============  =====  ==============================  ===================  ========================
+kind           q      ᵖᵢR(q), ᵖPᵢ(q)                  unit motion s        point Jacobian column
+=============  =====  ==============================  ===================  ========================
+``revolute``   θ rad  R₀ Rot(Ẑ, θ), P                 (Ẑ, Pⱼ × Ẑ)          (Ẑ × (p − Pⱼ), Ẑ)
+``continuous`` θ rad  as revolute, without limits     as revolute          as revolute
+``prismatic``  d m    R₀, P + d R₀Ẑ                   (0, Ẑ)               (Ẑ, 0)
+=============  =====  ==============================  ===================  ========================
+
+R₀ and P are the joint's fixed placement in its parent (the URDF ``<origin>``), Ẑ its
+unit axis; s is (angular, linear) in base coordinates about the base origin, Ẑ and
+Pⱼ there too (:mod:`course_dynamics.core.spatial`).
+
+>>> KINDS["prismatic"].symbol, KINDS["continuous"].rotates
+('d', True)
+"""
+from __future__ import annotations
+
+from .algebra import Mat3, Vec3, cos_sin, cross, rotation_from_parts
+
+ZERO = Vec3(0, 0, 0)
+
+
+class Revolute:
+    """Turns its body by θ about its axis (rad)."""
+
+    name, symbol, latex, rotates = "revolute", "θ", r"\theta", True
+
+    @staticmethod
+    def transform(body, q) -> tuple[Mat3, Vec3]:
+        """ᵖᵢR(θ) by Rodrigues' formula on the body's precomputed parts, and the fixed ᵖPᵢ."""
+        return rotation_from_parts(body.rotation_parts, *cos_sin(q)), body.P_v
+
+    @staticmethod
+    def motion(z: Vec3, P: Vec3) -> tuple[Vec3, Vec3]:
+        """(ω, v) of the body for θ̇ = 1: a rotation about the axis through Pⱼ."""
+        return z, cross(P, z)
+
+    @staticmethod
+    def point_column(z: Vec3, point: Vec3, P: Vec3) -> tuple[Vec3, Vec3]:
+        """(∂v/∂θ̇, ∂ω/∂θ̇) of a point carried by the joint."""
+        return cross(z, point - P), z
+
+
+class Prismatic:
+    """Slides its body by d along its axis (m)."""
+
+    name, symbol, latex, rotates = "prismatic", "d", "d", False
+
+    @staticmethod
+    def transform(body, q) -> tuple[Mat3, Vec3]:
+        """The fixed ᵖᵢR, and ᵖPᵢ moved by d along the axis."""
+        return body.R0_m, body.P_v + q * body.R0_axis_v
+
+    @staticmethod
+    def motion(z: Vec3, P: Vec3) -> tuple[Vec3, Vec3]:
+        """(ω, v) of the body for ḋ = 1: a translation along the axis."""
+        return ZERO, z
+
+    @staticmethod
+    def point_column(z: Vec3, point: Vec3, P: Vec3) -> tuple[Vec3, Vec3]:
+        """(∂v/∂ḋ, ∂ω/∂ḋ) of a point carried by the joint."""
+        return z, ZERO
+
+
+KINDS: dict[str, type] = {"revolute": Revolute, "continuous": Revolute, "prismatic": Prismatic}
+
+
+def kind_of(body) -> type:
+    """The :data:`KINDS` entry of a body's joint."""
+    return KINDS[body.joint_type]
