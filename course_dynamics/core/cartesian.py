@@ -116,6 +116,24 @@ class CartesianTerms:
         return self.J.T @ (self.Mx @ np.asarray(x_ddot, dtype=float) + self.Vx + self.Gx)  # (6.104)
 
 
+def operational_space_terms(J_inv, J_dot, M, V, G, theta_dot):
+    """(M_x, V_x, G_x) of (6.99) from J⁻¹, J̇, M, V, G and Θ̇: numpy arrays or sympy matrices alike.
+
+    The one place (6.99) is written: the numeric path and the symbolic derivation both call it.
+
+    >>> import numpy as np
+    >>> Mx, Vx, Gx = operational_space_terms(np.eye(2), np.zeros((2, 2)), 2 * np.eye(2), np.ones(2), np.ones(2),
+    ...                                      np.zeros(2))
+    >>> Mx.tolist(), Vx.tolist(), Gx.tolist()
+    ([[2.0, 0.0], [0.0, 2.0]], [1.0, 1.0], [1.0, 1.0])
+    """
+    J_inv_T = J_inv.T
+    Mx = J_inv_T @ M @ J_inv  # (6.99)
+    Vx = J_inv_T @ (V - M @ J_inv @ J_dot @ theta_dot)  # (6.99)
+    Gx = J_inv_T @ G  # (6.99)
+    return Mx, Vx, Gx
+
+
 def cartesian_dynamics(model: Model, q, qd, frame: str, expressed_in: str = "base", rows=None,
                        max_condition: float = MAX_CONDITION) -> CartesianTerms:
     """M_x, V_x, G_x of (6.99) at one numeric state, for a square task Jacobian.
@@ -145,10 +163,6 @@ def cartesian_dynamics(model: Model, q, qd, frame: str, expressed_in: str = "bas
         )
     J_dot = jacobian_dot(model, q, qd, frame, expressed_in, indices)
     M, V, G = mass_matrix(model, q), velocity_torques(model, q, qd), gravity_torques(model, q)
-    J_inv = np.linalg.inv(J)
-    J_inv_T = J_inv.T
-    Mx = J_inv_T @ M @ J_inv  # (6.99)
-    Vx = J_inv_T @ (V - M @ J_inv @ J_dot @ qd)  # (6.99)
-    Gx = J_inv_T @ G  # (6.99)
+    Mx, Vx, Gx = operational_space_terms(np.linalg.inv(J), J_dot, M, V, G, qd)
     return CartesianTerms(frame=frame, rows=tuple(ROW_NAMES[i] for i in indices), J=J, J_dot=J_dot,
                           Mx=Mx, Vx=Vx, Gx=Gx, condition=condition)

@@ -389,7 +389,7 @@ def derive_cartesian(model: Model, frame: str, rows=None, expressed_in: str = "b
     selected task rows must make J square. For the two-link arm in its tool frame
     this is Craig's example 6.6.
     """
-    from .cartesian import ROW_NAMES, jacobian, jacobian_dot, row_indices
+    from .cartesian import ROW_NAMES, jacobian, jacobian_dot, operational_space_terms, row_indices
     from .dynamics import gravity_torques, mass_matrix, velocity_torques
 
     sympy = _sympy()
@@ -403,16 +403,12 @@ def derive_cartesian(model: Model, frame: str, rows=None, expressed_in: str = "b
     J = sympy.Matrix(jacobian(exact, q, frame, expressed_in, indices))
     J_dot = sympy.Matrix(jacobian_dot(exact, q, qd, frame, expressed_in, indices))
     M, V, G = sympy.Matrix(mass_matrix(exact, q)), sympy.Matrix(velocity_torques(exact, q, qd)), sympy.Matrix(gravity_torques(exact, q))
-    J_inv = J.inv()
-    J_inv_T = J_inv.T
-    theta_dot = sympy.Matrix(qd)
+    Mx, Vx, Gx = operational_space_terms(J.inv(), J_dot, M, V, G, sympy.Matrix(qd))
 
     def clean(matrix):
         return matrix.applyfunc(lambda e: decimal(sympy.factor_terms(sympy.simplify(e)), decimals))
 
     return CartesianDerivation(
         frame=frame, rows=tuple(ROW_NAMES[i] for i in indices), q=tuple(q), qd=tuple(qd), parameters=parameters,
-        J=clean(J), Mx=clean(J_inv_T * M * J_inv),  # (6.99)
-        Vx=clean(J_inv_T * (V - M * J_inv * J_dot * theta_dot)),  # (6.99)
-        Gx=clean(J_inv_T * G),  # (6.99)
+        J=clean(J), Mx=clean(Mx), Vx=clean(Vx), Gx=clean(Gx),
     )
