@@ -108,3 +108,17 @@ MAX_LINES = 450  # a module longer than this is two modules
 @pytest.mark.parametrize("path", modules(), ids=lambda p: str(p.relative_to(PACKAGE)))
 def test_no_module_is_too_long_to_read(path):
     assert len(path.read_text().splitlines()) <= MAX_LINES
+
+
+def test_imports_of_our_own_modules_sit_at_the_top_outside_the_command_line():
+    """Only the command line imports inside functions: each command loads what it alone needs (start-up time)."""
+    wrong = []
+    for path in modules():
+        relative = path.relative_to(PACKAGE)
+        if relative.parts[0] == "cli" or str(relative) in STANDALONE:
+            continue
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and node.col_offset > 0 and (
+                    node.level or (node.module or "").startswith("course_dynamics")):
+                wrong.append((str(relative), node.lineno))
+    assert not wrong, wrong

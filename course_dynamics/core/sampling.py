@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .dynamics import gravity_torques
 from .model import Model
 
 
@@ -53,7 +54,6 @@ def gravity_free(model: Model, samples: int = 16, seed: int = 0) -> bool:
     with anything then tests nothing, and the CLI says so. "Vanishes" is relative to the
     largest gravity torque the robot's masses could feel, Σ m |g| (1 m + |p|).
     """
-    from .dynamics import gravity_torques
 
     q, _, _ = random_states(model, samples, seed)
     G = gravity_torques(model, q)

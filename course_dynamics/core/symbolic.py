@@ -43,7 +43,23 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..base.errors import CourseDynamicsError
+from . import lagrange
+from .cartesian import (
+    ROW_NAMES,
+    jacobian,
+    jacobian_dot,
+    operational_space_terms,
+    row_indices,
+)
+from .dynamics import (
+    gravity_torques,
+    mass_matrix,
+    mass_matrix_by_unit_accelerations,
+    velocity_torques,
+)
+from .lagrange import velocity_pairs
 from .model import Model
+from .newton_euler import inverse_dynamics
 
 ROUND_OFF = 1e-12
 INERTIA_ENTRIES = {"xx": (0, 0), "yy": (1, 1), "zz": (2, 2), "xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}
@@ -290,14 +306,6 @@ def derive(model: Model, symbols=(), method: str = "newton-euler", simplify: boo
     URDF's numbers, made exact (or ``decimals``-digit decimals in the result).
     B and C are read off V as the coefficients of θ̇ⱼθ̇ₖ (j < k) and θ̇ⱼ² (6.63)–(6.65).
     """
-    from . import lagrange
-    from .dynamics import (
-        gravity_torques,
-        mass_matrix_by_unit_accelerations,
-        velocity_torques,
-    )
-    from .lagrange import velocity_pairs
-    from .newton_euler import inverse_dynamics
 
     sympy = _sympy()
     check_symbolic_size(model)
@@ -389,8 +397,6 @@ def derive_cartesian(model: Model, frame: str, rows=None, expressed_in: str = "b
     selected task rows must make J square. For the two-link arm in its tool frame
     this is Craig's example 6.6.
     """
-    from .cartesian import ROW_NAMES, jacobian, jacobian_dot, operational_space_terms, row_indices
-    from .dynamics import gravity_torques, mass_matrix, velocity_torques
 
     sympy = _sympy()
     check_symbolic_size(model)

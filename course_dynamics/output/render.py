@@ -29,6 +29,7 @@ from __future__ import annotations
 import json
 import re
 
+from ..base.errors import InputError
 from ..tools.trace import INWARD_QUANTITIES, OUTWARD_QUANTITIES, Trace
 
 TRACE_FORMATS = ("table", "latex", "json")
@@ -88,7 +89,6 @@ def code_block(text, language: str = "text") -> str:
 
 def json_text(document) -> str:
     """Indented JSON; a NaN or inf is an InputError (its values were out of range), never invalid JSON."""
-    from ..base.errors import InputError
 
     try:
         return json.dumps(document, indent=2, allow_nan=False)

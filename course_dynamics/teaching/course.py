@@ -25,6 +25,8 @@ from importlib import resources
 from pathlib import Path
 
 from ..base.errors import InputError
+from ..output import io
+from ..output.folders import check_folder, write_folder
 
 BEGIN, END = "### BEGIN SOLUTION", "### END SOLUTION"
 PLACEHOLDER = "...  # YOUR CODE HERE"
@@ -143,7 +145,6 @@ def write_notebooks(out: Path, solutions: bool = False, force: bool = False) -> 
     """
     import nbformat
 
-    from ..output import io
 
     out = Path(out)
     if out.exists() and not out.is_dir():
@@ -217,7 +218,6 @@ def publish(out: Path, solutions: bool = False, only=None, progress=None) -> lis
 
     from nbconvert import HTMLExporter
 
-    from ..output.folders import check_folder, write_folder
 
     out = Path(out)
     paths = notebook_paths(only)

@@ -32,6 +32,20 @@ import numpy as np
 
 from ..core import inertia
 from ..core.algebra import Vec3, point_acceleration
+from ..core.cartesian import cartesian_dynamics
+from ..core.friction import Friction
+from ..core.newton_euler import inverse_dynamics, newton_euler_links
+from ..core.robots import load_robot
+from ..grading.assignment import Assignment
+from ..grading.diagnosis import diagnose
+from ..grading.harness import FUNCTIONS, evaluate
+from ..grading.plan import (
+    expected_terms,
+    make_plan,
+    returned_coefficients,
+    returned_terms,
+)
+from ..output.render import markdown_escape
 
 MISSING = object()
 
@@ -54,7 +68,6 @@ class Verdict:
     __repr__ = text
 
     def _repr_markdown_(self) -> str:
-        from ..output.render import markdown_escape
 
         head = {"right": "✅ **right**", "wrong": "❌ **not yet right**", "not done": "⏳ **not done yet**"}[self.status]
         return "\n".join([f"`{self.name}`: {head}", ""] + [f"- {markdown_escape(line)}" for line in self.lines])
@@ -101,7 +114,6 @@ def symbols(*names: str):
 
 
 def _robot(name: str):
-    from ..core.robots import load_robot
 
     return load_robot(name)
 
@@ -118,7 +130,6 @@ def _I_corner():
 
 
 def _v_dot_c1():
-    from ..core.newton_euler import newton_euler_links
 
     d = given("v_dot_c1")
     return newton_euler_links(_robot("two_link"), d["q"], d["qd"], d["qdd"]).v_dot_c[0]
@@ -140,15 +151,12 @@ def _J_tool():
 
 
 def _Mx_value():
-    from ..core.cartesian import cartesian_dynamics
 
     q = given("Mx_value")["q"]
     return cartesian_dynamics(_robot("two_link"), q, np.zeros(2), "tool", expressed_in="frame", rows=["x", "y"]).Mx
 
 
 def _tau_with_friction():
-    from ..core.friction import Friction
-    from ..core.newton_euler import inverse_dynamics
 
     d = given("tau_with_friction")
     friction = Friction(viscous=d["viscous"], coulomb=d["coulomb"])
@@ -273,15 +281,6 @@ def _try(function, *arguments):
 
 def _check_term(name: str, exercise: Exercise, function) -> Verdict:
     """A function of the robot (τ, M, V, G or C), graded exactly as the grader grades it."""
-    from ..grading.assignment import Assignment
-    from ..grading.diagnosis import diagnose
-    from ..grading.harness import FUNCTIONS, evaluate
-    from ..grading.plan import (
-        expected_terms,
-        make_plan,
-        returned_coefficients,
-        returned_terms,
-    )
 
     if not callable(function):
         return Verdict(name, "wrong", [f"`{name}` should be a function, it is a {type(function).__name__}"])

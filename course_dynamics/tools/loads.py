@@ -31,6 +31,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..base.errors import InputError
+from ..core.cartesian import jacobian
 from ..core.inertia import box, parallel_axis, rotate
 from ..core.model import Model
 
@@ -120,7 +121,6 @@ class Wrench:
 
 def wrench_torques(model: Model, q, wrench: Wrench) -> np.ndarray:
     """τ = Jᵀ F (chapter 5's static-force relation): the joint torques that apply ``wrench``; shape like ``q``, (n,) or (N, n)."""
-    from ..core.cartesian import jacobian
 
     model.frame(wrench.link)  # a clear error for an unknown frame
     J = jacobian(model, q, wrench.link, expressed_in="base")     # (6, n) or (N, 6, n)

@@ -49,6 +49,11 @@ import numpy as np
 
 from ..base.errors import InputError
 from ..base.files import read_small
+from ..core.compiled import (
+    ProgramTooLargeError,
+    compile_model,
+    too_large_to_compile,
+)
 from ..core.friction import Friction
 from ..core.model import Model
 from ..core.newton_euler import inverse_dynamics
@@ -342,11 +347,6 @@ def torques_from_log(model: Model, table, *, dt: float | None = None, columns: M
         compiled = len(log.t) >= COMPILE_FROM_ROWS
     dynamics = None
     if compiled:
-        from ..core.compiled import (
-            ProgramTooLargeError,
-            compile_model,
-            too_large_to_compile,
-        )
 
         try:
             dynamics = compile_model(model).inverse_dynamics

@@ -44,6 +44,11 @@ import numpy as np
 
 from ..base.errors import CourseDynamicsError, StateError
 from ..base.resources import check_memory
+from ..core.compiled import (
+    ProgramTooLargeError,
+    compile_model,
+    too_large_to_compile,
+)
 from ..core.dynamics import kinetic_energy
 from ..core.forward_dynamics import AccelerationFunction, newton_euler_dynamics
 from ..core.friction import Friction
@@ -183,11 +188,6 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
     if dynamics is None:
         dynamics = newton_euler_dynamics(model)
         if compiled or (compiled is None and len(times) - 1 >= COMPILE_FROM):
-            from ..core.compiled import (
-                ProgramTooLargeError,
-                compile_model,
-                too_large_to_compile,
-            )
 
             try:
                 dynamics = compile_model(model).accelerations

@@ -12,6 +12,14 @@ from dataclasses import dataclass
 
 from ..core.model import Model
 from ..core.newton_euler import newton_euler_links
+from ..core.symbolic import (
+    SymbolError,
+    check_symbolic_size,
+    decimal,
+    joint_symbols,
+    symbolic_model,
+    tidy,
+)
 
 OUTWARD_QUANTITIES = ("omega", "omega_dot", "v_dot", "v_dot_c", "F", "N")  # (6.45)–(6.50)
 INWARD_QUANTITIES = ("f", "n")  # (6.51)–(6.52)
@@ -41,7 +49,6 @@ def trace(model: Model, q, qd, qdd, symbols=None, decimals: int | None = None) -
     """
     keys = OUTWARD_QUANTITIES + INWARD_QUANTITIES
     if decimals is not None and not (isinstance(decimals, int) and 1 <= decimals <= 30):
-        from ..core.symbolic import SymbolError
 
         raise SymbolError(f"decimals must be a whole number of digits from 1 to 30, got {decimals!r}")
     if symbols is None:
@@ -49,13 +56,6 @@ def trace(model: Model, q, qd, qdd, symbols=None, decimals: int | None = None) -
         values = {key: getattr(links, key).tolist() for key in keys}
         tau = links.tau.tolist()
     else:
-        from ..core.symbolic import (
-            check_symbolic_size,
-            decimal,
-            joint_symbols,
-            symbolic_model,
-            tidy,
-        )
 
         check_symbolic_size(model)
         exact, _ = symbolic_model(model, symbols)

@@ -73,8 +73,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..forward_dynamics import SINGULAR_PIVOT_RATIO
+from ..dynamics import coriolis_matrix, mass_matrix_and_bias
+from ..forward_dynamics import SINGULAR_PIVOT_RATIO, accelerations
 from ..model import Model
+from ..newton_euler import inverse_dynamics
 from ..state import as_state
 from . import codegen, tracing
 from .cache import CACHE_OFF, Cache, CacheWarning, cache_folder
@@ -210,7 +212,6 @@ class CompiledModel:
             out = np.zeros(np.broadcast_shapes(q.shape, qd.shape, tau.shape)[:-1] + (2 * n,))
         pivots = out[..., n:]
         if not np.all(pivots.min(axis=-1) > SINGULAR_PIVOT_RATIO * np.abs(pivots).max(axis=-1)):
-            from ..forward_dynamics import accelerations
 
             return accelerations(self.model, q, qd, tau)  # raises SingularMassMatrixError, naming the joint
         return out[..., :n]
@@ -227,8 +228,6 @@ def _functions_of(source: str, code, name: str) -> dict:
 
 def _agrees_with_the_recursion(model: Model, functions: dict) -> bool:
     """Every compiled function at one random state against the interpreted recursions, to 1e-12."""
-    from ..dynamics import coriolis_matrix, mass_matrix_and_bias
-    from ..newton_euler import inverse_dynamics
 
     n = model.n
     q, qd, qdd = np.random.default_rng().uniform(-1, 1, (3, n))

@@ -28,6 +28,8 @@ import numpy as np
 
 from ...base.errors import CourseDynamicsError
 from ...core.model import Model
+from ...core.robots import example_robot_data_share
+from ...core.urdf import read_description
 from .mesh_limits import (
     MAX_MESH_BYTES,
     MeshCount,
@@ -124,7 +126,6 @@ def package_folders(package: str, urdf: Path) -> list[Path]:
         return []
     places = [_resolved(Path(p)) for p in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep) if p]
     try:
-        from ...core.robots import example_robot_data_share
 
         places.append(_resolved(example_robot_data_share()))
     except FileNotFoundError:
@@ -185,7 +186,6 @@ def _urdf_shapes(model: Model, urdf: Path, which: str):
     The mesh files are ``(reference, path, allowed)``, one per mesh shape: the URDF's text, the
     file (:func:`mesh_location`) and whether it may be read.
     """
-    from ...core.urdf import read_description
 
     robot = read_description(urdf)
     materials = {m.name: m for m in robot.materials}

@@ -33,6 +33,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ...base.errors import CourseDynamicsError
+from ...core.urdf import xml_parser
 
 MAX_MESH_BYTES = 200 * 2**20  # any geometry: a mesh file larger than this is not drawn (stick model instead)
 # MAX_TRIANGLES and MAX_INSTANCES hold for all the meshes of one robot together. In
@@ -232,7 +233,6 @@ def _collada_root(data: bytes):
     """The document's root element, parsed with entities, DTDs and the network off; refused with a DTD."""
     from lxml import etree
 
-    from ...core.urdf import xml_parser
 
     if b"<!ENTITY" in data or b"<!DOCTYPE" in data:
         raise MeshLimitError("declares a DTD (<!DOCTYPE ...>); COLLADA files have none, and XML entities are refused")
