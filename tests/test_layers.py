@@ -122,3 +122,12 @@ def test_imports_of_our_own_modules_sit_at_the_top_outside_the_command_line():
                     node.level or (node.module or "").startswith("course_dynamics")):
                 wrong.append((str(relative), node.lineno))
     assert not wrong, wrong
+
+
+def test_every_subpackage_is_installed():
+    """A subpackage missing from pyproject's explicit list works in the checkout and fails when installed."""
+    import tomllib
+
+    listed = set(tomllib.loads((PACKAGE.parent / "pyproject.toml").read_text())["tool"]["setuptools"]["packages"])
+    found = {".".join(p.parent.relative_to(PACKAGE.parent).parts) for p in PACKAGE.rglob("__init__.py")}
+    assert found <= listed, found - listed
