@@ -205,8 +205,8 @@ def become_subreaper() -> None:
 
     libc = ctypes.CDLL(None, use_errno=True)
     if libc.prctl(PR_SET_CHILD_SUBREAPER, 1, 0, 0, 0) != 0:
-        raise ContainmentError("cannot contain the processes of submissions here (prctl PR_SET_CHILD_SUBREAPER failed); "
-                           "grade with the sandbox")
+        raise ContainmentError("cannot contain the processes of submissions here (prctl PR_SET_CHILD_SUBREAPER "
+                               "failed); grade with the sandbox")
     with STARTING:
         BEFORE = children() - LAUNCHED
 

@@ -210,11 +210,6 @@ RESERVED_NAMES = ("summary", "gradebook")  # the class's own files in the output
 MAX_NAME_BYTES = 200  # a student's name plus ".html" must fit a file name (255 bytes on Linux)
 
 
-def shown_path(path: Path) -> str:
-    """A path as it can be printed whatever bytes its name holds."""
-    return ascii(str(path))[1:-1] if not str(path).isprintable() or _surrogates(str(path)) else str(path)
-
-
 def _surrogates(text: str) -> bool:
     try:
         text.encode("utf-8")
@@ -243,7 +238,7 @@ def student_names(paths) -> list[str]:
             raise InputError(f"{path}: no such submission file")
         problem = _unusable_name(path.stem)
         if problem:
-            raise InputError(f"{shown_path(path)}: {problem}, so it cannot name a student's files and rows; rename it")
+            raise InputError(f"{path}: {problem}, so it cannot name a student's files and rows; rename it")
         if path.stem in names:
             raise InputError(f"{path} and {names[path.stem]}: two submissions named '{path.stem}' (a student is a file name)")
         if path.stem in RESERVED_NAMES:

@@ -38,7 +38,9 @@ except ImportError:
     np = None
 
 FUNCTIONS = ("tau", "M", "V", "G", "C")
+STATUSES = ("ok", "syntax error", "forbidden import", "exited", "memory", "file access", "crashed")
 MAX_VALUES = 10_000  # a returned array larger than this is reported, not sent back
+MAX_DIMENSIONS = 3   # nor one of more dimensions (M and C have two)
 FILE_ERRORS = (errno.EROFS, errno.EACCES, errno.EPERM)
 
 
@@ -80,7 +82,7 @@ def _value(result):
         return {"error": f"returned {kind if result is not None else 'None'}, expected numbers"}
     if array.size > MAX_VALUES:
         return {"error": f"returned {array.size} values"}
-    if array.ndim > 3:
+    if array.ndim > MAX_DIMENSIONS:
         return {"error": f"returned an array of {array.ndim} dimensions"}
     return {"value": array.tolist(), "shape": list(array.shape)}
 

@@ -3,7 +3,7 @@
 Run by the grader as a fresh process (standard library only): it moves itself
 into the grading cgroups named in CONFIG (JSON), sets the resource limits,
 installs the seccomp filter CONFIG carries (a BPF program, hex; see
-``sandbox.seccomp_program``), and replaces itself with COMMAND, so that the
+``containment.seccomp_program``), and replaces itself with COMMAND, so that the
 limits and the filter hold from the first instruction of the sandbox and of
 everything it starts. Doing this in a
 process of its own keeps the grader free of ``preexec_fn``, which is unsafe

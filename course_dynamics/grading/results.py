@@ -22,12 +22,10 @@ import json
 import numpy as np
 
 from ..base.errors import CourseDynamicsError
+from .harness import FUNCTIONS, MAX_DIMENSIONS, MAX_VALUES, STATUSES
 
-STATUSES = ("ok", "syntax error", "forbidden import", "exited", "memory", "file access", "crashed")
-FUNCTIONS = ("tau", "M", "V", "G", "C")
 MAX_TEXT = 2000            # characters of a message or an error
 MAX_NAMES = 100            # forbidden import attempts listed
-MAX_VALUES = 10_000        # as the harness: a larger returned array is reported, not sent back
 MAX_DIGITS = 18            # an integer in the document (a shape, a returned int) has at most this many digits
 BYTES_PER_VALUE = 32       # a float's repr with its separator
 BYTES_PER_RECORD = 2 * MAX_TEXT + 256
@@ -78,8 +76,8 @@ def _numbers(value, depth: int = 0) -> int:
         raise InvalidResults("a returned value holds true/false, not a number")
     if isinstance(value, (int, float)):
         return 1
-    if not isinstance(value, list) or depth > 3:
-        raise InvalidResults("a returned value is not a nested list of numbers of depth at most 3")
+    if not isinstance(value, list) or depth > MAX_DIMENSIONS:
+        raise InvalidResults(f"a returned value is not a nested list of numbers of depth at most {MAX_DIMENSIONS}")
     count = 0
     for item in value:
         count += _numbers(item, depth + 1)
@@ -97,8 +95,9 @@ def _record(record) -> dict:
         raise InvalidResults(f"a result has the fields {sorted(map(str, record))[:5]}")
     _numbers(record["value"])
     shape = record["shape"]
-    if not isinstance(shape, list) or len(shape) > 3 or not all(type(s) is int and 0 <= s <= MAX_VALUES for s in shape):
-        raise InvalidResults("a result's shape is not a list of at most 3 sizes")
+    if not isinstance(shape, list) or len(shape) > MAX_DIMENSIONS or \
+            not all(type(s) is int and 0 <= s <= MAX_VALUES for s in shape):
+        raise InvalidResults(f"a result's shape is not a list of at most {MAX_DIMENSIONS} sizes")
     try:
         array = np.array(record["value"], dtype=float)
     except (ValueError, OverflowError):
@@ -110,8 +109,9 @@ def _record(record) -> dict:
 
 def read_results(data: bytes, plan: dict) -> dict:
     """The checked document (module docstring) from the raw bytes; InvalidResults for anything else."""
-    if len(data) > results_cap(plan):
-        raise InvalidResults(f"the results document has more than {results_cap(plan)} bytes")
+    cap = results_cap(plan)
+    if len(data) > cap:
+        raise InvalidResults(f"the results document has more than {cap} bytes")
     try:
         document = json.loads(data.decode("utf-8"), parse_int=_integer, parse_constant=_constant)
     except InvalidResults:

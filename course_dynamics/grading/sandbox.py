@@ -78,6 +78,7 @@ HARNESS = HERE / "harness.py"
 LAUNCHER = HERE / "launcher.py"
 SCRATCH_BYTES = 64 * 2**20  # each writable mount at most; a quarter of the memory limit when that is less
 FILE_SIZE_BYTES = 16 * 2**20
+TOP_FOLDERS = ("/bin", "/sbin", "/lib", "/lib32", "/lib64")  # links into /usr on a merged-/usr system
 ETC_FILES = ("/etc/ld.so.cache", "/etc/ld.so.conf", "/etc/ld.so.conf.d", "/etc/alternatives", "/etc/localtime")
 
 
@@ -162,7 +163,7 @@ def system_folders() -> list[str]:
     import glob
 
     folders = ["/usr/bin", *sorted(glob.glob("/usr/lib/*-linux-gnu*")), "/usr/lib64"]
-    for top in ("/bin", "/sbin", "/lib", "/lib32", "/lib64"):
+    for top in TOP_FOLDERS:
         if os.path.isdir(top) and not os.path.islink(top):
             folders.append(top)  # a system without a merged /usr: the folder itself
     return [folder for folder in folders if os.path.isdir(folder)]
@@ -176,7 +177,7 @@ def _file_system(environment: Environment, limits: Limits) -> list[str]:
     roots = system_folders()
     for folder in roots:
         args += ["--ro-bind", folder, folder]
-    for top in ("/bin", "/sbin", "/lib", "/lib32", "/lib64"):
+    for top in TOP_FOLDERS:
         if os.path.islink(top):  # merged /usr: the same link as on the host, so it leads to what is bound
             args += ["--symlink", os.readlink(top), top]
     interpreter = [environment.interpreter, *environment.libraries, environment.stdlib]
