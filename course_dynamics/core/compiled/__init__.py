@@ -133,9 +133,10 @@ def traced_sources() -> tuple[Path, ...]:
     return tuple(sorted(found))
 
 
-def model_key(model: Model) -> str:
-    """A hash of everything the programs depend on: the model's numbers, the library and Python versions, and
-    the source of every module the trace can run (:func:`traced_sources`)."""
+@functools.cache
+def code_fingerprint() -> bytes:
+    """A hash of the library and Python versions and of :func:`traced_sources`: the same for every model, so
+    computed once per process."""
     digest = hashlib.sha256()
     try:
         digest.update(metadata.version("course-dynamics").encode())
@@ -144,6 +145,13 @@ def model_key(model: Model) -> str:
     digest.update(f"{sys.version} {sys.implementation.cache_tag} marshal {marshal.version}".encode())
     for path in traced_sources():
         digest.update(path.relative_to(PACKAGE).as_posix().encode() + b"\0" + path.read_bytes())
+    return digest.digest()
+
+
+def model_key(model: Model) -> str:
+    """A hash of everything the programs depend on: the model's numbers, the library and Python versions, and
+    the source of every module the trace can run (:func:`traced_sources`)."""
+    digest = hashlib.sha256(code_fingerprint())
     description = [model.name, model.gravity.tolist(), [
         [b.joint, b.joint_type, b.parent, b.R0.tolist(), b.P.tolist(), b.axis.tolist(), float(b.mass), b.p_com.tolist(),
          b.I_com.tolist()] for b in model.bodies]]
@@ -220,7 +228,7 @@ class CompiledModel:
 PROGRAMS = ("tau", "mass_matrix", "bias", "coriolis", "forward_dynamics")
 
 
-def _functions_of(source: str, code, name: str) -> dict:
+def _functions_of(code, name: str) -> dict:
     namespace: dict = {"__name__": f"course_dynamics_compiled_{name}"}
     exec(code, namespace)  # our own program: just generated, or read back after its keyed hash was checked
     return {n: namespace[n] for p in PROGRAMS for n in (p, f"{p}_batch")}
@@ -263,13 +271,13 @@ def compile_model(model: Model, cache: bool = True) -> CompiledModel:
         if entry is not None:
             source, code = entry
             try:
-                functions = _functions_of(source, code, key[:16])
+                functions = _functions_of(code, key[:16])
             except Exception:  # a program that does not run: generate it again
                 functions = None
             if functions is not None and _agrees_with_the_recursion(model, functions):
                 return CompiledModel(model, source, time.perf_counter() - start, True, store.path(key), functions)
         source = module_source(model, trace_programs(model), key)
         code = compile(source, f"<compiled {key[:16]}>", "exec")
-        functions = _functions_of(source, code, key[:16])
+        functions = _functions_of(code, key[:16])
         stored = store.store(key, source, code)
     return CompiledModel(model, source, time.perf_counter() - start, False, stored, functions)
