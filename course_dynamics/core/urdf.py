@@ -20,13 +20,15 @@ from __future__ import annotations
 
 import logging
 import math
+import os
 import re
 import warnings
 from pathlib import Path
 
 import numpy as np
 
-from ..base.errors import ModelError
+from ..base.errors import InputError, ModelError
+from ..base.files import read_small
 from .inertia import physical_problems
 from .joints import KINDS
 from .model import STANDARD_GRAVITY, Body, Frame, Model
@@ -223,19 +225,12 @@ def read_description(path):
     from lxml import etree
 
     path = Path(path)
-    if path.is_dir():
-        raise ModelError(f"{path}: is a directory, not a URDF file")
-    if not path.exists():
+    if not os.path.lexists(path):
         raise ModelError(f"{path}: no such file")
-    if not path.is_file():
-        raise ModelError(f"{path}: not a regular file")
-    size = path.stat().st_size
-    if size > MAX_URDF_BYTES:
-        raise ModelError(f"{path}: {size / 2**20:.0f} MiB is more than a URDF file may be ({MAX_URDF_BYTES // 2**20} MiB)")
-    try:
-        raw = path.read_bytes()
-    except OSError as exc:
-        raise ModelError(f"{path}: cannot read: {exc.strerror}") from None
+    try:  # a regular file (a pipe would block, a device never end), checked on the opened file too
+        raw = read_small(path, MAX_URDF_BYTES, "URDF file")
+    except InputError as exc:
+        raise ModelError(str(exc)) from None
     if not raw.strip():
         raise ModelError(f"{path}: empty file")
     if b"<!ENTITY" in raw or re.search(rb"<!DOCTYPE[^>]*\[", raw):
