@@ -192,3 +192,13 @@ def test_student_notebooks_never_write_through_a_link_or_into_a_folder(tmp_path,
     assert victim.read_text() == "precious" and link.is_symlink() and (course / f"{NOTEBOOKS[1].stem}.ipynb").is_dir()
     assert f"note: {link} is a symbolic link, left alone (nothing is written through it, even with --force)" in err
     assert "is not a regular file, left alone" in err and not list(course.glob("*.bak-*"))
+
+
+def test_without_the_installed_package_data_the_checkouts_notebooks_are_found(monkeypatch):
+    from course_dynamics.teaching import course
+
+    def not_installed(name):
+        raise ModuleNotFoundError(name)
+
+    monkeypatch.setattr(course.resources, "files", not_installed)
+    assert len(list(course.notebooks_folder().glob("[0-9][0-9]_*.py"))) == 9

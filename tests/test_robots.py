@@ -31,3 +31,16 @@ def test_package_paths_resolve_against_cmeel_share():
 def test_unknown_name():
     with pytest.raises(KeyError, match="unknown robot 'r2d2'"):
         robot_path("r2d2")
+
+
+def test_without_the_installed_package_data_the_checkouts_robots_are_found(monkeypatch):
+    """The fallback of a source checkout that is not installed: robots/ beside the package."""
+    from importlib import resources
+
+    from course_dynamics.core import robots
+
+    def not_installed(name):
+        raise ModuleNotFoundError(name)
+
+    monkeypatch.setattr(resources, "files", not_installed)
+    assert (robots._robots_folder() / "two_link.urdf").is_file()

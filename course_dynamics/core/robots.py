@@ -41,7 +41,7 @@ def _robots_folder() -> Path:
             return folder
     except (ModuleNotFoundError, TypeError):
         pass
-    return Path(__file__).resolve().parent.parent / "robots"
+    return Path(__file__).resolve().parents[2] / "robots"  # course_dynamics/core/robots.py -> the checkout
 
 
 ROBOTS_DIR = _robots_folder()

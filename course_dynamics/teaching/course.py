@@ -42,7 +42,7 @@ def notebooks_folder() -> Path:
             return Path(str(folder))
     except ModuleNotFoundError:
         pass
-    return Path(__file__).resolve().parent.parent / "notebooks"
+    return Path(__file__).resolve().parents[2] / "notebooks"  # course_dynamics/teaching/ -> the checkout
 
 
 def notebook_paths(only=None) -> list[Path]:
