@@ -49,11 +49,7 @@ import numpy as np
 
 from ..base.errors import InputError
 from ..base.files import read_small
-from ..core.compiled import (
-    ProgramTooLargeError,
-    compile_model,
-    too_large_to_compile,
-)
+from ..core.compiled import compiled_if_worth_it
 from ..core.friction import Friction
 from ..core.model import Model
 from ..core.newton_euler import inverse_dynamics
@@ -342,21 +338,10 @@ def torques_from_log(model: Model, table, *, dt: float | None = None, columns: M
     for load in _as_list(payload):
         model = with_payload(model, load)
     log = joint_log(model, table, dt=dt, columns=columns, window=window, constants=constants, time_unit=time_unit)
-    automatic = compiled is None
-    if automatic:
-        compiled = len(log.t) >= COMPILE_FROM_ROWS
-    dynamics = None
-    if compiled:
+    fast = compiled_if_worth_it(model, compiled, long_enough=len(log.t) >= COMPILE_FROM_ROWS)
 
-        try:
-            dynamics = compile_model(model).inverse_dynamics
-        except ProgramTooLargeError as exc:
-            if compiled is True and not automatic:
-                raise
-            too_large_to_compile(exc)
-    if dynamics is None:
-        def dynamics(q, qd, qdd):
-            return inverse_dynamics(model, q, qd, qdd)
+    def dynamics(q, qd, qdd):
+        return fast.inverse_dynamics(q, qd, qdd) if fast is not None else inverse_dynamics(model, q, qd, qdd)
     pushes = _as_list(wrench)
     tau = np.empty_like(log.q)
     for start in range(0, len(log.t), ROWS_AT_A_TIME):

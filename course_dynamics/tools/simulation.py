@@ -44,11 +44,7 @@ import numpy as np
 
 from ..base.errors import CourseDynamicsError, StateError
 from ..base.resources import check_memory
-from ..core.compiled import (
-    ProgramTooLargeError,
-    compile_model,
-    too_large_to_compile,
-)
+from ..core.compiled import compiled_if_worth_it
 from ..core.dynamics import kinetic_energy
 from ..core.forward_dynamics import AccelerationFunction, newton_euler_dynamics
 from ..core.friction import Friction
@@ -186,15 +182,8 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
         raise SimulationError("limits='stop' needs a fixed-step integrator (euler, semi-implicit or rk4)")
     tau_of = torque_function(model, torque)
     if dynamics is None:
-        dynamics = newton_euler_dynamics(model)
-        if compiled or (compiled is None and len(times) - 1 >= COMPILE_FROM):
-
-            try:
-                dynamics = compile_model(model).accelerations
-            except ProgramTooLargeError as exc:
-                if compiled:
-                    raise
-                too_large_to_compile(exc)
+        fast = compiled_if_worth_it(model, compiled, long_enough=len(times) - 1 >= COMPILE_FROM)
+        dynamics = fast.accelerations if fast is not None else newton_euler_dynamics(model)
     solve_accelerations = dynamics
 
     def applied(t, q, qd):

@@ -92,17 +92,30 @@ from .tracing import (
 
 __all__ = ["CACHE_OFF", "MAX_OPERATIONS", "CacheWarning", "CompileWarning", "CompiledModel", "Program",
            "ProgramTooLargeError", "Tape", "Traced", "cache_folder", "compile_model", "model_key", "module_source",
-           "program_source", "too_large_to_compile", "trace_programs"]
+           "program_source", "compiled_if_worth_it", "trace_programs"]
 
 
 class CompileWarning(UserWarning):
     """A model that was run interpreted because it is too large to compile (the message says so)."""
 
 
-def too_large_to_compile(error: ProgramTooLargeError) -> None:
-    """What a caller that compiles on its own does with a robot too large for it: warn, then run interpreted."""
-    warnings.warn(str(ProgramTooLargeError(error.what, "; running the interpreted recursions")), CompileWarning,
-                  stacklevel=3)
+def compiled_if_worth_it(model: Model, compiled: bool | None, long_enough: bool) -> "CompiledModel | None":
+    """The choice every caller that may compile makes: the compiled model, or None for the interpreted path.
+
+    ``compiled`` True compiles (a robot too large raises :class:`ProgramTooLargeError`), False never does,
+    None compiles when the work is ``long_enough`` to pay for it; a robot too large is then run interpreted
+    with a :class:`CompileWarning`.
+    """
+    if compiled is False or (compiled is None and not long_enough):
+        return None
+    try:
+        return compile_model(model)
+    except ProgramTooLargeError as error:
+        if compiled:
+            raise
+        warnings.warn(str(ProgramTooLargeError(error.what, "; running the interpreted recursions")), CompileWarning,
+                      stacklevel=3)
+        return None
 
 
 PACKAGE = Path(__file__).resolve().parent.parent.parent  # course_dynamics/
