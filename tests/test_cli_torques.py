@@ -56,6 +56,16 @@ def test_columns_lists_what_is_used(capsys):
     assert re.search(r"\njoint1_pos +q_shoulder_pan_joint\n", out) and re.search(r"\nmotor_temp_c +\(ignored\)\n", out)
 
 
+def test_columns_follows_the_plan_the_reader_would(capsys):
+    """--columns refuses a map the reader would refuse, and says which rates a constant joint holds at zero."""
+    code, _, err = run(capsys, *sample("--columns", "--map", "qd_wrist_3_joint=no_such_column"))
+    assert_one_line_error(code, err, "no column 'no_such_column' (mapped from qd_wrist_3_joint)")
+    code, out, _ = run(capsys, "torques", "ur5", "--log", str(LOG), "--columns", "--map", "t=time_s",
+                       "--set", "q_wrist_3_joint=0.5")
+    assert code == 0 and "q_wrist_3_joint = 0.5 throughout (--set)" in out
+    assert "qd_wrist_3_joint" not in out.split("differentiated:")[-1]
+
+
 def test_out_dash_streams_the_csv_and_moves_the_report_to_stderr(capsys):
     code, out, err = run(capsys, *sample("--out", "-"))
     assert code == 0

@@ -55,9 +55,9 @@ from ..core.model import Model
 from ..core.newton_euler import inverse_dynamics
 from .limits import LimitsReport, limits_report
 from .loads import with_payload, wrench_torques
+from .columns import KINDS, plan_columns
 from .tables import Table, joint_columns, stack_joint_columns
 
-KINDS = ("q", "qd", "qdd")
 POLYORDER = 3                 # a cubic: Θ̈ is its second derivative, still linear in time within a window
 DEFAULT_WINDOW_SECONDS = 0.02
 MIN_WINDOW = 7
@@ -203,53 +203,29 @@ def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[
     def line(row: int) -> str:
         return f"line {int(lines[row])}" if lines is not None else f"row {row + 1}"
 
-    columns, constants = dict(columns or {}), dict(constants or {})
     if time_unit not in TIME_UNITS:
         raise InputError(f"unknown time unit '{time_unit}' (choose from {', '.join(TIME_UNITS)})")
-    ours = ["t"] + joint_columns(KINDS, model.joint_names)
-    for name in list(columns) + list(constants):
-        if name not in ours:
-            raise InputError(f"column map: '{name}' is none of our columns (t, q_<joint>, qd_<joint>, qdd_<joint> "
-                             f"for joints {', '.join(model.joint_names)})")
-    for name, theirs in columns.items():
-        if theirs not in data:
-            raise InputError(f"{where}: no column '{theirs}' (mapped from {name}); columns: {', '.join(data)}")
-    taken = list(columns.values())
-    for theirs in set(taken):
-        if taken.count(theirs) > 1:
-            both = [name for name, other in columns.items() if other == theirs]
-            raise InputError(f"column map: {' and '.join(both)} are both mapped to the log's column '{theirs}'")
-    for name, value in constants.items():
-        if not np.isfinite(value):
-            raise InputError(f"the constant value of {name} must be finite, got {value}")
-        if name in columns or name in data:
-            raise InputError(f"{name} is both given a constant value and read from {where}")
-    renamed = {name: data[columns.get(name, name)] for name in ours if columns.get(name, name) in data}
+    plan = plan_columns(model, data, columns=columns, constants=constants, where=where)
+    renamed = {name: data[theirs] for name, theirs in plan.read.items()}
     lengths = {len(v) for v in renamed.values()}
     if len(lengths) > 1:
         raise InputError(f"{where}: columns have different lengths {sorted(lengths)}")
     samples = lengths.pop() if lengths else 0
-    for name, value in constants.items():
+    for name, value in plan.constants.items():
         renamed[name] = np.full(samples, float(value))
-        if name.startswith("q_"):  # a joint held still: its rates are zero unless given
-            for kind in ("qd", "qdd"):
-                renamed.setdefault(f"{kind}_{name[2:]}", np.zeros(samples))
-
-    given = {kind: {j for j in model.joint_names if f"{kind}_{j}" in renamed} for kind in KINDS}
-    if len(given["q"]) < model.n:
-        missing = [f"q_{j}" for j in model.joint_names if j not in given["q"]]
-        raise InputError(f"{where}: missing columns: {', '.join(missing)} (a column map can name the log's own; "
-                         f"a joint the log does not record can be given a constant)")
+    for name in plan.held:  # a joint held still: its rates are zero
+        renamed[name] = np.zeros(samples)
+    plan.require_positions(where)
     q = stack_joint_columns(renamed, "q", model.joint_names)
     if samples == 0:
         raise InputError(f"{where}: no data rows")
     for name, values in renamed.items():
         bad = np.flatnonzero(~np.isfinite(values))
         if len(bad):
-            raise InputError(f"{where}: {line(bad[0])}, column '{columns.get(name, name)}': value is {values[bad[0]]} "
+            raise InputError(f"{where}: {line(bad[0])}, column '{plan.read.get(name, name)}': value is {values[bad[0]]} "
                              f"(must be finite)")
 
-    if "t" in renamed:
+    if plan.has_time:
         if dt is not None:
             raise InputError(f"{where} has a time column; dt (--dt) is only for logs without one")
         t = renamed["t"] * TIME_UNITS[time_unit]
@@ -267,16 +243,15 @@ def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[
         t = np.arange(samples) * float(dt)
 
     notes = []
-    derived_qd = [j for j in model.joint_names if j not in given["qd"]]
-    derived_qdd = [j for j in model.joint_names if j not in given["qdd"]]
+    derived_qd, derived_qdd = plan.derived_kind("qd"), plan.derived_kind("qdd")
     qd = np.empty_like(q)
     qdd = np.empty_like(q)
-    if derived_qd or derived_qdd:
-        from scipy.signal import savgol_filter
+    if plan.derived:
+        from scipy.signal import savgol_filter  # scipy's import takes 0.2 s: only logs that need differentiating pay it
 
         if samples < 2:
             raise InputError(f"{where}: one row cannot be differentiated (give qd_ and qdd_ columns)")
-        step = _even_step(t, where, line) if "t" in renamed else float(dt)
+        step = _even_step(t, where, line) if plan.has_time else float(dt)
         w = _window(samples, step, window, where)
         how = f"Savitzky-Golay derivative ({w}-sample window = {w * step:.4g} s, cubic)"
 
@@ -295,20 +270,19 @@ def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[
         return "" if len(joints) == model.n else f" (joints {', '.join(joints)})"
 
     for i, j in enumerate(model.joint_names):
-        qd[:, i] = renamed[f"qd_{j}"] if j in given["qd"] else derivative(q[:, i], 1)
-        if j in given["qdd"]:
+        qd[:, i] = derivative(q[:, i], 1) if j in derived_qd else renamed[f"qd_{j}"]
+        if j not in derived_qdd:
             qdd[:, i] = renamed[f"qdd_{j}"]
         else:
-            qdd[:, i] = derivative(qd[:, i], 1) if j in given["qd"] else derivative(q[:, i], 2)
+            qdd[:, i] = derivative(q[:, i], 2) if j in derived_qd else derivative(qd[:, i], 1)
     if derived_qd:
         notes.append(f"qd: first {how} of q{which(derived_qd)}")
-    from_q = [j for j in derived_qdd if j not in given["qd"]]
-    from_qd = [j for j in derived_qdd if j in given["qd"]]
+    from_q, from_qd = plan.derived_kind("qdd", "q"), plan.derived_kind("qdd", "qd")
     if from_q:
         notes.append(f"qdd: second {how} of q{which(from_q)}")
     if from_qd:
         notes.append(f"qdd: first {how} of qd{which(from_qd)}")
-    for name, value in constants.items():
+    for name, value in plan.constants.items():
         notes.append(f"{name} = {value:g} throughout (not in the log)")
     return JointLog(t=t, q=q, qd=qd, qdd=qdd, notes=tuple(notes))
 

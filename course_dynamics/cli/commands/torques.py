@@ -7,15 +7,9 @@ import numpy as np
 
 from ...output import io, render
 from ...tools.loads import Payload, Wrench, payload_link
-from ...tools.logs import (
-    COMPILE_FROM_ROWS,
-    KINDS,
-    TIME_UNITS,
-    as_columns,
-    parse_column_map,
-    torques_from_log,
-)
-from ...tools.tables import DECIMALS, joint_columns, read_table
+from ...tools.columns import plan_columns
+from ...tools.logs import COMPILE_FROM_ROWS, TIME_UNITS, parse_column_map, torques_from_log
+from ...tools.tables import DECIMALS, read_table
 from ..options import (
     UsageError,
     add_friction_arguments,
@@ -155,19 +149,19 @@ def settings(args, model, payloads, wrenches, joint_friction) -> list[str]:
 
 
 def _list_columns(table, model, mapping, fixed) -> int:
-    columns, _ = as_columns(table)
-    ours = ["t"] + joint_columns(KINDS, model.joint_names)
-    used = {mapping.get(name, name): name for name in ours}
-    rows = [["log column", "used as"]] + [[c, used.get(c, "(ignored)")] for c in columns]
-    print(f"{table.path}: {len(table.data)} rows, {len(columns)} columns")
+    """What ``--columns`` prints: the column plan that reading the log would follow, before any number is read."""
+    plan = plan_columns(model, table.header, columns=mapping, constants=fixed, where=table.path)
+    used = plan.used_as
+    rows = [["log column", "used as"]] + [[c, used.get(c, "(ignored)")] for c in plan.theirs]
+    print(f"{table.path}: {len(table.data)} rows, {len(plan.theirs)} columns")
     print(render.text_table(rows, align="<<"))
-    found = {used[c] for c in columns if c in used} | set(fixed)
-    missing_q = [name for name in ours if name.startswith("q_") and name not in found]
-    derived = [name for name in ours if name.startswith(("qd_", "qdd_")) and name not in found]
-    if "t" not in found:
+    for name, value in plan.constants.items():
+        print(f"{name} = {value:g} throughout (--set)")
+    if not plan.has_time:
         print("t: not found (map it, or give --dt)")
-    if missing_q:
-        print(f"missing (map them, or --set a constant): {', '.join(missing_q)}")
+    if plan.missing_positions:
+        print(f"missing (map them, or --set a constant): {', '.join(plan.missing_positions)}")
+    derived = [d.name for d in plan.derived]
     if len(derived) == 2 * model.n:
         print("qd, qdd: differentiated from q for every joint")
     elif derived:

@@ -1,0 +1,143 @@
+"""Which of a log's columns give t, Θ, Θ̇ and Θ̈, worked out once: the column plan.
+
+==================  ==============================================================
+code                meaning
+==================  ==============================================================
+``ours``            our column names: ``t``, ``q_<joint>``, ``qd_<joint>``, ``qdd_<joint>``
+``theirs``          the log's column names, as its header spells them
+``read``            ours → theirs, for every one of ours the log holds (mapped or not)
+``constants``       ours → a value for every row, for signals the log lacks
+``derived``         ``qd_``/``qdd_`` columns to be differentiated, and from what
+==================  ==============================================================
+
+:func:`plan_columns` looks only at names, never at data, so the reader
+(:func:`course_dynamics.tools.logs.joint_log`) and the CLI's ``torques --columns`` (which
+lists the plan without reading a number) act on the same decisions. A source of logs
+(a recorder's CSV, a bag) gives a list of column names and, where it knows them, a map;
+everything after that goes through this one plan.
+
+>>> from course_dynamics import load_robot
+>>> plan = plan_columns(load_robot("two_link"), ["time", "q_theta1", "q_theta2", "temp"], columns={"t": "time"})
+>>> plan.read["t"], plan.ignored, plan.missing_positions
+('time', ('temp',), ())
+>>> [d.name + " from " + d.source for d in plan.derived]
+['qd_theta1 from q', 'qd_theta2 from q', 'qdd_theta1 from q', 'qdd_theta2 from q']
+"""
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..base.errors import InputError
+from ..core.model import Model
+from .tables import joint_columns
+
+KINDS = ("q", "qd", "qdd")
+
+
+@dataclass(frozen=True)
+class Derived:
+    """One of our rate columns the log lacks: ``name`` (``qd_j`` or ``qdd_j``) from ``source`` (``q`` or ``qd``)."""
+
+    name: str
+    joint: str
+    order: int      # 1 for qd, 2 for qdd
+    source: str     # "q": differentiate Θ ``order`` times; "qd": differentiate the given Θ̇ once
+
+
+@dataclass(frozen=True)
+class ColumnPlan:
+    """Where each of our columns comes from (module docstring); built by :func:`plan_columns`."""
+
+    joints: tuple[str, ...]
+    theirs: tuple[str, ...]
+    read: Mapping[str, str]
+    constants: Mapping[str, float]
+    held: tuple[str, ...]           # qd_/qdd_ columns that are zero because their q is a constant
+    derived: tuple[Derived, ...]
+
+    @property
+    def ours(self) -> tuple[str, ...]:
+        return ("t",) + tuple(joint_columns(KINDS, self.joints))
+
+    @property
+    def has_time(self) -> bool:
+        return "t" in self.read
+
+    @property
+    def missing_positions(self) -> tuple[str, ...]:
+        """``q_<joint>`` columns neither in the log nor given a constant."""
+        return tuple(f"q_{j}" for j in self.joints if f"q_{j}" not in self.read and f"q_{j}" not in self.constants)
+
+    @property
+    def used_as(self) -> dict[str, str]:
+        """The log's column → ours, for the columns the plan reads."""
+        return {theirs: ours for ours, theirs in self.read.items()}
+
+    @property
+    def ignored(self) -> tuple[str, ...]:
+        used = self.used_as
+        return tuple(c for c in self.theirs if c not in used)
+
+    def require_positions(self, where: str) -> None:
+        """Raise :class:`InputError` unless every joint's Θ is read or set."""
+        if self.missing_positions:
+            raise InputError(f"{where}: missing columns: {', '.join(self.missing_positions)} (a column map can name "
+                             f"the log's own; a joint the log does not record can be given a constant)")
+
+    def derived_kind(self, kind: str, source: str | None = None) -> list[str]:
+        """The joints whose ``kind`` (qd or qdd) is differentiated (from ``source``, if given)."""
+        order = KINDS.index(kind)
+        return [d.joint for d in self.derived if d.order == order and (source is None or d.source == source)]
+
+
+def plan_columns(model: Model, theirs: Iterable[str], *, columns: Mapping[str, str] | None = None,
+                 constants: Mapping[str, float] | None = None, where: str = "the table") -> ColumnPlan:
+    """The column plan for a log whose header is ``theirs`` (module docstring).
+
+    Parameters
+    ----------
+    model : whose joints the log must cover
+    theirs : the log's column names, in order
+    columns : our column name → the log's (a map; unmapped ones of ours are looked up by name)
+    constants : our column name → a value for every row
+    where : the log's name in messages
+
+    Raises
+    ------
+    InputError
+        A map or constant for a name that is none of ours, a mapped column the log lacks, two of ours mapped to one
+        of the log's, a constant that is not finite or is also read from the log.
+    """
+    theirs = tuple(theirs)
+    available = set(theirs)
+    columns, constants = dict(columns or {}), dict(constants or {})
+    ours = ["t"] + joint_columns(KINDS, model.joint_names)
+    for name in list(columns) + list(constants):
+        if name not in ours:
+            raise InputError(f"column map: '{name}' is none of our columns (t, q_<joint>, qd_<joint>, qdd_<joint> "
+                             f"for joints {', '.join(model.joint_names)})")
+    for name, other in columns.items():
+        if other not in available:
+            raise InputError(f"{where}: no column '{other}' (mapped from {name}); columns: {', '.join(theirs)}")
+    taken = list(columns.values())
+    for other in sorted(set(taken)):
+        if taken.count(other) > 1:
+            both = [name for name, mapped in columns.items() if mapped == other]
+            raise InputError(f"column map: {' and '.join(both)} are both mapped to the log's column '{other}'")
+    for name, value in constants.items():
+        if not np.isfinite(value):
+            raise InputError(f"the constant value of {name} must be finite, got {value}")
+        if name in columns or name in available:
+            raise InputError(f"{name} is both given a constant value and read from {where}")
+    read = {name: columns.get(name, name) for name in ours if columns.get(name, name) in available}
+    held = tuple(f"{kind}_{name[2:]}" for name in constants if name.startswith("q_") for kind in ("qd", "qdd")
+                 if f"{kind}_{name[2:]}" not in read and f"{kind}_{name[2:]}" not in constants)
+    given = set(read) | set(constants) | set(held)
+    derived = [Derived(f"qd_{j}", j, 1, "q") for j in model.joint_names if f"qd_{j}" not in given]
+    derived += [Derived(f"qdd_{j}", j, 2, "qd" if f"qd_{j}" in given else "q") for j in model.joint_names
+                if f"qdd_{j}" not in given]
+    return ColumnPlan(joints=tuple(model.joint_names), theirs=theirs, read=read, constants=constants, held=held,
+                      derived=tuple(derived))
