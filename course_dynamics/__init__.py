@@ -16,18 +16,11 @@ from .base.errors import (
     StateError,
     UnknownRobotError,
 )
-from .core.dynamics import (
-    DynamicsTerms,
-    coriolis_matrix,
-    dynamics_terms,
-    gravity_torques,
-    mass_matrix,
-    velocity_torques,
-)
-from .core.forward_dynamics import forward_dynamics
+from .core.dynamics import DynamicsTerms, dynamics_terms, velocity_torques
+from .core.evaluator import coriolis_matrix, forward_dynamics, gravity_torques, inverse_dynamics, mass_matrix
 from .core.kinematics import forward_kinematics, potential_energy
 from .core.model import Body, Model
-from .core.newton_euler import LinkQuantities, inverse_dynamics, newton_euler_links
+from .core.newton_euler import LinkQuantities, newton_euler_links
 from .core.robots import load_robot, robot_names, robot_path
 from .core.urdf import load_urdf
 

@@ -322,26 +322,3 @@ def test_an_entry_that_is_no_regular_file_is_replaced_never_opened(tmp_path, mon
     if kind == "device link":
         assert stat.S_IMODE(os.stat(device).st_mode) == 0o666  # never chmod'ed through the link
     assert compile_model(model).from_cache
-
-
-def test_the_choice_to_compile_is_made_in_one_place(tmp_path):
-    """simulate and long logs both ask compiled_if_worth_it: asked for, never, or when the work pays for it."""
-    import warnings
-
-    from course_dynamics.core.compiled import CompileWarning, ProgramTooLargeError, compiled_if_worth_it
-    from helpers import chain_urdf
-
-    arm = load_robot("two_link")
-    assert compiled_if_worth_it(arm, False, long_enough=True) is None
-    assert compiled_if_worth_it(arm, None, long_enough=False) is None
-    assert compiled_if_worth_it(arm, None, long_enough=True) is not None
-    assert compiled_if_worth_it(arm, True, long_enough=False) is not None
-    path = tmp_path / "chain.urdf"
-    path.write_text(chain_urdf(60))
-    chain = load_urdf(path)
-    with pytest.raises(ProgramTooLargeError):
-        compiled_if_worth_it(chain, True, long_enough=True)
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        assert compiled_if_worth_it(chain, None, long_enough=True) is None
-    assert [w.category for w in caught] == [CompileWarning]

@@ -37,9 +37,6 @@ from .model import Model
 from .newton_euler import inverse_dynamics, torque_entries
 from .state import as_state, entries, layout_of
 
-NO_GRAVITY = Vec3(0, 0, 0)
-
-
 NO_GRAVITY = Vec3(0.0, 0.0, 0.0)  # the recursion at g = 0: V and M Θ̇ alone
 
 

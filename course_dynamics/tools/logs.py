@@ -49,7 +49,7 @@ import numpy as np
 
 from ..base.errors import InputError
 from ..base.files import read_small
-from ..core.compiled import compiled_if_worth_it
+from ..core.evaluator import implementation
 from ..core.friction import Friction
 from ..core.model import Model
 from ..core.newton_euler import inverse_dynamics
@@ -63,7 +63,6 @@ DEFAULT_WINDOW_SECONDS = 0.02
 MIN_WINDOW = 7
 MAX_MAP_BYTES = 2**20         # a column map of a thousand joints is under 100 kB
 EVEN_SPACING = 0.1            # largest deviation of a step from the median step, relative
-COMPILE_FROM_ROWS = 5000      # from here on a compiled model (cached after the first run) pays off
 # τ is computed this many rows at a time: the recursion's temporaries (for the UR5 about 1.6 kB a row
 # interpreted, 0.5 kB compiled, measured with tracemalloc) then stay under 60 MB however long the log.
 ROWS_AT_A_TIME = 2**15
@@ -303,8 +302,9 @@ def torques_from_log(model: Model, table, *, dt: float | None = None, columns: M
     + Σ Jᵀ F_ext (wrenches at frames, chapter 5's static forces), on the model (under its gravity:
     ``model.with_gravity(g)`` to change it) with every ``payload`` lumped in. ``payload``: a :class:`~course_dynamics.tools.loads.Payload`
     or a list of them; ``wrench``: a :class:`~course_dynamics.tools.loads.Wrench` or a list.
-    ``compiled``: None compiles the model for logs of :data:`COMPILE_FROM_ROWS` rows or more;
-    True/False force it. Other parameters as :func:`joint_log`.
+    ``compiled``: None lets the evaluator (:mod:`course_dynamics.core.evaluator`) choose by the log's
+    length (a compiled model from about 20 000 rows, or sooner once this process has done that much work
+    on the model); True/False force it. Other parameters as :func:`joint_log`.
 
     Returns a :class:`TorqueLog`: ``tau`` (N, n); ``log`` with ``t``, ``q``, ``qd``, ``qdd`` as
     used; ``report`` (:class:`~course_dynamics.tools.limits.LimitsReport`); ``notes``; ``table()``.
@@ -312,7 +312,8 @@ def torques_from_log(model: Model, table, *, dt: float | None = None, columns: M
     for load in _as_list(payload):
         model = with_payload(model, load)
     log = joint_log(model, table, dt=dt, columns=columns, window=window, constants=constants, time_unit=time_unit)
-    fast = compiled_if_worth_it(model, compiled, long_enough=len(log.t) >= COMPILE_FROM_ROWS)
+    fast = implementation(model, calls=-(-len(log.t) // ROWS_AT_A_TIME), states=min(len(log.t), ROWS_AT_A_TIME),
+                          compiled=compiled)
 
     def dynamics(q, qd, qdd):
         return fast.inverse_dynamics(q, qd, qdd) if fast is not None else inverse_dynamics(model, q, qd, qdd)

@@ -14,8 +14,9 @@ integrator          one step of size Δt from (Θ, Θ̇), with Θ̈ = f(t, Θ, �
 Dynamics: ``dynamics=None`` uses our forward dynamics, M by composite rigid
 bodies and V + G by Newton–Euler, compiled into straight-line code
 (:mod:`course_dynamics.core.compiled`) when the run is long enough for that to pay
-off (:data:`COMPILE_FROM` steps; ``compiled=True``/``False`` forces the
-choice). Any :data:`~course_dynamics.core.forward_dynamics.AccelerationFunction`
+off, as the evaluator (:mod:`course_dynamics.core.evaluator`) decides from the run's
+calls (:data:`CALLS_PER_STEP` a step) and ensemble size — about 100 Euler steps or 25 RK4
+steps of one robot; ``compiled=True``/``False`` forces the choice. Any :data:`~course_dynamics.core.forward_dynamics.AccelerationFunction`
 (q, qd, τ) → Θ̈ can take its place — Pinocchio's ``aba`` in a benchmark.
 Friction, if given, is subtracted from τ before the call (6.114).
 
@@ -44,7 +45,7 @@ import numpy as np
 
 from ..base.errors import CourseDynamicsError, StateError
 from ..base.resources import check_memory
-from ..core.compiled import compiled_if_worth_it
+from ..core.evaluator import implementation
 from ..core.dynamics import kinetic_energy
 from ..core.forward_dynamics import AccelerationFunction, newton_euler_dynamics
 from ..core.friction import Friction
@@ -55,7 +56,8 @@ from ..core.state import as_state
 INTEGRATORS = ("euler", "semi-implicit", "rk4", "adaptive")
 ADAPTIVE_CALLS_PER_STEP = 1000  # right-hand-side evaluations per output sample before the adaptive integrator gives up
 LIMIT_MODES = ("report", "stop")
-COMPILE_FROM = 100  # steps: from here on a compiled model pays for itself
+# forward-dynamics calls per step (DOP853 takes 12 stages a step, and several steps a sample)
+CALLS_PER_STEP = {"euler": 1, "semi-implicit": 1, "rk4": 4, "adaptive": 12}
 
 
 class SimulationError(CourseDynamicsError):
@@ -165,7 +167,7 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
     Returns the :class:`Trajectory` at the samples of :func:`time_grid`.
     ``progress``, if given, is called with the number of steps just completed.
     ``dynamics`` replaces our forward dynamics; ``compiled`` chooses whether ours is compiled
-    (default: from :data:`COMPILE_FROM` steps on; module docstring).
+    (default: when the run pays for it, as the evaluator decides; module docstring).
     """
     q0, qd0 = as_state(model, q0, "q0"), as_state(model, qd0, "qd0")
     if q0.ndim > 2 or qd0.ndim > 2 or (qd0.ndim == 2 and qd0.shape != q0.shape):
@@ -182,7 +184,8 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
         raise SimulationError("limits='stop' needs a fixed-step integrator (euler, semi-implicit or rk4)")
     tau_of = torque_function(model, torque)
     if dynamics is None:
-        fast = compiled_if_worth_it(model, compiled, long_enough=len(times) - 1 >= COMPILE_FROM)
+        fast = implementation(model, calls=(len(times) - 1) * CALLS_PER_STEP[integrator], states=members,
+                              compiled=compiled)
         dynamics = fast.accelerations if fast is not None else newton_euler_dynamics(model)
     solve_accelerations = dynamics
 

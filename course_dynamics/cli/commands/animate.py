@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ...core.newton_euler import inverse_dynamics
+from ...core.evaluator import inverse_dynamics
 from ...core.robots import resolve
 from ...output import io
 from ...tools.tables import joint_columns, read_columns, stack_joint_columns

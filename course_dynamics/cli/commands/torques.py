@@ -8,7 +8,7 @@ import numpy as np
 from ...output import io, render
 from ...tools.loads import Payload, Wrench, payload_link
 from ...tools.columns import plan_columns
-from ...tools.logs import COMPILE_FROM_ROWS, TIME_UNITS, parse_column_map, torques_from_log
+from ...tools.logs import TIME_UNITS, parse_column_map, torques_from_log
 from ...tools.tables import DECIMALS, read_table
 from ..options import (
     UsageError,
@@ -67,7 +67,8 @@ def add_arguments(parser) -> None:
     parser.add_argument("--plot", metavar="FILE", help="draw tau(t) per joint with the effort limits: .png, .svg or .html")
     parser.add_argument("--json", action="store_true", help="print the limits report as JSON")
     parser.add_argument("--no-compile", action="store_true",
-                        help=f"use the interpreted recursion even for logs of {COMPILE_FROM_ROWS} rows or more")
+                        help="use the interpreted recursion even for a log long enough to compile the model for "
+                             "(about 20 000 rows)")
 
 
 def payload_arguments(args) -> list[Payload]:

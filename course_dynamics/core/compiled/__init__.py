@@ -54,8 +54,9 @@ replaced. A folder that cannot be written means no cache, not an error.
 
 A robot whose programs would exceed :data:`MAX_OPERATIONS` operations (a chain
 of about 20 joints; the Coriolis program grows as n³) is not compiled:
-:class:`ProgramTooLargeError`, which the callers that compile on their own
-(``simulate``, long logs) answer by running the interpreted recursions.
+:class:`ProgramTooLargeError`, which the evaluator
+(:mod:`~course_dynamics.core.evaluator`, the one place that chooses whether to compile) answers by
+running the interpreted recursions.
 """
 from __future__ import annotations
 
@@ -66,7 +67,6 @@ import json
 import marshal
 import sys
 import time
-import warnings
 from dataclasses import dataclass, field
 from importlib import metadata
 from pathlib import Path
@@ -92,30 +92,11 @@ from .tracing import (
 
 __all__ = ["CACHE_OFF", "MAX_OPERATIONS", "CacheWarning", "CompileWarning", "CompiledModel", "Program",
            "ProgramTooLargeError", "Tape", "Traced", "cache_folder", "compile_model", "model_key", "module_source",
-           "program_source", "compiled_if_worth_it", "trace_programs"]
+           "program_source", "trace_programs"]
 
 
 class CompileWarning(UserWarning):
     """A model that was run interpreted because it is too large to compile (the message says so)."""
-
-
-def compiled_if_worth_it(model: Model, compiled: bool | None, long_enough: bool) -> "CompiledModel | None":
-    """The choice every caller that may compile makes: the compiled model, or None for the interpreted path.
-
-    ``compiled`` True compiles (a robot too large raises :class:`ProgramTooLargeError`), False never does,
-    None compiles when the work is ``long_enough`` to pay for it; a robot too large is then run interpreted
-    with a :class:`CompileWarning`.
-    """
-    if compiled is False or (compiled is None and not long_enough):
-        return None
-    try:
-        return compile_model(model)
-    except ProgramTooLargeError as error:
-        if compiled:
-            raise
-        warnings.warn(str(ProgramTooLargeError(error.what, "; running the interpreted recursions")), CompileWarning,
-                      stacklevel=3)
-        return None
 
 
 PACKAGE = Path(__file__).resolve().parent.parent.parent  # course_dynamics/
