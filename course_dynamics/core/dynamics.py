@@ -41,7 +41,13 @@ NO_GRAVITY = Vec3(0.0, 0.0, 0.0)  # the recursion at g = 0: V and M Θ̇ alone
 
 
 def gravity_torques(model: Model, q) -> np.ndarray:
-    """G(Θ), shape (n,) or (N, n): the torques that hold the arm still against ``model.gravity``."""
+    """G(Θ), shape (n,) or (N, n): the torques that hold the arm still against ``model.gravity``.
+
+    >>> from course_dynamics import load_robot
+    >>> arm = load_robot("two_link")
+    >>> np.round(gravity_torques(arm, [0.0, 0.0]), 6)                  # stretched out: the largest G
+    array([18.639,  3.924])
+    """
     q = as_state(model, q, "q")
     zeros = np.zeros(q.shape[-1:])
     return inverse_dynamics(model, q, zeros, zeros)
@@ -56,13 +62,26 @@ def _without_gravity(model: Model, q, qd, qdd) -> np.ndarray:
 
 
 def velocity_torques(model: Model, q, qd) -> np.ndarray:
-    """V(Θ, Θ̇), shape (n,) or (N, n): centrifugal and Coriolis torques."""
+    """V(Θ, Θ̇), shape (n,) or (N, n): centrifugal and Coriolis torques.
+
+    >>> from course_dynamics import load_robot
+    >>> arm = load_robot("two_link")
+    >>> np.round(velocity_torques(arm, [0.0, 0.5], [1.0, 1.0]), 6)   # Coriolis and centrifugal terms
+    array([-0.287655,  0.095885])
+    """
     q = as_state(model, q, "q")
     return _without_gravity(model, q, qd, np.zeros(q.shape[-1:]))
 
 
 def unit_acceleration_entries(model: Model, theta: list, X=None) -> list:
-    """M as nested scalars, M[i][j], by definition: column j is τ(Θ, 0, eⱼ) at g = 0 (n Newton–Euler passes)."""
+    """M as nested scalars, M[i][j], by definition: column j is τ(Θ, 0, eⱼ) at g = 0 (n Newton–Euler passes).
+
+    >>> from course_dynamics import load_robot
+    >>> arm = load_robot("two_link")
+    >>> M = unit_acceleration_entries(arm, [0.0, 0.5])                 # Python floats, or sympy, or duals
+    >>> round(M[0][1], 6) == round(M[1][0], 6)
+    True
+    """
     X = joint_transforms(model, theta) if X is None else X
     zero = [0] * model.n
     cols = [torque_entries(model, X, zero, [1 if k == j else 0 for k in range(model.n)], NO_GRAVITY) for j in range(model.n)]
@@ -70,23 +89,51 @@ def unit_acceleration_entries(model: Model, theta: list, X=None) -> list:
 
 
 def mass_matrix(model: Model, q) -> np.ndarray:
-    """M(Θ), shape (n, n) or (N, n, n): the joint-space mass matrix (kg·m², kg), by the composite-rigid-body algorithm."""
+    """M(Θ), shape (n, n) or (N, n, n): the joint-space mass matrix (kg·m², kg), by the composite-rigid-body algorithm.
+
+    >>> from course_dynamics import load_robot
+    >>> arm = load_robot("two_link")
+    >>> np.round(mass_matrix(arm, [0.0, 0.5]), 6)
+    array([[1.261033, 0.335517],
+           [0.335517, 0.16    ]])
+    """
     return crba.mass_matrix(model, q)
 
 
 def mass_matrix_by_unit_accelerations(model: Model, q) -> np.ndarray:
-    """M(Θ) by its definition in Craig section 6.8: column j is τ(Θ, 0, eⱼ) with g = 0."""
+    """M(Θ) by its definition in Craig section 6.8: column j is τ(Θ, 0, eⱼ) with g = 0.
+
+    >>> from course_dynamics import load_robot
+    >>> arm = load_robot("two_link")
+    >>> q = [0.3, -1.2]
+    >>> np.allclose(mass_matrix_by_unit_accelerations(arm, q), mass_matrix(arm, q), rtol=1e-14)
+    True
+    """
     q = as_state(model, q, "q")
     return layout_of(q).assemble(unit_acceleration_entries(model, entries(q)), (model.n, model.n))
 
 
 def coriolis_matrix(model: Model, q, qd) -> np.ndarray:
-    """C(Θ, Θ̇), shape (n, n) or (N, n, n), in Christoffel form, by the O(n²) recursion of :mod:`~course_dynamics.core.coriolis`."""
+    """C(Θ, Θ̇), shape (n, n) or (N, n, n), in Christoffel form, by the O(n²) recursion of :mod:`~course_dynamics.core.coriolis`.
+
+    >>> from course_dynamics import load_robot
+    >>> arm = load_robot("two_link")
+    >>> q, qd = np.array([0.0, 0.5]), np.array([1.0, -2.0])
+    >>> np.allclose(coriolis_matrix(arm, q, qd) @ qd, velocity_torques(arm, q, qd))   # C Θ̇ = V
+    True
+    """
     return coriolis.coriolis_matrix(model, q, qd)
 
 
 def coriolis_matrix_christoffel(model: Model, q, qd) -> np.ndarray:
-    """C(Θ, Θ̇) by its definition, ½ (Ṁ + D − Dᵀ), differentiated exactly with dual numbers (no finite differences)."""
+    """C(Θ, Θ̇) by its definition, ½ (Ṁ + D − Dᵀ), differentiated exactly with dual numbers (no finite differences).
+
+    >>> from course_dynamics import load_robot
+    >>> arm = load_robot("two_link")
+    >>> q, qd = [0.0, 0.5], [1.0, -2.0]
+    >>> np.allclose(coriolis_matrix_christoffel(arm, q, qd), coriolis_matrix(arm, q, qd), rtol=1e-13)
+    True
+    """
     q, qd = as_state(model, q, "q"), as_state(model, qd, "qd")
     layout = layout_of(q, qd)
     theta, theta_dot = entries(q), entries(qd)
@@ -105,7 +152,14 @@ def coriolis_matrix_christoffel(model: Model, q, qd) -> np.ndarray:
 
 
 def kinetic_energy(model: Model, q, qd) -> np.ndarray:
-    """k = ½ Θ̇ᵀ M(Θ) Θ̇ (6.71), J: shape () or (N,). One pass: M Θ̇ = τ(Θ, 0, Θ̇) at g = 0."""
+    """k = ½ Θ̇ᵀ M(Θ) Θ̇ (6.71), J: shape () or (N,). One pass: M Θ̇ = τ(Θ, 0, Θ̇) at g = 0.
+
+    >>> from course_dynamics import load_robot
+    >>> arm = load_robot("two_link")
+    >>> qd = np.array([1.0, 0.0])
+    >>> float(np.round(kinetic_energy(arm, [0.0, 0.5], qd), 6)), float(np.round(qd @ mass_matrix(arm, [0.0, 0.5]) @ qd / 2, 6))
+    (0.630517, 0.630517)
+    """
     q, qd = as_state(model, q, "q"), as_state(model, qd, "qd")
     M_qd = _without_gravity(model, q, np.zeros(q.shape[-1:]), qd)
     return 0.5 * np.sum(qd * M_qd, axis=-1)  # (6.71)
@@ -115,6 +169,12 @@ def mass_matrix_and_bias(model: Model, q, qd) -> tuple[np.ndarray, np.ndarray]:
     """M(Θ) and V(Θ, Θ̇) + G(Θ) for numeric states, sharing one set of joint transforms.
 
     The pair forward dynamics needs; shapes (n, n), (n,) or batched (N, n, n), (N, n).
+
+    >>> from course_dynamics import load_robot
+    >>> arm = load_robot("two_link")
+    >>> M, bias = mass_matrix_and_bias(arm, [0.0, 0.5], [1.0, 0.0])
+    >>> np.allclose(bias, velocity_torques(arm, [0.0, 0.5], [1.0, 0.0]) + gravity_torques(arm, [0.0, 0.5]))
+    True
     """
     q, qd = as_state(model, q, "q"), as_state(model, qd, "qd")
     layout = layout_of(q, qd)
@@ -123,7 +183,14 @@ def mass_matrix_and_bias(model: Model, q, qd) -> tuple[np.ndarray, np.ndarray]:
 
 
 def mass_matrix_and_bias_entries(model: Model, theta: list, theta_dot: list) -> tuple[list, list]:
-    """M[i][j] (composite rigid bodies) and the bias V + G = τ(Θ, Θ̇, 0) (Newton–Euler) as scalars."""
+    """M[i][j] (composite rigid bodies) and the bias V + G = τ(Θ, Θ̇, 0) (Newton–Euler) as scalars.
+
+    >>> from course_dynamics import load_robot
+    >>> arm = load_robot("two_link")
+    >>> M, bias = mass_matrix_and_bias_entries(arm, [0.0, 0.5], [0.0, 0.0])
+    >>> [round(b, 6) for b in bias]                                    # at rest the bias is G
+    [18.158634, 3.443634]
+    """
     X = joint_transforms(model, theta)
     bias = torque_entries(model, X, theta_dot, [0] * model.n, model.gravity_v)
     return crba.mass_matrix_entries(model, theta), bias
@@ -135,7 +202,14 @@ def _derivative(x):
 
 @dataclass(frozen=True)
 class DynamicsTerms:
-    """Every term of (6.59) at one state (or a batch), joints in model order."""
+    """Every term of (6.59) at one state (or a batch), joints in model order.
+
+    >>> from course_dynamics import load_robot
+    >>> arm = load_robot("two_link")
+    >>> terms = dynamics_terms(arm, [0.0, 0.5], [1.0, 0.0], [0.0, 0.0])
+    >>> np.allclose(terms.tau, terms.M @ [0.0, 0.0] + terms.V + terms.G)   # (6.59)
+    True
+    """
 
     joints: tuple[str, ...]
     tau: np.ndarray
@@ -149,6 +223,13 @@ def dynamics_terms(model: Model, q, qd, qdd, progress=None) -> DynamicsTerms:
     """τ, M, C, V and G at one state, under ``model.gravity``.
 
     ``progress``, if given, is called with the name of each term just computed (five calls).
+
+    >>> from course_dynamics import load_robot
+    >>> arm = load_robot("two_link")
+    >>> done = []
+    >>> terms = dynamics_terms(arm, [0.0, 0.5], [1.0, 0.0], [0.0, 1.0], progress=done.append)
+    >>> done, terms.M.shape
+    (['tau', 'M', 'C', 'V', 'G'], (2, 2))
     """
     steps = (("tau", lambda: inverse_dynamics(model, q, qd, qdd)), ("M", lambda: mass_matrix(model, q)),
              ("C", lambda: coriolis_matrix(model, q, qd)), ("V", lambda: velocity_torques(model, q, qd)),

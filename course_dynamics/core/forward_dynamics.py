@@ -30,7 +30,19 @@ AccelerationFunction = Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray
 
 
 class SingularMassMatrixError(CourseDynamicsError):
-    """M(Θ) is singular: some joint moves no mass."""
+    """M(Θ) is singular: some joint moves no mass.
+
+    >>> from course_dynamics import load_urdf
+    >>> import tempfile, pathlib
+    >>> urdf = pathlib.Path(tempfile.mkdtemp()) / "massless.urdf"
+    >>> _ = urdf.write_text('''<robot name="massless"><link name="base"/><link name="tip"/>
+    ...   <joint name="j" type="revolute"><parent link="base"/><child link="tip"/><axis xyz="0 0 1"/>
+    ...   <limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>''')
+    >>> forward_dynamics(load_urdf(urdf), [0.0], [0.0], [1.0])
+    Traceback (most recent call last):
+    ...
+    course_dynamics.core.forward_dynamics.SingularMassMatrixError: the mass matrix of robot 'massless' is singular at q = [0.0] (smallest eigenvalue 0): joint 'j' moves no mass (a massless chain?)
+    """
 
 
 def forward_dynamics(model: Model, q, qd, tau, friction: Friction | None = None) -> np.ndarray:
@@ -56,7 +68,14 @@ def forward_dynamics(model: Model, q, qd, tau, friction: Friction | None = None)
 
 
 def accelerations(model: Model, q: np.ndarray, qd: np.ndarray, tau: np.ndarray) -> np.ndarray:
-    """(6.115) without friction for already checked float arrays, (n,) or (K, n): the default backend."""
+    """(6.115) without friction for already checked float arrays, (n,) or (K, n): the default backend.
+
+    >>> from course_dynamics import load_robot
+    >>> arm = load_robot("pendulum")
+    >>> np.round(accelerations(arm, np.array([[0.5], [-0.5]]), np.zeros((2, 1)), np.zeros((2, 1))), 4)
+    array([[-4.7032],
+           [ 4.7032]])
+    """
     if q.ndim == 1 and qd.ndim == 1:
         M, bias = mass_matrix_and_bias_entries(model, q.tolist(), qd.tolist())  # floats: the fast path
         M, bias = np.array(M), np.array(bias)
@@ -66,12 +85,24 @@ def accelerations(model: Model, q: np.ndarray, qd: np.ndarray, tau: np.ndarray) 
 
 
 def newton_euler_dynamics(model: Model) -> AccelerationFunction:
-    """The default :data:`AccelerationFunction` of ``model``: M and V + G by Newton–Euler, Cholesky solve."""
+    """The default :data:`AccelerationFunction` of ``model``: M and V + G by Newton–Euler, Cholesky solve.
+
+    >>> from course_dynamics import load_robot
+    >>> qdd_of = newton_euler_dynamics(load_robot("pendulum"))      # what simulate calls: (q, qd, tau) -> qdd
+    >>> np.round(qdd_of(np.array([0.5]), np.array([0.0]), np.array([0.0])), 4)
+    array([-4.7032])
+    """
     return partial(accelerations, model)
 
 
 def solve(model: Model, M: np.ndarray, rhs: np.ndarray, q: np.ndarray) -> np.ndarray:
-    """Θ̈ = M⁻¹ rhs for M (…, n, n), rhs (…, n), after checking that M is positive definite."""
+    """Θ̈ = M⁻¹ rhs for M (…, n, n), rhs (…, n), after checking that M is positive definite.
+
+    >>> from course_dynamics import load_robot
+    >>> arm = load_robot("two_link")
+    >>> solve(arm, np.diag([2.0, 4.0]), np.array([1.0, 1.0]), np.zeros(2))
+    array([0.5 , 0.25])
+    """
     _check_positive_definite(model, M, q)
     return np.linalg.solve(M, rhs[..., None])[..., 0]
 

@@ -41,7 +41,16 @@ from .state import as_state, entries, layout_of
 
 @dataclass(frozen=True)
 class OutwardPass:
-    """Result of the outward iteration: per-body kinematics and inertial loads."""
+    """Result of the outward iteration: per-body kinematics and inertial loads.
+
+    >>> from course_dynamics import load_robot
+    >>> from course_dynamics.core.kinematics import joint_transforms
+    >>> arm = load_robot("two_link")
+    >>> X = joint_transforms(arm, [0.0, 0.5])
+    >>> out = outward_iteration(arm, X, [1.0, 0.0], [0.0, 0.0], arm.gravity_v)
+    >>> len(out.omega), [round(c, 6) for c in out.omega[1]]        # ²ω₂ = ²₁R ¹ω₁ + θ̇₂ ²Ẑ₂ (6.45)
+    (2, [0.0, 0.0, 1.0])
+    """
 
     omega: list
     omega_dot: list
@@ -53,7 +62,16 @@ class OutwardPass:
 
 @dataclass(frozen=True)
 class InwardPass:
-    """Result of the inward iteration: joint reactions and torques."""
+    """Result of the inward iteration: joint reactions and torques.
+
+    >>> from course_dynamics import load_robot
+    >>> from course_dynamics.core.kinematics import joint_transforms
+    >>> arm = load_robot("two_link")
+    >>> X = joint_transforms(arm, [0.0, 0.5])
+    >>> back = inward_iteration(arm, X, outward_iteration(arm, X, [0.0, 0.0], [0.0, 0.0], arm.gravity_v))
+    >>> [round(t, 6) for t in back.tau]                             # at rest: G
+    [18.158634, 3.443634]
+    """
 
     f: list
     n: list
@@ -61,7 +79,16 @@ class InwardPass:
 
 
 def outward_iteration(model: Model, X: JointTransforms, theta_dot: list, theta_ddot: list, gravity: Vec3) -> OutwardPass:
-    """Link velocities, accelerations and inertial loads, base to tips."""
+    """Link velocities, accelerations and inertial loads, base to tips.
+
+    >>> from course_dynamics import load_robot
+    >>> from course_dynamics.core.kinematics import joint_transforms
+    >>> arm = load_robot("two_link")
+    >>> X = joint_transforms(arm, [0.0, 0.5])
+    >>> out = outward_iteration(arm, X, [0.0, 0.0], [0.0, 0.0], arm.gravity_v)
+    >>> [round(c, 6) for c in out.v_dot[0]]                         # ⁰v̇₀ = −g: the base accelerates upward
+    [0.0, 9.81, 0.0]
+    """
     zero = Vec3(0, 0, 0)
     base_v_dot = -gravity  # ⁰v̇₀ = −g: gravity as an upward base acceleration
     omega, omega_dot, v_dot, v_dot_c, F, N = [], [], [], [], [], []
@@ -91,7 +118,16 @@ def outward_iteration(model: Model, X: JointTransforms, theta_dot: list, theta_d
 
 
 def inward_iteration(model: Model, X: JointTransforms, out: OutwardPass) -> InwardPass:
-    """Joint forces, moments and torques, tips to base."""
+    """Joint forces, moments and torques, tips to base.
+
+    >>> from course_dynamics import load_robot
+    >>> from course_dynamics.core.kinematics import joint_transforms
+    >>> arm = load_robot("two_link")
+    >>> X = joint_transforms(arm, [0.0, 0.5])
+    >>> back = inward_iteration(arm, X, outward_iteration(arm, X, [1.0, 0.0], [0.0, 0.0], arm.gravity_v))
+    >>> [round(t, 6) for t in back.tau], len(back.f)                # τᵢ = ⁱnᵢᵀ ⁱẐᵢ (6.53)
+    ([18.158634, 3.539519], 2)
+    """
     n_bodies = model.n
     f, n, tau = [None] * n_bodies, [None] * n_bodies, [None] * n_bodies
     for i in reversed(range(n_bodies)):
@@ -108,7 +144,15 @@ def inward_iteration(model: Model, X: JointTransforms, out: OutwardPass) -> Inwa
 
 
 def torque_entries(model: Model, X: JointTransforms, theta_dot: list, theta_ddot: list, gravity: Vec3) -> list:
-    """τ as per-joint scalars, given transforms: the building block of M, V, G and C."""
+    """τ as per-joint scalars, given transforms: the building block of M, V, G and C.
+
+    >>> from course_dynamics import load_robot
+    >>> from course_dynamics.core.kinematics import joint_transforms
+    >>> arm = load_robot("two_link")
+    >>> X = joint_transforms(arm, [0.0, 0.5])
+    >>> [round(t, 6) for t in torque_entries(arm, X, [0, 0], [1, 0], arm.gravity_v * 0)]   # column 1 of M
+    [1.261033, 0.335517]
+    """
     return inward_iteration(model, X, outward_iteration(model, X, theta_dot, theta_ddot, gravity)).tau
 
 
@@ -149,6 +193,11 @@ class LinkQuantities:
     Vectors have shape (n, 3) for one state or (N, n, 3) for a batch; each is
     expressed in its own link's frame (Craig's ⁱ(·)ᵢ). ``tau`` has shape (n,)
     or (N, n).
+
+    >>> from course_dynamics import load_robot
+    >>> links = newton_euler_links(load_robot("pendulum"), [0.5], [2.0], [0.0])
+    >>> np.round(links.omega, 6), np.round(links.tau, 4)     # ¹ω₁ = θ̇₁ ¹Ẑ₁, the joint axis (the URDF's y)
+    (array([[0., 2., 0.]]), array([4.7032]))
     """
 
     joints: tuple[str, ...]
@@ -164,7 +213,13 @@ class LinkQuantities:
 
 
 def newton_euler_links(model: Model, q, qd, qdd) -> LinkQuantities:
-    """The outward and inward iterations with every per-link quantity kept."""
+    """The outward and inward iterations with every per-link quantity kept.
+
+    >>> from course_dynamics import load_robot
+    >>> links = newton_euler_links(load_robot("two_link"), [0.0, 0.5], [1.0, 0.0], [0.0, 0.0])
+    >>> links.omega.shape, links.joints, np.round(links.tau, 6)
+    ((2, 3), ('theta1', 'theta2'), array([18.158634,  3.539519]))
+    """
     q, qd, qdd = as_state(model, q, "q"), as_state(model, qd, "qd"), as_state(model, qdd, "qdd")
     layout = layout_of(q, qd, qdd)
     X = joint_transforms(model, entries(q))
