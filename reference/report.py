@@ -8,7 +8,8 @@ closed forms against ours; :func:`write_report` writes
 ==================  ==============================================================
 file                content
 ==================  ==============================================================
-``index.html``      one self-contained page: figures inline as SVG, no script, no
+``index.html``      one self-contained page (:mod:`course_dynamics.output.page`):
+                    figures inline as SVG, formulas as MathML, no script, no
                     request; opens from disk
 ``report.md``       the same for GitHub, with the figures as ``figures/*.svg``
 ``report.json``     ``{"robots": [{"name", "terms": {"tau": {"max", "median", …}}, …}],
@@ -21,7 +22,6 @@ Markdown, and matplotlib draws every label as paths, never as SVG text.
 from __future__ import annotations
 
 import datetime
-import html
 import io as text_io
 import json
 import platform
@@ -40,7 +40,7 @@ from course_dynamics.core.sampling import (
     smooth_trajectory,
     term_scales,
 )
-from course_dynamics.output import render
+from course_dynamics.output import page, render
 from course_dynamics.output.folders import write_folder
 
 from . import TERMS, TOLERANCE, textbook
@@ -50,9 +50,6 @@ from .validate import display_name, term_errors
 TERM_TITLES = {"tau": "τ (inverse dynamics)", "M": "M (mass matrix)", "C": "C (Coriolis matrix)",
                "V": "V (velocity terms)", "G": "G (gravity)"}
 CLOSED_FORMS = {"two_link": "Craig (6.60)–(6.62)", "rp_arm": "Craig example 6.5", "pendulum": "the pendulum equation"}
-STYLE = ("body{font-family:system-ui,sans-serif;max-width:64rem;margin:2rem auto;padding:0 1rem;line-height:1.45}"
-         "table{border-collapse:collapse;margin:.5rem 0}td,th{border:1px solid #ccc;padding:.2rem .6rem;text-align:right}"
-         "td:first-child,th:first-child{text-align:left}figure{margin:1rem 0}svg{max-width:100%;height:auto}")
 
 
 @dataclass
@@ -214,35 +211,37 @@ def _number(x: float) -> str:
 
 
 def report_html(report: Report) -> str:
-    e = html.escape
     env = report.environment
-    parts = ["<h1>course-dynamics against Pinocchio</h1>",
-             f"<p>Every term of τ = M(Θ)Θ̈ + V(Θ, Θ̇) + G(Θ) and the Coriolis matrix C, computed by course-dynamics' "
-             f"hand-written Newton–Euler recursion and by Pinocchio on {env['samples']} seeded random states per robot "
-             f"(seed {env['seed']}). Relative error: ‖ours − Pinocchio‖∞ / max(‖Pinocchio‖∞, the term's scale); the "
-             f"project holds itself to {report.tolerance:g}.</p>"]
+    parts = [page.heading("course-dynamics against Pinocchio"),
+             page.paragraph("Every term of ", page.math(r"\tau = M(\Theta)\ddot\Theta + V(\Theta, \dot\Theta) + G(\Theta)"),
+                            " and the Coriolis matrix ", page.math("C"), ", computed by course-dynamics' hand-written "
+                            f"Newton–Euler recursion and by Pinocchio on {env['samples']} seeded random states per robot "
+                            f"(seed {env['seed']}). Relative error: ",
+                            page.math(r"\lVert \text{ours} - \text{Pinocchio} \rVert_\infty / "
+                                      r"\max(\lVert \text{Pinocchio} \rVert_\infty, s)"),
+                            f", with s the term's scale; the project holds itself to {report.tolerance:g}.")]
     for r in report.robots:
-        parts.append(f"<h2>{e(r.name)}</h2>")
-        parts.append(f"<p>{len(r.joints)} joints: " + ", ".join(f"{e(j['name'])} ({e(j['type'])})" for j in r.joints)
-                     + "; moving bodies: " + ", ".join(f"{e(b['link'])} {b['mass']:.4g} kg" for b in r.bodies) + ".</p>")
-        rows = "".join(f"<tr><td>{e(TERM_TITLES[t])}</td><td>{_number(v['max'])}</td><td>{_number(v['median'])}</td>"
-                       f"<td>{_number(v['max_relative'])}</td><td>{_number(v['median_relative'])}</td>"
-                       f"<td>{'yes' if v['agrees'] else 'NO'}</td></tr>" for t, v in r.terms.items())
-        parts.append("<table><tr><th>term</th><th>max abs</th><th>median abs</th><th>max rel</th><th>median rel</th>"
-                     f"<th>agrees</th></tr>{rows}</table>")
-        parts.append(f'<figure>{r.figures["errors"]}<figcaption>Relative error per state and term.</figcaption></figure>')
-        parts.append(f'<figure>{r.figures["trajectory"]}<figcaption>τ along a smooth {r.trajectory["duration"]:g} s '
-                     f"trajectory; the largest difference is {_number(r.trajectory['max_abs_difference'])} "
-                     f"(τ up to {r.trajectory['max_abs_tau']:.3g}).</figcaption></figure>")
+        parts.append(page.heading(r.name, 2))
+        parts.append(page.paragraph(f"{len(r.joints)} joints: " + ", ".join(f"{j['name']} ({j['type']})" for j in r.joints)
+                                    + "; moving bodies: " + ", ".join(f"{b['link']} {b['mass']:.4g} kg" for b in r.bodies)
+                                    + "."))
+        rows = [(TERM_TITLES[t], _number(v["max"]), _number(v["median"]), _number(v["max_relative"]),
+                 _number(v["median_relative"]), "yes" if v["agrees"] else "NO") for t, v in r.terms.items()]
+        parts.append(page.table(rows, header=("term", "max abs", "median abs", "max rel", "median rel", "agrees"),
+                                css="numbers"))
+        parts.append(page.figure(page.svg(r.figures["errors"]), "Relative error per state and term."))
+        parts.append(page.figure(page.svg(r.figures["trajectory"]),
+                                 f"τ along a smooth {r.trajectory['duration']:g} s trajectory; the largest difference is "
+                                 f"{_number(r.trajectory['max_abs_difference'])} (τ up to {r.trajectory['max_abs_tau']:.3g})."))
         if r.textbook is not None:
-            parts.append(f"<p>Against the textbook ({e(CLOSED_FORMS[r.name])}): largest relative error of M "
-                         f"{_number(r.textbook['M'])}, V {_number(r.textbook['V'])}, G {_number(r.textbook['G'])}.</p>")
-    parts.append(f"<h2>The notes</h2><p>The errata list {report.misprints} misprints found in the lecture notes, each "
-                 "shown numerically by a test (<code>reference/errata.md</code> in the project).</p>")
-    parts.append("<h2>Environment</h2><table>" + "".join(f"<tr><td>{e(k)}</td><td>{e(str(v))}</td></tr>"
-                                                        for k, v in env.items()) + "</table>")
-    return (f'<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8"><title>course-dynamics against Pinocchio'
-            f"</title><style>{STYLE}</style></head>\n<body>\n" + "\n".join(parts) + "\n</body></html>\n")
+            parts.append(page.paragraph(f"Against the textbook ({CLOSED_FORMS[r.name]}): largest relative error of M "
+                                        f"{_number(r.textbook['M'])}, V {_number(r.textbook['V'])}, "
+                                        f"G {_number(r.textbook['G'])}."))
+    parts.append(page.section("The notes", page.paragraph(
+        f"The errata list {report.misprints} misprints found in the lecture notes, each shown numerically by a test (",
+        page.code("reference/errata.md"), " in the project).")))
+    parts.append(page.section("Environment", page.table([(k, str(v)) for k, v in env.items()], css="numbers")))
+    return page.page("course-dynamics against Pinocchio", parts)
 
 
 def report_markdown(report: Report) -> str:

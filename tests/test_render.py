@@ -25,7 +25,7 @@ def test_trace_formats():
     table = trace_table(t)
     assert "Outward iteration" in table and "(6.35)" in table and "tau_2" in table and "(6.44)" in table
     latex = trace_latex(t)
-    assert latex.count(r"\begin{align*}") == 2 and r"{}^{2}\dot v_{C}_{2}" in latex
+    assert latex.count(r"\begin{align*}") == 2 and r"{}^{2}\dot v_{C_{2}}" in latex and "}_{" not in latex
     record = trace_record(t)
     assert record["joints"] == ["theta1", "d2"] and set(record["links"][0]) >= {"omega", "v_dot_c", "f", "n", "tau"}
     json.loads(json_text(record))

@@ -23,21 +23,17 @@ written one by one, each whole or not at all.
 from __future__ import annotations
 
 import csv
-import html
 import io as text_io
 from collections import Counter
 from pathlib import Path
 from urllib.parse import quote
 
-from ..output import render
+from ..output import page, render
 from ..output.folders import write_folder
 from .assignment import Assignment
 from .grade import SubmissionGrade
 
 MAX_FEEDBACK_BYTES = 1_000_000
-STYLE = ("body{font-family:system-ui,sans-serif;max-width:60rem;margin:2rem auto;padding:0 1rem;line-height:1.45}"
-         "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:.25rem .6rem;text-align:left}"
-         "pre{background:#f4f4f4;padding:.6rem;overflow:auto;white-space:pre-wrap}.ok{color:#1a7f37}.bad{color:#b3261e}")
 
 
 def gradebook_csv(grades: list[SubmissionGrade], assignment: Assignment) -> str:
@@ -94,22 +90,15 @@ def feedback_markdown(grade: SubmissionGrade, assignment: Assignment) -> str:
 
 
 def feedback_html(grade: SubmissionGrade, assignment: Assignment) -> str:
-    e = html.escape
-    body = [f"<h1>Feedback for {e(grade.student)}</h1>"] + [f"<p>{e(line)}</p>" for line in _header(grade, assignment)]
+    body = [page.heading(f"Feedback for {grade.student}")] + [page.paragraph(line) for line in _header(grade, assignment)]
     for d in grade.diagnoses:
         first, *rest = d.text().splitlines()
-        css = "ok" if d.correct else "bad"
-        body.append(f'<h2 class="{css}">{e(first)}</h2>')
+        body.append(page.heading(first, 2, css="ok" if d.correct else "bad"))
         if rest:
-            body.append("<ul>" + "".join(f"<li>{e(line[2:])}</li>" for line in rest) + "</ul>")
+            body.append(page.bullet_list(line[2:] for line in rest))
     if grade.stdout:
-        body += ["<h2>What your file printed</h2>", f"<pre>{e(grade.stdout)}</pre>"]
-    return _bounded(_page(f"Feedback for {grade.student}", "\n".join(body)))
-
-
-def _page(title: str, body: str) -> str:
-    return (f'<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8"><title>{html.escape(title)}</title>'
-            f"<style>{STYLE}</style></head>\n<body>\n{body}\n</body></html>\n")
+        body += [page.heading("What your file printed", 2), page.pre(grade.stdout)]
+    return _bounded(page.page(f"Feedback for {grade.student}", body))
 
 
 def _bounded(text: str) -> str:
@@ -138,34 +127,29 @@ def _histogram_svg(totals: list[float], maximum: float) -> str:
 
 
 def summary_html(grades: list[SubmissionGrade], assignment: Assignment) -> str:
-    e = html.escape
     totals = [g.total for g in grades]
     rows = []
     for term in assignment.terms:
         correct = sum(1 for g in grades for d in g.diagnoses if d.term == term and d.correct)
         mean = sum(g.points(term) for g in grades) / max(len(grades), 1)
-        rows.append(f"<tr><td>{e(term)}</td><td>{correct} of {len(grades)}</td>"
-                    f"<td>{mean:.3g} / {assignment.points[term]:g}</td></tr>")
+        rows.append((term, f"{correct} of {len(grades)}", f"{mean:.3g} / {assignment.points[term]:g}"))
     mistakes = Counter(f"{d.term}: {tag}" for g in grades for d in g.diagnoses for tag in d.tags)
     statuses = Counter(g.status for g in grades)
     body = [
-        f"<h1>{e(assignment.source.name)}: class summary</h1>",
-        f"<p>{len(grades)} submissions; robot {e(assignment.robot.name)}; mean {sum(totals) / max(len(totals), 1):.3g} "
-        f"of {assignment.total_points:g} points.</p>",
-        _histogram_svg(totals, assignment.total_points),
-        "<h2>Per term</h2><table><tr><th>term</th><th>fully correct</th><th>mean points</th></tr>" + "".join(rows)
-        + "</table>",
-        "<h2>Most common mistakes</h2>",
-        "<table><tr><th>mistake</th><th>students</th></tr>"
-        + "".join(f"<tr><td>{e(k)}</td><td>{v}</td></tr>" for k, v in mistakes.most_common(15)) + "</table>"
-        if mistakes else "<p>None: every graded term was right.</p>",
-        "<h2>Statuses</h2><table><tr><th>status</th><th>students</th></tr>"
-        + "".join(f"<tr><td>{e(k)}</td><td>{v}</td></tr>" for k, v in statuses.most_common()) + "</table>",
-        "<h2>Students</h2><table><tr><th>student</th><th>total</th><th>status</th></tr>"
-        + "".join(f'<tr><td><a href="{e(quote(g.student))}.html">{e(g.student)}</a></td><td>{g.total:g}</td>'
-                  f"<td>{e(g.status)}</td></tr>" for g in grades) + "</table>",
+        page.heading(f"{assignment.source.name}: class summary"),
+        page.paragraph(f"{len(grades)} submissions; robot {assignment.robot.name}; mean "
+                       f"{sum(totals) / max(len(totals), 1):.3g} of {assignment.total_points:g} points."),
+        page.figure(page.svg(_histogram_svg(totals, assignment.total_points))),
+        page.heading("Per term", 2), page.table(rows, header=("term", "fully correct", "mean points")),
+        page.heading("Most common mistakes", 2),
+        page.table(mistakes.most_common(15), header=("mistake", "students")) if mistakes
+        else page.paragraph("None: every graded term was right."),
+        page.heading("Statuses", 2), page.table(statuses.most_common(), header=("status", "students")),
+        page.heading("Students", 2),
+        page.table([(page.link(f"{quote(g.student)}.html", g.student), f"{g.total:g}", g.status) for g in grades],
+                   header=("student", "total", "status")),
     ]
-    return _page(f"{assignment.source.name}: class summary", "\n".join(body))
+    return page.page(f"{assignment.source.name}: class summary", body)
 
 
 OWNER = "grade"  # the command named in the output folder's manifest

@@ -8,6 +8,7 @@ module          job
 ``io``          writing a file whole or not at all (the one way we write)
 ``folders``     a command's files in a folder that holds other things (a manifest)
 ``render``      tables, Markdown, LaTeX and strict JSON as text
+``page``        every HTML page: one template, one stylesheet, LaTeX as MathML
 ``plotting``    figures of simulations and torques (matplotlib)
 ``viewer``      meshcat scenes, animations and offline HTML
 ==============  ================================================================

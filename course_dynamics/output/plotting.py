@@ -8,13 +8,12 @@ at all (:mod:`course_dynamics.output.io`).
 """
 from __future__ import annotations
 
-import html
 from io import BytesIO
 from pathlib import Path
 
 from ..base.errors import InputError
 from ..tools.simulation import Trajectory
-from . import io
+from . import io, page
 
 PLOT_FORMATS = ("png", "svg")
 
@@ -153,34 +152,26 @@ def torques_page(result, title: str = "") -> str:
     figure = torque_figure(result, title)
     svg = figure_bytes(figure, "svg").decode("utf-8")
     plt.close(figure)
-    svg = svg[svg.index("<svg"):]  # drop the XML prolog: the page is HTML
 
     def cell(x, share=False):
         if x is None:
             return "–"
         if share:
             return f"{100 * x:.0f}%"
-        return f"{x:.4g}" if isinstance(x, float) else html.escape(str(x))
+        return f"{x:.4g}" if isinstance(x, float) else str(x)
 
     header = ("joint", "peak |τ|", "RMS τ", "effort limit", "used", "peak |q̇|", "velocity limit", "used")
     keys = ("joint", "peak_tau", "rms_tau", "effort_limit", "effort_used", "peak_qd", "velocity_limit", "velocity_used")
-    rows = "".join("<tr>" + "".join(f"<td>{cell(r[k], k.endswith('_used'))}</td>" for k in keys) + "</tr>"
-                   for r in result.report.rows())
-    violations = "".join(f"<li>{html.escape(v.describe())}</li>" for v in result.report.violations)
-    notes = "".join(f"<li>{html.escape(n)}</li>" for n in result.notes)
-    heading = html.escape(title or f"{result.model.name}: joint torques and limits")
+    rows = [[cell(r[k], k.endswith("_used")) for k in keys] for r in result.report.rows()]
+    heading = title or f"{result.model.name}: joint torques and limits"
     verdict = "A limit is exceeded." if result.report.exceeded else "Every joint stays within its limits."
-    return f"""<!DOCTYPE html>
-<html lang="en"><head><meta charset="utf-8"><title>{heading}</title>
-<style>body{{font-family:sans-serif;max-width:60em;margin:2em auto}}table{{border-collapse:collapse}}
-td,th{{border:1px solid #ccc;padding:0.2em 0.6em;text-align:right}}td:first-child{{text-align:left}}</style></head>
-<body><h1>{heading}</h1><p>{verdict}</p>
-<table><tr>{''.join(f'<th>{html.escape(h)}</th>' for h in header)}</tr>{rows}</table>
-{f'<h2>Violations</h2><ul>{violations}</ul>' if violations else ''}
-{f'<h2>Derived signals</h2><ul>{notes}</ul>' if notes else ''}
-{svg}
-</body></html>
-"""
+    body = [page.heading(heading), page.paragraph(verdict), page.table(rows, header=header, css="numbers")]
+    if result.report.violations:
+        body.append(page.section("Violations", page.bullet_list(v.describe() for v in result.report.violations)))
+    if result.notes:
+        body.append(page.section("Derived signals", page.bullet_list(result.notes)))
+    body.append(page.figure(page.svg(svg)))
+    return page.page(heading, body)
 
 
 def plot_torques(result, path, title: str = "") -> None:

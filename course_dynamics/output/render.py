@@ -161,7 +161,9 @@ def trace_latex(t: Trace) -> str:
 
     def line(i, key):
         _, symbol, number = TRACE_SYMBOLS[key]
-        return f"{{}}^{{{i + 1}}}{symbol}_{{{i + 1}}} &= {vector(t.values[key][i])} && \\text{{{number}}} \\\\"
+        # the link's index joins a subscript the symbol has (v̇_C of link 2 is \dot v_{C_{2}}, not a double subscript)
+        indexed = f"{symbol[:-1]}_{{{i + 1}}}}}" if symbol.endswith("}") else f"{symbol}_{{{i + 1}}}"
+        return f"{{}}^{{{i + 1}}}{indexed} &= {vector(t.values[key][i])} && \\text{{{number}}} \\\\"
 
     out = [r"% Newton-Euler iterations of " + t.model_name, r"\begin{align*}"]
     for i in range(len(t.links)):

@@ -15,8 +15,8 @@ cells), so an instructor can also use nbgrader.
 """
 from __future__ import annotations
 
+import base64
 import copy
-import html
 import os
 import re
 import stat
@@ -24,14 +24,19 @@ from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
 
+from markupsafe import Markup
+
 from ..base.errors import InputError
-from ..output import io
+from ..output import io, page
 from ..output.folders import check_folder, write_folder
 
 BEGIN, END = "### BEGIN SOLUTION", "### END SOLUTION"
 PLACEHOLDER = "...  # YOUR CODE HERE"
 CELL_TIMEOUT = 300  # s
 PUBLISH_OWNER = "publish-notebooks"  # the command named in an output folder's manifest
+# What a published page shows of an output, best first (JupyterLab's order, less what a static page cannot run).
+OUTPUT_KINDS = ("text/html", "text/markdown", "text/latex", "image/svg+xml", "image/png", "image/jpeg", "text/plain")
+ANSI = re.compile(r"\x1b\[[0-9;]*[A-Za-z]")  # colours in a traceback
 
 
 def notebooks_folder() -> Path:
@@ -206,37 +211,80 @@ def first_heading(notebook) -> str:
     return ""
 
 
+def output_html(output):
+    """One cell output as HTML: printed text and tracebacks escaped, figures inline, Markdown and LaTeX with MathML.
+
+    HTML outputs are kept as they are: in the course they come from the library itself (the
+    animation of :func:`course_dynamics.output.viewer.show`, an ``srcdoc`` iframe that plays offline).
+    """
+    kind = output.get("output_type")
+    if kind == "stream":
+        return page.pre(output.get("text", ""), css="stderr" if output.get("name") == "stderr" else "stdout")
+    if kind == "error":
+        return page.pre(ANSI.sub("", "\n".join(output.get("traceback", []))), css="error")
+    data = output.get("data", {})
+    mime = next((m for m in OUTPUT_KINDS if m in data), None)
+    if mime is None:
+        return None
+    value = data[mime] if isinstance(data[mime], str) else "".join(data[mime])
+    if mime == "text/html":
+        shown = Markup(value)  # the course's own output (see above)
+    elif mime == "image/svg+xml":
+        shown = page.svg(value)
+    elif mime in ("image/png", "image/jpeg"):
+        shown = page.image(base64.b64decode(value), mime)
+    elif mime in ("text/markdown", "text/latex"):
+        shown = page.markdown(value)
+    else:
+        shown = page.pre(value)
+    return page.element("div", shown, class_="output")
+
+
+def notebook_page(notebook, title: str = "") -> str:
+    """A notebook (run or not) as one page: its Markdown with the formulas as MathML, its code and outputs."""
+    body = []
+    for cell in notebook.cells:
+        if cell.cell_type == "markdown":
+            body.append(page.markdown(cell.source))
+        elif cell.cell_type == "code":
+            body.append(page.pre(cell.source, css="input"))
+            body += [output_html(output) for output in cell.get("outputs", [])]
+    return page.page(title or first_heading(notebook) or "notebook", body)
+
+
+def index_page(entries, solutions: bool = False) -> str:
+    """The course's front page: a link to each ``(stem, title)`` in ``entries``, in order."""
+    kind = "with solutions" if solutions else "student version"
+    links = [page.link(f"{stem}.html", title or stem) for stem, title in entries]
+    return page.page("Manipulator dynamics: the course",
+                     [page.heading(f"Manipulator dynamics (Craig, chapter 6): the course ({kind})"),
+                      page.bullet_list(links, ordered=True)])
+
+
 def publish(out: Path, solutions: bool = False, only=None, progress=None) -> list[Path]:
     """Run every notebook and render it to a static HTML page in ``out``, with ``index.html`` listing them.
 
-    Pages are nbconvert's HTML; the animations are embedded in the page and play offline. ``out``
-    may hold other files: it is written by :func:`course_dynamics.output.folders.write_folder`, which replaces
-    only pages an earlier run of this command wrote and nobody changed since, and refuses (before
-    any notebook runs) when another file is in the way.
+    Pages are built by :mod:`course_dynamics.output.page` (:func:`notebook_page`): the formulas are
+    MathML, the figures and the animations are embedded, and a page loads nothing from the network:
+    it opens, and the animations play, offline. ``out`` may hold other files: it is written by
+    :func:`course_dynamics.output.folders.write_folder`, which replaces only pages an earlier run of
+    this command wrote and nobody changed since, and refuses (before any notebook runs) when another
+    file is in the way.
     """
     import tempfile
-
-    from nbconvert import HTMLExporter
-
 
     out = Path(out)
     paths = notebook_paths(only)
     check_folder(out, [f"{path.stem}.html" for path in paths] + ["index.html"], PUBLISH_OWNER)  # before minutes of work
-    exporter = HTMLExporter(template_name="lab")
     pages, entries = {}, []
     with tempfile.TemporaryDirectory(prefix="course-dynamics-publish-") as folder:
         for path in paths:
             source = read_notebook(path)
             notebook = solution_version(source, path.stem) if solutions else student_version(source, path.stem)
             execute(notebook, Path(folder))
-            body, _ = exporter.from_notebook_node(notebook)
-            pages[f"{path.stem}.html"] = body
+            pages[f"{path.stem}.html"] = notebook_page(notebook)
             entries.append((path.stem, first_heading(notebook)))
             if progress is not None:
                 progress(1)
-    kind = "with solutions" if solutions else "student version"
-    items = "".join(f'<li><a href="{html.escape(stem)}.html">{html.escape(title or stem)}</a></li>' for stem, title in entries)
-    pages["index.html"] = (f'<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8"><title>Manipulator dynamics: '
-                           f"the course</title></head><body><h1>Manipulator dynamics (Craig, chapter 6): the course "
-                           f"({kind})</h1><ol>{items}</ol></body></html>\n")
+    pages["index.html"] = index_page(entries, solutions)
     return write_folder(out, pages, PUBLISH_OWNER)

@@ -2,11 +2,10 @@
 from __future__ import annotations
 
 import base64
-import html
 from pathlib import Path
 
 from ...core.model import Model
-from .. import io
+from .. import io, page
 from .geometry import RobotGeometry
 from .scene import build_scene
 
@@ -23,34 +22,26 @@ class RecordingWindow:
         self.commands.append(umsgpack.packb(command.lower()))
 
 
+BOOT = """var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));
+var sceneCommands = [
+%s
+];
+for (const text of sceneCommands) {
+  const bytes = Uint8Array.from(atob(text), c => c.charCodeAt(0));
+  viewer.handle_command_bytearray(bytes);
+}
+window.sceneReady = true;
+"""
+
+
 def html_document(commands: list[bytes], title: str = "course-dynamics") -> str:
     """One HTML page with the meshcat viewer script and the scene commands inlined (opens offline)."""
     import meshcat
 
     script = (Path(meshcat.__file__).parent / "viewer" / "dist" / "main.min.js").read_text()
     payload = ",\n".join(f'"{base64.b64encode(c).decode()}"' for c in commands)
-    return f"""<!DOCTYPE html>
-<html>
-<head><meta charset="utf-8"><title>{html.escape(title)}</title>
-<style>body {{ margin: 0; }} #meshcat-pane {{ width: 100vw; height: 100vh; overflow: hidden; }}</style>
-</head>
-<body>
-<div id="meshcat-pane"></div>
-<script>{script}</script>
-<script>
-var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));
-var sceneCommands = [
-{payload}
-];
-for (const text of sceneCommands) {{
-  const bytes = Uint8Array.from(atob(text), c => c.charCodeAt(0));
-  viewer.handle_command_bytearray(bytes);
-}}
-window.sceneReady = true;
-</script>
-</body>
-</html>
-"""
+    return page.page(title, page.element("div", id="meshcat-pane"), scripts=[script, BOOT % payload],
+                     body_class="viewer")
 
 
 def scene_document(model: Model, urdf, geometry: str = "auto", t=None, q=None, tau=None,
