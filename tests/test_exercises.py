@@ -44,6 +44,17 @@ def test_values_name_their_wrong_entries():
     assert "has shape (2,)" in check("principal_moments", right[:2]).text()
 
 
+def test_values_get_the_graders_checks():
+    """A value goes through grading.score like a graded term: the same named mistakes, in the same words."""
+    tensor = given("principal_moments")["I"]
+    counted_twice = check("principal_moments", np.linalg.eigvalsh(tensor + tensor)).text()
+    assert "is the right answer times a constant factor 2" in counted_twice
+    d = given("I_xy_corner")
+    with_the_notes_minus = d["m"] * 0 - d["m"] * (d["w"] / 2) * (d["l"] / 2)  # ᶜI_xy − m x_c y_c, ᶜI_xy = 0
+    assert "has the opposite sign everywhere" in check("I_xy_corner", with_the_notes_minus).text()
+    assert "expected numbers, got 'abc'" in check("principal_moments", "abc").text()
+
+
 def test_formulas_are_compared_exactly():
     m, l, g, theta, theta_dot = symbols("m", "l", "g", "theta", "theta_dot")
     assert check("k_pendulum", m * l**2 * theta_dot**2 / 2)

@@ -11,7 +11,8 @@ module          job
 ``plan``        the calls a submission is asked, our answers, and its answers as terms
 ``harness``     the only code of ours next to student code: imports it, calls it
 ``sandbox``     a separate process with limits, in bubblewrap, killed cleanly
-``diagnosis``   scores a term and names the mistake (also used by the notebooks)
+``diagnosis``   the named mistakes: small checks over one answer, each with its advice
+``score``       the one scorer of a term, used by the grader and the notebooks
 ``grade``       a whole class: inspect, run, score
 ``feedback``    gradebook.csv, per-student Markdown/HTML/Gradescope JSON, summary.html
 ==============  ================================================================
@@ -22,9 +23,10 @@ True
 """
 from .assignment import EXAMPLE, TERMS, Assignment, load_assignment
 from .diagnosis import Diagnosis, diagnose
+from .score import score
 from .feedback import write_outputs
 from .grade import SubmissionGrade, grade_class, grade_submission
 from .sandbox import SandboxError, check_sandbox
 
 __all__ = ["EXAMPLE", "TERMS", "Assignment", "Diagnosis", "SandboxError", "SubmissionGrade", "check_sandbox", "diagnose",
-           "grade_class", "grade_submission", "load_assignment", "write_outputs"]
+           "grade_class", "grade_submission", "load_assignment", "score", "write_outputs"]

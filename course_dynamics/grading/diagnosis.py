@@ -1,68 +1,160 @@
-"""Scoring one term and saying what is wrong with it, in words that teach.
+"""What is wrong with an answer, in words that teach: a list of small checks over one record.
 
-:func:`diagnose` compares a student's answers for one term (τ, M, V, G or C)
-with ours, state by state, and when they disagree looks for the mistakes
-students make, in this order:
+An :class:`Answer` is one comparison: a student's values next to ours, state by
+state (the grader's seeded states for τ, M, V, G or C; one "state" for a
+notebook exercise's value), with what else the checks may read: the states, our
+answers made with typical mistakes, V's (6.63) coefficients, τ's parts. Each
+check is a small function (or frozen dataclass) of the record that returns a
+:class:`Finding` (a named mistake in Craig's terms, with its advice) or None.
+:func:`diagnose` runs :data:`SCREENS` always, then :data:`CHECKS` when some
+comparable state disagrees, in order; a *conclusive* finding (†) explains the
+whole answer and ends the list:
 
-==========================  =================================================
-finding                     test (over every state where the answer is usable)
-==========================  =================================================
-not defined, exceptions     the harness's error records
-wrong shape or length       the array's shape against (n,) or (n, n)
-NaN or inf                  non-finite entries
-opposite sign               −answer agrees
-a named mistake             the answer agrees with ours under that mistake:
-                            angles in degrees, gravity with the wrong sign
-constant factor             answer ≈ k · ours for one k ≠ 1
-joints swapped              answer agrees after permuting joints
-wrong entries (M, C)        which (i, j) disagree; symmetry of M
-wrong coefficients (V, τ)   the coefficients of θ̇ⱼθ̇ₖ (Coriolis, Craig's B)
-                            and θ̇ⱼ² (centrifugal, Craig's C) of (6.63), read
-                            off at unit velocities; V(Θ, 2Θ̇) = 4 V(Θ, Θ̇)
-parts of τ                  τ's gravity, inertia and velocity parts separately
-C Θ̇ = V, not Christoffel    for a C that is not the Christoffel form
-==========================  =================================================
+============================  ====================================================
+check                         the answer …
+============================  ====================================================
+not_defined †                 does not exist: no function, no τ to derive it from
+raised_an_error, wrong_shape  is an exception, has the wrong shape,
+not_finite                    holds NaN or inf (on some states)
+opposite_sign †               agrees with −ours everywhere
+named mistakes †              agrees with ours made with that mistake: angles in
+                              degrees, gravity with the wrong sign
+constant_factor †             ≈ k · ours for one k ≠ 1
+transposed †, joints_swapped  agrees with ours transposed, or joints permuted
+tau_parts, InPart(…)          (τ) which of its parts G, M, V are right; a check
+                              below run on one of them
+wrong_entries                 which entries disagree
+not_symmetric                 (M) differs from its transpose
+not_christoffel               (C) satisfies C Θ̇ = V, but is not Christoffel's
+wrong_coefficients            (V) its (6.63) coefficients of θ̇ⱼθ̇ₖ (Coriolis, Craig's B)
+                              and θ̇ⱼ² (centrifugal, C); V(Θ, 2Θ̇) = 4 V(Θ, Θ̇)
+coriolis_without_factor_2     (V) every Coriolis coefficient is half of ours
+============================  ====================================================
 
-Every finding names the worst state with the expected and returned values.
-The same function serves the grader and the notebooks' exercise checks.
+:func:`~course_dynamics.grading.score.score` turns a record and its findings
+into a :class:`Diagnosis`, for the grader and the notebooks alike.
+
+>>> answer = Answer.single([0.5, -2.0], [-1.0, 4.0], tolerance=1e-6)
+>>> [finding.tags for finding in diagnose(answer)]
+[('constant factor',)]
 """
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
+from functools import cached_property
 from itertools import permutations
 
 import numpy as np
 
 from ..core.sampling import relative_error, term_scales
-from .plan import Expected, Plan, Returned, coefficient_names
+from .plan import Expected, Plan, VelocityProbe
 
-DERIVED_C_TOLERANCE = 1e-7  # central differences reach about 1e-8
 TERM_NAMES = {"tau": "τ", "M": "M", "V": "V", "G": "G", "C": "C"}
 SIGNATURES = {"tau": "tau(q, qd, qdd)", "M": "M(q)", "V": "V(q, qd)", "G": "G(q)", "C": "C(q, qd)"}
-MISTAKE_ADVICE = {
-    "angles read as degrees": "your code treats the joint angles as degrees (e.g. np.deg2rad(q) or "
-                              "degree-based trigonometry), but every input is in radians",
-    "angles turned into degrees": "your code turns the joint angles into degrees before using them "
-                                  "(e.g. np.rad2deg), but numpy's trigonometry takes radians",
-    "gravity with the wrong sign": "gravity enters with the wrong sign: in Craig's recursion the base "
-                                   "accelerates upward, ⁰v̇₀ = −g, so G(Θ) holds the arm up against gravity",
-}
+VALUE_SCALE = 1e-12  # the floor of the relative error of a value that is no function of the robot
+LISTED = 8  # wrong entries named one by one
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)  # holds arrays: compared by identity
+class Answer:
+    """One comparison, state by state, the record every check reads: ``expected`` (N, …) is ours, ``values`` per
+    state the student's array or None where ``errors`` says why, ``scales`` per state the floor of the relative
+    error (:func:`~course_dynamics.core.sampling.term_scales`). For a function of the robot, ``term`` and ``joints``
+    name it and its rows, ``plan`` and ``reference`` give the states and all our answers, ``coefficients`` V probed
+    at the diagnostic states, ``parts`` τ's gravity, inertia and velocity parts (each an Answer of its own)."""
+
+    expected: np.ndarray
+    values: tuple
+    errors: tuple
+    scales: tuple
+    tolerance: float
+    term: str = ""
+    label: str = ""
+    source: str = "direct"
+    joints: tuple[str, ...] = ()
+    plan: Plan | None = None
+    reference: Expected | None = None
+    coefficients: VelocityProbe | None = None
+    parts: Mapping[str, Answer] = field(default_factory=dict)
+
+    @classmethod
+    def single(cls, expected, value, tolerance: float) -> Answer:
+        """A value compared once (a notebook exercise's number, vector or matrix)."""
+        expected = np.asarray(expected, dtype=float)
+        return cls(expected[None], (np.asarray(value, dtype=float),), (None,), (VALUE_SCALE,), tolerance)
+
+    @property
+    def name(self) -> str:
+        return TERM_NAMES.get(self.term, "")
+
+    @property
+    def count(self) -> int:
+        return len(self.expected)
+
+    @property
+    def available(self) -> bool:
+        return self.source != "missing"
+
+    @cached_property
+    def usable(self) -> tuple[int, ...]:
+        """The states with a finite value of the right shape."""
+        shape = self.expected.shape[1:]
+        return tuple(k for k, v in enumerate(self.values)
+                     if v is not None and v.shape == shape and bool(np.all(np.isfinite(v))))
+
+    @cached_property
+    def relative_errors(self) -> dict[int, float]:
+        return {k: relative_error(self.values[k], self.expected[k], self.scales[k]) for k in self.usable}
+
+    @property
+    def agreed(self) -> tuple[int, ...]:
+        return tuple(k for k, e in self.relative_errors.items() if e <= self.tolerance)
+
+    @property
+    def wrong(self) -> tuple[int, ...]:
+        return tuple(k for k, e in self.relative_errors.items() if e > self.tolerance)
+
+    @property
+    def correct(self) -> bool:
+        return len(self.agreed) == self.count
+
+    def agrees_with(self, candidates: np.ndarray, tolerance: float | None = None) -> bool:
+        """Whether the value of every usable state agrees with ``candidates`` (N, …) there."""
+        tolerance = self.tolerance if tolerance is None else tolerance
+        return bool(self.usable) and all(relative_error(self.values[k], candidates[k], self.scales[k]) <= tolerance
+                                         for k in self.usable)
+
+
+@dataclass(frozen=True)
+class Finding:
+    """What a check found: the sentence the student reads, the tags the class summary counts, and whether it
+    explains the whole answer (``conclusive``: no later check runs)."""
+
+    text: str
+    tags: tuple[str, ...]
+    conclusive: bool = False
+
+
+@dataclass(frozen=True)
 class Diagnosis:
-    """The grade of one term, with the findings that explain it."""
+    """The score of one answer: its points, the states that agree, the findings that explain the rest, the worst
+    state (what :func:`~course_dynamics.grading.score.score` returns)."""
 
     term: str
     points: float
     max_points: float
-    agreed: int
+    agreeing: tuple[int, ...]
     total: int
     source: str
     tolerance: float
-    findings: list[str] = field(default_factory=list)
-    tags: list[str] = field(default_factory=list)
+    findings: tuple[str, ...] = ()
+    tags: tuple[str, ...] = ()
     worst: str = ""
+
+    @property
+    def agreed(self) -> int:
+        return len(self.agreeing)
 
     @property
     def correct(self) -> bool:
@@ -71,7 +163,7 @@ class Diagnosis:
     def text(self) -> str:
         """The feedback as plain text: a summary line, the findings, the worst state."""
         how = "" if self.source in ("direct", "missing") else f" ({self.source})"
-        lines = [f"{TERM_NAMES[self.term]}: {self.points:g} / {self.max_points:g} points{how}; "
+        lines = [f"{TERM_NAMES.get(self.term, 'the answer')}: {self.points:g} / {self.max_points:g} points{how}; "
                  f"agrees on {self.agreed} of {self.total} states (relative tolerance {self.tolerance:g})"]
         lines += [f"- {finding}" for finding in self.findings]
         if self.worst:
@@ -79,265 +171,276 @@ class Diagnosis:
         return "\n".join(lines)
 
 
-def _fmt(x) -> str:
-    array = np.asarray(x, dtype=float)
-    if array.ndim == 0:
-        return f"{float(array):.6g}"
-    return "[" + ", ".join(_fmt(v) for v in array) + "]"
+# ---------------------------------------------------------------------------------------- screens: unusable states
+def not_defined(answer: Answer) -> Finding | None:
+    if answer.available:
+        return None
+    derive = "" if answer.term == "tau" else ", or tau(q, qd, qdd) to derive it from"
+    return Finding(f"not defined: write {SIGNATURES[answer.term]}{derive}", ("not defined",), conclusive=True)
 
 
-def _joint_list(joints) -> str:
-    return ", ".join(joints)
+def raised_an_error(answer: Answer) -> Finding | None:
+    errors = [(k, e) for k, e in enumerate(answer.errors) if e is not None]
+    if not errors:
+        return None
+    (k, message), N = errors[0], answer.count
+    every = "every state" if len(errors) == N else f"{len(errors)} of {N} states (first: state #{k + 1})"
+    return Finding(f"raised an error on {every}: {message}", ("raised an error",))
 
 
-def _state_text(plan: Plan, term: str, k: int) -> str:
-    parts = [f"q = {_fmt(plan.q[k])}"]
-    if term in ("tau", "V", "C"):
-        parts.append(f"qd = {_fmt(plan.qd[k])}")
-    if term == "tau":
-        parts.append(f"qdd = {_fmt(plan.qdd[k])}")
-    return ", ".join(parts)
-
-
-def diagnose(term: str, plan: Plan, expected: Expected, returned: Returned, max_points: float, tolerance: float,
-             joints, gravity, partial_credit: str = "states", coefficients=None, parts: dict | None = None) -> Diagnosis:
-    """Score ``term`` and explain what is wrong (module docstring).
-
-    ``coefficients`` is :func:`~course_dynamics.grading.plan.returned_coefficients`'s answer (for V and τ);
-    ``parts`` maps "G", "M", "V" to the student's :class:`Returned` parts of τ (for τ).
-    """
-    N = len(plan.q)
-    if returned.source == "derived from tau" and term == "C":
-        tolerance = max(tolerance, DERIVED_C_TOLERANCE)
-    result = Diagnosis(term, 0.0, max_points, 0, N, returned.source, tolerance)
-    ours = expected.terms[term]
-    if not returned.available:
-        result.findings.append(f"not defined: write {SIGNATURES[term]}"
-                               + ("" if term == "tau" else ", or tau(q, qd, qdd) to derive it from"))
-        result.tags.append("not defined")
-        result.worst = f"to check yours, state #1: {_state_text(plan, term, 0)}; expected {TERM_NAMES[term]} = {_fmt(ours[0])}"
-        return result
-    shape = ours.shape[1:]
-    scales = [term_scales(expected.terms["M"][k], expected.terms["G"][k], plan.qd[k], plan.qdd[k], gravity)[term]
-              for k in range(N)]
-    usable, errors, wrong_shape, non_finite = [], [], [], []
-    for k, (value, error) in enumerate(zip(returned.values, returned.errors)):
-        if error is not None:
-            errors.append((k, error))
-        elif value.shape != shape:
-            wrong_shape.append((k, value.shape))
-        elif not np.all(np.isfinite(value)):
-            non_finite.append(k)
-        else:
-            usable.append(k)
-    if errors:
-        k, message = errors[0]
-        every = "every state" if len(errors) == N else f"{len(errors)} of {N} states (first: state #{k + 1})"
-        result.findings.append(f"raised an error on {every}: {message}")
-        result.tags.append("raised an error")
-    if wrong_shape:
-        k, got = wrong_shape[0]
-        result.findings.append(_shape_advice(term, got, shape, joints))
-        result.tags.append("wrong shape")
-    if non_finite:
-        result.findings.append(f"returned NaN or inf on {len(non_finite)} of {N} states (first: state #{non_finite[0] + 1}); "
-                               "look for a division by zero or a square root of a negative number")
-        result.tags.append("NaN or inf")
-    errors_by_state = {k: relative_error(returned.values[k], ours[k], scales[k]) for k in usable}
-    agreed = [k for k, e in errors_by_state.items() if e <= tolerance]
-    result.agreed = len(agreed)
-    if partial_credit == "states":
-        result.points = round(max_points * len(agreed) / N, 2)
-    else:
-        result.points = max_points if len(agreed) == N else 0.0
-    if len(agreed) == N:
-        return result
-    wrong = [k for k in usable if k not in set(agreed)]
-    if wrong:
-        _explain(result, term, plan, expected, returned, usable, scales, tolerance, joints, gravity, coefficients, parts)
-        k = max(wrong, key=lambda i: errors_by_state[i])
-        answer = f"{_fmt(returned.values[k])} (relative error {errors_by_state[k]:.2g})"
-    elif non_finite:
-        k = non_finite[0]
-        answer = _fmt(returned.values[k])
-    elif wrong_shape:
-        k = wrong_shape[0][0]
-        answer = f"{_fmt(returned.values[k])} (shape {tuple(returned.values[k].shape)})"
-    else:
-        k, answer = errors[0][0], f"an error: {errors[0][1]}"
-    result.worst = f"worst state #{k + 1}: {_state_text(plan, term, k)}; expected {TERM_NAMES[term]} = {_fmt(ours[k])}, " \
-                   f"returned {answer}"
-    return result
-
-
-def _shape_advice(term: str, got: tuple, shape: tuple, joints) -> str:
-    n = len(joints)
+def wrong_shape(answer: Answer) -> Finding | None:
+    shape = answer.expected.shape[1:]
+    got = next((v.shape for v in answer.values if v is not None and v.shape != shape), None)
+    if got is None:
+        return None
+    if not answer.joints:
+        return Finding(f"has shape {got}, the answer has shape {shape}", ("wrong shape",))
+    n, joints, name = len(answer.joints), ", ".join(answer.joints), answer.name
     if len(shape) == 1:
         count = got[0] if len(got) == 1 else int(np.prod(got))
         what = f"returned {count} values" if len(got) == 1 else f"returned an array of shape {tuple(got)}"
-        return (f"{what}, the robot has {n} joints ({_joint_list(joints)}): {TERM_NAMES[term]} has one entry per "
-                f"joint, shape ({n},)")
-    return (f"returned an array of shape {tuple(got)}, {TERM_NAMES[term]} must be {n} × {n} (rows and columns in joint "
-            f"order {_joint_list(joints)})")
+        text = f"{what}, the robot has {n} joints ({joints}): {name} has one entry per joint, shape ({n},)"
+    else:
+        text = (f"returned an array of shape {tuple(got)}, {name} must be {n} × {n} (rows and columns in joint order "
+                f"{joints})")
+    return Finding(text, ("wrong shape",))
 
 
-def _agrees_everywhere(values: list, candidates: np.ndarray, usable: list, scales: list, tolerance: float) -> bool:
-    return bool(usable) and all(relative_error(values[k], candidates[k], scales[k]) <= tolerance for k in usable)
+def not_finite(answer: Answer) -> Finding | None:
+    shape = answer.expected.shape[1:]
+    found = [k for k, v in enumerate(answer.values)
+             if v is not None and v.shape == shape and not np.all(np.isfinite(v))]
+    if not found:
+        return None
+    where = "contains NaN or inf:" if answer.count == 1 else \
+        f"returned NaN or inf on {len(found)} of {answer.count} states (first: state #{found[0] + 1});"
+    return Finding(f"{where} look for a division by zero or a square root of a negative number", ("NaN or inf",))
 
 
-def _explain(result, term, plan, expected, returned, usable, scales, tolerance, joints, gravity, coefficients,
-             parts) -> None:
-    ours = expected.terms[term]
-    values = returned.values
-    if _agrees_everywhere(values, -ours, usable, scales, tolerance):
-        result.findings.append(f"has the opposite sign everywhere ({TERM_NAMES[term]} returned = −1 × the right value): "
-                               + ("gravity enters with the wrong sign (Craig lifts the base, ⁰v̇₀ = −g)" if term == "G" else
-                                  "check the direction of gravity, of the joint axes, and subtractions done the wrong way round"))
-        result.tags.append("opposite sign")
-        return
-    for label, alternative in expected.mistakes.get(term, {}).items():
-        if _agrees_everywhere(values, alternative, usable, scales, tolerance):
-            key = next(k for k in MISTAKE_ADVICE if label.startswith(k))
-            result.findings.append(f"matches the right answer with {label}: {MISTAKE_ADVICE[key]}")
-            result.tags.append(key)
-            return
-    numerator = sum(float(np.sum(values[k] * ours[k])) for k in usable)
+# ---------------------------------------------------------------------------------------- the whole answer explained
+def opposite_sign(answer: Answer) -> Finding | None:
+    if not answer.agrees_with(-answer.expected):
+        return None
+    if answer.term == "G":
+        advice = "gravity enters with the wrong sign (Craig lifts the base, ⁰v̇₀ = −g)"
+    elif answer.joints:
+        advice = "check the direction of gravity, of the joint axes, and subtractions done the wrong way round"
+    else:
+        advice = "check the sign of each term, and subtractions done the wrong way round"
+    returned = f"{answer.name} returned" if answer.name else "yours"
+    return Finding(f"has the opposite sign everywhere ({returned} = −1 × the right value): {advice}",
+                   ("opposite sign",), conclusive=True)
+
+
+@dataclass(frozen=True)
+class NamedMistake:
+    """A mistake we make on purpose: :func:`~course_dynamics.grading.plan.expected_terms` computes our answers
+    with it (under ``name``, one per variant), and the student's answer agrees with one of them."""
+
+    name: str
+    advice: str
+
+    def __call__(self, answer: Answer) -> Finding | None:
+        made = answer.reference.mistakes.get(answer.term, {}) if answer.reference is not None else {}
+        for (name, variant), values in made.items():
+            if name == self.name and answer.agrees_with(values):
+                how = f"{name} ({variant})" if variant else name
+                return Finding(f"matches the right answer with {how}: {self.advice}", (name,), conclusive=True)
+        return None
+
+
+ANGLES_READ_AS_DEGREES = NamedMistake(
+    "angles read as degrees", "your code treats the joint angles as degrees (e.g. np.deg2rad(q) or degree-based "
+    "trigonometry), but every input is in radians")
+ANGLES_TURNED_INTO_DEGREES = NamedMistake(
+    "angles turned into degrees", "your code turns the joint angles into degrees before using them (e.g. np.rad2deg), "
+    "but numpy's trigonometry takes radians")
+GRAVITY_WITH_THE_WRONG_SIGN = NamedMistake(
+    "gravity with the wrong sign", "gravity enters with the wrong sign: in Craig's recursion the base accelerates "
+    "upward, ⁰v̇₀ = −g, so G(Θ) holds the arm up against gravity")
+
+
+def constant_factor(answer: Answer) -> Finding | None:
+    ours, usable = answer.expected, answer.usable
     denominator = sum(float(np.sum(ours[k] * ours[k])) for k in usable)
-    if denominator > 0:
-        factor = numerator / denominator
-        if abs(factor - 1) > 10 * tolerance and _agrees_everywhere(values, factor * ours, usable, scales, 10 * tolerance):
-            result.findings.append(f"is the right answer times a constant factor {factor:.6g}: a missing or extra factor "
-                                   "such as ½, 2, a mass or a length squared?")
-            result.tags.append("constant factor")
-            return
-    swapped = _permutation(values, ours, usable, scales, tolerance, term)
-    if swapped is not None:
-        names = [joints[j] for j in swapped]
-        result.findings.append(f"has its joints in the wrong order ({', '.join(names)} appear as "
-                               f"{', '.join(joints)}): entries must follow the joint order {_joint_list(joints)} "
-                               "that `course-dynamics info` prints")
-        result.tags.append("joints swapped")
-        return
-    if term in ("M", "C"):
-        _wrong_entries(result, term, values, ours, usable, scales, tolerance, joints)
-        if term == "C":
-            V = expected.terms["V"]
-            if _agrees_everywhere([None if v is None else v @ qd for v, qd in zip(values, plan.qd)], V, usable,
-                                  [term_scales(expected.terms["M"][k], expected.terms["G"][k], plan.qd[k], plan.qdd[k],
-                                               np.zeros(3))["V"] for k in range(len(plan.q))], tolerance):
-                result.findings.append("satisfies C Θ̇ = V, but it is not the Christoffel-symbol form "
-                                       "Cᵢⱼ = Σₖ Γᵢⱼₖ θ̇ₖ (the one with Ṁ − 2C skew-symmetric) that the assignment asks for")
-                result.tags.append("C not Christoffel")
-    if term == "V":
-        _coefficient_findings(result, plan, expected, coefficients, tolerance, joints, "V")
-    if term == "tau" and parts:
-        _tau_parts(result, plan, expected, parts, coefficients, tolerance, joints, gravity)
-    if not result.tags:
-        result.tags.append("wrong values")
+    if sum(ours[k].size for k in usable) < 2 or denominator <= 0:  # one number is always some factor of another
+        return None
+    factor = sum(float(np.sum(answer.values[k] * ours[k])) for k in usable) / denominator
+    loose = 10 * answer.tolerance
+    if abs(factor) < 1e-6 or abs(factor - 1) <= loose or not answer.agrees_with(factor * ours, loose):
+        return None
+    return Finding(f"is the right answer times a constant factor {factor:.6g}: a missing or extra factor such as ½, 2, "
+                   "a mass or a length squared?", ("constant factor",), conclusive=True)
 
 
-def _permutation(values, ours, usable, scales, tolerance, term):
-    n = ours.shape[1]
+def transposed(answer: Answer) -> Finding | None:
+    ours = answer.expected
+    if ours.ndim != 3 or ours.shape[1] != ours.shape[2] or not answer.agrees_with(np.swapaxes(ours, 1, 2)):
+        return None
+    advice = (f": row i of {answer.name} belongs to τᵢ and column j to the θ̇ⱼ or θ̈ⱼ it multiplies"
+              if answer.joints else " (rows and columns exchanged)")
+    return Finding(f"is the transpose of the right matrix{advice}", ("transposed",), conclusive=True)
+
+
+def joints_swapped(answer: Answer) -> Finding | None:
+    if not answer.joints:
+        return None
+    ours, n = answer.expected, answer.expected.shape[1]
     candidates = permutations(range(n)) if n <= 5 else (
-        tuple(j if j not in (a, b) else (b if j == a else a) for j in range(n)) for a in range(n) for b in range(a + 1, n))
-    for p in candidates:
-        p = list(p)
+        tuple(j if j not in (a, b) else (b if j == a else a) for j in range(n))
+        for a in range(n) for b in range(a + 1, n))
+    for p in map(list, candidates):
         if p == list(range(n)):
             continue
         # vectors: entries reordered; matrices: rows and columns, or rows only (a τ returned in the wrong order)
         moved = [ours[:, p]] if ours.ndim == 2 else [ours[:, p][:, :, p], ours[:, p]]
-        if any(_agrees_everywhere(values, m, usable, scales, tolerance) for m in moved):
-            return p
+        if any(answer.agrees_with(m) for m in moved):
+            names, joints = ", ".join(answer.joints[j] for j in p), ", ".join(answer.joints)
+            return Finding(f"has its joints in the wrong order ({names} appear as {joints}): entries must follow the "
+                           f"joint order {joints} that `course-dynamics info` prints", ("joints swapped",), True)
     return None
 
 
-def _wrong_entries(result, term, values, ours, usable, scales, tolerance, joints) -> None:
-    n = ours.shape[1]
-    bad = set()
-    for k in usable:
-        error = np.abs(values[k] - ours[k]) / max(float(np.abs(ours[k]).max()), scales[k], np.finfo(float).tiny)
-        bad |= {(i, j) for i, j in zip(*np.nonzero(error > tolerance))}
-    if bad and len(bad) < n * n:
-        names = ", ".join(f"{TERM_NAMES[term]}[{i + 1},{j + 1}]" for i, j in sorted(bad))
-        result.findings.append(f"entries {names} are wrong (rows and columns numbered from 1 in joint order "
-                               f"{_joint_list(joints)}); the others are right")
-        result.tags.append(f"wrong entries of {term}")
-    if term == "M":
-        asymmetric = [k for k in usable if np.abs(values[k] - values[k].T).max() > tolerance * max(scales[k], 1e-300)]
-        if asymmetric:
-            result.findings.append("is not symmetric: a mass matrix always is (Mᵢⱼ = Mⱼᵢ), since k = ½ Θ̇ᵀ M Θ̇ (6.71)")
-            result.tags.append("M not symmetric")
+# ---------------------------------------------------------------------------------------- details
+def wrong_entries(answer: Answer) -> Finding | None:
+    ours, bad = answer.expected, set()
+    size = int(np.prod(ours.shape[1:], dtype=int))
+    if size < 2:
+        return None
+    for k in answer.usable:
+        error = np.abs(answer.values[k] - ours[k]) / max(float(np.abs(ours[k]).max()), answer.scales[k],
+                                                         np.finfo(float).tiny)
+        bad |= {tuple(int(i) for i in index) for index in np.argwhere(error > answer.tolerance)}
+    if not bad or len(bad) == size:
+        return None
+    if answer.joints:
+        names = [f"{answer.name}[{','.join(str(i + 1) for i in index)}]" for index in sorted(bad)]
+        order = "rows and columns numbered" if ours.ndim == 3 else "numbered"
+        where = f"{order} from 1 in joint order {', '.join(answer.joints)}"
+    else:
+        names = [str(index[0] + 1) if len(index) == 1 else str(tuple(i + 1 for i in index)) for index in sorted(bad)]
+        where = "numbered from 1"
+    more = f" (and {len(names) - LISTED} more)" if len(names) > LISTED else ""
+    tag = f"wrong entries of {answer.term}" if answer.term else "wrong entries"
+    return Finding(f"entries {', '.join(names[:LISTED])}{more} are wrong ({where}); the others are right", (tag,))
 
 
-def _coefficient_findings(result, plan, expected, coefficients, tolerance, joints, label: str) -> None:
-    """Which (6.63) coefficients of V are wrong, read off at unit and paired unit velocities."""
-    if coefficients is None:
-        return
-    per_state, _ = coefficients
-    n = plan.n
-    coriolis, centrifugal = coefficient_names(n)
-    order = {pair: index for index, pair in enumerate(sorted(set(coriolis + centrifugal)))}
-    wrong, not_quadratic = {}, False
-    for d, (polar, doubled, single) in enumerate(per_state):
-        scale = max(float(np.abs(expected.B[d]).max(initial=0)), float(np.abs(expected.C_centrifugal[d]).max()), 1e-12)
-        if np.abs(doubled - 4 * single).max() > max(tolerance * 4 * np.abs(single).max(), tolerance * scale):
-            not_quadratic = True
-        for i in range(n):
-            for j, k in coriolis:
-                got = polar[order[(j, k)]][i] - polar[order[(j, j)]][i] - polar[order[(k, k)]][i]
-                want = expected.B[d][i][coriolis.index((j, k))]
-                if abs(got - want) > tolerance * scale:
-                    wrong.setdefault(("Coriolis", i, j, k), (d, want, got))
-            for j, _ in centrifugal:
-                got, want = polar[order[(j, j)]][i], expected.C_centrifugal[d][i][j]
-                if abs(got - want) > tolerance * scale:
-                    wrong.setdefault(("centrifugal", i, j, j), (d, want, got))
-    if not_quadratic:
-        result.findings.append(f"{label} is not quadratic in Θ̇: V(Θ, 2Θ̇) should be 4 V(Θ, Θ̇), because every velocity "
-                               "term is a product of two joint rates (θ̇ⱼθ̇ₖ or θ̇ⱼ²)")
-        result.tags.append("V not quadratic")
-        return
+def not_symmetric(answer: Answer) -> Finding | None:
+    if answer.term != "M" or not any(
+            np.abs(answer.values[k] - answer.values[k].T).max() > answer.tolerance * max(answer.scales[k], 1e-300)
+            for k in answer.usable):
+        return None
+    return Finding("is not symmetric: a mass matrix always is (Mᵢⱼ = Mⱼᵢ), since k = ½ Θ̇ᵀ M Θ̇ (6.71)",
+                   ("M not symmetric",))
+
+
+def not_christoffel(answer: Answer) -> Finding | None:
+    if answer.term != "C" or answer.plan is None or answer.reference is None:
+        return None
+    plan, ours, usable = answer.plan, answer.reference.terms, set(answer.usable)
+    product = tuple(v @ plan.qd[k] if k in usable else None for k, v in enumerate(answer.values))
+    scales = tuple(term_scales(ours["M"][k], ours["G"][k], plan.qd[k], plan.qdd[k], np.zeros(3))["V"]
+                   for k in range(answer.count))
+    velocity = Answer(ours["V"], product, (None,) * answer.count, scales, answer.tolerance)
+    if not velocity.agrees_with(velocity.expected):
+        return None
+    return Finding("satisfies C Θ̇ = V, but it is not the Christoffel-symbol form Cᵢⱼ = Σₖ Γᵢⱼₖ θ̇ₖ (the one with "
+                   "Ṁ − 2C skew-symmetric) that the assignment asks for", ("C not Christoffel",))
+
+
+def _quadratic(answer: Answer) -> bool:
+    probe = answer.coefficients
+    return all(np.abs(twice - 4 * once).max() <= answer.tolerance * max(4 * np.abs(once).max(), scale)
+               for once, twice, scale in zip(probe.single, probe.doubled, probe.scales, strict=True))
+
+
+def wrong_coefficients(answer: Answer) -> Finding | None:
+    if answer.coefficients is None:
+        return None
+    label = answer.label or answer.name
+    if not _quadratic(answer):
+        return Finding(f"{label} is not quadratic in Θ̇: V(Θ, 2Θ̇) should be 4 V(Θ, Θ̇), because every velocity term is "
+                       "a product of two joint rates (θ̇ⱼθ̇ₖ or θ̇ⱼ²)", ("V not quadratic",))
+    wrong = {}
+    for c in answer.coefficients.coefficients:
+        if not c.right(answer.tolerance):
+            wrong.setdefault((c.kind, c.i, c.j, c.k), c)  # the first diagnostic state that shows it
     if not wrong:
-        return
+        return None
     described = []
-    for (kind, i, j, k), (d, want, got) in sorted(wrong.items())[:6]:
-        rates = f"θ̇{j + 1}θ̇{k + 1}" if kind == "Coriolis" else f"θ̇{j + 1}²"
-        matrix = "B" if kind == "Coriolis" else "C"
-        described.append(f"the {kind} coefficient of {rates} in τ{i + 1} (Craig's {matrix}, (6.63)): expected "
-                         f"{want:.6g}, returned {got:.6g} at state #{d + 1}")
+    for c in [wrong[key] for key in sorted(wrong)][:6]:
+        rates = f"θ̇{c.j + 1}θ̇{c.k + 1}" if c.kind == "Coriolis" else f"θ̇{c.j + 1}²"
+        matrix = "B" if c.kind == "Coriolis" else "C"
+        described.append(f"the {c.kind} coefficient of {rates} in τ{c.i + 1} (Craig's {matrix}, (6.63)): expected "
+                         f"{c.expected:.6g}, returned {c.returned:.6g} at state #{c.state + 1}")
     more = f" (and {len(wrong) - 6} more)" if len(wrong) > 6 else ""
-    kinds = sorted({kind for kind, *_ in wrong})
-    result.findings.append(f"in {label} = B(Θ)[Θ̇Θ̇] + C(Θ)[Θ̇²], these coefficients are wrong: " + "; ".join(described) + more)
-    result.tags += [f"wrong {kind} terms" for kind in kinds]
+    return Finding(f"in {label} = B(Θ)[Θ̇Θ̇] + C(Θ)[Θ̇²], these coefficients are wrong: " + "; ".join(described) + more,
+                   tuple(f"wrong {kind} terms" for kind in sorted({kind for kind, *_ in wrong})))
 
 
-def _tau_parts(result, plan, expected, parts, coefficients, tolerance, joints, gravity) -> None:
+def coriolis_without_factor_2(answer: Answer) -> Finding | None:
+    if answer.coefficients is None or not _quadratic(answer):
+        return None
+    found = answer.coefficients.coefficients
+    coriolis = [c for c in found if c.kind == "Coriolis"]
+    if not any(abs(c.expected) > answer.tolerance * c.scale for c in coriolis) or not all(
+            c.right(answer.tolerance, 0.5 if c.kind == "Coriolis" else 1.0) for c in found):
+        return None
+    return Finding(f"in {answer.label or answer.name}, every Coriolis term θ̇ⱼθ̇ₖ (j ≠ k) has half its coefficient: "
+                   "Σⱼₖ Γᵢⱼₖ θ̇ⱼθ̇ₖ holds each product twice, so Craig's B is 2Γᵢⱼₖ (6.63), as in the "
+                   "two-link arm's −2 m₂l₁l₂s₂ θ̇₁θ̇₂ (6.61)", ("Coriolis without its factor 2",))
+
+
+PART_NAMES = {"G": "the gravity part G = τ(Θ, 0, 0)", "M": "the inertia part M(Θ) (τ(Θ, 0, eⱼ) − G)",
+              "V": "the velocity part V = τ(Θ, Θ̇, 0) − G"}
+
+
+def tau_parts(answer: Answer) -> Finding | None:
     """τ = M Θ̈ + V + G: which of its parts are right, from τ(Θ, 0, 0), τ(Θ, 0, eⱼ) and τ(Θ, Θ̇, 0)."""
-    N = len(plan.q)
-    right, wrong = [], []
-    names = {"G": "the gravity part G = τ(Θ, 0, 0)", "M": "the inertia part M(Θ) (τ(Θ, 0, eⱼ) − G)",
-             "V": "the velocity part V = τ(Θ, Θ̇, 0) − G"}
-    for key in ("G", "M", "V"):
-        returned = parts.get(key)
-        if returned is None:
-            continue
-        ours = expected.terms[key]
-        scales = [term_scales(expected.terms["M"][k], expected.terms["G"][k], plan.qd[k], plan.qdd[k], gravity)[key]
-                  for k in range(N)]
-        usable = [k for k in range(N) if returned.errors[k] is None and returned.values[k].shape == ours.shape[1:]]
-        (right if _agrees_everywhere(returned.values, ours, usable, scales, tolerance) and len(usable) == N
-         else wrong).append(key)
-        if key == "M" and key in wrong:
-            sub = Diagnosis("M", 0, 0, 0, N, "", tolerance)
-            _wrong_entries(sub, "M", returned.values, ours, usable, scales, tolerance, joints)
-            result.findings += [f"in τ's inertia part, {f}" for f in sub.findings]
-        if key == "V" and key in wrong:
-            _coefficient_findings(result, plan, expected, coefficients, tolerance, joints, "τ's velocity part V")
-    if right or wrong:
-        summary = []
-        if right:
-            summary.append(" and ".join(names[k] for k in right) + (" is right" if len(right) == 1 else " are right"))
-        if wrong:
-            summary.append(" and ".join(names[k] for k in wrong) + (" is wrong" if len(wrong) == 1 else " are wrong"))
-        result.findings.insert(0, "; ".join(summary))
-        result.tags += [f"wrong {k} part of tau" for k in wrong]
+    if not answer.parts:
+        return None
+    right = [key for key, part in answer.parts.items() if part.correct]
+    wrong = [key for key, part in answer.parts.items() if not part.correct]
+    summary = []
+    for keys, verdict in ((right, "right"), (wrong, "wrong")):
+        if keys:
+            names = " and ".join(PART_NAMES[k] for k in keys)
+            summary.append(f"{names} {'is' if len(keys) == 1 else 'are'} {verdict}")
+    return Finding("; ".join(summary), tuple(f"wrong {k} part of tau" for k in wrong))
+
+
+@dataclass(frozen=True)
+class InPart:
+    """``check`` run on one of τ's parts (when that part is wrong), its finding said to be about the part."""
+
+    part: str
+    check: Callable[[Answer], Finding | None]
+    prefix: str = ""
+
+    def __call__(self, answer: Answer) -> Finding | None:
+        part = answer.parts.get(self.part)
+        finding = self.check(part) if part is not None and part.wrong else None
+        return None if finding is None else Finding(self.prefix + finding.text, finding.tags)
+
+
+SCREENS = (not_defined, raised_an_error, wrong_shape, not_finite)
+CHECKS = (
+    opposite_sign, ANGLES_READ_AS_DEGREES, ANGLES_TURNED_INTO_DEGREES, GRAVITY_WITH_THE_WRONG_SIGN, constant_factor,
+    transposed, joints_swapped,
+    tau_parts, InPart("M", wrong_entries, "in τ's inertia part, "), InPart("V", wrong_coefficients),
+    InPart("V", coriolis_without_factor_2),
+    wrong_entries, not_symmetric, not_christoffel, wrong_coefficients, coriolis_without_factor_2,
+)
+
+
+def diagnose(answer: Answer, checks=CHECKS) -> list[Finding]:
+    """The findings of :data:`SCREENS`, then, when some comparable state disagrees, of ``checks``: in order, up to
+    the first conclusive one (module docstring)."""
+    found = []
+    for check in SCREENS + (tuple(checks) if answer.wrong else ()):
+        finding = check(answer)
+        if finding is not None:
+            found.append(finding)
+            if finding.conclusive:
+                break
+    return found

@@ -3,7 +3,9 @@
 :func:`grade_class` is the whole job behind ``course-dynamics grade``; it
 returns one :class:`SubmissionGrade` per file. Nothing here executes student
 code: the grader only parses it (``ast``), and everything else happens in the
-child process of :mod:`course_dynamics.grading.sandbox`.
+child process of :mod:`course_dynamics.grading.sandbox`. What comes back is
+scored by :func:`~course_dynamics.grading.score.score_outcome`, the scorer the
+notebooks' exercise checks use too.
 
 Statuses (``SubmissionGrade.status``; anything but ``ok`` scores zero):
 
@@ -43,17 +45,11 @@ import numpy as np
 
 from ..base.errors import InputError
 from .assignment import TERMS, Assignment
-from .diagnosis import Diagnosis, diagnose
+from .diagnosis import Diagnosis
 from .environment import submission_environment
-from .plan import (
-    Expected,
-    Plan,
-    expected_terms,
-    make_plan,
-    returned_coefficients,
-    returned_terms,
-)
+from .plan import Expected, Plan, expected_terms, make_plan
 from .sandbox import Limits, check_sandbox, run_submission
+from .score import score_outcome
 
 MAX_SOURCE_BYTES = 1_000_000
 FEEDBACK_OUTPUT = 20_000  # characters of a submission's printed output kept in its feedback
@@ -189,18 +185,7 @@ def grade_submission(assignment: Assignment, plan: Plan, expected: Expected, pat
     if ended is not None:
         grade.status, grade.message = ended
         return grade
-    outcome = run.results
-    model = assignment.robot
-    coefficients = returned_coefficients(outcome, plan)
-    for term in assignment.terms:
-        returned = returned_terms(outcome, plan, term)
-        parts = None
-        if term == "tau" and returned.source == "direct":
-            parts = {key: returned_terms({"defined": ["tau"], "results": outcome.get("results", {})}, plan, key)
-                     for key in ("G", "M", "V")}
-        grade.diagnoses.append(diagnose(term, plan, expected, returned, assignment.points[term], assignment.tolerance,
-                                        model.joint_names, model.gravity, assignment.partial_credit,
-                                        coefficients if term in ("V", "tau") else None, parts))
+    grade.diagnoses = score_outcome(run.results, assignment, plan, expected)
     return grade
 
 

@@ -1,10 +1,11 @@
 """What a submission is asked, what it should answer, and how its answers become terms.
 
-:func:`make_plan` draws the seeded states and lists, per student function,
-the argument lists to call it with; :func:`expected_terms` computes the right
-answers with our library; :func:`returned_terms` turns the harness's records
-into one value (or error) per state for every graded term, directly when the
-student defines the term and derived from their ``tau`` otherwise:
+:func:`make_plan` draws the seeded states and lists every call a student
+function may be asked, each under a :class:`Call` key; :func:`expected_terms`
+computes the right answers with our library; :class:`Answers` reads the
+harness's records back by those keys, and :func:`returned_terms` turns them into
+one value (or error) per state for every graded term, directly when the student
+defines the term and derived from their ``tau`` otherwise:
 
 =====  ==============================================================
 term   derived from ``tau`` (the library's own recipe)
@@ -19,10 +20,22 @@ C      ½(Ṁ + D − Dᵀ), Ṁ = Σₖ θ̇ₖ ∂M/∂θₖ, D[:, k] = ∂(M 
 The plan also asks V (or τ) at a few *diagnostic* states for unit and paired
 unit velocities, which reads off the coefficients of the quadratic form
 V = B(Θ)[Θ̇Θ̇] + C(Θ)[Θ̇²] of (6.63) one by one, and at 2Θ̇, which shows whether
-V is quadratic in Θ̇ at all.
+V is quadratic in Θ̇ at all (:func:`returned_coefficients`).
+
+The harness's own format stays positional (a list of argument lists per
+function, answered in the same order); the keys live only on our side.
+
+>>> from course_dynamics.core.robots import load_robot
+>>> from pathlib import Path
+>>> plan = make_plan(Assignment(Path("a.toml"), "two_link", load_robot("two_link"), {"G": 1.0}, samples=2))
+>>> plan.calls_of("G")
+[Call(function='G', purpose='state', state=0, detail=()), Call(function='G', purpose='state', state=1, detail=())]
+>>> Call("tau", "mass", 1, (0,)) in plan.arguments  # τ(Θ₂, 0, e₁): the first column of M at the second state
+True
 """
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from itertools import combinations_with_replacement
 
@@ -45,16 +58,41 @@ DIAGNOSTIC_STATES = 3
 FUNCTION_ARGUMENTS = {"tau": ("q", "qd", "qdd"), "M": ("q",), "V": ("q", "qd"), "G": ("q",), "C": ("q", "qd")}
 
 
+@dataclass(frozen=True)
+class Call:
+    """The key of one call: ``function`` asked at state ``state`` for ``purpose``; ``detail`` tells apart the
+    calls one purpose makes at one state.
+
+    ================  ============  ===============================================
+    purpose           detail        arguments (those of ``tau``; ``V`` drops Θ̈)
+    ================  ============  ===============================================
+    state             ()            the state itself (every function)
+    gravity           ()            (Θ, 0, 0)
+    velocity          ()            (Θ, Θ̇, 0)
+    mass              (j,)          (Θ, 0, eⱼ)
+    polar             (j, k), j ≤ k (Θ, eⱼ + eₖ, 0), or eⱼ alone when j = k
+    double            ()            (Θ, 2Θ̇, 0)
+    shift gravity     (i, sign)     (Θ ± h eᵢ, 0, 0)
+    shift momentum    (i, sign)     (Θ ± h eᵢ, 0, Θ̇)
+    shift mass        (i, sign, j)  (Θ ± h eᵢ, 0, eⱼ)
+    ================  ============  ===============================================
+    """
+
+    function: str
+    purpose: str
+    state: int
+    detail: tuple = ()
+
+
 @dataclass
 class Plan:
-    """States (N, n) each, and the calls per student function with named blocks of call indices."""
+    """States (N, n) each, and every call to make with its arguments, by key, in the order they are made."""
 
     q: np.ndarray
     qd: np.ndarray
     qdd: np.ndarray
     terms: tuple[str, ...]
-    calls: dict[str, list] = field(default_factory=dict)
-    blocks: dict[str, dict[str, list[int]]] = field(default_factory=dict)
+    arguments: dict[Call, list] = field(default_factory=dict)
 
     @property
     def n(self) -> int:
@@ -64,14 +102,22 @@ class Plan:
     def diagnostic(self) -> range:
         return range(min(DIAGNOSTIC_STATES, len(self.q)))
 
-    def add(self, function: str, block: str, arguments: list) -> None:
-        calls = self.calls.setdefault(function, [])
-        self.blocks.setdefault(function, {}).setdefault(block, []).append(len(calls))
-        calls.append([np.asarray(a, dtype=float).tolist() for a in arguments])
+    def add(self, call: Call, arguments: list) -> None:
+        self.arguments[call] = [np.asarray(a, dtype=float).tolist() for a in arguments]
 
-    def harness_functions(self) -> dict:
-        """The ``functions`` part of the harness's plan."""
-        return self.calls
+    def calls_of(self, function: str) -> list[Call]:
+        """The keys of ``function``'s calls, in the order the harness makes (and answers) them."""
+        return [call for call in self.arguments if call.function == function]
+
+    def asks(self, function: str) -> bool:
+        return any(call.function == function for call in self.arguments)
+
+    def harness_functions(self) -> dict[str, list]:
+        """The ``functions`` part of the harness's plan: per function, its argument lists in order."""
+        functions: dict[str, list] = {}
+        for call, arguments in self.arguments.items():
+            functions.setdefault(call.function, []).append(arguments)
+        return functions
 
 
 def _pairs(n: int) -> list[tuple[int, int]]:
@@ -86,51 +132,55 @@ def _direction(n: int, j: int, k: int) -> np.ndarray:
 
 
 def make_plan(assignment: Assignment) -> Plan:
-    """The states and every call each student function may be asked (module docstring)."""
+    """The states and every call each student function may be asked (module docstring, :class:`Call`)."""
     model = assignment.robot
     q, qd, qdd = random_states(model, assignment.samples, assignment.seed)
     plan = Plan(q, qd, qdd, assignment.terms)
     n, zero, eye = model.n, np.zeros(model.n), np.eye(model.n)
-    terms = set(assignment.terms)
+    asked = {"tau", *assignment.terms}
+
+    def ask(function, purpose, k, detail, arguments):
+        if function in asked:
+            plan.add(Call(function, purpose, k, detail), arguments)
+
     for k in range(len(q)):  # τ, and everything derived from it
-        plan.add("tau", "state", [q[k], qd[k], qdd[k]])
-        plan.add("tau", "gravity", [q[k], zero, zero])
-        plan.add("tau", "velocity", [q[k], qd[k], zero])
+        ask("tau", "state", k, (), [q[k], qd[k], qdd[k]])
+        ask("tau", "gravity", k, (), [q[k], zero, zero])
+        ask("tau", "velocity", k, (), [q[k], qd[k], zero])
         for j in range(n):
-            plan.add("tau", "mass", [q[k], zero, eye[j]])
+            ask("tau", "mass", k, (j,), [q[k], zero, eye[j]])
     for d in plan.diagnostic:
-        for j, i in _pairs(n):
-            plan.add("tau", "polar", [q[d], _direction(n, j, i), zero])
-            plan.add("V", "polar", [q[d], _direction(n, j, i)])
-        plan.add("tau", "double", [q[d], 2 * qd[d], zero])
-        plan.add("V", "double", [q[d], 2 * qd[d]])
-    if "C" in terms:
+        for pair in _pairs(n):
+            ask("tau", "polar", d, pair, [q[d], _direction(n, *pair), zero])
+            ask("V", "polar", d, pair, [q[d], _direction(n, *pair)])
+        ask("tau", "double", d, (), [q[d], 2 * qd[d], zero])
+        ask("V", "double", d, (), [q[d], 2 * qd[d]])
+    if "C" in asked:
         for k in range(len(q)):
             for i in range(n):
                 for sign in (1, -1):
                     shifted = q[k] + sign * STEP * eye[i]
-                    plan.add("tau", "shift gravity", [shifted, zero, zero])
-                    plan.add("tau", "shift momentum", [shifted, zero, qd[k]])
+                    ask("tau", "shift gravity", k, (i, sign), [shifted, zero, zero])
+                    ask("tau", "shift momentum", k, (i, sign), [shifted, zero, qd[k]])
                     for j in range(n):
-                        plan.add("tau", "shift mass", [shifted, zero, eye[j]])
+                        ask("tau", "shift mass", k, (i, sign, j), [shifted, zero, eye[j]])
     for k in range(len(q)):
-        plan.add("M", "state", [q[k]])
-        plan.add("G", "state", [q[k]])
-        plan.add("V", "state", [q[k], qd[k]])
-        plan.add("C", "state", [q[k], qd[k]])
-    plan.calls = {name: calls for name, calls in plan.calls.items() if name == "tau" or name in terms}
+        ask("M", "state", k, (), [q[k]])
+        ask("G", "state", k, (), [q[k]])
+        ask("V", "state", k, (), [q[k], qd[k]])
+        ask("C", "state", k, (), [q[k], qd[k]])
     return plan
 
 
 @dataclass(frozen=True)
 class Expected:
     """Our library's answers: every term (N, …), V's (6.63) coefficients at the diagnostic states, and
-    the answers of typical mistakes (a dict of named alternatives per term)."""
+    the answers of typical mistakes: per term, (mistake, variant) → the answer made with that mistake."""
 
     terms: dict[str, np.ndarray]
     B: np.ndarray
     C_centrifugal: np.ndarray
-    mistakes: dict[str, dict[str, np.ndarray]]
+    mistakes: dict[str, dict[tuple[str, str], np.ndarray]]
 
 
 def _all_terms(model, q, qd, qdd) -> dict[str, np.ndarray]:
@@ -145,16 +195,51 @@ def expected_terms(assignment: Assignment, plan: Plan) -> Expected:
     d = list(plan.diagnostic)
     B, C = configuration_space_terms(model, plan.q[d])
     revolute = np.array([kind_of(b).rotates for b in model.bodies])
-    mistakes: dict[str, dict[str, np.ndarray]] = {t: {} for t in terms}
-    for label, factor in (("angles read as degrees", np.pi / 180), ("angles turned into degrees", 180 / np.pi)):
+    mistakes: dict[str, dict[tuple[str, str], np.ndarray]] = {t: {} for t in terms}
+    for name, factor in (("angles read as degrees", np.pi / 180), ("angles turned into degrees", 180 / np.pi)):
         scale = np.where(revolute, factor, 1.0)
-        for what, (q, qd, qdd) in (("positions", (plan.q * scale, plan.qd, plan.qdd)),
-                                   ("positions, velocities and accelerations",
-                                    (plan.q * scale, plan.qd * scale, plan.qdd * scale))):
+        for variant, (q, qd, qdd) in (("positions", (plan.q * scale, plan.qd, plan.qdd)),
+                                      ("positions, velocities and accelerations",
+                                       (plan.q * scale, plan.qd * scale, plan.qdd * scale))):
             for term, value in _all_terms(model, q, qd, qdd).items():
-                mistakes[term][f"{label} ({what})"] = value
-    mistakes["tau"]["gravity with the wrong sign"] = terms["tau"] - 2 * terms["G"]
+                mistakes[term][name, variant] = value
+    mistakes["tau"]["gravity with the wrong sign", ""] = terms["tau"] - 2 * terms["G"]
     return Expected(terms=terms, B=B, C_centrifugal=C, mistakes=mistakes)
+
+
+class Unanswered(Exception):
+    """A call the student's function did not answer with numbers; the message says what it did instead."""
+
+
+@dataclass(frozen=True)
+class Answers:
+    """A submission's answers by :class:`Call` key: which functions it defines and the record of each call."""
+
+    defined: frozenset
+    records: dict
+
+    @classmethod
+    def read(cls, outcome: dict, plan: Plan) -> Answers:
+        """The harness's outcome (``defined``, ``results``: per function one record per call, in the order asked)."""
+        results = outcome.get("results", {})
+        records = {}
+        for function in FUNCTION_ARGUMENTS:
+            answered = results.get(function)
+            if isinstance(answered, list):
+                records.update(zip(plan.calls_of(function), answered, strict=False))  # short lists: "no answer"
+        return cls(frozenset(outcome.get("defined", ())), records)
+
+    def value(self, call: Call) -> np.ndarray:
+        """The array the student answered ``call`` with; :class:`Unanswered` when there is none."""
+        record = self.records.get(call)
+        if not isinstance(record, dict):
+            raise Unanswered("no answer")
+        if "value" not in record:
+            raise Unanswered(str(record.get("error", "no answer")))
+        try:
+            return np.array(record["value"], dtype=float)
+        except (TypeError, ValueError):
+            raise Unanswered("returned values that are not numbers") from None
 
 
 @dataclass
@@ -170,121 +255,147 @@ class Returned:
         return self.source != "missing"
 
 
-def _records(outcome: dict, function: str, plan: Plan, block: str) -> list:
-    records = outcome.get("results", {}).get(function)
-    if not isinstance(records, list):
-        return []
-    return [records[i] if i < len(records) and isinstance(records[i], dict) else {"error": "no answer"}
-            for i in plan.blocks.get(function, {}).get(block, [])]
-
-
-def _array(record):
-    if "value" in record:
-        try:
-            return np.array(record["value"], dtype=float), None
-        except (TypeError, ValueError):
-            return None, "returned values that are not numbers"
-    return None, str(record.get("error", "no answer"))
-
-
-def _combine(records_list: list[list], combine, count: int) -> tuple[list, list]:
-    """Per state, apply ``combine`` to the arrays of the records it needs; the first error wins."""
+def _per_state(count: int, recipe: Callable[[int], np.ndarray]) -> tuple[list, list]:
+    """Per state k, ``recipe(k)``, or what stopped it: the first unanswered call, or arrays that do not fit."""
     values, errors = [], []
     for k in range(count):
-        arrays = []
-        error = None
-        for records, indices in records_list:
-            for i in indices(k):
-                array, message = _array(records[i]) if i < len(records) else (None, "no answer")
-                if message is not None and error is None:
-                    error = message
-                arrays.append(array)
-        if error is not None:
-            values.append(None)
-            errors.append(error)
-            continue
         try:
-            values.append(combine(k, arrays))
+            values.append(recipe(k))
             errors.append(None)
+        except Unanswered as exc:
+            values.append(None)
+            errors.append(str(exc))
         except ValueError as exc:  # arrays of the wrong shape: say which
             values.append(None)
             errors.append(f"returned arrays that do not fit together ({exc})")
     return values, errors
 
 
-def returned_terms(outcome: dict, plan: Plan, term: str) -> Returned:
-    """The student's ``term`` per state: from their function of that name, else derived from their tau."""
-    defined = set(outcome.get("defined", ()))
-    N, n = len(plan.q), plan.n
-    if term in defined:
-        records = _records(outcome, term, plan, "state")
-        values, errors = _combine([(records, lambda k: [k])], lambda k, a: a[0], N)
-        return Returned(values, errors, "direct")
-    if "tau" not in defined:
-        return Returned([None] * N, ["not defined"] * N, "missing")
-    tau = {block: _records(outcome, "tau", plan, block) for block in plan.blocks.get("tau", {})}
-    if term == "tau":
-        values, errors = _combine([(tau["state"], lambda k: [k])], lambda k, a: a[0], N)
-    elif term == "G":
-        values, errors = _combine([(tau["gravity"], lambda k: [k])], lambda k, a: a[0], N)
-    elif term == "V":
-        values, errors = _combine([(tau["velocity"], lambda k: [k]), (tau["gravity"], lambda k: [k])],
-                                  lambda k, a: a[0] - a[1], N)
-    elif term == "M":
-        values, errors = _combine([(tau["mass"], lambda k: range(k * n, (k + 1) * n)), (tau["gravity"], lambda k: [k])],
-                                  lambda k, a: np.column_stack([a[j] - a[n] for j in range(n)]), N)
-    else:
-        values, errors = _combine([(tau["shift gravity"], lambda k: range(2 * n * k, 2 * n * (k + 1))),
-                                   (tau["shift momentum"], lambda k: range(2 * n * k, 2 * n * (k + 1))),
-                                   (tau["shift mass"], lambda k: range(2 * n * n * k, 2 * n * n * (k + 1)))],
-                                  lambda k, a: _christoffel_from_shifts(a, n, plan.qd[k]), N)
-    return Returned(values, errors, "derived from tau")
+def _gravity(answers: Answers, k: int, shift: tuple = ()) -> np.ndarray:
+    return answers.value(Call("tau", "shift gravity" if shift else "gravity", k, shift))
 
 
-def _christoffel_from_shifts(arrays: list, n: int, qd: np.ndarray) -> np.ndarray:
-    """C = ½(Ṁ + D − Dᵀ) from τ at Θ ± h eᵢ: gravity (2n), M Θ̇ + G (2n), M columns + G (2n·n), in plan order."""
-    gravity, momentum, mass = arrays[: 2 * n], arrays[2 * n: 4 * n], arrays[4 * n:]
-    M_shift, Mqd_shift = [], []
-    for s in range(2 * n):  # s = 2i (+h) and 2i + 1 (−h)
-        M_shift.append(np.column_stack([mass[s * n + j] - gravity[s] for j in range(n)]))
-        Mqd_shift.append(momentum[s] - gravity[s])
-    dM = [(M_shift[2 * i] - M_shift[2 * i + 1]) / (2 * STEP) for i in range(n)]
-    D = np.column_stack([(Mqd_shift[2 * i] - Mqd_shift[2 * i + 1]) / (2 * STEP) for i in range(n)])
-    M_dot = sum(qd[i] * dM[i] for i in range(n))
+def _mass(answers: Answers, n: int, k: int, shift: tuple = ()) -> np.ndarray:
+    G = _gravity(answers, k, shift)
+    purpose = "shift mass" if shift else "mass"
+    return np.column_stack([answers.value(Call("tau", purpose, k, (*shift, j))) - G for j in range(n)])
+
+
+def _christoffel(answers: Answers, plan: Plan, k: int) -> np.ndarray:
+    """C = ½(Ṁ + D − Dᵀ) from τ at Θ ± h eᵢ: M(Θ ± h eᵢ) and M(Θ ± h eᵢ) Θ̇, then central differences."""
+    n = plan.n
+    M, momentum = {}, {}
+    for i in range(n):
+        for sign in (1, -1):
+            M[i, sign] = _mass(answers, n, k, (i, sign))
+            momentum[i, sign] = answers.value(Call("tau", "shift momentum", k, (i, sign))) \
+                - _gravity(answers, k, (i, sign))
+    dM = [(M[i, 1] - M[i, -1]) / (2 * STEP) for i in range(n)]
+    D = np.column_stack([(momentum[i, 1] - momentum[i, -1]) / (2 * STEP) for i in range(n)])
+    M_dot = sum(plan.qd[k][i] * dM[i] for i in range(n))
     return (M_dot + D - D.T) / 2
 
 
-def returned_coefficients(outcome: dict, plan: Plan) -> tuple[list, str] | None:
-    """The student's V at the diagnostic states for unit and paired velocities, and at 2Θ̇.
+def returned_terms(answers: Answers, plan: Plan, term: str, from_tau: bool = False) -> Returned:
+    """The student's ``term`` per state: from their function of that name, else (or with ``from_tau``) derived from
+    their tau.
 
-    Returns ([(V at each pair direction, V(q, 2Θ̇), V(q, Θ̇)) per diagnostic state], source) or None
-    when V cannot be evaluated (an error on any of these calls).
+    The derivation is a deliberate second path, not a copy of the library: student code is opaque, so the
+    only way to see the M, V, G (and C) inside a student's τ is to call τ with the inputs that isolate each
+    (module docstring) and take differences, as :func:`~course_dynamics.core.dynamics.mass_matrix` and its
+    siblings do with our own τ. It also lets a student who writes only τ be graded on every term.
     """
-    defined = set(outcome.get("defined", ()))
-    pairs = _pairs(plan.n)
-    per_state = []
-    if "V" in defined and "V" in plan.calls:
-        polar, double, state = (_records(outcome, "V", plan, b) for b in ("polar", "double", "state"))
-        source, offset = "direct", None
-    elif "tau" in defined:
-        polar, double, state = (_records(outcome, "tau", plan, b) for b in ("polar", "double", "velocity"))
-        gravity = _records(outcome, "tau", plan, "gravity")
-        source = "derived from tau"
-    else:
+    N, n = len(plan.q), plan.n
+    if term in answers.defined and plan.asks(term) and not from_tau:
+        values, errors = _per_state(N, lambda k: answers.value(Call(term, "state", k)))
+        return Returned(values, errors, "direct")
+    if "tau" not in answers.defined:
+        return Returned([None] * N, ["not defined"] * N, "missing")
+    recipes = {
+        "tau": lambda k: answers.value(Call("tau", "state", k)),
+        "G": lambda k: _gravity(answers, k),
+        "V": lambda k: answers.value(Call("tau", "velocity", k)) - _gravity(answers, k),
+        "M": lambda k: _mass(answers, n, k),
+        "C": lambda k: _christoffel(answers, plan, k),
+    }
+    values, errors = _per_state(N, recipes[term])
+    return Returned(values, errors, "derived from tau")
+
+
+@dataclass(frozen=True)
+class Coefficient:
+    """One coefficient of V = B(Θ)[Θ̇Θ̇] + C(Θ)[Θ̇²] (6.63) at diagnostic state ``state``: of θ̇ⱼθ̇ₖ (``kind``
+    "Coriolis", Craig's B) or θ̇ⱼ² ("centrifugal", Craig's C) in τᵢ; ours, the student's, and the size of ours."""
+
+    kind: str
+    i: int
+    j: int
+    k: int
+    state: int
+    expected: float
+    returned: float
+    scale: float
+
+    def right(self, tolerance: float, factor: float = 1.0) -> bool:
+        """Whether the student's is ``factor`` × ours."""
+        return abs(self.returned - factor * self.expected) <= tolerance * self.scale
+
+
+@dataclass(frozen=True)
+class VelocityProbe:
+    """The student's V read off at the diagnostic states: every (6.63) coefficient, and per state V at Θ̇
+    (``single``) and at 2Θ̇ (``doubled``) with the size of our coefficients there (``scales``)."""
+
+    coefficients: tuple[Coefficient, ...]
+    single: tuple[np.ndarray, ...]
+    doubled: tuple[np.ndarray, ...]
+    scales: tuple[float, ...]
+
+
+def returned_coefficients(answers: Answers, plan: Plan, expected: Expected,
+                          from_tau: bool = False) -> VelocityProbe | None:
+    """The student's V probed at the diagnostic states (module docstring): V at eⱼ gives the centrifugal
+    coefficients of θ̇ⱼ², V at eⱼ + eₖ minus those the Coriolis coefficient of θ̇ⱼθ̇ₖ. From their V when they
+    define it (and it is graded) unless ``from_tau``, else from their τ minus its G; None when any of these
+    calls has no answer of shape (n,)."""
+    direct = "V" in answers.defined and plan.asks("V") and not from_tau
+    if not direct and "tau" not in answers.defined:
         return None
+    coriolis, centrifugal = coefficient_names(plan.n)
+    found, single, doubled, scales = [], [], [], []
     for d in plan.diagnostic:
-        arrays = []
-        for record in polar[d * len(pairs):(d + 1) * len(pairs)] + [double[d], state[d]] + (
-                [gravity[d]] if source != "direct" else []):
-            array, error = _array(record)
-            if error is not None or array is None or array.shape != (plan.n,):
-                return None
-            arrays.append(array)
-        if source != "direct":
-            offset = arrays.pop()
-            arrays = [a - offset for a in arrays]
-        per_state.append((arrays[: len(pairs)], arrays[-2], arrays[-1]))
-    return per_state, source
+        try:
+            V, twice, once = _probe(answers, plan, d, direct)
+        except Unanswered:
+            return None
+        B, C = expected.B[d], expected.C_centrifugal[d]
+        scale = max(float(np.abs(B).max(initial=0)), float(np.abs(C).max()), 1e-12)
+        for i in range(plan.n):
+            found += [Coefficient("Coriolis", i, j, k, d, B[i][index], V[j, k][i] - V[j, j][i] - V[k, k][i], scale)
+                      for index, (j, k) in enumerate(coriolis)]
+            found += [Coefficient("centrifugal", i, j, j, d, C[i][j], V[j, j][i], scale) for j, _ in centrifugal]
+        single.append(once)
+        doubled.append(twice)
+        scales.append(scale)
+    return VelocityProbe(tuple(found), tuple(single), tuple(doubled), tuple(scales))
+
+
+def _probe(answers: Answers, plan: Plan, d: int, direct: bool) -> tuple[dict, np.ndarray, np.ndarray]:
+    """V at state d for each unit and paired unit velocity (keyed (j, k), j ≤ k), at 2Θ̇ and at Θ̇."""
+    function, single = ("V", "state") if direct else ("tau", "velocity")
+
+    def vector(call: Call) -> np.ndarray:
+        value = answers.value(call)
+        if value.shape != (plan.n,):
+            raise Unanswered("not one value per joint")
+        return value
+
+    offset = 0.0 if direct else vector(Call("tau", "gravity", d))
+
+    def at(purpose: str, detail: tuple = ()) -> np.ndarray:
+        return vector(Call(function, purpose, d, detail)) - offset
+
+    return {pair: at("polar", pair) for pair in _pairs(plan.n)}, at("double"), at(single)
 
 
 def coefficient_names(n: int) -> tuple[list[tuple[int, int]], list[tuple[int, int]]]:

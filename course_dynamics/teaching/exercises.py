@@ -11,10 +11,12 @@ returns a :class:`Verdict`, which the notebook shows:
   exception, so a fresh student notebook runs top to bottom;
 * *right*;
 * *wrong*, with what is wrong: for a function of the robot (τ, M, V, G, C) the
-  grader's own diagnosis (:mod:`course_dynamics.grading.diagnosis`: sign,
-  scale, swapped joints, wrong entries, wrong Coriolis or centrifugal
-  coefficients, the worst state); for a number, a vector or a matrix its shape,
-  sign, scale and wrong entries; for a formula (sympy) where it differs.
+  grader's own score and diagnosis (:func:`course_dynamics.grading.score.score_outcome`:
+  sign, named mistakes, scale, swapped joints, wrong entries, wrong Coriolis or
+  centrifugal coefficients, the worst state); for a number, a vector or a
+  matrix (once, or a function's on random inputs) the same
+  :func:`~course_dynamics.grading.score.score` on a single state: shape, sign,
+  scale, wrong entries; for a formula (sympy) where it differs.
 
 Under nbgrader's autograder (``NBGRADER_EXECUTION=autograde``) a wrong or
 missing answer raises ``AssertionError`` with the same feedback, so check cells
@@ -24,9 +26,10 @@ from __future__ import annotations
 
 import inspect
 import os
+import reprlib
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable
 
 import numpy as np
 
@@ -37,14 +40,10 @@ from ..core.friction import Friction
 from ..core.newton_euler import inverse_dynamics, newton_euler_links
 from ..core.robots import load_robot
 from ..grading.assignment import Assignment
-from ..grading.diagnosis import diagnose
+from ..grading.diagnosis import Answer
 from ..grading.harness import FUNCTIONS, evaluate
-from ..grading.plan import (
-    expected_terms,
-    make_plan,
-    returned_coefficients,
-    returned_terms,
-)
+from ..grading.plan import expected_terms, make_plan
+from ..grading.score import score, score_outcome
 from ..output.render import markdown_escape
 
 MISSING = object()
@@ -279,67 +278,41 @@ def _try(function, *arguments):
     return (None, "not done") if _not_done(value) else (value, None)
 
 
-def _check_term(name: str, exercise: Exercise, function) -> Verdict:
-    """A function of the robot (τ, M, V, G or C), graded exactly as the grader grades it."""
+def term_assignment(name: str) -> Assignment:
+    """The assignment term exercise ``name`` is checked under, as the grader would grade it: one point for its
+    term, on 12 states seeded by the exercise's name."""
+    exercise = EXERCISES[name]
+    return Assignment(source=Path(name), robot_argument=exercise.robot, robot=_robot(exercise.robot),
+                      points={exercise.term: 1.0}, samples=12, seed=sum(map(ord, name)), tolerance=exercise.tolerance)
 
+
+def _check_term(name: str, exercise: Exercise, function) -> Verdict:
+    """A function of the robot (τ, M, V, G or C), scored exactly as the grader scores it."""
     if not callable(function):
         return Verdict(name, "wrong", [f"`{name}` should be a function, it is a {type(function).__name__}"])
-    model = _robot(exercise.robot)
-    assignment = Assignment(source=Path(name), robot_argument=exercise.robot, robot=model, points={exercise.term: 1.0},
-                            samples=12, seed=sum(map(ord, name)), tolerance=exercise.tolerance)
+    assignment = term_assignment(name)
     plan = make_plan(assignment)
-    first = plan.calls[exercise.term if exercise.term in plan.calls else "tau"][0]
-    _, problem = _try(function, *(np.array(a) for a in first))
+    calls = plan.harness_functions()
+    _, problem = _try(function, *(np.array(a) for a in calls[exercise.term if exercise.term in calls else "tau"][0]))
     if problem == "not done":
         return Verdict(name, "not done", [f"`{name}` does not return anything yet: write its body"])
-    namespace = {exercise.term: function}
-    outcome = evaluate(namespace, {k: v for k, v in plan.calls.items() if k in FUNCTIONS}, function.__code__.co_filename)
-    returned = returned_terms(outcome, plan, exercise.term)
-    coefficients = returned_coefficients(outcome, plan) if exercise.term in ("V", "tau") else None
-    parts = None
-    if exercise.term == "tau":
-        parts = {key: returned_terms(outcome, plan, key) for key in ("G", "M", "V")}
-    result = diagnose(exercise.term, plan, expected_terms(assignment, plan), returned, 1.0, exercise.tolerance,
-                      model.joint_names, model.gravity, "states", coefficients, parts)
+    outcome = evaluate({exercise.term: function}, {k: v for k, v in calls.items() if k in FUNCTIONS},
+                       function.__code__.co_filename)
+    [result] = score_outcome(outcome, assignment, plan, expected_terms(assignment, plan))
     if result.correct:
         return Verdict(name, "right", [f"agrees with course_dynamics on all {result.total} random states"])
-    return Verdict(name, "wrong", [f"agrees on {result.agreed} of {result.total} random states"] + result.findings
+    return Verdict(name, "wrong", [f"agrees on {result.agreed} of {result.total} random states", *result.findings]
                    + ([result.worst] if result.worst else []))
 
 
-def _compare_arrays(ours, theirs, tolerance: float) -> list[str]:
-    """What is wrong with an array answer; [] when it is right."""
-    ours, theirs = np.asarray(ours, dtype=float), np.asarray(theirs)
+def _value_problems(expected, value, tolerance: float) -> list[str]:
+    """What is wrong with a value, as :func:`~course_dynamics.grading.score.score` finds it; [] when it is right."""
     try:
-        theirs = theirs.astype(float)
+        theirs = np.asarray(value).astype(float)
     except (TypeError, ValueError):
-        return [f"expected numbers, got {theirs!r}"]
-    if theirs.shape != ours.shape:
-        return [f"has shape {theirs.shape}, the answer has shape {ours.shape}"]
-    if not np.all(np.isfinite(theirs)):
-        return ["contains NaN or inf"]
-    scale = max(float(np.abs(ours).max(initial=0)), 1e-12)
-
-    def close(a, b):
-        return float(np.abs(a - b).max(initial=0)) <= tolerance * scale
-
-    if close(ours, theirs):
-        return []
-    findings = []
-    if close(-ours, theirs):
-        findings.append("has the opposite sign everywhere")
-    elif ours.size > 1 and float(np.sum(ours * ours)) > 0:
-        factor = float(np.sum(ours * theirs) / np.sum(ours * ours))
-        if abs(factor) > 1e-6 and close(factor * ours, theirs):
-            findings.append(f"is the answer times {factor:.6g}")
-    if not findings and ours.size > 1:
-        wrong = np.argwhere(np.abs(ours - theirs) > tolerance * scale)
-        if len(wrong) < ours.size:
-            places = ", ".join(str(tuple(int(i) + 1 for i in index)) if ours.ndim > 1 else str(int(index[0]) + 1)
-                               for index in wrong[:8])
-            findings.append(f"entries {places} are wrong (numbered from 1); the others are right")
-    findings.append(f"expected {_show(ours)}, got {_show(theirs)}")
-    return findings
+        return [f"expected numbers, got {reprlib.repr(value)}"]
+    result = score(Answer.single(expected, theirs, tolerance))
+    return [] if result.correct else [*result.findings, result.worst]
 
 
 def _show(array) -> str:
@@ -347,7 +320,7 @@ def _show(array) -> str:
 
 
 def _check_value(name: str, exercise: Exercise, answer) -> Verdict:
-    problems = _compare_arrays(exercise.answer(), answer, exercise.tolerance)
+    problems = _value_problems(exercise.answer(), answer, exercise.tolerance)
     return Verdict(name, "wrong" if problems else "right", problems or ["equals course_dynamics' value"])
 
 
@@ -367,9 +340,9 @@ def _check_function(name: str, exercise: Exercise, function) -> Verdict:
             if not isinstance(value, (tuple, list)) or len(value) != len(expected):
                 return Verdict(name, "wrong", [f"should return {len(expected)} values, returned {type(value).__name__}"])
             problems = [f"value {k + 1}: {p}" for k, (e, v) in enumerate(zip(expected, value))
-                        for p in _compare_arrays(e, v, exercise.tolerance)]
+                        for p in _value_problems(e, v, exercise.tolerance)]
         else:
-            problems = _compare_arrays(expected, value, exercise.tolerance)
+            problems = _value_problems(expected, value, exercise.tolerance)
         if problems:
             shown = ", ".join(_show(a) for a in arguments)
             return Verdict(name, "wrong", [f"for the inputs {shown}:"] + problems)

@@ -1,0 +1,130 @@
+"""Scoring a student's answer against ours: one mechanism, one record, for the grader and the notebooks alike.
+
+:func:`score` is the one comparison. It takes an
+:class:`~course_dynamics.grading.diagnosis.Answer` (the student's values next to
+ours, state by state) and returns its
+:class:`~course_dynamics.grading.diagnosis.Diagnosis`: the points, the states
+that agree, the findings of :func:`~course_dynamics.grading.diagnosis.diagnose`
+and the worst state.
+
+:func:`score_outcome` wires a submission's functions of the robot into it: the
+harness's outcome, read back by key (:class:`~course_dynamics.grading.plan.Answers`),
+becomes one Answer per graded term (:func:`term_answer`: read directly or
+derived from the student's τ, with τ's parts and V's (6.63) coefficients),
+and each is scored. ``grade`` calls it on what came back from the sandbox, the
+notebooks' term exercises on what :func:`~course_dynamics.grading.harness.evaluate`
+returned in the student's kernel, and their value exercises call :func:`score`
+on one :meth:`~course_dynamics.grading.diagnosis.Answer.single`: the same
+answer gets the same diagnosis everywhere.
+
+>>> graded = score(Answer.single([1.0, -2.0], [-1.0, 2.0], tolerance=1e-6), max_points=5)
+>>> graded.points, graded.tags, graded.worst
+(0.0, ('opposite sign',), 'expected [1, -2], got [-1, 2] (relative error 2)')
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..core.sampling import term_scales
+from .assignment import Assignment
+from .diagnosis import Answer, Diagnosis, diagnose
+from .plan import Answers, Expected, Plan, returned_coefficients, returned_terms
+
+DERIVED_C_TOLERANCE = 1e-7  # central differences reach about 1e-8
+PARTS = ("G", "M", "V")  # τ's parts, each derived from the student's τ
+PART_LABELS = {"V": "τ's velocity part V"}
+
+
+def score(answer: Answer, max_points: float = 1.0, partial_credit: str = "states") -> Diagnosis:
+    """``answer``'s points, agreeing states, findings and worst state (module docstring).
+
+    ``partial_credit`` "states" gives ``max_points`` × the fraction of states that agree, "none" all or nothing.
+    """
+    agreeing, N = answer.agreed, answer.count
+    if partial_credit == "states":
+        points = round(max_points * len(agreeing) / N, 2)
+    else:
+        points = max_points if len(agreeing) == N else 0.0
+    found = [] if answer.correct else diagnose(answer)
+    tags = tuple(tag for finding in found for tag in finding.tags)
+    if answer.wrong and not tags:
+        tags = ("wrong values",)
+    return Diagnosis(answer.term, points, max_points, agreeing, N, answer.source, answer.tolerance,
+                     tuple(finding.text for finding in found), tags, "" if answer.correct else _worst(answer))
+
+
+def _fmt(x) -> str:
+    array = np.asarray(x, dtype=float)
+    if array.ndim == 0:
+        return f"{float(array):.6g}"
+    return "[" + ", ".join(_fmt(v) for v in array) + "]"
+
+
+def _state_text(plan: Plan, term: str, k: int) -> str:
+    parts = [f"q = {_fmt(plan.q[k])}"]
+    if term in ("tau", "V", "C"):
+        parts.append(f"qd = {_fmt(plan.qd[k])}")
+    if term == "tau":
+        parts.append(f"qdd = {_fmt(plan.qdd[k])}")
+    return ", ".join(parts)
+
+
+def _worst(answer: Answer) -> str:
+    """The state that shows the mistake best, with our value and the student's."""
+    ours, values, name = answer.expected, answer.values, answer.name
+    if not answer.available:
+        state = _state_text(answer.plan, answer.term, 0)
+        return f"to check yours, state #1: {state}; expected {name} = {_fmt(ours[0])}"
+    shape = ours.shape[1:]
+    unusable = [k for k, v in enumerate(values) if v is not None and k not in answer.usable]
+    non_finite = [k for k in unusable if values[k].shape == shape]
+    if answer.wrong:
+        k = max(answer.wrong, key=lambda i: answer.relative_errors[i])
+        returned = f"{_fmt(values[k])} (relative error {answer.relative_errors[k]:.2g})"
+    elif non_finite:
+        k = non_finite[0]
+        returned = _fmt(values[k])
+    elif unusable:
+        k = unusable[0]
+        returned = f"{_fmt(values[k])} (shape {tuple(values[k].shape)})"
+    else:
+        k = next(i for i, e in enumerate(answer.errors) if e is not None)
+        returned = f"an error: {answer.errors[k]}"
+    if answer.plan is None:
+        return f"expected {_fmt(ours[k])}, got {returned}"
+    return f"worst state #{k + 1}: {_state_text(answer.plan, answer.term, k)}; expected {name} = {_fmt(ours[k])}, " \
+           f"returned {returned}"
+
+
+def scales_at(plan: Plan, reference: Expected, term: str, gravity) -> tuple[float, ...]:
+    """The floor of ``term``'s relative error at each of the plan's states, from our M and G."""
+    return tuple(term_scales(reference.terms["M"][k], reference.terms["G"][k], plan.qd[k], plan.qdd[k], gravity)[term]
+                 for k in range(len(plan.q)))
+
+
+def term_answer(term: str, answers: Answers, plan: Plan, reference: Expected, assignment: Assignment,
+                from_tau: bool = False) -> Answer:
+    """The student's ``term`` next to ours: from their function of that name, else (or with ``from_tau``) derived
+    from their τ; τ comes with its parts G, M, V (derived from it), V with its (6.63) coefficients."""
+    returned = returned_terms(answers, plan, term, from_tau)
+    tolerance = assignment.tolerance
+    if returned.source == "derived from tau" and term == "C":
+        tolerance = max(tolerance, DERIVED_C_TOLERANCE)
+    parts = {}
+    if term == "tau" and returned.available and not from_tau:
+        parts = {key: term_answer(key, answers, plan, reference, assignment, from_tau=True) for key in PARTS}
+    model = assignment.robot
+    return Answer(reference.terms[term], tuple(returned.values), tuple(returned.errors),
+                  scales_at(plan, reference, term, model.gravity), tolerance, term=term,
+                  label=PART_LABELS.get(term, "") if from_tau else "", source=returned.source,
+                  joints=tuple(model.joint_names), plan=plan, reference=reference,
+                  coefficients=returned_coefficients(answers, plan, reference, from_tau) if term == "V" else None,
+                  parts=parts)
+
+
+def score_outcome(outcome: dict, assignment: Assignment, plan: Plan, reference: Expected) -> list[Diagnosis]:
+    """Every graded term of ``outcome`` (the harness's ``defined`` and ``results``) scored, in the assignment's order:
+    what ``grade`` and the notebooks' term exercises both call."""
+    answers = Answers.read(outcome, plan)
+    return [score(term_answer(term, answers, plan, reference, assignment), assignment.points[term],
+                  assignment.partial_credit) for term in assignment.terms]
