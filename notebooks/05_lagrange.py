@@ -20,7 +20,8 @@ from course_dynamics import load_robot
 from course_dynamics.teaching.exercises import check, symbols
 from course_dynamics.output.render import derivation_text
 from course_dynamics.tools.simulation import simulate
-from course_dynamics.core.symbolic import canonical, derive, joint_symbols, symbolic_model
+from course_dynamics.core.parameters import joint_symbols, symbolic_model
+from course_dynamics.core.symbolic import canonical, derive
 
 # %% [markdown]
 # ## The equations

@@ -8,7 +8,7 @@ from helpers import assert_agrees
 from course_dynamics import load_robot, mass_matrix, velocity_torques
 from course_dynamics.core import coriolis
 from course_dynamics.core.dynamics import coriolis_matrix_christoffel
-from course_dynamics.core.symbolic import joint_symbols, symbolic_model
+from course_dynamics.core.parameters import joint_symbols, symbolic_model
 
 STEP = 1e-30  # complex step
 

@@ -8,7 +8,7 @@ from helpers import assert_agrees
 from course_dynamics import load_robot
 from course_dynamics.core import crba
 from course_dynamics.core.dynamics import mass_matrix_by_unit_accelerations
-from course_dynamics.core.symbolic import joint_symbols, symbolic_model
+from course_dynamics.core.parameters import joint_symbols, symbolic_model
 
 
 def test_agrees_with_pinocchio_crba(robot):

@@ -244,7 +244,7 @@ def test_pendulum_lagrange_equation_sign():
 def test_example_6_5_steps_are_correct():
     """k₁, k₂, u₁, u₂ and the Lagrange terms of example 6.5 against our symbolic Lagrangian path."""
     from course_dynamics.core.kinematics import potential_energy
-    from course_dynamics.core.symbolic import joint_symbols, symbolic_model
+    from course_dynamics.core.parameters import joint_symbols, symbolic_model
 
     model, p = symbolic_model(load_robot("rp_arm"), ("m1", "m2", "l1", "Izz1", "Izz2", "g"))
     q, qd, _ = joint_symbols(model)

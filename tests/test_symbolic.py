@@ -1,4 +1,5 @@
-"""course_dynamics/core/symbolic.py: closed forms, two derivations that agree, and Craig's printed results."""
+"""course_dynamics/core/symbolic.py (and the exact models of core/parameters.py): closed forms, two derivations
+that agree, and Craig's printed results."""
 from __future__ import annotations
 
 import numpy as np
@@ -10,14 +11,8 @@ from helpers import derivation
 
 from course_dynamics import load_robot
 from course_dynamics.core.robots import robot_path
-from course_dynamics.core.symbolic import (
-    SymbolError,
-    canonical,
-    derive,
-    numeric_functions,
-    parameter_values,
-    symbolic_model,
-)
+from course_dynamics.core.parameters import SymbolError, parameter_values, symbolic_model
+from course_dynamics.core.symbolic import canonical, derive, numeric_functions
 
 NOTES_SYMBOLS = {
     "two_link": ("m1", "m2", "l1", "l2", "g"),

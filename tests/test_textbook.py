@@ -16,7 +16,7 @@ from course_dynamics import (
     velocity_torques,
 )
 from course_dynamics.core.robots import robot_path
-from course_dynamics.core.symbolic import joint_symbols, rationalize
+from course_dynamics.core.parameters import joint_symbols, rationalize
 
 CLOSED_FORMS = {"two_link": textbook.two_link, "rp_arm": textbook.rp_arm, "pendulum": textbook.pendulum}
 

@@ -17,7 +17,7 @@ class                      raised for
 
 Modules add their own where a caller may want to tell them apart:
 ``cartesian.SingularityError``, ``forward_dynamics.SingularMassMatrixError``,
-``simulation.SimulationError``, ``symbolic.SymbolError``,
+``simulation.SimulationError``, ``parameters.SymbolError``,
 ``viewer.ViewerError``.
 """
 from __future__ import annotations

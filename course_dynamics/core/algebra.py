@@ -27,7 +27,12 @@ import numpy as np
 
 
 class Vec3:
-    """A column 3-vector with components x, y, z of any scalar kind."""
+    """A column 3-vector with components x, y, z of any scalar kind.
+
+    >>> v = Vec3(1.0, 2.0, 3.0)
+    >>> 2 * v - Vec3.of([1.0, 0.0, 0.0])
+    Vec3(1.0, 4.0, 6.0)
+    """
 
     __slots__ = ("x", "y", "z")
     __array_ufunc__ = None  # numpy defers ``array * Vec3`` to Vec3.__rmul__
@@ -70,7 +75,11 @@ class Vec3:
 
 
 def cross(a: Vec3, b: Vec3) -> Vec3:
-    """a × b."""
+    """a × b.
+
+    >>> cross(Vec3(1, 0, 0), Vec3(0, 1, 0))   # x × y = z
+    Vec3(0, 0, 1)
+    """
     return Vec3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x)
 
 
@@ -78,6 +87,10 @@ def point_acceleration(v_dot: Vec3, omega_dot: Vec3, omega: Vec3, P: Vec3) -> Ve
     """v̇ + ω̇ × P + ω × (ω × P): acceleration of a point P fixed in a moving frame (6.12).
 
     Written out in components because it is the innermost step of the recursion.
+
+    >>> # a point 1 m out on a frame spinning at 2 rad/s about z: centripetal −ω² r
+    >>> point_acceleration(Vec3(0, 0, 0), Vec3(0, 0, 0), Vec3(0, 0, 2.0), Vec3(1.0, 0, 0))
+    Vec3(-4.0, 0.0, 0.0)
     """
     wx, wy, wz = omega.x, omega.y, omega.z
     px, py, pz = P.x, P.y, P.z
@@ -91,12 +104,23 @@ def point_acceleration(v_dot: Vec3, omega_dot: Vec3, omega: Vec3, P: Vec3) -> Ve
 
 
 def dot(a: Vec3, b: Vec3):
-    """aᵀ b."""
+    """aᵀ b.
+
+    >>> dot(Vec3(1, 2, 3), Vec3(4, 5, 6))
+    32
+    """
     return a.x * b.x + a.y * b.y + a.z * b.z
 
 
 class Mat3:
-    """A 3×3 matrix stored by rows; ``R @ v`` and ``R @ S`` are products."""
+    """A 3×3 matrix stored by rows; ``R @ v`` and ``R @ S`` are products.
+
+    >>> R = Mat3.of(np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]))   # 90° about z
+    >>> R @ Vec3(1.0, 0.0, 0.0)
+    Vec3(0.0, 1.0, 0.0)
+    >>> (R.T @ R).rows
+    ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
+    """
 
     __slots__ = ("rows",)
     __array_ufunc__ = None
@@ -135,6 +159,10 @@ class Dual:
     """a + b·ε with ε² = 0: carries a value and its exact directional derivative.
 
     ``a`` and ``b`` may be floats or numpy arrays of shape (N,).
+
+    >>> x = Dual(3.0, 1.0)   # x = 3 with dx = 1
+    >>> x * x + 2 * x        # x² + 2x = 15, derivative 2x + 2 = 8
+    Dual(15.0, 8.0)
     """
 
     __slots__ = ("a", "b")
@@ -176,7 +204,13 @@ class Dual:
 
 
 def cos_sin(angle):
-    """(cos θ, sin θ) for an angle of any scalar kind."""
+    """(cos θ, sin θ) for an angle of any scalar kind.
+
+    >>> cos_sin(0.0)
+    (1.0, 0.0)
+    >>> cos_sin(Dual(0.0, 1.0))   # derivatives: −sin 0, cos 0
+    (Dual(1.0, -0.0), Dual(0.0, 1.0))
+    """
     if isinstance(angle, float):
         return math.cos(angle), math.sin(angle)
     if isinstance(angle, Dual):
@@ -203,6 +237,11 @@ def rotation_from_parts(parts, c, s) -> Mat3:
     (Rodrigues). ``parts`` holds those three constant matrices as 3×3 nested
     tuples; products with exact zeros are skipped, which keeps symbolic output
     free of 0·sin θ clutter and saves work for coordinate axes.
+
+    >>> from course_dynamics import load_robot
+    >>> body = load_robot("rrr_arm").bodies[0]               # axis z, no fixed rotation
+    >>> rotation_from_parts(body.rotation_parts, 0.0, 1.0).rows   # θ = 90°: cos θ = 0, sin θ = 1
+    ((0.0, -1.0, 0.0), (1.0, 0.0, 0.0), (0.0, 0.0, 1.0))
     """
     K0, Kc, Ks = parts
     rows = []

@@ -39,7 +39,15 @@ MAX_CONDITION = 1e8  # beyond this J is treated as singular
 
 
 class SingularityError(CourseDynamicsError):
-    """The task Jacobian is singular or nearly so at the given state."""
+    """The task Jacobian is singular or nearly so at the given state.
+
+    >>> from course_dynamics import load_robot
+    >>> try:   # the two-link arm stretched out (θ₂ = 0) cannot move its tool along the arm
+    ...     cartesian_dynamics(load_robot("two_link"), [0.0, 0.0], [0.0, 0.0], "tool", "frame", ("x", "y"))
+    ... except SingularityError as error:
+    ...     print(str(error).split(" (")[0])
+    the Jacobian of frame 'tool' is singular at q = [0.0, 0.0]
+    """
 
 
 def _jacobian_entries(model: Model, theta: list, frame_name: str, expressed_in: str) -> list:
@@ -58,6 +66,11 @@ def _jacobian_entries(model: Model, theta: list, frame_name: str, expressed_in: 
 
 
 def row_indices(rows) -> list[int]:
+    """Indices into (vx, vy, vz, ωx, ωy, ωz) of task rows given by index or name (:data:`ROW_NAMES`); None: all six.
+
+    >>> row_indices(["x", "rz"]), row_indices(None)
+    ([0, 5], [0, 1, 2, 3, 4, 5])
+    """
     if rows is None:
         return list(range(6))
     indices = []
@@ -80,6 +93,11 @@ def jacobian(model: Model, q, frame: str, expressed_in: str = "base", rows=None)
 
     Rows are (vx, vy, vz, ωx, ωy, ωz) of the frame origin (m/s and rad/s per unit
     joint rate); ``rows`` selects some by index or name ("x", "y", "z", "rx", "ry", "rz").
+
+    >>> from course_dynamics import load_robot
+    >>> jacobian(load_robot("two_link"), [np.pi / 6, np.pi / 6], "tool", rows=("x", "z")).round(3)   # world x, z
+    array([[-0.596, -0.346],
+           [ 0.633,  0.2  ]])
     """
     _check_expressed_in(expressed_in)
     q = as_state(model, q, "q")
@@ -89,7 +107,13 @@ def jacobian(model: Model, q, frame: str, expressed_in: str = "base", rows=None)
 
 
 def jacobian_dot(model: Model, q, qd, frame: str, expressed_in: str = "base", rows=None) -> np.ndarray:
-    """J̇(Θ, Θ̇) = d/dt J(Θ(t)): same shape as :func:`jacobian`; exact (dual numbers)."""
+    """J̇(Θ, Θ̇) = d/dt J(Θ(t)): same shape as :func:`jacobian`; exact (dual numbers).
+
+    >>> from course_dynamics import load_robot
+    >>> jacobian_dot(load_robot("two_link"), [0.0, np.pi / 2], [0.0, 1.0], "tool", "frame", ("x", "y")).round(3)
+    array([[ 0. ,  0. ],
+           [-0.5,  0. ]])
+    """
     _check_expressed_in(expressed_in)
     q, qd = as_state(model, q, "q"), as_state(model, qd, "qd")
     theta = [Dual(a, b) for a, b in zip(entries(q), entries(qd))]
@@ -100,7 +124,14 @@ def jacobian_dot(model: Model, q, qd, frame: str, expressed_in: str = "base", ro
 
 @dataclass(frozen=True)
 class CartesianTerms:
-    """F = M_x Ẍ + V_x + G_x (6.91) at one state, for one frame and task rows."""
+    """F = M_x Ẍ + V_x + G_x (6.91) at one state, for one frame and task rows.
+
+    >>> from course_dynamics import load_robot
+    >>> arm = load_robot("two_link")
+    >>> terms = cartesian_dynamics(arm, [np.pi / 6, np.pi / 2], [0.0, 0.0], "tool", "frame", ("x", "y"))
+    >>> terms.rows, terms.joint_torques([0.0, 0.0]).round(3)   # Ẍ = 0 at rest: τ = Jᵀ G_x = G
+    (('x', 'y'), array([10.782, -1.962]))
+    """
 
     frame: str
     rows: tuple[str, ...]
@@ -144,6 +175,13 @@ def cartesian_dynamics(model: Model, q, qd, frame: str, expressed_in: str = "bas
         If the selected rows do not make J square (k ≠ n).
     SingularityError
         If cond(J) exceeds ``max_condition`` (the message gives the condition number).
+
+    Examples
+    --------
+    >>> from course_dynamics import load_robot
+    >>> terms = cartesian_dynamics(load_robot("two_link"), [0.0, np.pi / 2], [0.0, 0.0], "tool", "frame", ("x", "y"))
+    >>> np.diag(terms.Mx).round(3)   # Craig (6.101): M_x = diag(m₂ + m₁/s₂², m₂), kg
+    array([3., 1.])
     """
     q, qd = as_state(model, q, "q"), as_state(model, qd, "qd")
     if q.ndim != 1 or q.dtype == object:

@@ -39,7 +39,13 @@ def _half(force):
 
 
 def coriolis_matrix_entries(model: Model, theta: list, theta_dot: list) -> list:
-    """C[i][j] as nested scalars from per-joint scalars Θ, Θ̇ (module docstring)."""
+    """C[i][j] as nested scalars from per-joint scalars Θ, Θ̇ (module docstring).
+
+    >>> from course_dynamics import load_robot
+    >>> np.round(coriolis_matrix_entries(load_robot("two_link"), [0.0, np.pi / 2], [1.0, 0.0]), 3)
+    array([[ 0. , -0.2],
+           [ 0.2,  0. ]])
+    """
     placements = placement_entries(model, theta)
     s = motion_axes(model, placements)
     inertia = body_inertias(model, placements)
@@ -78,6 +84,12 @@ def _neg(force):
 
 
 def coriolis_matrix(model: Model, q, qd) -> np.ndarray:
-    """C(Θ, Θ̇), shape (n, n) or (N, n, n), in O(n²) (module docstring); equals the Christoffel form."""
+    """C(Θ, Θ̇), shape (n, n) or (N, n, n), in O(n²) (module docstring); equals the Christoffel form.
+
+    >>> from course_dynamics import load_robot
+    >>> coriolis_matrix(load_robot("two_link"), [0.0, np.pi / 2], [1.0, 0.0]).round(3)   # ∓m₂l₁l₂s₂θ̇₁ off the diagonal
+    array([[ 0. , -0.2],
+           [ 0.2,  0. ]])
+    """
     q, qd = as_state(model, q, "q"), as_state(model, qd, "qd")
     return layout_of(q, qd).assemble(coriolis_matrix_entries(model, entries(q), entries(qd)), (model.n, model.n))

@@ -32,7 +32,14 @@ from .state import as_state, entries, layout_of
 
 
 def composite_inertias(model: Model, bodies: list) -> list:
-    """Iᶜᵢ: body i's inertia plus its children's composites, tips to base."""
+    """Iᶜᵢ: body i's inertia plus its children's composites, tips to base.
+
+    >>> from course_dynamics import load_robot
+    >>> from course_dynamics.core.spatial import body_inertias
+    >>> arm = load_robot("two_link")
+    >>> [c.m for c in composite_inertias(arm, body_inertias(arm, placement_entries(arm, [0.0, 0.0])))]   # kg
+    [3.0, 1.0]
+    """
     composite = list(bodies)
     for i in reversed(range(model.n)):
         for c in model.children[i]:
@@ -41,7 +48,13 @@ def composite_inertias(model: Model, bodies: list) -> list:
 
 
 def mass_matrix_entries(model: Model, theta: list) -> list:
-    """M[k][i] as nested scalars from per-joint scalars Θ (module docstring)."""
+    """M[k][i] as nested scalars from per-joint scalars Θ (module docstring).
+
+    >>> from course_dynamics import load_robot
+    >>> np.round(mass_matrix_entries(load_robot("two_link"), [0.0, 0.0]), 3)
+    array([[1.31, 0.36],
+           [0.36, 0.16]])
+    """
     placements = placement_entries(model, theta)
     s = motion_axes(model, placements)
     composite = composite_inertias(model, body_inertias(model, placements))
@@ -57,6 +70,12 @@ def mass_matrix_entries(model: Model, theta: list) -> list:
 
 
 def mass_matrix(model: Model, q) -> np.ndarray:
-    """M(Θ), shape (n, n) or (N, n, n), kg·m² (kg for prismatic joints) by the composite-rigid-body algorithm."""
+    """M(Θ), shape (n, n) or (N, n, n), kg·m² (kg for prismatic joints) by the composite-rigid-body algorithm.
+
+    >>> from course_dynamics import load_robot
+    >>> mass_matrix(load_robot("two_link"), [0.0, 0.0]).round(3)   # Craig (6.60) at θ₂ = 0, kg·m²
+    array([[1.31, 0.36],
+           [0.36, 0.16]])
+    """
     q = as_state(model, q, "q")
     return layout_of(q).assemble(mass_matrix_entries(model, entries(q)), (model.n, model.n))

@@ -29,7 +29,12 @@ from .model import Model
 
 @dataclass(frozen=True)
 class Friction:
-    """Per-joint friction coefficients (arrays of shape (n,))."""
+    """Per-joint friction coefficients (arrays of shape (n,)).
+
+    >>> friction = Friction(viscous=[0.5], coulomb=[0.2])   # N·m·s/rad, N·m
+    >>> friction.torques([2.0]), friction.torques([0.0])     # (6.112); 0 at rest
+    (array([1.2]), array([0.]))
+    """
 
     viscous: np.ndarray
     coulomb: np.ndarray

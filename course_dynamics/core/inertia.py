@@ -51,37 +51,63 @@ def _tensor(rows) -> np.ndarray:
 
 
 def box(m, a, b, c) -> np.ndarray:
-    """A solid box of mass m with sides a (x), b (y), c (z), about its centre: diag(m/12 (b² + c²), …)."""
+    """A solid box of mass m with sides a (x), b (y), c (z), about its centre: diag(m/12 (b² + c²), …).
+
+    >>> box(12.0, 1.0, 2.0, 3.0).diagonal().tolist()   # kg·m²
+    [13.0, 10.0, 5.0]
+    """
     return _tensor([[m * (b**2 + c**2) / 12, 0, 0], [0, m * (a**2 + c**2) / 12, 0], [0, 0, m * (a**2 + b**2) / 12]])
 
 
 def rod(m, length, axis: str = "x") -> np.ndarray:
-    """A thin rod along ``axis``, about its centre: m l²/12 about the two other axes, 0 about its own."""
+    """A thin rod along ``axis``, about its centre: m l²/12 about the two other axes, 0 about its own.
+
+    >>> rod(3.0, 2.0, "z").diagonal().tolist()   # m l²/12 across, 0 along the rod
+    [1.0, 1.0, 0.0]
+    """
     moments = [m * length**2 / 12] * 3
     moments[AXES[axis]] = 0
     return _tensor([[moments[0], 0, 0], [0, moments[1], 0], [0, 0, moments[2]]])
 
 
 def cylinder(m, r, h, axis: str = "z") -> np.ndarray:
-    """A solid cylinder of radius r and height h along ``axis``: m r²/2 about it, m (3r² + h²)/12 across."""
+    """A solid cylinder of radius r and height h along ``axis``: m r²/2 about it, m (3r² + h²)/12 across.
+
+    >>> cylinder(2.0, 1.0, 3.0).diagonal().tolist()   # axis z
+    [2.0, 2.0, 1.0]
+    """
     moments = [m * (3 * r**2 + h**2) / 12] * 3
     moments[AXES[axis]] = m * r**2 / 2
     return _tensor([[moments[0], 0, 0], [0, moments[1], 0], [0, 0, moments[2]]])
 
 
 def sphere(m, r) -> np.ndarray:
-    """A solid sphere: 2/5 m r² about every axis through its centre."""
+    """A solid sphere: 2/5 m r² about every axis through its centre.
+
+    >>> sphere(5.0, 1.0).diagonal().tolist()
+    [2.0, 2.0, 2.0]
+    """
     moment = 2 * m * r**2 / 5
     return _tensor([[moment, 0, 0], [0, moment, 0], [0, 0, moment]])
 
 
 def point_mass() -> np.ndarray:
-    """A point mass: no inertia about its own centre (Craig's two-link arm, section 6.7)."""
+    """A point mass: no inertia about its own centre (Craig's two-link arm, section 6.7).
+
+    >>> parallel_axis(point_mass(), 2.0, [0.5, 0.0, 0.0]).diagonal().tolist()   # m₁ at l₁: m₁l₁² about y and z
+    [0.0, 0.5, 0.5]
+    """
     return np.zeros((3, 3))
 
 
 def parallel_axis(I_c, m, p) -> np.ndarray:
-    """ᴬI = ᶜI + m (pᵀp 1 − p pᵀ) (6.25): the tensor about a point {A} for which ᴬP_C = p (the COM's position)."""
+    """ᴬI = ᶜI + m (pᵀp 1 − p pᵀ) (6.25): the tensor about a point {A} for which ᴬP_C = p (the COM's position).
+
+    >>> import sympy
+    >>> m, l = sympy.symbols("m l", positive=True)
+    >>> parallel_axis(rod(m, l), m, [l / 2, 0, 0])[2, 2]   # a rod about its end: m l²/12 + m l²/4
+    l**2*m/3
+    """
     x, y, z = p
     shift = [[y**2 + z**2, -x * y, -x * z], [-x * y, x**2 + z**2, -y * z], [-x * z, -y * z, x**2 + y**2]]
     I_c = np.asarray(I_c)
@@ -89,7 +115,12 @@ def parallel_axis(I_c, m, p) -> np.ndarray:
 
 
 def rotate(I, R) -> np.ndarray:
-    """ᴬI = R ᴮI Rᵀ for R = ᴬ_BR: the same body's tensor in the axes of {A}."""
+    """ᴬI = R ᴮI Rᵀ for R = ᴬ_BR: the same body's tensor in the axes of {A}.
+
+    >>> R = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])   # 90° about z
+    >>> rotate(box(12.0, 1.0, 2.0, 3.0), R).diagonal().tolist()               # the x and y moments swap
+    [10.0, 13.0, 5.0]
+    """
     I, R = np.asarray(I), np.asarray(R)
     if I.dtype == object or R.dtype == object:
         import sympy
@@ -99,13 +130,23 @@ def rotate(I, R) -> np.ndarray:
 
 
 def products_of_inertia(I) -> tuple:
-    """(I_xy, I_xz, I_yz) = (−I[0,1], −I[0,2], −I[1,2]): Craig's products of inertia from the matrix."""
+    """(I_xy, I_xz, I_yz) = (−I[0,1], −I[0,2], −I[1,2]): Craig's products of inertia from the matrix.
+
+    >>> I = parallel_axis(box(12.0, 1.0, 2.0, 3.0), 12.0, [0.5, 1.0, 1.5])
+    >>> [float(x) for x in products_of_inertia(I)]   # m x_c y_c, m x_c z_c, m y_c z_c
+    [6.0, 9.0, 18.0]
+    """
     I = np.asarray(I)
     return -I[0, 1], -I[0, 2], -I[1, 2]
 
 
 def principal_axes(I) -> tuple[np.ndarray, np.ndarray]:
-    """Principal moments (ascending, kg·m²) and the unit axes (as columns) of a numeric tensor."""
+    """Principal moments (ascending, kg·m²) and the unit axes (as columns) of a numeric tensor.
+
+    >>> moments, axes = principal_axes(np.diag([3.0, 1.0, 2.0]))
+    >>> moments.tolist(), np.abs(axes[:, 0]).tolist()   # the smallest moment is about y
+    ([1.0, 2.0, 3.0], [0.0, 1.0, 0.0])
+    """
     moments, axes = np.linalg.eigh(np.asarray(I, dtype=float))
     return moments, axes
 
@@ -116,6 +157,11 @@ def physical_problems(I, tolerance: float = TOLERANCE) -> list[str]:
     It must be symmetric, positive semi-definite (no negative principal moment)
     and obey the triangle inequality of its principal moments, I₁ + I₂ ≥ I₃
     (a body is no thinner than a flat plate). Zero is allowed: a point mass.
+
+    >>> physical_problems(box(12.0, 1.0, 2.0, 3.0))
+    []
+    >>> physical_problems(np.diag([1.0, 1.0, 3.0]))
+    ['breaks the triangle inequality (principal moments 1 + 1 < 3)']
     """
     I = np.asarray(I, dtype=float)
     if not np.allclose(I, I.T, rtol=0, atol=tolerance):

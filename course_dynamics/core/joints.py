@@ -29,7 +29,13 @@ ZERO = Vec3(0, 0, 0)
 
 
 class Revolute:
-    """Turns its body by θ about its axis (rad)."""
+    """Turns its body by θ about its axis (rad).
+
+    >>> from course_dynamics import load_robot
+    >>> R, P = Revolute.transform(load_robot("two_link").bodies[1], 0.0)
+    >>> list(P)   # the joint's origin in its parent, m
+    [0.5, 0.0, 0.0]
+    """
 
     name, symbol, latex, rotates = "revolute", "θ", r"\theta", True
 
@@ -50,7 +56,13 @@ class Revolute:
 
 
 class Prismatic:
-    """Slides its body by d along its axis (m)."""
+    """Slides its body by d along its axis (m).
+
+    >>> from course_dynamics import load_robot
+    >>> R, P = Prismatic.transform(load_robot("rp_arm").bodies[1], 0.2)   # d₂ = 0.2 m along the axis
+    >>> [round(x, 3) for x in P]
+    [0.2, 0.0, 0.0]
+    """
 
     name, symbol, latex, rotates = "prismatic", "d", "d", False
 
@@ -74,5 +86,10 @@ KINDS: dict[str, type] = {"revolute": Revolute, "continuous": Revolute, "prismat
 
 
 def kind_of(body) -> type:
-    """The :data:`KINDS` entry of a body's joint."""
+    """The :data:`KINDS` entry of a body's joint.
+
+    >>> from course_dynamics import load_robot
+    >>> [kind_of(body).name for body in load_robot("rp_arm").bodies]
+    ['revolute', 'prismatic']
+    """
     return KINDS[body.joint_type]

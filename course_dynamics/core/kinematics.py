@@ -35,7 +35,13 @@ from .state import as_state, entries, layout_of
 
 @dataclass(frozen=True)
 class JointTransforms:
-    """ᵖᵢR, its transpose ⁱₚR, and ᵖPᵢ for every body at one configuration Θ."""
+    """ᵖᵢR, its transpose ⁱₚR, and ᵖPᵢ for every body at one configuration Θ.
+
+    >>> from course_dynamics import load_robot
+    >>> X = joint_transforms(load_robot("two_link"), [0.0, 0.0])
+    >>> list(X.P[1]), X.R_T[1].rows == X.R[1].T.rows
+    ([0.5, 0.0, 0.0], True)
+    """
 
     R: list
     R_T: list
@@ -43,7 +49,13 @@ class JointTransforms:
 
 
 def joint_transforms(model: Model, theta: list) -> JointTransforms:
-    """ᵖᵢR(θᵢ) and ᵖPᵢ(θᵢ) of every body, from per-joint scalars θ."""
+    """ᵖᵢR(θᵢ) and ᵖPᵢ(θᵢ) of every body, from per-joint scalars θ.
+
+    >>> from course_dynamics import load_robot
+    >>> X = joint_transforms(load_robot("rrr_arm"), [0.0, 0.0, 0.0])
+    >>> list(X.P[1]), list(X.P[2])   # ¹P₂ and ²P₃, m
+    ([0.0, 0.0, 0.3], [0.4, 0.0, 0.0])
+    """
     R, P = [], []
     for body, q in zip(model.bodies, theta):
         R_i, P_i = kind_of(body).transform(body, q)
@@ -54,7 +66,13 @@ def joint_transforms(model: Model, theta: list) -> JointTransforms:
 
 @dataclass(frozen=True)
 class BasePlacements:
-    """⁰ᵢR, ⁰Pᵢ and ⁰P_Cᵢ of every body, as Mat3/Vec3 of per-joint scalars."""
+    """⁰ᵢR, ⁰Pᵢ and ⁰P_Cᵢ of every body, as Mat3/Vec3 of per-joint scalars.
+
+    >>> from course_dynamics import load_robot
+    >>> placed = placement_entries(load_robot("rrr_arm"), [0.0, 0.0, 0.0])
+    >>> [list(p) for p in placed.P]   # ⁰Pᵢ, m
+    [[0.0, 0.0, 0.0], [0.0, 0.0, 0.3], [0.4, 0.0, 0.3]]
+    """
 
     R: list
     P: list
@@ -62,7 +80,13 @@ class BasePlacements:
 
 
 def placement_entries(model: Model, theta: list) -> BasePlacements:
-    """Where every body is in the base frame: ⁰ᵢR = ⁰ₚR ᵖᵢR, ⁰Pᵢ = ⁰Pₚ + ⁰ₚR ᵖPᵢ."""
+    """Where every body is in the base frame: ⁰ᵢR = ⁰ₚR ᵖᵢR, ⁰Pᵢ = ⁰Pₚ + ⁰ₚR ᵖPᵢ.
+
+    >>> from course_dynamics import load_robot
+    >>> placed = placement_entries(load_robot("rrr_arm"), [0.0, 0.0, 0.0])
+    >>> list(placed.P_com[2])   # ⁰P_C₃: the forearm's COM 0.15 m beyond its joint, m
+    [0.55, 0.0, 0.3]
+    """
     X = joint_transforms(model, theta)
     R, P, P_com = [], [], []
     for i, body in enumerate(model.bodies):
@@ -78,7 +102,14 @@ def placement_entries(model: Model, theta: list) -> BasePlacements:
 
 
 def frame_placement_entries(placements: BasePlacements, frame: Frame) -> tuple[Mat3, Vec3]:
-    """⁰R_F and ⁰P_F of a URDF link frame, from the placements of the body that carries it."""
+    """⁰R_F and ⁰P_F of a URDF link frame, from the placements of the body that carries it.
+
+    >>> from course_dynamics import load_robot
+    >>> arm = load_robot("two_link")
+    >>> R, P = frame_placement_entries(placement_entries(arm, [0.0, 0.0]), arm.frame("tool"))
+    >>> [round(x, 3) for x in P]   # ⁰P of the tool frame, m
+    [0.9, 0.0, 0.0]
+    """
     R_F, P_F = Mat3.of(frame.R), Vec3.of(frame.P)
     if frame.body < 0:
         return R_F, P_F
@@ -93,6 +124,13 @@ def point_jacobian_columns(model: Model, placements: BasePlacements, body: int, 
     ``body`` or one of its ancestors: a revolute joint adds ⁰Ẑⱼ × (⁰P − ⁰Pⱼ) to
     its velocity and ⁰Ẑⱼ to the angular velocity, a prismatic joint adds ⁰Ẑⱼ
     and no rotation. Other columns are zero.
+
+    >>> from course_dynamics import load_robot
+    >>> arm = load_robot("rrr_arm")
+    >>> placed = placement_entries(arm, [0.0, 0.0, 0.0])
+    >>> columns = point_jacobian_columns(arm, placed, 2, placed.P_com[2])   # the forearm's COM
+    >>> [[round(x, 3) for x in v] for v, w in columns]   # J_v[:, j], m/rad
+    [[0.0, 0.55, 0.0], [0.0, 0.0, -0.55], [0.0, 0.0, -0.15]]
     """
     zero = Vec3(0, 0, 0)
     cols = [(zero, zero)] * model.n
@@ -107,7 +145,13 @@ def point_jacobian_columns(model: Model, placements: BasePlacements, body: int, 
 
 @dataclass(frozen=True)
 class Placements:
-    """Base-frame placements of every body: R (n, 3, 3), P and P_com (n, 3); batch axes lead."""
+    """Base-frame placements of every body: R (n, 3, 3), P and P_com (n, 3); batch axes lead.
+
+    >>> from course_dynamics import load_robot
+    >>> placed = forward_kinematics(load_robot("two_link"), np.zeros((4, 2)))   # a batch of 4 states
+    >>> placed.R.shape, placed.P.shape
+    ((4, 2, 3, 3), (4, 2, 3))
+    """
 
     R: np.ndarray
     P: np.ndarray
@@ -134,7 +178,13 @@ def forward_kinematics(model: Model, q) -> Placements:
 
 
 def frame_placement(model: Model, q, frame: str) -> tuple[np.ndarray, np.ndarray]:
-    """⁰R_F (3, 3) and ⁰P_F (3,) of URDF link ``frame`` at Θ; batch axes lead."""
+    """⁰R_F (3, 3) and ⁰P_F (3,) of URDF link ``frame`` at Θ; batch axes lead.
+
+    >>> from course_dynamics import load_robot
+    >>> R, P = frame_placement(load_robot("rrr_arm"), [0.0, 0.0, 0.0], "forearm")
+    >>> P.tolist()   # ⁰P of the forearm's frame (joint 3), m
+    [0.4, 0.0, 0.3]
+    """
     q = as_state(model, q, "q")
     layout = layout_of(q)
     R, P = frame_placement_entries(placement_entries(model, entries(q)), model.frame(frame))
@@ -142,7 +192,12 @@ def frame_placement(model: Model, q, frame: str) -> tuple[np.ndarray, np.ndarray
 
 
 def potential_energy_entry(model: Model, theta: list):
-    """u = Σᵢ −mᵢ ⁰gᵀ ⁰P_Cᵢ (6.73) from per-joint scalars (u_ref = 0)."""
+    """u = Σᵢ −mᵢ ⁰gᵀ ⁰P_Cᵢ (6.73) from per-joint scalars (u_ref = 0).
+
+    >>> from course_dynamics import load_robot
+    >>> potential_energy_entry(load_robot("pendulum"), [0.0])   # 1 kg hanging 1 m below the pivot, J
+    -9.81
+    """
     g = model.gravity_v
     u = 0
     for body, p in zip(model.bodies, placement_entries(model, theta).P_com):
@@ -151,6 +206,11 @@ def potential_energy_entry(model: Model, theta: list):
 
 
 def potential_energy(model: Model, q) -> np.ndarray:
-    """u(Θ), J: shape () for one state, (N,) for a batch."""
+    """u(Θ), J: shape () for one state, (N,) for a batch.
+
+    >>> from course_dynamics import load_robot
+    >>> potential_energy(load_robot("pendulum"), [[0.0], [np.pi]]).round(2)   # hanging, upright; J
+    array([-9.81,  9.81])
+    """
     q = as_state(model, q, "q")
     return layout_of(q).assemble(potential_energy_entry(model, entries(q)), ())

@@ -102,25 +102,48 @@ def _christoffel_entries(model: Model, theta: list) -> list:
 
 
 def mass_matrix(model: Model, q) -> np.ndarray:
-    """M(Θ) from link Jacobians: shape (n, n) or (N, n, n)."""
+    """M(Θ) from link Jacobians: shape (n, n) or (N, n, n).
+
+    >>> from course_dynamics import load_robot
+    >>> mass_matrix(load_robot("two_link"), [0.0, 0.0]).round(3)   # as the composite-rigid-body M
+    array([[1.31, 0.36],
+           [0.36, 0.16]])
+    """
     q = as_state(model, q, "q")
     return layout_of(q).assemble(_mass_matrix_entries(model, entries(q)), (model.n, model.n))
 
 
 def gravity_torques(model: Model, q) -> np.ndarray:
-    """G(Θ) = ∂u/∂Θ: shape (n,) or (N, n)."""
+    """G(Θ) = ∂u/∂Θ: shape (n,) or (N, n).
+
+    >>> from course_dynamics import load_robot
+    >>> gravity_torques(load_robot("two_link"), [0.0, 0.0]).round(3)   # Craig (6.62) at Θ = 0, N·m
+    array([18.639,  3.924])
+    """
     q = as_state(model, q, "q")
     return layout_of(q).assemble(_gravity_entries(model, entries(q)), (model.n,))
 
 
 def christoffel_symbols(model: Model, q) -> np.ndarray:
-    """Γ(Θ): shape (n, n, n) or (N, n, n, n), Γ[..., i, j, k] = Γᵢⱼₖ."""
+    """Γ(Θ): shape (n, n, n) or (N, n, n, n), Γ[..., i, j, k] = Γᵢⱼₖ.
+
+    >>> from course_dynamics import load_robot
+    >>> Gamma = christoffel_symbols(load_robot("two_link"), [0.0, np.pi / 2])
+    >>> Gamma.shape, float(Gamma[0, 1, 1].round(3))   # Γ₁₂₂ = −m₂ l₁ l₂ s₂
+    ((2, 2, 2), -0.2)
+    """
     q = as_state(model, q, "q")
     return layout_of(q).assemble(_christoffel_entries(model, entries(q)), (model.n,) * 3)
 
 
 def coriolis_matrix(model: Model, q, qd) -> np.ndarray:
-    """C(Θ, Θ̇)ᵢⱼ = Σₖ Γᵢⱼₖ θ̇ₖ: shape (n, n) or (N, n, n)."""
+    """C(Θ, Θ̇)ᵢⱼ = Σₖ Γᵢⱼₖ θ̇ₖ: shape (n, n) or (N, n, n).
+
+    >>> from course_dynamics import load_robot
+    >>> coriolis_matrix(load_robot("two_link"), [0.0, np.pi / 2], [1.0, 0.0]).round(3)
+    array([[ 0. , -0.2],
+           [ 0.2,  0. ]])
+    """
     q, qd = as_state(model, q, "q"), as_state(model, qd, "qd")
     Gamma, theta_dot = _christoffel_entries(model, entries(q)), entries(qd)
     n = model.n
@@ -129,13 +152,23 @@ def coriolis_matrix(model: Model, q, qd) -> np.ndarray:
 
 
 def velocity_torques(model: Model, q, qd) -> np.ndarray:
-    """V(Θ, Θ̇) = C(Θ, Θ̇) Θ̇: shape (n,) or (N, n)."""
+    """V(Θ, Θ̇) = C(Θ, Θ̇) Θ̇: shape (n,) or (N, n).
+
+    >>> from course_dynamics import load_robot
+    >>> velocity_torques(load_robot("two_link"), [0.0, np.pi / 2], [1.0, 1.0]).round(3)   # Craig (6.61), N·m
+    array([-0.6,  0.2])
+    """
     C, qd = coriolis_matrix(model, q, qd), as_state(model, qd, "qd")
     return np.einsum("...ij,...j->...i", C, qd) if C.dtype != object else C @ qd
 
 
 def inverse_dynamics(model: Model, q, qd, qdd) -> np.ndarray:
-    """τ = M Θ̈ + C Θ̇ + G: the Euler–Lagrange equation (6.77), shape (n,) or (N, n)."""
+    """τ = M Θ̈ + C Θ̇ + G: the Euler–Lagrange equation (6.77), shape (n,) or (N, n).
+
+    >>> from course_dynamics import load_robot
+    >>> inverse_dynamics(load_robot("pendulum"), [0.5], [0.0], [0.0]).round(4)   # m g l sin θ, as Newton–Euler
+    array([4.7032])
+    """
     q, qd, qdd = as_state(model, q, "q"), as_state(model, qd, "qd"), as_state(model, qdd, "qdd")
     M, C, G = mass_matrix(model, q), coriolis_matrix(model, q, qd), gravity_torques(model, q)
     if M.dtype == object:
@@ -144,7 +177,12 @@ def inverse_dynamics(model: Model, q, qd, qdd) -> np.ndarray:
 
 
 def link_kinetic_energies(model: Model, q, qd) -> np.ndarray:
-    """kᵢ = ½ mᵢ v_Cᵢᵀ v_Cᵢ + ½ ωᵢᵀ ⁰Iᵢ ωᵢ (6.69) per body, J: shape (n,) or (N, n)."""
+    """kᵢ = ½ mᵢ v_Cᵢᵀ v_Cᵢ + ½ ωᵢᵀ ⁰Iᵢ ωᵢ (6.69) per body, J: shape (n,) or (N, n).
+
+    >>> from course_dynamics import load_robot
+    >>> link_kinetic_energies(load_robot("two_link"), [0.0, 0.0], [1.0, 0.0]).round(3)   # ½ m v², J
+    array([0.25 , 0.405])
+    """
     q, qd = as_state(model, q, "q"), as_state(model, qd, "qd")
     theta_dot = entries(qd)
     energies = []
@@ -157,12 +195,21 @@ def link_kinetic_energies(model: Model, q, qd) -> np.ndarray:
 
 
 def kinetic_energy(model: Model, q, qd) -> np.ndarray:
-    """k = Σ kᵢ (6.71), J."""
+    """k = Σ kᵢ (6.71), J.
+
+    >>> from course_dynamics import load_robot
+    >>> float(kinetic_energy(load_robot("two_link"), [0.0, 0.0], [1.0, 0.0]).round(3))   # ½ Θ̇ᵀ M Θ̇ = ½ M₁₁, J
+    0.655
+    """
     return np.sum(link_kinetic_energies(model, q, qd), axis=-1)
 
 
 def velocity_pairs(n: int) -> list[tuple[int, int]]:
-    """The (j, k), j < k, of Craig's [Θ̇Θ̇] = (θ̇₁θ̇₂, θ̇₁θ̇₃, …, θ̇ₙ₋₁θ̇ₙ) (6.64), zero-based."""
+    """The (j, k), j < k, of Craig's [Θ̇Θ̇] = (θ̇₁θ̇₂, θ̇₁θ̇₃, …, θ̇ₙ₋₁θ̇ₙ) (6.64), zero-based.
+
+    >>> velocity_pairs(3)   # θ̇₁θ̇₂, θ̇₁θ̇₃, θ̇₂θ̇₃
+    [(0, 1), (0, 2), (1, 2)]
+    """
     return list(combinations(range(n), 2))
 
 
@@ -170,6 +217,11 @@ def configuration_space_terms(model: Model, q) -> tuple[np.ndarray, np.ndarray]:
     """Craig's B(Θ) (n, n(n−1)/2) and C(Θ) (n, n) of (6.63): V = B [Θ̇Θ̇] + C [Θ̇²].
 
     From Christoffel symbols: Cᵢⱼ = Γᵢⱼⱼ (centrifugal) and Bᵢ,(ⱼ,ₖ) = Γᵢⱼₖ + Γᵢₖⱼ = 2Γᵢⱼₖ (Coriolis).
+
+    >>> from course_dynamics import load_robot
+    >>> B, C = configuration_space_terms(load_robot("two_link"), [0.0, np.pi / 2])
+    >>> B.round(3).tolist(), C.round(3).tolist()   # Craig (6.63): B = (−2m₂l₁l₂s₂, 0)ᵀ
+    ([[-0.4], [0.0]], [[0.0, -0.2], [0.2, 0.0]])
     """
     q = as_state(model, q, "q")
     Gamma = _christoffel_entries(model, entries(q))

@@ -67,7 +67,13 @@ def _is_numeric(values) -> bool:
 
 @dataclass(frozen=True)
 class Body:
-    """One moving body: the link carried by joint i and everything fixed to it."""
+    """One moving body: the link carried by joint i and everything fixed to it.
+
+    >>> from course_dynamics import load_robot
+    >>> body = load_robot("two_link").bodies[1]
+    >>> body.name, body.joint, body.mass, body.p_com.tolist()
+    ('link2', 'theta2', 1.0, [0.4, 0.0, 0.0])
+    """
 
     name: str
     joint: str
@@ -143,6 +149,11 @@ class Frame:
 
     ``body`` is −1 for links fixed to the base. Every URDF link is a frame,
     whether it moves on its own joint or was merged into a body by a fixed joint.
+
+    >>> from course_dynamics import load_robot
+    >>> tool = load_robot("two_link").frame("tool")   # Craig's {3}, fixed to body 1 (link 2)
+    >>> tool.body, tool.P.tolist()
+    (1, [0.4, 0.0, 0.0])
     """
 
     name: str
@@ -161,6 +172,11 @@ class Model:
 
     ``joint_names[j]`` is the joint whose coordinate is Θ[j]; Θ has one entry
     per moving joint (rad for revolute and continuous, m for prismatic).
+
+    >>> from course_dynamics import load_robot
+    >>> arm = load_robot("two_link")
+    >>> arm.n, arm.joint_names, arm.children, arm.gravity.tolist()
+    (2, ('theta1', 'theta2'), ((1,), ()), [0.0, 0.0, -9.81])
     """
 
     name: str

@@ -62,7 +62,11 @@ EXAMPLE_ROBOTS = {
 
 
 def robot_names() -> tuple[str, ...]:
-    """Every robot name :func:`robot_path` knows, course robots first."""
+    """Every robot name :func:`robot_path` knows, course robots first.
+
+    >>> robot_names()[:4]
+    ('two_link', 'rp_arm', 'pendulum', 'rrr_arm')
+    """
     return tuple(COURSE_ROBOTS) + tuple(EXAMPLE_ROBOTS)
 
 
@@ -70,6 +74,9 @@ def example_robot_data_share() -> Path:
     """The ``cmeel.prefix/share`` folder that holds example-robot-data.
 
     Raises FileNotFoundError when example-robot-data is not installed.
+
+    >>> (example_robot_data_share() / "example-robot-data" / "robots").is_dir()
+    True
     """
     candidates = [Path(p) for p in sys.path if p]
     candidates += [Path(p) for p in site.getsitepackages() + [sysconfig.get_paths()["purelib"]]]
@@ -81,7 +88,11 @@ def example_robot_data_share() -> Path:
 
 
 def robot_path(name: str) -> Path:
-    """The URDF file of a shipped robot, by name (see the module table)."""
+    """The URDF file of a shipped robot, by name (see the module table).
+
+    >>> robot_path("two_link").name, robot_path("ur5").name
+    ('two_link.urdf', 'ur5_robot.urdf')
+    """
     if name in COURSE_ROBOTS:
         return ROBOTS_DIR / COURSE_ROBOTS[name]
     if name in EXAMPLE_ROBOTS:
@@ -90,7 +101,13 @@ def robot_path(name: str) -> Path:
 
 
 def load_robot(name: str, gravity=STANDARD_GRAVITY) -> Model:
-    """:func:`~course_dynamics.core.urdf.load_urdf` of a shipped robot, by name."""
+    """:func:`~course_dynamics.core.urdf.load_urdf` of a shipped robot, by name.
+
+    >>> load_robot("ur5").n
+    6
+    >>> load_robot("pendulum", gravity=(0, 0, -1.62)).gravity.tolist()   # on the Moon, m/s²
+    [0.0, 0.0, -1.62]
+    """
     return load_urdf(robot_path(name), gravity=gravity)
 
 
@@ -99,6 +116,9 @@ def resolve(name_or_path) -> Path:
 
     A name that is neither a shipped robot nor an existing path, and has no
     file suffix, is an :class:`~course_dynamics.base.errors.UnknownRobotError`.
+
+    >>> resolve("two_link").name, str(resolve("my_arm.urdf"))
+    ('two_link.urdf', 'my_arm.urdf')
     """
     text = str(name_or_path)
     if text in robot_names():
@@ -110,5 +130,9 @@ def resolve(name_or_path) -> Path:
 
 
 def load(name_or_path, gravity=STANDARD_GRAVITY, allow_nonphysical_inertia: bool = False) -> Model:
-    """The robot of a URDF path or a shipped robot's name (see :func:`resolve`; flags as :func:`load_urdf`)."""
+    """The robot of a URDF path or a shipped robot's name (see :func:`resolve`; flags as :func:`load_urdf`).
+
+    >>> load("pendulum").joint_names, load(robot_path("rp_arm")).joint_names
+    (('theta',), ('theta1', 'd2'))
+    """
     return load_urdf(resolve(name_or_path), gravity=gravity, allow_nonphysical_inertia=allow_nonphysical_inertia)

@@ -30,6 +30,11 @@ def sampling_bounds(model: Model) -> tuple[np.ndarray, np.ndarray]:
 
     A joint whose URDF limits are empty or unbounded (continuous joints, or
     lower = upper as some exporters write) is sampled over [−π, π] (rad or m).
+
+    >>> from course_dynamics import load_robot
+    >>> lower, upper = sampling_bounds(load_robot("pendulum"))   # a continuous joint: [−π, π]
+    >>> lower.round(3), upper.round(3)
+    (array([-3.142]), array([3.142]))
     """
     lower, upper = model.lower.copy(), model.upper.copy()
     free = ~(np.isfinite(lower) & np.isfinite(upper) & (lower < upper))
@@ -38,7 +43,13 @@ def sampling_bounds(model: Model) -> tuple[np.ndarray, np.ndarray]:
 
 
 def random_states(model: Model, samples: int, seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Θ uniform within :func:`sampling_bounds`, Θ̇ and Θ̈ standard normal; each (samples, n)."""
+    """Θ uniform within :func:`sampling_bounds`, Θ̇ and Θ̈ standard normal; each (samples, n).
+
+    >>> from course_dynamics import load_robot
+    >>> q, qd, qdd = random_states(load_robot("two_link"), 5, seed=0)
+    >>> q.shape, qd.shape, bool(np.all(np.abs(q) <= np.pi))
+    ((5, 2), (5, 2), True)
+    """
     rng = np.random.default_rng(seed)
     lower, upper = sampling_bounds(model)
     q = rng.uniform(lower, upper, size=(samples, model.n))
@@ -53,6 +64,11 @@ def gravity_free(model: Model, samples: int = 16, seed: int = 0) -> bool:
     A planar arm whose joint axes are parallel to g is such a robot: a comparison of G
     with anything then tests nothing, and the CLI says so. "Vanishes" is relative to the
     largest gravity torque the robot's masses could feel, Σ m |g| (1 m + |p|).
+
+    >>> from course_dynamics import load_robot
+    >>> arm = load_robot("two_link")   # its joint axes are along world −y
+    >>> gravity_free(arm), gravity_free(arm.with_gravity([0.0, -9.81, 0.0]))
+    (False, True)
     """
 
     q, _, _ = random_states(model, samples, seed)
@@ -63,7 +79,11 @@ def gravity_free(model: Model, samples: int = 16, seed: int = 0) -> bool:
 
 
 def term_scales(M: np.ndarray, G: np.ndarray, qd, qdd, gravity) -> dict[str, float]:
-    """The scale s of each term at one state (module docstring), from the reference M and G."""
+    """The scale s of each term at one state (module docstring), from the reference M and G.
+
+    >>> term_scales(np.eye(2), np.array([1.0, 0.0]), [2.0, 0.0], [1.0, 0.0], [0.0, 0.0, -9.81])
+    {'tau': 6.0, 'M': 1.0, 'C': 2.0, 'V': 4.0, 'G': 9.81}
+    """
     norm_M = float(np.abs(M).max())
     speed, accel = float(np.abs(qd).max()), float(np.abs(qdd).max())
     return dict(
@@ -73,7 +93,13 @@ def term_scales(M: np.ndarray, G: np.ndarray, qd, qdd, gravity) -> dict[str, flo
 
 
 def relative_error(ours, reference, scale: float = 0.0) -> float:
-    """‖ours − reference‖∞ / max(‖reference‖∞, scale), the measure of the module docstring."""
+    """‖ours − reference‖∞ / max(‖reference‖∞, scale), the measure of the module docstring.
+
+    >>> round(relative_error([1.0, 2.002], [1.0, 2.0]), 6)
+    0.001
+    >>> relative_error([1e-9], [0.0], scale=1.0)   # a zero reference is judged against the scale
+    1e-09
+    """
     ours, reference = np.asarray(ours, dtype=float), np.asarray(reference, dtype=float)
     denominator = max(float(np.abs(reference).max(initial=0.0)), scale, np.finfo(float).tiny)
     return float(np.abs(ours - reference).max(initial=0.0)) / denominator
@@ -85,6 +111,11 @@ def smooth_trajectory(model: Model, duration: float = 2.0, samples: int = 201, s
     Each joint follows θ(t) = c + a sin(ω t + φ) with c the middle of its
     :func:`sampling_bounds`, a a third of the half-range, ω between 1 and 3 rad/s
     and φ seeded, so the motion stays within limits.
+
+    >>> from course_dynamics import load_robot
+    >>> t, q, qd, qdd = smooth_trajectory(load_robot("two_link"), duration=1.0, samples=11)
+    >>> float(t[-1]), q.shape, bool(np.all(np.abs(q) <= np.pi / 3))   # a third of the half-range about 0
+    (1.0, (11, 2), True)
     """
     rng = np.random.default_rng(seed)
     lower, upper = sampling_bounds(model)

@@ -34,7 +34,15 @@ from .model import Model
 
 @dataclass(frozen=True)
 class Inertia:
-    """A rigid body's spatial inertia about the base origin: m, h = m c, Ī (rotational, about O)."""
+    """A rigid body's spatial inertia about the base origin: m, h = m c, Ī (rotational, about O).
+
+    >>> from course_dynamics import load_robot
+    >>> from course_dynamics.core.kinematics import placement_entries
+    >>> arm = load_robot("rrr_arm")
+    >>> forearm = body_inertias(arm, placement_entries(arm, [0.0, 0.0, 0.0]))[2]
+    >>> forearm.m, list(forearm.h)   # kg and m ⁰P_C, kg·m
+    (1.0, [0.55, 0.0, 0.3])
+    """
 
     m: object
     h: Vec3
@@ -51,7 +59,14 @@ class Inertia:
 
 
 def motion_axes(model: Model, placements: BasePlacements) -> list[tuple[Vec3, Vec3]]:
-    """s[j] for every joint: the body's motion for a unit joint rate, in base coordinates."""
+    """s[j] for every joint: the body's motion for a unit joint rate, in base coordinates.
+
+    >>> from course_dynamics import load_robot
+    >>> from course_dynamics.core.kinematics import placement_entries
+    >>> arm = load_robot("rrr_arm")
+    >>> motion_axes(arm, placement_entries(arm, [0.0, 0.0, 0.0]))[1]   # joint 2: about y through (0, 0, 0.3)
+    (Vec3(0.0, 1.0, 0.0), Vec3(-0.3, 0.0, 0.0))
+    """
     axes = []
     for body, R, P in zip(model.bodies, placements.R, placements.P):
         z = R @ body.axis_v  # ⁰Ẑⱼ
@@ -60,7 +75,14 @@ def motion_axes(model: Model, placements: BasePlacements) -> list[tuple[Vec3, Ve
 
 
 def body_inertias(model: Model, placements: BasePlacements) -> list[Inertia]:
-    """Every body's spatial inertia about the base origin, from its mass, ⁰P_C and ᶜI rotated to the base."""
+    """Every body's spatial inertia about the base origin, from its mass, ⁰P_C and ᶜI rotated to the base.
+
+    >>> from course_dynamics import load_robot
+    >>> from course_dynamics.core.kinematics import placement_entries
+    >>> arm = load_robot("pendulum")
+    >>> body_inertias(arm, placement_entries(arm, [0.0]))[0].I.rows   # m l² about x and y through the pivot
+    ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 0.0))
+    """
     inertias = []
     for body, R, c in zip(model.bodies, placements.R, placements.P_com):
         m = body.mass_s
@@ -75,21 +97,44 @@ def body_inertias(model: Model, placements: BasePlacements) -> list[Inertia]:
 
 
 def cross_motion(a: tuple[Vec3, Vec3], b: tuple[Vec3, Vec3]) -> tuple[Vec3, Vec3]:
-    """(w₁, v₁) × (w₂, v₂): how motion b changes when carried by motion a."""
+    """(w₁, v₁) × (w₂, v₂): how motion b changes when carried by motion a.
+
+    >>> from course_dynamics.core.algebra import Vec3
+    >>> spin, slide = (Vec3(0, 0, 1), Vec3(0, 0, 0)), (Vec3(0, 0, 0), Vec3(1, 0, 0))
+    >>> cross_motion(spin, slide)   # a slide along x, carried by a spin about z, turns towards y
+    (Vec3(0, 0, 0), Vec3(0, 1, 0))
+    """
     (w1, v1), (w2, v2) = a, b
     return cross(w1, w2), cross(w1, v2) + cross(v1, w2)
 
 
 def cross_force(a: tuple[Vec3, Vec3], f: tuple[Vec3, Vec3]) -> tuple[Vec3, Vec3]:
-    """(w, v) ×* (n, f): how force f changes when carried by motion a."""
+    """(w, v) ×* (n, f): how force f changes when carried by motion a.
+
+    >>> from course_dynamics.core.algebra import Vec3
+    >>> spin, push = (Vec3(0, 0, 1), Vec3(0, 0, 0)), (Vec3(0, 0, 0), Vec3(1, 0, 0))
+    >>> cross_force(spin, push)
+    (Vec3(0, 0, 0), Vec3(0, 1, 0))
+    """
     (w, v), (n, f_lin) = a, f
     return cross(w, n) + cross(v, f_lin), cross(w, f_lin)
 
 
 def power(s: tuple[Vec3, Vec3], f: tuple[Vec3, Vec3]):
-    """sᵀ f = w·n + v·f: the work rate of force f along motion s (a generalized force for a joint axis)."""
+    """sᵀ f = w·n + v·f: the work rate of force f along motion s (a generalized force for a joint axis).
+
+    >>> from course_dynamics.core.algebra import Vec3
+    >>> power((Vec3(0, 0, 1), Vec3(0, 0, 0)), (Vec3(0, 0, 2.5), Vec3(1, 0, 0)))   # a moment of 2.5 N·m about z
+    2.5
+    """
     return dot(s[0], f[0]) + dot(s[1], f[1])
 
 
 def add(a: tuple[Vec3, Vec3], b: tuple[Vec3, Vec3]) -> tuple[Vec3, Vec3]:
+    """a + b, part by part: the sum of two motions or of two forces.
+
+    >>> from course_dynamics.core.algebra import Vec3
+    >>> add((Vec3(1, 0, 0), Vec3(0, 0, 0)), (Vec3(0, 1, 0), Vec3(0, 0, 2)))
+    (Vec3(1, 1, 0), Vec3(0, 0, 2))
+    """
     return a[0] + b[0], a[1] + b[1]

@@ -18,7 +18,13 @@ from ..base.errors import StateError
 
 @dataclass(frozen=True)
 class Layout:
-    """How results are assembled: leading batch shape and element dtype."""
+    """How results are assembled: leading batch shape and element dtype.
+
+    >>> Layout(batch=(3,), dtype=float).assemble([np.zeros(3), np.ones(3)], (2,))   # 3 states, 2 joints
+    array([[0., 1.],
+           [0., 1.],
+           [0., 1.]])
+    """
 
     batch: tuple[int, ...]
     dtype: object
@@ -37,7 +43,12 @@ class Layout:
 
 
 def as_state(model, values, name: str = "q") -> np.ndarray:
-    """``values`` as a checked array of shape (..., n); numeric input becomes float."""
+    """``values`` as a checked array of shape (..., n); numeric input becomes float.
+
+    >>> from course_dynamics import load_robot
+    >>> as_state(load_robot("two_link"), [0, 1])
+    array([0., 1.])
+    """
     array = np.asarray(values)
     if array.dtype != object and array.dtype.kind != "c":  # complex: for complex-step derivatives
         try:
@@ -57,14 +68,24 @@ def as_state(model, values, name: str = "q") -> np.ndarray:
 
 
 def entries(array: np.ndarray) -> list:
-    """One scalar per joint: Python floats for one state, (N,) arrays for a batch."""
+    """One scalar per joint: Python floats for one state, (N,) arrays for a batch.
+
+    >>> entries(np.array([0.5, 1.0]))
+    [0.5, 1.0]
+    >>> entries(np.zeros((3, 2)))   # a batch of 3 states: one (3,) array per joint
+    [array([0., 0., 0.]), array([0., 0., 0.])]
+    """
     if array.ndim == 1:
         return array.tolist()  # Python floats (much faster than numpy scalars) or sympy objects
     return [array[..., j] for j in range(array.shape[-1])]
 
 
 def layout_of(*arrays: np.ndarray) -> Layout:
-    """The common batch shape of the inputs; object dtype if any is symbolic, complex if any is complex."""
+    """The common batch shape of the inputs; object dtype if any is symbolic, complex if any is complex.
+
+    >>> layout_of(np.zeros((5, 2)), np.zeros(2))
+    Layout(batch=(5,), dtype=<class 'float'>)
+    """
     batch = np.broadcast_shapes(*(a.shape[:-1] for a in arrays))
     dtype = float
     if any(a.dtype.kind == "c" for a in arrays):

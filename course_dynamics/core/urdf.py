@@ -62,6 +62,13 @@ def load_urdf(path, gravity=STANDARD_GRAVITY, allow_nonphysical_inertia: bool = 
         For a missing or malformed file, an unsupported joint, a kinematic loop,
         several roots, two joints with one name, a non-physical inertial, a zero
         axis or a non-finite value.
+
+    Examples
+    --------
+    >>> from course_dynamics.core.robots import robot_path
+    >>> arm = load_urdf(robot_path("two_link"))
+    >>> arm.name, arm.joint_names, arm.base_link
+    ('two_link', ('theta1', 'theta2'), 'world')
     """
     path = Path(path)
     where = str(path)
@@ -191,6 +198,10 @@ def xml_parser():
     No DTD is loaded, no entity is substituted, nothing is fetched from the network,
     and lxml's limits on depth (256) and amplification stay on (no ``huge_tree``).
     Documents that declare a DTD at all are refused by :func:`read_description`.
+
+    >>> from lxml import etree
+    >>> etree.fromstring(b"<robot name='arm'/>", xml_parser()).get("name")
+    'arm'
     """
     from lxml import etree
 
@@ -218,6 +229,13 @@ def read_description(path):
     ------
     ModelError
         Naming the file and the problem.
+
+    Examples
+    --------
+    >>> from course_dynamics.core.robots import robot_path
+    >>> description = read_description(robot_path("rp_arm"))
+    >>> description.name, [joint.type for joint in description.joints]
+    ('rp_arm', ['fixed', 'revolute', 'prismatic'])
     """
     from io import BytesIO
 

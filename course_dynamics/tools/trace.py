@@ -3,23 +3,21 @@
 :func:`trace` evaluates the outward iteration (6.45)–(6.50) and the inward
 iteration (6.51)–(6.53) once and keeps, for every link, ⁱωᵢ, ⁱω̇ᵢ, ⁱv̇ᵢ, ⁱv̇_Cᵢ,
 ⁱFᵢ, ⁱNᵢ, ⁱfᵢ, ⁱnᵢ and τᵢ (each vector in its own link's frame), numeric or
-symbolic. :mod:`course_dynamics.output.render` turns a :class:`Trace` into a text
-table, LaTeX or a JSON record.
+symbolic: the recursion's own :class:`~course_dynamics.core.newton_euler.LinkQuantities`,
+with the names a page needs. :mod:`course_dynamics.output.render` turns a :class:`Trace`
+into a text table, LaTeX or a JSON record.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from functools import cached_property
+
+import numpy as np
 
 from ..core.model import Model
-from ..core.newton_euler import newton_euler_links
-from ..core.symbolic import (
-    SymbolError,
-    check_symbolic_size,
-    decimal,
-    joint_symbols,
-    symbolic_model,
-    tidy,
-)
+from ..core.newton_euler import LinkQuantities, newton_euler_links
+from ..core.parameters import check_symbolic_size, joint_symbols, symbolic_model
+from ..core.symbolic import check_decimals, decimal, tidy
 
 OUTWARD_QUANTITIES = ("omega", "omega_dot", "v_dot", "v_dot_c", "F", "N")  # (6.45)–(6.50)
 INWARD_QUANTITIES = ("f", "n")  # (6.51)–(6.52)
@@ -27,15 +25,31 @@ INWARD_QUANTITIES = ("f", "n")  # (6.51)–(6.52)
 
 @dataclass(frozen=True)
 class Trace:
-    """Per-link quantities of one Newton–Euler evaluation; ``values[key][i]`` is link i's vector."""
+    """One Newton–Euler evaluation, link by link: its :class:`LinkQuantities` and the names that label them.
+
+    ``quantities`` holds numbers, or simplified sympy expressions for a symbolic trace;
+    ``values[key][i]`` is link i's vector and ``tau[i]`` its joint's τ, as plain lists.
+    """
 
     model_name: str
-    joints: tuple[str, ...]
     links: tuple[str, ...]
     prismatic: tuple[bool, ...]
-    values: dict
-    tau: list
+    quantities: LinkQuantities
     symbolic: bool
+
+    @property
+    def joints(self) -> tuple[str, ...]:
+        return self.quantities.joints
+
+    @cached_property
+    def values(self) -> dict:
+        """{key: per-link vectors as nested lists} for every key of :data:`OUTWARD_QUANTITIES` and
+        :data:`INWARD_QUANTITIES`."""
+        return {key: getattr(self.quantities, key).tolist() for key in OUTWARD_QUANTITIES + INWARD_QUANTITIES}
+
+    @cached_property
+    def tau(self) -> list:
+        return self.quantities.tau.tolist()
 
 
 def trace(model: Model, q, qd, qdd, symbols=None, decimals: int | None = None) -> Trace:
@@ -47,28 +61,20 @@ def trace(model: Model, q, qd, qdd, symbols=None, decimals: int | None = None) -
     symbolic (see :mod:`course_dynamics.core.symbolic`), and entries are simplified
     (with the model's numbers as ``decimals``-digit decimals if given).
     """
-    keys = OUTWARD_QUANTITIES + INWARD_QUANTITIES
-    if decimals is not None and not (isinstance(decimals, int) and 1 <= decimals <= 30):
-
-        raise SymbolError(f"decimals must be a whole number of digits from 1 to 30, got {decimals!r}")
+    check_decimals(decimals)
     if symbols is None:
-        links = newton_euler_links(model, q, qd, qdd)
-        values = {key: getattr(links, key).tolist() for key in keys}
-        tau = links.tau.tolist()
+        quantities = newton_euler_links(model, q, qd, qdd)
     else:
-
         check_symbolic_size(model)
         exact, _ = symbolic_model(model, symbols)
         q_s, qd_s, qdd_s = joint_symbols(model)
         links = newton_euler_links(exact, q_s, qd_s, qdd_s)
-
-        def form(x):
-            return decimal(tidy(x, q_s), decimals)
-
-        values = {key: [[form(x) for x in row] for row in getattr(links, key)] for key in keys}
-        tau = [form(x) for x in links.tau]
-    return Trace(model_name=model.name, joints=model.joint_names, links=tuple(b.name for b in model.bodies),
-                 prismatic=tuple(b.is_prismatic for b in model.bodies), values=values, tau=tau, symbolic=symbols is not None)
+        form = np.frompyfunc(lambda x: decimal(tidy(x, q_s), decimals), 1, 1)
+        keys = OUTWARD_QUANTITIES + INWARD_QUANTITIES + ("tau",)
+        quantities = replace(links, **{key: form(getattr(links, key)) for key in keys})
+    return Trace(model_name=model.name, links=tuple(b.name for b in model.bodies),
+                 prismatic=tuple(b.is_prismatic for b in model.bodies), quantities=quantities,
+                 symbolic=symbols is not None)
 
 
 __all__ = ["INWARD_QUANTITIES", "OUTWARD_QUANTITIES", "Trace", "trace"]

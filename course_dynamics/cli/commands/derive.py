@@ -1,7 +1,8 @@
 """``course-dynamics derive``: closed-form τ, M, V, G and Craig's B, C (symbolic)."""
 from __future__ import annotations
 
-from ...core.symbolic import MAX_SYMBOLIC_JOINTS, METHODS
+from ...core.parameters import MAX_SYMBOLIC_JOINTS
+from ...core.symbolic import METHODS
 from ...output import render
 from ..options import add_robot_argument, load_robot_argument, print_json, symbol_names
 

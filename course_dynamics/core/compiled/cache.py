@@ -23,7 +23,14 @@ class CacheWarning(UserWarning):
 
 
 def cache_folder() -> Path | None:
-    """The cache folder (module docstring); None when ``COURSE_DYNAMICS_CACHE=off``."""
+    """The cache folder (module docstring); None when ``COURSE_DYNAMICS_CACHE=off``.
+
+    >>> import os
+    >>> from unittest import mock
+    >>> with mock.patch.dict(os.environ, {"COURSE_DYNAMICS_CACHE": "off"}):
+    ...     print(cache_folder())
+    None
+    """
     chosen = os.environ.get("COURSE_DYNAMICS_CACHE")
     if chosen == CACHE_OFF:
         return None
@@ -168,6 +175,12 @@ class Cache:
     """Entries ``<key>.entry`` in a trusted folder: HMAC (32 bytes), source length (8), source, marshalled code.
 
     Used as a context manager: the folder's descriptor is closed at the end.
+
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as folder, Cache(Path(folder) / "cache") as cache:
+    ...     path = cache.store("key", "x = 1", compile("x = 1", "<key>", "exec"))
+    ...     print(path.name, cache.load("key")[0], cache.load("other"))
+    key.entry x = 1 None
     """
 
     def __init__(self, folder: Path | None):

@@ -21,6 +21,12 @@ def program_source(program: Program, n: int, free: bool = False) -> str:
 
     With ``free`` every value is deleted after its last use, so that a batch keeps only the arrays it still
     needs (the one-state version keeps its floats: the readable form).
+
+    >>> from course_dynamics import load_robot
+    >>> from course_dynamics.core.compiled.tracing import trace_programs
+    >>> source = program_source(trace_programs(load_robot("pendulum"))["mass_matrix"], 1)
+    >>> source.splitlines()[:3], source.splitlines()[-1]
+    (['def mass_matrix(q):', '    q0, = q', '    t1 = cos(q0)'], '    return (t7,)')
     """
     lines = [f"def {program.name}({', '.join(program.inputs)}):"]
     for name in program.inputs:
@@ -47,7 +53,14 @@ def program_source(program: Program, n: int, free: bool = False) -> str:
 
 
 def module_source(model: Model, programs: dict[str, Program], key: str) -> str:
-    """One module with every program twice: ``<name>`` on floats (math) and ``<name>_batch`` on arrays (numpy)."""
+    """One module with every program twice: ``<name>`` on floats (math) and ``<name>_batch`` on arrays (numpy).
+
+    >>> from course_dynamics import load_robot
+    >>> from course_dynamics.core.compiled.tracing import trace_programs
+    >>> pendulum = load_robot("pendulum")
+    >>> module_source(pendulum, trace_programs(pendulum), "k1").splitlines()[:2]
+    ['# course-dynamics compiled model k1', "# robot 'pendulum', 1 joints in the order ['theta']"]
+    """
     n = model.n
     # Names from the URDF appear only inside comments, as Python reprs: a repr has no line break in it, so no
     # name can end the comment and become code (a docstring could be closed by a name holding three quotes).

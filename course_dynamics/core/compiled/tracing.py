@@ -22,7 +22,12 @@ MAX_OPERATIONS = 80_000
 
 
 class ProgramTooLargeError(CourseDynamicsError):
-    """A robot whose compiled programs would take more than :data:`MAX_OPERATIONS` operations."""
+    """A robot whose compiled programs would take more than :data:`MAX_OPERATIONS` operations.
+
+    >>> print(ProgramTooLargeError("robot 'chain' (60 joints)"))
+    robot 'chain' (60 joints) is too large to compile: its programs would take more than 80000 operations; use the
+    interpreted recursions (--no-compile, compiled=False)
+    """
 
     def __init__(self, what: str = "", remedy: str = "; use the interpreted recursions (--no-compile, compiled=False)"):
         self.what = what
@@ -32,7 +37,14 @@ class ProgramTooLargeError(CourseDynamicsError):
 
 
 class Tape:
-    """The program being recorded: nodes (op, argument, argument), each recorded once."""
+    """The program being recorded: nodes (op, argument, argument), each recorded once.
+
+    >>> tape = Tape()
+    >>> x = tape.input("q0")
+    >>> y = 2.0 * x + x * 2.0   # x · 2 is recorded once
+    >>> tape.nodes
+    [('input', 'q0'), ('mul', ('c', 2.0), ('t', 0)), ('add', ('t', 1), ('t', 1))]
+    """
 
     def __init__(self, limit: int = MAX_OPERATIONS):
         self.nodes: list[tuple] = []
@@ -60,7 +72,12 @@ def _ref(x):
 
 
 class Traced:
-    """A scalar that records the arithmetic done on it (see the module docstring)."""
+    """A scalar that records the arithmetic done on it (see the module docstring).
+
+    >>> x = Tape().input("q0")
+    >>> x * 1 is x, x - x, 0 * x   # done on the spot: nothing recorded
+    (True, 0.0, 0.0)
+    """
 
     __slots__ = ("tape", "i")
     __array_ufunc__ = None
@@ -137,7 +154,13 @@ class Traced:
 
 @dataclass
 class Program:
-    """A straight-line program: named inputs, nodes, and the outputs (node references or constants)."""
+    """A straight-line program: named inputs, nodes, and the outputs (node references or constants).
+
+    >>> from course_dynamics import load_robot
+    >>> program = trace_programs(load_robot("pendulum"))["mass_matrix"]
+    >>> program.inputs, len(program.nodes), program.outputs   # M = m l² (cos² θ + sin² θ): node 7
+    (['q'], 8, [['t', 7]])
+    """
 
     name: str
     inputs: list[str]
@@ -175,6 +198,10 @@ def trace_programs(model: Model) -> dict[str, Program]:
     """Run the library's recursions on traced scalars and keep what they computed (module docstring).
 
     Raises :class:`ProgramTooLargeError` as soon as the programs together pass :data:`MAX_OPERATIONS`.
+
+    >>> from course_dynamics import load_robot
+    >>> sorted(trace_programs(load_robot("two_link")))
+    ['bias', 'coriolis', 'forward_dynamics', 'mass_matrix', 'tau']
     """
     n, g = model.n, model.gravity_v
     programs, tapes = {}, []
