@@ -1,18 +1,18 @@
 """Reading tables as trajectory logs come.
 
-:func:`read_table` reads a delimited numeric table (comma, semicolon or tab;
-UTF-8 with or without BOM, UTF-16, Latin-1; CRLF; ``#`` comment lines) from a
-regular file of a size that fits in memory, refuses a number it could read two
-ways, and names the file, line and column of anything it cannot use;
-:func:`read_columns` picks and checks named columns from it.
+:func:`read_table` reads a delimited table (comma, semicolon, tab or runs of whitespace;
+UTF-8 with or without BOM, UTF-16, Latin-1; CRLF; ``#`` comment lines) from a regular file
+of a size that fits in memory, refuses a number it could read two ways (by the rules of
+:mod:`course_dynamics.tools.cells`), and names the file, line and column of anything it
+cannot use. A column whose first cell is a word (a mode or state a controller logs) is a text
+column: listed in :attr:`Table.text`, never read as numbers. :func:`read_columns` picks and
+checks named columns from it.
 """
 from __future__ import annotations
 
-import csv
 import io as text_io
 import itertools
 import os
-import re
 from array import array
 from dataclasses import dataclass
 from pathlib import Path
@@ -23,10 +23,11 @@ from ..base import resources
 from ..base.errors import InputError
 from ..base.files import open_regular
 from ..base.resources import check_memory, format_bytes
+from .cells import WHITESPACE, clean, count_error, is_word, parse_rows, split
 
 STDIN = "-"  # what a user may try for standard input: logs are read from files only
 DELIMITERS = (",", ";", "\t")
-DELIMITER_NAMES = {",": "commas", ";": "semicolons", "\t": "tabs"}
+DELIMITER_NAMES = {",": "commas", ";": "semicolons", "\t": "tabs", WHITESPACE: "whitespace"}
 DECIMALS = ("point", "comma")
 SAMPLE_ROWS = 10               # data rows read ahead to choose the delimiter and estimate the memory needed
 MAX_LINE_CHARS = 16 * 2**20    # longer is no table (a header of 10 000 joints' columns is under 1 MiB)
@@ -42,39 +43,37 @@ BYTES_PER_VALUE = 100
 
 @dataclass(frozen=True)
 class Table:
-    """A numeric table read from a delimited text file.
+    """A table read from a delimited text file: numeric columns, and text columns (words) beside them.
 
-    ``header``: the column names, stripped; ``data``: float array (rows, columns);
-    ``lines``: the file line number of each data row (for messages); ``path``: the file.
+    ``header``: the column names, stripped; ``data``: float array (rows, columns), NaN in the text
+    columns; ``lines``: the file line number of each data row (for messages); ``path``: the file;
+    ``text``: the names of the text columns, in header order; ``first_words``: the cell of each
+    in the first data row (see :meth:`first_word`).
     """
 
     path: str
     header: tuple[str, ...]
     data: np.ndarray
     lines: np.ndarray
+    text: tuple[str, ...] = ()
+    first_words: tuple[str, ...] = ()
 
     def column(self, name: str) -> np.ndarray:
         return self.data[:, self.header.index(name)]
 
     def columns(self) -> dict[str, np.ndarray]:
-        return {name: self.data[:, c] for c, name in enumerate(self.header)}
+        """The numeric columns by name, in header order (the text columns are left out)."""
+        return {name: self.data[:, c] for c, name in enumerate(self.header) if name not in self.text}
 
-
-# A number as written in a log: ASCII digits only (Python's float() also takes '1_000', '١٢٣', '１２３'
-# and surrounding Unicode spaces; numpy's reader, which the fast path uses, takes none of them).
-_POINT_NUMBER = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
-_COMMA_NUMBER = re.compile(r"[+-]?(?:[0-9]+,[0-9]*|,[0-9]+)(?:[eE][+-]?[0-9]+)?")
-_GROUPED = re.compile(r"[+-]?[1-9][0-9]{0,2},[0-9]{3}")   # 1,234: 1.234, or 1234 with a thousands separator
-_NON_FINITE = re.compile(r"[+-]?(?:inf|infinity|nan)", re.IGNORECASE)
+    def first_word(self, name: str) -> tuple[int, str]:
+        """(line number, cell) of a text column's first data row, for messages: ``(2, 'RUNNING')``."""
+        if name not in self.text:
+            raise KeyError(f"{name!r} is not a text column of {self.path}")
+        return int(self.lines[0]), self.first_words[self.text.index(name)]
 
 
 class _NotUTF8(Exception):
     """The file is not UTF-8 after all: read it again as Latin-1."""
-
-
-def _split(line: str, delimiter: str) -> list[str]:
-    """The cells of a line; a quoted cell may hold the delimiter (as the csv module writes it)."""
-    return next(csv.reader([line], delimiter=delimiter)) if '"' in line else line.split(delimiter)
 
 
 def _lines(path, text, comment: str, encoding: str):
@@ -97,28 +96,34 @@ def _lines(path, text, comment: str, encoding: str):
             yield number, line.rstrip("\r\n")
 
 
-def _sniff(path, line_number: int, header_line: str, sample: list[str]) -> str:
-    """The delimiter: the one of comma, semicolon and tab in the header (comma when none).
+def _sniff(path, line_number: int, header_line: str, sample: list[str]) -> str | None:
+    """The delimiter: the one of comma, semicolon and tab in the header, or whitespace (comma when none).
 
-    When the header holds several, the one that splits the header and the first rows alike (and leaves
-    none of the others in the rows, a comma excepted, which may be a decimal comma); when that does not
-    settle it, the one the header uses most. A header and rows that split alike at spaces only are refused:
-    spaces do not separate columns here, since a column's name may hold them.
+    With none of the three in the header, whitespace when the header splits into several names at runs of
+    whitespace and the rows into several cells (a row with another number of cells than the header is
+    then refused, naming both counts); a header whose rows have one cell each is one name holding spaces.
+    With tabs only, tabs when every row has the header's number of cells at tabs, none of them empty or
+    holding whitespace (a name may hold spaces); else whitespace when the header and the rows split alike
+    at runs of it, as aligned output writes them (tabs and spaces, runs of tabs). When the header holds
+    several of the three, the one that splits the header and the first rows alike (and leaves none of the
+    others in the rows, a comma excepted, which may be a decimal comma); when that does not settle it,
+    the one the header uses most.
     """
     present = [d for d in DELIMITERS if d in header_line]
-    if not present:
-        names = header_line.split()
-        if len(names) > 1 and sample and all(len(row.split()) == len(names) for row in sample):
-            raise InputError(f"{path}: line {line_number}: the columns look separated by spaces; only a comma, a "
-                             "semicolon or a tab separates columns (a column's name may hold spaces)")
-        return ","
+    if present in ([], ["\t"]):
+        names, counts = len(header_line.split()), [len(row.split()) for row in sample]
+        if not present:
+            return WHITESPACE if names > 1 and any(count > 1 for count in counts) else ","
+        if not _splits_at_tabs(header_line, sample) and names > 1 and all(count == names for count in counts):
+            return WHITESPACE
+        return "\t"
     if len(present) == 1:
         return present[0]
 
     def fits(d):
-        width = len(_split(header_line, d))
+        width = len(split(header_line, d))
         others = [o for o in DELIMITERS if o not in (d, ",")]
-        return width > 1 and all(len(_split(row, d)) == width and not any(o in row for o in others) for row in sample)
+        return width > 1 and all(len(split(row, d)) == width and not any(o in row for o in others) for row in sample)
 
     fitting = [d for d in present if sample and fits(d)]
     if len(fitting) > 1:
@@ -128,9 +133,17 @@ def _sniff(path, line_number: int, header_line: str, sample: list[str]) -> str:
     return fitting[0] if fitting else max(present, key=header_line.count)
 
 
-def _header(path, line_number: int, header_line: str, delimiter: str) -> tuple[str, ...]:
-    # The header as the csv module writes it: a name holding the delimiter or a quote is quoted.
-    header = tuple(name.strip() for name in next(csv.reader([header_line], delimiter=delimiter)))
+def _splits_at_tabs(header_line: str, sample: list[str]) -> bool:
+    """Whether each row has the header's number of cells at tabs, each one non-empty run of non-spaces."""
+    width = len(split(header_line.rstrip(" \t"), "\t"))
+    cells = [split(row.rstrip(" \t"), "\t") for row in sample]
+    return all(len(row) == width and all(len(cell.split()) == 1 for cell in row) for row in cells)
+
+
+def _header(path, line_number: int, header_line: str, delimiter: str | None) -> tuple[str, ...]:
+    # The header as the csv module writes it: a name holding the delimiter or a quote is quoted
+    # (between runs of whitespace a name holds neither, and loses the quotes around it).
+    header = tuple((clean if delimiter is WHITESPACE else str.strip)(name) for name in split(header_line, delimiter))
     seen = set()
     for c, name in enumerate(header):
         if not name:
@@ -139,131 +152,6 @@ def _header(path, line_number: int, header_line: str, delimiter: str) -> tuple[s
             raise InputError(f"{path}: line {line_number}: column '{name}' appears twice")
         seen.add(name)
     return header
-
-
-def _cell_error(path, line: int, name: str, cell: str, delimiter: str, decimal: str | None) -> InputError:
-    """Why a cell (stripped, unquoted) is not read: empty, a comma where none may be, not finite, not a number."""
-    where = f"{path}: line {line}, column '{name}'"
-    if cell == "":
-        return InputError(f"{where}: empty cell")
-    if _POINT_NUMBER.fullmatch(cell):
-        return InputError(f"{where}: '{cell}' has a decimal point, but the decimal separator was given as a comma "
-                          "(a point as a thousands separator is not read)")
-    if _COMMA_NUMBER.fullmatch(cell):
-        if delimiter == ",":
-            return InputError(f"{where}: '{cell}' holds a comma in a comma-separated file: a decimal comma needs "
-                              "semicolons or tabs between the columns")
-        return InputError(f"{where}: '{cell}' has a comma, but the decimal separator was given as a point "
-                          "(thousands separators are not read)")
-    if _NON_FINITE.fullmatch(cell):
-        return InputError(f"{where}: value is {float(cell)} (must be finite)")
-    return InputError(f"{where}: '{cell[:40]}' is not a number{_why_not_a_number(cell)}")
-
-
-def _why_not_a_number(cell: str) -> str:
-    if "." in cell and "," in cell:
-        return " (it has both a point and a comma: one of them would be a thousands separator, which is not read)"
-    if cell.count(",") > 1 or cell.count(".") > 1:
-        return " (thousands separators are not read)"
-    if "_" in cell:
-        return " ('_' between digits is not read)"
-    if any(c.isdigit() and not c.isascii() for c in cell):
-        return " (only the digits 0-9 are read)"
-    if cell.lower().lstrip("+-").startswith("0x"):
-        return " (hexadecimal is not read)"
-    if re.fullmatch(r"[+-]?[0-9.,]+(?:\s+[0-9.,]+)+", cell):
-        return " (a space inside a number, as a thousands separator, is not read)"
-    return ""
-
-
-_INTEGER_OR_COMMA = r"{pad}[+-]?(?:[0-9]+(?:,[0-9]*)?|,[0-9]+)(?:[eE][+-]?[0-9]+)?{pad}"
-_INTEGER_OR_POINT = r"{pad}[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?{pad}"
-BLOCK_ROWS = 8192  # rows whose cells are all plain numbers are handed to numpy's reader this many at a time
-
-
-def _parse_rows(path, header, rows, delimiter: str, decimal: str | None) -> np.ndarray:
-    """Row by row: the first cell that is not a number, or could be read two ways, is an error naming it.
-
-    With ``decimal`` None a comma is a decimal comma (outside comma-separated files), unless the
-    file also has a decimal point somewhere (one file, one separator), or every comma in the file is
-    followed by exactly three digits (1,234 is 1.234, or 1234 with a thousands separator). A row
-    whose cells are all plain numbers of one kind is checked by one pattern and read by numpy; any
-    other row is read cell by cell, which finds and names what is wrong.
-    """
-    width = len(header)
-    values, block = array("d"), []
-    point = comma = grouped = None  # (line, column, cell) of the first cell with a point, a comma, a 1,234
-    commas = delimiter != "," and decimal != "point"
-    separator, pad = re.escape(delimiter), "[ ]*" if delimiter == "\t" else "[ \t]*"
-    comma_cell, point_cell = _INTEGER_OR_COMMA.format(pad=pad), _INTEGER_OR_POINT.format(pad=pad)
-    comma_row = re.compile(f"{comma_cell}(?:{separator}{comma_cell}){{{width - 1}}}")
-    point_row = re.compile(f"{point_cell}(?:{separator}{point_cell}){{{width - 1}}}")
-
-    def flush():
-        if block:
-            values.extend(np.loadtxt(block, delimiter=delimiter, ndmin=2, dtype=float, comments=None).ravel())
-            block.clear()
-
-    def mixed(line, c, cell, first, kind):
-        there, column, seen = first
-        other = "comma" if kind == "point" else "point"
-        return InputError(f"{path}: line {line}, column '{header[c]}': '{cell}' has a decimal {kind}, but line "
-                          f"{there}, column '{header[column]}' has '{seen}' with a {other}: a file has one decimal "
-                          "separator, so one of the two is a thousands separator, and which one is ambiguous")
-
-    for line_number, line in rows:
-        has_comma, has_point = "," in line, "." in line
-        if not has_comma and not (has_point and (comma or grouped or decimal == "comma")) and point_row.fullmatch(line):
-            if has_point and point is None:
-                c, cell = next((c, cell.strip()) for c, cell in enumerate(line.split(delimiter)) if "." in cell)
-                point = (line_number, c, cell)
-            block.append(line)
-        elif commas and not has_point and point is None and comma_row.fullmatch(line):
-            if comma is None:  # until a comma is seen that cannot be a thousands separator
-                for c, cell in enumerate(line.split(delimiter)):
-                    cell = cell.strip()
-                    if "," in cell and comma is None:
-                        if _GROUPED.fullmatch(cell):
-                            grouped = grouped or (line_number, c, cell)
-                        else:
-                            comma = (line_number, c, cell)
-            block.append(line.replace(",", "."))
-        else:  # cell by cell
-            flush()
-            cells = _split(line, delimiter)
-            if len(cells) != width:
-                raise InputError(f"{path}: line {line_number} has {len(cells)} values, the header has {width}")
-            for c, raw in enumerate(cells):
-                cell = raw.strip()
-                if '"' in cell:
-                    cell = cell.strip('"')
-                if _POINT_NUMBER.fullmatch(cell) and not ("." in cell and decimal == "comma"):
-                    if "." in cell:
-                        if comma or grouped:
-                            raise mixed(line_number, c, cell, comma or grouped, "point")
-                        point = point or (line_number, c, cell)
-                    values.append(float(cell))
-                elif commas and _COMMA_NUMBER.fullmatch(cell):
-                    if point:
-                        raise mixed(line_number, c, cell, point, "comma")
-                    if comma is None:
-                        if _GROUPED.fullmatch(cell):
-                            grouped = grouped or (line_number, c, cell)
-                        else:
-                            comma = (line_number, c, cell)
-                    values.append(float(cell.replace(",", ".")))
-                else:
-                    raise _cell_error(path, line_number, header[c], cell, delimiter, decimal)
-        if len(block) >= BLOCK_ROWS:
-            flush()
-    flush()
-    if grouped and not comma and decimal != "comma":
-        line, c, cell = grouped
-        raise InputError(f"{path}: line {line}, column '{header[c]}': '{cell}' could be {cell.replace(',', '.')} with "
-                         f"a decimal comma or {cell.replace(',', '')} with a thousands separator, and no other number "
-                         "in the file settles which; say it is a decimal comma (decimal='comma'; torques: --decimal "
-                         "comma), or write the log with decimal points")
-    return np.frombuffer(values, dtype=float).reshape(-1, width)
 
 
 @dataclass(frozen=True)
@@ -285,30 +173,67 @@ def _row_limit(path, size: int, encoding: str, width: int, sample) -> _RowLimit:
 
 
 def _rows(lines, cut, numbers: array, limit: _RowLimit):
-    """The data rows as (number, line) with a comment and a separator after the last column cut; records numbers."""
+    """The data rows as (number, ``cut(number, line)``); records the numbers."""
     for number, line in lines:
         numbers.append(number)
         if len(numbers) > limit.rows:  # the estimate from the first rows was wrong: still bounded
             raise InputError(limit.message)
-        yield number, cut(line)
+        yield number, cut(number, line)
+
+
+def _text_columns(path, header, first: tuple[int, str], delimiter) -> dict[int, str]:
+    """{column: cell} of the columns whose cell in the first data row is a word (:func:`is_word`)."""
+    number, line = first
+    cells = [clean(cell) for cell in split(line, delimiter)]
+    if len(cells) != len(header):
+        raise count_error(path, number, len(cells), len(header), delimiter)
+    text = {c: cell for c, cell in enumerate(cells) if is_word(cell)}
+    if len(text) == len(header):
+        raise InputError(f"{path}: line {number}: every cell is a word ('{cells[0][:40]}', …): no column holds numbers")
+    return text
+
+
+def _numeric_cells(path, width: int, numeric: list[int], delimiter):
+    """A row's cells in the columns ``numeric``, joined again (and quoted again where they need it)."""
+    join = " " if delimiter is WHITESPACE else delimiter
+
+    def quote(cell):
+        return '"' + cell.replace('"', '""') + '"' if delimiter in cell or '"' in cell else cell
+
+    def keep(number, line):
+        cells = split(line, delimiter)
+        if len(cells) != width:
+            raise count_error(path, number, len(cells), width, delimiter)
+        if '"' in line and delimiter is not WHITESPACE:  # the csv module took the quotes off
+            return join.join(quote(cells[c]) for c in numeric)
+        return join.join([cells[c] for c in numeric])
+    return keep
 
 
 def read_table(path, comment: str = "#", decimal: str | None = None) -> Table:
-    """Read a delimited numeric table, as trajectory logs come.
+    """Read a delimited table of numbers (and words), as trajectory logs come.
 
-    Accepted: comma, semicolon or tab as delimiter (sniffed from the header and the first
-    rows; a separator after the last column is ignored), UTF-8 with or without BOM, UTF-16
-    with BOM, Latin-1, CRLF or CR line ends, blank lines, lines starting with ``comment``,
-    and ``comment`` after a row's last cell. Every cell must be a finite number written with
-    the digits 0-9, an optional sign, decimal separator and exponent (``-1.5e-3``).
+    Accepted: comma, semicolon or tab as delimiter, or runs of whitespace (spaces and tabs,
+    as UR's RTDE recorder and aligned output write them; leading and trailing whitespace is
+    no cell), sniffed from the header and the first rows (a separator after the last column
+    is ignored); UTF-8 with or without BOM, UTF-16 with BOM, Latin-1; CRLF or CR line ends,
+    blank lines, lines starting with ``comment``, and ``comment`` after a row's last cell.
+    Every cell of a numeric column must be a finite number written with the digits 0-9, an
+    optional sign, decimal separator and exponent (``-1.5e-3``).
+
+    Text columns: a column whose cell in the first data row is a word (it starts with a letter,
+    quoted or not: ``RUNNING``, ``mode = auto``; :func:`course_dynamics.tools.cells.is_word`) holds
+    text, whatever its later cells; its name is in :attr:`Table.text`, its data NaN, and
+    :meth:`Table.columns` leaves it out. The first row decides, never a later one: a word in a
+    numeric column is an error naming its line and column (a typo must not turn a signal to text).
 
     The decimal separator: ``decimal`` "point" or "comma", or None to read it from the file.
-    A point is decimal; with semicolons or tabs a comma is too, in files that have no point:
-    what could be read two ways is refused, never guessed — a file with both (is ``1.500``
-    1.5 or 1500?), a cell with both (``1.234,5``), a file whose every comma is followed by
-    three digits (``1,234``: 1.234 or 1234?), a comma inside a quoted cell of a comma-separated
-    file. Thousands separators, ``_`` between digits, other digits than 0-9, hexadecimal and
-    columns separated by spaces are refused too.
+    A point is decimal; between semicolons, tabs or whitespace a comma is too, in files that
+    have no point: what could be read two ways is refused, never guessed — a file with both (is
+    ``1.500`` 1.5 or 1500?), a cell with both (``1.234,5``), a file whose every comma is followed
+    by three digits (``1,234``: 1.234 or 1234?), a comma inside a quoted cell of a comma-separated
+    file. Thousands separators, ``_`` between digits, other digits than 0-9 and hexadecimal are
+    refused too.
 
     The file must be a regular file (:func:`open_regular`: never a pipe or device, which could
     block or be endless), and the memory its rows would take in use (:data:`BYTES_PER_VALUE`
@@ -320,7 +245,8 @@ def read_table(path, comment: str = "#", decimal: str | None = None) -> Table:
     InputError
         Naming the file, and the line and column where it can: an unreadable, special, too large
         or empty file, a header naming a column twice or an empty name, a row with another
-        number of cells than the header, an empty, non-numeric, ambiguous or non-finite cell.
+        number of cells than the header, an empty, non-numeric, ambiguous or non-finite cell
+        of a numeric column, a first row of words only.
     """
     if decimal not in (None, *DECIMALS):
         raise InputError(f"the decimal separator must be {' or '.join(DECIMALS)}, got '{decimal}'")
@@ -359,8 +285,10 @@ def _read_table(path, handle, size: int, encoding: str, comment: str, decimal: s
             raise InputError(f"{path}: empty file, expected a header row")
         header_number, header_line = first
         sample = list(itertools.islice(lines, SAMPLE_ROWS))
-        delimiter = _sniff(path, header_number, header_line, [line for _, line in sample])
-        trailing = header_line.rstrip(" \r\n").endswith(delimiter)  # a separator after the last column, as some exports write
+        uncommented = [line[:line.index(comment)] if comment and comment in line else line for _, line in sample]
+        delimiter = _sniff(path, header_number, header_line, uncommented)
+        # a separator after the last column, as some exports write (trailing whitespace is no cell anyway)
+        trailing = delimiter is not WHITESPACE and header_line.rstrip(" \r\n").endswith(delimiter)
 
         def cut_trailing(line):
             line = line.rstrip(" \r\n")
@@ -376,13 +304,26 @@ def _read_table(path, handle, size: int, encoding: str, comment: str, decimal: s
         if not sample:
             raise InputError(f"{path}: no data rows")
         limit = _row_limit(path, size, encoding, len(header), sample)
+        number, first_row = sample[0]
+        text = _text_columns(path, header, (number, cut(first_row)), delimiter)
+        numeric = [c for c in range(len(header)) if c not in text]
+        names = tuple(header[c] for c in numeric)
+        if text:  # the rows lose their text cells before any number is read
+            keep = _numeric_cells(path, len(header), numeric, delimiter)
+
+            def row(number, line):
+                return keep(number, cut(line))
+        else:
+            def row(number, line):
+                return cut(line)
         numbers = array("q")
         data = None
         if decimal != "comma":  # numpy's C reader for the common case; the loop below finds what it could not read
+            quotes = None if delimiter is WHITESPACE else '"'  # quotes in whitespace are the loop's (cells.clean)
             try:
-                rows = (line for _, line in _rows(itertools.chain(sample, lines), cut, numbers, limit))
-                data = np.loadtxt(rows, delimiter=delimiter, ndmin=2, dtype=float, quotechar='"', comments=None)
-                if data.shape != (len(numbers), len(header)):
+                rows = (line for _, line in _rows(itertools.chain(sample, lines), row, numbers, limit))
+                data = np.loadtxt(rows, delimiter=delimiter, ndmin=2, dtype=float, quotechar=quotes, comments=None)
+                if data.shape != (len(numbers), len(names)):
                     data = None
             except (InputError, _NotUTF8):
                 raise
@@ -392,24 +333,34 @@ def _read_table(path, handle, size: int, encoding: str, comment: str, decimal: s
             lines = data_lines()
             next(lines)
             numbers = array("q")
-            data = _parse_rows(path, header, _rows(lines, cut, numbers, limit), delimiter, decimal)
+            data = parse_rows(path, names, _rows(lines, row, numbers, limit), delimiter, decimal)
         finite = np.isfinite(data)
         if not finite.all():
             r, c = np.argwhere(~finite)[0]
-            raise InputError(f"{path}: line {numbers[r]}, column '{header[c]}': value is {data[r, c]} (must be finite)")
-        return Table(path=str(path), header=header, data=data, lines=np.array(numbers, dtype=np.int64))
+            raise InputError(f"{path}: line {numbers[r]}, column '{names[c]}': value is {data[r, c]} (must be finite)")
+        if text:
+            full = np.full((len(data), len(header)), np.nan)
+            full[:, numeric] = data
+            data = full
+        return Table(path=str(path), header=header, data=data, lines=np.array(numbers, dtype=np.int64),
+                     text=tuple(header[c] for c in text), first_words=tuple(text.values()))
     finally:
         if readers:
             readers[-1].detach()  # the handle stays open for a second pass; its owner closes it
 
 
 def read_columns(path, required: list[str], optional: list[str] = (), decimal: str | None = None) -> dict[str, np.ndarray]:
-    """The named columns of a table file (:func:`read_table`), checked: every required one present and no
-    column that is neither required nor optional (logs with more signals go through :mod:`course_dynamics.logs`)."""
+    """The named columns of a table file (:func:`read_table`), checked: every required one present, none of them
+    text, and no column that is neither required nor optional (logs with more signals go through
+    :mod:`course_dynamics.logs`)."""
     table = read_table(path, decimal=decimal)
     missing = [c for c in required if c not in table.header]
     if missing:
         raise InputError(f"{path}: missing columns: {', '.join(missing)}")
+    words = [c for c in table.text if c in required or c in optional]
+    if words:
+        line, cell = table.first_word(words[0])
+        raise InputError(f"{path}: line {line}, column '{words[0]}': '{cell[:40]}' is not a number (a column of words)")
     unknown = [c for c in table.header if c not in required and c not in optional]
     if unknown:
         raise InputError(f"{path}: unexpected columns: {', '.join(unknown)} (expected {', '.join(required)})")
