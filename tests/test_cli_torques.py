@@ -13,7 +13,8 @@ from helpers import ROOT, assert_one_line_error, run
 from course_dynamics import load_robot
 from course_dynamics.core.friction import Friction
 from course_dynamics.tools.loads import Payload, Wrench
-from course_dynamics.tools.logs import parse_column_map, torques_from_log
+from course_dynamics.tools.columns import parse_column_map
+from course_dynamics.tools.logs import torques_from_log
 from course_dynamics.tools.tables import read_table
 
 LOG = ROOT / "examples" / "ur5_log.csv"

@@ -56,3 +56,23 @@ def test_no_limit_means_no_share_and_no_violation():
     assert not report.exceeded
     assert [r["effort_limit"] for r in report.rows()] == [None, None]
     assert report.record()["exceeded"] is False
+
+
+def test_a_peak_within_the_uncertainty_of_the_rates_is_reported_apart():
+    from course_dynamics.tools.limits import UNCERTAINTY_SIGMAS
+
+    model = load_robot("ur5")                       # shoulder_lift_joint's effort limit: 150 N m
+    t = np.arange(100) * 0.01
+    tau = np.zeros((100, 6))
+    sigma = np.full((100, 6), 1.0)                 # N m
+    tau[20:25, 1] = 149.0                          # below the limit, but 149 + 2σ is beyond it
+    tau[60:65, 1] = 151.0                          # beyond the limit, but 151 − 2σ is not
+    tau[80:85, 1] = 150 + UNCERTAINTY_SIGMAS * 1.0 + 0.5   # beyond even after the band
+    report = limits_report(model, t, np.zeros_like(tau), tau, sigma)
+    assert [(v.start, v.end) for v in report.violations] == [(0.8, 0.84)] and report.exceeded
+    assert [(v.start, v.end, v.peak, v.band) for v in report.uncertain] == [(0.2, 0.24, 149.0, 2.0),
+                                                                          (0.6, 0.64, 151.0, 2.0)]
+    assert "149 ± 2 is within the uncertainty of the rates of the limit 150" in report.uncertain[0].describe()
+    assert report.record()["uncertain"][1]["band"] == 2.0
+    plain = limits_report(model, t, np.zeros_like(tau), tau)          # no σ: the nominal verdict, no band
+    assert len(plain.violations) == 2 and plain.uncertain == () and plain.peak_band is None

@@ -71,11 +71,15 @@ def check_distinct(inputs, outputs) -> None:
         except OSError:
             return ("path", str(path.resolve()))
 
+    folders = [Path(p).resolve() for p in inputs if p is not None and Path(p).is_dir()]  # a ROS 2 bag is a folder
     seen = {}
     for role, paths in (("input", inputs), ("output", outputs)):
         for path in paths:
-            if path is None or str(path) == STDOUT or _is_streamed(Path(path)):
+            if path is None or str(path) == STDOUT or (role == "output" and _is_streamed(Path(path))):
                 continue
+            if role == "output" and any(Path(path).resolve().is_relative_to(f) for f in folders):
+                raise InputError(f"{path}: the output would be written inside the input folder "
+                                 f"{next(f for f in folders if Path(path).resolve().is_relative_to(f))}")
             k = key(path)
             if k is None:
                 continue

@@ -113,19 +113,28 @@ def ensemble_figure(trajectory: Trajectory, title: str = ""):
 
 
 def torque_figure(result, title: str = ""):
-    """τ(t) of a :class:`~course_dynamics.tools.logs.TorqueLog`, one panel per joint, effort limits as bands."""
+    """τ(t) of a :class:`~course_dynamics.tools.logs.TorqueLog`, one panel per joint, effort limits as bands;
+    where the robot measured its torques, those in grey beneath ours, with the residual in the panel's title."""
     import numpy as np
 
     plt = _pyplot()
     model, report = result.model, result.report
     n = model.n
     figure, axes = plt.subplots(n, 1, sharex=True, figsize=(8, 1.2 + 1.5 * n), constrained_layout=True, squeeze=False)
+    residuals = {r.joint: r for r in result.residuals.joints} if result.residuals is not None else {}
     for j, (axis, name) in enumerate(zip(axes[:, 0], model.joint_names)):
         tau = result.tau[:, j]
-        axis.plot(result.t, tau, color=f"C{j}", linewidth=1.0)
+        shown = [tau]
+        if name in residuals:
+            measured = result.log.measured[:, j]
+            axis.plot(result.t, measured, color="0.55", linewidth=0.8, label="measured")
+            shown.append(measured)
+        axis.plot(result.t, tau, color=f"C{j}", linewidth=1.0, label="ours")
+        if name in residuals:
+            axis.legend(loc="upper right", fontsize="x-small")
         limit = report.effort[j]
         if np.isfinite(limit):
-            top = max(limit, np.abs(tau).max()) * 1.15
+            top = max(limit, max(np.abs(s).max() for s in shown)) * 1.15
             axis.axhspan(limit, top, color="tab:red", alpha=0.15, linewidth=0)
             axis.axhspan(-top, -limit, color="tab:red", alpha=0.15, linewidth=0)
             axis.set_ylim(-top, top)
@@ -137,7 +146,11 @@ def torque_figure(result, title: str = ""):
                 axis.axvspan(v.start, v.end, color="tab:red" if v.kind == "effort" else "tab:orange", alpha=0.3,
                              linewidth=0)
         axis.set_ylabel(f"τ {name}", fontsize="small")
-        axis.set_title(f"{name}: peak {report.peak_tau[j]:.4g}, rms {report.rms_tau[j]:.4g} ({used})",
+        fit = ""
+        if name in residuals:
+            r = residuals[name]
+            fit = f"; residual rms {r.rms:.3g}" + ("" if r.r2 is None else f", R² {r.r2:.3f}")
+        axis.set_title(f"{name}: peak {report.peak_tau[j]:.4g}, rms {report.rms_tau[j]:.4g} ({used}){fit}",
                        fontsize="small", loc="left")
         axis.grid(alpha=0.3)
     axes[-1, 0].set_xlabel("t (s)")
@@ -168,6 +181,12 @@ def torques_page(result, title: str = "") -> str:
     body = [page.heading(heading), page.paragraph(verdict), page.table(rows, header=header, css="numbers")]
     if result.report.violations:
         body.append(page.section("Violations", page.bullet_list(v.describe() for v in result.report.violations)))
+    if result.residuals is not None:
+        fit = [[r.joint, cell(r.rms_measured), cell(r.rms), cell(r.peak), cell(r.peak_t), cell(r.r2)]
+               for r in result.residuals.joints]
+        body.append(page.section(f"The model against the robot (measured: {result.residuals.source})",
+                                 page.table(fit, header=("joint", "RMS τ measured", "RMS residual", "peak residual",
+                                                         "at t (s)", "R²"), css="numbers")))
     if result.notes:
         body.append(page.section("Derived signals", page.bullet_list(result.notes)))
     body.append(page.figure(page.svg(svg)))

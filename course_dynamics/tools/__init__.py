@@ -7,8 +7,14 @@ output, grading, teaching or the command line.
 module          job
 ==============  ================================================================
 ``simulation``  forward dynamics in time (6.115)–(6.117): integrators, ensembles
-``tables``      reading logs as robots and people write them
-``logs``        from a log to torques: columns, differentiation, payloads, limits
+``tables``      reading delimited tables as robots and people write them (``cells``: their numbers)
+``bags``        ROS 1/ROS 2 bags and MCAP: joint states and Franka's state, without ROS
+``sources``     any log (table, UR RTDE recording, bag) read into one shape, with its format's map
+``columns``     which of a log's columns give t, Θ, Θ̇, Θ̈ and the measured torques: one plan
+``resampling``  an even clock: dropped samples filled, resampling, long gaps split
+``differentiation``  Θ̇ and Θ̈ from noisy samples, the window chosen from the noise
+``logs``        from a log to torques: the steps above, then payloads, limits and residuals
+``residuals``   the model against the robot: measured torques next to ours
 ``loads``       payloads and external wrenches
 ``limits``      effort and velocity limits: peaks, shares, violations
 ``trace``       the Newton–Euler iterations link by link, for teaching

@@ -3,7 +3,8 @@
 ==================  ==============================================================
 code                meaning
 ==================  ==============================================================
-``ours``            our column names: ``t``, ``q_<joint>``, ``qd_<joint>``, ``qdd_<joint>``
+``ours``            our column names: ``t``, ``q_<joint>``, ``qd_<joint>``, ``qdd_<joint>``, and what the
+                    robot measured: ``tau_meas_<joint>`` (N·m or N), ``current_<joint>`` (A)
 ``theirs``          the log's column names, as its header spells them
 ``read``            ours → theirs, for every one of ours the log holds (mapped or not)
 ``constants``       ours → a value for every row, for signals the log lacks
@@ -25,16 +26,21 @@ everything after that goes through this one plan.
 """
 from __future__ import annotations
 
+import tomllib
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
 from ..base.errors import InputError
+from ..base.files import read_small
 from ..core.model import Model
 from .tables import joint_columns
 
+MAX_MAP_BYTES = 2**20         # a column map of a thousand joints is under 100 kB
 KINDS = ("q", "qd", "qdd")
+MEASURED = ("tau_meas", "current")   # optional: read when the log has them, never derived
 
 
 @dataclass(frozen=True)
@@ -60,7 +66,7 @@ class ColumnPlan:
 
     @property
     def ours(self) -> tuple[str, ...]:
-        return ("t",) + tuple(joint_columns(KINDS, self.joints))
+        return ("t",) + tuple(joint_columns(KINDS + MEASURED, self.joints))
 
     @property
     def has_time(self) -> bool:
@@ -87,10 +93,26 @@ class ColumnPlan:
             raise InputError(f"{where}: missing columns: {', '.join(self.missing_positions)} (a column map can name "
                              f"the log's own; a joint the log does not record can be given a constant)")
 
+    def measured(self, kind: str) -> list[str]:
+        """The joints whose ``kind`` (tau_meas or current) the log holds."""
+        return [j for j in self.joints if f"{kind}_{j}" in self.read]
+
     def derived_kind(self, kind: str, source: str | None = None) -> list[str]:
         """The joints whose ``kind`` (qd or qdd) is differentiated (from ``source``, if given)."""
         order = KINDS.index(kind)
         return [d.joint for d in self.derived if d.order == order and (source is None or d.source == source)]
+
+
+def merged_map(implied: Mapping[str, str], columns: Mapping[str, str] | None) -> dict[str, str]:
+    """A format's map overridden by the user's, entry by entry: a column the user maps, theirs or ours, is the user's.
+
+    >>> merged_map({"t": "timestamp", "q_a": "actual_q_0"}, {"q_a": "pos_a"})
+    {'t': 'timestamp', 'q_a': 'pos_a'}
+    """
+    columns = dict(columns or {})
+    taken = set(columns.values())
+    kept = {ours: theirs for ours, theirs in implied.items() if ours not in columns and theirs not in taken}
+    return {**kept, **columns}
 
 
 def plan_columns(model: Model, theirs: Iterable[str], *, columns: Mapping[str, str] | None = None,
@@ -114,11 +136,14 @@ def plan_columns(model: Model, theirs: Iterable[str], *, columns: Mapping[str, s
     theirs = tuple(theirs)
     available = set(theirs)
     columns, constants = dict(columns or {}), dict(constants or {})
-    ours = ["t"] + joint_columns(KINDS, model.joint_names)
+    ours = ["t"] + joint_columns(KINDS + MEASURED, model.joint_names)
     for name in list(columns) + list(constants):
         if name not in ours:
-            raise InputError(f"column map: '{name}' is none of our columns (t, q_<joint>, qd_<joint>, qdd_<joint> "
-                             f"for joints {', '.join(model.joint_names)})")
+            raise InputError(f"column map: '{name}' is none of our columns (t, q_<joint>, qd_<joint>, qdd_<joint>, "
+                             f"tau_meas_<joint>, current_<joint> for joints {', '.join(model.joint_names)})")
+    for name in constants:
+        if name.startswith(MEASURED):
+            raise InputError(f"{name} is something the robot measured: it can be read from the log, not set")
     for name, other in columns.items():
         if other not in available:
             raise InputError(f"{where}: no column '{other}' (mapped from {name}); columns: {', '.join(theirs)}")
@@ -141,3 +166,25 @@ def plan_columns(model: Model, theirs: Iterable[str], *, columns: Mapping[str, s
                 if f"qdd_{j}" not in given]
     return ColumnPlan(joints=tuple(model.joint_names), theirs=theirs, read=read, constants=constants, held=held,
                       derived=tuple(derived))
+
+
+def parse_column_map(text: str) -> dict[str, str]:
+    """``ours=theirs,…`` or the path of a TOML file of ``ours = "theirs"`` lines (optionally under ``[columns]``)."""
+    if text.endswith(".toml") or (Path(text).is_file() and "=" not in text):
+        try:
+            document = tomllib.loads(read_small(text, MAX_MAP_BYTES, "column map").decode("utf-8"))
+        except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+            raise InputError(f"{text}: not a valid TOML column map: {exc}") from None
+        document = document.get("columns", document)
+        if not all(isinstance(v, str) for v in document.values()):
+            raise InputError(f"{text}: every entry must be ours = \"theirs\" (a column name in quotes)")
+        return dict(document)
+    mapping = {}
+    for item in filter(None, (part.strip() for part in text.split(","))):
+        ours, sep, theirs = item.partition("=")
+        if not sep or not ours.strip() or not theirs.strip():
+            raise InputError(f"column map entry '{item}' must be ours=theirs, e.g. q_joint1=joint1_pos")
+        if ours.strip() in mapping:
+            raise InputError(f"column map: '{ours.strip()}' is mapped twice")
+        mapping[ours.strip()] = theirs.strip()
+    return mapping

@@ -11,7 +11,13 @@ field               meaning (shape, unit)
 ``effort_used``     peak_tau / effort (n,): 1 means at the limit, 0 where there is none
 ``velocity_used``   peak_qd / velocity (n,)
 ``violations``      every stretch of time a joint spends beyond a limit
+``peak_band``       the uncertainty of τ at each joint's peak, ± UNCERTAINTY_SIGMAS σ_τ (n,), N·m or N
+``uncertain``       every stretch where |τ| is within that band of the effort limit, on either side
 ==================  =====================================================================
+
+When τ comes from differentiated rates, σ_τ (K, n) says what their noise leaves in it. A row then
+counts as beyond the effort limit only when |τ| − 2σ_τ is; a row whose |τ| ± 2σ_τ straddles the limit
+is *uncertain*: reported apart ("within the uncertainty of the rates"), never silently passed or failed.
 
 RMS is over samples, which is the time average for evenly spaced logs. A
 signal hovering at a limit crosses it back and forth; stretches beyond it fewer
@@ -26,6 +32,7 @@ import numpy as np
 from ..core.model import Model
 
 MERGE_GAP = 10  # samples
+UNCERTAINTY_SIGMAS = 2.0  # the band of a verdict: ± 2σ, about 95 % for Gaussian noise
 
 
 @dataclass(frozen=True)
@@ -39,8 +46,14 @@ class Violation:
     peak: float
     limit: float
 
+    band: float = 0.0  # ± UNCERTAINTY_SIGMAS σ_τ at the peak, for an uncertain stretch
+
     def describe(self) -> str:
         unit = "N m or N" if self.kind == "effort" else "rad/s or m/s"
+        if self.band:
+            return (f"joint '{self.joint}': {self.kind} {self.peak:.4g} ± {self.band:.2g} is within the uncertainty of "
+                    f"the rates of the limit {self.limit:.4g} ({unit}) from t = {self.start:.6g} s to "
+                    f"t = {self.end:.6g} s")
         return (f"joint '{self.joint}': {self.kind} {self.peak:.4g} exceeds the limit {self.limit:.4g} ({unit}) "
                 f"from t = {self.start:.6g} s to t = {self.end:.6g} s")
 
@@ -54,6 +67,8 @@ class LimitsReport:
     effort: np.ndarray
     velocity: np.ndarray
     violations: tuple[Violation, ...]
+    peak_band: np.ndarray | None = None
+    uncertain: tuple[Violation, ...] = ()
 
     @property
     def effort_used(self) -> np.ndarray:
@@ -76,13 +91,16 @@ class LimitsReport:
                      effort_limit=limit(self.effort[i]),
                      effort_used=float(self.effort_used[i]) if np.isfinite(self.effort[i]) else None,
                      peak_qd=float(self.peak_qd[i]), velocity_limit=limit(self.velocity[i]),
-                     velocity_used=float(self.velocity_used[i]) if np.isfinite(self.velocity[i]) else None)
+                     velocity_used=float(self.velocity_used[i]) if np.isfinite(self.velocity[i]) else None,
+                     peak_tau_band=None if self.peak_band is None else float(self.peak_band[i]))
                 for i, j in enumerate(self.joints)]
 
     def record(self) -> dict:
-        return dict(exceeded=self.exceeded, joints=self.rows(),
-                    violations=[dict(joint=v.joint, kind=v.kind, start=v.start, end=v.end, peak=v.peak, limit=v.limit)
-                                for v in self.violations])
+        def stretch(v):
+            return dict(joint=v.joint, kind=v.kind, start=v.start, end=v.end, peak=v.peak, limit=v.limit)
+
+        return dict(exceeded=self.exceeded, joints=self.rows(), violations=[stretch(v) for v in self.violations],
+                    uncertain=[dict(stretch(v), band=v.band) for v in self.uncertain])
 
 
 def _intervals(t: np.ndarray, over: np.ndarray) -> list[tuple[int, int]]:
@@ -97,26 +115,42 @@ def _intervals(t: np.ndarray, over: np.ndarray) -> list[tuple[int, int]]:
     return runs
 
 
-def limits_report(model: Model, t, qd, tau) -> LimitsReport:
+def limits_report(model: Model, t, qd, tau, tau_sigma=None) -> LimitsReport:
     """Peaks, RMS and limit violations of a motion.
 
     Parameters
     ----------
-    t : (N,) s; qd : (N, n) joint rates; tau : (N, n) joint torques/forces.
+    t : (N,) s; qd : (N, n) joint rates; tau : (N, n) joint torques/forces;
+    tau_sigma : (N, n), optional — σ_τ, the standard deviation the rates' noise leaves in τ (module docstring).
     """
     t, qd, tau = np.asarray(t, dtype=float), np.asarray(qd, dtype=float), np.asarray(tau, dtype=float)
+    band = np.zeros_like(tau) if tau_sigma is None else UNCERTAINTY_SIGMAS * np.asarray(tau_sigma, dtype=float)
     effort, velocity = model.effort, model.velocity
-    violations = []
+    violations, uncertain = [], []
     for kind, values, limits in (("effort", np.abs(tau), effort), ("velocity", np.abs(qd), velocity)):
+        margin = band if kind == "effort" else np.zeros_like(values)
         for i, joint in enumerate(model.joint_names):
             if not np.isfinite(limits[i]):
                 continue
-            for first, last in _intervals(t, values[:, i] > limits[i]):
+            for first, last in _intervals(t, values[:, i] - margin[:, i] > limits[i]):
                 violations.append(Violation(joint=joint, kind=kind, start=float(t[first]), end=float(t[last]),
                                             peak=float(values[first:last + 1, i].max()), limit=float(limits[i])))
+            beyond = values[:, i] - margin[:, i] > limits[i]
+            near = values[:, i] + margin[:, i] > limits[i]          # beyond, or within the band of the limit
+            for first, last in _intervals(t, near) if kind == "effort" and tau_sigma is not None else ():
+                if beyond[first:last + 1].any():                     # the edge of a violation: part of it
+                    continue
+                worst = first + int(np.argmax(values[first:last + 1, i]))
+                uncertain.append(Violation(joint=joint, kind=kind, start=float(t[first]), end=float(t[last]),
+                                           peak=float(values[worst, i]), limit=float(limits[i]),
+                                           band=float(margin[worst, i])))
     violations.sort(key=lambda v: (v.start, v.joint, v.kind))
+    uncertain.sort(key=lambda v: (v.start, v.joint, v.kind))
     peak = np.abs(tau).max(axis=0)
     scale = np.where(peak > 0, peak, 1.0)
     rms = scale * np.sqrt(np.mean((tau / scale) ** 2, axis=0))  # scaled: no overflow for large torques
+    at_peak = np.abs(tau).argmax(axis=0)
+    peak_band = None if tau_sigma is None else band[at_peak, np.arange(tau.shape[1])]
     return LimitsReport(joints=model.joint_names, peak_tau=peak, rms_tau=rms,
-                        peak_qd=np.abs(qd).max(axis=0), effort=effort, velocity=velocity, violations=tuple(violations))
+                        peak_qd=np.abs(qd).max(axis=0), effort=effort, velocity=velocity, violations=tuple(violations),
+                        peak_band=peak_band, uncertain=tuple(uncertain))

@@ -11,11 +11,12 @@ code                Craig          meaning (shape, unit)
                                    (6.114), τ = JᵀF, (N, n), N·m or N
 ==================  =============  ===================================================
 
-A log is any table of numbers with named columns: a file read by
-:func:`course_dynamics.tools.tables.read_table`, a pandas DataFrame, a dict of arrays or
-a numpy structured array. Our names are ``t``, ``q_<joint>``, ``qd_<joint>`` and
-``qdd_<joint>``; ``columns`` maps ours to the log's (``{"q_shoulder_pan_joint":
-"joint1_pos"}``), and every other column of the log is ignored.
+A log is any table of numbers with named columns: what :func:`~course_dynamics.tools.sources.open_log`
+reads (a delimited table, a UR RTDE recording, a ROS bag), a pandas DataFrame, a dict of arrays
+or a numpy structured array. Our names are ``t``, ``q_<joint>``, ``qd_<joint>``, ``qdd_<joint>``,
+and for what the robot measured ``tau_meas_<joint>`` and ``current_<joint>``; ``columns`` maps
+ours to the log's (``{"q_shoulder_pan_joint": "joint1_pos"}``), and every other column of the log,
+numbers or words, is ignored (:mod:`~course_dynamics.tools.columns`).
 
 Positions only: when a log has no ``qd_`` (or no ``qdd_``) columns, they are
 differentiated from Θ(t) by a Savitzky–Golay filter (scipy): a cubic fitted by
@@ -23,9 +24,12 @@ least squares to a window of samples around each one, differentiated exactly.
 It smooths as it differentiates, which plain finite differences of a measured
 signal do not (they amplify its noise by 1/Δt, and Θ̈ by 1/Δt²). The window
 (odd, in samples) is ``window``; by default the odd count nearest to 20 ms of
-samples, and at least 7. The samples must be evenly spaced (within 10 % of the
-median step). What was differentiated is said in :attr:`TorqueLog.notes`, and
-the CLI writes it at the top of its output.
+samples, and at least 7. The samples must be on an even clock; dropped samples
+are filled, a log can be resampled and long gaps split (:mod:`~course_dynamics.tools.resampling`).
+What was differentiated, filled or resampled is said in :attr:`TorqueLog.notes`, and
+the CLI writes it at the top of its output. When the log holds measured torques (or
+currents and their torque constants), :attr:`TorqueLog.residuals` compares them with ours
+(:mod:`~course_dynamics.tools.residuals`).
 
 >>> import numpy as np
 >>> from course_dynamics import load_robot
@@ -40,53 +44,62 @@ False
 """
 from __future__ import annotations
 
-import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
 from ..base.errors import InputError
-from ..base.files import read_small
 from ..core.evaluator import implementation
 from ..core.friction import Friction
 from ..core.model import Model
+from ..core.dynamics import mass_matrix
 from ..core.newton_euler import inverse_dynamics
+from .columns import KINDS, merged_map, plan_columns
+from .differentiation import derivatives
 from .limits import LimitsReport, limits_report
 from .loads import with_payload, wrench_torques
-from .columns import KINDS, plan_columns
-from .tables import Table, joint_columns, stack_joint_columns
+from .resampling import even_clock
+from .residuals import ResidualReport, residual_report
+from .sources import as_source
+from .tables import joint_columns, stack_joint_columns
 
-POLYORDER = 3                 # a cubic: Θ̈ is its second derivative, still linear in time within a window
-DEFAULT_WINDOW_SECONDS = 0.02
-MIN_WINDOW = 7
-MAX_MAP_BYTES = 2**20         # a column map of a thousand joints is under 100 kB
-EVEN_SPACING = 0.1            # largest deviation of a step from the median step, relative
 # τ is computed this many rows at a time: the recursion's temporaries (for the UR5 about 1.6 kB a row
 # interpreted, 0.5 kB compiled, measured with tracemalloc) then stay under 60 MB however long the log.
 ROWS_AT_A_TIME = 2**15
+TIME_UNITS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9}
 
 
 @dataclass(frozen=True)
 class JointLog:
-    """Θ, Θ̇, Θ̈ on the samples of a log; ``notes`` says what was computed rather than read."""
+    """Θ, Θ̇, Θ̈ on the samples of a log; ``notes`` says what was computed rather than read.
+
+    ``measured``: τ_meas (K, n), NaN for joints not measured, or None; ``measured_from`` says what it was
+    (``tau_meas``, or currents times torque constants); ``segments``: (start, stop) rows differentiated apart.
+    """
 
     t: np.ndarray
     q: np.ndarray
     qd: np.ndarray
     qdd: np.ndarray
     notes: tuple[str, ...] = ()
+    measured: np.ndarray | None = None
+    measured_from: str = ""
+    segments: tuple[tuple[int, int], ...] = ()
+    sigma_qdd: np.ndarray | None = None     # (K, n) rad/s²: what the position or rate noise leaves in Θ̈
 
 
 @dataclass(frozen=True)
 class TorqueLog:
-    """The torques a log needs, the state they were computed from, and the limits report."""
+    """The torques a log needs, the state they were computed from, the limits report and, when the robot
+    measured its torques, the residuals."""
 
     log: JointLog
     tau: np.ndarray
     report: LimitsReport
     model: Model
+    residuals: ResidualReport | None = None
+    tau_sigma: np.ndarray | None = None   # (K, n): σ_τ from the noise of differentiated rates, or None
 
     @property
     def t(self) -> np.ndarray:
@@ -97,114 +110,84 @@ class TorqueLog:
         return self.log.notes
 
     def table(self, with_state: bool = False) -> tuple[list[str], np.ndarray]:
-        """Header and rows: t, tau_<joint> (and q_, qd_, qdd_ with ``with_state``)."""
+        """Header and rows: t, tau_<joint> (and q_, qd_, qdd_ with ``with_state``; tau_meas_ when measured)."""
         kinds = (KINDS if with_state else ()) + ("tau",)
         header = ["t"] + joint_columns(kinds, self.model.joint_names)
         blocks = [getattr(self.log, k) for k in kinds[:-1]] + [self.tau]
+        if self.residuals is not None:
+            measured = [r.joint for r in self.residuals.joints]
+            header += [f"tau_meas_{j}" for j in measured]
+            blocks += [self.log.measured[:, [self.model.joint_names.index(j) for j in measured]]]
         return header, np.column_stack([self.t] + blocks)
 
 
-def as_columns(table) -> tuple[dict[str, np.ndarray], str]:
-    """Named 1-D float columns of a table, and a name for it in messages.
-
-    Takes an :class:`Table`, a pandas DataFrame, a dict of arrays or a numpy structured array.
-    """
-    if isinstance(table, Table):
-        return table.columns(), table.path
-    if isinstance(table, np.ndarray) and table.dtype.names:
-        return {name: np.asarray(table[name], dtype=float) for name in table.dtype.names}, "the table"
-    if hasattr(table, "columns") and hasattr(table, "__getitem__") and not isinstance(table, Mapping):
-        return {str(name): np.asarray(table[name], dtype=float) for name in table.columns}, "the table"  # pandas
-    if isinstance(table, Mapping):
-        try:
-            return {str(k): np.asarray(v, dtype=float).reshape(-1) for k, v in table.items()}, "the table"
-        except (TypeError, ValueError) as exc:
-            raise InputError(f"the table's columns must be numbers: {exc}") from None
-    raise InputError(f"a log must be a table with named columns (a DataFrame, a dict of arrays, a structured array), "
-                     f"got {type(table).__name__}")
-
-
-def parse_column_map(text: str) -> dict[str, str]:
-    """``ours=theirs,…`` or the path of a TOML file of ``ours = "theirs"`` lines (optionally under ``[columns]``)."""
-    if text.endswith(".toml") or (Path(text).is_file() and "=" not in text):
-        try:
-            document = tomllib.loads(read_small(text, MAX_MAP_BYTES, "column map").decode("utf-8"))
-        except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-            raise InputError(f"{text}: not a valid TOML column map: {exc}") from None
-        document = document.get("columns", document)
-        if not all(isinstance(v, str) for v in document.values()):
-            raise InputError(f"{text}: every entry must be ours = \"theirs\" (a column name in quotes)")
-        return dict(document)
-    mapping = {}
-    for item in filter(None, (part.strip() for part in text.split(","))):
-        ours, sep, theirs = item.partition("=")
-        if not sep or not ours.strip() or not theirs.strip():
-            raise InputError(f"column map entry '{item}' must be ours=theirs, e.g. q_joint1=joint1_pos")
-        if ours.strip() in mapping:
-            raise InputError(f"column map: '{ours.strip()}' is mapped twice")
-        mapping[ours.strip()] = theirs.strip()
-    return mapping
-
-
-def _window(samples: int, dt: float, window: int | None, where: str) -> int:
-    if window is not None:
-        if window < POLYORDER + 2 or window % 2 == 0:
-            raise InputError(f"the smoothing window must be an odd number of samples, at least {POLYORDER + 2}; got {window}")
-        if window > samples:
-            raise InputError(f"{where}: the smoothing window ({window} samples) is longer than the log ({samples} rows)")
-        return window
-    chosen = max(MIN_WINDOW, 2 * int(round(DEFAULT_WINDOW_SECONDS / dt / 2)) + 1)
-    chosen = min(chosen, samples if samples % 2 else samples - 1)
-    if chosen < POLYORDER + 2:
-        raise InputError(f"{where}: {samples} rows are too few to differentiate (at least {POLYORDER + 2} are needed)")
-    return chosen
-
-
-def _even_step(t: np.ndarray, where: str, line) -> float:
-    steps = np.diff(t)
-    dt = float(np.median(steps))
-    worst = int(np.argmax(np.abs(steps - dt)))
-    if abs(steps[worst] - dt) > EVEN_SPACING * dt:
-        raise InputError(f"{where}: t is not evenly spaced (the step before {line(worst + 1)} is {steps[worst]:.6g} s, "
-                         f"the median step is {dt:.6g} s); differentiating needs even steps: resample the log, "
-                         f"or give qd_ and qdd_ columns")
-    return dt
-
-
-TIME_UNITS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9}
+def _measured(model: Model, plan, renamed: dict, samples: int, torque_constants, where: str):
+    """τ_meas (K, n) with NaN columns for joints not measured, and what it is; or (None, "", notes)."""
+    with_tau, with_current = plan.measured("tau_meas"), plan.measured("current")
+    notes = []
+    if torque_constants is not None:
+        k = np.asarray(torque_constants, dtype=float).reshape(-1)
+        if k.shape != (model.n,) or not np.all(np.isfinite(k)):
+            raise InputError(f"torque constants: {model.n} finite numbers are needed (N m/A, one per joint: "
+                             f"{', '.join(model.joint_names)}), got {k.tolist()}")
+        if not with_current:
+            raise InputError(f"{where}: torque constants were given but the log has no motor currents "
+                             "(current_<joint>, or an RTDE recording's actual_current_i)")
+    if with_tau:
+        if with_current and torque_constants is not None:
+            notes.append("both measured torques and currents are logged: the torques are compared, the currents not")
+        measured = np.full((samples, model.n), np.nan)
+        for j in with_tau:
+            measured[:, model.joint_names.index(j)] = renamed[f"tau_meas_{j}"]
+        return measured, "tau_meas", notes
+    if with_current and torque_constants is not None:
+        measured = np.full((samples, model.n), np.nan)
+        for j in with_current:
+            i = model.joint_names.index(j)
+            measured[:, i] = k[i] * renamed[f"current_{j}"]
+        return measured, "currents times torque constants", notes
+    if with_current:
+        notes.append("motor currents are logged: give torque constants (--torque-constant k1,...) to compare them "
+                     "with the torques")
+    return None, "", notes
 
 
 def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[str, str] | None = None,
               window: int | None = None, constants: Mapping[str, float] | None = None,
-              time_unit: str = "s") -> JointLog:
+              time_unit: str = "s", resample: float | None = None, split_gaps: bool = False,
+              torque_constants=None) -> JointLog:
     """Θ, Θ̇, Θ̈ of ``model``'s joints from a log (module docstring).
 
     Parameters
     ----------
-    table : a log (see :func:`as_columns`)
+    table : a log (a :class:`~course_dynamics.tools.sources.LogSource` or anything
+        :func:`~course_dynamics.tools.sources.as_source` takes)
     dt : float, s — the sample step of a log without a ``t`` column
     columns : our column name → the log's
     window : odd int — Savitzky–Golay window in samples (default: about 20 ms)
     constants : our column name → a value for every row, for signals the log lacks
         (e.g. ``{"q_panda_finger_joint1": 0.04}``; a constant q has zero rates)
     time_unit : the unit of the log's ``t`` column: s, ms, us or ns
+    resample : Hz — put the log on an even clock at this rate first
+    split_gaps : differentiate the pieces between long gaps apart instead of refusing them
+    torque_constants : (n,) N·m/A — turn logged motor currents into measured torques
 
     Raises
     ------
     InputError
-        A mapped or needed column that is missing, a column of the wrong length, two of our
-        columns mapped to one of the log's, t not increasing or unevenly spaced, a bad ``dt``,
-        time unit or window.
+        A mapped or needed column that is missing or holds text, a column of the wrong length, two of our
+        columns mapped to one of the log's, t not increasing, a gap or an uneven step it cannot fill, a bad
+        ``dt``, time unit or window.
     """
-    data, where = as_columns(table)
-    lines = table.lines if isinstance(table, Table) else None
-
-    def line(row: int) -> str:
-        return f"line {int(lines[row])}" if lines is not None else f"row {row + 1}"
-
+    source = as_source(table)
+    data, where, line = source.columns, source.where, source.line
     if time_unit not in TIME_UNITS:
         raise InputError(f"unknown time unit '{time_unit}' (choose from {', '.join(TIME_UNITS)})")
-    plan = plan_columns(model, data, columns=columns, constants=constants, where=where)
+    plan = plan_columns(model, list(data) + list(source.text), columns=merged_map(source.implied, columns),
+                        constants=constants, where=where)
+    for name, theirs in plan.read.items():
+        if theirs in source.text:
+            raise source.not_numbers(theirs, name)
     renamed = {name: data[theirs] for name, theirs in plan.read.items()}
     lengths = {len(v) for v in renamed.values()}
     if len(lengths) > 1:
@@ -215,7 +198,6 @@ def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[
     for name in plan.held:  # a joint held still: its rates are zero
         renamed[name] = np.zeros(samples)
     plan.require_positions(where)
-    q = stack_joint_columns(renamed, "q", model.joint_names)
     if samples == 0:
         raise InputError(f"{where}: no data rows")
     for name, values in renamed.items():
@@ -227,7 +209,7 @@ def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[
     if plan.has_time:
         if dt is not None:
             raise InputError(f"{where} has a time column; dt (--dt) is only for logs without one")
-        t = renamed["t"] * TIME_UNITS[time_unit]
+        t = renamed.pop("t") * TIME_UNITS[time_unit]
         steps = np.diff(t)
         if np.any(steps <= 0):
             row = int(np.flatnonzero(steps <= 0)[0]) + 1
@@ -240,50 +222,67 @@ def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[
         if not (np.isfinite(dt) and dt > 0):
             raise InputError(f"dt must be a positive number of seconds, got {dt}")
         t = np.arange(samples) * float(dt)
+        if resample is not None or split_gaps:
+            raise InputError("resampling and splitting at gaps need the log's own times (a t column)")
 
-    notes = []
-    derived_qd, derived_qdd = plan.derived_kind("qd"), plan.derived_kind("qdd")
-    qd = np.empty_like(q)
-    qdd = np.empty_like(q)
-    if plan.derived:
-        from scipy.signal import savgol_filter  # scipy's import takes 0.2 s: only logs that need differentiating pay it
-
+    notes = list(source.notes)
+    segments = ((0, samples),)
+    step = float(dt) if dt is not None else (float(np.median(np.diff(t))) if samples > 1 else 0.0)
+    if plan.derived or resample is not None:
         if samples < 2:
             raise InputError(f"{where}: one row cannot be differentiated (give qd_ and qdd_ columns)")
-        step = _even_step(t, where, line) if plan.has_time else float(dt)
-        w = _window(samples, step, window, where)
-        how = f"Savitzky-Golay derivative ({w}-sample window = {w * step:.4g} s, cubic)"
-
+        clock = even_clock(t, renamed, resample=resample, split_gaps=split_gaps, where=where, line=line)
+        t, renamed, segments, step = clock.t, clock.columns, clock.segments, clock.step
+        notes += clock.notes
+        samples = len(t)
         if not 1e-9 <= step <= 1e6:
             raise InputError(f"{where}: the sample step {step:g} s is outside 1e-9 s to 1e6 s; is t in seconds "
                              f"(time_unit, --time-unit)?")
-
-        def derivative(y, order):
-            with np.errstate(all="ignore"):
-                values = savgol_filter(y, w, POLYORDER, deriv=order, delta=step, axis=0, mode="interp")
-            if not np.all(np.isfinite(values)):
-                raise InputError(f"{where}: differentiating q gives values beyond floating-point range")
-            return values
-
-    def which(joints):
-        return "" if len(joints) == model.n else f" (joints {', '.join(joints)})"
-
-    for i, j in enumerate(model.joint_names):
-        qd[:, i] = derivative(q[:, i], 1) if j in derived_qd else renamed[f"qd_{j}"]
+    q = stack_joint_columns(renamed, "q", model.joint_names)
+    qd, qdd = np.empty_like(q), np.empty_like(q)
+    derived_qd, derived_qdd = plan.derived_kind("qd"), plan.derived_kind("qdd")
+    for j in model.joint_names:
+        i = model.joint_names.index(j)
+        if j not in derived_qd:
+            qd[:, i] = renamed[f"qd_{j}"]
         if j not in derived_qdd:
             qdd[:, i] = renamed[f"qdd_{j}"]
-        else:
-            qdd[:, i] = derivative(q[:, i], 2) if j in derived_qd else derivative(qd[:, i], 1)
-    if derived_qd:
-        notes.append(f"qd: first {how} of q{which(derived_qd)}")
-    from_q, from_qd = plan.derived_kind("qdd", "q"), plan.derived_kind("qdd", "qd")
-    if from_q:
-        notes.append(f"qdd: second {how} of q{which(from_q)}")
-    if from_qd:
-        notes.append(f"qdd: first {how} of qd{which(from_qd)}")
+    sigma_qdd = np.zeros_like(q)
+    if plan.derived:
+        sigma_qdd, found = _differentiate(model, plan, q, qd, qdd, segments, step, window, where)
+        notes += found
     for name, value in plan.constants.items():
         notes.append(f"{name} = {value:g} throughout (not in the log)")
-    return JointLog(t=t, q=q, qd=qd, qdd=qdd, notes=tuple(notes))
+    measured, measured_from, more = _measured(model, plan, renamed, samples, torque_constants, where)
+    return JointLog(t=t, q=q, qd=qd, qdd=qdd, notes=tuple(notes + more), measured=measured,
+                    measured_from=measured_from, segments=segments, sigma_qdd=sigma_qdd)
+
+
+def _differentiate(model, plan, q, qd, qdd, segments, step, window, where) -> tuple[np.ndarray, list[str]]:
+    """Fill the derived columns of ``qd`` and ``qdd`` in place, segment by segment (:mod:`~course_dynamics.tools.differentiation`):
+    σ_Θ̈ (K, n) that the noise leaves (0 where Θ̈ was read), and the notes saying how."""
+    names = model.joint_names
+    sigma = np.zeros_like(q)
+    groups = [(plan.derived_kind("qd"), None), (plan.derived_kind("qdd", "qd"), "qd")]
+    notes = []
+    for joints, given in groups:
+        if not joints:
+            continue
+        columns = [names.index(j) for j in joints]
+        suffix = "" if len(joints) == model.n else f" (joints {', '.join(joints)})"
+        for number, (start, stop) in enumerate(segments):
+            rows = slice(start, stop)
+            found = derivatives(step, q[rows][:, columns], None if given is None else qd[rows][:, columns], window,
+                                where=where)
+            qdd[rows, columns] = found.qdd
+            sigma[rows, columns] = found.sigma_qdd
+            if given is None:
+                qd[rows, columns] = found.qd
+            if number == 0:  # the first segment's choices speak for all (each segment chose its own windows)
+                notes += [n + suffix if n.startswith(("qd:", "qdd:")) else n for n in found.notes]
+    if len(segments) > 1:
+        notes.append(f"windows chosen per segment ({len(segments)} segments); the notes above are the first's")
+    return sigma, notes
 
 
 def _as_list(value) -> list:
@@ -295,8 +294,10 @@ def _as_list(value) -> list:
 def torques_from_log(model: Model, table, *, dt: float | None = None, columns: Mapping[str, str] | None = None,
                      window: int | None = None, constants: Mapping[str, float] | None = None, time_unit: str = "s",
                      friction: Friction | None = None, payload=None, wrench=None,
-                     compiled: bool | None = None) -> TorqueLog:
-    """The joint torques a logged motion needs, and whether they and its rates stay within the URDF's limits.
+                     compiled: bool | None = None, resample: float | None = None, split_gaps: bool = False,
+                     torque_constants=None) -> TorqueLog:
+    """The joint torques a logged motion needs, whether they and its rates stay within the URDF's limits,
+    and, when the log holds what the robot measured, how far those are from ours.
 
     τ = M(Θ)Θ̈ + V(Θ,Θ̇) + G(Θ) (Newton–Euler, (6.45)–(6.53)) + F(Θ̇) (friction, (6.114))
     + Σ Jᵀ F_ext (wrenches at frames, chapter 5's static forces), on the model (under its gravity:
@@ -307,11 +308,13 @@ def torques_from_log(model: Model, table, *, dt: float | None = None, columns: M
     on the model); True/False force it. Other parameters as :func:`joint_log`.
 
     Returns a :class:`TorqueLog`: ``tau`` (N, n); ``log`` with ``t``, ``q``, ``qd``, ``qdd`` as
-    used; ``report`` (:class:`~course_dynamics.tools.limits.LimitsReport`); ``notes``; ``table()``.
+    used; ``report`` (:class:`~course_dynamics.tools.limits.LimitsReport`); ``residuals``
+    (:class:`~course_dynamics.tools.residuals.ResidualReport`, or None); ``notes``; ``table()``.
     """
     for load in _as_list(payload):
         model = with_payload(model, load)
-    log = joint_log(model, table, dt=dt, columns=columns, window=window, constants=constants, time_unit=time_unit)
+    log = joint_log(model, table, dt=dt, columns=columns, window=window, constants=constants, time_unit=time_unit,
+                    resample=resample, split_gaps=split_gaps, torque_constants=torque_constants)
     fast = implementation(model, calls=-(-len(log.t) // ROWS_AT_A_TIME), states=min(len(log.t), ROWS_AT_A_TIME),
                           compiled=compiled)
 
@@ -330,7 +333,28 @@ def torques_from_log(model: Model, table, *, dt: float | None = None, columns: M
         tau[rows] = block
     if not np.all(np.isfinite(tau)):
         row = int(np.flatnonzero(~np.all(np.isfinite(tau), axis=1))[0])
-        where = f"line {int(table.lines[row])} of {table.path}" if isinstance(table, Table) else f"row {row + 1}"
+        source = as_source(table)
+        where = f"{source.line(row)} of {source.where}" if source.lines is not None else f"row {row + 1}"
         raise InputError(f"the torques overflow at t = {log.t[row]:.9g} s ({where}): the log's values there are too "
                          f"large to give finite torques")
-    return TorqueLog(log=log, tau=tau, report=limits_report(model, log.t, log.qd, tau), model=model)
+    residuals = None if log.measured is None else residual_report(model.joint_names, log.t, tau, log.measured,
+                                                                  log.measured_from)
+    sigma = _torque_sigma(model, log, fast)
+    return TorqueLog(log=log, tau=tau, report=limits_report(model, log.t, log.qd, tau, sigma), model=model,
+                     residuals=residuals, tau_sigma=sigma)
+
+
+def _torque_sigma(model: Model, log: JointLog, fast) -> np.ndarray | None:
+    """σ_τ (K, n): what the noise left in a differentiated Θ̈ leaves in τ = M Θ̈ + …, σ_τᵢ = √Σⱼ (Mᵢⱼ σ_Θ̈ⱼ)².
+
+    The noise a differentiated Θ̇ carries into V is left out: at the rates robots move, M Θ̈ is where it shows.
+    None when nothing was differentiated.
+    """
+    if log.sigma_qdd is None or not np.any(log.sigma_qdd):
+        return None
+    sigma = np.empty_like(log.q)
+    for start in range(0, len(log.t), ROWS_AT_A_TIME):
+        rows = slice(start, start + ROWS_AT_A_TIME)
+        M = fast.mass_matrix(log.q[rows]) if fast is not None else mass_matrix(model, log.q[rows])
+        sigma[rows] = np.sqrt(np.einsum("kij,kj->ki", M**2, log.sigma_qdd[rows] ** 2))
+    return sigma

@@ -7,14 +7,16 @@ import numpy as np
 
 from ...output import io, render
 from ...tools.loads import Payload, Wrench, payload_link
-from ...tools.columns import plan_columns
-from ...tools.logs import TIME_UNITS, parse_column_map, torques_from_log
-from ...tools.tables import DECIMALS, read_table
+from ...tools.columns import merged_map, parse_column_map, plan_columns
+from ...tools.logs import TIME_UNITS, torques_from_log
+from ...tools.sources import FORMATS, open_log
+from ...tools.tables import DECIMALS
 from ..options import (
     UsageError,
     add_friction_arguments,
     add_robot_argument,
     friction,
+    joint_values,
     load_robot_argument,
     numbers,
     print_json,
@@ -23,11 +25,14 @@ from ..options import (
 HELP = "joint torques along a trajectory log, and a limits report"
 SLOW_SAMPLES = 0.5  # s between samples: more suggests a t column in ms read as seconds
 DESCRIPTION = (
-    "Read a trajectory log (comma, semicolon or tab separated; columns t, q_<joint> and optionally qd_<joint>, "
-    "qdd_<joint>; other columns are ignored) and write t, tau_<joint>: tau = M qdd + V + G (+ friction, payload, "
-    "wrench). Missing rates are differentiated from q (Savitzky-Golay). Prints each joint's peak and RMS torque, "
-    "peak rate and the share of the URDF's effort and velocity limits used. Exit 0 within the limits, 1 when a "
-    "limit is exceeded, 2 on bad input.")
+    "Read a trajectory log - a table (comma, semicolon, tab or whitespace separated; columns t, q_<joint> and "
+    "optionally qd_<joint>, qdd_<joint>, tau_meas_<joint>, current_<joint>; other columns, numbers or words, are "
+    "ignored), a UR RTDE recording, or a ROS 1/ROS 2 bag or MCAP file (sensor_msgs/JointState by joint name, or "
+    "Franka's FrankaState) - and write t, tau_<joint>: tau = M qdd + V + G (+ friction, payload, wrench). Missing "
+    "rates are differentiated from q (Savitzky-Golay); dropped samples are filled and the fill is reported. Prints "
+    "each joint's peak and RMS torque, peak rate and the share of the URDF's effort and velocity limits used, and, "
+    "when the log holds measured torques (or currents and --torque-constant), the residual of our model against "
+    "them. Exit 0 within the limits, 1 when a limit is exceeded, 2 on bad input.")
 
 
 def add_arguments(parser) -> None:
@@ -35,6 +40,19 @@ def add_arguments(parser) -> None:
     parser.add_argument("--trajectory", "--log", dest="trajectory", required=True, metavar="LOG",
                         help="the trajectory log (a CSV as 'simulate' writes, or a robot's own log)")
     parser.add_argument("--out", help="output CSV, or - for standard output (written whole or not at all)")
+    parser.add_argument("--format", choices=FORMATS, default="auto",
+                        help="how to read the log: a table, a UR RTDE recording (timestamp, actual_q_i, actual_qd_i, "
+                             "actual_current_i; joint i is the URDF's i-th), a ROS bag/MCAP; default auto: a bag by "
+                             "its file, an RTDE recording by its header, else a table")
+    parser.add_argument("--topic", help="a bag's topic (default /joint_states, else its one joint-state topic)")
+    parser.add_argument("--resample", type=float, metavar="HZ",
+                        help="put the log on an even clock at HZ (cubic splines) before differentiating")
+    parser.add_argument("--split-gaps", action="store_true",
+                        help="treat the pieces between gaps longer than 5 sample periods as separate segments "
+                             "(each differentiated on its own) instead of refusing the log")
+    parser.add_argument("--torque-constant", metavar="K1,K2,...",
+                        help="motor torque constants, N m/A, one per joint: logged currents times these are the "
+                             "measured torques our model is compared with")
     parser.add_argument("--columns", action="store_true",
                         help="list the log's columns and which of them would be used, then stop")
     parser.add_argument("--map", metavar="OURS=THEIRS,...|FILE.toml", action="append",
@@ -149,12 +167,17 @@ def settings(args, model, payloads, wrenches, joint_friction) -> list[str]:
     return lines
 
 
-def _list_columns(table, model, mapping, fixed) -> int:
-    """What ``--columns`` prints: the column plan that reading the log would follow, before any number is read."""
-    plan = plan_columns(model, table.header, columns=mapping, constants=fixed, where=table.path)
+def _list_columns(source, model, mapping, fixed) -> int:
+    """What ``--columns`` prints: the column plan that reading the log would follow, before any number is used."""
+    plan = plan_columns(model, list(source.columns) + list(source.text), columns=merged_map(source.implied, mapping),
+                        constants=fixed,
+                        where=source.where)
     used = plan.used_as
-    rows = [["log column", "used as"]] + [[c, used.get(c, "(ignored)")] for c in plan.theirs]
-    print(f"{table.path}: {len(table.data)} rows, {len(plan.theirs)} columns")
+    rows = [["log column", "used as"]] + [[c, used.get(c, "(words: ignored)" if c in source.text else "(ignored)")]
+                                          for c in plan.theirs]
+    length = len(next(iter(source.columns.values()))) if source.columns else 0
+    print(f"{source.where}: {length} rows, {len(plan.theirs)} columns" + (f" ({source.format})" if source.format !=
+                                                                            "table" else ""))
     print(render.text_table(rows, align="<<"))
     for name, value in plan.constants.items():
         print(f"{name} = {value:g} throughout (--set)")
@@ -186,12 +209,14 @@ def run(args) -> int:
     for target in (args.out, args.plot):  # fail before reading a long log
         if target:
             io.check_writable(target)
-    table = read_table(args.trajectory, decimal=args.decimal)
+    constants_k = None if args.torque_constant is None else joint_values(args.torque_constant, "--torque-constant", model)
+    source = open_log(args.trajectory, model, format=args.format, topic=args.topic, decimal=args.decimal)
     if args.columns:
-        return _list_columns(table, model, mapping, fixed)
-    result = torques_from_log(model, table, dt=args.dt, columns=mapping, window=args.smooth, constants=fixed,
+        return _list_columns(source, model, mapping, fixed)
+    result = torques_from_log(model, source, dt=args.dt, columns=mapping, window=args.smooth, constants=fixed,
                               time_unit=args.time_unit, friction=joint_friction, payload=payloads, wrench=wrenches,
-                              compiled=False if args.no_compile else None)
+                              compiled=False if args.no_compile else None, resample=args.resample,
+                              split_gaps=args.split_gaps, torque_constants=constants_k)
     header, data = result.table(with_state=args.with_state)
     # What was derived and which options changed the torques are said at the top of the file
     # ('#' lines, which read_table and pandas' comment='#' skip); a plain run writes a plain CSV.
@@ -211,7 +236,8 @@ def run(args) -> int:
         io.write_csv(args.out, header, data, comments=comments)
     if args.json:
         print_json(dict(robot=model.name, log=str(args.trajectory), rows=len(result.t), out=args.out, plot=args.plot,
-                        notes=list(result.notes), **report.record()))
+                        notes=list(result.notes), **report.record(),
+                        residuals=None if result.residuals is None else result.residuals.record()))
         return 1 if report.exceeded else 0
     if args.out != io.STDOUT:
         _print_report(result, sys.stdout)
@@ -226,14 +252,33 @@ def _print_report(result, stream) -> None:
         print(f"note: {note}", file=stream)
     rows = [["joint", "peak |tau|", "rms tau", "effort limit", "used", "peak |qd|", "velocity limit", "used"]]
     for r in report.rows():
-        rows.append([r["joint"], f"{r['peak_tau']:.4g}", f"{r['rms_tau']:.4g}", _limit(r["effort_limit"]),
+        band = "" if not r["peak_tau_band"] else f" ±{r['peak_tau_band']:.2g}"
+        rows.append([r["joint"], f"{r['peak_tau']:.4g}{band}", f"{r['rms_tau']:.4g}", _limit(r["effort_limit"]),
                      _share(r["effort_used"]), f"{r['peak_qd']:.4g}", _limit(r["velocity_limit"]), _share(r["velocity_used"])])
     print(f"robot {model.name}: {len(result.t)} samples over {result.t[-1] - result.t[0]:.6g} s "
           "(tau in N m or N; rates in rad/s or m/s)", file=stream)
     print(render.text_table(rows, align="<>>>>>>>"), file=stream)
     for v in report.violations:
         print(f"LIMIT EXCEEDED: {v.describe()}", file=stream)
-    print("a limit is exceeded" if report.exceeded else "every joint stays within its limits", file=stream)
+    for v in report.uncertain:
+        print(f"warning: {v.describe()}", file=stream)
+    if result.residuals is not None:
+        rows = [["joint", "rms tau_meas", "rms residual", "peak residual", "at t", "R^2"]]
+        for r in result.residuals.joints:
+            rows.append([r.joint, f"{r.rms_measured:.4g}", f"{r.rms:.4g}", f"{r.peak:.4g}", f"{r.peak_t:.6g}",
+                         "-" if r.r2 is None else f"{r.r2:.4f}"])
+        print(f"model against the robot (residual = measured - ours; measured: {result.residuals.source}):",
+              file=stream)
+        print(render.text_table(rows, align="<>>>>>"), file=stream)
+    if report.peak_band is not None and np.any(report.peak_band):
+        print("(± is 2 sigma of the torque at the peak: what differentiating the rates may have got wrong)", file=stream)
+    if report.exceeded:
+        print("a limit is exceeded", file=stream)
+    elif report.uncertain:
+        print("every joint stays within its limits, but not beyond the uncertainty of the rates (see the warnings)",
+              file=stream)
+    else:
+        print("every joint stays within its limits", file=stream)
 
 
 def _limit(value) -> str:

@@ -1,0 +1,189 @@
+"""course_dynamics/tools/sources.py: a UR RTDE recording, a table and a bag of one motion give one answer."""
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
+from helpers import assert_agrees, assert_one_line_error, run
+from logmakers import multisine, write_csv, write_ur_rtde
+
+from course_dynamics import load_robot, robot_path
+from course_dynamics.core.newton_euler import inverse_dynamics
+from course_dynamics.tools.sources import open_log, rtde_map
+from course_dynamics.tools.tables import read_table
+
+UR5 = load_robot("ur5")
+MOTION = multisine(UR5, duration=2.0, rate=500.0, seed=11, start=1234.5)   # RTDE times count from controller start
+K = np.array([13.0, 13.0, 9.3, 4.5, 4.5, 4.5])                                 # N m/A
+
+
+@pytest.fixture(scope="module")
+def oracle():
+    return PinocchioOracle(robot_path("ur5"), UR5.joint_names, UR5.gravity)
+
+
+@pytest.fixture
+def rtde(tmp_path):
+    """The motion as UR's recorder writes it: space separated, actual_q_i/actual_qd_i/actual_current_i, a word column."""
+    path = tmp_path / "robot_data.csv"
+    tau = inverse_dynamics(UR5, MOTION.q, MOTION.qd, MOTION.qdd)
+    write_ur_rtde(path, MOTION.t, MOTION.q, MOTION.qd, current=tau / K, target_q=MOTION.q, mode_words=True)
+    return path
+
+
+def test_an_rtde_recording_is_recognised_and_mapped_joint_by_joint(rtde):
+    source = open_log(rtde, UR5)
+    assert source.format == "ur-rtde" and source.text == ("robot_mode_word",)
+    assert source.implied == rtde_map(UR5, read_table(rtde).header, str(rtde))
+    assert source.implied["q_elbow_joint"] == "actual_q_2" and source.implied["current_wrist_3_joint"] == "actual_current_5"
+    assert "target_q_0" not in source.implied.values()
+
+
+def test_rtde_torques_through_the_cli_agree_with_pinocchio_and_the_robots_currents(capsys, tmp_path, rtde, oracle):
+    out = tmp_path / "tau.csv"
+    code, report, _ = run(capsys, "torques", "ur5", "--log", str(rtde), "--torque-constant", ",".join(map(str, K)),
+                          "--with-state", "--out", str(out))
+    assert code == 0 and "note: read as a UR RTDE recording" in report
+    assert "model against the robot (residual = measured - ours; measured: currents times torque constants)" in report
+    table = read_table(out)
+    cols = table.columns()
+    q, qd, qdd = (np.column_stack([cols[f"{k}_{j}"] for j in UR5.joint_names]) for k in ("q", "qd", "qdd"))
+    tau = np.column_stack([cols[f"tau_{j}"] for j in UR5.joint_names])
+    np.testing.assert_allclose(qd, MOTION.qd, rtol=1e-11, atol=1e-12)            # read as logged, not derived
+    for i in range(0, len(tau), 97):
+        assert_agrees(tau[i], oracle.tau(q[i], qd[i], qdd[i]), what=f"row {i}")    # the dynamics, exactly
+    exact = inverse_dynamics(UR5, MOTION.q, MOTION.qd, MOTION.qdd)
+    assert np.abs(tau - exact).max() < 1e-4 * np.abs(exact).max()               # qdd differentiated from qd
+    measured = np.column_stack([cols[f"tau_meas_{j}"] for j in UR5.joint_names])
+    np.testing.assert_allclose(measured, exact, rtol=1e-9, atol=1e-9)
+
+
+def test_the_same_motion_as_rtde_and_as_a_plain_csv_gives_the_same_torques(capsys, tmp_path, rtde):
+    plain = tmp_path / "plain.csv"
+    header = ["t"] + [f"q_{j}" for j in UR5.joint_names] + [f"qd_{j}" for j in UR5.joint_names]
+    write_csv(plain, header, [MOTION.t] + list(MOTION.q.T) + list(MOTION.qd.T), fmt="{:.12g}")
+    results = []
+    for log in (rtde, plain):
+        target = tmp_path / f"{log.stem}.tau.csv"
+        code, _, _ = run(capsys, "torques", "ur5", "--log", str(log), "--out", str(target))
+        assert code == 0
+        results.append(read_table(target).data)
+    np.testing.assert_allclose(results[0], results[1], rtol=1e-9, atol=1e-9 * np.abs(results[1]).max())
+
+
+def test_an_rtde_recording_of_another_arm_or_no_recording_is_refused(capsys, rtde, tmp_path):
+    code, _, err = run(capsys, "torques", "panda", "--log", str(rtde), "--format", "ur-rtde")
+    assert_one_line_error(code, err, "the recording has 6 joints (actual_q_0 … actual_q_5), robot 'panda' has 9")
+    plain = tmp_path / "plain.csv"
+    write_csv(plain, ["t", "a"], [MOTION.t, MOTION.q[:, 0]])
+    code, _, err = run(capsys, "torques", "ur5", "--log", str(plain), "--format", "ur-rtde")
+    assert_one_line_error(code, err, "not an RTDE recording (it needs the columns timestamp and actual_q_0")
+    code, _, err = run(capsys, "torques", "ur5", "--log", str(plain), "--topic", "/joint_states")
+    assert_one_line_error(code, err, "--topic is for bags")
+
+
+def test_a_word_column_is_ignored_until_it_is_read(capsys, rtde):
+    code, out, _ = run(capsys, "torques", "ur5", "--log", str(rtde), "--columns")
+    assert code == 0 and "robot_mode_word" in out and "(words: ignored)" in out and "(ur-rtde)" in out
+    code, _, err = run(capsys, "torques", "ur5", "--log", str(rtde), "--map", "qd_elbow_joint=robot_mode_word")
+    assert_one_line_error(code, err, "line 2, column 'robot_mode_word': 'running' is not a number (a column of words, "
+                                     "read as qd_elbow_joint)")
+
+
+def test_json_carries_the_residuals(capsys, rtde):
+    code, out, _ = run(capsys, "torques", "ur5", "--log", str(rtde), "--torque-constant", ",".join(map(str, K)),
+                       "--json")
+    document = json.loads(out)
+    assert code == 0 and document["residuals"]["source"] == "currents times torque constants"
+    assert [r["joint"] for r in document["residuals"]["joints"]] == list(UR5.joint_names)
+    assert all(r["r2"] > 0.999 for r in document["residuals"]["joints"])
+
+
+def _torques_csv(capsys, tmp_path, robot, log, *extra):
+    target = tmp_path / f"{log.name}.tau.csv"
+    code, report, err = run(capsys, "torques", robot, "--log", str(log), "--with-state", "--out", str(target), *extra)
+    assert code == 0, err
+    return read_table(target).columns(), report
+
+
+def test_a_ros1_bag_a_ros2_bag_an_mcap_and_a_csv_of_one_motion_give_the_same_torques(capsys, tmp_path, oracle):
+    """JointState at 500 Hz, the joints shuffled in every message, a gripper joint the URDF lacks, efforts measured."""
+    from bagmakers import FORMATS, stamped_seconds, write_joint_states
+
+    tau = inverse_dynamics(UR5, MOTION.q, MOTION.qd, MOTION.qdd)
+    outputs = {}
+    for fmt in FORMATS:
+        bag = write_joint_states(tmp_path / f"run-{fmt}", fmt, UR5.joint_names, MOTION.t, MOTION.q, MOTION.qd, tau)
+        outputs[fmt], report = _torques_csv(capsys, tmp_path, "ur5", bag)
+        assert "measured: tau_meas" in report
+    plain = tmp_path / "run.csv"
+    header = (["t"] + [f"q_{j}" for j in UR5.joint_names] + [f"qd_{j}" for j in UR5.joint_names]
+              + [f"tau_meas_{j}" for j in UR5.joint_names])
+    write_csv(plain, header, [stamped_seconds(MOTION.t)] + list(MOTION.q.T) + list(MOTION.qd.T) + list(tau.T),
+              fmt="{:.17g}")
+    outputs["csv"], _ = _torques_csv(capsys, tmp_path, "ur5", plain)
+    reference = outputs["csv"]
+    scale = max(np.abs(reference[f"tau_{j}"]).max() for j in UR5.joint_names)
+    for fmt, columns in outputs.items():
+        assert set(columns) == set(reference)
+        for name in reference:
+            np.testing.assert_allclose(columns[name], reference[name], rtol=0, atol=1e-9 * scale, err_msg=f"{fmt} {name}")
+    columns = outputs["mcap"]
+    q, qd, qdd = (np.column_stack([columns[f"{k}_{j}"] for j in UR5.joint_names]) for k in ("q", "qd", "qdd"))
+    ours = np.column_stack([columns[f"tau_{j}"] for j in UR5.joint_names])
+    for i in range(0, len(ours), 113):
+        assert_agrees(ours[i], oracle.tau(q[i], qd[i], qdd[i]), what=f"mcap row {i}")
+
+
+def test_a_franka_bag_gives_the_arms_torques_and_their_residual(capsys, tmp_path):
+    from bagmakers import FRANKA_JOINT_STATES, FRANKA_TOPIC, write_franka
+
+    panda = load_robot("panda")
+    arm = panda.joint_names[:7]
+    motion = multisine(panda, duration=1.0, rate=1000.0, seed=2, start=50.0)
+    q, qd = motion.q[:, :7], motion.qd[:, :7]
+    fingers = {f"q_{j}=0.02" for j in panda.joint_names[7:]}
+    tau = inverse_dynamics(panda, np.column_stack([q, np.full((len(q), 2), 0.02)]),
+                           np.column_stack([qd, np.zeros((len(q), 2))]), np.column_stack([motion.qdd[:, :7],
+                                                                                        np.zeros((len(q), 2))]))[:, :7]
+    bag = write_franka(tmp_path / "franka", "ros1", arm, motion.t, q, qd, tau)
+    for topic in (FRANKA_TOPIC, FRANKA_JOINT_STATES):
+        columns, report = _torques_csv(capsys, tmp_path, "panda", bag, "--topic", topic, "--set", ",".join(sorted(fingers)))
+        assert "model against the robot" in report
+        assert [f"tau_meas_{j}" in columns for j in arm] == [True] * 7
+        ours = np.column_stack([columns[f"tau_{j}"] for j in arm])
+        np.testing.assert_allclose(ours, tau, rtol=0, atol=1e-3 * np.abs(tau).max())   # qdd differentiated from qd
+
+
+def test_a_bag_topic_that_is_missing_is_named_with_the_bags_topics(capsys, tmp_path):
+    from bagmakers import write_joint_states
+
+    bag = write_joint_states(tmp_path / "run", "ros2-sqlite3", UR5.joint_names, MOTION.t[:50], MOTION.q[:50])
+    code, _, err = run(capsys, "torques", "ur5", "--log", str(bag), "--topic", "/robot/joint_states")
+    assert_one_line_error(code, err, "/robot/joint_states", "/joint_states")
+    code, _, err = run(capsys, "torques", "ur5", "--log", str(bag), "--decimal", "comma")
+    assert_one_line_error(code, err, "a bag has no decimal separator to choose")
+    code, _, err = run(capsys, "torques", "ur5", "--log", str(bag), "--out", str(bag / "tau.csv"))
+    assert_one_line_error(code, err, "the output would be written inside the input folder")
+    assert not (bag / "tau.csv").exists()
+
+
+@pytest.mark.parametrize("suffix", [".html", ".svg", ".png"])
+def test_the_plot_draws_the_measured_torques_beneath_ours(capsys, tmp_path, suffix):
+    from bagmakers import write_joint_states
+
+    tau = inverse_dynamics(UR5, MOTION.q, MOTION.qd, MOTION.qdd)
+    bag = write_joint_states(tmp_path / "run", "mcap", UR5.joint_names, MOTION.t[:400], MOTION.q[:400],
+                             MOTION.qd[:400], tau[:400] + 0.5)
+    plot = tmp_path / f"fit{suffix}"
+    code, _, _ = run(capsys, "torques", "ur5", "--log", str(bag), "--plot", str(plot))
+    assert code == 0 and plot.stat().st_size > 1000
+    if suffix == ".png":
+        assert plot.read_bytes().startswith(b"\x89PNG")
+        return
+    text = plot.read_text()
+    assert "measured" in text and "residual rms 0.5" in text                  # the legend and each panel's title
+    if suffix == ".html":
+        assert "The model against the robot (measured: tau_meas)" in text and "<svg" in text
