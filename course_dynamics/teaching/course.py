@@ -199,6 +199,10 @@ def execute(notebook, folder: Path, timeout: int = CELL_TIMEOUT):
         if getattr(client, "_async_cleanup_kernel_future", None) is not None:
             raise KeyboardInterrupt from None
         raise
+    if getattr(client, "_async_cleanup_kernel_future", None) is not None:
+        # nbclient sets this future only when it caught SIGINT/SIGTERM; a signal that lands while the kernel
+        # starts is answered by a shutdown and then a normal return: still the user's Ctrl-C
+        raise KeyboardInterrupt
     return notebook
 
 
