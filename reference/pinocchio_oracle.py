@@ -87,6 +87,17 @@ class PinocchioOracle:
     def tau(self, q, qd, qdd) -> np.ndarray:
         return self._ours(pin.rnea(self.model, self.data, self.configuration(q), self.velocity(qd), self.velocity(qdd)).copy())
 
+    def regressor(self, q, qd, qdd) -> np.ndarray:
+        """``computeJointTorqueRegressor``, (n, 10 n): rows in our joint order, columns in Pinocchio's.
+
+        Columns come in blocks of ten per Pinocchio joint (joint id j ≥ 1 owns columns 10 (j − 1) …),
+        each block m, m c, I_xx, I_xy, I_yy, I_xz, I_yz, I_zz about the joint frame's origin
+        (``Inertia.toDynamicParameters``).
+        """
+        Y = pin.computeJointTorqueRegressor(self.model, self.data, self.configuration(q), self.velocity(qd),
+                                            self.velocity(qdd))
+        return np.reshape(Y, (self.model.nv, -1))[self.idx_v].copy()
+
     def add_payload(self, link: str, mass: float, com, inertia) -> None:
         """Fix a rigid body to URDF link ``link`` (Pinocchio's ``appendBodyToJoint``): mass (kg),
         centre of mass (3,) and inertia about it (3, 3), both in the link's frame."""

@@ -15,6 +15,8 @@ BENCHMARKS = Path(__file__).resolve().parent.parent / "benchmarks"
      "one ensemble, compiled / aba for every member"),
     ("bench_symbolic.py", ["--robots", "rp_arm"], "rp_arm"),
     ("bench_torques.py", ["--rows", "500", "--repeat", "1"], "tau stage, ours / Pinocchio"),
+    ("bench_regressor.py", ["--batch", "10", "--repeat", "1", "--robots", "two_link"],
+     "Y / pin.computeJointTorqueRegressor"),
 ])
 def test_benchmark_runs(script, args, expected):
     result = subprocess.run([sys.executable, str(BENCHMARKS / script), *args], capture_output=True, text=True,

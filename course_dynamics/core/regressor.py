@@ -1,0 +1,399 @@
+"""The inertial-parameter regressor τ = Y(Θ, Θ̇, Θ̈) π, and the base parameters, from the one recursion.
+
+Ten parameters per moving body i (frames as in :mod:`course_dynamics.core.model`), in
+Pinocchio's order (``Inertia.toDynamicParameters``), so that our Y and π equal Pinocchio's
+column for column once its joints are put in our order:
+
+=========  ==========  ===========================================================
+name       Craig       meaning (unit)
+=========  ==========  ===========================================================
+``m_i``    mᵢ          mass of body i (kg)
+``mcx_i``  mᵢ ⁱP_Cᵢ    first moment h = m c, c the centre of mass in frame i
+``mcy_i``              (three entries, kg·m)
+``mcz_i``
+``Ixx_i``  ⁱIᵢ         inertia tensor about the ORIGIN of frame i, axes of frame i
+``Ixy_i``              (kg·m²): ⁱIᵢ = ᶜⁱIᵢ + m (cᵀc 1 − c cᵀ), the parallel-axis
+``Iyy_i``              theorem (6.25). Entries are the tensor's (``Ixy_i`` is entry
+``Ixz_i``              (x, y), the URDF's ``ixy``), so Craig's product of inertia
+``Iyz_i``              I_xy is −``Ixy_i``
+``Izz_i``
+=========  ==========  ===========================================================
+
+``Y`` has shape (n, 10 n) (N·m or N per unit of each parameter): row j is joint j, columns
+are the bodies' blocks of ten in ``model.bodies`` order (body numbers from 1, as in Craig).
+
+Why τ is linear in π: written about the origin of frame i rather than the centre of mass,
+Newton's and Euler's equations for body i are f = m v̇ + ω̇ × h + ω × (ω × h) and
+n = I_o ω̇ + ω × I_o ω + h × v̇ (ω, ω̇, v̇ as in :mod:`course_dynamics.core.newton_euler`).
+The kinematics (ω, ω̇, v̇ of every frame) do not depend on any mass, and these loads are
+linear in (m, h, I_o); the inward iteration (6.51)–(6.53) only rotates, shifts and adds
+them, so every τⱼ is a linear combination of the parameters, with coefficients that
+depend on the state alone.
+
+How Y is computed: column k is ∂τ/∂π_k, the dual part of τ when the recursion
+(:func:`~course_dynamics.core.newton_euler.torque_entries`) runs on a model whose parameters
+are Dual numbers π₀ + ε e_k, converted into the model's m, ⁱP_Cᵢ = h/m and
+ᶜⁱIᵢ = I_o − m (cᵀc 1 − c cᵀ) by :func:`with_parameters`. One pass gives every column: the
+dual parts are vectors of 10 n entries (with a trailing batch axis for N states). Exact to
+rounding, no finite differences. Because τ is linear in π, Y does not depend on π₀; it is
+seeded at a unit point mass at each frame origin (m = 1, h = 0, I_o = 0), a point every
+body has, massless or not, where h/m needs no care.
+
+Base parameters: the columns of Y are linearly dependent (a body's mass can only act
+through the joints before it, so it is seen only in combinations with the proximal bodies'
+parameters). :func:`base_parameters` stacks Y over seeded random states, scales every
+column to unit length, drops columns below ``ZERO_COLUMN`` of the largest (parameters that
+never act), takes the rank r from ``scipy.linalg.qr(pivoting=True)`` (diagonal entries of R
+above ``RANK_TOLERANCE`` times the first), and keeps the first r independent columns in the
+model's order (Gautier's unpivoted QR, same tolerance): so distal bodies are grouped into
+proximal ones, π_b = Izz_1 + l₁² m_2 as in the textbooks, where the pivoted QR's choice by
+column norm gives rational ones (two_link: m_2 + mcx_1/l₁). Then Y π = Y_b β π for
+Y_b = Y[:, independent] and the r × 10 n matrix β.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from itertools import combinations_with_replacement
+
+import numpy as np
+import scipy.linalg
+
+from ..base.errors import ModelError
+from .algebra import Dual
+from .kinematics import joint_transforms
+from .model import Model
+from .newton_euler import torque_entries
+from .parameters import parameter_values, symbolic_model
+from .sampling import random_states
+from .state import as_state, entries, layout_of
+
+PARAMETER_NAMES = ("m", "mcx", "mcy", "mcz", "Ixx", "Ixy", "Iyy", "Ixz", "Iyz", "Izz")
+PARAMETER_SYMBOLS = ("m{i}", "m{i}c{i},x", "m{i}c{i},y", "m{i}c{i},z", "I{i},xx", "I{i},xy", "I{i},yy",
+                     "I{i},xz", "I{i},yz", "I{i},zz")  # for display: I{i} is ⁱIᵢ, about the origin
+TENSOR = ((4, 5, 7), (5, 6, 8), (7, 8, 9))  # where entry (a, b) of I_o sits among a body's ten
+SEED = (1.0,) + (0.0,) * 9  # π₀ of every body: a unit point mass at its frame origin
+SAMPLES = 64  # random states stacked for the base parameters
+ZERO_COLUMN = 1e-12  # a column this small (relative to the largest) is a parameter that never acts
+RANK_TOLERANCE = 1e-9  # on unit-length columns: |R_kk| is the sine of the angle to the columns before
+FIT_TOLERANCE = 1e-8  # describe(): how exactly β must be a quadratic polynomial in the named lengths
+
+SUBSCRIPTS = str.maketrans("0123456789", "₀₁₂₃₄₅₆₇₈₉")
+
+
+def parameter_names(model: Model) -> list[str]:
+    """The names of π's entries, ``m_1 … Izz_n`` (body numbers from 1).
+
+    >>> from course_dynamics import load_robot
+    >>> parameter_names(load_robot("pendulum"))
+    ['m_1', 'mcx_1', 'mcy_1', 'mcz_1', 'Ixx_1', 'Ixy_1', 'Iyy_1', 'Ixz_1', 'Iyz_1', 'Izz_1']
+    """
+    return [f"{name}_{i}" for i in range(1, model.n + 1) for name in PARAMETER_NAMES]
+
+
+def parameter_symbols(model: Model) -> list[str]:
+    """Craig-like display symbols of π's entries: m₂, m₂c₂,x (a first moment), I₂,xx (²I₂ about the origin).
+
+    >>> from course_dynamics import load_robot
+    >>> parameter_symbols(load_robot("two_link"))[10:14]
+    ['m₂', 'm₂c₂,x', 'm₂c₂,y', 'm₂c₂,z']
+    """
+    numbers = [str(i).translate(SUBSCRIPTS) for i in range(1, model.n + 1)]
+    return [symbol.format(i=number) for number in numbers for symbol in PARAMETER_SYMBOLS]
+
+
+def _parallel_axis(mass, c) -> list:
+    """m (cᵀc 1 − c cᵀ), entry by entry, for scalars of any kind (floats, sympy, Duals) (6.25)."""
+    squared = c[0] * c[0] + c[1] * c[1] + c[2] * c[2]
+    return [[mass * ((squared if a == b else 0) - c[a] * c[b]) for b in range(3)] for a in range(3)]
+
+
+def _is_number(x) -> bool:
+    return isinstance(x, (int, float, np.integer, np.floating))
+
+
+def _body_parameters(body) -> list:
+    m, c, I = body.mass_s, list(body.p_com_v), body.I_com_m.rows
+    shift = _parallel_axis(m, c)
+    I_o = [[I[a][b] + shift[a][b] for b in range(3)] for a in range(3)]
+    return [m, m * c[0], m * c[1], m * c[2], I_o[0][0], I_o[0][1], I_o[1][1], I_o[0][2], I_o[1][2], I_o[2][2]]
+
+
+def parameters(model: Model) -> np.ndarray:
+    """π of the model, shape (10 n,): per body m, m c, I_o (module table); object dtype for symbolic models.
+
+    >>> from course_dynamics import load_robot
+    >>> parameters(load_robot("two_link"))[10:20].tolist()   # m₂ = 1 kg at 0.4 m: h = 0.4, Izz = m l² = 0.16
+    [1.0, 0.4, 0.0, 0.0, 0.0, 0.0, 0.16000000000000003, 0.0, 0.0, 0.16000000000000003]
+    """
+    values = [x for body in model.bodies for x in _body_parameters(body)]
+    return np.array(values, dtype=float if all(_is_number(x) for x in values) else object)
+
+
+def _reciprocal(m):
+    return Dual(1.0 / m.a, -m.b / (m.a * m.a)) if isinstance(m, Dual) else 1 / m
+
+
+def _body_from(body, number: int, p: list):
+    m, h = p[0], p[1:4]
+    I_o = [[p[k] for k in row] for row in TENSOR]
+    if _is_number(m) and (m < 0 or (m == 0 and any(x != 0 for x in h))):
+        raise ModelError(f"body {number} '{body.name}' (joint '{body.joint}'): mass {m:g} kg with first moment "
+                         f"m c = ({', '.join(f'{x:g}' for x in h)}) kg m has no centre of mass; a mass must be > 0 "
+                         "(or 0 with m c = 0, a massless body)")
+    if _is_number(m) and m == 0:
+        return replace(body, mass=0.0, I_com=I_o)  # massless: the centre of mass is never used, keep it
+    c = [x * _reciprocal(m) for x in h]
+    shift = _parallel_axis(m, c)
+    return replace(body, mass=m, p_com=c, I_com=[[I_o[a][b] - shift[a][b] for b in range(3)] for a in range(3)])
+
+
+def with_parameters(model: Model, pi) -> Model:
+    """The same robot with inertial parameters π (shape (10 n,), module table): m, ⁱP_Cᵢ = h/m, ᶜⁱIᵢ by (6.25).
+
+    Floats, sympy expressions or Dual numbers. A ModelError names the body whose mass is
+    negative, or zero with a non-zero first moment (no centre of mass); a zero mass with
+    h = 0 is a massless body and keeps its centre of mass. Nothing else is checked: an
+    identified π need not be physical (I_com positive definite).
+
+    >>> from course_dynamics import load_robot
+    >>> arm = load_robot("two_link")
+    >>> pi = parameters(arm)
+    >>> pi[10:12] = [2.0, 0.6]                       # m₂ = 2 kg, h = 0.6 kg m: the centre of mass at 0.3 m
+    >>> heavier = with_parameters(arm, pi).bodies[1]
+    >>> heavier.mass, heavier.p_com.tolist()
+    (2.0, [0.3, 0.0, 0.0])
+    >>> pi[10] = 0.0
+    >>> with_parameters(arm, pi)
+    Traceback (most recent call last):
+    course_dynamics.base.errors.ModelError: body 2 'link2' (joint 'theta2'): mass 0 kg with first moment
+    m c = (0.6, 0, 0) kg m has no centre of mass; a mass must be > 0 (or 0 with m c = 0, a massless body)
+    """
+    pi = np.asarray(pi)
+    if pi.shape != (10 * model.n,):
+        raise ModelError(f"robot '{model.name}' has {model.n} bodies, so π has {10 * model.n} entries, "
+                         f"got shape {pi.shape}")
+    values = pi.astype(float).tolist() if pi.dtype != object else list(pi)
+    bodies = tuple(_body_from(body, i + 1, values[10 * i:10 * i + 10]) for i, body in enumerate(model.bodies))
+    return replace(model, bodies=bodies)
+
+
+def regressor(model: Model, q, qd, qdd) -> np.ndarray:
+    """Y(Θ, Θ̇, Θ̈), shape (n, 10 n) or (N, n, 10 n): τ = Y π under ``model.gravity`` (module docstring).
+
+    Parameters
+    ----------
+    model : Model
+    q, qd, qdd : array_like, shape (n,) or (N, n)
+        Θ, Θ̇, Θ̈ in ``model.joint_names`` order, as for ``inverse_dynamics`` (numpy object
+        arrays of sympy symbols give a symbolic Y).
+
+    Returns
+    -------
+    Y : ndarray, shape (n, 10 n) or (N, n, 10 n)
+        Column k is ∂τ/∂π_k (N·m or N per unit of parameter k, named by :func:`parameter_names`).
+
+    Examples
+    --------
+    >>> from course_dynamics import load_robot, inverse_dynamics
+    >>> arm = load_robot("pendulum")                 # θ = 0 hangs down: τ = m g l sin θ + m l² θ̈
+    >>> Y = regressor(arm, [0.5], [0.0], [1.0])
+    >>> dict(zip(parameter_names(arm), Y[0].round(4)))["mcz_1"]      # −g sin θ per unit of m c_z (c_z = −l)
+    np.float64(-4.7032)
+    >>> bool(np.allclose(Y @ parameters(arm), inverse_dynamics(arm, [0.5], [0.0], [1.0])))
+    True
+    """
+    q, qd, qdd = as_state(model, q, "q"), as_state(model, qd, "qd"), as_state(model, qdd, "qdd")
+    batch = layout_of(q, qd, qdd).batch
+    count = 10 * model.n
+    seeds = np.eye(count).reshape((count, count) + (1,) * len(batch))  # e_k, broadcasting over the batch
+    seeded = with_parameters(model, np.array([Dual(a, seeds[k]) for k, a in enumerate(SEED * model.n)], dtype=object))
+    tau = torque_entries(seeded, joint_transforms(model, entries(q)), entries(qd), entries(qdd), model.gravity_v)
+    Y = np.stack([np.broadcast_to(t.b if isinstance(t, Dual) else 0.0, (count,) + batch) for t in tau])
+    return np.moveaxis(Y, (0, 1), (-2, -1)).copy()
+
+
+def _stacked(model: Model, samples: int, seed: int) -> np.ndarray:
+    q, qd, qdd = random_states(model, samples, seed)
+    return regressor(model, q, qd, qdd).reshape(-1, 10 * model.n)
+
+
+def _grouping(W: np.ndarray, independent, acting) -> np.ndarray:
+    """β (r, columns) with W π = W[:, independent] β π, solved on unit-length columns; |K| < RANK_TOLERANCE is 0."""
+    scale = np.linalg.norm(W, axis=0)
+    dependent = [k for k in acting if k not in independent]
+    beta = np.zeros((len(independent), W.shape[1]))
+    beta[np.arange(len(independent)), independent] = 1.0
+    if dependent:
+        unit = W[:, independent] / scale[independent]
+        K = np.linalg.lstsq(unit, W[:, dependent] / scale[dependent], rcond=None)[0]
+        K[np.abs(K) < RANK_TOLERANCE] = 0.0
+        beta[:, dependent] = K * scale[dependent] / scale[independent][:, None]
+    return beta
+
+
+@dataclass(frozen=True)
+class BaseParameters:
+    """The identifiable combinations π_b = β π of a robot's parameters (:func:`base_parameters`).
+
+    ``independent`` are the r columns of Y kept (Y_b = Y[..., independent]), ``beta`` is
+    (r, 10 n), so that Y π = Y_b β π for every π.
+
+    >>> from course_dynamics import load_robot
+    >>> base = base_parameters(load_robot("two_link"))
+    >>> base.rank, [base.names[k] for k in base.independent]
+    (6, ['mcx_1', 'mcy_1', 'Izz_1', 'mcx_2', 'mcy_2', 'Izz_2'])
+    >>> print(base.describe())
+    π_b1 = mcx_1 + 0.5 m_2
+    π_b2 = mcy_1
+    π_b3 = Izz_1 + 0.25 m_2
+    π_b4 = mcx_2
+    π_b5 = mcy_2
+    π_b6 = Izz_2
+
+    In the notes' symbols (Craig 6.7: point masses, so Izz about the centre of mass is 0):
+    l₁ is found in the geometry, the rest in π.
+
+    >>> print(base.describe(["m1", "m2", "l1", "lc1", "lc2"]))
+    π_b1 = mcx_1 + l1·m_2 = l1·m2 + lc1·m1
+    π_b2 = mcy_1 = 0
+    π_b3 = Izz_1 + l1²·m_2 = l1²·m2 + lc1²·m1
+    π_b4 = mcx_2 = lc2·m2
+    π_b5 = mcy_2 = 0
+    π_b6 = Izz_2 = lc2²·m2
+    """
+
+    names: tuple[str, ...]
+    independent: tuple[int, ...]
+    beta: np.ndarray
+    model: Model = field(repr=False, compare=False)
+    samples: int = SAMPLES
+    seed: int = 0
+
+    @property
+    def rank(self) -> int:
+        return len(self.independent)
+
+    def values(self, pi) -> np.ndarray:
+        """π_b = β π, shape (r,)."""
+        return self.beta @ np.asarray(pi)
+
+    def regressor(self, Y) -> np.ndarray:
+        """Y_b: the independent columns of a regressor Y (..., n, 10 n)."""
+        return np.asarray(Y)[..., list(self.independent)]
+
+    def describe(self, symbols=(), digits: int = 4) -> str:
+        """One line per base parameter, ``π_b1 = …``, coefficients to ``digits`` significant figures.
+
+        With ``symbols`` (names of :mod:`course_dynamics.core.parameters`: m1, l1, lc2, Izz1, …),
+        each line also gives the combination in those symbols: masses, centres of mass and
+        inertias through π, and a named link length l<i> through β, found by fitting β (a
+        polynomial of degree ≤ 2 in the lengths) over seeded lengths within ±50 %; if β is not
+        such a polynomial to ``FIT_TOLERANCE``, its numbers are kept.
+        """
+        if not symbols:
+            lines = (f"π_b{j + 1} = {_combination(row, self.names, digits)}" for j, row in enumerate(self.beta))
+            return "\n".join(lines)
+        import sympy
+
+        exact, _ = symbolic_model(self.model, symbols)
+        pi = parameters(exact)
+        beta = _symbolic_beta(self, exact, digits)
+        lines = []
+        for j in range(self.rank):
+            theirs = sympy.expand(sum(beta[j][k] * pi[k] for k in range(len(pi))))
+            lines.append(f"π_b{j + 1} = {_combination(beta[j], self.names, digits)} = {_pretty(theirs)}")
+        return "\n".join(lines)
+
+
+def _combination(row, names, digits: int) -> str:
+    """Σ β_k name_k in the columns' order (the independent one first), numbers or sympy coefficients."""
+    text = ""
+    for coefficient, name in ((c, n) for c, n in zip(row, names) if c != 0):
+        negative, factor = _term(coefficient, digits)
+        sign = ("- " if negative else "") if not text else (" - " if negative else " + ")
+        text += f"{sign}{factor}{name}"
+    return text
+
+
+def _term(coefficient, digits: int) -> tuple[bool, str]:
+    """(negative, the factor's text) of a coefficient, a float or a sympy expression."""
+    if _is_number(coefficient):
+        size = abs(coefficient)
+        return coefficient < 0, "" if np.isclose(size, 1.0, rtol=1e-12) else f"{size:.{digits}g} "
+    negative = coefficient.could_extract_minus_sign()
+    size = -coefficient if negative else coefficient
+    return negative, "" if size == 1 else f"({_pretty(size)})·" if size.is_Add else f"{_pretty(size)}·"
+
+
+def _pretty(expression) -> str:
+    return str(expression).replace("**2", "²").replace("**3", "³").replace("*", "·")
+
+
+def _number(value: float, digits: int):
+    import sympy
+
+    return sympy.Integer(round(value)) if abs(value - round(value)) < FIT_TOLERANCE else sympy.Float(value, digits)
+
+
+def _symbolic_beta(base: BaseParameters, exact: Model, digits: int) -> list:
+    """β with the named lengths of the geometry as symbols: a degree-2 polynomial fit over seeded lengths."""
+    import sympy
+
+    model = base.model
+    lengths = sorted({s for body in exact.bodies for x in body.P for s in getattr(x, "free_symbols", ())}, key=str)
+    monomials = [()] + [m for d in (1, 2) for m in combinations_with_replacement(range(len(lengths)), d)]
+    nominal = np.array([parameter_values(model)[str(s)] for s in lengths])
+    rng = np.random.default_rng(base.seed)
+    points = nominal * rng.uniform(0.5, 1.5, (2 * len(monomials), len(lengths))) if lengths else np.zeros((1, 0))
+    acting = [k for k in range(len(base.names)) if k in base.independent or base.beta[:, k].any()]
+    betas = []
+    for point in points:
+        values = dict(zip(lengths, point))
+        bodies = [replace(body, P=[float(sympy.sympify(x).subs(values)) for x in shaped.P]) if lengths else body
+                  for body, shaped in zip(model.bodies, exact.bodies)]
+        W = _stacked(replace(model, bodies=tuple(bodies)), base.samples, base.seed)
+        betas.append(_grouping(W, list(base.independent), acting).ravel())
+    A = np.array([[np.prod(point[list(m)]) for m in monomials] for point in points]).reshape(len(points), -1)
+    B = np.array(betas)
+    C = np.linalg.lstsq(A, B, rcond=None)[0]
+    if lengths and np.abs(A @ C - B).max() > FIT_TOLERANCE * max(np.abs(B).max(), 1.0):
+        lengths, monomials, C = [], [()], base.beta.reshape(1, -1)  # not a polynomial: keep the numbers
+    terms = [sympy.Mul(*(lengths[i] for i in m)) for m in monomials]
+    flat = [sum((_number(c, digits) * t for c, t in zip(column, terms) if abs(c) > FIT_TOLERANCE), sympy.Integer(0))
+            for column in C.T]
+    width = len(base.names)
+    return [flat[j * width:(j + 1) * width] for j in range(base.rank)]
+
+
+def base_parameters(model: Model, samples: int = SAMPLES, seed: int = 0) -> BaseParameters:
+    """The base parameters: rank r, independent columns and β, from Y stacked over ``samples`` random states.
+
+    States from :func:`~course_dynamics.core.sampling.random_states` (``seed``); method and
+    tolerances in the module docstring. A ModelError if the pivoted and the ordered QR
+    disagree about the rank (more samples may settle it).
+
+    >>> from course_dynamics import load_robot
+    >>> base = base_parameters(load_robot("rp_arm"))
+    >>> base.rank                                    # the slider's mass and first moment act on their own
+    6
+    >>> print(base.describe(["m1", "m2", "Izz1", "Izz2", "lc1"]))
+    π_b1 = mcx_1 = lc1·m1
+    π_b2 = mcy_1 = 0
+    π_b3 = Izz_1 + Izz_2 = Izz1 + Izz2 + lc1²·m1
+    π_b4 = m_2 = m2
+    π_b5 = mcx_2 = 0
+    π_b6 = mcy_2 = 0
+    """
+    W = _stacked(model, samples, seed)
+    scale = np.linalg.norm(W, axis=0)
+    acting = np.flatnonzero(scale > ZERO_COLUMN * scale.max())
+    unit = W[:, acting] / scale[acting]
+    R = scipy.linalg.qr(unit, mode="r", pivoting=True)[0]
+    rank = int(np.sum(np.abs(np.diag(R)) > RANK_TOLERANCE * abs(R[0, 0])))
+    ordered = np.abs(np.diag(scipy.linalg.qr(unit, mode="r")[0]))
+    independent = [int(k) for k, d in zip(acting, ordered) if d > RANK_TOLERANCE]
+    if len(independent) != rank:
+        raise ModelError(f"robot '{model.name}': the regressor's rank is {rank} by pivoted QR but {len(independent)} "
+                         f"in the model's order at tolerance {RANK_TOLERANCE:g}; try more samples than {samples}")
+    beta = _grouping(W, independent, list(acting))
+    return BaseParameters(tuple(parameter_names(model)), tuple(independent), beta, model, samples, seed)
