@@ -59,7 +59,7 @@ def test_currents_times_torque_constants_are_the_measured_torques():
     np.testing.assert_allclose(result.log.measured, tau, rtol=1e-12)
     without = torques_from_log(UR5, logged(currents=tau / k))
     assert without.residuals is None and any("--torque-constant" in n for n in without.notes)
-    with pytest.raises(InputError, match="torque constants: 6 finite numbers are needed"):
+    with pytest.raises(InputError, match="torque constants: 6 finite numbers, none zero, are needed"):
         torques_from_log(UR5, logged(currents=tau / k), torque_constants=[1.0, 2.0])
     with pytest.raises(InputError, match="the log has no motor currents"):
         torques_from_log(UR5, logged(), torque_constants=k)

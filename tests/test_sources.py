@@ -187,3 +187,78 @@ def test_the_plot_draws_the_measured_torques_beneath_ours(capsys, tmp_path, suff
     assert "measured" in text and "residual rms 0.5" in text                  # the legend and each panel's title
     if suffix == ".html":
         assert "The model against the robot (measured: tau_meas)" in text and "<svg" in text
+
+
+# ---- what a red-team pass found: each a regression test
+
+
+def test_no_output_replaces_the_urdf_or_a_map_file(capsys, tmp_path, rtde):
+    urdf = tmp_path / "arm.urdf"
+    urdf.write_bytes(robot_path("ur5").read_bytes())
+    before = urdf.read_bytes()
+    code, _, err = run(capsys, "torques", str(urdf), "--log", str(rtde), "--out", str(urdf))
+    assert_one_line_error(code, err, "the output would overwrite the input")
+    mapping = tmp_path / "m.toml"
+    mapping.write_text('t = "timestamp"\n')
+    code, _, err = run(capsys, "torques", "ur5", "--log", str(rtde), "--map", str(mapping), "--out", str(mapping))
+    assert_one_line_error(code, err, "the output would overwrite the input")
+    assert urdf.read_bytes() == before and mapping.read_text() == 't = "timestamp"\n'
+
+
+def test_a_loop_of_links_is_one_error(capsys, tmp_path, rtde):
+    (tmp_path / "a").symlink_to(tmp_path / "b")
+    (tmp_path / "b").symlink_to(tmp_path / "a")
+    for argv in (("--log", str(tmp_path / "a")), ("--log", str(rtde), "--out", str(tmp_path / "a"))):
+        code, _, err = run(capsys, "torques", "ur5", *argv)
+        assert_one_line_error(code, err, "a loop of symbolic links")
+
+
+def test_a_clock_that_jitters_or_drifts_within_the_tolerance_is_read(capsys, tmp_path):
+    for name, t in (("jitter", MOTION.t + np.random.default_rng(3).uniform(-0.05, 0.05, len(MOTION.t)) / 500),
+                    ("drift", MOTION.t[0] + np.arange(len(MOTION.t)) * 1.06 / 500)):
+        log = tmp_path / f"{name}.csv"
+        header = ["t"] + [f"q_{j}" for j in UR5.joint_names]
+        write_csv(log, header, [t] + list(MOTION.q.T), fmt="{:.12g}")
+        code, _, err = run(capsys, "torques", "ur5", "--log", str(log))
+        assert code == 0, err
+
+
+def test_units_that_cannot_be_right_are_refused(capsys, tmp_path, rtde):
+    code, _, err = run(capsys, "torques", "ur5", "--log", str(rtde), "--time-unit", "ms")
+    assert_one_line_error(code, err, "a ur-rtde log's times are in seconds; --time-unit is for tables")
+    degrees = tmp_path / "deg.csv"
+    header = ["t"] + [f"q_{j}" for j in UR5.joint_names] + [f"qd_{j}" for j in UR5.joint_names]
+    write_csv(degrees, header, [MOTION.t] + list(MOTION.q.T) + list(np.degrees(MOTION.qd).T), fmt="{:.12g}")
+    code, _, err = run(capsys, "torques", "ur5", "--log", str(degrees))
+    assert_one_line_error(code, err, "times the rate of q_shoulder_pan_joint", "57.3 is degrees")
+    code, _, err = run(capsys, "torques", "ur5", "--log", str(rtde), "--set", "qd_elbow_joint=0.3")
+    assert_one_line_error(code, err, "qd_elbow_joint can be set only for a joint whose q is set too")
+    code, _, err = run(capsys, "torques", "ur5", "--log", str(rtde), "--torque-constant", "0,0,0,0,0,0")
+    assert_one_line_error(code, err, "none zero")
+    code, _, err = run(capsys, "torques", "ur5", "--log", str(rtde), "--resample", "1e7")
+    assert_one_line_error(code, err, "resampling at 1e+07 Hz a log recorded at about 500 Hz")
+
+
+def test_a_measured_torque_no_robot_could_make_is_refused_before_any_file_is_written(capsys, tmp_path):
+    log = tmp_path / "huge.csv"
+    tau = inverse_dynamics(UR5, MOTION.q, MOTION.qd, MOTION.qdd)
+    tau[100, 2] = 1e160
+    header = (["t"] + [f"q_{j}" for j in UR5.joint_names] + [f"qd_{j}" for j in UR5.joint_names]
+              + [f"tau_meas_{j}" for j in UR5.joint_names])
+    write_csv(log, header, [MOTION.t] + list(MOTION.q.T) + list(MOTION.qd.T) + list(tau.T), fmt="{:.12g}")
+    out = tmp_path / "o.csv"
+    code, _, err = run(capsys, "torques", "ur5", "--log", str(log), "--out", str(out), "--plot", str(tmp_path / "p.html"))
+    assert_one_line_error(code, err, "row 101: a measured torque of 1e+160 (joint 3) is beyond any robot's")
+    assert not out.exists() and not (tmp_path / "p.html").exists()
+
+
+def test_a_file_inside_a_ros2_bag_points_to_its_folder_and_clock_times_print_in_full(capsys, tmp_path):
+    from bagmakers import write_joint_states
+
+    tau = inverse_dynamics(UR5, MOTION.q, MOTION.qd, MOTION.qdd)
+    bag = write_joint_states(tmp_path / "run", "ros2-sqlite3", UR5.joint_names, MOTION.t + 1.7e9, MOTION.q,
+                             MOTION.qd, tau + 1.0)
+    code, _, err = run(capsys, "torques", "ur5", "--log", str(next(bag.glob("*.db3"))))
+    assert_one_line_error(code, err, "part of a ROS 2 bag", "give the bag's folder")
+    code, out, _ = run(capsys, "torques", "ur5", "--log", str(bag))
+    assert code == 0 and "1.7e+09" not in out and "1700001234." in out      # the residual's "at t", in full

@@ -63,23 +63,29 @@ def _is_streamed(path: Path) -> bool:
 
 def check_distinct(inputs, outputs) -> None:
     """InputError when an output would overwrite an input or another output (the same file by any name)."""
+    def resolved(path) -> Path:
+        try:
+            return Path(path).resolve()
+        except (RuntimeError, OSError):  # a loop of symbolic links
+            raise InputError(f"{path}: a loop of symbolic links") from None
+
     def key(path):
         path = Path(path)
         try:
             st = os.stat(path)
             return ("inode", st.st_dev, st.st_ino) if stat.S_ISREG(st.st_mode) else None
         except OSError:
-            return ("path", str(path.resolve()))
+            return ("path", str(resolved(path)))
 
-    folders = [Path(p).resolve() for p in inputs if p is not None and Path(p).is_dir()]  # a ROS 2 bag is a folder
+    folders = [resolved(p) for p in inputs if p is not None and os.path.isdir(p)]  # a ROS 2 bag is a folder
     seen = {}
     for role, paths in (("input", inputs), ("output", outputs)):
         for path in paths:
             if path is None or str(path) == STDOUT or (role == "output" and _is_streamed(Path(path))):
                 continue
-            if role == "output" and any(Path(path).resolve().is_relative_to(f) for f in folders):
-                raise InputError(f"{path}: the output would be written inside the input folder "
-                                 f"{next(f for f in folders if Path(path).resolve().is_relative_to(f))}")
+            inside = [f for f in folders if role == "output" and resolved(path).is_relative_to(f)]
+            if inside:
+                raise InputError(f"{path}: the output would be written inside the input folder {inside[0]}")
             k = key(path)
             if k is None:
                 continue

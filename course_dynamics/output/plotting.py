@@ -44,7 +44,7 @@ def _save(figure, path) -> None:
     io.write_bytes(path, data)
 
 
-def _pyplot():
+def pyplot():
     import matplotlib
 
     matplotlib.use("Agg")  # no screen needed
@@ -62,7 +62,7 @@ def plot_trajectory(trajectory: Trajectory, path, title: str = "") -> None:
 
 def trajectory_figure(trajectory: Trajectory, title: str = ""):
     """The figure of :func:`plot_trajectory`."""
-    plt = _pyplot()
+    plt = pyplot()
 
     figure, axes = plt.subplots(3, 1, sharex=True, figsize=(8, 7.5), constrained_layout=True)
     for j, name in enumerate(trajectory.joints):
@@ -90,7 +90,7 @@ def ensemble_figure(trajectory: Trajectory, title: str = ""):
     """The figure of :func:`plot_ensemble`."""
     import numpy as np
 
-    plt = _pyplot()
+    plt = pyplot()
 
     q, t = trajectory.q, trajectory.t
     distance = np.abs(q[:, 1:, :] - q[:, :1, :]).max(axis=-1)  # (T, K − 1)
@@ -117,7 +117,7 @@ def torque_figure(result, title: str = ""):
     where the robot measured its torques, those in grey beneath ours, with the residual in the panel's title."""
     import numpy as np
 
-    plt = _pyplot()
+    plt = pyplot()
     model, report = result.model, result.report
     n = model.n
     figure, axes = plt.subplots(n, 1, sharex=True, figsize=(8, 1.2 + 1.5 * n), constrained_layout=True, squeeze=False)
@@ -161,7 +161,7 @@ def torque_figure(result, title: str = ""):
 
 def torques_page(result, title: str = "") -> str:
     """A self-contained HTML page: the torque figure (SVG) and the limits table; every name escaped."""
-    plt = _pyplot()
+    plt = pyplot()
     figure = torque_figure(result, title)
     svg = figure_bytes(figure, "svg").decode("utf-8")
     plt.close(figure)

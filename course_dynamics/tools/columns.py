@@ -144,6 +144,10 @@ def plan_columns(model: Model, theirs: Iterable[str], *, columns: Mapping[str, s
     for name in constants:
         if name.startswith(MEASURED):
             raise InputError(f"{name} is something the robot measured: it can be read from the log, not set")
+        kind, _, joint = name.partition("_")
+        if kind in ("qd", "qdd") and f"q_{joint}" not in constants:
+            raise InputError(f"{name} can be set only for a joint whose q is set too (a constant rate under a logged "
+                             f"position would contradict it); q_{joint} comes from the log")
     for name, other in columns.items():
         if other not in available:
             raise InputError(f"{where}: no column '{other}' (mapped from {name}); columns: {', '.join(theirs)}")

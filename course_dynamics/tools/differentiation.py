@@ -251,8 +251,9 @@ def _plan(y: np.ndarray, sigma: float, deriv: int, windows: np.ndarray, start: i
     return _Plan(window, best[1], best[2], float(inner_bias), float(best[3]))
 
 
-def _filter(y: np.ndarray, plan: _Plan, deriv: int, t_step: float) -> tuple[np.ndarray, np.ndarray]:
-    """The ``deriv``-th derivative of ``y`` (K,) by ``plan``, and ‖h‖₂ / Δtᵈ of each row's weights."""
+def _filter(y: np.ndarray, plan: _Plan, deriv: int, t_step: float, sigma: float = 0.0):
+    """The ``deriv``-th derivative of ``y`` (K,) by ``plan``, ‖h‖₂ / Δtᵈ of each row's weights, and each row's
+    disagreement / Δtᵈ at the ends: between the cubic and the quintic fit of the same samples (0 inside)."""
     samples, half, n = len(y), plan.window // 2, plan.edge_window
     h = _weights(plan.window, POLYORDER, deriv)
     offset = y.mean() if deriv else 0.0             # derivatives ignore a constant; removing it saves digits
@@ -265,7 +266,14 @@ def _filter(y: np.ndarray, plan: _Plan, deriv: int, t_step: float) -> tuple[np.n
     values[samples - half:] = mirrored @ (y[samples - n:] - offset)
     gains[:half] = np.linalg.norm(edge, axis=1)
     gains[samples - half:] = gains[:half][::-1]
-    return values / t_step**deriv, gains / t_step**deriv
+    spread = np.zeros(samples)
+    other = next((o for o in EDGE_ORDERS if o != plan.edge_order and n >= o + 2), None)
+    if other is not None:
+        alternative = _weights(n, other, deriv, np.arange(half))
+        spread[:half] = np.abs(alternative @ (y[:n] - offset) - values[:half])
+        spread[samples - half:] = np.abs((alternative[::-1, ::-1] * (-1) ** deriv) @ (y[samples - n:] - offset)
+                                         - values[samples - half:])
+    return values / t_step**deriv, gains / t_step**deriv, spread / t_step**deriv
 
 
 def _explicit_window(samples: int, window: int, where: str) -> int:
@@ -345,11 +353,12 @@ def derivatives(t_step: float, q, qd=None, window: int | None = None, *, where: 
     rates = np.empty_like(q) if qd is None else qd
     with np.errstate(all="ignore"):
         for j, plan in enumerate(plans):
-            qdd[:, j], gains = _filter(source[:, j], plan, deriv, t_step)
+            qdd[:, j], gains, spread = _filter(source[:, j], plan, deriv, t_step, float(np.nan_to_num(sigma[j])))
             bias = np.full(samples, plan.bias)              # the fit's own error, in quadrature with the noise's
             half = min(plan.window // 2, samples // 2)
             bias[:half] = bias[samples - half:] = plan.edge_bias
-            sigma_qdd[:, j] = np.sqrt((sigma[j] * gains) ** 2 + (bias / t_step**deriv) ** 2)
+            # the fit's error: the log-wide estimate, or at the ends the two end fits' disagreement where larger
+            sigma_qdd[:, j] = np.sqrt((sigma[j] * gains) ** 2 + np.maximum(bias / t_step**deriv, spread) ** 2)
             if qd is None:
                 rates[:, j] = _filter(q[:, j], plan, 1, t_step)[0]
     if not (np.all(np.isfinite(qdd)) and np.all(np.isfinite(rates))):

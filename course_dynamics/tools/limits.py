@@ -32,6 +32,15 @@ import numpy as np
 from ..core.model import Model
 
 MERGE_GAP = 10  # samples
+
+
+def seconds(t: float) -> str:
+    """A time for reading: 6 digits, or milliseconds in full for clock times (a bag's 1.7e9 s since 1970).
+
+    >>> seconds(1.25), seconds(1700000000.0143)
+    ('1.25', '1700000000.014')
+    """
+    return f"{t:.6g}" if abs(t) < 1e5 else f"{t:.3f}"
 UNCERTAINTY_SIGMAS = 2.0  # the band of a verdict: ± 2σ, about 95 % for Gaussian noise
 
 
@@ -52,10 +61,10 @@ class Violation:
         unit = "N m or N" if self.kind == "effort" else "rad/s or m/s"
         if self.band:
             return (f"joint '{self.joint}': {self.kind} {self.peak:.4g} ± {self.band:.2g} is within the uncertainty of "
-                    f"the rates of the limit {self.limit:.4g} ({unit}) from t = {self.start:.6g} s to "
-                    f"t = {self.end:.6g} s")
+                    f"the rates of the limit {self.limit:.4g} ({unit}) from t = {seconds(self.start)} s to "
+                    f"t = {seconds(self.end)} s")
         return (f"joint '{self.joint}': {self.kind} {self.peak:.4g} exceeds the limit {self.limit:.4g} ({unit}) "
-                f"from t = {self.start:.6g} s to t = {self.end:.6g} s")
+                f"from t = {seconds(self.start)} s to t = {seconds(self.end)} s")
 
 
 @dataclass(frozen=True)

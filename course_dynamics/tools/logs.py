@@ -68,6 +68,8 @@ from .tables import joint_columns, stack_joint_columns
 # interpreted, 0.5 kB compiled, measured with tracemalloc) then stay under 60 MB however long the log.
 ROWS_AT_A_TIME = 2**15
 TIME_UNITS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9}
+MAX_MEASURED = 1e7          # N m: the largest industrial joints take about 1e5
+RATE_UNITS_RATIO = 3.0      # a logged Θ̇ this many times larger or smaller than dΘ/dt is in other units
 
 
 @dataclass(frozen=True)
@@ -127,9 +129,9 @@ def _measured(model: Model, plan, renamed: dict, samples: int, torque_constants,
     notes = []
     if torque_constants is not None:
         k = np.asarray(torque_constants, dtype=float).reshape(-1)
-        if k.shape != (model.n,) or not np.all(np.isfinite(k)):
-            raise InputError(f"torque constants: {model.n} finite numbers are needed (N m/A, one per joint: "
-                             f"{', '.join(model.joint_names)}), got {k.tolist()}")
+        if k.shape != (model.n,) or not np.all(np.isfinite(k)) or np.any(k == 0):
+            raise InputError(f"torque constants: {model.n} finite numbers, none zero, are needed (N m/A, one per "
+                             f"joint: {', '.join(model.joint_names)}), got {k.tolist()}")
         if not with_current:
             raise InputError(f"{where}: torque constants were given but the log has no motor currents "
                              "(current_<joint>, or an RTDE recording's actual_current_i)")
@@ -139,17 +141,27 @@ def _measured(model: Model, plan, renamed: dict, samples: int, torque_constants,
         measured = np.full((samples, model.n), np.nan)
         for j in with_tau:
             measured[:, model.joint_names.index(j)] = renamed[f"tau_meas_{j}"]
-        return measured, "tau_meas", notes
+        return _plausible(measured, where), "tau_meas", notes
     if with_current and torque_constants is not None:
         measured = np.full((samples, model.n), np.nan)
         for j in with_current:
             i = model.joint_names.index(j)
             measured[:, i] = k[i] * renamed[f"current_{j}"]
-        return measured, "currents times torque constants", notes
+        return _plausible(measured, where), "currents times torque constants", notes
     if with_current:
         notes.append("motor currents are logged: give torque constants (--torque-constant k1,...) to compare them "
                      "with the torques")
     return None, "", notes
+
+
+def _plausible(measured: np.ndarray, where: str) -> np.ndarray:
+    """Measured torques no robot could produce are a mistake (units, a corrupt cell), never a residual."""
+    big = np.abs(np.nan_to_num(measured)) > MAX_MEASURED
+    if big.any():
+        row, joint = np.argwhere(big)[0]
+        raise InputError(f"{where}: row {row + 1}: a measured torque of {measured[row, joint]:.3g} (joint {joint + 1}) "
+                         f"is beyond any robot's ({MAX_MEASURED:g} N m); check the log's units and torque constants")
+    return measured
 
 
 def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[str, str] | None = None,
@@ -183,6 +195,8 @@ def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[
     data, where, line = source.columns, source.where, source.line
     if time_unit not in TIME_UNITS:
         raise InputError(f"unknown time unit '{time_unit}' (choose from {', '.join(TIME_UNITS)})")
+    if time_unit != "s" and source.format in ("bag", "ur-rtde"):
+        raise InputError(f"{where}: a {source.format} log's times are in seconds; --time-unit is for tables")
     plan = plan_columns(model, list(data) + list(source.text), columns=merged_map(source.implied, columns),
                         constants=constants, where=where)
     for name, theirs in plan.read.items():
@@ -248,7 +262,8 @@ def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[
         if j not in derived_qdd:
             qdd[:, i] = renamed[f"qdd_{j}"]
     sigma_qdd = np.zeros_like(q)
-    if plan.derived:
+    if plan.derived:  # a motion to differentiate (a full-state log may list unrelated states)
+        _check_rate_units(model, plan, q, qd, step, where)
         sigma_qdd, found = _differentiate(model, plan, q, qd, qdd, segments, step, window, where)
         notes += found
     for name, value in plan.constants.items():
@@ -256,6 +271,26 @@ def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[
     measured, measured_from, more = _measured(model, plan, renamed, samples, torque_constants, where)
     return JointLog(t=t, q=q, qd=qd, qdd=qdd, notes=tuple(notes + more), measured=measured,
                     measured_from=measured_from, segments=segments, sigma_qdd=sigma_qdd)
+
+
+def _check_rate_units(model, plan, q, qd, step, where) -> None:
+    """A logged Θ̇ must be the rate of the logged Θ: one in deg/s, or a t in other units, is refused by name."""
+    if step <= 0 or len(q) < 3:
+        return
+    stride = max(1, len(q) // 200)                      # differences over several samples: little noise
+    for i, j in enumerate(model.joint_names):
+        if f"qd_{j}" not in plan.read or f"q_{j}" not in plan.read:
+            continue
+        slope = (q[2 * stride:, i] - q[:-2 * stride, i]) / (2 * stride * step)
+        logged = qd[stride:len(q) - stride, i]
+        moving, rate = float(np.sqrt(np.mean(slope**2))), float(np.sqrt(np.mean(logged**2)))
+        if max(moving, rate) < 1e-3 or min(moving, rate) == 0:
+            continue
+        ratio = rate / moving
+        if not 1 / RATE_UNITS_RATIO < ratio < RATE_UNITS_RATIO:
+            raise InputError(f"{where}: the logged qd_{j} is {ratio:.3g} times the rate of q_{j} (RMS {rate:.3g} against "
+                             f"{moving:.3g} per s): are they in the same units (rad and rad/s; 57.3 is degrees), "
+                             f"and t in seconds (--time-unit)?")
 
 
 def _differentiate(model, plan, q, qd, qdd, segments, step, window, where) -> tuple[np.ndarray, list[str]]:

@@ -42,6 +42,7 @@ from ..base.errors import InputError
 JITTER = 0.1               # a step within 10 % of Δt is Δt; of k Δt, within 10 % of Δt, is k periods
 MAX_FILLED_PERIODS = 5     # a gap of up to 5 periods (4 dropped samples in a row) is filled
 MIN_SEGMENT_ROWS = 2
+MAX_UPSAMPLING = 4.0       # resampling above 4x the log's own rate invents, rather than evens, samples
 
 
 @dataclass(frozen=True)
@@ -86,7 +87,12 @@ def even_clock(t, columns: dict, *, resample: float | None = None, split_gaps: b
         return EvenLog(t, dict(columns), 0.0, ((0, len(t)),))
     if resample is not None:
         if not (np.isfinite(resample) and resample > 0):
-            raise InputError(f"the resampling rate must be a positive number of Hz, got {resample}")
+            raise InputError(f"the resampling rate must be a positive number of Hz, got {resample:.6g}")
+        own = 1.0 / _median_step(t, where)
+        if resample > MAX_UPSAMPLING * own:
+            raise InputError(f"{where}: resampling at {resample:.6g} Hz a log recorded at about {own:.6g} Hz would "
+                             f"invent {resample / own:.3g} samples for each one logged (at most {MAX_UPSAMPLING:g}x "
+                             f"its own rate)")
         dt = 1.0 / float(resample)
     else:
         dt = _median_step(t, where)
@@ -115,11 +121,13 @@ def even_clock(t, columns: dict, *, resample: float | None = None, split_gaps: b
     for piece in pieces:
         ts = t[piece]
         if resample is None:
-            count = int(np.rint((ts[-1] - ts[0]) / dt)) + 1
-            grid = ts[0] + dt * np.arange(count)
+            # each step is a whole number of periods (checked above); counting them step by step, not from the
+            # first time, keeps a clock that drifts within the tolerance from putting two samples in one slot
+            slots = np.concatenate([[0], np.cumsum(np.rint(np.diff(ts) / dt))]).astype(int)
+            count = int(slots[-1]) + 1
+            grid = np.interp(np.arange(count), slots, ts)   # logged samples keep their own times, filled ones between
             logged = np.zeros(count, dtype=bool)
-            logged[np.rint((ts - ts[0]) / dt).astype(int)] = True
-            grid[logged] = ts                       # logged samples keep their own times and values
+            logged[slots] = True
         else:
             grid = ts[0] + dt * np.arange(int(np.floor((ts[-1] - ts[0]) / dt + 1e-9)) + 1)
             logged = np.zeros(len(grid), dtype=bool)

@@ -65,10 +65,11 @@ def residual_report(joints, t, predicted, measured, source: str) -> ResidualRepo
         tau_meas = measured[:, i]
         if not np.all(np.isfinite(tau_meas)):
             continue
-        e = tau_meas - predicted[:, i]
-        spread = float(np.sum((tau_meas - tau_meas.mean()) ** 2))
+        scale = max(float(np.abs(tau_meas).max()), float(np.abs(predicted[:, i]).max()), np.finfo(float).tiny)
+        e, measured_s = (tau_meas - predicted[:, i]) / scale, tau_meas / scale   # scaled: no overflow in squares
+        spread = float(np.sum((measured_s - measured_s.mean()) ** 2))
         worst = int(np.argmax(np.abs(e)))
-        rows.append(JointResidual(joint, float(np.sqrt(np.mean(e**2))), float(abs(e[worst])), float(t[worst]),
-                                  1.0 - float(np.sum(e**2)) / spread if spread > 0 else None,
-                                  float(np.sqrt(np.mean(tau_meas**2)))))
+        rows.append(JointResidual(joint, scale * float(np.sqrt(np.mean(e**2))), scale * float(abs(e[worst])),
+                                  float(t[worst]), 1.0 - float(np.sum(e**2)) / spread if spread > 0 else None,
+                                  scale * float(np.sqrt(np.mean(measured_s**2)))))
     return ResidualReport(tuple(rows), source)

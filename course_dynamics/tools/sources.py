@@ -23,6 +23,7 @@ the clock (:mod:`~course_dynamics.tools.resampling`), the derivatives — is the
 from __future__ import annotations
 
 from collections.abc import Mapping
+from pathlib import Path
 from dataclasses import dataclass, field
 import numpy as np
 
@@ -97,6 +98,9 @@ def open_log(path, model: Model, *, format: str = "auto", topic: str | None = No
     if format not in FORMATS:
         raise InputError(f"unknown log format '{format}' (choose from {', '.join(FORMATS)})")
     bag = is_bag(path)
+    if not bag and (Path(path).parent / "metadata.yaml").is_file():
+        raise InputError(f"{path}: part of a ROS 2 bag (its folder holds metadata.yaml): give the bag's folder, "
+                         f"{Path(path).parent}")
     if format == "bag" or (format == "auto" and bag):
         if decimal is not None:
             raise InputError(f"{path}: a bag has no decimal separator to choose (--decimal is for tables)")

@@ -6,6 +6,7 @@ import sys
 import numpy as np
 
 from ...output import io, render
+from ...tools.limits import seconds
 from ...tools.loads import Payload, Wrench, payload_link
 from ...tools.columns import merged_map, parse_column_map, plan_columns
 from ...tools.logs import TIME_UNITS, torques_from_log
@@ -19,7 +20,6 @@ from ..options import (
     joint_values,
     load_robot_argument,
     numbers,
-    print_json,
 )
 
 HELP = "joint torques along a trajectory log, and a limits report"
@@ -37,39 +37,10 @@ DESCRIPTION = (
 
 def add_arguments(parser) -> None:
     add_robot_argument(parser)
-    parser.add_argument("--trajectory", "--log", dest="trajectory", required=True, metavar="LOG",
-                        help="the trajectory log (a CSV as 'simulate' writes, or a robot's own log)")
+    add_log_arguments(parser, "the trajectory log (a CSV as 'simulate' writes, or a robot's own log)")
     parser.add_argument("--out", help="output CSV, or - for standard output (written whole or not at all)")
-    parser.add_argument("--format", choices=FORMATS, default="auto",
-                        help="how to read the log: a table, a UR RTDE recording (timestamp, actual_q_i, actual_qd_i, "
-                             "actual_current_i; joint i is the URDF's i-th), a ROS bag/MCAP; default auto: a bag by "
-                             "its file, an RTDE recording by its header, else a table")
-    parser.add_argument("--topic", help="a bag's topic (default /joint_states, else its one joint-state topic)")
-    parser.add_argument("--resample", type=float, metavar="HZ",
-                        help="put the log on an even clock at HZ (cubic splines) before differentiating")
-    parser.add_argument("--split-gaps", action="store_true",
-                        help="treat the pieces between gaps longer than 5 sample periods as separate segments "
-                             "(each differentiated on its own) instead of refusing the log")
-    parser.add_argument("--torque-constant", metavar="K1,K2,...",
-                        help="motor torque constants, N m/A, one per joint: logged currents times these are the "
-                             "measured torques our model is compared with")
     parser.add_argument("--columns", action="store_true",
                         help="list the log's columns and which of them would be used, then stop")
-    parser.add_argument("--map", metavar="OURS=THEIRS,...|FILE.toml", action="append",
-                        help="our column names for the log's, e.g. q_shoulder_pan_joint=joint1_pos, or a TOML file "
-                             "of such lines (may be repeated)")
-    parser.add_argument("--set", metavar="OURS=VALUE,...", action="append",
-                        help="a constant for a signal the log lacks, e.g. q_panda_finger_joint1=0.04 (a constant q "
-                             "has zero rates; may be repeated)")
-    parser.add_argument("--decimal", choices=DECIMALS,
-                        help="the log's decimal separator, when it cannot tell (default: read from the log; a log "
-                             "that could be read two ways is refused)")
-    parser.add_argument("--dt", type=float, help="sample step, s, for a log without a t column")
-    parser.add_argument("--time-unit", choices=tuple(TIME_UNITS), default="s",
-                        help="the unit of the log's t column (default s)")
-    parser.add_argument("--smooth", type=int, metavar="W",
-                        help="Savitzky-Golay window in samples (odd, >= 5) for differentiated rates "
-                             "(default: about 20 ms of samples, at least 7)")
     parser.add_argument("--with-state", action="store_true", help="also write q_, qd_, qdd_ columns (as used)")
     add_friction_arguments(parser)
     parser.add_argument("--payload", metavar="MASS[@LINK][,CX,CY,CZ]", action="append",
@@ -87,6 +58,39 @@ def add_arguments(parser) -> None:
     parser.add_argument("--no-compile", action="store_true",
                         help="use the interpreted recursion even for a log long enough to compile the model for "
                              "(about 20 000 rows)")
+
+
+def add_log_arguments(parser, log_help: str) -> None:
+    """The options that say how to read a log: shared by every command that reads one (torques, identify)."""
+    parser.add_argument("--trajectory", "--log", dest="trajectory", required=True, metavar="LOG", help=log_help)
+    parser.add_argument("--format", choices=FORMATS, default="auto",
+                        help="how to read the log: a table, a UR RTDE recording (timestamp, actual_q_i, actual_qd_i, "
+                             "actual_current_i; joint i is the URDF's i-th), a ROS bag/MCAP; default auto: a bag by "
+                             "its file, an RTDE recording by its header, else a table")
+    parser.add_argument("--topic", help="a bag's topic (default /joint_states, else its one joint-state topic)")
+    parser.add_argument("--resample", type=float, metavar="HZ",
+                        help="put the log on an even clock at HZ (cubic splines) before differentiating")
+    parser.add_argument("--split-gaps", action="store_true",
+                        help="treat the pieces between gaps longer than 5 sample periods as separate segments "
+                             "(each differentiated on its own) instead of refusing the log")
+    parser.add_argument("--torque-constant", metavar="K1,K2,...",
+                        help="motor torque constants, N m/A, one per joint: logged currents times these are the "
+                             "measured torques")
+    parser.add_argument("--map", metavar="OURS=THEIRS,...|FILE.toml", action="append",
+                        help="our column names for the log's, e.g. q_shoulder_pan_joint=joint1_pos, or a TOML file "
+                             "of such lines (may be repeated)")
+    parser.add_argument("--set", metavar="OURS=VALUE,...", action="append",
+                        help="a constant for a signal the log lacks, e.g. q_panda_finger_joint1=0.04 (a constant q "
+                             "has zero rates; may be repeated)")
+    parser.add_argument("--decimal", choices=DECIMALS,
+                        help="the log's decimal separator, when it cannot tell (default: read from the log; a log "
+                             "that could be read two ways is refused)")
+    parser.add_argument("--dt", type=float, help="sample step, s, for a log without a t column")
+    parser.add_argument("--time-unit", choices=tuple(TIME_UNITS), default="s",
+                        help="the unit of the log's t column (default s)")
+    parser.add_argument("--smooth", type=int, metavar="W",
+                        help="one Savitzky-Golay window in samples (odd, >= 5) for differentiated rates (default: "
+                             "chosen per joint from the log's own noise)")
 
 
 def payload_arguments(args) -> list[Payload]:
@@ -157,6 +161,8 @@ def settings(args, model, payloads, wrenches, joint_friction) -> list[str]:
     lines = []
     if args.gravity is not None:
         lines.append(f"gravity {model.gravity.tolist()} m/s^2")
+    if args.torque_constant is not None:
+        lines.append(f"measured torques: currents times the torque constants {args.torque_constant} N m/A")
     if joint_friction is not None:
         lines.append(f"friction: viscous {joint_friction.viscous.tolist()}, Coulomb {joint_friction.coulomb.tolist()}")
     for p in payloads:
@@ -173,8 +179,8 @@ def _list_columns(source, model, mapping, fixed) -> int:
                         constants=fixed,
                         where=source.where)
     used = plan.used_as
-    rows = [["log column", "used as"]] + [[c, used.get(c, "(words: ignored)" if c in source.text else "(ignored)")]
-                                          for c in plan.theirs]
+    rows = [["log column", "used as"]] + [[render.one_line(c), used.get(c, "(words: ignored)" if c in source.text
+                                                                         else "(ignored)")] for c in plan.theirs]
     length = len(next(iter(source.columns.values()))) if source.columns else 0
     print(f"{source.where}: {length} rows, {len(plan.theirs)} columns" + (f" ({source.format})" if source.format !=
                                                                             "table" else ""))
@@ -205,7 +211,8 @@ def run(args) -> int:
         from ...output.plotting import PLOT_FORMATS, plot_format
 
         plot_format(args.plot, PLOT_FORMATS + ("html",))
-    io.check_distinct([args.trajectory], [args.out, args.plot])
+    maps = [text for text in args.map or () if "=" not in text]  # map files are inputs too
+    io.check_distinct([args.trajectory, model.source or None, *maps], [args.out, args.plot])
     for target in (args.out, args.plot):  # fail before reading a long log
         if target:
             io.check_writable(target)
@@ -220,9 +227,14 @@ def run(args) -> int:
     header, data = result.table(with_state=args.with_state)
     # What was derived and which options changed the torques are said at the top of the file
     # ('#' lines, which read_table and pandas' comment='#' skip); a plain run writes a plain CSV.
-    extra = list(result.notes) + settings(args, result.model, payloads, wrenches, joint_friction)
+    extra = [render.one_line(line) for line in list(result.notes) + settings(args, result.model, payloads, wrenches,
+                                                                            joint_friction)]
     comments = [f"course-dynamics torques {model.name} from {args.trajectory}"] + extra if extra else []
     report = result.report
+    # strict JSON of every figure: a result beyond floating-point range is an error before any file is written
+    document = render.json_text(dict(robot=model.name, log=str(args.trajectory), rows=len(result.t), out=args.out,
+                                     plot=args.plot, notes=list(result.notes), **report.record(),
+                                     residuals=None if result.residuals is None else result.residuals.record()))
     step = float(np.median(np.diff(result.t))) if len(result.t) > 1 else 0.0
     if step > SLOW_SAMPLES:
         print(f"warning: the samples are {step:g} s apart; if t is not in seconds, give --time-unit", file=sys.stderr)
@@ -235,9 +247,7 @@ def run(args) -> int:
     if args.out:
         io.write_csv(args.out, header, data, comments=comments)
     if args.json:
-        print_json(dict(robot=model.name, log=str(args.trajectory), rows=len(result.t), out=args.out, plot=args.plot,
-                        notes=list(result.notes), **report.record(),
-                        residuals=None if result.residuals is None else result.residuals.record()))
+        sys.stdout.write(document + "\n")
         return 1 if report.exceeded else 0
     if args.out != io.STDOUT:
         _print_report(result, sys.stdout)
@@ -249,7 +259,7 @@ def run(args) -> int:
 def _print_report(result, stream) -> None:
     report, model = result.report, result.model
     for note in result.notes:
-        print(f"note: {note}", file=stream)
+        print(f"note: {render.one_line(note)}", file=stream)
     rows = [["joint", "peak |tau|", "rms tau", "effort limit", "used", "peak |qd|", "velocity limit", "used"]]
     for r in report.rows():
         band = "" if not r["peak_tau_band"] else f" ±{r['peak_tau_band']:.2g}"
@@ -265,8 +275,8 @@ def _print_report(result, stream) -> None:
     if result.residuals is not None:
         rows = [["joint", "rms tau_meas", "rms residual", "peak residual", "at t", "R^2"]]
         for r in result.residuals.joints:
-            rows.append([r.joint, f"{r.rms_measured:.4g}", f"{r.rms:.4g}", f"{r.peak:.4g}", f"{r.peak_t:.6g}",
-                         "-" if r.r2 is None else f"{r.r2:.4f}"])
+            rows.append([r.joint, f"{r.rms_measured:.4g}", f"{r.rms:.4g}", f"{r.peak:.4g}", seconds(r.peak_t),
+                         "-" if r.r2 is None else f"{max(r.r2, -1e6):.4g}" if r.r2 < -1 else f"{r.r2:.4f}"])
         print(f"model against the robot (residual = measured - ours; measured: {result.residuals.source}):",
               file=stream)
         print(render.text_table(rows, align="<>>>>>"), file=stream)
