@@ -1,7 +1,11 @@
 """Robot logs from ROS bags (course_dynamics.tools.bags), written by tests/bagmakers.py from a known motion."""
 from __future__ import annotations
 
+import os
 import re
+import signal
+import threading
+from contextlib import contextmanager, suppress
 
 import numpy as np
 import pytest
@@ -276,3 +280,198 @@ def test_which_paths_are_bags(tmp_path, ur5):
     (tmp_path / "plain").mkdir()
     assert is_bag(folder) and is_bag(tmp_path / "run.bag") and is_bag(tmp_path / "run.mcap")
     assert not is_bag(tmp_path / "plain") and not is_bag(tmp_path / "run.csv") and not is_bag(folder / "metadata.yaml")
+
+
+# ---------------------------------------------------------------------------- hostile bags
+
+
+@contextmanager
+def fails_instead_of_hanging(fifos, seconds: float = 5.0):
+    """A regression that opens one of the named pipes ``fifos`` fails instead of hanging the suite.
+
+    After ``seconds`` a thread opens each pipe for writing and closes it, again and again, so a reader blocked in
+    open() gets end of file (and the test fails on its message): sqlite retries an open interrupted by a signal, so
+    SIGALRM alone would not free it; SIGALRM (twice as late) stops any other wait."""
+    done = threading.Event()
+
+    def release():
+        while not done.wait(0.05):
+            for fifo in fifos:
+                with suppress(OSError):  # ENXIO: nobody has it open for reading
+                    os.close(os.open(fifo, os.O_WRONLY | os.O_NONBLOCK))
+
+    def timeout(*_):
+        raise TimeoutError(f"still waiting after {2 * seconds:.0f} s: a named pipe was opened")
+
+    previous = signal.signal(signal.SIGALRM, timeout)
+    signal.alarm(int(2 * seconds))
+    timer = threading.Timer(seconds, release)
+    timer.start()
+    try:
+        yield
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, previous)
+        done.set()
+        timer.cancel()
+        timer.join()
+
+
+needs_fifos = pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="named pipes are POSIX")
+
+
+def short_bag(tmp_path, ur5, fmt: str, name: str = "run"):
+    model, motion, tau = ur5
+    return bagmakers.write_joint_states(tmp_path / name, fmt, model.joint_names, motion.t[:20], motion.q[:20],
+                                        motion.qd[:20], tau[:20])
+
+
+@needs_fifos
+@pytest.mark.parametrize("fmt", ["ros2-sqlite3", "ros2-mcap"])
+@pytest.mark.parametrize("where", ["storage file", "link to a pipe elsewhere", "unnamed file", "metadata.yaml"])
+def test_a_named_pipe_in_a_ros2_bag_folder_is_refused_without_waiting(tmp_path, ur5, fmt, where):
+    folder = short_bag(tmp_path, ur5, fmt)
+    (storage,) = (f for f in folder.iterdir() if f.name != "metadata.yaml")
+    fifo, kind = {"storage file": (storage, "a named pipe"),
+                  "link to a pipe elsewhere": (storage, "a link to a named pipe"),
+                  "unnamed file": (folder / "notes.txt", "a named pipe"),
+                  "metadata.yaml": (folder / "metadata.yaml", "a named pipe")}[where]
+    fifo.unlink(missing_ok=True)
+    if where.startswith("link"):
+        os.mkfifo(tmp_path / "elsewhere")
+        fifo.symlink_to(tmp_path / "elsewhere")
+    else:
+        os.mkfifo(fifo)
+    assert is_bag(folder)
+    pipe = tmp_path / "elsewhere" if where.startswith("link") else fifo
+    with fails_instead_of_hanging([pipe]), pytest.raises(InputError) as error:
+        read_bag(folder, ur5[0].joint_names)
+    assert str(error.value) == f"{fifo}: not a regular file ({kind}), in a ROS2 bag folder"
+
+
+@needs_fifos
+@pytest.mark.parametrize("name", ["run.bag", "run.mcap"])
+def test_a_bag_file_that_is_a_named_pipe_is_refused_without_opening_it(tmp_path, ur5, name):
+    fifo = tmp_path / name
+    os.mkfifo(fifo)
+    with fails_instead_of_hanging([fifo]), pytest.raises(InputError) as error:
+        read_bag(fifo, ur5[0].joint_names)
+    assert str(error.value) == f"{fifo}: not a regular file (a named pipe), not a bag"
+
+
+def gripper_states(t, names=("gripper_finger_joint",)):
+    """A gripper's own sensor_msgs/JointState messages, stamped ``t``: its joints only."""
+    return [{"stamp": stamp(time), "name": list(names), **{field: np.full(len(names), 0.01 * k) for field in
+                                                            ("position", "velocity", "effort")}}
+            for k, time in enumerate(t)]
+
+
+def interleaved(arm, gripper):
+    """The arm's and the gripper's messages on one topic, each arm message followed by a gripper message."""
+    return [message for pair in zip(arm, gripper) for message in pair]
+
+
+def test_a_grippers_own_joint_states_on_the_topic_are_skipped_with_a_note(tmp_path, ur5):
+    model, motion, tau = ur5
+    arm = bagmakers.joint_states(model.joint_names, motion.t, motion.q, motion.qd, tau, extra=())
+    messages = interleaved(arm, gripper_states(motion.t + 0.001))  # between the arm's (500 Hz)
+    log = read_bag(write_bag(tmp_path / "run", "ros2-mcap", {"/joint_states": (JOINT_STATE, messages)}),
+                   model.joint_names)
+    assert_columns(log, expected_columns(model.joint_names, motion.t, motion.q, motion.qd, tau))
+    rows = len(motion.t)
+    assert log.notes == ((f"messages holding none of the robot's joints, skipped: {rows} of {2 * rows} (first: "
+                          "message 2; they hold gripper_finger_joint)"),)
+
+
+def test_errors_after_skipped_messages_name_the_bags_own_message_numbers(tmp_path, ur5):
+    model, motion, tau = ur5
+    q, t = motion.q.copy(), motion.t.copy()
+    q[3, 2] = np.nan                                  # arm message 4: the bag's message 7
+    gripper = gripper_states(motion.t + 0.001)
+    path = write_bag(tmp_path / "nan", "ros1", {"/joint_states": (JOINT_STATE, interleaved(
+        bagmakers.joint_states(model.joint_names, t, q, motion.qd, tau, extra=()), gripper))})
+    with pytest.raises(InputError, match=re.escape(f"message 7 ({time_text(t[3])}): position of joint 'elbow_joint'")):
+        read_bag(path, model.joint_names)
+    t[5] = t[3]                                       # arm message 6 (the bag's 11) stamped as arm message 4
+    path = write_bag(tmp_path / "back", "ros1", {"/joint_states": (JOINT_STATE, interleaved(
+        bagmakers.joint_states(model.joint_names, t, motion.q, motion.qd, tau, extra=()), gripper))})
+    with pytest.raises(InputError, match=re.escape(f"message 11 ({time_text(t[3])}) has an earlier stamp than "
+                                                   f"message 9 ({time_text(t[4])}): stamps must increase")):
+        read_bag(path, model.joint_names)
+
+
+def test_a_message_with_some_of_the_robots_joints_is_still_an_error_among_skipped_ones(tmp_path, ur5):
+    model, motion, tau = ur5
+    arm = bagmakers.joint_states(model.joint_names, motion.t, motion.q, motion.qd, tau, extra=(),
+                                 drop={4: "elbow_joint"})
+    path = write_bag(tmp_path / "run", "ros1", {"/joint_states": (JOINT_STATE, interleaved(
+        arm, gripper_states(motion.t + 0.001)))})
+    with pytest.raises(InputError, match=re.escape(f"message 9 ({time_text(motion.t[4])}) has no joint 'elbow_joint', "
+                                                   "which other messages have")):
+        read_bag(path, model.joint_names)
+
+
+def test_messages_holding_none_of_the_robots_joints_at_all_are_one_error_naming_a_few_of_theirs(tmp_path, ur5):
+    model, motion, _ = ur5
+    names = [f"finger_{k}" for k in range(1, 8)]
+    path = write_bag(tmp_path / "run", "ros1", {"/joint_states": (JOINT_STATE, gripper_states(motion.t[:4], names))})
+    with pytest.raises(InputError) as error:
+        read_bag(path, model.joint_names)
+    assert str(error.value) == (f"{path}, topic /joint_states: none of the 4 messages holds a joint of the robot "
+                                f"({', '.join(model.joint_names)}); they hold finger_1, finger_2, finger_3, finger_4, "
+                                "finger_5, …")
+
+
+@pytest.mark.parametrize("text, reason", [
+    ("", "rosbag2_bagfile_information missing or not as rosbags reads them"),
+    ("[1, 2, 3]\n", "rosbag2_bagfile_information missing or not as rosbags reads them"),
+    ("rosbag2_bagfile_information: {version: 9}\n", ("storage_identifier, relative_file_paths, message_count, "
+                                                      "duration, starting_time, topics_with_message_count missing")),
+    ("version: 9 -> version: 10", "(version 10, mcap storage: rosbags reads versions 1 to 9, sqlite3 or mcap storage)"),
+    ("version: 9 -> version: '9'", "(version missing or not as rosbags reads them)"),
+    ("storage_identifier: mcap -> storage_identifier: rosbag_v2", "rosbag_v2 storage: rosbags reads versions 1 to 9"),
+    ("serialization_format: cdr -> serialization_format: json", "(Serialization format {'json'} is not supported.)"),
+    ("rosbag2_bagfile_information: [\n", "(not YAML: "),
+    ("[" * 5000 + "]" * 5000, "(not YAML: "),
+])
+def test_metadata_rosbags_cannot_read_is_one_error_of_ours(tmp_path, ur5, text, reason):
+    folder = short_bag(tmp_path, ur5, "ros2-mcap")
+    metadata = folder / "metadata.yaml"
+    if " -> " in text:
+        old, new = text.split(" -> ")
+        metadata.write_text(metadata.read_text().replace(old, new, 1))
+    else:
+        metadata.write_text(text)
+    with pytest.raises(InputError) as error:
+        read_bag(folder, ur5[0].joint_names)
+    message = str(error.value)
+    assert message.startswith(f"{folder}: metadata.yaml is not a ROS2 bag's metadata (") and reason in message
+    assert "\n" not in message and "please report" not in message and "NoneType" not in message
+
+
+def test_a_yaml_tag_in_metadata_runs_nothing(tmp_path, ur5):
+    folder = short_bag(tmp_path, ur5, "ros2-sqlite3")
+    made = tmp_path / "made_by_yaml"
+    (folder / "metadata.yaml").write_text(f"!!python/object/apply:os.mkdir ['{made}']\n")
+    with pytest.raises(InputError, match=re.escape("metadata.yaml is not a ROS2 bag's metadata (not YAML: could not "
+                                                   "determine a constructor for the tag")):
+        read_bag(folder, ur5[0].joint_names)
+    assert not made.exists()
+
+
+def test_control_characters_of_names_from_the_bag_are_escaped(tmp_path, ur5):
+    model, motion, tau = ur5
+    gripper = "grip\x1b]0;owned\x07\nper"
+    path = bagmakers.write_joint_states(tmp_path / "run", "ros1", model.joint_names, motion.t, motion.q, motion.qd,
+                                        tau, extra=(gripper,), topic="/arm\n\x1b[2J/joint_states")
+    log = read_bag(path, model.joint_names)
+    assert log.notes == (r"joints of the messages that the robot does not have, ignored: grip\x1b]0;owned\x07\nper",)
+    assert log.where == f"{path}, topic /arm\\n\\x1b[2J/joint_states"
+    with pytest.raises(InputError) as error:
+        read_bag(path, model.joint_names, topic="/other")
+    assert str(error.value).endswith(f"the bag's topics: /arm\\n\\x1b[2J/joint_states ({JOINT_STATE})")
+    joints = (*model.joint_names[:5], "wrist\u202e_3\tjoint")  # a direction mark, a tab: a joint of the robot's own
+    with pytest.raises(InputError) as error:
+        read_bag(bagmakers.write_joint_states(tmp_path / "twice", "ros1", joints, motion.t, motion.q,
+                                              extra=(joints[5],)), joints)
+    assert str(error.value).endswith("message 1: joint 'wrist\\u202e_3\\tjoint' is named twice")

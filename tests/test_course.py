@@ -34,7 +34,7 @@ def outputs_of(cell) -> str:
 
 
 def test_one_notebook_per_section_in_reading_order():
-    assert [p.name[:2] for p in NOTEBOOKS] == [f"{k:02d}" for k in range(1, 10)]
+    assert [p.name[:2] for p in NOTEBOOKS] == [f"{k:02d}" for k in range(1, 11)]
     for path in NOTEBOOKS:
         notebook = read_notebook(path)
         first = notebook.cells[0]

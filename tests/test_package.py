@@ -82,7 +82,7 @@ def test_a_non_editable_install_runs_from_any_folder(tmp_path):
     assert check.returncode == 0, check.stderr
     module, robots, errata, notebooks = check.stdout.split()
     assert module.startswith(str(venv)) and robots.startswith(str(venv)), check.stdout
-    assert int(errata) > 0 and int(notebooks) == 9
+    assert int(errata) > 0 and int(notebooks) == 10
     for argv in (["validate", "two_link", "--samples", "3"], ["info", "rp_arm"], ["terms", "pendulum", "--q", "0.3"]):
         result = subprocess.run([venv / "bin" / "course-dynamics", *argv], cwd=elsewhere, capture_output=True, text=True)
         assert result.returncode == 0, (argv, result.stderr)

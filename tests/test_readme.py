@@ -27,29 +27,34 @@ def test_python_quick_start_runs():
     assert namespace["tau"].shape == (2,)
 
 
-def example_commands() -> list[tuple[str, int]]:
-    """(command, expected exit status): 0, or the N of a trailing ``# exit N`` comment."""
-    commands = []
+def example_blocks() -> list[list[tuple[str, int]]]:
+    """Each ``sh`` block's commands as (command, expected exit status): 0, or the N of a trailing ``# exit N``."""
+    blocks = []
     for block in re.findall(r"```sh\n(.*?)```", README, re.S):
         text = block.replace("\\\n", " ")
+        commands = []
         for line in text.splitlines():
             line, _, comment = line.partition("  #")
             line = line.strip()
             status = re.match(r"\s*exit (\d+)", comment)
             if line.startswith("course-dynamics ") and not any(p in line for p in PLACEHOLDERS):
                 commands.append((line, int(status.group(1)) if status else 0))
-    return commands
+        if commands:
+            blocks.append(commands)
+    return blocks
 
 
-@pytest.mark.parametrize("command, status", example_commands())
-def test_cli_example_runs(command, status, tmp_path, monkeypatch, capsys):
+@pytest.mark.parametrize("commands", example_blocks(), ids=lambda block: block[0][0][:60])
+def test_cli_examples_run(commands, tmp_path, monkeypatch, capsys):
+    """A block's commands run in order in one folder (a later one may use what an earlier one wrote)."""
     shutil.copytree(ROOT / "examples", tmp_path / "examples")
     monkeypatch.chdir(tmp_path)
-    argv = shlex.split(command)[1:]
-    if ">" in argv:  # a redirection of standard output: the shell's job, not the command's
-        argv = argv[:argv.index(">")]
-    code = main(argv)
-    assert code == status, capsys.readouterr().err
+    for command, status in commands:
+        argv = shlex.split(command)[1:]
+        if ">" in argv:  # a redirection of standard output: the shell's job, not the command's
+            argv = argv[:argv.index(">")]
+        code = main(argv)
+        assert code == status, (command, capsys.readouterr().err)
 
 
 def test_python_log_example_runs(tmp_path, monkeypatch):

@@ -9,6 +9,8 @@ module          job
 ``folders``     a command's files in a folder that holds other things (a manifest)
 ``render``      tables, Markdown, LaTeX and strict JSON as text
 ``page``        every HTML page: one template, one stylesheet, LaTeX as MathML
+``urdf_writer``  the identified URDF: the input's text with inertials and dynamics replaced
+``identification_report``  the identification's report folder
 ``plotting``    figures of simulations and torques (matplotlib)
 ``viewer``      meshcat scenes, animations and offline HTML
 ==============  ================================================================

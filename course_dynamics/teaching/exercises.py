@@ -38,6 +38,7 @@ from ..core.algebra import Vec3, point_acceleration
 from ..core.cartesian import cartesian_dynamics
 from ..core.friction import Friction
 from ..core.newton_euler import inverse_dynamics, newton_euler_links
+from ..core.regressor import base_parameters, parameter_names, regressor
 from ..core.robots import load_robot
 from ..grading.assignment import Assignment
 from ..grading.diagnosis import Answer
@@ -92,6 +93,7 @@ GIVEN = {
     "tau_with_friction": lambda: {"q": np.array([0.3, 0.5]), "qd": np.array([1.0, -2.0]), "qdd": np.array([0.5, 0.2]),
                                   "viscous": np.array([0.2, 0.1]), "coulomb": np.array([0.5, 0.3])},
     "I_xy_corner": lambda: {"m": 2.0, "w": 0.3, "l": 0.5, "h": 0.1},
+    "Y_mcx2": lambda: {"q": np.array([-0.7, 1.9]), "qd": np.array([1.3, -0.6]), "qdd": np.array([0.4, 2.1])},
 }
 
 
@@ -167,6 +169,12 @@ def _I_xy_corner():
     return d["m"] * d["w"] * d["l"] / 4  # the parallel-axis theorem with +: example 6.1's ᴬI_xy
 
 
+def _Y_mcx2():
+    d = given("Y_mcx2")
+    arm = _robot("two_link")
+    return regressor(arm, d["q"], d["qd"], d["qdd"])[:, parameter_names(arm).index("mcx_2")]
+
+
 def _euler(q, qd, qdd, dt):
     return q + qd * dt + 0.5 * qdd * dt**2, qd + qdd * dt  # (6.117), (6.116)
 
@@ -238,6 +246,11 @@ EXERCISES: dict[str, Exercise] = {
         "function", reference=lambda R, f_next, F: R @ f_next + F,
         inputs=lambda rng: [np.linalg.qr(rng.standard_normal((3, 3)))[0], rng.standard_normal(3), rng.standard_normal(3)],
         hint="(6.51) corrected: ⁱfᵢ = ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁ + ⁱFᵢ"),
+    "Y_mcx2": Exercise("value", _Y_mcx2, hint="∂τ/∂(m₂l₂): the terms of (6.60)–(6.62) in m₂l₂, divided by m₂l₂"),
+    "base_two_link": Exercise(
+        "function", reference=lambda pi: base_parameters(_robot("two_link")).values(pi),
+        inputs=lambda rng: [rng.standard_normal(20)],
+        hint="for τ, link 2's mass is a point mass of link 1 at joint 2, (l₁, 0, 0): what does it add to h₁ and I_zz,₁?"),
 }
 
 

@@ -15,6 +15,8 @@ module          job
 ``differentiation``  Θ̇ and Θ̈ from noisy samples, the window chosen from the noise
 ``logs``        from a log to torques: the steps above, then payloads, limits and residuals
 ``residuals``   the model against the robot: measured torques next to ours
+``identification``  inertial and friction parameters from a log: least squares, then physically consistent
+``excitation``  a trajectory within the limits that makes the parameters identifiable
 ``loads``       payloads and external wrenches
 ``limits``      effort and velocity limits: peaks, shares, violations
 ``trace``       the Newton–Euler iterations link by link, for teaching

@@ -5,4 +5,4 @@ A command imports the library inside ``run``: ``course-dynamics --help`` and eve
 only what they use (numpy, not sympy, matplotlib, yourdfpy or nbconvert), which keeps start-up short."""
 
 # In the order ``course-dynamics --help`` lists them.
-COMMANDS = ("info", "terms", "torques", "cartesian", "simulate", "trace", "derive", "animate", "validate", "report", "grade", "student_notebooks", "publish_notebooks")
+COMMANDS = ("info", "terms", "torques", "excite", "identify", "cartesian", "simulate", "trace", "derive", "animate", "validate", "report", "grade", "student_notebooks", "publish_notebooks")

@@ -6,7 +6,7 @@ import sys
 from ..options import progress_bar
 
 HELP = "run every notebook and render the course to static HTML pages (with an index) for a course site"
-DESCRIPTION = ("Execute the nine notebooks in fresh kernels and render each to OUTDIR/<notebook>.html (mathematics as MathML, readable offline), "
+DESCRIPTION = ("Execute the ten notebooks in fresh kernels and render each to OUTDIR/<notebook>.html (mathematics as MathML, readable offline), "
                "plus OUTDIR/index.html listing them. Student versions by default (exercises unanswered, checks "
                "saying 'not done yet'); --solutions publishes the worked answers. Animations are embedded and play "
                "offline. OUTDIR may hold other files: a run replaces only the pages an earlier run wrote there and "

@@ -4,7 +4,7 @@ from __future__ import annotations
 import sys
 
 HELP = "write the notebook course as .ipynb for students (solutions removed) or instructors (--solutions)"
-DESCRIPTION = ("Write the nine notebooks of the course (one per section of Craig's chapter 6) to OUTDIR as .ipynb. "
+DESCRIPTION = ("Write the ten notebooks of the course (one per section of Craig's chapter 6, and identification) to OUTDIR as .ipynb. "
                "Student versions have every solution replaced by a placeholder and no outputs; they run top to "
                "bottom, and each exercise's check says 'not done yet' until it is answered. Both versions carry "
                "nbgrader metadata. A notebook already in OUTDIR is kept as it is (it may hold a student's work), so "

@@ -1,0 +1,446 @@
+"""Excitation trajectories for identification: periodic motions that make the base regressor well conditioned.
+
+===============  ===========  ==========================================================================
+code             symbol       meaning (shape, unit)
+===============  ===========  ==========================================================================
+``period``       T            the duration, one period of the motion (s)
+``w``            ω_f k        the harmonics' frequencies, k = 1 … H, ω_f = 2π/T (H,), rad/s
+``q0``           q0_j         each joint's offset (n,), rad or m
+``a``, ``b``     a_jk, b_jk   the Fourier coefficients (n, H), rad/s or m/s: amplitudes of q̇
+``x``                         the free coefficients, divided by each joint's velocity scale (2 n (H − 1),)
+``Y_b``          Y_b          the base regressor (:mod:`~course_dynamics.core.regressor`) (K, n, r)
+``kappa``        κ            condition number of Y_b stacked over K instants, columns scaled to unit norm
+===============  ===========  ==========================================================================
+
+Each joint moves along a finite Fourier series (Swevers' form), periodic over T by construction:
+
+    q_j(t) = q0_j + Σ_{k=1..H} a_jk/(ω_f k) sin(ω_f k t) − b_jk/(ω_f k) cos(ω_f k t)
+    q̇_j(t) = Σ_k a_jk cos(ω_f k t) + b_jk sin(ω_f k t)
+    q̈_j(t) = Σ_k ω_f k (b_jk cos(ω_f k t) − a_jk sin(ω_f k t))
+
+It starts, and so ends, at rest in the middle of the joint's range (0 for a joint without one):
+q(0) = q_mid, q̇(0) = 0 and q̈(0) = 0 fix q0_j = q_mid + Σ_k b_jk/(ω_f k), a_j1 = −Σ_{k≥2} a_jk and
+b_j1 = −Σ_{k≥2} k b_jk, which leaves 2 (H − 1) free coefficients per joint. Then q − q_mid, q̇ and q̈
+are linear in them.
+
+Why κ: identification solves τ = Y_b π_b by least squares, and the relative error of π_b is up
+to κ times that of the torques. Unit-norm columns make κ independent of the parameters' units,
+as in :func:`~course_dynamics.tools.identification.identify`; repeating the period keeps κ.
+
+SLSQP (SciPy), from seeded random coefficients, minimises log κ on ``samples`` instants of the period,
+keeping |q − q_mid|, |q̇| and |τ| (our inverse dynamics, rigid bodies) within (1 − margin) of half the range,
+the velocity and the effort limit on ``CONSTRAINT_POINTS`` instants per period of the highest harmonic. q and
+q̇ are linear in x (exact Jacobians); the other gradients are forward differences, one batched call each. The
+best feasible iterate is kept, and checked against the limits themselves on ``FINE_POINTS`` instants per
+period of the highest harmonic and on the written samples.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+
+from ..base.errors import InputError
+from ..core.model import Model
+from ..core.newton_euler import inverse_dynamics
+from ..core.regressor import BaseParameters, base_parameters, regressor
+from .simulation import time_grid
+
+HARMONICS = 5           # H
+SAMPLES = 40            # instants of the period on which κ is optimised
+MAX_ITERATIONS = 100    # of SLSQP
+MARGIN = 0.05           # the share of each limit the optimisation keeps clear of
+DT = 0.01               # s between written samples
+CONSTRAINT_POINTS = 24  # instants per period of the highest harmonic where the limits are imposed
+FINE_POINTS = 200       # instants per period of the highest harmonic where the result is checked
+STEP = 1e-6             # forward-difference step in x
+STATES_AT_A_TIME = 4096  # per regressor call: (4096, n, 10 n) floats and the recursion's work arrays
+START_SHARE = 0.5       # the random start uses half of the tightest position or velocity limit
+FEASIBLE = 1e-6         # slack (a share of a limit) within which an iterate counts as feasible
+KINDS = ("position", "velocity", "effort")
+
+
+class ExcitationError(InputError):
+    """An excitation that cannot be made or does not stay within the limits (the message says which)."""
+
+
+def _is_integer(value) -> bool:
+    return isinstance(value, (int, np.integer)) and not isinstance(value, bool)
+
+
+def _number(x) -> float | None:
+    return float(x) if np.isfinite(x) else None
+
+
+@dataclass(frozen=True)
+class Fourier:
+    """The coefficients of the motion (module docstring); calling it gives (q, q̇, q̈) at times t.
+
+    >>> f = Fourier(period=2.0, q0=[0.1], a=[[1.0, -1.0]], b=[[0.0, 0.0]])
+    >>> q, qd, qdd = f([0.0, 0.5])
+    >>> q.round(4).tolist(), qd.round(4).tolist()
+    ([[0.1], [0.4183]], [[0.0], [1.0]])
+    """
+
+    period: float
+    q0: np.ndarray
+    a: np.ndarray
+    b: np.ndarray
+
+    def __post_init__(self):
+        for name in ("q0", "a", "b"):
+            array = np.array(getattr(self, name), dtype=float)
+            array.setflags(write=False)
+            object.__setattr__(self, name, array)
+
+    @property
+    def harmonics(self) -> int:
+        return self.a.shape[1]
+
+    def __call__(self, t):
+        t = np.asarray(t, dtype=float)
+        w = 2 * np.pi / self.period * np.arange(1, self.harmonics + 1)  # ω_f k
+        sin, cos = np.sin(t[:, None] * w), np.cos(t[:, None] * w)  # (K, H)
+        q = self.q0 + sin @ (self.a / w).T - cos @ (self.b / w).T
+        qd = cos @ self.a.T + sin @ self.b.T
+        qdd = cos @ (self.b * w).T - sin @ (self.a * w).T
+        return q, qd, qdd
+
+
+@dataclass(frozen=True)
+class LimitShares:
+    """The largest share of each limit a motion uses, per joint (n,): 1 is at the limit, NaN where none is given.
+
+    Position: max |q − q_mid| over half the range; velocity: max |q̇| over the limit; effort: max |τ| over it.
+    """
+
+    joints: tuple[str, ...]
+    position: np.ndarray
+    velocity: np.ndarray
+    effort: np.ndarray
+
+    def largest(self, kind: str) -> tuple[float, str | None]:
+        """(share, joint) of the joint that uses most of ``kind``'s limit; (NaN, None) if no joint has one."""
+        shares = getattr(self, kind)
+        if not np.isfinite(shares).any():
+            return float("nan"), None
+        j = int(np.nanargmax(shares))
+        return float(shares[j]), self.joints[j]
+
+    def record(self) -> dict:
+        return {kind: {j: _number(s) for j, s in zip(self.joints, getattr(self, kind))} for kind in KINDS}
+
+
+@dataclass(frozen=True)
+class Excitation:
+    """What :func:`excitation` made. ``t`` (K,), ``q``, ``qd``, ``qdd``, ``tau`` (K, n): the samples to write (τ by
+    our inverse dynamics, rigid bodies); ``condition``: κ on the fine grid, ``condition_start``: the random start's,
+    ``condition_samples``: κ on the optimisation's instants; ``limits``: the shares used (fine grid and samples);
+    ``notes``: the limits the URDF lacks; ``ended``: how the optimisation ended.
+    """
+
+    joints: tuple[str, ...]
+    t: np.ndarray
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    tau: np.ndarray
+    coefficients: Fourier
+    condition: float
+    condition_start: float
+    condition_samples: float
+    limits: LimitShares
+    iterations: int
+    notes: tuple[str, ...] = ()
+    ended: str = ""
+
+    def table(self) -> tuple[list[str], np.ndarray]:
+        """(header, data): t, q_<joint>, qd_<joint>, qdd_<joint>, tau_<joint>, as ``torques`` and ``simulate`` read."""
+        header = ["t"] + [f"{kind}_{j}" for kind in ("q", "qd", "qdd", "tau") for j in self.joints]
+        return header, np.column_stack([self.t, self.q, self.qd, self.qdd, self.tau])
+
+    def record(self) -> dict:
+        """A JSON-ready summary (no samples)."""
+        largest = {kind: dict(share=_number(share), joint=joint)
+                   for kind, (share, joint) in ((k, self.limits.largest(k)) for k in KINDS)}
+        return dict(joints=list(self.joints), duration=float(self.coefficients.period),
+                    harmonics=self.coefficients.harmonics, iterations=self.iterations,
+                    condition=_number(self.condition),
+                    condition_start=_number(self.condition_start), condition_samples=_number(self.condition_samples),
+                    largest_share=largest, limits_used=self.limits.record(), written_samples=len(self.t),
+                    coefficients=dict(q0=self.coefficients.q0.tolist(), a=self.coefficients.a.tolist(),
+                                      b=self.coefficients.b.tolist()), notes=list(self.notes), ended=self.ended)
+
+
+def _kappa(W: np.ndarray, gram: bool = False) -> np.ndarray:
+    """κ of each stacked regressor W (m, rows, r) with unit-norm columns; inf where a column vanishes.
+
+    ``gram``: κ² = λ_max/λ_min of WᵀW, several times faster than the SVD and good to 1e-16 κ² (relative).
+    """
+    norms = np.linalg.norm(W, axis=1, keepdims=True)
+    unit = W / np.where(norms > 0, norms, 1.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        if gram:
+            eigenvalues = np.linalg.eigvalsh(np.swapaxes(unit, 1, 2) @ unit)
+            kappa = np.sqrt(eigenvalues[:, -1] / np.where(eigenvalues[:, 0] > 0, eigenvalues[:, 0], 0.0))
+        else:
+            singular = np.linalg.svd(unit, compute_uv=False)
+            kappa = singular[:, 0] / singular[:, -1]
+    return np.where((norms.min(axis=(1, 2)) > 0) & np.isfinite(kappa), kappa, np.inf)
+
+
+def condition_number(model: Model, q, qd, qdd, base: BaseParameters | None = None) -> float:
+    """κ: the condition number of the base regressor stacked over the samples (K, n), columns of unit norm.
+
+    >>> from course_dynamics import load_robot
+    >>> t = np.linspace(0, 2 * np.pi, 50)[:, None]             # both joints in phase: a poor excitation
+    >>> q, qd, qdd = np.sin(t) * [1.0, 0.5], np.cos(t) * [1.0, 0.5], -np.sin(t) * [1.0, 0.5]
+    >>> round(condition_number(load_robot("two_link"), q, qd, qdd), 1)
+    79.3
+    """
+    base = base_parameters(model) if base is None else base
+    W = base.regressor(regressor(model, q, qd, qdd)).reshape(1, -1, base.rank)
+    return float(_kappa(W)[0])
+
+
+class _Bounds(NamedTuple):
+    """Per joint (n,): q_mid, half the range, velocity and effort limits (inf: none), velocity scale; notes."""
+
+    mid: np.ndarray
+    half: np.ndarray
+    velocity: np.ndarray
+    effort: np.ndarray
+    scale: np.ndarray
+    notes: tuple[str, ...]
+
+
+def _ranges(model: Model):
+    """(has a range, q_mid, half the range) per joint: 0 and inf without one."""
+    ranged = np.isfinite(model.lower) & np.isfinite(model.upper)
+    lower, upper = np.where(ranged, model.lower, 0.0), np.where(ranged, model.upper, 0.0)
+    return ranged, (lower + upper) / 2, np.where(ranged, (upper - lower) / 2, np.inf)
+
+
+def _bounds(model: Model, omega: float) -> _Bounds:
+    """The URDF's limits, the missing ones in notes; ExcitationError for a joint that nothing bounds or cannot move."""
+    ranged, mid, half = _ranges(model)
+    velocity, effort = model.velocity, model.effort
+    notes = []
+    for j, name in enumerate(model.joint_names):
+        if ranged[j] and half[j] <= 0:
+            raise ExcitationError(f"joint '{name}' of robot '{model.name}' cannot move: its limits are lower = upper = "
+                                  f"{model.lower[j]:g} (exporters often write 0 for 'no limit': give it real ones)")
+        if not ranged[j] and not np.isfinite(velocity[j]):
+            raise ExcitationError(f"joint '{name}' of robot '{model.name}' has neither position limits nor a velocity "
+                                  "limit in the URDF, so nothing bounds how far or fast it may move: give it "
+                                  "<limit lower=... upper=... velocity=...>")
+        if not ranged[j]:
+            notes.append(f"joint '{name}' has no position limits: it starts at 0 and only its velocity is bounded")
+        if not np.isfinite(effort[j]):
+            notes.append(f"joint '{name}' has no effort limit: its torque is not bounded")
+    return _Bounds(mid, half, velocity, effort, np.where(np.isfinite(velocity), velocity, half * omega), tuple(notes))
+
+
+def _coefficients(x: np.ndarray, bounds: _Bounds, period: float, harmonics: int) -> Fourier:
+    """The motion of free coefficients x, the first harmonic and q0 chosen to start at rest (module docstring)."""
+    free = np.asarray(x, dtype=float).reshape(2, len(bounds.mid), harmonics - 1) * bounds.scale[None, :, None]
+    k = np.arange(2, harmonics + 1)
+    a = np.column_stack([-free[0].sum(axis=1), free[0]])
+    b = np.column_stack([-(free[1] * k).sum(axis=1), free[1]])
+    w = 2 * np.pi / period * np.arange(1, harmonics + 1)
+    return Fourier(period, bounds.mid + (b / w).sum(axis=1), a, b)
+
+
+def _linear_maps(bounds: _Bounds, period: float, harmonics: int, t: np.ndarray) -> np.ndarray:
+    """L (3, K, n, P): (q − q_mid, q̇, q̈) at times t is L @ x, the motion being linear in x."""
+    P = 2 * len(bounds.mid) * (harmonics - 1)
+    columns = [_coefficients(e, bounds, period, harmonics)(t) for e in np.eye(P)]
+    maps = np.array([[c[kind] for c in columns] for kind in range(3)])    # (3, P, K, n)
+    maps[0] -= bounds.mid
+    return np.moveaxis(maps, 1, -1)
+
+
+def _states(L: np.ndarray, X: np.ndarray, mid: np.ndarray):
+    """(q, q̇, q̈) of free coefficients X (m, P), each (m, K, n)."""
+    q, qd, qdd = (np.einsum("knp,mp->mkn", L[i], X) for i in range(3))
+    return q + mid, qd, qdd
+
+
+class _Problem:
+    """log κ on the instants ``t_kappa`` and the limits' slack on ``t_limits``, as functions of x."""
+
+    def __init__(self, model, base, bounds, period, harmonics, t_kappa, t_limits, margin):
+        self.model, self.base, self.bounds, self.margin = model, base, bounds, margin
+        self.K = _linear_maps(bounds, period, harmonics, t_kappa)
+        self.C = _linear_maps(bounds, period, harmonics, t_limits)
+        self.P = self.K.shape[-1]
+        self.values: dict[bytes, float] = {}
+        ranged, fast = np.isfinite(bounds.half), np.isfinite(bounds.velocity)
+        rows = [self.C[0][:, ranged] / bounds.half[ranged, None], self.C[1][:, fast] / bounds.velocity[fast, None]]
+        A = np.concatenate([r.reshape(-1, self.P) for r in rows])     # shares of position and velocity, A x
+        self.A = np.vstack([A, -A])
+        self.strong = np.isfinite(bounds.effort)
+
+    def kappas(self, X: np.ndarray) -> np.ndarray:
+        """κ of each row of X, at most STATES_AT_A_TIME states per regressor call (its memory stays bounded)."""
+        step = max(1, STATES_AT_A_TIME // self.K.shape[1])
+        return np.concatenate([self._kappas(X[k:k + step]) for k in range(0, len(X), step)])
+
+    def _kappas(self, X: np.ndarray) -> np.ndarray:
+        q, qd, qdd = _states(self.K, X, self.bounds.mid)
+        Y = regressor(self.model, *(v.reshape(-1, v.shape[-1]) for v in (q, qd, qdd)))
+        return _kappa(self.base.regressor(Y).reshape(len(X), -1, self.base.rank), gram=True)
+
+    def objective(self, x: np.ndarray) -> float:
+        """log κ at x (remembered: SLSQP and the callback ask for the same x again)."""
+        key = x.tobytes()
+        if key not in self.values:  # a few hundred x in all: kept
+            self.values[key] = float(np.log(min(self.kappas(x[None])[0], 1e300)))
+        return self.values[key]
+
+    def gradient(self, x: np.ndarray) -> np.ndarray:
+        """∂ log κ/∂x by forward differences: one regressor call for the P perturbations of x."""
+        values = np.log(np.minimum(self.kappas(x + STEP * np.eye(self.P)), 1e300))
+        return (values - self.objective(x)) / STEP
+
+    def torque_shares(self, X: np.ndarray) -> np.ndarray:
+        """τ / effort limit at the limit instants, for the joints that have one: (m, K, n_limited)."""
+        q, qd, qdd = _states(self.C, X, self.bounds.mid)
+        tau = inverse_dynamics(self.model, *(v.reshape(-1, v.shape[-1]) for v in (q, qd, qdd))).reshape(q.shape)
+        return tau[..., self.strong] / self.bounds.effort[self.strong]
+
+    def slack(self, x: np.ndarray) -> np.ndarray:
+        """1 − margin − share for every constraint row: ≥ 0 is within the limits with the margin."""
+        shares = [self.A @ x]
+        if self.strong.any():
+            tau = self.torque_shares(x[None])[0].ravel()
+            shares += [tau, -tau]
+        return 1 - self.margin - np.concatenate(shares)
+
+    def slack_jacobian(self, x: np.ndarray) -> np.ndarray:
+        """∂ slack/∂x: exact for positions and velocities, forward differences for the torques."""
+        rows = [self.A]
+        if self.strong.any():
+            tau = self.torque_shares(np.vstack([x, x + STEP * np.eye(self.P)]))
+            d = ((tau[1:] - tau[0]) / STEP).reshape(self.P, -1).T
+            rows += [d, -d]
+        return -np.vstack(rows)
+
+
+def _start(problem: _Problem, rng) -> np.ndarray:
+    """Seeded random free coefficients, scaled to START_SHARE of the tightest position or velocity limit, then
+    halved until the torques are within the limits too; ExcitationError when even rest in the middle is not."""
+    x = rng.standard_normal(problem.P)
+    x *= START_SHARE / max(np.abs(problem.A @ x).max(), 1e-300)
+    for _ in range(40):
+        if problem.slack(x).min() >= 0:
+            return x
+        x = x / 2
+    model, (mid, effort) = problem.model, (problem.bounds.mid, problem.bounds.effort)
+    tau = np.abs(inverse_dynamics(model, mid, 0 * mid, 0 * mid))
+    j = int(np.argmax(np.where(problem.strong, tau / effort, 0.0)))
+    raise ExcitationError(f"robot '{model.name}' cannot even rest in the middle of its joint ranges within its effort "
+                          f"limits less the margin: joint '{model.joint_names[j]}' needs {tau[j]:.4g} of its limit "
+                          f"{effort[j]:.4g} (N m or N)")
+
+
+def limit_shares(model: Model, q, qd, tau) -> LimitShares:
+    """The shares of the URDF's limits a motion (K, n) uses, position measured from the middle of the range.
+
+    >>> from course_dynamics import load_robot
+    >>> arm = load_robot("rp_arm")                   # d2 between 0.1 and 0.8 m, at most 1 m/s
+    >>> shares = limit_shares(arm, [[0.0, 0.8]], [[0.0, 0.5]], [[50.0, 0.0]])
+    >>> shares.position.round(3).tolist(), shares.velocity.tolist(), shares.effort.tolist()
+    ([0.0, 1.0], [0.0, 0.5], [0.5, 0.0])
+    """
+    q, qd, tau = (np.atleast_2d(np.asarray(v, dtype=float)) for v in (q, qd, tau))
+    ranged, mid, half = _ranges(model)
+
+    def share(values, limit, where):
+        return np.where(where, np.abs(values).max(axis=0) / np.where(where, limit, 1.0), np.nan)
+
+    return LimitShares(model.joint_names, share(q - mid, half, ranged & (half > 0)),
+                       share(qd, model.velocity, np.isfinite(model.velocity)),
+                       share(tau, model.effort, np.isfinite(model.effort)))
+
+
+def excitation(model: Model, duration: float, harmonics: int = HARMONICS, samples: int = SAMPLES, seed: int = 0,
+               max_iterations: int = MAX_ITERATIONS, margin: float = MARGIN, dt: float = DT,
+               progress=None) -> Excitation:
+    """A periodic excitation of ``duration`` seconds with a small κ, within the URDF's limits (module docstring).
+
+    Parameters
+    ----------
+    model : the robot; its position, velocity and effort limits bound the motion
+    duration : T, s: one period
+    harmonics : H ≥ 2; samples : instants of the period κ is optimised on; seed : of the random start
+    max_iterations : of SLSQP; margin : share of each limit kept clear of, 0 ≤ margin < 1
+    dt : s between the written samples (t = 0 … T, both ends: the motion is at rest in the middle at both)
+    progress : called as ``progress(iteration, max_iterations)``
+
+    Raises
+    ------
+    ExcitationError
+        A bad option, a joint without position and velocity limits or that cannot move, a robot that
+        cannot rest in the middle within its effort limits, or a result beyond a limit on the fine grid.
+
+    >>> from course_dynamics import load_robot
+    >>> found = excitation(load_robot("two_link"), 4.0, harmonics=3, samples=12, max_iterations=15)
+    >>> bool(found.condition < found.condition_start), bool(np.nanmax(found.limits.velocity) <= 1)
+    (True, True)
+    """
+    import scipy.optimize  # lazily: slow to import, and nothing else here needs it
+
+    if not (np.isfinite(duration) and duration > 0):
+        raise ExcitationError(f"the duration must be a positive number of seconds, got {duration}")
+    if not (_is_integer(harmonics) and harmonics >= 2):
+        raise ExcitationError(f"the harmonics must be an integer of at least 2 (starting at rest fixes the first), "
+                              f"got {harmonics}")
+    if not (_is_integer(max_iterations) and max_iterations >= 0):
+        raise ExcitationError(f"the iterations must be a non-negative integer, got {max_iterations}")
+    if not (np.isfinite(margin) and 0 <= margin < 1):
+        raise ExcitationError(f"the margin must be at least 0 and less than 1, got {margin}")
+    t = time_grid(duration, dt, values_per_sample=5 * model.n + 1)
+    base = base_parameters(model)
+    if not (_is_integer(samples) and samples * model.n >= base.rank and samples <= 10_000):
+        raise ExcitationError(f"the samples must be an integer from {-(-base.rank // model.n)} (samples × {model.n} "
+                              f"joints ≥ the {base.rank} base parameters) to 10000, got {samples}")
+    bounds = _bounds(model, 2 * np.pi / duration)
+    problem = _Problem(model, base, bounds, duration, harmonics, np.arange(samples) * duration / samples,
+                       np.linspace(0, duration, CONSTRAINT_POINTS * harmonics, endpoint=False), margin)
+    start = _start(problem, np.random.default_rng(seed))
+    best, iterations, ended = [problem.objective(start), start], 0, "skipped (0 iterations)"
+
+    def keep_best(x, count=True):
+        nonlocal iterations
+        iterations += count
+        value = problem.objective(x)
+        if value < best[0] and problem.slack(x).min() >= -FEASIBLE:
+            best[:] = value, x.copy()
+        if progress is not None and count:
+            progress(iterations, max_iterations)
+
+    if max_iterations > 0:
+        result = scipy.optimize.minimize(
+            problem.objective, start, jac=problem.gradient, method="SLSQP", callback=keep_best,
+            constraints=[dict(type="ineq", fun=problem.slack, jac=problem.slack_jacobian)],
+            options=dict(maxiter=max_iterations, ftol=1e-6))
+        keep_best(result.x, count=False)
+        ended = "converged" if result.success else f"stopped: {result.message}"
+    coefficients = _coefficients(best[1], bounds, duration, harmonics)
+    fine = np.linspace(0, duration, FINE_POINTS * harmonics, endpoint=False)
+    q_fine, qd_fine, qdd_fine = coefficients(fine)
+    q, qd, qdd = coefficients(t)
+    tau_fine, tau = inverse_dynamics(model, q_fine, qd_fine, qdd_fine), inverse_dynamics(model, q, qd, qdd)
+    shares = limit_shares(model, np.vstack([q_fine, q]), np.vstack([qd_fine, qd]), np.vstack([tau_fine, tau]))
+    for kind in KINDS:
+        share, joint = shares.largest(kind)
+        if share > 1:
+            raise ExcitationError(f"robot '{model.name}': the optimised motion uses {share:.3g} of the {kind} limit of "
+                                  f"joint '{joint}' on the fine grid; try a larger margin")
+    condition_start = condition_number(model, *_coefficients(start, bounds, duration, harmonics)(fine), base=base)
+    return Excitation(
+        joints=model.joint_names, t=t, q=q, qd=qd, qdd=qdd, tau=tau, coefficients=coefficients,
+        condition=condition_number(model, q_fine, qd_fine, qdd_fine, base=base), condition_start=condition_start,
+        condition_samples=float(np.exp(best[0])), limits=shares, iterations=iterations, notes=bounds.notes, ended=ended)

@@ -1,0 +1,422 @@
+"""Identification: from a robot's log to the inertial and friction parameters it really has, physically consistent.
+
+==================  =============  ====================================================================
+code                symbol         meaning (shape, unit)
+==================  =============  ====================================================================
+``pi``              π              inertial parameters, 10 per moving body (:mod:`~course_dynamics.core.regressor`)
+``Y``               Y(Θ, Θ̇, Θ̈)    the regressor: τ = Y π (K, n, 10 n)
+``friction``        F_v, F_c       viscous and Coulomb coefficients per joint: τ_F = F_v θ̇ + F_c sgn θ̇ (6.112)
+``theta``           θ              π and the friction coefficients identified, one vector
+``base``            π_b = β π      the base parameters: the combinations of π the torques can tell apart
+``sigma``           σⱼ             the noise of joint j's measured torque, from a first unweighted fit
+``W``               W              row weights 1/σⱼ
+``J``               J(π)           the pseudo-inertia of a body, [[½ tr(I) 1 − I, h], [hᵀ, m]] (4, 4),
+                                   I about the frame origin; J ⪰ 0 is what a real body has
+==================  =============  ====================================================================
+
+The steps, on the samples of a :class:`~course_dynamics.tools.logs.JointLog` (Θ, Θ̇, Θ̈ as
+:func:`~course_dynamics.tools.logs.joint_log` read or differentiated them; τ_meas as the robot measured):
+
+1. the last ``holdout`` share of the log's time is held out; the rest is fitted;
+2. ordinary least squares on the base parameters (and friction) gives each joint's residual σⱼ;
+   weighted least squares with weights 1/σⱼ gives the estimate, its standard errors
+   (the diagonal of s² (Yᵀ W² Y)⁻¹) and the condition number of W Y_b with unit-norm columns;
+3. the physically consistent estimate (cvxpy, Clarabel, SCS if that fails) minimises
+   ‖W (Y θ − τ_meas)‖² + λ c² Σ ((θₖ − θₖ,URDF) / sₖ)² subject to J(πᵢ) ⪰ 0 and mᵢ ≥ m_min for
+   every body and F_v, F_c ≥ 0. sₖ is the size parameters of θₖ's kind have (the URDF's masses,
+   first moments, inertias; the first fit's friction coefficients) and c² = mean ‖W Yₖ‖² sₖ² what
+   such a change does to the fit, so λ = ``prior_weight`` is a share of what the data say;
+   combinations the log does not excite stay at the URDF's values (a joint that never moves keeps
+   the URDF's friction);
+4. the held-out part is predicted by the URDF and by the identified model (their RMS residuals).
+
+Friction that is not identified (``friction="viscous"``: the Coulomb part) is the URDF's
+``<dynamics>``, subtracted from τ_meas before fitting. Θ̇ is the log's, as for the torques: the
+sign of a Coulomb term follows the measured rate.
+
+>>> import numpy as np
+>>> from dataclasses import replace
+>>> from course_dynamics import load_robot, inverse_dynamics
+>>> from course_dynamics.tools.logs import joint_log
+>>> arm = load_robot("two_link")
+>>> true = replace(arm, bodies=(arm.bodies[0], replace(arm.bodies[1], mass=1.3)))
+>>> t = np.arange(0, 6, 0.01)
+>>> q = np.column_stack([np.sin(1.3 * t), np.cos(0.7 * t) + 0.2 * np.sin(2.9 * t)])
+>>> qd = np.gradient(q, t, axis=0); qdd = np.gradient(qd, t, axis=0)
+>>> tau = inverse_dynamics(true, q, qd, qdd)
+>>> columns = {"t": t, "q_theta1": q[:, 0], "q_theta2": q[:, 1], "qd_theta1": qd[:, 0], "qd_theta2": qd[:, 1],
+...            "qdd_theta1": qdd[:, 0], "qdd_theta2": qdd[:, 1], "tau_meas_theta1": tau[:, 0], "tau_meas_theta2": tau[:, 1]}
+>>> found = identify(arm, joint_log(arm, columns), friction="none")
+>>> bool(found.rms_after.max() < 1e-3 * found.rms_before.max())       # on the held-out last 20 %
+True
+>>> found.base.describe().splitlines()[3], round(float(found.base_consistent[3]), 4)   # m₂ c₂: 1.3 kg at 0.4 m
+('π_b4 = mcx_2', 0.52)
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..base.errors import InputError
+from ..core.friction import Friction
+from ..core.inertia import physical_problems
+from ..core.model import Model
+from ..core.newton_euler import inverse_dynamics
+from ..core.regressor import (TENSOR, BaseParameters, base_parameters, parameter_names, parameters, regressor,
+                               with_parameters)
+from .logs import JointLog
+
+FRICTION_MODELS = ("both", "viscous", "coulomb", "none")
+SYMBOLS = {"viscous": "Fv", "coulomb": "Fc"}   # friction coefficients are named Fv_<joint>, Fc_<joint>
+ROWS_AT_A_TIME = 2048         # samples per regressor block: (2048, n, 10 n) floats, 6 MB for a UR5
+PRIOR_WEIGHT = 1e-6           # λ: the URDF counts as a millionth of what the log says
+MIN_MASS_SHARE = 0.01         # m_min: 1 % of the URDF's mass of the body (MIN_MASS for a massless one)
+MIN_MASS = 1e-6               # kg
+UNEXCITED = 1e-3              # a direction whose singular value is below this share of the largest
+NOISE_FLOOR = 1e-9            # σⱼ at least this share of the RMS measured torque (noise-free data)
+
+
+def pseudo_inertia(p) -> np.ndarray:
+    """J of one body's ten parameters (m, h, I about the origin; :data:`~course_dynamics.core.regressor.PARAMETER_NAMES`).
+
+    J = [[Σ, h], [hᵀ, m]] with Σ = ∫ r rᵀ dm = ½ tr(I) 1 − I. J ⪰ 0 holds exactly for real bodies:
+    it implies m ≥ 0, an inertia about the centre of mass that is positive semi-definite and
+    obeys the triangle inequality.
+
+    >>> from course_dynamics import load_robot
+    >>> from course_dynamics.core.regressor import parameters
+    >>> J = pseudo_inertia(parameters(load_robot("two_link"))[10:20])   # a point mass, 1 kg at (0.4, 0, 0)
+    >>> J.round(3).tolist()
+    [[0.16, 0.0, 0.0, 0.4], [0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0], [0.4, 0.0, 0.0, 1.0]]
+    """
+    p = np.asarray(p, dtype=float)
+    inertia = p[np.array(TENSOR)]
+    J = np.empty((4, 4))
+    J[:3, :3] = 0.5 * np.trace(inertia) * np.eye(3) - inertia
+    J[:3, 3] = J[3, :3] = p[1:4]
+    J[3, 3] = p[0]
+    return J
+
+
+@dataclass(frozen=True)
+class Identification:
+    """What :func:`identify` found (module docstring). Arrays per joint are NaN for joints not measured.
+
+    ``model`` and ``friction``: the identified robot; ``original``, ``original_friction``: the URDF's.
+    ``names``/``pi_urdf``/``pi``: every parameter (π, then the identified friction coefficients).
+    ``base``: the base parameters; ``base_urdf``, ``base_wls``, ``base_error``, ``base_consistent``:
+    their values (friction after the rigid ones, as ``base_names``) before, by weighted least squares
+    with its standard errors, and in the consistent estimate. ``unexcited``: the directions the log
+    hardly excites, as (share of the largest singular value, combination); ``never_act``: parameters
+    no motion can reveal. ``held_out``: (t, τ_meas, τ_URDF, τ_identified) on the held-out samples.
+    """
+
+    model: Model
+    friction: Friction
+    original: Model
+    original_friction: Friction
+    friction_model: str
+    names: tuple[str, ...]
+    pi_urdf: np.ndarray
+    pi: np.ndarray
+    base: BaseParameters
+    base_names: tuple[str, ...]
+    base_urdf: np.ndarray
+    base_wls: np.ndarray
+    base_error: np.ndarray
+    base_consistent: np.ndarray
+    condition_number: float
+    unexcited: tuple[tuple[float, str], ...]
+    never_act: tuple[str, ...]
+    sigma: np.ndarray
+    split_t: float
+    samples: tuple[int, int]
+    held_out: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+    rms_before: np.ndarray
+    rms_after: np.ndarray
+    solver: str
+    notes: tuple[str, ...] = ()
+
+    def record(self) -> dict:
+        """A JSON-ready summary (no arrays of samples)."""
+        def listed(a):
+            return [None if not np.isfinite(x) else float(x) for x in np.asarray(a, dtype=float)]
+        joints = self.model.joint_names
+        return {
+            "robot": self.model.name, "friction_model": self.friction_model, "solver": self.solver,
+            "samples": {"fitted": self.samples[0], "held_out": self.samples[1]}, "split_t": self.split_t,
+            "condition_number": None if not np.isfinite(self.condition_number) else self.condition_number,
+            "sigma": dict(zip(joints, listed(self.sigma))),
+            "held_out_rms": {"urdf": dict(zip(joints, listed(self.rms_before))),
+                             "identified": dict(zip(joints, listed(self.rms_after)))},
+            "parameters": [{"name": n, "urdf": a, "identified": b}
+                           for n, a, b in zip(self.names, listed(self.pi_urdf), listed(self.pi))],
+            "base_parameters": [{"name": n, "urdf": a, "wls": b, "standard_error": e, "identified": c}
+                                for n, a, b, e, c in zip(self.base_names, listed(self.base_urdf),
+                                                         listed(self.base_wls), listed(self.base_error),
+                                                         listed(self.base_consistent))],
+            "base_definitions": self.base.describe().splitlines(),
+            "unexcited": [{"singular_value_share": s, "combination": c} for s, c in self.unexcited],
+            "never_act": list(self.never_act), "notes": list(self.notes),
+        }
+
+
+def _friction_columns(friction: str, measured) -> list[tuple[str, int]]:
+    """(kind, joint) of each identified friction coefficient, in θ's order after π: the measured joints' only
+    (a joint's friction acts on its own torque alone)."""
+    kinds = [k for k in ("viscous", "coulomb") if friction in (k, "both")]
+    return [(kind, j) for j in measured for kind in kinds]
+
+
+def _design(model: Model, log: JointLog, rows, columns) -> np.ndarray:
+    """[Y | friction columns] for ``rows``: (K, n, P)."""
+    Y = regressor(model, log.q[rows], log.qd[rows], log.qdd[rows])
+    F = np.zeros(Y.shape[:2] + (len(columns),))
+    for k, (kind, j) in enumerate(columns):
+        F[:, j, k] = log.qd[rows, j] if kind == "viscous" else np.sign(log.qd[rows, j])
+    return np.concatenate([Y, F], axis=2)
+
+
+def _factors(model, log, rows, columns, target, measured, progress) -> np.ndarray:
+    """Per measured joint j, the triangular R_j (P + 1, P + 1) with R_jᵀ R_j = [Yⱼ | τⱼ]ᵀ [Yⱼ | τⱼ].
+
+    Built a block of samples at a time (a QR of the factor so far stacked on the block), so any
+    least-squares problem in Yⱼ and τⱼ keeps its size and its conditioning (no normal equations):
+    ‖Yⱼ θ − τⱼ‖ = ‖R_j[:, :P] θ − R_j[:, P]‖.
+    """
+    P = 10 * model.n + len(columns)
+    R = np.zeros((len(measured), P + 1, P + 1))
+    for start in range(0, len(rows), ROWS_AT_A_TIME):
+        block = rows[start:start + ROWS_AT_A_TIME]
+        A = _design(model, log, block, columns)[:, measured, :]     # (K, m, P)
+        b = target[block][:, measured]
+        for j in range(len(measured)):
+            R[j] = np.linalg.qr(np.vstack([R[j], np.column_stack([A[:, j], b[:, j]])]), mode="r")
+        if progress is not None:
+            progress(min(start + ROWS_AT_A_TIME, len(rows)), len(rows))
+    return R
+
+
+def _solve(M: np.ndarray, r: np.ndarray) -> np.ndarray:
+    """The least-squares θ of M θ ≈ r, on unit-norm columns (directions below 1e-10 of the largest dropped)."""
+    d = np.linalg.norm(M, axis=0)
+    d[d == 0] = 1.0
+    return np.linalg.lstsq(M / d, r, rcond=1e-10)[0] / d
+
+
+def _weighted_fit(R, counts, where):
+    """Unweighted, then weighted least squares on the columns ``where`` (step 2).
+
+    Returns σⱼ, θ, its standard errors, and the singular values (shares of the largest) and right
+    singular vectors of W Y_b with unit-norm columns.
+    """
+    X, y = R[:, :, where], R[:, :, -1]
+    theta0 = _solve(X.reshape(-1, len(where)), y.reshape(-1))
+    dof = np.maximum(counts - len(where) / len(counts), 1.0)
+    sigma = np.sqrt(np.sum((X @ theta0 - y) ** 2, axis=1) / dof)
+    sigma = np.maximum(sigma, NOISE_FLOOR * np.sqrt(np.sum(y**2, axis=1) / counts) + 1e-300)
+    Xw, yw = (X / sigma[:, None, None]).reshape(-1, len(where)), (y / sigma[:, None]).reshape(-1)
+    theta = _solve(Xw, yw)
+    s2 = float(np.sum((Xw @ theta - yw) ** 2)) / max(counts.sum() - len(where), 1.0)
+    d = np.linalg.norm(Xw, axis=0)
+    d[d == 0] = 1.0
+    _, S, Vt = np.linalg.svd(Xw / d, full_matrices=False)
+    kept = S > 1e-10 * S[0]
+    covariance = (Vt[kept].T / S[kept] ** 2) @ Vt[kept] / np.outer(d, d) * s2
+    return sigma, theta, np.sqrt(np.maximum(np.diag(covariance), 0.0)), S / S[0], Vt
+
+
+def _consistent(model, R, sigma, theta_urdf, kinds, sizes, prior_weight, min_mass):
+    """The physically consistent θ (module docstring, step 3): (θ, solver)."""
+    try:
+        import cvxpy as cp
+    except ImportError:
+        raise InputError("identification needs cvxpy and clarabel: install course-dynamics[identify] "
+                         "(pip install 'course-dynamics[identify]')") from None
+    P, n_rigid = len(theta_urdf), 10 * model.n
+    weighted = (R / sigma[:, None, None]).reshape(-1, P + 1)
+    Rw = np.linalg.qr(weighted, mode="r")                  # ‖W (Y θ − τ)‖ = ‖Rw[:, :P] θ − Rw[:, P]‖
+    A, z = Rw[:P, :P], Rw[:P, P]
+    norms = np.sum(A**2, axis=0)
+    scale = np.ones(P)       # θ = θ_URDF + scale d: d is a change of the size a parameter of its kind has
+    for kind in set(kinds):
+        typical = np.sqrt(np.mean(np.asarray(sizes[kind]) ** 2))
+        scale[[k for k in range(P) if kinds[k] == kind]] = typical if typical > 0 else 1.0
+    prior = prior_weight * float(np.mean(norms * scale**2))   # what such a change typically does to the fit
+    residual = z - A @ theta_urdf
+    size = max(float(np.linalg.norm(residual)), 1e-300)  # the URDF's misfit: the objective starts at 1
+    d = cp.Variable(P)
+    theta = theta_urdf + cp.multiply(scale, d)
+    constraints = []
+    for i in range(model.n):
+        p = theta[10 * i:10 * i + 10]
+        J = cp.Variable((4, 4), PSD=True)
+        trace = p[4] + p[6] + p[9]
+        constraints += [J[a, b] == (0.5 * trace if a == b else 0) - p[TENSOR[a][b]] for a in range(3) for b in range(a, 3)]
+        constraints += [J[a, 3] == p[1 + a] for a in range(3)] + [J[3, 3] == p[0], p[0] >= min_mass[i]]
+    if P > n_rigid:
+        constraints.append(theta[n_rigid:] >= 0)
+    objective = cp.sum_squares((A * scale / size) @ d - residual / size) + prior / size**2 * cp.sum_squares(d)
+    problem = cp.Problem(cp.Minimize(objective), constraints)
+    for solver, options in (("CLARABEL", {}), ("SCS", {"eps": 1e-9, "max_iters": 200_000})):
+        try:
+            problem.solve(solver=solver, **options)
+        except (cp.error.SolverError, ValueError):
+            continue
+        if problem.status in ("optimal", "optimal_inaccurate") and d.value is not None:
+            return theta_urdf + scale * d.value, solver.lower() + ("" if problem.status == "optimal" else " (inaccurate)")
+    raise InputError(f"robot '{model.name}': the physically consistent fit found no solution (Clarabel and SCS: "
+                     f"{problem.status}); the log may not move the joints enough")
+
+
+def _typical(model, theta_urdf, theta_wls, kinds, where) -> dict:
+    """The values a parameter of each kind typically has: the URDF's masses, first moments and inertias, the
+    weighted fit's friction coefficients; a mass of 1 kg, 0.1 m and (0.1 m)² per kg where the URDF has none."""
+    estimate = dict(zip(where, theta_wls))
+    values = {kind: [abs(x) for k, x in enumerate(theta_urdf) if kinds[k] == kind and x != 0 and k < 10 * model.n]
+              for kind in ("m", "h", "I")}
+    mass = np.sqrt(np.mean(np.square(values["m"]))) if values["m"] else 1.0
+    values = {"m": values["m"] or [mass], "h": values["h"] or [0.1 * mass], "I": values["I"] or [0.01 * mass]}
+    for kind in ("viscous", "coulomb"):
+        values[kind] = [abs(estimate.get(k, 0.0)) for k in range(len(kinds)) if kinds[k] == kind] or [1.0]
+    return values
+
+
+def _physical(pi: np.ndarray, model: Model, min_mass) -> np.ndarray:
+    """π with every body's J ⪰ 0 exactly (the solver's round-off clipped), so that loaders accept it."""
+    pi = pi.copy()
+    for i, body in enumerate(model.bodies):
+        J = pseudo_inertia(pi[10 * i:10 * i + 10])
+        values, vectors = np.linalg.eigh(J)
+        J = (vectors * np.maximum(values, 1e-12 * max(values.max(), 0.0))) @ vectors.T
+        mass = max(J[3, 3], min_mass[i] * (1 - 1e-9))
+        inertia = np.trace(J[:3, :3]) * np.eye(3) - J[:3, :3]
+        pi[10 * i:10 * i + 10] = [mass, *J[:3, 3]] + [inertia[a, b] for a, b in ((0, 0), (0, 1), (1, 1), (0, 2), (1, 2), (2, 2))]
+        problems = physical_problems(with_parameters(model, pi).bodies[i].I_com)
+        if problems:
+            raise InputError(f"body '{body.name}': the identified inertia {problems[0]} (a solver failure)")
+    return pi
+
+
+def _kind(k: int, n_rigid: int, columns) -> str:
+    """What θ's entry k is: a mass (m), a first moment (h), an inertia (I), or a friction kind."""
+    if k >= n_rigid:
+        return columns[k - n_rigid][0]
+    return "m" if k % 10 == 0 else "h" if k % 10 < 4 else "I"
+
+
+def _combination(vector, names) -> str:
+    big = np.flatnonzero(np.abs(vector) >= 0.3 * np.abs(vector).max())
+    lead = vector[big[np.argmax(np.abs(vector[big]))]]
+    terms = [(vector[k] / lead, names[k]) for k in big]
+    text = " ".join(f"{'-' if c < 0 else '+'} {'' if abs(c) == 1 else f'{abs(c):.3g} '}{name}" for c, name in terms)
+    return text.removeprefix("+ ") if text.startswith("+") else "-" + text[2:]
+
+
+def identify(model: Model, log: JointLog, friction: str = "both", holdout: float = 0.2,
+             prior_weight: float = PRIOR_WEIGHT, min_mass=None, progress=None, where: str = "the log") -> Identification:
+    """The parameters ``log`` shows ``model`` really has (module docstring).
+
+    Parameters
+    ----------
+    model : the URDF's robot: its parameters are the prior and the starting point
+    log : a :class:`~course_dynamics.tools.logs.JointLog` with measured torques (``log.measured``)
+    friction : which friction to identify: ``both``, ``viscous``, ``coulomb`` or ``none``
+    holdout : the share of the log's time, at its end, kept out of the fit to judge it (0 ≤ holdout < 1)
+    prior_weight : λ ≥ 0, the weight of the URDF's values (step 3)
+    min_mass : (n,) kg, the least mass of each body; default 1 % of the URDF's (at least 1e-6 kg)
+    progress : called as ``progress(done, total)`` (samples) while the regressor is computed
+    where : how messages name the log (its file)
+
+    Raises
+    ------
+    InputError
+        No measured torques, a bad option, a fitted part too short for the parameters, or no
+        consistent solution; cvxpy missing (install ``course-dynamics[identify]``).
+    """
+    if friction not in FRICTION_MODELS:
+        raise InputError(f"unknown friction model '{friction}' (choose from {', '.join(FRICTION_MODELS)})")
+    if not 0 <= holdout < 1:
+        raise InputError(f"the held-out share must be at least 0 and less than 1, got {holdout}")
+    if not (np.isfinite(prior_weight) and prior_weight >= 0):
+        raise InputError(f"the prior weight must be a non-negative number, got {prior_weight}")
+    measured = [] if log.measured is None else [j for j in range(model.n) if np.all(np.isfinite(log.measured[:, j]))]
+    if not measured:
+        raise InputError(f"{where} holds no measured torques: identification needs them, as tau_meas_<joint> columns "
+                         f"(tau_meas_{model.joint_names[0]}, …), a bag's effort, Franka's tau_J, or current_<joint> "
+                         "columns with torque constants")
+    columns = _friction_columns(friction, measured)
+    identified = {(kind, j) for kind, j in columns}
+    urdf_friction = Friction.from_urdf(model)
+    fixed = Friction(viscous=[0.0 if ("viscous", j) in identified else v for j, v in enumerate(urdf_friction.viscous)],
+                     coulomb=[0.0 if ("coulomb", j) in identified else c for j, c in enumerate(urdf_friction.coulomb)])
+    target = np.where(np.isfinite(log.measured), log.measured, 0.0) - fixed.torques(log.qd)
+    t = log.t
+    split = t[0] + (1 - holdout) * (t[-1] - t[0])
+    train = np.flatnonzero(t < split) if holdout > 0 else np.arange(len(t))
+    test = np.flatnonzero(t >= split) if holdout > 0 else np.arange(0)
+    base = base_parameters(model)
+    n_rigid = 10 * model.n
+    where = list(base.independent) + [n_rigid + k for k in range(len(columns))]
+    if len(train) * len(measured) < 2 * len(where):
+        raise InputError(f"{where}: the fitted part has {len(train)} samples of {len(measured)} measured joints, too "
+                         f"few for {len(where)} base parameters (at least twice as many values are needed)")
+    R = _factors(model, log, train, columns, target, measured, progress)
+    counts = np.full(len(measured), float(len(train)))
+    sigma, theta_wls, error, shares, directions = _weighted_fit(R, counts, where)
+    kinds = [_kind(k, n_rigid, columns) for k in range(n_rigid + len(columns))]
+    theta_urdf = np.concatenate([parameters(model), [getattr(urdf_friction, kind)[j] for kind, j in columns]])
+    masses = np.array([b.mass for b in model.bodies], dtype=float)
+    min_mass = np.maximum(MIN_MASS_SHARE * masses, MIN_MASS) if min_mass is None else np.asarray(min_mass, float)
+    theta, solver = _consistent(model, R, sigma, theta_urdf, kinds, _typical(model, theta_urdf, theta_wls, kinds, where),
+                                prior_weight, min_mass)
+    pi = _physical(theta[:n_rigid], model, min_mass)
+    theta = np.concatenate([pi, np.maximum(theta[n_rigid:], 0.0)])
+    found = with_parameters(model, pi)
+    viscous, coulomb = fixed.viscous.copy(), fixed.coulomb.copy()
+    for (kind, j), value in zip(columns, theta[n_rigid:]):
+        (viscous if kind == "viscous" else coulomb)[j] = value
+    found_friction = Friction(viscous=viscous, coulomb=coulomb)
+
+    names = tuple(parameter_names(model)) + tuple(f"{SYMBOLS[kind]}_{model.joint_names[j]}" for kind, j in columns)
+    base_names = tuple(f"π_b{k + 1}" for k in range(base.rank)) + names[n_rigid:]
+
+    def base_values(th):
+        return np.concatenate([base.values(th[:n_rigid]), th[n_rigid:]])
+    unexcited = tuple((float(share), _combination(direction, base_names))
+                      for share, direction in zip(shares, directions) if share < UNEXCITED)
+    condition = float(1.0 / shares[-1]) if shares[-1] > 0 else float("inf")
+    never_act = tuple(names[k] for k in range(n_rigid) if not base.beta[:, k].any())
+
+    before, after = _predict(model, urdf_friction, log, test), _predict(found, found_friction, log, test)
+    rms_before, rms_after = (_per_joint(model, measured, np.sqrt(np.mean((log.measured[test] - tau) ** 2, axis=0))
+                                        if len(test) else None) for tau in (before, after))
+    notes = tuple(f"joint '{model.joint_names[j]}' has no measured torque: its rows are left out"
+                  for j in range(model.n) if j not in measured)
+    return Identification(
+        model=found, friction=found_friction, original=model, original_friction=urdf_friction, friction_model=friction,
+        names=names, pi_urdf=theta_urdf, pi=theta, base=base, base_names=base_names, base_urdf=base_values(theta_urdf),
+        base_wls=theta_wls, base_error=error, base_consistent=base_values(theta), condition_number=condition,
+        unexcited=unexcited, never_act=never_act, sigma=_per_joint(model, measured, sigma, packed=True), split_t=float(split),
+        samples=(len(train), len(test)), held_out=(t[test], log.measured[test], before, after),
+        rms_before=rms_before, rms_after=rms_after, solver=solver, notes=notes)
+
+
+def _per_joint(model: Model, measured, values, packed: bool = False) -> np.ndarray:
+    """(n,) with ``values`` at the measured joints (given for every joint, or with ``packed`` for those only), NaN
+    elsewhere."""
+    out = np.full(model.n, np.nan)
+    if values is not None:
+        out[measured] = values if packed else np.asarray(values)[measured]
+    return out
+
+
+def _predict(model: Model, friction: Friction, log: JointLog, rows) -> np.ndarray:
+    """τ = M Θ̈ + V + G + F(Θ̇) of ``model`` on the samples ``rows`` (K, n)."""
+    tau = np.empty((len(rows), model.n))
+    for start in range(0, len(rows), ROWS_AT_A_TIME):
+        block = rows[start:start + ROWS_AT_A_TIME]
+        rigid = inverse_dynamics(model, log.q[block], log.qd[block], log.qdd[block])
+        tau[start:start + len(block)] = rigid + friction.torques(log.qd[block])      # (6.114)
+    return tau

@@ -1,0 +1,140 @@
+"""course_dynamics/cli/commands/identify.py: a log with measured torques in, an identified URDF and a report out."""
+from __future__ import annotations
+
+import json
+import re
+import sys
+
+import pytest
+from helpers import ROOT, assert_one_line_error, run
+from logmakers import write_csv
+from test_identification import log_columns, true_robot   # the perturbed UR5 and its noisy logs
+
+from course_dynamics import load_robot
+from course_dynamics.cli import main
+
+SECONDS = 15.0   # of the fitted log: enough for every assertion here (tests/test_identification.py: 60 s)
+
+
+@pytest.fixture(scope="module")
+def logs(tmp_path_factory):
+    """Two CSV logs of the true UR5 with tau_meas_ columns: one to identify from, one of another motion."""
+    folder = tmp_path_factory.mktemp("logs")
+    ur5 = load_robot("ur5")
+    true, friction = true_robot(ur5)
+    paths = []
+    for name, seed, seconds in (("train.csv", 1, SECONDS), ("other.csv", 7, 8.0)):
+        columns, _ = log_columns(ur5, true, friction, duration=seconds, seed=seed)
+        write_csv(folder / name, list(columns), list(columns.values()))
+        paths.append(folder / name)
+    return paths
+
+
+def residuals(capsys, urdf, log, *extra) -> list[float]:
+    code, out, _ = run(capsys, "torques", str(urdf), "--log", str(log), "--json", *extra)
+    assert code == 0
+    return [j["rms"] for j in json.loads(out)["residuals"]["joints"]]
+
+
+def test_identified_urdf_gives_torques_closer_to_the_robot(capsys, tmp_path, logs):
+    train, other = logs
+    urdf, report = tmp_path / "identified.urdf", tmp_path / "report"
+    code, out, err = run(capsys, "identify", "ur5", "--log", str(train), "--out", str(urdf), "--report", str(report))
+    assert code == 0, err
+    assert "RMS held out, identified" in out and "solver clarabel" in out
+    assert f"wrote the identified URDF to {urdf}" in err
+    before = residuals(capsys, "ur5", other)
+    after = residuals(capsys, urdf, other, "--friction", "urdf")
+    assert all(a < b / 5 for a, b in zip(after, before)), (after, before)   # measured: 10–100× smaller
+    assert sorted(p.name for p in report.iterdir()) == [".course-dynamics-files.json", "held_out.svg", "report.html",
+                                                         "report.json", "report.md"]
+    document = json.loads((report / "report.json").read_text())
+    assert document["urdf"] == "ur5" and document["friction_model"] == "both" and len(document["parameters"]) == 72
+    html = (report / "report.html").read_text()
+    assert "<svg" in html and "shoulder_pan_joint" in html and "Base parameters" in html
+    assert "shoulder\\_pan\\_joint" in (report / "report.md").read_text()    # names escaped for Markdown
+    code, _, err = run(capsys, "identify", "ur5", "--log", str(train), "--out", str(urdf), "--report", str(report))
+    assert code == 0, err   # a report identify wrote is replaced
+
+
+def test_json_and_friction_choice(capsys, tmp_path, logs):
+    urdf = tmp_path / "viscous.urdf"
+    code, out, _ = run(capsys, "identify", "ur5", "--log", str(logs[0]), "--out", str(urdf), "--friction", "viscous",
+                       "--holdout", "0.3", "--json", "--quiet")
+    assert code == 0
+    document = json.loads(out)
+    assert document["friction_model"] == "viscous" and document["out"] == str(urdf)
+    assert document["samples"]["held_out"] == pytest.approx(0.3 * (SECONDS * 100 + 1), abs=2)
+    assert set(document["held_out_rms"]) == {"urdf", "identified"}
+    assert urdf.read_text().count('friction="0.0"') == 6        # Coulomb: the URDF's, kept
+
+
+def test_the_urdf_can_go_to_standard_output(capsys, logs):
+    code, out, err = run(capsys, "identify", "ur5", "--log", str(logs[0]), "--out", "-", "--quiet")
+    assert code == 0 and out.startswith("<?xml") and out.rstrip().endswith("</robot>")
+    assert "RMS held out" in err
+
+
+LOG = ROOT / "examples" / "ur5_log.csv"
+MAP = ROOT / "examples" / "ur5_log_columns.toml"
+
+
+@pytest.mark.parametrize("argv, fragments", [
+    (["--log", str(LOG), "--map", str(MAP)], ["holds no measured torques", "tau_meas_shoulder_pan_joint",
+                                             "current_<joint>"]),
+    (["--log", "TRAIN", "--holdout", "1.5"], ["--holdout must be at least 0 and less than 1"]),
+    (["--log", "TRAIN", "--friction", "dry"], ["invalid choice: 'dry'"]),
+    (["--log", "TRAIN", "--torque-constant", "1,2"], ["--torque-constant has 2 values"]),
+    (["--log", "TRAIN", "--map", "q_elbow_joint=nothing"], ["no column 'nothing'"]),
+])
+def test_bad_input_is_one_line_and_writes_nothing(capsys, tmp_path, logs, argv, fragments):
+    out = tmp_path / "identified.urdf"
+    argv = [str(logs[0]) if a == "TRAIN" else a for a in argv]
+    code, _, err = run(capsys, "identify", "ur5", *argv, "--out", str(out))
+    assert_one_line_error(code, err, *fragments)
+    assert not out.exists()
+
+
+def test_outputs_are_checked_before_the_work(capsys, tmp_path, logs):
+    train = str(logs[0])
+    code, _, err = run(capsys, "identify", "ur5", "--log", train, "--out", train)
+    assert_one_line_error(code, err, "would overwrite the input")
+    code, _, err = run(capsys, "identify", "ur5", "--log", train, "--out", "-", "--json")
+    assert_one_line_error(code, err, "--out - and --json")
+    code, _, err = run(capsys, "identify", "ur5", "--log", train)
+    assert_one_line_error(code, err, "--out")
+    report = tmp_path / "report"
+    report.mkdir()
+    (report / "report.html").write_text("mine")
+    out = tmp_path / "identified.urdf"
+    code, _, err = run(capsys, "identify", "ur5", "--log", train, "--out", str(out), "--report", str(report))
+    assert_one_line_error(code, err, "report.html: exists and was not written by course-dynamics")
+    assert not out.exists() and (report / "report.html").read_text() == "mine"
+
+
+def test_without_cvxpy_it_says_what_to_install(capsys, tmp_path, logs, monkeypatch):
+    monkeypatch.setitem(sys.modules, "cvxpy", None)
+    out = tmp_path / "identified.urdf"
+    code, _, err = run(capsys, "identify", "ur5", "--log", str(logs[0]), "--out", str(out))
+    assert_one_line_error(code, err, "install course-dynamics[identify]")
+    assert not out.exists()
+
+
+def test_help_explains(capsys):
+    with pytest.raises(SystemExit) as exit_info:
+        main(["identify", "--help"])
+    text = re.sub(r"(\w)- (\w)", r"\1-\2", " ".join(capsys.readouterr().out.split()))   # argparse's line breaks undone
+    assert exit_info.value.code == 0
+    for words in ("--log LOG", "tau_meas_<joint>", "pseudo-inertia", "--holdout", "--report DIR", "--torque-constant",
+                  "--split-gaps", "course-dynamics[identify]"):
+        assert words in text, words
+    with pytest.raises(SystemExit):
+        main(["--help"])
+    assert "identify" in capsys.readouterr().out
+
+
+def test_the_commands_friction_choices_are_the_librarys():
+    from course_dynamics.cli.commands import identify as command
+    from course_dynamics.tools import identification
+
+    assert command.FRICTION_MODELS == identification.FRICTION_MODELS
