@@ -12,7 +12,6 @@ states, as a user would write it), and the largest relative difference from Pino
 from __future__ import annotations
 
 import argparse
-import time
 
 import numpy as np
 import pinocchio as pin
@@ -22,16 +21,7 @@ from course_dynamics_reference.validate import random_states
 from course_dynamics import inverse_dynamics, load_robot, robot_path
 from course_dynamics.core.regressor import regressor
 
-
-def best(function, repeat: int, number: int = 1) -> float:
-    """Best wall time of one call (s) over ``repeat`` rounds of ``number`` calls."""
-    times = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        for _ in range(number):
-            function()
-        times.append((time.perf_counter() - start) / number)
-    return min(times)
+from bench_performance import best  # the one timing loop of the benchmarks (this folder is on the path)
 
 
 def line(label: str, ours: float, theirs: float) -> None:
