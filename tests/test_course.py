@@ -201,4 +201,4 @@ def test_without_the_installed_package_data_the_checkouts_notebooks_are_found(mo
         raise ModuleNotFoundError(name)
 
     monkeypatch.setattr(course.resources, "files", not_installed)
-    assert len(list(course.notebooks_folder().glob("[0-9][0-9]_*.py"))) == 9
+    assert len(list(course.notebooks_folder().glob("[0-9][0-9]_*.py"))) == 10
