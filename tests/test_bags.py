@@ -317,16 +317,12 @@ def fails_instead_of_hanging(fifos, seconds: float = 5.0):
         timer.join()
 
 
-needs_fifos = pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="named pipes are POSIX")
-
-
 def short_bag(tmp_path, ur5, fmt: str, name: str = "run"):
     model, motion, tau = ur5
     return bagmakers.write_joint_states(tmp_path / name, fmt, model.joint_names, motion.t[:20], motion.q[:20],
                                         motion.qd[:20], tau[:20])
 
 
-@needs_fifos
 @pytest.mark.parametrize("fmt", ["ros2-sqlite3", "ros2-mcap"])
 @pytest.mark.parametrize("where", ["storage file", "link to a pipe elsewhere", "unnamed file", "metadata.yaml"])
 def test_a_named_pipe_in_a_ros2_bag_folder_is_refused_without_waiting(tmp_path, ur5, fmt, where):
@@ -349,7 +345,6 @@ def test_a_named_pipe_in_a_ros2_bag_folder_is_refused_without_waiting(tmp_path, 
     assert str(error.value) == f"{fifo}: not a regular file ({kind}), in a ROS2 bag folder"
 
 
-@needs_fifos
 @pytest.mark.parametrize("name", ["run.bag", "run.mcap"])
 def test_a_bag_file_that_is_a_named_pipe_is_refused_without_opening_it(tmp_path, ur5, name):
     fifo = tmp_path / name

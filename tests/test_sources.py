@@ -154,7 +154,9 @@ def test_a_franka_bag_gives_the_arms_torques_and_their_residual(capsys, tmp_path
         assert "model against the robot" in report
         assert [f"tau_meas_{j}" in columns for j in arm] == [True] * 7
         ours = np.column_stack([columns[f"tau_{j}"] for j in arm])
-        np.testing.assert_allclose(ours, tau, rtol=0, atol=1e-3 * np.abs(tau).max())   # qdd differentiated from qd
+        # against the exact motion's τ: Θ̈ is differentiated from the noise-free logged Θ̇ at 1 kHz (the dynamics
+        # themselves are held to Pinocchio at 1e-9 above); the filter's error, measured, is 6e-9 of the peak
+        np.testing.assert_allclose(ours, tau, rtol=0, atol=1e-7 * np.abs(tau).max())
 
 
 def test_a_bag_topic_that_is_missing_is_named_with_the_bags_topics(capsys, tmp_path):
