@@ -24,7 +24,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from pathlib import Path
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..base.errors import InputError
@@ -119,7 +119,7 @@ def open_log(path, model: Model, *, format: str = "auto", topic: str | None = No
         if format == "auto":
             notes = ("read as a UR RTDE recording (timestamp, actual_q_i, actual_qd_i, actual_current_i: joint i is "
                      "the URDF's i-th)",)
-    return LogSource(table.columns(), str(path), kind, implied, table.lines, table.text, notes, _words(table))
+    return replace(as_source(table), where=str(path), format=kind, implied=implied, notes=notes)
 
 
 def _words(table: Table) -> dict:
