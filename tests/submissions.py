@@ -89,11 +89,11 @@ SCORING = {
     "newton_euler": (NEWTON_EULER, "ok", {}, []),
     "closed_forms": (closed_forms(), "ok", {}, []),
     "gravity_sign": (closed_forms("\ng = -9.81\n"), "ok", {"tau": 0, "G": 0},
-                     ["gravity with the wrong sign", "opposite sign"]),
+                     ["[gravity-sign] matches the right answer made with gravity with the wrong sign", "opposite sign"]),
     "swapped_joints": (NEWTON_EULER + "\n_right = tau\n\ndef tau(q, qd, qdd):\n    return _right(q, qd, qdd)[::-1]\n", "ok", {"tau": 0, "M": 0, "V": 0, "G": 0, "C": 0},
                        ["wrong order"]),
     "degrees": (NEWTON_EULER + "\n_right = tau\n\ndef tau(q, qd, qdd):\n    return _right(np.deg2rad(q), qd, qdd)\n", "ok", {"tau": 0, "M": 0, "V": 0, "G": 0, "C": 0},
-                ["angles read as degrees"]),
+                ["[degrees] matches the right answer made with the angles in degrees (positions read as degrees)"]),
     "wrong_length": (closed_forms("\ndef G(q):\n    return np.zeros(3)\n"), "ok", {"G": 0, "tau": 0},
                      ["returned 3 values, the robot has 2 joints (theta1, theta2)"]),
     "nan_values": (closed_forms("\ndef G(q):\n    return np.array([np.nan, 0.0])\n"), "ok", {"G": 0, "tau": 0},
@@ -239,3 +239,76 @@ for secret in ("/etc/shadow", "/etc/shadow-", "/etc/gshadow-", "/proc/self/mount
 # A student whose file name and error message carry HTML: both must reach the feedback escaped.
 INJECTION_NAME = "mallory<img src=x onerror=alert(1)>"
 INJECTION = 'raise RuntimeError("<script>alert(document.cookie)</script>")\n'
+
+
+SPATIAL_NEWTON_EULER = '''
+import numpy as np
+
+# The spatial arm's numbers, as `course-dynamics info spatial_arm` lists them (one entry per link).
+R0 = {R0}
+P = {P}
+m = {m}
+Pc = {Pc}
+Ic = {Ic}
+g = np.array({g})
+z = np.array([0.0, 0.0, 1.0])
+
+
+def rot_z(theta):
+    c, s = np.cos(theta), np.sin(theta)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def tau(q, qd, qdd):
+    """Craig's outward (6.45)-(6.50) and inward (6.51)-(6.53) iterations for a serial arm."""
+    n_links = len(m)
+    R = [np.array(R0[i]) @ rot_z(q[i]) for i in range(n_links)]  # orientation of frame i in frame i-1
+    w, wd, vd = np.zeros(3), np.zeros(3), -g
+    F, N = [], []
+    for i in range(n_links):
+        Rt = R[i].T
+        vd = Rt @ (np.cross(wd, P[i]) + np.cross(w, np.cross(w, P[i])) + vd)
+        wd = Rt @ wd + np.cross(Rt @ w, qd[i] * z) + qdd[i] * z
+        w = Rt @ w + qd[i] * z
+        vc = np.cross(wd, Pc[i]) + np.cross(w, np.cross(w, Pc[i])) + vd
+        I = np.array(Ic[i])
+        F.append(m[i] * vc)
+        N.append(I @ wd + np.cross(w, I @ w))
+    f, n, out = np.zeros(3), np.zeros(3), np.zeros(n_links)
+    for i in reversed(range(n_links)):
+        R_next = R[i + 1] if i + 1 < n_links else np.eye(3)
+        P_next = np.array(P[i + 1]) if i + 1 < n_links else np.zeros(3)
+        n = N[i] + R_next @ n + np.cross(Pc[i], F[i]) + np.cross(P_next, R_next @ f)
+        f = R_next @ f + F[i]
+        out[i] = n @ z
+    return out
+'''
+
+# A student's slips in SPATIAL_NEWTON_EULER: the mistake's code, then the text replaced and what replaces it.
+SPATIAL_SLIPS = {
+    "rotation-transposed": [("Rt = R[i].T", "Rt = R[i]"), ("R_next = R[i + 1] if", "R_next = R[i + 1].T if")],
+    "rotation-transposed-outward": [("Rt = R[i].T", "Rt = R[i]")],
+    "cross-reversed": [("np.cross(Rt @ w, qd[i] * z)", "np.cross(qd[i] * z, Rt @ w)")],
+    "centripetal-missing": [(" + np.cross(w, np.cross(w, P[i]))", ""), (" + np.cross(w, np.cross(w, Pc[i]))", "")],
+    "centripetal-missing-6.48": [(" + np.cross(w, np.cross(w, Pc[i]))", "")],
+    "gyroscopic-missing": [("N.append(I @ wd + np.cross(w, I @ w))", "N.append(I @ wd)")],
+    "inertia-about-origin": [("I = np.array(Ic[i])", "I = np.array(Ic[i]) + m[i] * (np.dot(Pc[i], Pc[i]) * np.eye(3)"
+                                                      " - np.outer(Pc[i], Pc[i]))")],
+    "moment-arm-missing": [(" + np.cross(P_next, R_next @ f)", "")],
+    "gravity-sign": [("vd = np.zeros(3), np.zeros(3), -g", "vd = np.zeros(3), np.zeros(3), g")],
+    "degrees": [("rot_z(q[i])", "rot_z(np.deg2rad(q[i]))")],
+    "joints-swapped": [("    return out\n", "    return out[::-1]\n")],
+}
+
+
+def spatial_newton_euler(model, slip: str = "") -> str:
+    """SPATIAL_NEWTON_EULER with ``model``'s numbers, and the slip named (a key of SPATIAL_SLIPS) made."""
+    bodies = model.bodies
+    text = SPATIAL_NEWTON_EULER.format(
+        R0=repr([b.R0.tolist() for b in bodies]), P=repr([b.P.tolist() for b in bodies]),
+        m=repr([float(b.mass) for b in bodies]), Pc=repr([b.p_com.tolist() for b in bodies]),
+        Ic=repr([b.I_com.tolist() for b in bodies]), g=repr(model.gravity.tolist()))
+    for old, new in SPATIAL_SLIPS.get(slip, []):
+        assert old in text, old
+        text = text.replace(old, new)
+    return text

@@ -236,7 +236,7 @@ def test_student_text_is_escaped(graded):
 def test_summary_shows_the_class(graded):
     summary = (graded["out"] / "summary.html").read_text()
     assert "<svg" in summary and "Score distribution" in summary
-    assert "Most common mistakes" in summary and "opposite sign" in summary
+    assert "Most common mistakes" in summary and "gravity-sign" in summary
     assert "timeout" in summary and "forbidden import" in summary
 
 

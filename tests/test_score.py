@@ -138,22 +138,21 @@ def test_screens_name_what_could_not_be_compared(setting):
 
 def test_gravity_flipped_in_the_model(setting):
     G = answer_of(setting, "G", G=lambda q: gravity_torques(FLIPPED, q))
-    assert "gravity enters with the wrong sign" in found(diagnosis.opposite_sign, G).text
+    assert found(diagnosis.opposite_sign, G).text.startswith("[gravity-sign] has the opposite sign everywhere: ")
     tau = answer_of(setting, "tau", tau=lambda q, qd, qdd: inverse_dynamics(FLIPPED, q, qd, qdd))
     assert diagnosis.opposite_sign(tau) is None
-    finding = found(diagnosis.GRAVITY_WITH_THE_WRONG_SIGN, tau)
-    assert finding.conclusive and finding.text.startswith("matches the right answer with gravity with the wrong sign: ")
-    assert score(tau).tags == ("gravity with the wrong sign",) and score(G).tags == ("opposite sign",)
+    finding = found(diagnosis.named_mistake, tau)
+    assert finding.conclusive and finding.text.startswith(
+        "[gravity-sign] matches the right answer made with gravity with the wrong sign in the base acceleration ⁰v̇₀: ")
+    assert score(tau).tags == ("gravity-sign",) and score(G).tags == ("gravity-sign",)
 
 
-@pytest.mark.parametrize("check, convert, variant", [
-    (diagnosis.ANGLES_READ_AS_DEGREES, np.deg2rad, "positions"),
-    (diagnosis.ANGLES_TURNED_INTO_DEGREES, np.rad2deg, "positions"),
-])
-def test_angles_in_degrees(setting, check, convert, variant):
+@pytest.mark.parametrize("convert, variant", [(np.deg2rad, "read as"), (np.rad2deg, "turned into")])
+def test_angles_in_degrees(setting, convert, variant):
     tau = answer_of(setting, "tau", tau=lambda q, qd, qdd: inverse_dynamics(MODEL, convert(q), qd, qdd))
-    assert found(check, tau).text.startswith(f"matches the right answer with {check.name} ({variant}): ")
-    assert score(tau).tags == (check.name,)
+    assert found(diagnosis.named_mistake, tau).text.startswith(
+        f"[degrees] matches the right answer made with the angles in degrees (positions {variant} degrees): ")
+    assert score(tau).tags == ("degrees",)
 
 
 def test_masses_counted_twice_are_a_constant_factor(setting):
@@ -211,8 +210,8 @@ def test_coriolis_terms_summed_once_miss_their_factor_2(setting):
     assert parts.text.endswith("the velocity part V = τ(Θ, Θ̇, 0) − G is wrong")
     assert parts.tags == ("wrong V part of tau",)
     in_part = found(diagnosis.InPart("V", diagnosis.coriolis_without_factor_2), tau)
-    assert in_part.text.startswith("in τ's velocity part V, every Coriolis term")
-    assert {"wrong V part of tau", "wrong Coriolis terms", "Coriolis without its factor 2"} <= set(score(tau).tags)
+    assert in_part.text.startswith("[coriolis-half] in τ's velocity part V, every Coriolis term")
+    assert {"wrong V part of tau", "wrong Coriolis terms", "coriolis-half"} <= set(score(tau).tags)
 
 
 def test_a_V_that_is_not_quadratic_in_the_rates(setting):

@@ -7,6 +7,8 @@ name                           file
 ``rp_arm``                     robots/rp_arm.urdf (Craig example 6.5)
 ``pendulum``                   robots/pendulum.urdf (the notes' pendulum)
 ``rrr_arm``                    robots/rrr_arm.urdf (a spatial 3R arm, for 3-joint derivations)
+``spatial_arm``                robots/spatial_arm.urdf (skewed axes, products of inertia: the
+                               Newton–Euler exercises)
 ``ur5``                        example-robot-data ur_description/urdf/ur5_robot.urdf
 ``panda``                      example-robot-data panda_description/urdf/panda.urdf
                                (7 arm joints and both finger joints)
@@ -51,6 +53,7 @@ COURSE_ROBOTS = {
     "rp_arm": "rp_arm.urdf",
     "pendulum": "pendulum.urdf",
     "rrr_arm": "rrr_arm.urdf",
+    "spatial_arm": "spatial_arm.urdf",
 }
 
 EXAMPLE_ROBOTS = {

@@ -17,12 +17,11 @@ not_defined †                 does not exist: no function, no τ to derive it 
 raised_an_error, wrong_shape  is an exception, has the wrong shape,
 not_finite                    holds NaN or inf (on some states)
 opposite_sign †               agrees with −ours everywhere
-named mistakes †              agrees with ours made with that mistake: angles in
-                              degrees, gravity with the wrong sign
+named_mistake †               agrees with ours made with a mistake of ``mistakes``
 constant_factor †             ≈ k · ours for one k ≠ 1
 transposed †, joints_swapped  agrees with ours transposed, or joints permuted
-tau_parts, InPart(…)          (τ) which of its parts G, M, V are right; a check
-                              below run on one of them
+closest_mistake               much nearer one mistaken answer than the right one
+tau_parts, InPart(…)          (τ) which of its parts G, M, V are right; a check on one
 wrong_entries                 which entries disagree
 not_symmetric                 (M) differs from its transpose
 not_christoffel               (C) satisfies C Θ̇ = V, but is not Christoffel's
@@ -48,6 +47,7 @@ from itertools import permutations
 import numpy as np
 
 from ..core.sampling import relative_error, term_scales
+from .mistakes import MISTAKES
 from .plan import Expected, Plan, VelocityProbe
 
 TERM_NAMES = {"tau": "τ", "M": "M", "V": "V", "G": "G", "C": "C"}
@@ -222,42 +222,42 @@ def opposite_sign(answer: Answer) -> Finding | None:
     if not answer.agrees_with(-answer.expected):
         return None
     if answer.term == "G":
-        advice = "gravity enters with the wrong sign (Craig lifts the base, ⁰v̇₀ = −g)"
-    elif answer.joints:
-        advice = "check the direction of gravity, of the joint axes, and subtractions done the wrong way round"
-    else:
-        advice = "check the sign of each term, and subtractions done the wrong way round"
+        return Finding(f"[gravity-sign] has the opposite sign everywhere: {MISTAKES['gravity-sign'].advice}",
+                       ("gravity-sign",), True)
+    advice = "check the direction of gravity, of the joint axes, and subtractions done the wrong way round" \
+        if answer.joints else "check the sign of each term, and subtractions done the wrong way round"
     returned = f"{answer.name} returned" if answer.name else "yours"
     return Finding(f"has the opposite sign everywhere ({returned} = −1 × the right value): {advice}",
                    ("opposite sign",), conclusive=True)
 
 
-@dataclass(frozen=True)
-class NamedMistake:
-    """A mistake we make on purpose: :func:`~course_dynamics.grading.plan.expected_terms` computes our answers
-    with it (under ``name``, one per variant), and the student's answer agrees with one of them."""
+def named_mistake(answer: Answer) -> Finding | None:
+    """Agrees with one of our answers made with a mistake (:mod:`~course_dynamics.grading.mistakes`)."""
+    made = answer.reference.mistakes.get(answer.term, {}) if answer.reference is not None else {}
+    for (code, variant), values in made.items():
+        if answer.agrees_with(values):
+            return Finding(f"[{code}] matches the right answer made with {MISTAKES[code].words}"
+                           f"{' ' + variant if variant else ''}: {MISTAKES[code].advice}", (code,), conclusive=True)
+    return None
 
-    name: str
-    advice: str
 
-    def __call__(self, answer: Answer) -> Finding | None:
-        made = answer.reference.mistakes.get(answer.term, {}) if answer.reference is not None else {}
-        for (name, variant), values in made.items():
-            if name == self.name and answer.agrees_with(values):
-                how = f"{name} ({variant})" if variant else name
-                return Finding(f"matches the right answer with {how}: {self.advice}", (name,), conclusive=True)
+def closest_mistake(answer: Answer) -> Finding | None:
+    """Much nearer one of our mistaken answers than the right one, without agreeing: that mistake and another?"""
+    made = answer.reference.mistakes.get(answer.term, {}) if answer.reference is not None else {}
+    if not made or not answer.usable:
         return None
 
+    def distance(candidates):
+        return float(np.median([relative_error(answer.values[k], candidates[k], answer.scales[k])
+                                for k in answer.usable]))
 
-ANGLES_READ_AS_DEGREES = NamedMistake(
-    "angles read as degrees", "your code treats the joint angles as degrees (e.g. np.deg2rad(q) or degree-based "
-    "trigonometry), but every input is in radians")
-ANGLES_TURNED_INTO_DEGREES = NamedMistake(
-    "angles turned into degrees", "your code turns the joint angles into degrees before using them (e.g. np.rad2deg), "
-    "but numpy's trigonometry takes radians")
-GRAVITY_WITH_THE_WRONG_SIGN = NamedMistake(
-    "gravity with the wrong sign", "gravity enters with the wrong sign: in Craig's recursion the base accelerates "
-    "upward, ⁰v̇₀ = −g, so G(Θ) holds the arm up against gravity")
+    right = distance(answer.expected)
+    (code, variant), nearest = min(((key, distance(values)) for key, values in made.items()), key=lambda x: x[1])
+    if nearest > min(0.1, right / 10):
+        return None
+    return Finding(f"closest to [{code}] {MISTAKES[code].words}{' ' + variant if variant else ''} (relative error "
+                   f"{nearest:.1g} from that, {right:.1g} from the right answer): that mistake and another?",
+                   (f"closest to {code}",))
 
 
 def constant_factor(answer: Answer) -> Finding | None:
@@ -296,8 +296,8 @@ def joints_swapped(answer: Answer) -> Finding | None:
         moved = [ours[:, p]] if ours.ndim == 2 else [ours[:, p][:, :, p], ours[:, p]]
         if any(answer.agrees_with(m) for m in moved):
             names, joints = ", ".join(answer.joints[j] for j in p), ", ".join(answer.joints)
-            return Finding(f"has its joints in the wrong order ({names} appear as {joints}): entries must follow the "
-                           f"joint order {joints} that `course-dynamics info` prints", ("joints swapped",), True)
+            return Finding(f"[joints-swapped] has its joints in the wrong order ({names} appear as {joints}): entries must follow the "
+                           f"joint order {joints} that `course-dynamics info` prints", ("joints-swapped",), True)
     return None
 
 
@@ -386,9 +386,9 @@ def coriolis_without_factor_2(answer: Answer) -> Finding | None:
     if not any(abs(c.expected) > answer.tolerance * c.scale for c in coriolis) or not all(
             c.right(answer.tolerance, 0.5 if c.kind == "Coriolis" else 1.0) for c in found):
         return None
-    return Finding(f"in {answer.label or answer.name}, every Coriolis term θ̇ⱼθ̇ₖ (j ≠ k) has half its coefficient: "
+    return Finding(f"[coriolis-half] in {answer.label or answer.name}, every Coriolis term θ̇ⱼθ̇ₖ (j ≠ k) has half its coefficient: "
                    "Σⱼₖ Γᵢⱼₖ θ̇ⱼθ̇ₖ holds each product twice, so Craig's B is 2Γᵢⱼₖ (6.63), as in the "
-                   "two-link arm's −2 m₂l₁l₂s₂ θ̇₁θ̇₂ (6.61)", ("Coriolis without its factor 2",))
+                   "two-link arm's −2 m₂l₁l₂s₂ θ̇₁θ̇₂ (6.61)", ("coriolis-half",))
 
 
 PART_NAMES = {"G": "the gravity part G = τ(Θ, 0, 0)", "M": "the inertia part M(Θ) (τ(Θ, 0, eⱼ) − G)",
@@ -420,14 +420,17 @@ class InPart:
     def __call__(self, answer: Answer) -> Finding | None:
         part = answer.parts.get(self.part)
         finding = self.check(part) if part is not None and part.wrong else None
-        return None if finding is None else Finding(self.prefix + finding.text, finding.tags)
+        if finding is None:
+            return None  # the code of a named mistake stays first
+        code, _, text = finding.text.partition("] ") if finding.text.startswith("[") else ("", "", finding.text)
+        return Finding((code + "] " if code else "") + self.prefix + text, finding.tags)
 
 
 SCREENS = (not_defined, raised_an_error, wrong_shape, not_finite)
 CHECKS = (
-    opposite_sign, ANGLES_READ_AS_DEGREES, ANGLES_TURNED_INTO_DEGREES, GRAVITY_WITH_THE_WRONG_SIGN, constant_factor,
-    transposed, joints_swapped,
-    tau_parts, InPart("M", wrong_entries, "in τ's inertia part, "), InPart("V", wrong_coefficients),
+    opposite_sign, named_mistake, constant_factor, transposed, joints_swapped, closest_mistake,
+    tau_parts, InPart("G", named_mistake, "in τ's gravity part, "), InPart("M", wrong_entries, "in τ's inertia part, "),
+    InPart("V", wrong_coefficients),
     InPart("V", coriolis_without_factor_2),
     wrong_entries, not_symmetric, not_christoffel, wrong_coefficients, coriolis_without_factor_2,
 )

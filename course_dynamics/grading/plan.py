@@ -47,11 +47,11 @@ from ..core.dynamics import (
     mass_matrix,
     velocity_torques,
 )
-from ..core.joints import kind_of
 from ..core.lagrange import configuration_space_terms, velocity_pairs
 from ..core.newton_euler import inverse_dynamics
 from ..core.sampling import random_states
 from .assignment import Assignment
+from .mistakes import mistaken_terms
 
 STEP = 1e-5  # rad or m: central-difference step for a C derived from tau
 DIAGNOSTIC_STATES = 3
@@ -175,7 +175,8 @@ def make_plan(assignment: Assignment) -> Plan:
 @dataclass(frozen=True)
 class Expected:
     """Our library's answers: every term (N, …), V's (6.63) coefficients at the diagnostic states, and
-    the answers of typical mistakes: per term, (mistake, variant) → the answer made with that mistake."""
+    the answers of typical mistakes: per term, (code, variant) → the answer made with that mistake
+    (:func:`~course_dynamics.grading.mistakes.mistaken_terms`)."""
 
     terms: dict[str, np.ndarray]
     B: np.ndarray
@@ -194,16 +195,7 @@ def expected_terms(assignment: Assignment, plan: Plan) -> Expected:
     terms = _all_terms(model, plan.q, plan.qd, plan.qdd)
     d = list(plan.diagnostic)
     B, C = configuration_space_terms(model, plan.q[d])
-    revolute = np.array([kind_of(b).rotates for b in model.bodies])
-    mistakes: dict[str, dict[tuple[str, str], np.ndarray]] = {t: {} for t in terms}
-    for name, factor in (("angles read as degrees", np.pi / 180), ("angles turned into degrees", 180 / np.pi)):
-        scale = np.where(revolute, factor, 1.0)
-        for variant, (q, qd, qdd) in (("positions", (plan.q * scale, plan.qd, plan.qdd)),
-                                      ("positions, velocities and accelerations",
-                                       (plan.q * scale, plan.qd * scale, plan.qdd * scale))):
-            for term, value in _all_terms(model, q, qd, qdd).items():
-                mistakes[term][name, variant] = value
-    mistakes["tau"]["gravity with the wrong sign", ""] = terms["tau"] - 2 * terms["G"]
+    mistakes = {"C": {}, **mistaken_terms(model, plan.q, plan.qd, plan.qdd)}
     return Expected(terms=terms, B=B, C_centrifugal=C, mistakes=mistakes)
 
 

@@ -217,6 +217,8 @@ EXERCISES: dict[str, Exercise] = {
     "physical": Exercise("value", lambda: np.array([not inertia.physical_problems(t) for t in given("physical")["tensors"]]),
                          hint="symmetric, no negative principal moment, and I₁ + I₂ ≥ I₃"),
     "tau_two_link": Exercise("term", term="tau", hint="the outward iteration (6.45)–(6.50), then the inward (6.51)–(6.53)"),
+    "tau_spatial_arm": Exercise("term", robot="spatial_arm", term="tau",
+                                hint="the outward iteration (6.45)–(6.50), then the inward (6.51)–(6.53)"),
     "v_dot_c1": Exercise("value", _v_dot_c1, hint="(6.48) for link 1: ¹ω̇₁ × ¹P_C₁ + ¹ω₁ × (¹ω₁ × ¹P_C₁) + ¹v̇₁"),
     "M_two_link": Exercise("term", term="M", hint="(6.60)"),
     "V_two_link": Exercise("term", term="V", hint="(6.61)"),

@@ -1,0 +1,196 @@
+"""The mistakes students make, each made on purpose by our own code, so that a wrong answer can be named.
+
+Every mistake has a stable code (shown in brackets in the feedback, counted in
+the class summary), its words and its advice in Craig's terms (:data:`MISTAKES`).
+:func:`mistaken_terms` computes our τ, M, V and G made with each mistake, at the
+grading states, in every variant a student makes it:
+
+=======================  ==============================================================
+made by                  mistakes
+=======================  ==============================================================
+the recursion with one   ``rotation-transposed``, ``cross-reversed``, ``centripetal-missing``,
+:class:`~course_dynamics.core.newton_euler.Slip`
+                         ``gyroscopic-missing``, ``inertia-about-origin``,
+                         ``moment-arm-missing``, ``gravity-sign``; each wherever the
+                         expression appears, in one iteration, or in one equation alone
+                         (:func:`~course_dynamics.core.newton_euler.slips`)
+the closed form          ``sin-cos-swapped`` (every sin read as cos and back),
+with one substitution    ``c1-c12-swapped`` (cos θᵢ exchanged with the cosine of a sum such as
+                         cos(θ₁ + θ₂)): for robots of up to :data:`CLOSED_FORM_JOINTS` joints,
+                         whose closed forms students derive by hand
+the inputs               ``degrees``: the angles read as, or turned into, degrees
+=======================  ==============================================================
+
+Three more codes name findings of :mod:`~course_dynamics.grading.diagnosis`
+that need no answer of ours: ``coriolis-half`` (every Coriolis coefficient
+halved, seen in V's (6.63) coefficients), ``joints-swapped`` and, for G,
+``gravity-sign`` as the opposite sign.
+
+>>> sorted(MISTAKES)[:3]
+['c1-c12-swapped', 'centripetal-missing', 'coriolis-half']
+"""
+from __future__ import annotations
+
+import hashlib
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ..core.joints import kind_of
+from ..core.model import Model
+from ..core.newton_euler import EXACT, Slip, newton_euler_links, slips
+from ..core.symbolic import derive, numeric_functions
+
+CLOSED_FORM_JOINTS = 2  # closed forms are derived (about 0.7 s) for robots this small, as students derive them
+
+
+@dataclass(frozen=True)
+class Mistake:
+    """A mistake's words (what was done) and advice (what is right, with the equation)."""
+
+    words: str
+    advice: str
+
+
+MISTAKES = {
+    "rotation-transposed": Mistake(
+        "the rotation used the wrong way (ᵖᵢR for ⁱₚR)",
+        "ⁱ⁺¹ᵢR carries a vector from frame i into frame i+1; it is the transpose of ⁱᵢ₊₁R, the orientation of "
+        "frame i+1 in frame i that the link's transform gives: (6.45)–(6.47) use ⁱ⁺¹ᵢR, (6.51)–(6.52) ⁱᵢ₊₁R"),
+    "cross-reversed": Mistake(
+        "a cross product in the wrong order",
+        "a × b = −b × a: (6.46) has ⁱ⁺¹ᵢR ⁱωᵢ × θ̇ᵢ₊₁ ⁱ⁺¹Ẑᵢ₊₁, (6.47) and (6.48) ω̇ × P + ω × (ω × P), "
+        "(6.50) ω × ᶜI ω, (6.52) ⁱP_Cᵢ × ⁱFᵢ + ⁱPᵢ₊₁ × ⁱfᵢ₊₁"),
+    "centripetal-missing": Mistake(
+        "the centripetal term ω × (ω × P) left out",
+        "a point fixed in a turning link accelerates toward the axis even at constant ω: (6.47) and (6.48) "
+        "both carry ω × (ω × P), as (6.12) does"),
+    "gyroscopic-missing": Mistake(
+        "the gyroscopic term ω × ᶜI ω left out",
+        "Euler's equation (6.50) is ⁱNᵢ = ᶜⁱIᵢ ⁱω̇ᵢ + ⁱωᵢ × ᶜⁱIᵢ ⁱωᵢ; the second term vanishes only when ω "
+        "lies along a principal axis of the link"),
+    "inertia-about-origin": Mistake(
+        "the inertia tensor taken about the frame origin instead of the centre of mass",
+        "(6.50) uses ᶜⁱIᵢ, the tensor about the centre of mass (in the axes of frame i); (6.52) adds the moment "
+        "of ⁱFᵢ about the origin through ⁱP_Cᵢ × ⁱFᵢ, so a tensor moved to the origin counts it twice"),
+    "moment-arm-missing": Mistake(
+        "the moment arm ⁱPᵢ₊₁ × ⁱfᵢ₊₁ of the child's force left out",
+        "(6.52): the force link i+1 exerts at the origin of frame i+1 has a moment about the origin of frame i, "
+        "ⁱPᵢ₊₁ × ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁"),
+    "gravity-sign": Mistake(
+        "gravity with the wrong sign",
+        "in Craig's recursion the base accelerates upward, ⁰v̇₀ = −g, so that G(Θ) holds the arm up against gravity"),
+    "coriolis-half": Mistake(
+        "half the Coriolis coefficient",
+        "Σⱼₖ Γᵢⱼₖ θ̇ⱼθ̇ₖ holds each product θ̇ⱼθ̇ₖ (j ≠ k) twice, so Craig's B is 2Γᵢⱼₖ (6.63), as in the "
+        "two-link arm's −2 m₂l₁l₂s₂ θ̇₁θ̇₂ (6.61)"),
+    "sin-cos-swapped": Mistake(
+        "sin and cos exchanged",
+        "check each sᵢ and cᵢ against the geometry: at θ = 0 a link along X₀ has its gravity moment largest "
+        "(cos θ) and its height change zero (sin θ)"),
+    "c1-c12-swapped": Mistake(
+        "the cosine of one angle exchanged with the cosine of a sum",
+        "c₁ belongs to link 1's direction θ₁, c₁₂ = cos(θ₁ + θ₂) to link 2's: write down which angle each link "
+        "makes with X₀ before reading off its moment arm"),
+    "degrees": Mistake(
+        "the angles in degrees",
+        "every input is in radians, and numpy's trigonometry takes radians: no np.deg2rad or np.rad2deg"),
+    "joints-swapped": Mistake(
+        "the joints in the wrong order",
+        "entries follow the joint order that `course-dynamics info` prints"),
+}
+
+
+def _unit(model: Model, j: int, shape) -> np.ndarray:
+    e = np.zeros(shape)
+    e[..., j] = 1.0
+    return e
+
+
+def _terms_by_recursion(model: Model, q, qd, qdd, slip: Slip) -> dict[str, np.ndarray]:
+    """τ, G, V and M of the recursion run with ``slip``, by differences as the library derives them."""
+    def tau(qd_, qdd_):
+        return np.asarray(newton_euler_links(model, q, qd_, qdd_, slip).tau, dtype=float)
+
+    zero = np.zeros_like(q)
+    G = tau(zero, zero)
+    M = np.stack([tau(zero, _unit(model, j, q.shape)) - G for j in range(model.n)], axis=-1)
+    return {"tau": tau(qd, qdd), "G": G, "V": tau(qd, zero) - G, "M": M}
+
+
+def _fingerprint(model: Model) -> str:
+    numbers = [model.joint_names] + [(b.joint_type, b.parent, b.R0.tobytes(), b.P.tobytes(), b.axis.tobytes(),
+                                      float(b.mass), b.p_com.tobytes(), b.I_com.tobytes()) for b in model.bodies]
+    return hashlib.sha256(repr((numbers, model.gravity.tobytes())).encode()).hexdigest()
+
+
+_DERIVED: dict[str, object] = {}
+
+
+def _derivation(model: Model):
+    """The model's closed forms, derived once per model in this process."""
+    key = _fingerprint(model)
+    if key not in _DERIVED:
+        _DERIVED[key] = derive(model)
+    return _DERIVED[key]
+
+
+def _substitutions(derivation) -> dict[tuple[str, str], dict]:
+    """The closed-form slips: (code, variant) → a simultaneous substitution of trigonometric functions."""
+    import sympy  # heavy: only for the small robots whose closed forms are derived
+
+    expressions = [*derivation.tau, *derivation.G]
+    found = set().union(*(sympy.sympify(e).atoms(sympy.cos, sympy.sin) for e in expressions))
+    arguments = sorted({f.args[0] for f in found}, key=sympy.default_sort_key)
+    made = {("sin-cos-swapped", ""): {f: (sympy.cos if f.func is sympy.sin else sympy.sin)(f.args[0]) for f in found}}
+    angles = [a for a in arguments if a.is_Symbol]
+    for a in angles:
+        for b in arguments:
+            if not b.is_Symbol and a in b.free_symbols and sympy.cos(a) in found and sympy.cos(b) in found:
+                names = f"(cos({a}) and cos({b}) exchanged)".replace("q_", "")
+                made["c1-c12-swapped", names] = {sympy.cos(a): sympy.cos(b),
+                                                                            sympy.cos(b): sympy.cos(a)}
+    return made
+
+
+def _terms_by_closed_form(model: Model, q, qd, qdd) -> dict[tuple[str, str], dict[str, np.ndarray]]:
+    derivation = _derivation(model)
+    made = {}
+    for key, substitution in _substitutions(derivation).items():
+        def swap(e, substitution=substitution):
+            return e.xreplace(substitution) if hasattr(e, "xreplace") else e
+
+        slipped = replace(derivation, tau=[swap(e) for e in derivation.tau], G=[swap(e) for e in derivation.G],
+                          V=[swap(e) for e in derivation.V], M=[[swap(e) for e in row] for row in derivation.M])
+        functions = numeric_functions(slipped)
+        made[key] = {"tau": functions["tau"](q, qd, qdd), "G": functions["G"](q), "V": functions["V"](q, qd),
+                     "M": functions["M"](q)}
+    return made
+
+
+def mistaken_terms(model: Model, q, qd, qdd) -> dict[str, dict[tuple[str, str], np.ndarray]]:
+    """Per term (τ, M, V, G), (code, variant) → our answers made with that mistake at the states (N, n) given.
+
+    >>> from course_dynamics import load_robot
+    >>> arm = load_robot("pendulum")
+    >>> made = mistaken_terms(arm, np.array([[0.5]]), np.array([[1.0]]), np.array([[0.0]]))
+    >>> made["G"]["gravity-sign", "in the base acceleration ⁰v̇₀"].round(4).tolist()   # −m g l sin θ
+    [[-4.7032]]
+    """
+    q, qd, qdd = (np.asarray(a, dtype=float) for a in (q, qd, qdd))
+    made: dict[str, dict[tuple[str, str], np.ndarray]] = {t: {} for t in ("tau", "M", "V", "G")}
+    for slip in slips():
+        for term, value in _terms_by_recursion(model, q, qd, qdd, slip).items():
+            made[term][slip.code, "in " + slip.where] = value
+    revolute = np.array([kind_of(b).rotates for b in model.bodies])
+    for variant, factor in (("read as degrees", np.pi / 180), ("turned into degrees", 180 / np.pi)):
+        scale = np.where(revolute, factor, 1.0)
+        for rates, (q_, qd_, qdd_) in (("positions", (q * scale, qd, qdd)),
+                                       ("positions, velocities and accelerations", (q * scale, qd * scale, qdd * scale))):
+            for term, value in _terms_by_recursion(model, q_, qd_, qdd_, EXACT).items():
+                made[term]["degrees", f"({rates} {variant})"] = value
+    if model.n <= CLOSED_FORM_JOINTS and revolute.any():
+        for key, terms in _terms_by_closed_form(model, q, qd, qdd).items():
+            for term, value in terms.items():
+                made[term][key] = value
+    return made
