@@ -1,11 +1,42 @@
-"""course_dynamics/teaching/exercises.py: each kind of check says right, wrong (and why) or not done yet, and never raises."""
+"""course_dynamics/teaching/exercises.py and catalogue.py: each kind of check says right, wrong (and why) or not done
+yet, never raises, never shows the expected value, and checks each student against their own robot and numbers."""
 from __future__ import annotations
+
+import re
 
 import numpy as np
 import pytest
 import sympy
 
-from course_dynamics.teaching.exercises import EXERCISES, check, given, symbols
+from course_dynamics.base.errors import InputError
+from course_dynamics.teaching.exercises import (
+    EXERCISES,
+    check,
+    given,
+    hint,
+    my_robot,
+    show_values,
+    student,
+    symbols,
+    use_student,
+)
+
+
+@pytest.fixture(autouse=True)
+def course_student():
+    """Every test starts as the default student, students' view (no values shown), and leaves it so."""
+    use_student("course")
+    show_values(False)
+    yield
+    use_student("course")
+    show_values(False)
+
+
+def closed_form_G(parameters, sign=1.0):
+    """The two-link arm's G (6.62) with a student's own numbers (their ``my_robot("two_link").parameters``)."""
+    m1, m2, l1, l2, g = (parameters[k] for k in ("m1", "m2", "l1", "l2", "g"))
+    return lambda q: sign * np.array([m2 * l2 * g * np.cos(q[0] + q[1]) + (m1 + m2) * l1 * g * np.cos(q[0]),
+                                      m2 * l2 * g * np.cos(q[0] + q[1])])
 
 
 def test_not_done_yet_for_missing_placeholder_and_empty_function():
@@ -24,14 +55,62 @@ def test_not_done_yet_for_missing_placeholder_and_empty_function():
 
 
 def test_a_function_of_the_robot_gets_the_graders_diagnosis():
-    def swapped_gravity(q):
-        c1, c12 = np.cos(q[0]), np.cos(q[0] + q[1])
-        return -np.array([1.0 * 0.4 * 9.81 * c12 + 3.0 * 0.5 * 9.81 * c1, 1.0 * 0.4 * 9.81 * c12])
-
-    verdict = check("G_two_link", swapped_gravity)
+    parameters = my_robot("two_link").parameters
+    assert check("G_two_link", closed_form_G(parameters))
+    verdict = check("G_two_link", closed_form_G(parameters, -1.0))
     assert verdict.status == "wrong" and not verdict
-    assert any("opposite sign" in line for line in verdict.lines) and any("worst state" in line for line in verdict.lines)
-    assert any(line.startswith("hint: (6.62)") for line in verdict.lines)
+    assert any(line.startswith("[gravity-sign]") for line in verdict.lines)
+    assert any("hint('G_two_link')" in line for line in verdict.lines)
+
+
+def test_each_student_has_their_own_robot_and_numbers():
+    use_student("ada")
+    ada, ada_state = my_robot("two_link").parameters, given("v_dot_c1")
+    ada_G = closed_form_G(ada)
+    assert check("G_two_link", ada_G)
+    use_student("grace")
+    grace = my_robot("two_link").parameters
+    assert ada != grace and not np.array_equal(ada_state["q"], given("v_dot_c1")["q"])
+    assert check("G_two_link", ada_G).status == "wrong"  # Ada's solution does not pass Grace's check
+    assert check("G_two_link", closed_form_G(grace)) and student() == "grace"
+    use_student("course")  # a notebook without an id: a variant too, never the worked examples' robot
+    assert my_robot("two_link").parameters["m1"] != 2.0
+
+
+@pytest.mark.parametrize("bad", ["", "../x", "a b", "ada/../../etc", "é", "x" * 65, ".hidden", "ends."])
+def test_ids_unsafe_as_file_names_are_refused(bad):
+    with pytest.raises(InputError, match="student id"):
+        use_student(bad)
+
+
+def test_no_check_shows_the_expected_value():
+    """The values a student could paste never appear: τ, G, a vector, a matrix, a formula at a point."""
+    parameters = my_robot("two_link").parameters
+    expected = [
+        (check("G_two_link", closed_form_G(parameters, 1.01)), None),
+        (check("v_dot_c1", np.zeros(3)), EXERCISES["v_dot_c1"].answer()),
+        (check("Mx_value", np.eye(2)), EXERCISES["Mx_value"].answer()),
+        (check("omega_dot_C", np.ones(3)), EXERCISES["omega_dot_C"].answer()),
+        (check("tau_with_friction", np.zeros(2)), EXERCISES["tau_with_friction"].answer()),
+    ]
+    for verdict, value in expected:
+        text = verdict.text()
+        assert verdict.status == "wrong" and "expected" not in text and "the right one" not in text, text
+        if value is not None:
+            for x in np.ravel(value):
+                if abs(x) > 1e-9:
+                    assert f"{x:.6g}" not in text and f"{x:.4g}" not in text, (x, text)
+    formula = check("k_pendulum", symbols("m") * symbols("l") ** 2 * symbols("theta_dot") ** 2).text()
+    assert "yours gives" in formula and "the right one" not in formula
+    show_values(True)  # the instructor's solution mode may show them
+    assert "expected" in check("v_dot_c1", np.zeros(3)).text()
+
+
+def test_hints_come_in_tiers_the_formula_last():
+    assert all(len(exercise.hints) >= 3 for exercise in EXERCISES.values())
+    first, last = hint("G_two_link"), hint("G_two_link", 3)
+    assert first.startswith("hint 1 of 3:") and "hint('G_two_link', 2)" in first
+    assert "c₁₂" in last and "for more" not in last and hint("G_two_link", 99) == last
 
 
 def test_values_name_their_wrong_entries():
@@ -40,7 +119,7 @@ def test_values_name_their_wrong_entries():
     wrong = right.copy()
     wrong[1] += 1.0
     verdict = check("principal_moments", wrong)
-    assert "entries 2 are wrong" in verdict.text()
+    assert re.search("entries 2 are wrong|entry 2 is wrong", verdict.text())
     assert "has shape (2,)" in check("principal_moments", right[:2]).text()
 
 
@@ -76,7 +155,53 @@ def test_autograde_mode_raises(monkeypatch):
         check("omega_dot_C", None)
 
 
-def test_every_exercise_has_a_hint_and_unknown_names_are_an_error():
-    assert all(exercise.hint for exercise in EXERCISES.values())
+def test_unknown_names_are_an_error():
     with pytest.raises(KeyError, match="no exercise named"):
         check("flux_capacitor", 1)
+
+
+def spatial_links(slip=None):
+    """A student's link-by-link recursion for their spatial arm (numpy, as written by hand), with one slip made."""
+    model = my_robot("spatial_arm").model
+    z = np.array([0.0, 0.0, 1.0])
+
+    def rot_z(t):
+        c, s = np.cos(t), np.sin(t)
+        return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+    def links(q, qd, qdd):
+        bodies = model.bodies
+        R = [b.R0 @ rot_z(q[i]) for i, b in enumerate(bodies)]
+        w, wd, vd = np.zeros(3), np.zeros(3), -model.gravity
+        out = {k: [] for k in ("omega", "omega_dot", "v_dot", "v_dot_c", "F", "N", "f", "n", "tau")}
+        for i, b in enumerate(bodies):
+            Rt = R[i] if slip == "rotation-transposed" else R[i].T
+            vd = Rt @ (np.cross(wd, b.P) + np.cross(w, np.cross(w, b.P)) + vd)
+            wd = Rt @ wd + np.cross(Rt @ w, qd[i] * z) + qdd[i] * z
+            w = Rt @ w + qd[i] * z
+            vc = np.cross(wd, b.p_com) + np.cross(w, np.cross(w, b.p_com)) + vd
+            gyro = 0 if slip == "gyroscopic-missing" else np.cross(w, b.I_com @ w)
+            for k, v in (("omega", w), ("omega_dot", wd), ("v_dot", vd), ("v_dot_c", vc), ("F", b.mass * vc),
+                         ("N", b.I_com @ wd + gyro)):
+                out[k].append(v)
+        f, n = np.zeros(3), np.zeros(3)
+        for i in reversed(range(len(bodies))):
+            R_next = R[i + 1] if i + 1 < len(bodies) else np.eye(3)
+            P_next = bodies[i + 1].P if i + 1 < len(bodies) else np.zeros(3)
+            n = out["N"][i] + R_next @ n + np.cross(bodies[i].p_com, out["F"][i]) + np.cross(P_next, R_next @ f)
+            f = R_next @ f + out["F"][i]
+            out["f"].insert(0, f)
+            out["n"].insert(0, n)
+            out["tau"].insert(0, n @ z)
+        return out
+
+    return links
+
+
+def test_newton_euler_on_the_spatial_arm_link_by_link():
+    assert check("links_spatial_arm", spatial_links())
+    gyroscopic = check("links_spatial_arm", spatial_links("gyroscopic-missing")).text()
+    assert "ⁱNᵢ (6.50) is wrong for link 1, 2, 3" in gyroscopic and "[gyroscopic-missing]" in gyroscopic
+    transposed = check("links_spatial_arm", spatial_links("rotation-transposed")).text()
+    assert "ⁱωᵢ (6.45) is wrong" in transposed and "[rotation-transposed]" in transposed
+    assert "expected" not in gyroscopic + transposed

@@ -27,7 +27,7 @@ from course_dynamics.grading.grade import grade_class
 from course_dynamics.grading.harness import evaluate
 from course_dynamics.grading.plan import Answers, Call, expected_terms, make_plan, returned_terms
 from course_dynamics.grading.score import score, score_outcome, term_answer
-from course_dynamics.teaching.exercises import check, term_assignment
+from course_dynamics.teaching.exercises import check, show_values, term_assignment
 
 MODEL = load_robot("two_link")
 FLIPPED = MODEL.with_gravity(-MODEL.gravity)  # gravity pointing up: G(Θ) pushes the arm down
@@ -250,11 +250,15 @@ def test_the_grader_and_the_notebook_give_one_diagnosis(tmp_path, exercise, chan
     [graded] = grade_class(term_assignment(exercise), [tmp_path / "student.py"])
     namespace = {}
     exec(compile(source, str(tmp_path / "student.py"), "exec"), namespace)
+    show_values(True)  # the instructor's view, which shows our values as the grader's pages do
     verdict = check(exercise, namespace[exercise.split("_")[0]])
+    show_values(False)
+    students = check(exercise, namespace[exercise.split("_")[0]])
     [result] = graded.diagnoses
     assert graded.status == "ok" and not result.correct and not verdict
     assert verdict.lines[1:-1] == [*result.findings, result.worst]
     assert verdict.lines[0] == f"agrees on {result.agreed} of {result.total} random states"
+    assert len(students.lines) == len(verdict.lines) and not any("expected" in line for line in students.lines)
 
 
 def test_returned_terms_read_a_direct_function_by_its_state_key(setting):

@@ -77,12 +77,13 @@ class Answer:
     reference: Expected | None = None
     coefficients: VelocityProbe | None = None
     parts: Mapping[str, Answer] = field(default_factory=dict)
+    reveal: bool = True  # whether the feedback may show our values (not in a student's notebook)
 
     @classmethod
-    def single(cls, expected, value, tolerance: float) -> Answer:
+    def single(cls, expected, value, tolerance: float, reveal: bool = True) -> Answer:
         """A value compared once (a notebook exercise's number, vector or matrix)."""
         expected = np.asarray(expected, dtype=float)
-        return cls(expected[None], (np.asarray(value, dtype=float),), (None,), (VALUE_SCALE,), tolerance)
+        return cls(expected[None], (np.asarray(value, dtype=float),), (None,), (VALUE_SCALE,), tolerance, reveal=reveal)
 
     @property
     def name(self) -> str:
@@ -369,10 +370,10 @@ def wrong_coefficients(answer: Answer) -> Finding | None:
         return None
     described = []
     for c in [wrong[key] for key in sorted(wrong)][:6]:
-        rates = f"θ̇{c.j + 1}θ̇{c.k + 1}" if c.kind == "Coriolis" else f"θ̇{c.j + 1}²"
-        matrix = "B" if c.kind == "Coriolis" else "C"
-        described.append(f"the {c.kind} coefficient of {rates} in τ{c.i + 1} (Craig's {matrix}, (6.63)): expected "
-                         f"{c.expected:.6g}, returned {c.returned:.6g} at state #{c.state + 1}")
+        rates, matrix = (f"θ̇{c.j + 1}θ̇{c.k + 1}", "B") if c.kind == "Coriolis" else (f"θ̇{c.j + 1}²", "C")
+        expected = f"expected {c.expected:.6g}, " if answer.reveal else ""
+        described.append(f"the {c.kind} coefficient of {rates} in τ{c.i + 1} (Craig's {matrix}, (6.63)): {expected}"
+                         f"returned {c.returned:.6g} at state #{c.state + 1}")
     more = f" (and {len(wrong) - 6} more)" if len(wrong) > 6 else ""
     return Finding(f"in {label} = B(Θ)[Θ̇Θ̇] + C(Θ)[Θ̇²], these coefficients are wrong: " + "; ".join(described) + more,
                    tuple(f"wrong {kind} terms" for kind in sorted({kind for kind, *_ in wrong})))

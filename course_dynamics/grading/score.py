@@ -74,7 +74,7 @@ def _worst(answer: Answer) -> str:
     ours, values, name = answer.expected, answer.values, answer.name
     if not answer.available:
         state = _state_text(answer.plan, answer.term, 0)
-        return f"to check yours, state #1: {state}; expected {name} = {_fmt(ours[0])}"
+        return f"to check yours, state #1: {state}; expected {name} = {_fmt(ours[0])}" if answer.reveal else ""
     shape = ours.shape[1:]
     unusable = [k for k, v in enumerate(values) if v is not None and k not in answer.usable]
     non_finite = [k for k in unusable if values[k].shape == shape]
@@ -91,9 +91,9 @@ def _worst(answer: Answer) -> str:
         k = next(i for i, e in enumerate(answer.errors) if e is not None)
         returned = f"an error: {answer.errors[k]}"
     if answer.plan is None:
-        return f"expected {_fmt(ours[k])}, got {returned}"
-    return f"worst state #{k + 1}: {_state_text(answer.plan, answer.term, k)}; expected {name} = {_fmt(ours[k])}, " \
-           f"returned {returned}"
+        return f"expected {_fmt(ours[k])}, got {returned}" if answer.reveal else f"yours is {returned}"
+    expected = f"expected {name} = {_fmt(ours[k])}, " if answer.reveal else ""
+    return f"worst state #{k + 1}: {_state_text(answer.plan, answer.term, k)}; {expected}returned {returned}"
 
 
 def scales_at(plan: Plan, reference: Expected, term: str, gravity) -> tuple[float, ...]:
@@ -103,7 +103,7 @@ def scales_at(plan: Plan, reference: Expected, term: str, gravity) -> tuple[floa
 
 
 def term_answer(term: str, answers: Answers, plan: Plan, reference: Expected, assignment: Assignment,
-                from_tau: bool = False) -> Answer:
+                from_tau: bool = False, reveal: bool = True) -> Answer:
     """The student's ``term`` next to ours: from their function of that name, else (or with ``from_tau``) derived
     from their τ; τ comes with its parts G, M, V (derived from it), V with its (6.63) coefficients."""
     returned = returned_terms(answers, plan, term, from_tau)
@@ -112,19 +112,21 @@ def term_answer(term: str, answers: Answers, plan: Plan, reference: Expected, as
         tolerance = max(tolerance, DERIVED_C_TOLERANCE)
     parts = {}
     if term == "tau" and returned.available and not from_tau:
-        parts = {key: term_answer(key, answers, plan, reference, assignment, from_tau=True) for key in PARTS}
+        parts = {key: term_answer(key, answers, plan, reference, assignment, True, reveal) for key in PARTS}
     model = assignment.robot
     return Answer(reference.terms[term], tuple(returned.values), tuple(returned.errors),
                   scales_at(plan, reference, term, model.gravity), tolerance, term=term,
                   label=PART_LABELS.get(term, "") if from_tau else "", source=returned.source,
                   joints=tuple(model.joint_names), plan=plan, reference=reference,
                   coefficients=returned_coefficients(answers, plan, reference, from_tau) if term == "V" else None,
-                  parts=parts)
+                  parts=parts, reveal=reveal)
 
 
-def score_outcome(outcome: dict, assignment: Assignment, plan: Plan, reference: Expected) -> list[Diagnosis]:
+def score_outcome(outcome: dict, assignment: Assignment, plan: Plan, reference: Expected,
+                  reveal: bool = True) -> list[Diagnosis]:
     """Every graded term of ``outcome`` (the harness's ``defined`` and ``results``) scored, in the assignment's order:
-    what ``grade`` and the notebooks' term exercises both call."""
+    what ``grade`` and the notebooks' term exercises both call (``reveal`` False: the feedback shows none of our
+    values, as in a student's notebook)."""
     answers = Answers.read(outcome, plan)
-    return [score(term_answer(term, answers, plan, reference, assignment), assignment.points[term],
+    return [score(term_answer(term, answers, plan, reference, assignment, reveal=reveal), assignment.points[term],
                   assignment.partial_credit) for term in assignment.terms]

@@ -260,3 +260,50 @@ def write_identified_urdf(path, identified: Model, friction: Friction | None = N
         raise InputError(f"robot '{identified.name}': the URDF it was loaded from is not known; give source")
     raw = read_small(source, MAX_URDF_BYTES, "URDF file")
     io.write_bytes(path, identified_urdf(raw, identified, friction, where=str(source)))
+
+
+def model_urdf(model: Model, comment: str = "") -> bytes:
+    """A URDF written from the model alone: one link per body (its ``<inertial>``), one joint per body (origin,
+    axis, limits, friction), and each frame fixed to a body as a fixed joint and an empty link.
+
+    For robots made in memory (a student's variant of a course robot): loading the text gives the same model,
+    numbers and all (``repr`` digits); visuals, meshes and comments of any original file are not carried over.
+
+    >>> from course_dynamics import load_robot
+    >>> text = model_urdf(load_robot("pendulum")).decode()
+    >>> '<joint name="theta" type="continuous">' in text and '<mass value="1.0"/>' in text
+    True
+    """
+    from scipy.spatial.transform import Rotation
+
+    def xyz(v):
+        return " ".join(_number(x) for x in v)
+
+    def rpy(R):
+        return xyz(Rotation.from_matrix(np.asarray(R, dtype=float)).as_euler("xyz")) if not np.allclose(R, np.eye(3), 0, 0) \
+            else "0 0 0"
+
+    base = model.base_link or "base"
+    lines = ['<?xml version="1.0"?>'] + ([f"<!-- {comment.replace('--', '-')} -->"] if comment else [])
+    lines += [f'<robot name="{model.name}">', f'  <link name="{base}"/>']
+    for body in model.bodies:
+        parent = model.bodies[body.parent].name if body.parent >= 0 else base
+        lines += [f'  <link name="{body.name}">', "    " + _inertial(body, b"    ", b"  ").decode(), "  </link>"]
+        limits = "" if body.joint_type == "continuous" else \
+            f'    <limit lower="{_number(body.lower)}" upper="{_number(body.upper)}" effort="{_number(body.effort)}" ' \
+            f'velocity="{_number(body.velocity)}"/>'
+        lines += [f'  <joint name="{body.joint}" type="{body.joint_type}">', f'    <parent link="{parent}"/>',
+                  f'    <child link="{body.name}"/>', f'    <origin xyz="{xyz(body.P)}" rpy="{rpy(body.R0)}"/>',
+                  f'    <axis xyz="{xyz(body.axis)}"/>'] + ([limits] if limits else [])
+        if body.damping or body.friction:
+            lines.append(f'    <dynamics damping="{_number(body.damping)}" friction="{_number(body.friction)}"/>')
+        lines.append("  </joint>")
+    names = {body.name for body in model.bodies} | {base}
+    for frame in model.frames:
+        if frame.name in names:
+            continue
+        parent = model.bodies[frame.body].name if frame.body >= 0 else base
+        lines += [f'  <link name="{frame.name}"/>', f'  <joint name="{frame.name}_fixed" type="fixed">',
+                  f'    <parent link="{parent}"/>', f'    <child link="{frame.name}"/>',
+                  f'    <origin xyz="{xyz(frame.P)}" rpy="{rpy(frame.R)}"/>', "  </joint>"]
+    return ("\n".join(lines + ["</robot>", ""])).encode()

@@ -1,0 +1,303 @@
+"""The notebooks' exercises: what each gives the student, how its answer is known, and its hints in tiers.
+
+Every exercise runs on the student's own robot and numbers
+(:mod:`course_dynamics.tools.variants`): :func:`use_student` names the student
+(a student's notebook does it in its first cell), :func:`my_robot` is their
+variant of a course robot, and :func:`given` their data for an exercise. A
+notebook without a student id works for :data:`~course_dynamics.tools.variants.COURSE_STUDENT`,
+whose robots differ from the worked examples' too.
+
+Hints come in tiers (:attr:`Exercise.hints`): which term or idea, then which
+equation, then the formula itself, last.
+
+>>> use_student("ada")
+>>> given("v_dot_c1") == given("v_dot_c1"), my_robot("two_link").student
+(True, 'ada')
+>>> use_student("course")
+"""
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..core import inertia
+from ..core.algebra import Vec3, point_acceleration
+from ..core.cartesian import cartesian_dynamics
+from ..core.friction import Friction
+from ..core.newton_euler import inverse_dynamics, newton_euler_links
+from ..core.regressor import base_parameters, parameter_names, regressor
+from ..tools.variants import COURSE_STUDENT, Variant, check_student_id, rng_for, robot_variant
+
+_STUDENT = {"id": COURSE_STUDENT}
+
+
+def use_student(student: str) -> None:
+    """Check the exercises of this kernel against ``student``'s robot and numbers (an id as the course uses it)."""
+    _STUDENT["id"] = check_student_id(student)
+
+
+def student() -> str:
+    """The student whose exercises this kernel checks."""
+    return _STUDENT["id"]
+
+
+def my_robot(name: str = "two_link") -> Variant:
+    """The student's own variant of course robot ``name``: ``.describe()`` lists its numbers, ``.parameters``
+    gives m1, l1, … by name, ``.model`` is the model (for the library, not for the exercises)."""
+    return robot_variant(name, student())
+
+
+def _robot(name: str):
+    return my_robot(name).model
+
+
+def _state(rng, n: int = 2, low: float = -np.pi, high: float = np.pi) -> dict:
+    """A state with two decimals, easy to type into a calculator: Θ (rad), Θ̇ (rad/s), Θ̈ (rad/s²)."""
+    return {"q": rng.uniform(low, high, n).round(2), "qd": rng.uniform(-2, 2, n).round(2),
+            "qdd": rng.uniform(-2, 2, n).round(2)}
+
+
+# ---------------------------------------------------------------------------------------- what the exercises give
+
+def _given_6_15(rng) -> dict:
+    from scipy.spatial.transform import Rotation
+
+    return {"Omega_B": rng.uniform(-1, 1, 3).round(2), "Omega_B_dot": rng.uniform(-1, 1, 3).round(2),
+            "R_AB": Rotation.from_rotvec(rng.uniform(-0.6, 0.6, 3).round(2)).as_matrix(),
+            "Omega_C_in_B": np.array([0.0, 0.0, rng.uniform(0.5, 2)]).round(2),
+            "Omega_C_dot_in_B": np.array([0.0, 0.0, rng.uniform(-1, 1)]).round(2)}
+
+
+def _principal(rng) -> dict:
+    moments = rng.uniform(0.2, 0.4, 3).round(2)
+    I = np.diag(moments) + np.array([[0, 1, 0], [1, 0, 0], [0, 0, 0]]) * round(float(rng.uniform(-0.06, 0.06)), 3)
+    return {"I": I + np.array([[0, 0, 1], [0, 0, 0], [1, 0, 0]]) * round(float(rng.uniform(-0.03, 0.03)), 3)}
+
+
+def _physical(rng) -> dict:
+    tensors = [np.diag([0.1, 0.2, 0.25]), np.diag([0.1, 0.1, 0.3]), np.array([[0.2, 0.1, 0.0], [0.1, 0.2, 0.0],
+                                                                              [0.0, 0.0, 0.3]]),
+               np.diag([0.3, -0.05, 0.3]), np.array([[0.2, 0.25, 0.0], [0.25, 0.2, 0.0], [0.0, 0.0, 0.3]])]
+    return {"tensors": [tensors[k] for k in rng.permutation(len(tensors))[:3]]}
+
+
+GIVEN = {
+    "omega_dot_C": _given_6_15,
+    "principal_moments": _principal,
+    "physical": _physical,
+    "v_dot_c1": _state,
+    "Mx_value": lambda rng: {"q": np.array([rng.uniform(-np.pi, np.pi), rng.uniform(0.5, 2.6)]).round(2)},
+    "tau_with_friction": lambda rng: {**_state(rng), "viscous": rng.uniform(0.05, 0.5, 2).round(2),
+                                      "coulomb": rng.uniform(0.1, 0.8, 2).round(2)},
+    "I_xy_corner": lambda rng: {"m": round(float(rng.uniform(1, 4)), 1), "w": round(float(rng.uniform(0.1, 0.5)), 2),
+                                "l": round(float(rng.uniform(0.2, 0.8)), 2), "h": round(float(rng.uniform(0.05, 0.2)), 2)},
+    "Y_mcx2": _state,
+    "links_spatial_arm": lambda rng: _state(rng, 3, -2.0, 2.0),
+}
+
+
+def given(name: str) -> dict:
+    """The data exercise ``name`` gives this student (numbers they work with, the same every time)."""
+    return GIVEN[name](rng_for(student(), name))
+
+
+def symbols(*names: str):
+    """Positive real sympy symbols for parameters (m, l, g, …) and real ones for angles and rates."""
+    import sympy
+
+    real = ("theta", "theta_dot", "theta_ddot", "theta1", "theta2", "d2")
+    made = [sympy.Symbol(n, real=True) if n in real else sympy.Symbol(n, positive=True) for n in names]
+    return made[0] if len(made) == 1 else made
+
+
+# ---------------------------------------------------------------------------------------- the answers
+
+def _omega_dot_C():
+    d = given("omega_dot_C")
+    R = d["R_AB"]
+    return d["Omega_B_dot"] + R @ d["Omega_C_dot_in_B"] + np.cross(d["Omega_B"], R @ d["Omega_C_in_B"])  # (6.15)
+
+
+def _I_corner():
+    m, w, l, h = symbols("m", "w", "l", "h")
+    return inertia.parallel_axis(inertia.box(m, w, l, h), m, (w / 2, l / 2, h / 2))
+
+
+def _v_dot_c1():
+    d = given("v_dot_c1")
+    return newton_euler_links(_robot("two_link"), d["q"], d["qd"], d["qdd"]).v_dot_c[0]
+
+
+def _pendulum(kind: str):
+    m, l, g, theta, theta_dot, theta_ddot = symbols("m", "l", "g", "theta", "theta_dot", "theta_ddot")
+    import sympy
+
+    return {"k": m * l**2 * theta_dot**2 / 2, "u": -m * g * l * sympy.cos(theta),
+            "tau": m * l**2 * theta_ddot + m * g * l * sympy.sin(theta)}[kind]
+
+
+def _J_tool():
+    import sympy
+
+    l1, l2, theta2 = symbols("l1", "l2", "theta2")
+    return sympy.Matrix([[l1 * sympy.sin(theta2), 0], [l1 * sympy.cos(theta2) + l2, l2]])
+
+
+def _Mx_value():
+    q = given("Mx_value")["q"]
+    return cartesian_dynamics(_robot("two_link"), q, np.zeros(2), "tool", expressed_in="frame", rows=["x", "y"]).Mx
+
+
+def _tau_with_friction():
+    d = given("tau_with_friction")
+    friction = Friction(viscous=d["viscous"], coulomb=d["coulomb"])
+    return inverse_dynamics(_robot("two_link"), d["q"], d["qd"], d["qdd"]) + friction.torques(d["qd"])  # (6.114)
+
+
+def _I_xy_corner():
+    d = given("I_xy_corner")
+    return d["m"] * d["w"] * d["l"] / 4  # the parallel-axis theorem with +: example 6.1's ᴬI_xy
+
+
+def _Y_mcx2():
+    d = given("Y_mcx2")
+    arm = _robot("two_link")
+    return regressor(arm, d["q"], d["qd"], d["qdd"])[:, parameter_names(arm).index("mcx_2")]
+
+
+def _euler(q, qd, qdd, dt):
+    return q + qd * dt + 0.5 * qdd * dt**2, qd + qdd * dt  # (6.117), (6.116)
+
+
+def _semi_implicit(q, qd, qdd, dt):
+    qd_next = qd + qdd * dt
+    return q + qd_next * dt, qd_next
+
+
+@dataclass(frozen=True)
+class Exercise:
+    """How to check one exercise: ``kind`` is "term" (a robot function graded like the grader does),
+    "links" (every quantity of both iterations, link by link, at the exercise's given state), "function"
+    (compared on random inputs with ``reference``), "value" or "formula"; ``hints`` in tiers, the formula last."""
+
+    kind: str
+    answer: Callable | None = None
+    robot: str = "two_link"
+    term: str = ""
+    reference: Callable | None = None
+    inputs: Callable | None = None
+    tolerance: float = 1e-6
+    variables: tuple[str, ...] = ()
+    constant_in: tuple[str, ...] = ()  # a formula may differ by anything that does not depend on these
+    hints: tuple[str, ...] = ()
+
+
+def _random_vectors(count: int):
+    return lambda rng: [rng.standard_normal(3) for _ in range(count)]
+
+
+NEWTON_EULER_HINTS = (
+    "τ collects gravity, the inertial forces and the moments of every link outboard of each joint",
+    "the outward iteration (6.45)–(6.50) from the base (⁰v̇₀ = −g), then the inward iteration (6.51)–(6.53)",
+    "ⁱ⁺¹ωᵢ₊₁ = ⁱ⁺¹ᵢR ⁱωᵢ + θ̇ᵢ₊₁Ẑ; ⁱ⁺¹ω̇ᵢ₊₁ = ⁱ⁺¹ᵢR ⁱω̇ᵢ + ⁱ⁺¹ᵢR ⁱωᵢ × θ̇ᵢ₊₁Ẑ + θ̈ᵢ₊₁Ẑ; "
+    "ⁱ⁺¹v̇ᵢ₊₁ = ⁱ⁺¹ᵢR (ⁱω̇ᵢ × ⁱPᵢ₊₁ + ⁱωᵢ × (ⁱωᵢ × ⁱPᵢ₊₁) + ⁱv̇ᵢ); v̇_C likewise with P_C; F = m v̇_C; "
+    "N = ᶜI ω̇ + ω × ᶜI ω; ⁱfᵢ = ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁ + ⁱFᵢ; ⁱnᵢ = ⁱNᵢ + ⁱᵢ₊₁R ⁱ⁺¹nᵢ₊₁ + ⁱP_Cᵢ × ⁱFᵢ + "
+    "ⁱPᵢ₊₁ × ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁; τᵢ = ⁱnᵢᵀ Ẑ",
+)
+
+EXERCISES: dict[str, Exercise] = {
+    "point_acceleration": Exercise(
+        "function", reference=lambda v, wd, w, p: np.array(tuple(point_acceleration(*(Vec3.of(x) for x in (v, wd, w, p))))),
+        inputs=_random_vectors(4), hints=(
+            "three parts: the frame's own acceleration, one from ω̇ and one from ω",
+            "(6.12): a point fixed in a moving frame",
+            "v̇ + ω̇ × P + ω × (ω × P)")),
+    "omega_dot_C": Exercise("value", _omega_dot_C, hints=(
+        "the angular acceleration of {B}, plus {C}'s own in {A}'s axes, plus a term from {B} turning {C}'s ω",
+        "(6.15), differentiated from (6.14)",
+        "ᴬΩ̇_C = ᴬΩ̇_B + ᴬ_BR ᴮΩ̇_C + ᴬΩ_B × ᴬ_BR ᴮΩ_C")),
+    "I_corner": Exercise("formula", _I_corner, variables=("m", "w", "l", "h"), hints=(
+        "start from the box about its centre of mass",
+        "the box's tensor about its centre, then the parallel-axis theorem to the corner",
+        "ᴬI = ᶜI + m (PᵀP 1 − P Pᵀ) with P = (w/2, l/2, h/2)")),
+    "principal_moments": Exercise("value", lambda: np.linalg.eigvalsh(given("principal_moments")["I"]), hints=(
+        "the principal moments are the moments about the principal axes, where every product of inertia vanishes",
+        "they are the eigenvalues of the tensor (np.linalg.eigvalsh)", "return them smallest first")),
+    "physical": Exercise("value", lambda: np.array([not inertia.physical_problems(t)
+                                                    for t in given("physical")["tensors"]]), hints=(
+        "a real body's tensor has three properties to check",
+        "symmetry, its principal moments, and the triangle inequality",
+        "symmetric, no negative principal moment, and I₁ + I₂ ≥ I₃ for its principal moments")),
+    "tau_two_link": Exercise("term", term="tau", hints=NEWTON_EULER_HINTS),
+    "tau_spatial_arm": Exercise("term", robot="spatial_arm", term="tau", hints=NEWTON_EULER_HINTS),
+    "links_spatial_arm": Exercise("links", robot="spatial_arm", hints=NEWTON_EULER_HINTS),
+    "v_dot_c1": Exercise("value", _v_dot_c1, hints=(
+        "the centre of mass accelerates with the origin of frame 1, plus its motion about that origin",
+        "(6.47) gives ¹v̇₁ = ¹₀R ⁰v̇₀ with ⁰v̇₀ = −g; then (6.48)",
+        "¹v̇_C₁ = ¹ω̇₁ × ¹P_C₁ + ¹ω₁ × (¹ω₁ × ¹P_C₁) + ¹v̇₁")),
+    "M_two_link": Exercise("term", term="M", hints=(
+        "column j of M is the torque of unit Θ̈ⱼ without gravity or velocity",
+        "(6.60): M₁₁, M₁₂ = M₂₁, M₂₂ of the two-link arm",
+        "M = [[l₂²m₂ + 2l₁l₂m₂c₂ + l₁²(m₁ + m₂), l₂²m₂ + l₁l₂m₂c₂], [l₂²m₂ + l₁l₂m₂c₂, l₂²m₂]]")),
+    "V_two_link": Exercise("term", term="V", hints=(
+        "V has a Coriolis term in θ̇₁θ̇₂ and centrifugal terms in θ̇ⱼ²",
+        "(6.61), and the factor 2 of the Coriolis term (6.63)",
+        "V = (−m₂l₁l₂s₂θ̇₂² − 2m₂l₁l₂s₂θ̇₁θ̇₂, m₂l₁l₂s₂θ̇₁²)")),
+    "G_two_link": Exercise("term", term="G", hints=(
+        "G holds each link up: the weight of every link outboard of the joint times its horizontal moment arm",
+        "(6.62), with c₁ for link 1's direction and c₁₂ for link 2's",
+        "G = (m₂l₂gc₁₂ + (m₁ + m₂)l₁gc₁, m₂l₂gc₁₂)")),
+    "k_pendulum": Exercise("formula", lambda: _pendulum("k"), variables=("m", "l", "g", "theta", "theta_dot"), hints=(
+        "the kinetic energy of a point mass moving on a circle", "(6.69) for a point mass", "½ m v² with v = l θ̇")),
+    "u_pendulum": Exercise("formula", lambda: _pendulum("u"), variables=("m", "l", "g", "theta", "theta_dot"),
+                           constant_in=("theta",), hints=(
+        "the height of the mass as a function of θ; θ = 0 hangs straight down",
+        "(6.73): u = −m gᵀ P_C (plus any constant)", "u = −m g l cos θ")),
+    "tau_pendulum": Exercise("formula", lambda: _pendulum("tau"),
+                             variables=("m", "l", "g", "theta", "theta_dot", "theta_ddot"), hints=(
+        "the Lagrangian L = k − u, differentiated", "(6.76): d/dt ∂L/∂θ̇ − ∂L/∂θ = τ",
+        "τ = m l² θ̈ + m g l sin θ")),
+    "J_tool": Exercise("formula", _J_tool, variables=("l1", "l2", "theta2"), hints=(
+        "column j is the tip's velocity when only θ̇ⱼ = 1, written in frame {3}",
+        "the velocity propagation of Craig (5.66), ending in frame {3}",
+        "³J = [[l₁s₂, 0], [l₁c₂ + l₂, l₂]]")),
+    "Mx_value": Exercise("value", _Mx_value, hints=(
+        "the mass the tip feels, in Cartesian directions", "(6.99): M_x from M and the Jacobian of frame {3}",
+        "M_x = J⁻ᵀ M J⁻¹")),
+    "friction_torque": Exercise(
+        "function", reference=lambda qd, v, c: c * np.sign(qd) + v * qd,
+        inputs=lambda rng: [rng.standard_normal(3), rng.uniform(0, 1, 3), rng.uniform(0, 1, 3)], hints=(
+            "one part grows with speed, one opposes motion with a fixed size",
+            "viscous and Coulomb friction together (Craig's (6.112))",
+            "c sgn(θ̇) + v θ̇")),
+    "tau_with_friction": Exercise("value", _tau_with_friction, hints=(
+        "the rigid-body torque plus what the joints' friction needs",
+        "friction added to (6.59), as the notes' section on friction says", "τ = M Θ̈ + V + G + F(Θ̇)")),
+    "euler_step": Exercise("function", reference=_euler, inputs=lambda rng: [*rng.standard_normal((3, 2)), 0.01],
+                           hints=("one step of Taylor series in Δt", "(6.116) for Θ̇, (6.117) for Θ",
+                                  "Θ̇ + Θ̈Δt and Θ + Θ̇Δt + ½Θ̈Δt², both with the old Θ̇ and Θ̈")),
+    "semi_implicit_step": Exercise("function", reference=_semi_implicit,
+                                   inputs=lambda rng: [*rng.standard_normal((3, 2)), 0.01], hints=(
+        "the same two updates in the other order", "the new Θ̇ first, then Θ with the new Θ̇",
+        "Θ̇' = Θ̇ + Θ̈Δt, Θ' = Θ + Θ̇'Δt")),
+    "I_xy_corner": Exercise("value", _I_xy_corner, hints=(
+        "the box's own product of inertia about its centre is zero", "the parallel-axis theorem for products",
+        "ᴬI_xy = ᶜI_xy + m x_c y_c (the notes print −)")),
+    "inward_force": Exercise(
+        "function", reference=lambda R, f_next, F: R @ f_next + F,
+        inputs=lambda rng: [np.linalg.qr(rng.standard_normal((3, 3)))[0], rng.standard_normal(3), rng.standard_normal(3)],
+        hints=("link i carries its own inertial force and what link i+1 pushes back with",
+               "(6.51), in frame i", "ⁱfᵢ = ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁ + ⁱFᵢ")),
+    "Y_mcx2": Exercise("value", _Y_mcx2, hints=(
+        "τ is linear in m₂l₂: its column of the regressor is the torque per unit m₂l₂",
+        "the terms of (6.60)–(6.62) that contain m₂l₂ once",
+        "∂τ/∂(m₂l₂), reading (6.60)–(6.62) with m₂l₂ factored out")),
+    "base_two_link": Exercise(
+        "function", reference=lambda pi: base_parameters(_robot("two_link")).values(pi),
+        inputs=lambda rng: [rng.standard_normal(20)], hints=(
+            "some parameters never change τ, and some change it only together",
+            "for τ, link 2's mass is a point mass of link 1 at joint 2, (l₁, 0, 0)",
+            "what does that point mass add to link 1's first moment h₁ and to I_zz,₁?")),
+}

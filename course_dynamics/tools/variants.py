@@ -1,0 +1,121 @@
+"""Each student their own robot: a course robot's variant and the exercises' states, derived from the student's id.
+
+A course gives every student the same exercises on a robot of their own, so that
+one student's numbers do not pass another's checks. The variant is derived
+reproducibly from the id as given (a login, or an e-mail's local part), through
+SHA-256, so the notebooks, the grader and the handout agree without storing
+anything:
+
+==================  ==========================================================
+what varies         how (per link i, factors drawn from the id and the robot)
+==================  ==========================================================
+lengths             λᵢ ∈ [0.75, 1.3]: the origins of the joints link i carries
+                    (ⁱPᵢ₊₁) and its centre of mass ⁱP_Cᵢ, rounded to 1 mm
+masses              μᵢ ∈ [0.6, 1.6]: mᵢ, rounded to 0.01 kg
+inertia tensors     ᶜⁱIᵢ × μᵢλᵢ² (the same body, scaled), to 4 significant digits
+the check states    :func:`rng_for` (id, exercise): seeded states and given data
+==================  ==========================================================
+
+Joint axes, frame orientations, limits and gravity stay the course robot's.
+The default student :data:`COURSE_STUDENT` (a notebook without an id) gets a
+variant too, so that an exercise never runs on the worked examples' robot.
+
+>>> a, b = robot_variant("two_link", "ada"), robot_variant("two_link", "grace")
+>>> a.model.bodies[0].mass != b.model.bodies[0].mass, robot_variant("two_link", "ada") == a
+(True, True)
+"""
+from __future__ import annotations
+
+import hashlib
+import re
+from dataclasses import dataclass, field, replace
+from functools import lru_cache
+
+import numpy as np
+
+from ..base.errors import InputError
+from ..core.model import Model
+from ..core.parameters import parameter_values
+from ..core.robots import COURSE_ROBOTS, load_robot
+
+STUDENT_ID = re.compile(r"[A-Za-z0-9][A-Za-z0-9._+-]{0,63}")
+COURSE_STUDENT = "course"  # the id of a notebook written without one
+LENGTHS, MASSES = (0.75, 1.3), (0.6, 1.6)
+
+
+def check_student_id(student: str, where: str = "student id") -> str:
+    """``student`` if it is an id a course uses and safe as a file name, else an InputError naming it.
+
+    >>> check_student_id("ada.lovelace")
+    'ada.lovelace'
+    """
+    if not isinstance(student, str) or not STUDENT_ID.fullmatch(student) or student.endswith("."):
+        raise InputError(f"{where} {student!r}: use letters, digits and . _ + - (at most 64, starting with a letter "
+                         "or digit): a login or an e-mail's local part")
+    return student
+
+
+def rng_for(student: str, purpose: str) -> np.random.Generator:
+    """The random numbers of ``purpose`` (an exercise's name, a robot's) for this student: the same every time.
+
+    >>> float(rng_for("ada", "v_dot_c1").uniform()) == float(rng_for("ada", "v_dot_c1").uniform())
+    True
+    """
+    digest = hashlib.sha256(f"{purpose}\0{student}".encode()).digest()
+    return np.random.default_rng(int.from_bytes(digest[:16], "little"))
+
+
+def _significant(x: np.ndarray, digits: int) -> np.ndarray:
+    x = np.asarray(x, dtype=float)
+    scale = np.where(x == 0, 1.0, 10.0 ** (digits - 1 - np.floor(np.log10(np.abs(np.where(x == 0, 1.0, x))))))
+    return np.round(x * scale) / scale
+
+
+@dataclass(frozen=True)
+class Variant:
+    """A student's robot: ``model`` (its numbers changed as the module table says), the factors drawn, and the
+    parameters a student reads (:func:`~course_dynamics.core.parameters.parameter_values`)."""
+
+    robot: str
+    student: str
+    model: Model = field(compare=False)
+    lengths: tuple[float, ...]
+    masses: tuple[float, ...]
+
+    @property
+    def parameters(self) -> dict[str, float]:
+        return parameter_values(self.model)
+
+    def describe(self) -> str:
+        """The variant as a student reads it: one line per link (mass, centre of mass, tensor, next joint)."""
+        lines = [f"{self.robot} for {self.student}: g = {float(np.linalg.norm(self.model.gravity)):g} m/s²"]
+        for i, body in enumerate(self.model.bodies):
+            children = ", ".join(f"{self.model.bodies[c].joint} at {_vector(self.model.bodies[c].P)} m"
+                                 for c in self.model.children[i]) or "none"
+            lines.append(f"link {i + 1} ({body.joint}): m = {float(body.mass):g} kg, P_C = {_vector(body.p_com)} m, "
+                         f"I_C = {_vector(body.I_com.ravel())} kg·m² (row by row); joints it carries: {children}")
+        return "\n".join(lines)
+
+
+def _vector(values) -> str:
+    return "(" + ", ".join(f"{float(v):g}" for v in values) + ")"
+
+
+@lru_cache(maxsize=64)
+def robot_variant(robot: str, student: str) -> Variant:
+    """The variant of course robot ``robot`` for ``student`` (module docstring)."""
+    check_student_id(student)
+    if robot not in COURSE_ROBOTS:
+        raise InputError(f"robot '{robot}': only the course robots ({', '.join(COURSE_ROBOTS)}) have student variants")
+    model = load_robot(robot)
+    rng = rng_for(student, f"robot {robot}")
+    lengths = rng.uniform(*LENGTHS, model.n)
+    masses = rng.uniform(*MASSES, model.n)
+    bodies = []
+    for i, body in enumerate(model.bodies):
+        own, parents = lengths[i], (lengths[body.parent] if body.parent >= 0 else 1.0)
+        mass = float(np.round(float(body.mass) * masses[i], 2))
+        bodies.append(replace(body, P=np.round(body.P * parents, 3), p_com=np.round(body.p_com * own, 3), mass=mass,
+                              I_com=_significant(body.I_com * masses[i] * own**2, 4)))
+    frames = tuple(replace(f, P=np.round(f.P * lengths[f.body], 3)) if f.body >= 0 else f for f in model.frames)
+    return Variant(robot, student, replace(model, bodies=tuple(bodies), frames=frames), tuple(lengths), tuple(masses))
