@@ -10,13 +10,14 @@ from __future__ import annotations
 import math
 import tomllib
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from ..base.errors import InputError
 from ..core.model import STANDARD_GRAVITY, Model
-from ..core.robots import load, robot_names
+from ..core.robots import COURSE_ROBOTS, load, robot_names
 from ..core.urdf import InertiaWarning
+from ..tools.variants import check_student_id, rng_for, robot_variant
 
 TERMS = ("tau", "M", "V", "G", "C")
 PARTIAL_CREDIT = ("states", "none")
@@ -46,6 +47,10 @@ allowed_imports = []
 # Partial credit per term: "states" gives points x (fraction of states that agree);
 # "none" gives the points only when every state agrees.
 partial_credit = "states"
+
+# variant = "per-student"   # each student (the submission's file name) on their own variant of the course robot
+#                           # and states, as `student-notebooks --student ID` gives them; `grade THIS_FILE
+#                           # --handout ID` prints a student's numbers. The default "same" grades all alike.
 
 # Points per term; any of tau, M, V, G, C. A submission is one Python file that defines
 # any of  tau(q, qd, qdd)  M(q)  V(q, qd)  G(q)  C(q, qd)  taking numpy arrays in the joint
@@ -80,6 +85,16 @@ class Assignment:
     allowed_imports: tuple[str, ...] = ()
     partial_credit: str = "states"
     notes: tuple[str, ...] = field(default=())
+    variant: str = "same"  # "per-student": each student's own robot and states (tools/variants)
+
+    def for_student(self, student: str) -> Assignment:
+        """The assignment as ``student`` is graded: with ``variant = "per-student"``, on their own variant of the
+        course robot and their own states (the notebooks' mechanism); otherwise unchanged."""
+        if self.variant != "per-student":
+            return self
+        chosen = robot_variant(self.robot_argument, check_student_id(student, f"{self.source}: student id"))
+        seed = int(rng_for(student, f"assignment seed {self.seed}").integers(2**31))
+        return replace(self, robot=chosen.model.with_gravity(self.robot.gravity), seed=seed)
 
     @property
     def total_points(self) -> float:
@@ -92,7 +107,8 @@ class Assignment:
 
 
 KEYS = {"robot", "samples", "seed", "tolerance", "time_limit", "memory_limit", "output_limit", "forbidden_imports",
-        "allowed_imports", "partial_credit", "points", "gravity", "allow_nonphysical_inertia"}
+        "allowed_imports", "partial_credit", "points", "gravity", "allow_nonphysical_inertia", "variant"}
+VARIANTS = ("same", "per-student")
 
 
 def load_assignment(path) -> Assignment:
@@ -160,6 +176,12 @@ def load_assignment(path) -> Assignment:
     partial = data.get("partial_credit", "states")
     if partial not in PARTIAL_CREDIT:
         raise InputError(f"{path}: partial_credit must be one of {', '.join(PARTIAL_CREDIT)}, got {partial!r}")
+    variant = data.get("variant", "same")
+    if variant not in VARIANTS:
+        raise InputError(f"{path}: variant must be one of {', '.join(VARIANTS)}, got {variant!r}")
+    if variant == "per-student" and robot_argument not in COURSE_ROBOTS:
+        raise InputError(f"{path}: variant = \"per-student\" needs a course robot ({', '.join(COURSE_ROBOTS)}), "
+                         f"not '{robot_argument}'")
     samples, memory = number("samples", 40, int), number("memory_limit", 1024, int)
     if samples > MAX_SAMPLES:
         raise InputError(f"{path}: samples must be at most {MAX_SAMPLES}, got {samples}")
@@ -170,5 +192,5 @@ def load_assignment(path) -> Assignment:
         samples=samples, seed=number("seed", 0, int, positive=False),
         tolerance=number("tolerance", 1e-6), time_limit=number("time_limit", 20.0),
         memory_limit=memory, output_limit=number("output_limit", 1_000_000, int),
-        forbidden_imports=tuple(forbidden), allowed_imports=tuple(allowed), partial_credit=partial,
+        forbidden_imports=tuple(forbidden), allowed_imports=tuple(allowed), partial_credit=partial, variant=variant,
     )

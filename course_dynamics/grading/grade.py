@@ -233,6 +233,11 @@ def student_names(paths) -> list[str]:
     return list(names)
 
 
+def _planned(assignment: Assignment):
+    plan = make_plan(assignment)
+    return assignment, plan, expected_terms(assignment, plan)
+
+
 def grade_class(assignment: Assignment, paths, sandbox: bool = True, jobs: int | None = None,
                 progress=None) -> list[SubmissionGrade]:
     """Grade every submission (in parallel, ``jobs`` at a time); ``progress`` is called once per submission.
@@ -244,15 +249,17 @@ def grade_class(assignment: Assignment, paths, sandbox: bool = True, jobs: int |
     student_names(paths)
     bwrap = check_sandbox() if sandbox else None
     environment = submission_environment(assignment.allowed_imports)
-    plan = make_plan(assignment)
-    expected = expected_terms(assignment, plan)
+    for path in paths:
+        assignment.for_student(path.stem)  # a per-student assignment refuses an id it cannot use, before any runs
+    shared = None if assignment.variant == "per-student" else _planned(assignment)
     jobs = jobs or max(1, min(len(paths), os.cpu_count() or 1))
 
     def one(path):
+        graded, plan, expected = shared or _planned(assignment.for_student(path.stem))
         # A student's 1e308 overflows in the comparison: inf, which the diagnosis reports (numpy's error
         # state is per thread, so the command line's does not reach the pool's threads).
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-            grade = grade_submission(assignment, plan, expected, path.resolve(), bwrap, environment)
+            grade = grade_submission(graded, plan, expected, path.resolve(), bwrap, environment)
         grade.path = path
         if progress is not None:
             progress(1)

@@ -29,6 +29,7 @@ from markupsafe import Markup
 from ..base.errors import InputError
 from ..output import io, page
 from ..output.folders import check_folder, write_folder
+from ..tools.variants import check_student_id
 
 BEGIN, END = "### BEGIN SOLUTION", "### END SOLUTION"
 PLACEHOLDER = "...  # YOUR CODE HERE"
@@ -106,21 +107,38 @@ def _nbgrader(notebook, stem: str) -> None:
                                          "points": 1, "schema_version": 3, "solution": False, "task": False}
 
 
-def student_version(notebook, stem: str = "notebook"):
-    """A copy without solutions (placeholders instead) and without outputs, with nbgrader metadata."""
+def _for_student(notebook, student: str | None) -> None:
+    """A first code cell naming the student, so that every check runs on their own robot and numbers."""
+    if student is None:
+        return
+    import nbformat
+
+    cell = nbformat.v4.new_code_cell(
+        "# Your exercises use your own robot and numbers, derived from your id: keep this line as it is.\n"
+        f"from course_dynamics.teaching.exercises import use_student\nuse_student({check_student_id(student)!r})",
+        metadata={"editable": False, "deletable": False, "tags": ["student-id"]})
+    first_code = next((k for k, c in enumerate(notebook.cells) if c.cell_type == "code"), len(notebook.cells))
+    notebook.cells.insert(first_code, cell)
+
+
+def student_version(notebook, stem: str = "notebook", student: str | None = None):
+    """A copy without solutions (placeholders instead) and without outputs, with nbgrader metadata; with
+    ``student``, its checks run on that student's robot and numbers."""
     notebook = copy.deepcopy(notebook)
     _nbgrader(notebook, stem)
     for cell in notebook.cells:
         if cell.cell_type == "code":
             cell.source = strip_solutions(cell.source)
             cell.outputs, cell.execution_count = [], None
+    _for_student(notebook, student)
     return notebook
 
 
-def solution_version(notebook, stem: str = "notebook"):
-    """A copy with the solutions, with nbgrader metadata."""
+def solution_version(notebook, stem: str = "notebook", student: str | None = None):
+    """A copy with the solutions, with nbgrader metadata (for ``student``'s robot, if given)."""
     notebook = copy.deepcopy(notebook)
     _nbgrader(notebook, stem)
+    _for_student(notebook, student)
     return notebook
 
 
@@ -138,8 +156,10 @@ class NotebooksWritten:
     backups: tuple[Path, ...]
 
 
-def write_notebooks(out: Path, solutions: bool = False, force: bool = False) -> NotebooksWritten:
-    """Every notebook of the course as ``.ipynb`` in ``out`` (made if missing): student versions, or with solutions.
+def write_notebooks(out: Path, solutions: bool = False, force: bool = False, student: str | None = None,
+                    only=None) -> NotebooksWritten:
+    """Every notebook of the course (or those numbered ``only``) as ``.ipynb`` in ``out`` (made if missing): student
+    versions, or with solutions; with ``student``, for that student's own robot and numbers.
 
     A notebook that is already there is kept as it is — a student's answers live in it — so a second
     run adds only the notebooks that are missing. With ``force`` it is replaced, after a copy is kept
@@ -155,9 +175,9 @@ def write_notebooks(out: Path, solutions: bool = False, force: bool = False) -> 
     if out.exists() and not out.is_dir():
         raise InputError(f"{out}: exists and is not a directory")
     documents = {}
-    for path in notebook_paths():
+    for path in notebook_paths(only):
         notebook = read_notebook(path)
-        made = solution_version(notebook, path.stem) if solutions else student_version(notebook, path.stem)
+        made = (solution_version if solutions else student_version)(notebook, path.stem, student)
         documents[out / f"{path.stem}.ipynb"] = nbformat.writes(made)
     out.mkdir(parents=True, exist_ok=True)
     written, kept, backups = [], [], []

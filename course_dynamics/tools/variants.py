@@ -26,7 +26,9 @@ variant too, so that an exercise never runs on the worked examples' robot.
 """
 from __future__ import annotations
 
+import csv
 import hashlib
+import io as text_io
 import re
 from dataclasses import dataclass, field, replace
 from functools import lru_cache
@@ -34,6 +36,7 @@ from functools import lru_cache
 import numpy as np
 
 from ..base.errors import InputError
+from ..base.files import read_small
 from ..core.model import Model
 from ..core.parameters import parameter_values
 from ..core.robots import COURSE_ROBOTS, load_robot
@@ -119,3 +122,35 @@ def robot_variant(robot: str, student: str) -> Variant:
                               I_com=_significant(body.I_com * masses[i] * own**2, 4)))
     frames = tuple(replace(f, P=np.round(f.P * lengths[f.body], 3)) if f.body >= 0 else f for f in model.frames)
     return Variant(robot, student, replace(model, bodies=tuple(bodies), frames=frames), tuple(lengths), tuple(masses))
+
+
+MAX_ROSTER_BYTES = 4 * 2**20
+
+
+def read_roster(path) -> list[str]:
+    """The student ids of a roster: a CSV file with an ``id`` column (other columns are ignored), one student per row.
+
+    Every id is checked (:func:`check_student_id`) and none may repeat; an error names the file and the row.
+    """
+    raw = read_small(path, MAX_ROSTER_BYTES, "roster")
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        raise InputError(f"{path}: the roster is not UTF-8 text") from None
+    rows = list(csv.reader(text_io.StringIO(text)))
+    if not rows or "id" not in [cell.strip().lower() for cell in rows[0]]:
+        raise InputError(f"{path}: a roster is a CSV file whose first row names an 'id' column")
+    column = [cell.strip().lower() for cell in rows[0]].index("id")
+    ids, seen = [], {}
+    for number, row in enumerate(rows[1:], start=2):
+        if not any(cell.strip() for cell in row):
+            continue
+        student = row[column].strip() if column < len(row) else ""
+        check_student_id(student, f"{path}, row {number}: student id")
+        if student in seen:
+            raise InputError(f"{path}, row {number}: student id {student!r} repeats row {seen[student]}")
+        seen[student] = number
+        ids.append(student)
+    if not ids:
+        raise InputError(f"{path}: the roster lists no students")
+    return ids

@@ -20,6 +20,8 @@ def add_arguments(parser) -> None:
     parser.add_argument("submissions", nargs="*", help="student files, one Python file per student")
     parser.add_argument("--out", help="folder for the gradebook and feedback (made if missing)")
     parser.add_argument("--example-assignment", action="store_true", help="print a commented assignment file and exit")
+    parser.add_argument("--handout", metavar="ID", help="print the numbers of student ID's robot (an assignment with "
+                        "variant = \"per-student\") and, with --out DIR, write its URDF there; grades nothing")
     parser.add_argument("--no-sandbox", action="store_true",
                         help="grade without bubblewrap (separate processes and limits only); the gradebook says so")
     parser.add_argument("--jobs", type=int, help="submissions graded at once (default: the number of CPUs)")
@@ -43,6 +45,8 @@ def run(args) -> int:
     if args.example_assignment:
         sys.stdout.write(EXAMPLE)
         return 0
+    if args.handout is not None:
+        return _handout(args, load_assignment)
     if args.assignment is None or not args.submissions or args.out is None:
         raise UsageError("grade needs ASSIGNMENT.toml, at least one SUBMISSION.py and --out DIR "
                          "(or --example-assignment)")
@@ -72,4 +76,40 @@ def run(args) -> int:
               f"{assignment.total_points:g} points; wrote {out / 'gradebook.csv'}, feedback and {out / 'summary.html'}")
         if args.no_sandbox:
             print("warning: graded without a sandbox (--no-sandbox)", file=sys.stderr)
+    return 0
+
+
+def _handout(args, load_assignment) -> int:
+    """A student's own robot, as the per-student assignment grades them: its numbers, and its URDF in --out."""
+    from ...output import io
+    from ...output.urdf_writer import model_urdf
+    from ...tools.variants import check_student_id, robot_variant
+
+    if args.assignment is None or args.submissions:
+        raise UsageError("grade --handout ID takes the assignment and no submissions: grade ASSIGNMENT.toml --handout ID")
+    student = check_student_id(args.handout)
+    assignment = load_assignment(args.assignment)
+    if assignment.variant != "per-student":
+        raise UsageError(f"{args.assignment}: every student has the same robot ({assignment.robot_argument}); "
+                         "--handout needs variant = \"per-student\"")
+    variant = robot_variant(assignment.robot_argument, student)
+    urdf = None
+    if args.out is not None:
+        out = Path(args.out)
+        if out.exists() and not out.is_dir():
+            raise UsageError(f"{out}: exists and is not a directory")
+        out.mkdir(parents=True, exist_ok=True)
+        urdf = out / f"{assignment.robot_argument}_{student}.urdf"
+        text = model_urdf(assignment.for_student(student).robot, f"{assignment.robot_argument} for student {student}: "
+                          "the robot course-dynamics grade grades this student on")
+        if not io.write_new(urdf, text):
+            raise UsageError(f"{urdf}: exists; kept as it is (remove it to write it again)")
+    if args.json:
+        print_json(dict(student=student, robot=assignment.robot_argument, parameters=variant.parameters,
+                        urdf=str(urdf) if urdf else None))
+    else:
+        print(variant.describe())
+        print("parameters: " + ", ".join(f"{k} = {v:g}" for k, v in variant.parameters.items()))
+        if urdf:
+            print(f"wrote {urdf}", file=sys.stderr)
     return 0
