@@ -205,3 +205,76 @@ def test_newton_euler_on_the_spatial_arm_link_by_link():
     transposed = check("links_spatial_arm", spatial_links("rotation-transposed")).text()
     assert "ⁱωᵢ (6.45) is wrong" in transposed and "[rotation-transposed]" in transposed
     assert "expected" not in gyroscopic + transposed
+
+
+def rp_arm_lagrange(chain_rule=True, half_kinetic_of_d2=False):
+    """Example 6.5 derived by Lagrange as on paper: θ₁(t), d₂(t), k and u written out, L differentiated in t."""
+    from course_dynamics.teaching.exercises import time_functions
+
+    m1, m2, l1, Izz1, Izz2, g = symbols("m1", "m2", "l1", "Izz1", "Izz2", "g")
+    t, theta1, d2 = time_functions("theta1", "d2")
+    v2_squared = d2.diff(t) ** 2 + (d2 ** 2 if not half_kinetic_of_d2 else d2 ** 2 / 2) * theta1.diff(t) ** 2
+    k = (m1 * l1**2 + Izz1 + Izz2) * theta1.diff(t) ** 2 / 2 + m2 * v2_squared / 2
+    u = g * (m1 * l1 + m2 * d2) * sympy.sin(theta1)
+    L = k - u
+    if chain_rule:
+        return [sympy.diff(L.diff(x.diff(t)), t) - L.diff(x) for x in (theta1, d2)]
+    # "d/dt replaces θ̇ by θ̈": right only where ∂L/∂θ̇ has constant coefficients
+    return [L.diff(x.diff(t)).subs({theta1.diff(t): theta1.diff(t, 2), d2.diff(t): d2.diff(t, 2)}) - L.diff(x)
+            for x in (theta1, d2)]
+
+
+def test_example_6_5_by_lagrange_in_theta_of_t():
+    assert check("lagrange_rp_arm", rp_arm_lagrange())
+    tau1, tau2 = rp_arm_lagrange()
+    assert check("lagrange_rp_arm", [sympy.expand(sympy.trigsimp(tau1)), sympy.factor(tau2)])  # any equivalent form
+    without_chain_rule = check("lagrange_rp_arm", rp_arm_lagrange(chain_rule=False)).text()
+    assert "V₁ lacks the Coriolis term 2*ḋ₂*d₂*m2*θ̇₁" in without_chain_rule
+    halved = check("lagrange_rp_arm", rp_arm_lagrange(half_kinetic_of_d2=True)).text()
+    assert "M₁₁ is missing d₂^2*m2/2" in halved and "V₂'s centrifugal term has an extra d₂*m2*θ̇₁^2/2" in halved
+    assert "uses x" in check("lagrange_rp_arm", [tau1 + sympy.Symbol("x"), tau2]).text()
+    assert "a list of 2 expressions" in check("lagrange_rp_arm", tau1).text()
+    m2, d2 = symbols("m2", "d2")
+    assert check("B_rp_arm", sympy.Matrix([[2 * m2 * d2], [0]])) and check("C_rp_arm", sympy.Matrix([[0, 0], [-m2 * d2, 0]]))
+    assert "entry (1, 1) is wrong" in check("B_rp_arm", sympy.Matrix([[m2 * d2], [0]])).text()
+
+
+HOMEWORK_SLIPS = [  # exercise, a student's answer with a slip, the code the check names
+    ("omega_dot_propagation", lambda R, w, wd, qd, qdd: R @ wd + np.cross(R @ wd, qd * Z) + qdd * Z,
+     "angular-acceleration-in-cross"),
+    ("omega_dot_propagation", lambda R, w, wd, qd, qdd: R.T @ wd + np.cross(R.T @ w, qd * Z) + qdd * Z,
+     "rotation-transposed"),
+    ("v_dot_propagation", lambda R, w, wd, vd, P: R @ (np.cross(wd, P) + vd), "centripetal-missing"),
+    ("v_dot_com", lambda w, wd, vd, P: np.cross(wd, P) + vd, "centripetal-missing"),
+    ("inward_moment", lambda R, N, n, P_c, F, P, f: N + R @ n + np.cross(P_c, F), "moment-arm-missing"),
+    ("prismatic_joint", lambda R, w, wd, vd, P, dd, ddd, f: (
+        R @ (np.cross(wd, P) + np.cross(w, np.cross(w, P)) + vd) + np.cross(R @ w, dd * Z) + ddd * Z, f @ Z),
+     "coriolis-half"),
+    ("moving_point", lambda Vo, R, W, Wd, Q, V, Vd: Vo + R @ Vd + 3 * np.cross(W, R @ V) + np.cross(Wd, R @ Q)
+     + np.cross(W, np.cross(W, R @ Q)), "coriolis-doubled"),
+]
+Z = np.array([0.0, 0.0, 1.0])
+
+
+def right_homework():
+    return {
+        "omega_dot_propagation": lambda R, w, wd, qd, qdd: R @ wd + np.cross(R @ w, qd * Z) + qdd * Z,
+        "v_dot_propagation": lambda R, w, wd, vd, P: R @ (np.cross(wd, P) + np.cross(w, np.cross(w, P)) + vd),
+        "v_dot_com": lambda w, wd, vd, P: np.cross(wd, P) + np.cross(w, np.cross(w, P)) + vd,
+        "inward_moment": lambda R, N, n, P_c, F, P, f: N + R @ n + np.cross(P_c, F) + np.cross(P, R @ f),
+        "prismatic_joint": lambda R, w, wd, vd, P, dd, ddd, f: (
+            R @ (np.cross(wd, P) + np.cross(w, np.cross(w, P)) + vd) + 2 * np.cross(R @ w, dd * Z) + ddd * Z, f @ Z),
+        "moving_point": lambda Vo, R, W, Wd, Q, V, Vd: Vo + R @ Vd + 2 * np.cross(W, R @ V) + np.cross(Wd, R @ Q)
+        + np.cross(W, np.cross(W, R @ Q)),
+    }
+
+
+@pytest.mark.parametrize("exercise", list(right_homework()))
+def test_the_notes_homework_right(exercise):
+    assert check(exercise, right_homework()[exercise])
+
+
+@pytest.mark.parametrize("exercise, answer, code", HOMEWORK_SLIPS, ids=[f"{e}-{c}" for e, _, c in HOMEWORK_SLIPS])
+def test_the_notes_homework_names_each_slip(exercise, answer, code):
+    verdict = check(exercise, answer)
+    assert verdict.status == "wrong" and any(line.startswith(f"[{code}]") for line in verdict.lines), verdict.text()

@@ -20,7 +20,7 @@ from course_dynamics.core.sampling import relative_error
 from course_dynamics.grading.assignment import Assignment
 from course_dynamics.grading.grade import grade_class
 from course_dynamics.grading.mistakes import MISTAKES, mistaken_terms
-from course_dynamics.teaching.exercises import check
+from course_dynamics.teaching.exercises import check, my_robot
 
 SPATIAL = load_robot("spatial_arm")
 TOLERANCE = 1e-6  # the grader's default
@@ -98,15 +98,15 @@ def test_grade_names_each_slip(graded_slips, slip):
 
 @pytest.mark.parametrize("slip", list(SPATIAL_SLIPS))
 def test_the_notebook_check_names_each_slip(slip):
-    namespace = {}
-    exec(compile(spatial_newton_euler(SPATIAL, slip), "student.py", "exec"), namespace)
+    namespace = {}  # the notebook checks the student's own arm: the same code, with their numbers
+    exec(compile(spatial_newton_euler(my_robot("spatial_arm").model, slip), "student.py", "exec"), namespace)
     verdict = check("tau_spatial_arm", namespace["tau"])
     code, where = EXPECTED[slip]
     assert verdict.status == "wrong" and any(line.startswith(f"[{code}]") and where in line for line in verdict.lines)
 
 
 def test_two_slips_at_once_are_closest_to_one_of_them(tmp_path):
-    source = spatial_newton_euler(SPATIAL, "moment-arm-missing").replace(
+    source = spatial_newton_euler(my_robot("spatial_arm").model, "moment-arm-missing").replace(
         "vd = np.zeros(3), np.zeros(3), -g", "vd = np.zeros(3), np.zeros(3), -1.001 * g")
     namespace = {}
     exec(compile(source, "student.py", "exec"), namespace)
@@ -130,8 +130,11 @@ def test_closed_form_slips_are_named_in_G_and_in_tau(tmp_path, code):
     [graded] = grade_class(assignment, [path])
     for diagnosis in graded.diagnoses:
         assert code in diagnosis.tags, (diagnosis.term, diagnosis.findings)
+    p = my_robot("two_link").parameters  # the notebook checks the student's own arm: their numbers
     namespace = {}
-    exec(compile(path.read_text(), "student.py", "exec"), namespace)
+    exec(compile(path.read_text().replace("m1, m2, l1, l2, g = 2.0, 1.0, 0.5, 0.4, 9.81",
+                                          f"m1, m2, l1, l2, g = {p['m1']}, {p['m2']}, {p['l1']}, {p['l2']}, {p['g']}"),
+                 "student.py", "exec"), namespace)
     assert any(line.startswith(f"[{code}]") for line in check("G_two_link", namespace["G"]).lines)
 
 

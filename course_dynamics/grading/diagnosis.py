@@ -19,7 +19,7 @@ not_finite                    holds NaN or inf (on some states)
 opposite_sign †               agrees with −ours everywhere
 named_mistake †               agrees with ours made with a mistake of ``mistakes``
 constant_factor †             ≈ k · ours for one k ≠ 1
-transposed †, joints_swapped  agrees with ours transposed, or joints permuted
+transposed †, joints_swapped  agrees with ours transposed, or joints permuted;
 closest_mistake               much nearer one mistaken answer than the right one
 tau_parts, InPart(…)          (τ) which of its parts G, M, V are right; a check on one
 wrong_entries                 which entries disagree
@@ -52,8 +52,8 @@ from .plan import Expected, Plan, VelocityProbe
 
 TERM_NAMES = {"tau": "τ", "M": "M", "V": "V", "G": "G", "C": "C"}
 SIGNATURES = {"tau": "tau(q, qd, qdd)", "M": "M(q)", "V": "V(q, qd)", "G": "G(q)", "C": "C(q, qd)"}
-VALUE_SCALE = 1e-12  # the floor of the relative error of a value that is no function of the robot
-LISTED = 8  # wrong entries named one by one
+# the floor of the relative error of a value that is no function of the robot; wrong entries named one by one
+VALUE_SCALE, LISTED = 1e-12, 8
 
 
 @dataclass(frozen=True, eq=False)  # holds arrays: compared by identity
@@ -129,8 +129,7 @@ class Answer:
 
 @dataclass(frozen=True)
 class Finding:
-    """What a check found: the sentence the student reads, the tags the class summary counts, and whether it
-    explains the whole answer (``conclusive``: no later check runs)."""
+    """What a check found: the sentence read, the tags counted, and whether it explains everything (``conclusive``)."""
 
     text: str
     tags: tuple[str, ...]
@@ -323,7 +322,8 @@ def wrong_entries(answer: Answer) -> Finding | None:
         where = "numbered from 1"
     more = f" (and {len(names) - LISTED} more)" if len(names) > LISTED else ""
     tag = f"wrong entries of {answer.term}" if answer.term else "wrong entries"
-    return Finding(f"entries {', '.join(names[:LISTED])}{more} are wrong ({where}); the others are right", (tag,))
+    return Finding(("entry {} is" if len(names) == 1 else "entries {} are").format(", ".join(names[:LISTED])) +
+                   f"{more} wrong ({where}); the others are right", (tag,))
 
 
 def not_symmetric(answer: Answer) -> Finding | None:

@@ -11,7 +11,7 @@ Hints come in tiers (:attr:`Exercise.hints`): which term or idea, then which
 equation, then the formula itself, last.
 
 >>> use_student("ada")
->>> given("v_dot_c1") == given("v_dot_c1"), my_robot("two_link").student
+>>> bool((given("v_dot_c1")["q"] == given("v_dot_c1")["q"]).all()), my_robot("two_link").student
 (True, 'ada')
 >>> use_student("course")
 """
@@ -28,6 +28,8 @@ from ..core.cartesian import cartesian_dynamics
 from ..core.friction import Friction
 from ..core.newton_euler import inverse_dynamics, newton_euler_links
 from ..core.regressor import base_parameters, parameter_names, regressor
+from ..core.robots import load_robot
+from ..core.symbolic import derive
 from ..tools.variants import COURSE_STUDENT, Variant, check_student_id, rng_for, robot_variant
 
 _STUDENT = {"id": COURSE_STUDENT}
@@ -167,6 +169,24 @@ def _Y_mcx2():
     return regressor(arm, d["q"], d["qd"], d["qdd"])[:, parameter_names(arm).index("mcx_2")]
 
 
+RP_PARAMETERS = ("m1", "m2", "l1", "Izz1", "Izz2", "g")
+
+
+def rp_arm_equations():
+    """Example 6.5 by the library: τ₁, τ₂ of the RP arm in the parameters m1, m2, l1, Izz1, Izz2, g (the same
+    symbols as :func:`symbols`), with the joint symbols (name → (q, qd, qdd)) they are written in."""
+    derived = derive(load_robot("rp_arm"), RP_PARAMETERS)
+    ours = dict(zip(RP_PARAMETERS, symbols(*RP_PARAMETERS), strict=True))
+    to_ours = {derived.parameters[name]: ours[name] for name in RP_PARAMETERS}
+    joints = {name: (derived.q[j], derived.qd[j], derived.qdd[j]) for j, name in enumerate(("theta1", "d2"))}
+    plain = {**to_ours, **{q: symbols(name) for name, (q, _, _) in joints.items()}}  # B and C in θ₁, d₂ as written
+
+    def written(rows):
+        return [[e.xreplace(plain) for e in row] for row in rows]
+
+    return [e.xreplace(to_ours) for e in derived.tau], joints, written(derived.B), written(derived.C)
+
+
 def _euler(q, qd, qdd, dt):
     return q + qd * dt + 0.5 * qdd * dt**2, qd + qdd * dt  # (6.117), (6.116)
 
@@ -179,7 +199,8 @@ def _semi_implicit(q, qd, qdd, dt):
 @dataclass(frozen=True)
 class Exercise:
     """How to check one exercise: ``kind`` is "term" (a robot function graded like the grader does),
-    "links" (every quantity of both iterations, link by link, at the exercise's given state), "function"
+    "links" (every quantity of both iterations, link by link, at the exercise's given state), "equations"
+    (equations of motion derived by hand in θ(t), term by term: :mod:`~course_dynamics.teaching.derivations`), "function"
     (compared on random inputs with ``reference``), "value" or "formula"; ``hints`` in tiers, the formula last."""
 
     kind: str
@@ -192,10 +213,51 @@ class Exercise:
     variables: tuple[str, ...] = ()
     constant_in: tuple[str, ...] = ()  # a formula may differ by anything that does not depend on these
     hints: tuple[str, ...] = ()
+    mistakes: tuple[tuple[str, Callable, str], ...] = ()  # (code, the reference with that mistake, its words)
 
 
 def _random_vectors(count: int):
     return lambda rng: [rng.standard_normal(3) for _ in range(count)]
+
+
+Z = np.array([0.0, 0.0, 1.0])
+
+
+def _rotation(rng) -> np.ndarray:
+    """A random rotation matrix (proper: determinant +1)."""
+    from scipy.spatial.transform import Rotation
+
+    return Rotation.from_rotvec(rng.uniform(-1.5, 1.5, 3)).as_matrix()
+
+
+def _omega_dot_next(R, w, wd, qd, qdd, cross=np.cross):  # (6.32): ⁱ⁺¹ᵢR ⁱω̇ᵢ + ⁱ⁺¹ᵢR ⁱωᵢ × θ̇ Ẑ + θ̈ Ẑ
+    return R @ wd + cross(R @ w, qd * Z) + qdd * Z
+
+
+def _v_dot_next(R, w, wd, vd, P, centripetal=1.0):  # (6.34): ⁱ⁺¹ᵢR (ⁱω̇ᵢ × ⁱPᵢ₊₁ + ⁱωᵢ × (ⁱωᵢ × ⁱPᵢ₊₁) + ⁱv̇ᵢ)
+    return R @ (np.cross(wd, P) + centripetal * np.cross(w, np.cross(w, P)) + vd)
+
+
+def _inward_moment(R, N, n_next, P_c, F, P_next, f_next, arm=1.0):  # (6.42)
+    return N + R @ n_next + np.cross(P_c, F) + arm * np.cross(P_next, R @ f_next)
+
+
+def _prismatic(R, w, wd, vd, P, d_dot, d_ddot, f, coriolis=2.0):  # (6.35) and (6.44)
+    return _v_dot_next(R, w, wd, vd, P) + coriolis * np.cross(R @ w, d_dot * Z) + d_ddot * Z, float(f @ Z)
+
+
+def _moving_point(Vd_org, R, Omega, Omega_dot, Q, V_Q, Vd_Q, coriolis=2.0):  # (6.10) corrected
+    return (Vd_org + R @ Vd_Q + coriolis * np.cross(Omega, R @ V_Q) + np.cross(Omega_dot, R @ Q)
+            + np.cross(Omega, np.cross(Omega, R @ Q)))
+
+
+def _inputs(*kinds):
+    """Random inputs: "R" a rotation, "v" a 3-vector, "s" a number."""
+    def draw(rng):
+        return [_rotation(rng) if k == "R" else rng.standard_normal(3) if k == "v" else float(rng.standard_normal())
+                for k in kinds]
+
+    return draw
 
 
 NEWTON_EULER_HINTS = (
@@ -257,8 +319,20 @@ EXERCISES: dict[str, Exercise] = {
         "(6.73): u = −m gᵀ P_C (plus any constant)", "u = −m g l cos θ")),
     "tau_pendulum": Exercise("formula", lambda: _pendulum("tau"),
                              variables=("m", "l", "g", "theta", "theta_dot", "theta_ddot"), hints=(
-        "the Lagrangian L = k − u, differentiated", "(6.76): d/dt ∂L/∂θ̇ − ∂L/∂θ = τ",
+        "the Lagrangian L = k − u (6.75), differentiated", "(6.77): d/dt ∂L/∂θ̇ − ∂L/∂θ = τ",
         "τ = m l² θ̈ + m g l sin θ")),
+    "lagrange_rp_arm": Exercise("equations", lambda: rp_arm_equations()[0], robot="rp_arm", hints=(
+        "write k and u with θ₁ and d₂ as functions of t, then differentiate L = k − u with the chain rule",
+        "(6.77) for each joint: d/dt ∂L/∂θ̇ᵢ − ∂L/∂θᵢ = τᵢ, as example 6.5 does",
+        "k = ½(m₁l₁² + I_zz1 + I_zz2 + m₂d₂²)θ̇₁² + ½m₂ḋ₂², u = g(m₁l₁ + m₂d₂) sin θ₁; d/dt (m₂d₂²θ̇₁) = "
+        "m₂d₂²θ̈₁ + 2m₂d₂ḋ₂θ̇₁")),
+    "B_rp_arm": Exercise("formula", lambda: __import__("sympy").Matrix(rp_arm_equations()[2]),
+                         variables=("m2", "d2"), hints=(
+        "B multiplies the products θ̇ⱼθ̇ₖ (j < k): the RP arm has one, θ̇₁ḋ₂", "(6.63)–(6.64)",
+        "B = [[2m₂d₂], [0]]: the Coriolis term of τ₁ divided by θ̇₁ḋ₂")),
+    "C_rp_arm": Exercise("formula", lambda: __import__("sympy").Matrix(rp_arm_equations()[3]),
+                         variables=("m2", "d2"), hints=(
+        "C multiplies the squares θ̇ⱼ²", "(6.63) and (6.65)", "C = [[0, 0], [−m₂d₂, 0]]")),
     "J_tool": Exercise("formula", _J_tool, variables=("l1", "l2", "theta2"), hints=(
         "column j is the tip's velocity when only θ̇ⱼ = 1, written in frame {3}",
         "the velocity propagation of Craig (5.66), ending in frame {3}",
@@ -282,6 +356,61 @@ EXERCISES: dict[str, Exercise] = {
                                    inputs=lambda rng: [*rng.standard_normal((3, 2)), 0.01], hints=(
         "the same two updates in the other order", "the new Θ̇ first, then Θ with the new Θ̇",
         "Θ̇' = Θ̇ + Θ̈Δt, Θ' = Θ + Θ̇'Δt")),
+    "omega_dot_propagation": Exercise(
+        "function", reference=_omega_dot_next, inputs=_inputs("R", "v", "v", "s", "s"), hints=(
+            "differentiate (6.45) in time: the rotation turns with link i, the joint axis with link i+1",
+            "(6.15) for two frames, with the rotation of (5.45) carrying ⁱω̇ᵢ into frame i+1",
+            "ⁱ⁺¹ω̇ᵢ₊₁ = ⁱ⁺¹ᵢR ⁱω̇ᵢ + ⁱ⁺¹ᵢR ⁱωᵢ × θ̇ᵢ₊₁ ⁱ⁺¹Ẑᵢ₊₁ + θ̈ᵢ₊₁ ⁱ⁺¹Ẑᵢ₊₁ (6.32)"),
+        mistakes=(("angular-acceleration-in-cross", lambda R, w, wd, qd, qdd: R @ wd + np.cross(R @ wd, qd * Z) + qdd * Z,
+                   "ω̇ in the cross product where ω belongs: the notes' line 'from (5.45)' prints it that way"),
+                  ("rotation-transposed", lambda R, w, wd, qd, qdd: _omega_dot_next(R.T, w, wd, qd, qdd),
+                   "the rotation used the wrong way: R is ⁱ⁺¹ᵢR, from frame i into frame i+1"),
+                  ("cross-reversed", lambda R, w, wd, qd, qdd: _omega_dot_next(R, w, wd, qd, qdd,
+                                                                              lambda a, b: np.cross(b, a)),
+                   "the cross product in the wrong order: ⁱ⁺¹ᵢR ⁱωᵢ × θ̇ᵢ₊₁Ẑ"))),
+    "v_dot_propagation": Exercise(
+        "function", reference=_v_dot_next, inputs=_inputs("R", "v", "v", "v", "v"), hints=(
+            "the origin of frame i+1 is a point fixed in link i",
+            "(6.12) for that point, then rotated into frame i+1: (6.34)",
+            "ⁱ⁺¹v̇ᵢ₊₁ = ⁱ⁺¹ᵢR (ⁱω̇ᵢ × ⁱPᵢ₊₁ + ⁱωᵢ × (ⁱωᵢ × ⁱPᵢ₊₁) + ⁱv̇ᵢ)"),
+        mistakes=(("centripetal-missing", lambda R, w, wd, vd, P: _v_dot_next(R, w, wd, vd, P, 0.0),
+                   "the centripetal term ω × (ω × P) left out"),
+                  ("rotation-transposed", lambda R, w, wd, vd, P: _v_dot_next(R.T, w, wd, vd, P),
+                   "the rotation used the wrong way: R is ⁱ⁺¹ᵢR"))),
+    "v_dot_com": Exercise(
+        "function", reference=lambda w, wd, vd, P_c: _v_dot_next(np.eye(3), w, wd, vd, P_c),
+        inputs=_inputs("v", "v", "v", "v"), hints=(
+            "the centre of mass is a point fixed in link i, and everything is written in frame i",
+            "(6.12) with {A} = {B} = frame i: (6.36)", "ⁱv̇_Cᵢ = ⁱω̇ᵢ × ⁱP_Cᵢ + ⁱωᵢ × (ⁱωᵢ × ⁱP_Cᵢ) + ⁱv̇ᵢ"),
+        mistakes=(("centripetal-missing", lambda w, wd, vd, P_c: _v_dot_next(np.eye(3), w, wd, vd, P_c, 0.0),
+                   "the centripetal term ω × (ω × P_C) left out"),)),
+    "inward_moment": Exercise(
+        "function", reference=_inward_moment, inputs=_inputs("R", "v", "v", "v", "v", "v", "v"), hints=(
+            "the moments on link i about the origin of frame i: its own, its child's, and those of the forces",
+            "(6.38)–(6.39) balanced for link i, written in frame i: (6.42)",
+            "ⁱnᵢ = ⁱNᵢ + ⁱᵢ₊₁R ⁱ⁺¹nᵢ₊₁ + ⁱP_Cᵢ × ⁱFᵢ + ⁱPᵢ₊₁ × ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁"),
+        mistakes=(("moment-arm-missing", lambda *a: _inward_moment(*a, arm=0.0),
+                   "the moment arm ⁱPᵢ₊₁ × ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁ of the child's force left out"),
+                  ("rotation-transposed", lambda R, *a: _inward_moment(R.T, *a),
+                   "the rotation used the wrong way: R is ⁱᵢ₊₁R, from frame i+1 into frame i"))),
+    "prismatic_joint": Exercise(
+        "function", reference=_prismatic, inputs=_inputs("R", "v", "v", "v", "v", "s", "s", "v"), hints=(
+            "a sliding joint adds a velocity ḋ along Ẑ in a turning frame: a Coriolis term, and no rotation",
+            "(6.35) for ⁱ⁺¹v̇ᵢ₊₁ ((6.34) plus two terms from (6.10)), and (6.44) for the joint's force",
+            "ⁱ⁺¹v̇ᵢ₊₁ = ⁱ⁺¹ᵢR(ⁱω̇ᵢ × ⁱPᵢ₊₁ + ⁱωᵢ × (ⁱωᵢ × ⁱPᵢ₊₁) + ⁱv̇ᵢ) + 2 ⁱ⁺¹ωᵢ₊₁ × ḋᵢ₊₁Ẑ + d̈ᵢ₊₁Ẑ with "
+            "ⁱ⁺¹ωᵢ₊₁ = ⁱ⁺¹ᵢR ⁱωᵢ; τ = ⁱ⁺¹fᵢ₊₁ᵀ Ẑ"),
+        mistakes=(("coriolis-half", lambda *a: _prismatic(*a, coriolis=1.0),
+                   "the Coriolis term 2ω × ḋẐ without its 2"),)),
+    "moving_point": Exercise(
+        "function", reference=_moving_point, inputs=_inputs("v", "R", "v", "v", "v", "v", "v"), hints=(
+            "a point that moves in a moving frame: five parts, one of them from both motions at once",
+            "(6.10), differentiated from (6.7)–(6.8); the notes print one term too many",
+            "ᴬV̇_Q = ᴬV̇_BORG + ᴬ_BR ᴮV̇_Q + 2 ᴬΩ_B × ᴬ_BR ᴮV_Q + ᴬΩ̇_B × ᴬ_BR ᴮQ + ᴬΩ_B × (ᴬΩ_B × ᴬ_BR ᴮQ)"),
+        mistakes=(("coriolis-doubled", lambda *a: _moving_point(*a, coriolis=3.0),
+                   "(6.10) as the notes print it: the Coriolis term Ω × R V_Q counted once more beside 2 Ω × R V_Q"),
+                  ("coriolis-half", lambda *a: _moving_point(*a, coriolis=1.0),
+                   "the Coriolis term without its 2: Ω × R V_Q comes once from differentiating R V_Q and once "
+                   "from differentiating Ω × R Q"))),
     "I_xy_corner": Exercise("value", _I_xy_corner, hints=(
         "the box's own product of inertia about its centre is zero", "the parallel-axis theorem for products",
         "ᴬI_xy = ᶜI_xy + m x_c y_c (the notes print −)")),

@@ -41,10 +41,11 @@ from ..grading.plan import expected_terms, make_plan
 from ..grading.score import score, score_outcome
 from ..output.render import markdown_escape
 from ..tools.variants import rng_for
-from .catalogue import EXERCISES, Exercise, given, my_robot, student, symbols, use_student
+from .catalogue import RP_PARAMETERS, EXERCISES, Exercise, given, my_robot, rp_arm_equations, student, symbols, use_student
+from .derivations import SUBSCRIPTS, in_joint_symbols, term_differences, time_functions
 
 __all__ = ["EXERCISES", "Verdict", "check", "given", "hint", "my_robot", "show_values", "student", "symbols",
-           "term_assignment", "use_student"]
+           "term_assignment", "time_functions", "use_student"]
 MISSING = object()
 _REVEAL = {"values": False}
 
@@ -101,7 +102,7 @@ def check(name: str, answer=MISSING) -> Verdict:
     if _not_done(answer):
         verdict = Verdict(name, "not done", [f"write your answer as `{name}` in the cell above, then run this cell again"])
     else:
-        verdict = {"term": _check_term, "links": _check_links, "function": _check_function, "value": _check_value,
+        verdict = {"term": _check_term, "links": _check_links, "equations": _check_equations, "function": _check_function, "value": _check_value,
                    "formula": _check_formula}[exercise.kind](name, exercise, answer)
     if verdict.status == "wrong" and exercise.hints:
         verdict.lines.append(f"a hint, if you want one: hint({name!r}) (there are {len(exercise.hints)}, "
@@ -197,6 +198,32 @@ def _check_links(name: str, exercise: Exercise, function) -> Verdict:
                    lines or [f"every quantity of both iterations agrees, link by link, at your state"])
 
 
+def _check_equations(name: str, exercise: Exercise, answer) -> Verdict:
+    """Equations of motion derived by hand (sympy, θ(t) and its derivatives, or the joint symbols), term by term."""
+    import sympy  # heavy: only the derivation exercises use it
+
+    expected, joints, _, _ = rp_arm_equations()
+    rows = list(answer) if isinstance(answer, (list, tuple, sympy.MatrixBase)) else None
+    if rows is None or len(rows) != len(expected):
+        return Verdict(name, "wrong", [f"should be a list of {len(expected)} expressions, τ₁ first"])
+    allowed = {s for q in joints.values() for s in q} | set(symbols(*RP_PARAMETERS)) | {sympy.Symbol("t", real=True)}
+    lines = []
+    for row, (theirs, ours) in enumerate(zip(rows, expected), start=1):
+        try:
+            theirs = in_joint_symbols(theirs, joints)
+        except (sympy.SympifyError, TypeError, ValueError):
+            return Verdict(name, "wrong", [f"entry {row} is not a sympy expression"])
+        stray = sorted(str(s) for s in theirs.free_symbols - allowed)
+        leftover = theirs.atoms(sympy.Derivative, sympy.core.function.AppliedUndef)
+        if stray or leftover:
+            what = ", ".join(stray + sorted(map(str, leftover)))
+            lines.append(f"τ{str(row).translate(SUBSCRIPTS)} uses {what}: write it with time_functions('theta1', 'd2') and "
+                         f"symbols{RP_PARAMETERS} only")
+            continue
+        lines += term_differences(theirs, ours, joints, symbols("g"), row)
+    return Verdict(name, "wrong" if lines else "right", lines or ["equals example 6.5's equations of motion"])
+
+
 def _value_problems(expected, value, tolerance: float) -> list[str]:
     """What is wrong with a value, as :func:`~course_dynamics.grading.score.score` finds it; [] when it is right."""
     try:
@@ -237,8 +264,17 @@ def _check_function(name: str, exercise: Exercise, function) -> Verdict:
             problems = _value_problems(expected, value, exercise.tolerance)
         if problems:
             shown = ", ".join(_show(a) for a in arguments)
-            return Verdict(name, "wrong", [f"for the inputs {shown}:"] + problems)
+            named = [f"[{code}] it matches {words}" for code, made, words in exercise.mistakes
+                     if _agrees(made(*arguments), value, exercise.tolerance)]
+            return Verdict(name, "wrong", [f"for the inputs {shown}:"] + (named[:1] or problems))
     return Verdict(name, "right", ["agrees with course_dynamics on 20 random inputs"])
+
+
+def _agrees(expected, value, tolerance: float) -> bool:
+    if isinstance(expected, tuple):
+        return isinstance(value, (tuple, list)) and len(value) == len(expected) and all(
+            _agrees(e, v, tolerance) for e, v in zip(expected, value))
+    return not _value_problems(expected, value, tolerance)
 
 
 def _check_formula(name: str, exercise: Exercise, answer) -> Verdict:
@@ -271,7 +307,8 @@ def _check_formula(name: str, exercise: Exercise, answer) -> Verdict:
         wrong = [(i + 1, j + 1) for i in range(expected.rows) for j in range(expected.cols)
                  if sympy.simplify(answer[i, j] - expected[i, j]) != 0]
         if len(wrong) < expected.rows * expected.cols:
-            problems.append(f"entries {', '.join(map(str, wrong))} are wrong (numbered from 1); the others are right")
+            are = "entry {} is" if len(wrong) == 1 else "entries {} are"
+            problems.append(f"{are.format(', '.join(map(str, wrong)))} wrong (numbered from 1); the others are right")
     elif expected != 0:
         ratio = sympy.simplify(answer / expected)
         if ratio.is_number:

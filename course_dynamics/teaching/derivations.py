@@ -1,0 +1,122 @@
+"""Checking a derivation by hand: equations of motion written in θ(t), compared term by term with the library's.
+
+A student derives example 6.5 (the RP arm) by Lagrange as one does on paper:
+θ₁ and d₂ are functions of time (:func:`time_functions`), k and u are written in
+them, and d/dt ∂L/∂θ̇ is taken with the chain rule (sympy's ``diff`` in t).
+:func:`in_joint_symbols` turns such an expression into the joint symbols of
+:mod:`course_dynamics.core.symbolic` (θ̈, then θ̇, then θ), so that any form
+equivalent up to simplification is accepted, and :func:`term_differences` says
+which terms differ, by what they multiply:
+
+==================  =============================================  ==============
+monomial            part of τᵢ (Craig's names)                     example
+==================  =============================================  ==============
+θ̈ⱼ                  Mᵢⱼ, the inertia term                          M₁₁ of θ̈₁
+θ̇ⱼθ̇ₖ (j ≠ k)        a Coriolis term of Vᵢ (Craig's B)              2m₂d₂ḋ₂θ̇₁
+θ̇ⱼ²                 a centrifugal term of Vᵢ (Craig's C)           −m₂d₂θ̇₁²
+g                   Gᵢ, the gravity term                           g m₂ sin θ₁
+==================  =============================================  ==============
+
+>>> import sympy
+>>> t, theta = time_functions("theta")
+>>> q, qd, qdd = (sympy.Symbol(n, real=True) for n in ("q_theta", "qd_theta", "qdd_theta"))
+>>> in_joint_symbols(sympy.diff(theta**2, t, 2), {"theta": (q, qd, qdd)})
+2*q_theta*qdd_theta + 2*qd_theta**2
+"""
+from __future__ import annotations
+
+import unicodedata
+
+SUBSCRIPTS = str.maketrans("0123456789", "₀₁₂₃₄₅₆₇₈₉")
+
+
+def _sympy():
+    import sympy  # heavy: only the derivation exercises use it
+
+    return sympy
+
+
+def time_functions(*names: str):
+    """t and one real function of t per name: ``t, theta1, d2 = time_functions("theta1", "d2")``."""
+    sympy = _sympy()
+    t = sympy.Symbol("t", real=True)
+    return (t, *(sympy.Function(name, real=True)(t) for name in names))
+
+
+def in_joint_symbols(expression, joints: dict):
+    """``expression`` with each joint's θ(t), θ̇(t), θ̈(t) replaced by the symbols ``joints[name] = (q, qd, qdd)``.
+
+    Second derivatives go first, so that θ̈ is never read as the derivative of θ̇; an expression already written in
+    the symbols is returned as it is.
+    """
+    sympy = _sympy()
+    t = sympy.Symbol("t", real=True)
+    expression = sympy.sympify(expression)
+    for order in (2, 1, 0):
+        replacements = {}
+        for name, symbols in joints.items():
+            function = sympy.Function(name, real=True)(t)
+            for candidate in {function, sympy.Function(name)(t)}:
+                replacements[candidate.diff(t, order) if order else candidate] = symbols[order]
+        expression = expression.xreplace(replacements) if order == 0 else expression.subs(replacements)
+    return expression
+
+
+def _shown(expression, names: dict) -> str:
+    """An expression with the joint symbols shown as θ₁, θ̇₁, θ̈₁, d₂, …"""
+    sympy = _sympy()
+    shown = str(sympy.sympify(expression).xreplace({k: sympy.Symbol(v) for k, v in names.items()}))
+    return unicodedata.normalize("NFC", shown.replace("**", "^"))  # d + combining dot: ḋ, as typed
+
+
+def display_names(joints: dict) -> dict:
+    """Symbol → how a student writes it: θ₁, θ̇₁, θ̈₁ for a joint named theta1, d₂, ḋ₂, d̈₂ for d2."""
+    names = {}
+    for name, (q, qd, qdd) in joints.items():
+        base = name.replace("theta", "θ").rstrip("0123456789")
+        index = name[len(name.rstrip("0123456789")):].translate(SUBSCRIPTS)
+        names.update({q: base + index, qd: base + "\u0307" + index, qdd: base + "\u0308" + index})
+    return names
+
+
+def term_differences(answer, expected, joints: dict, g, row: int) -> list[str]:
+    """What differs between τ_row as derived (``answer``) and as it should be, term by term ([] if they agree),
+    in Craig's names: "M₁₁ is missing m2*d₂^2", "V₁ lacks the Coriolis term 2*m2*d₂*ḋ₂*θ̇₁", "G₂ has an extra …"."""
+    sympy = _sympy()
+    if sympy.simplify(sympy.expand(answer - expected)) == 0:
+        return []
+    qdd = [symbols[2] for symbols in joints.values()]
+    qd = [symbols[1] for symbols in joints.values()]
+    names, n, i = display_names(joints), len(qd), str(row).translate(SUBSCRIPTS)
+    try:
+        answer_terms = dict(sympy.Poly(sympy.expand(answer), *qdd, *qd, g).terms())
+        expected_terms = dict(sympy.Poly(sympy.expand(expected), *qdd, *qd, g).terms())
+    except sympy.PolynomialError:
+        return [f"τ{i} is not a polynomial in the joint rates, accelerations and g: a derivative of θ(t) is left "
+                "over, or a rate sits inside a function"]
+    found = []
+    for monomial in sorted(set(answer_terms) | set(expected_terms), reverse=True):
+        theirs, ours = answer_terms.get(monomial, 0), expected_terms.get(monomial, 0)
+        gap = sympy.simplify(theirs - ours)
+        if gap == 0:
+            continue
+        rates = sympy.Mul(*[v**p for v, p in zip([*qdd, *qd, g], monomial, strict=True)])
+        acc, vel = monomial[:n], monomial[n:2 * n]
+        if any(acc):
+            part, kind = f"M{i}{str(list(acc).index(1) + 1).translate(SUBSCRIPTS)}", ""
+        elif sum(vel) == 2:
+            part, kind = f"V{i}", "Coriolis term" if max(vel) == 1 else "centrifugal term"
+        else:
+            part, kind = (f"G{i}" if monomial[-1] else f"τ{i}"), ""
+        missing = gap.could_extract_minus_sign()
+        amount = -gap if missing else gap
+        verb = "is missing" if missing else "has an extra"
+        if not kind:  # an entry of M (its coefficient of θ̈ⱼ), or G, or what multiplies no rate
+            found.append(f"{part} {verb} {_shown(amount if part.startswith('M') else amount * rates, names)}")
+        elif theirs == 0:
+            found.append(f"{part} lacks the {kind} {_shown(ours * rates, names)}")
+        elif ours == 0:
+            found.append(f"{part} has an extra {kind} {_shown(theirs * rates, names)}")
+        else:
+            found.append(f"{part}'s {kind} {verb} {_shown(amount * rates, names)}")
+    return found or [f"τ{i} differs from the right one"]
