@@ -17,21 +17,23 @@ import matplotlib.pyplot as plt
 from scipy.spatial.transform import Rotation
 
 from course_dynamics.core.algebra import Vec3, point_acceleration as library_point_acceleration
-from course_dynamics.teaching.exercises import check, given
+from course_dynamics.teaching.exercises import check, given, hint
 
 # %% [markdown]
 # ## Linear acceleration
 #
 # The acceleration of a point is the time derivative of its velocity,
 # $${}^B\dot V_Q = \frac{d}{dt}\,{}^BV_Q = \lim_{\Delta t\to 0}\frac{{}^BV_Q(t+\Delta t) - {}^BV_Q(t)}{\Delta t} \qquad (6.1)$$
-# and, likewise, ${}^A\dot\Omega_B = \frac{d}{dt}{}^A\Omega_B$ (6.2). When {B} moves relative to {A}, differentiating
-# ${}^AV_Q = {}^A_BR\,{}^BV_Q + {}^A\Omega_B \times {}^A_BR\,{}^BQ$ (6.5) once more gives
-# $${}^A\dot V_Q = {}^A\dot V_{BORG} + {}^A_BR\,{}^B\dot V_Q + 2\,{}^A\Omega_B\times{}^A_BR\,{}^BV_Q
-#   + {}^A\dot\Omega_B\times{}^A_BR\,{}^BQ + {}^A\Omega_B\times({}^A\Omega_B\times{}^A_BR\,{}^BQ) \qquad (6.10)$$
-# (the lecture notes print the Coriolis term $2\,\Omega\times V$ once more than it belongs; notebook 9 shows it).
-# For a point fixed in {B}, ${}^BV_Q = {}^B\dot V_Q = 0$ and
-# $${}^A\dot V_Q = {}^A\dot V_{BORG} + {}^A\dot\Omega_B\times{}^A_BR\,{}^BQ + {}^A\Omega_B\times({}^A\Omega_B\times{}^A_BR\,{}^BQ) \qquad (6.12)$$
-# — the tangential term $\dot\Omega\times P$ and the centripetal term $\Omega\times(\Omega\times P)$.
+# and, likewise, ${}^A\dot\Omega_B = \frac{d}{dt}{}^A\Omega_B$ (6.2). When {B} moves relative to {A}, Q's velocity
+# has a part from Q moving in {B} and a part from {B} turning, ${}^AV_Q = {}^A_BR\,{}^BV_Q + {}^A\Omega_B \times
+# {}^A_BR\,{}^BQ$ (6.5). Differentiating it once more, every product is differentiated factor by factor, and a
+# vector carried by the turning rotation ${}^A_BR$ changes at ${}^A\Omega_B\times$ (that vector):
+# $${}^A\dot V_Q = \frac{d}{dt}({}^A_BR\,{}^BV_Q) + {}^A\dot\Omega_B\times{}^A_BR\,{}^BQ
+#   + {}^A\Omega_B\times\frac{d}{dt}({}^A_BR\,{}^BQ) \qquad (6.7)$$
+# Collecting the terms of (6.7)–(6.8), with the acceleration of {B}'s origin added, is (6.10) — exercise 1.3 asks
+# you to do it (the lecture notes print one term too many there; notebook 9 shows it). For a point fixed in {B},
+# ${}^BV_Q = {}^B\dot V_Q = 0$, and what remains is (6.12): a tangential term in ${}^A\dot\Omega_B$ and a
+# centripetal term in ${}^A\Omega_B$ twice (exercise 1.1).
 #
 # A moving frame to test it on: {B} turns about a fixed oblique axis $\hat k$ by $\theta(t) = 0.7t + 0.4t^2$ while
 # its origin follows a curve; Q is fixed in {B}.
@@ -81,9 +83,11 @@ plt.show()
 
 # %% [markdown]
 # ### Exercise 1.1 — the acceleration of a point fixed in a moving frame
-# Write (6.12) as a function for the instant when the axes of {B} and {A} are aligned (${}^A_BR = 1$):
-# `point_acceleration(v_dot, omega_dot, omega, P)` returns $\dot v + \dot\omega\times P + \omega\times(\omega\times P)$
-# for 3-vectors (numpy arrays). Use `np.cross`.
+# Write (6.12) as a function, for the instant when the axes of {B} and {A} are aligned (${}^A_BR = 1$):
+# `point_acceleration(v_dot, omega_dot, omega, P)` returns the acceleration of the point Q (m/s²) from the
+# acceleration `v_dot` of {B}'s origin, {B}'s angular acceleration `omega_dot` and angular velocity `omega`, and
+# Q's position `P` relative to that origin — all 3-vectors (numpy arrays). `np.cross` computes a cross product;
+# `hint("point_acceleration", 1)` and on help if you are stuck.
 
 # %%
 def point_acceleration(v_dot, omega_dot, omega, P):
@@ -99,13 +103,14 @@ check("point_acceleration")
 # ## Angular acceleration
 #
 # Angular velocities add when frames are chained: ${}^A\Omega_C = {}^A\Omega_B + {}^A_BR\,{}^B\Omega_C$ (6.13).
-# Differentiating, the second term's rotation contributes a cross product:
-# $${}^A\dot\Omega_C = {}^A\dot\Omega_B + {}^A_BR\,{}^B\dot\Omega_C + {}^A\Omega_B\times{}^A_BR\,{}^B\Omega_C \qquad (6.15)$$
-# This is (6.32) of the recursion in disguise: {C} is link i+1 turning about its joint axis relative to link i.
+# Differentiating (6.13) gives the rule for angular accelerations, (6.15). Its first term is plain; in the second,
+# both ᴮΩ_C and the rotation ᴬ_BR change with time, and a rotation turning at ᴬΩ_B changes a vector it carries at
+# the rate ${}^A\Omega_B\times$ (that vector). (6.15) is (6.32) of the recursion in disguise: {C} is link i+1
+# turning about its joint axis relative to link i.
 #
 # ### Exercise 1.2 — adding angular accelerations
-# `given("omega_dot_C")` holds ᴬΩ_B, ᴬΩ̇_B, ᴬ_BR, ᴮΩ_C and ᴮΩ̇_C (rad/s, rad/s²). Compute ᴬΩ̇_C by (6.15)
-# as `omega_dot_C` (a numpy array of 3 numbers).
+# `given("omega_dot_C")` holds ᴬΩ_B, ᴬΩ̇_B, ᴬ_BR, ᴮΩ_C and ᴮΩ̇_C (rad/s, rad/s²). Differentiate (6.13) to find
+# (6.15), then compute ᴬΩ̇_C as `omega_dot_C` (a numpy array of 3 numbers, rad/s²).
 
 # %%
 data = given("omega_dot_C")
@@ -120,6 +125,25 @@ omega_dot_C = data["Omega_B_dot"] + data["R_AB"] @ data["Omega_C_dot_in_B"] + np
 
 # %%
 check("omega_dot_C")
+
+# %% [markdown]
+# ### Exercise 1.3 — a point that moves in a moving frame
+# Carry out the differentiation of (6.7) (the notes' (6.8) is its next line) and collect the terms into (6.10), as
+# a function `moving_point(Vd_org, R, Omega, Omega_dot, Q, V_Q, Vd_Q)` returning ᴬV̇_Q (m/s²): `Vd_org` is
+# ᴬV̇_BORG, `R` is ᴬ_BR, `Omega` and `Omega_dot` are ᴬΩ_B and ᴬΩ̇_B, and `Q`, `V_Q`, `Vd_Q` are ᴮQ, ᴮV_Q and
+# ᴮV̇_Q — numpy arrays (R 3 × 3, the others 3 numbers). Count how often a term in both Ω and V_Q appears: the
+# check knows the notes' version.
+
+# %%
+def moving_point(Vd_org, R, Omega, Omega_dot, Q, V_Q, Vd_Q):
+    ### BEGIN SOLUTION
+    return (Vd_org + R @ Vd_Q + 2 * np.cross(Omega, R @ V_Q) + np.cross(Omega_dot, R @ Q)
+            + np.cross(Omega, np.cross(Omega, R @ Q)))
+    ### END SOLUTION
+
+
+# %%
+check("moving_point")
 
 # %% [markdown]
 # **Going further.** Set $\theta(t)$ to a constant and see the tangential term vanish; make the axis turn and see

@@ -15,7 +15,7 @@ import matplotlib.pyplot as plt
 import sympy
 
 from course_dynamics.core import inertia
-from course_dynamics.teaching.exercises import check, given, symbols
+from course_dynamics.teaching.exercises import check, given, hint, symbols
 
 # %% [markdown]
 # ## The tensor

@@ -17,7 +17,10 @@ import matplotlib.pyplot as plt
 from IPython.display import Markdown, display
 
 from course_dynamics import coriolis_matrix, gravity_torques, load_robot, mass_matrix, velocity_torques
-from course_dynamics.teaching.exercises import check
+from course_dynamics.teaching.exercises import check, hint, my_robot
+from course_dynamics.output.render import derivation_text, trace_latex
+from course_dynamics.core.symbolic import derive
+from course_dynamics.tools.trace import trace
 from course_dynamics.core.lagrange import configuration_space_terms, velocity_pairs
 
 arm = load_robot("two_link")
@@ -82,15 +85,19 @@ print(f"largest |S + Sᵀ|, S = Ṁ − 2C = {np.abs(S + S.T).max():.1e} kg·m²
 
 # %% [markdown]
 # ### Exercises 4.1–4.3 — the closed forms (6.60)–(6.62)
-# Write the two-link arm's terms as functions of numpy arrays: `M_two_link(q)` returning a 2 × 2 array,
-# `V_two_link(q, qd)` and `G_two_link(q)` returning 2 numbers (m₁ = 2 kg, m₂ = 1 kg, l₁ = 0.5 m, l₂ = 0.4 m,
-# g = 9.81 m/s² along −Y₀, point masses at the link ends). The checks name the wrong entries of M and the wrong
-# Coriolis or centrifugal coefficients of V.
+# Collect the torques of notebook 3's iterations for the two-link arm into M, V and G, and write them as functions
+# of numpy arrays: `M_two_link(q)` returning a 2 × 2 array, `V_two_link(q, qd)` and `G_two_link(q)` returning 2
+# numbers. Your exercises use your own arm (point masses at the link ends, gravity along −Y₀); its numbers are
+# below, and the cell after them reads them into `m1, m2, l1, l2, g`. The checks name the wrong entries of M and the
+# wrong Coriolis or centrifugal coefficients of V.
 
 # %%
-m1, m2, l1, l2, g = 2.0, 1.0, 0.5, 0.4, 9.81
+print(my_robot("two_link").describe())
+mine = my_robot("two_link").parameters
+m1, m2, l1, l2, g = (mine[name] for name in ("m1", "m2", "l1", "l2", "g"))   # kg, m, m/s²
 
 
+# %%
 def M_two_link(q):
     ### BEGIN SOLUTION
     c2 = np.cos(q[1])
@@ -114,6 +121,22 @@ def V_two_link(q, qd):
 # %%
 check("V_two_link")
 
+# %% [markdown]
+# **Predict first.** Before you write G, decide for your arm: with the arm stretched out horizontally, Θ = (0, 0),
+# is G₁ positive or negative? And with the elbow folded straight back over link 1, Θ = (0, π)? Write your two
+# answers, and why, in the cell below as a comment; then run it. (G is the torque that holds the arm still against
+# gravity; a positive torque turns a link counter-clockwise, from X₀ towards Y₀.)
+
+# %%
+# my prediction for Θ = (0, 0): …   and for Θ = (0, π): …
+your_arm = my_robot("two_link").model
+for pose in ([0.0, 0.0], [0.0, np.pi]):
+    print(f"Θ = ({pose[0]:g}, {pose[1]:.4g}): G₁ = {gravity_torques(your_arm, pose)[0]:.4f} N·m")
+
+# %% [markdown]
+# Did the folded pose surprise you? Folded back, link 2's mass sits at l₁ − l₂ along X₀ from joint 1 and link 1's
+# at l₁: G₁ turns negative only if m₂(l₂ − l₁) outweighs m₁l₁. Your `G_two_link` must give the same two numbers.
+
 # %%
 def G_two_link(q):
     ### BEGIN SOLUTION
@@ -124,3 +147,15 @@ def G_two_link(q):
 
 # %%
 check("G_two_link")
+
+# %% [markdown]
+# ## The closed form, by the library
+# Now that you have collected them: the iterations of notebook 3 run on symbols, and collecting τ by Θ̈, Θ̇ and g,
+# give the section's closed form (6.60)–(6.62) (with the section's symbols m₁, m₂, l₁, l₂, g):
+
+# %%
+symbolic = trace(arm, None, None, None, symbols=("m1", "m2", "l1", "l2", "g"))
+display(Markdown("$$" + trace_latex(symbolic).replace("% Newton-Euler iterations of two_link\n", "") + "$$"))
+
+# %%
+display(Markdown(derivation_text(derive(arm, ("m1", "m2", "l1", "l2", "g")), "markdown")))

@@ -17,7 +17,7 @@ from IPython.display import Markdown, display
 
 from course_dynamics.core import lagrange
 from course_dynamics import load_robot
-from course_dynamics.teaching.exercises import check, symbols
+from course_dynamics.teaching.exercises import check, hint, symbols, time_functions
 from course_dynamics.output.render import derivation_text
 from course_dynamics.tools.simulation import simulate
 from course_dynamics.core.parameters import joint_symbols, symbolic_model
@@ -63,13 +63,18 @@ check("u_pendulum")
 
 # %% [markdown]
 # ### Exercise 5.3 — the equation of motion
-# Apply (6.77): `tau_pendulum`, the torque at the pivot, in m, l, g, θ, θ̈. (Treat θ and θ̇ as independent when
-# taking ∂/∂θ and ∂/∂θ̇; then d/dt of an expression in θ̇ replaces θ̇ by θ̈, here.)
+# Apply (6.77) as on paper: θ is a function of time, so write it as one, build L from it, and let sympy take
+# ∂/∂θ̇, ∂/∂θ and the time derivative d/dt with the chain rule. `time_functions("theta")` gives t and θ(t);
+# `theta_t.diff(t)` is θ̇(t). Write `tau_pendulum`, the torque at the pivot; the check reads θ(t), θ̇(t), θ̈(t)
+# as θ, θ̇, θ̈. (Differentiating with respect to θ̇(t) treats it as its own variable, as (6.77) intends.)
+
+# %%
+t, theta_t = time_functions("theta")
 
 # %%
 ### BEGIN SOLUTION
-L = m * (l * theta_dot) ** 2 / 2 - m * g * l * (1 - sympy.cos(theta))
-tau_pendulum = sympy.diff(L, theta_dot).subs(theta_dot, theta_ddot) - sympy.diff(L, theta)
+L = m * (l * theta_t.diff(t)) ** 2 / 2 - m * g * l * (1 - sympy.cos(theta_t))
+tau_pendulum = sympy.diff(sympy.diff(L, theta_t.diff(t)), t) - sympy.diff(L, theta_t)
 ### END SOLUTION
 
 # %%
@@ -97,19 +102,71 @@ plt.show()
 
 # %% [markdown]
 # ## Example 6.5: the RP arm
-# Link 1 turns by θ₁ (from the horizontal); link 2 slides along it by d₂. The library's Lagrangian path computes
-# each link's kinetic energy from its Jacobians; with the notes' symbols:
+# Link 1 turns by θ₁ from the horizontal X₀ and has its centre of mass at l₁ along it, with mass m₁ and I_zz1
+# about its centre of mass; link 2 slides along link 1 by d₂, with mass m₂ at d₂ and I_zz2. Gravity g acts along
+# −Y₀.
+#
+# ### Exercise 5.4 — example 6.5 by Lagrange
+# Derive the two equations of motion the way example 6.5 does: write each link's kinetic energy (6.69) and
+# potential energy (6.73) with θ₁(t) and d₂(t) as functions of time, form L (6.75), and apply (6.77) to each
+# joint. Give `lagrange_rp_arm = [tau1, tau2]`. The check accepts any equivalent form and names a missing or
+# extra term by the part of τ it belongs to (Mᵢⱼ, a Coriolis or centrifugal term of Vᵢ, Gᵢ).
+
+# %%
+m1, m2, l1, Izz1, Izz2 = symbols("m1", "m2", "l1", "Izz1", "Izz2")
+t, theta1, d2 = time_functions("theta1", "d2")
+
+# %%
+### BEGIN SOLUTION
+k1 = (m1 * l1**2 + Izz1) * theta1.diff(t) ** 2 / 2
+k2 = m2 * (d2.diff(t) ** 2 + d2**2 * theta1.diff(t) ** 2) / 2 + Izz2 * theta1.diff(t) ** 2 / 2
+u1, u2 = m1 * g * l1 * sympy.sin(theta1), m2 * g * d2 * sympy.sin(theta1)
+L = k1 + k2 - u1 - u2
+lagrange_rp_arm = [sympy.diff(sympy.diff(L, x.diff(t)), t) - sympy.diff(L, x) for x in (theta1, d2)]
+### END SOLUTION
+
+# %%
+check("lagrange_rp_arm")
+
+# %% [markdown]
+# **Where the 2 of the Coriolis term comes from.** ∂L/∂θ̇₁ holds m₂d₂²θ̇₁, and both d₂ and θ̇₁ change in time:
+# d/dt (m₂d₂²θ̇₁) = m₂d₂²θ̈₁ + m₂·(d/dt d₂²)·θ̇₁ = m₂d₂²θ̈₁ + 2m₂d₂ḋ₂θ̇₁. The first part belongs to M₁₁, the
+# second is the Coriolis term: the 2 is the derivative of the square. Replacing θ̇ by θ̈ (what the pendulum's
+# constant ml² allowed) loses it. In Craig's split (6.63), V = B(Θ)[Θ̇Θ̇] + C(Θ)[Θ̇²]: B multiplies the products
+# θ̇ⱼθ̇ₖ (j < k; here only θ̇₁ḋ₂), C the squares (θ̇₁², ḋ₂²).
+#
+# ### Exercise 5.5 — Craig's B and C
+# Read off `B_rp_arm` (a 2 × 1 sympy Matrix: the coefficients of θ̇₁ḋ₂ in τ₁ and τ₂) and `C_rp_arm` (2 × 2: row
+# i holds the coefficients of θ̇₁² and ḋ₂² in τᵢ), in the symbols m2 and d2 (the joint value d₂ as a plain symbol).
+
+# %%
+d2_symbol = symbols("d2")
+
+# %%
+### BEGIN SOLUTION
+B_rp_arm = sympy.Matrix([[2 * m2 * d2_symbol], [0]])
+### END SOLUTION
+
+# %%
+check("B_rp_arm")
+
+# %%
+### BEGIN SOLUTION
+C_rp_arm = sympy.Matrix([[0, 0], [-m2 * d2_symbol, 0]])
+### END SOLUTION
+
+# %%
+check("C_rp_arm")
+
+# %% [markdown]
+# The library's Lagrangian path computes each link's kinetic energy from its Jacobians, and (6.77) gives the same
+# equations, here with M, V, G and Craig's B and C read off:
 
 # %%
 rp, parameters = symbolic_model(load_robot("rp_arm"), ("m1", "m2", "l1", "Izz1", "Izz2", "g"))
 q, qd, qdd = joint_symbols(rp)
 k1, k2 = lagrange.link_kinetic_energies(rp, q, qd)
 display(Markdown(f"$k_1 = {sympy.latex(sympy.simplify(k1))}$, $\\quad k_2 = {sympy.latex(sympy.simplify(k2))}$"))
-
-# %% [markdown]
-# and (6.77) gives the equations of motion, here with M, V, G and Craig's B and C read off:
-
-# %%
 by_lagrange = derive(load_robot("rp_arm"), ("m1", "m2", "l1", "Izz1", "Izz2", "g"), method="lagrange")
 display(Markdown(derivation_text(by_lagrange, "markdown")))
 

@@ -17,7 +17,7 @@ from IPython.display import Markdown, display
 
 from course_dynamics import inverse_dynamics, load_robot
 from course_dynamics.core.cartesian import SingularityError, cartesian_dynamics, jacobian
-from course_dynamics.teaching.exercises import check, given, symbols
+from course_dynamics.teaching.exercises import check, given, hint, my_robot, symbols
 from course_dynamics.core.symbolic import derive_cartesian
 
 arm = load_robot("two_link")
@@ -30,16 +30,7 @@ arm = load_robot("two_link")
 # and back in joint space, τ = Jᵀ(M_x Ẍ + V_x + G_x) (6.104). This needs a square, invertible J: as many task
 # directions as joints.
 #
-# ## Example 6.6, in closed form
-# The same library functions that compute J, M, V and G numerically run on symbols:
-
-# %%
-closed = derive_cartesian(arm, "tool", rows=["x", "y"], expressed_in="frame", symbols=("m1", "m2", "l1", "l2", "g"))
-for name in ("J", "Mx", "Vx", "Gx"):
-    display(Markdown(f"${name} = {sympy.latex(getattr(closed, name))}$"))
-
-# %% [markdown]
-# (The notes print J with l₁c₂ where ³J has l₁c₂ + l₂; the J⁻¹ they print is the inverse of the right one.)
+# ## Example 6.6: the two-link arm in its tool frame
 #
 # ### Exercise 6.1 — the tool-frame Jacobian
 # The tool frame {3} sits at the tip of link 2, its x axis along the link. Write ³J for the two-link arm as a
@@ -58,20 +49,37 @@ J_tool = sympy.Matrix([[l1 * sympy.sin(theta2), 0], [l1 * sympy.cos(theta2) + l2
 check("J_tool")
 
 # %% [markdown]
+# The same library functions that compute J, M, V and G numerically run on symbols, and give example 6.6 in closed
+# form — ³J among them, to compare with yours:
+
+# %%
+closed = derive_cartesian(arm, "tool", rows=["x", "y"], expressed_in="frame", symbols=("m1", "m2", "l1", "l2", "g"))
+for name in ("J", "Mx", "Vx", "Gx"):
+    display(Markdown(f"${name} = {sympy.latex(getattr(closed, name))}$"))
+
+# %% [markdown]
+# (The notes print J with l₁c₂ where ³J has l₁c₂ + l₂; the J⁻¹ they print is the inverse of the right one.)
+
+# %% [markdown]
 # ### Exercise 6.2 — the Cartesian mass matrix at one state
-# At Θ = `given("Mx_value")["q"]`, compute M_x (2 × 2, kg) from (6.99), with the numeric ³J and M of the two-link
-# arm (`jacobian(arm, q, "tool", expressed_in="frame", rows=["x", "y"])` and `mass_matrix(arm, q)` may help).
+# Your exercise uses your own two-link arm, not the section's: its numbers are below, and `your_arm` is its model.
+# At your Θ = `given("Mx_value")["q"]`, compute M_x (2 × 2, kg) of your arm's tool frame from (6.99), with the
+# numeric ³J and M of your arm (`jacobian(your_arm, q, "tool", expressed_in="frame", rows=["x", "y"])` and
+# `mass_matrix(your_arm, q)` may help).
 
 # %%
 from course_dynamics import mass_matrix
 
+print(my_robot("two_link").describe())
+your_arm = my_robot("two_link").model
 q = given("Mx_value")["q"]
+print("Θ =", q, "rad")
 
 # %%
 ### BEGIN SOLUTION
-J = jacobian(arm, q, "tool", expressed_in="frame", rows=["x", "y"])
+J = jacobian(your_arm, q, "tool", expressed_in="frame", rows=["x", "y"])
 J_inv = np.linalg.inv(J)
-Mx_value = J_inv.T @ mass_matrix(arm, q) @ J_inv
+Mx_value = J_inv.T @ mass_matrix(your_arm, q) @ J_inv
 ### END SOLUTION
 
 # %%

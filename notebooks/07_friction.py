@@ -14,7 +14,7 @@ import numpy as np
 import matplotlib.pyplot as plt
 
 from course_dynamics import inverse_dynamics, load_robot
-from course_dynamics.teaching.exercises import check, given
+from course_dynamics.teaching.exercises import check, given, hint, my_robot
 from course_dynamics.core.friction import Friction
 from course_dynamics.core.sampling import smooth_trajectory
 
@@ -77,16 +77,20 @@ plt.show()
 
 # %% [markdown]
 # ### Exercise 7.2 — the torque with friction at one state
-# At the state of `given("tau_with_friction")` (q, qd, qdd and the viscous and Coulomb coefficients of both
-# joints), compute the joint torques including friction, `tau_with_friction` (2 numbers, N·m).
+# Your exercise uses your own two-link arm, not the section's arm of the plot above: its numbers are below, and
+# `your_arm` is its model. At your state `given("tau_with_friction")` (q, qd, qdd and the viscous and Coulomb
+# coefficients of both joints), compute your arm's joint torques including friction, (6.114), as
+# `tau_with_friction` (2 numbers, N·m). `inverse_dynamics(your_arm, q, qd, qdd)` gives the rigid-body part.
 
 # %%
+print(my_robot("two_link").describe())
+your_arm = my_robot("two_link").model
 state = given("tau_with_friction")
 print(state)
 
 # %%
 ### BEGIN SOLUTION
-tau_with_friction = inverse_dynamics(arm, state["q"], state["qd"], state["qdd"]) + (
+tau_with_friction = inverse_dynamics(your_arm, state["q"], state["qd"], state["qdd"]) + (
     state["coulomb"] * np.sign(state["qd"]) + state["viscous"] * state["qd"])
 ### END SOLUTION
 

@@ -14,7 +14,7 @@ import numpy as np
 import matplotlib.pyplot as plt
 
 from course_dynamics import load_robot, robot_path
-from course_dynamics.teaching.exercises import check
+from course_dynamics.teaching.exercises import check, hint
 from course_dynamics.core.forward_dynamics import forward_dynamics
 from course_dynamics.tools.simulation import simulate
 from course_dynamics.output.viewer import show
@@ -25,9 +25,8 @@ pendulum = load_robot("double_pendulum_continuous")   # two links; θ = 0 points
 # ## The accelerations, then a step
 # Forward dynamics solves τ = M Θ̈ + V + G + F for Θ̈:
 # $$\ddot\Theta = M^{-1}(\Theta)\,[\tau - V(\Theta, \dot\Theta) - G(\Theta) - F(\Theta, \dot\Theta)] \qquad (6.115)$$
-# and the notes step it forward as a body under constant acceleration would move:
-# $$\dot\Theta(t+\Delta t) = \dot\Theta(t) + \ddot\Theta(t)\,\Delta t \quad (6.116) \qquad
-#   \Theta(t+\Delta t) = \Theta(t) + \dot\Theta(t)\,\Delta t + \tfrac12\ddot\Theta(t)\,\Delta t^2 \quad (6.117)$$
+# and the notes step it forward over Δt as a body would move if Θ̈ stayed constant during the step: the new velocity
+# (6.116) and the new position (6.117) of uniformly accelerated motion, both from the old Θ, Θ̇ and Θ̈.
 
 # %%
 q, qd = np.array([2.0, 0.0]), np.array([0.0, 0.0])
@@ -35,7 +34,9 @@ print("Θ̈ at release =", forward_dynamics(pendulum, q, qd, [0.0, 0.0]).round(4
 
 # %% [markdown]
 # ### Exercise 8.1 — one step of the notes' scheme
-# Write `euler_step(q, qd, qdd, dt)` returning the pair (Θ(t + Δt), Θ̇(t + Δt)) of (6.117) and (6.116).
+# Write `euler_step(q, qd, qdd, dt)` returning the pair (Θ(t + Δt), Θ̇(t + Δt)) of (6.117) and (6.116): the
+# position and velocity one step later, with the acceleration held at Θ̈(t) over the step (arrays in, arrays out;
+# Δt in s).
 
 # %%
 def euler_step(q, qd, qdd, dt):
@@ -49,8 +50,8 @@ check("euler_step")
 
 # %% [markdown]
 # ### Exercise 8.2 — semi-implicit Euler
-# Update Θ̇ first, then move Θ with the *new* velocity: Θ̇' = Θ̇ + Θ̈Δt, Θ' = Θ + Θ̇'Δt. Write
-# `semi_implicit_step(q, qd, qdd, dt)` returning (Θ', Θ̇').
+# The same step in the other order, and simpler: update Θ̇ first, as (6.116) does, then move Θ over Δt at the
+# *new* velocity alone (no Θ̈ term). Write `semi_implicit_step(q, qd, qdd, dt)` returning the new (Θ, Θ̇).
 
 # %%
 def semi_implicit_step(q, qd, qdd, dt):

@@ -22,7 +22,7 @@ from IPython.display import Markdown, display
 
 from course_dynamics import inverse_dynamics, load_robot, newton_euler_links
 from course_dynamics.core.regressor import base_parameters, parameter_names, parameters, regressor
-from course_dynamics.teaching.exercises import check, given
+from course_dynamics.teaching.exercises import check, given, hint, my_robot
 from course_dynamics.tools.excitation import condition_number, excitation
 from course_dynamics.tools.identification import identify
 from course_dynamics.tools.logs import JointLog
@@ -82,10 +82,19 @@ print("the same from regressor():             ", Y[1, [names.index("mcx_2"), nam
 print("Y π equals τ:", np.allclose(Y @ parameters(solid), inverse_dynamics(solid, q, qd, qdd)))
 
 # %% [markdown]
+# ## Your exercises: your own arm
+# The exercises below use your own two-link arm, not the section's: the same joints and frames, with lengths and
+# masses of its own. Its numbers are below (`my_robot("two_link").parameters` gives them by name, l1, g, …).
+
+# %%
+print(my_robot("two_link").describe())
+
+# %% [markdown]
 # ### Exercise 10.1 — a whole column of Y
-# At the state of `given("Y_mcx2")`, compute both entries (rows 1 and 2) of the `mcx_2` column of the two-link arm's
+# At your state `given("Y_mcx2")`, compute both entries (rows 1 and 2) of the `mcx_2` column of your two-link arm's
 # regressor, `Y_mcx2` (2 numbers, N·m per kg·m). Row 1 needs the moment ²n₂ and force ²f₂ carried to joint 1 by
-# (6.51)–(6.52); or collect the terms in m₂ l₂ of the closed form (6.60)–(6.62). l₁ = 0.5 m, g = 9.81 m/s².
+# (6.51)–(6.52); or collect the terms in m₂ l₂ of the closed form (6.60)–(6.62). Take your arm's l₁ and g from
+# `my_robot("two_link").parameters`.
 
 # %%
 state = given("Y_mcx2")
@@ -93,10 +102,12 @@ print(state)
 
 # %%
 ### BEGIN SOLUTION
+mine = my_robot("two_link").parameters
+my_l1, my_g = mine["l1"], mine["g"]                                   # m, m/s²
 s2, c2, c12 = np.sin(state["q"][1]), np.cos(state["q"][1]), np.cos(state["q"].sum())
 (t1_dot, t2_dot), (t1_ddot, t2_ddot) = state["qd"], state["qdd"]
-Y_mcx2 = np.array([l1 * c2 * (2 * t1_ddot + t2_ddot) - l1 * s2 * (t2_dot**2 + 2 * t1_dot * t2_dot) + g * c12,
-                   l1 * c2 * t1_ddot + l1 * s2 * t1_dot**2 + g * c12])
+Y_mcx2 = np.array([my_l1 * c2 * (2 * t1_ddot + t2_ddot) - my_l1 * s2 * (t2_dot**2 + 2 * t1_dot * t2_dot)
+                   + my_g * c12, my_l1 * c2 * t1_ddot + my_l1 * s2 * t1_dot**2 + my_g * c12])
 ### END SOLUTION
 
 # %%
@@ -112,13 +123,14 @@ check("Y_mcx2")
 # ### Exercise 10.2 — the base parameters of the two-link arm
 # The two-link arm has six base parameters: h₁,ₓ, h₁,ᵧ and I_zz,₁ of link 1, each with what link 2's mass adds to
 # it, and h₂,ₓ, h₂,ᵧ and I_zz,₂ of link 2 as they are. Write `base_two_link(pi)`: from a π of 20 numbers (the order
-# printed above), the six values (π_b1 … π_b6) in that order. Think of where link 2's mass sits in link 1.
+# printed above), the six values (π_b1 … π_b6) in that order, for your arm. Think of where link 2's mass sits in
+# link 1.
 
 # %%
 def base_two_link(pi):
     ### BEGIN SOLUTION
-    p = dict(zip(names, pi))
-    return np.array([p["mcx_1"] + l1 * p["m_2"], p["mcy_1"], p["Izz_1"] + l1**2 * p["m_2"],
+    p, joint_2 = dict(zip(names, pi)), my_robot("two_link").parameters["l1"]   # m: joint 2 along link 1
+    return np.array([p["mcx_1"] + joint_2 * p["m_2"], p["mcy_1"], p["Izz_1"] + joint_2**2 * p["m_2"],
                      p["mcx_2"], p["mcy_2"], p["Izz_2"]])
     ### END SOLUTION
 

@@ -64,6 +64,21 @@ def test_solution_version_runs_and_answers_every_exercise(path, tmp_path):
                for o in outputs), "no figure or animation"
 
 
+SECOND_STUDENT = ("03", "05")  # the notebooks whose exercises use the most robots: run again for another student
+
+
+@pytest.mark.parametrize("path", [p for p in NOTEBOOKS if p.name[:2] in SECOND_STUDENT], ids=lambda p: p.stem)
+def test_a_second_students_solutions_pass_on_their_own_robot(path, tmp_path):
+    """The solutions read the student's numbers: for a named student (the cell student-notebooks adds first) every
+    check is right on that student's robot, and the robot is theirs, not the default one."""
+    notebook = execute(solution_version(read_notebook(path), path.stem, student="grace.h"), tmp_path)
+    code = [c for c in notebook.cells if c.cell_type == "code"]
+    assert "use_student('grace.h')" in code[0].source
+    assert not [o for c in code for o in c.outputs if o.output_type == "error"]
+    checks = [outputs_of(c) for c in code if c.source.startswith("check(")]
+    assert checks and all("✓ right" in text for text in checks), checks
+
+
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
 def test_student_version_runs_clean_with_no_solution_left(path, tmp_path):
     source = read_notebook(path)

@@ -10,11 +10,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import sympy
-from course_dynamics_reference.misprints import printed_outward_rotation, serial_inward
+from course_dynamics_reference import TOLERANCE
+from course_dynamics_reference.misprints import printed_outward_rotation, printed_worked_N1, serial_inward
 from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
 from course_dynamics_reference.validate import random_states
 
-from course_dynamics import inverse_dynamics, load_robot, newton_euler_links, robot_path
+from course_dynamics import InputError, inverse_dynamics, load_robot, newton_euler_links, potential_energy, robot_path
 from course_dynamics.core import lagrange
 from course_dynamics.core.cartesian import cartesian_dynamics
 from course_dynamics.core.kinematics import joint_transforms
@@ -47,7 +48,53 @@ def cross(a, b):
     return a.cross(b)
 
 
-# ---------------------------------------------------------------- accelerations (6.10), (6.12), (6.15)
+# ---------------------------------------------------------------- accelerations (6.1), (6.2), (6.10), (6.12), (6.13), (6.15)
+
+def angular_velocity(R):
+    """ᴬΩ from a rotation ᴬR(t): the axial vector of Ṙ Rᵀ."""
+    skew = R.diff(t) * R.T
+    return sympy.Matrix([skew[2, 1], skew[0, 2], skew[1, 0]])
+
+
+def test_6_1_and_6_2_are_limits_of_difference_quotients():
+    """(6.1) ᴮV̇_Q and (6.2) ᴬΩ̇_B: the limits of the difference quotients, at t = 1.3 s, are the exact derivatives
+    (of a point's velocity quadratic in t, and of a frame turning about a fixed axis k̂ by θ(t) = t⁴/4 + t, whose
+    ᴬΩ_B = k̂ θ̇ is checked against Ṙ Rᵀ)."""
+    axis = sympy.Matrix([1, 2, 2]) / 3
+    V = sympy.Matrix([1 + t, 2 * t**2, -(t**3)]).diff(t)  # ᴮV_Q of a point moving in {B}
+    Omega = axis * (t**3 + 1)  # ᴬΩ_B
+    np.testing.assert_allclose(at(angular_velocity(rotation((1, 2, 2), t**4 / 4 + t))), at(Omega), rtol=TOLERANCE)
+    h, now = sympy.Symbol("h", positive=True), sympy.Rational(13, 10)
+    for x in (V, Omega):
+        quotient = (x.subs(t, now + h) - x.subs(t, now)) / h
+        limit = quotient.applyfunc(lambda e: sympy.limit(e, h, 0))
+        np.testing.assert_allclose(np.array(limit.evalf(30), dtype=float).ravel(), at(x.diff(t)), rtol=TOLERANCE)
+        assert np.abs(np.array(quotient.subs(h, sympy.Rational(1, 10)).evalf(30), dtype=float).ravel()
+                      - at(x.diff(t))).max() > 1e-3  # a finite step is not the limit
+
+
+def test_6_2_is_the_angular_velocity_of_frame_B():
+    """(6.2) prints ᴬΩ_Q, "ω_Q in frame {B}": the angular velocity belongs to the frame {B}, not to a point Q.
+
+    One vector, ᴬΩ_B (from ᴬ_BṘ ᴬ_BRᵀ), gives every point fixed in {B} its velocity ᴬΩ_B × ᴬ_BR ᴮQ (origins
+    coincide), whichever point it is; that is the vector (6.2) differentiates.
+    """
+    R, Omega, Omega_dot = moving_frame()
+    np.testing.assert_allclose(at(angular_velocity(R)), at(Omega), rtol=TOLERANCE)
+    for point in ([1, 0, 0], [0.3, -2, 0.5], [0, 0, 4]):
+        Q = sympy.Matrix(point)
+        np.testing.assert_allclose(at((R * Q).diff(t)), at(cross(Omega, R * Q)), rtol=TOLERANCE, atol=1e-14)
+    one, other = (at(cross(Omega, R * sympy.Matrix(point))) for point in ([1, 0, 0], [0, 0, 4]))
+    assert np.abs(one - other).max() > 0.1  # the points move differently, with the one ᴬΩ_B
+
+
+def test_6_13_angular_velocities_add():
+    """(6.13): ᴬΩ_C = ᴬΩ_B + ᴬ_BR ᴮΩ_C, with each angular velocity from its rotation, ṘRᵀ."""
+    R_AB, Omega_B, _ = moving_frame()
+    R_BC = rotation((0, 0, 1), 3 * t**2)  # {C} turns about ᴮẐ at 6t rad/s
+    np.testing.assert_allclose(at(Omega_B + R_AB * sympy.Matrix([0, 0, 6 * t])), at(angular_velocity(R_AB * R_BC)),
+                               rtol=TOLERANCE)
+
 
 def test_6_10_printed_has_an_extra_coriolis_term():
     R, Omega, Omega_dot = moving_frame()
@@ -113,6 +160,35 @@ def test_parallel_axis_product_of_inertia_sign():
     I_zz_A = per_mass(x**2 + y**2)
     I_zz_C = per_mass((x - w / 2) ** 2 + (y - l / 2) ** 2)
     assert sympy.simplify(I_zz_A - (I_zz_C + x_c**2 + y_c**2)) == 0  # ᴬI_zz = ᶜI_zz + m(x_c² + y_c²): correct
+
+
+def test_example_6_1_I_xy_integrates_over_x_too():
+    """Example 6.1 prints I_xy = ∫₀ʰ∫₀ˡ xy ρ dx dy dz: two integrals for three differentials. Without ∫₀ʷ over x
+    the result still depends on x (and is a length short of kg·m²); the triple integral is m w l / 4."""
+    x, y, z, w, l, h, rho = sympy.symbols("x y z w l h rho", positive=True)
+    m = rho * w * l * h
+    printed = sympy.integrate(x * y * rho, (y, 0, l), (z, 0, h))  # the limits l and h on y and z, as for I_xx
+    assert x in printed.free_symbols
+    assert sympy.simplify(sympy.integrate(x * y * rho, (x, 0, w), (y, 0, l), (z, 0, h)) - m * w * l / 4) == 0
+
+
+def test_the_frame_at_the_centre_of_mass_is_C_not_A():
+    """The notes print "The frame {A} has its origin at ᴬP_c = ½ [w l h]ᵀ"; that frame is {C}.
+
+    In example 6.1's box, {A} has its origin at a corner (the integrals run from 0), and ᴬP_c = ½ (w, l, h) is
+    not that origin. About the frame with its origin at ᴬP_c (axes parallel to {A}'s) the first moments vanish,
+    and the tensor is the one the notes give next, ᶜI_zz = m/12 (w² + l²) and ᶜI_xy = 0; about {A}'s origin I_xy
+    is m w l / 4, not 0.
+    """
+    x, y, z, w, l, h, per_mass = box_integrals()
+    com = [per_mass(x), per_mass(y), per_mass(z)]
+    assert [sympy.simplify(c - e) for c, e in zip(com, (w / 2, l / 2, h / 2))] == [0, 0, 0]  # ᴬP_c = ½ (w, l, h)
+    assert all(sympy.simplify(c) != 0 for c in com)  # so the corner, {A}'s origin, is not at ᴬP_c
+    about_c = [(x - w / 2), (y - l / 2), (z - h / 2)]  # coordinates in {C}
+    assert [per_mass(c) for c in about_c] == [0, 0, 0]  # {C}'s origin is the centre of mass
+    assert sympy.simplify(per_mass(about_c[0] * about_c[1])) == 0  # ᶜI_xy = 0
+    assert sympy.simplify(per_mass(about_c[0] ** 2 + about_c[1] ** 2) - (w**2 + l**2) / 12) == 0  # ᶜI_zz
+    assert sympy.simplify(per_mass(x * y)) != 0  # about {A}'s origin the product is m w l / 4
 
 
 # ---------------------------------------------------------------- the Newton–Euler iterations (6.45)–(6.53)
@@ -210,6 +286,44 @@ def test_worked_example_link2(two_link_state):
     assert np.abs(printed - ref["v_dot_c"][1]).max() > 0.1
 
 
+def test_worked_example_v_dot_1_rotates_from_frame_0(two_link_state):
+    """Printed ¹v̇₁ = ¹R^i v̇_i: the index is 0, ¹₀R ⁰v̇₀, with ⁰v̇₀ = (0, g, 0) (gravity as an upward lift of the base);
+    the matrix printed beside it is ¹₀R, which maps frame-0 vectors into frame 1 (its transpose would not do)."""
+    model, ref, q, qd, qdd = two_link_state
+    c1, s1, g = np.cos(q[0]), np.sin(q[0]), 9.81
+    R10 = np.array([[c1, s1, 0], [-s1, c1, 0], [0, 0, 1]])  # as printed
+    v0 = np.array([0.0, g, 0.0])  # ⁰v̇₀
+    np.testing.assert_allclose(ref["v_dot"][0], R10 @ v0, rtol=TOLERANCE, atol=1e-12)
+    assert np.abs(R10.T @ v0 - ref["v_dot"][0]).max() > 1.0
+
+
+def test_worked_example_N1_uses_the_com_inertia(two_link_state, panda):
+    """Printed ¹N₁ = ᶜⁱ⁺¹Iᵢ₊₁ ¹ω̇₁ + ω₁ × ⁱ⁺¹Iᵢ₊₁ ¹ω₁, read as (6.50) prints it (the second inertia about the frame
+    origin); correct ᶜ¹I₁ ¹ω̇₁ + ¹ω₁ × ᶜ¹I₁ ¹ω₁. On the two-link arm both are 0 (point masses; and ¹ω₁ ∥ ¹Ẑ₁ while
+    ¹I₁ ¹Ẑ₁ ∥ ¹Ẑ₁, as the arm is planar), so they are told apart on a link with a real inertia and its COM off
+    the joint axis: the Panda's link 1."""
+    arm, ref, q, qd, qdd = two_link_state
+    printed = printed_worked_N1(arm.bodies[0], ref["omega"][0], ref["omega_dot"][0])
+    np.testing.assert_allclose([printed, ref["N"][0]], 0, atol=1e-15)  # the two-link arm cannot tell them apart
+    model, oracle, q, qd, qdd = panda
+    first = oracle.link_quantities(q, qd, qdd)
+    body, w, w_dot, N = model.bodies[0], first["omega"][0], first["omega_dot"][0], first["N"][0]
+    np.testing.assert_allclose(body.I_com @ w_dot + np.cross(w, body.I_com @ w), N, rtol=TOLERANCE, atol=1e-15)
+    assert np.abs(printed_worked_N1(body, w, w_dot) - N).max() > 1e-2 * np.abs(N).max()
+
+
+def test_worked_example_v_dot_2_as_printed(two_link_state):
+    """Printed ²v̇₂ = ²R² v̇_C₁: ²₂R is the identity, which leaves ¹v̇_C₁ in frame 1's axes, and the vector printed
+    with it carries ¹v̇_C₁'s misprinted g s₁; ²₁R ¹v̇_C₁ (the COM of link 1 is the origin of frame 2) is right."""
+    model, ref, q, qd, qdd = two_link_state
+    c2, s2, l1, g = np.cos(q[1]), np.sin(q[1]), 0.5, 9.81
+    R21 = np.array([[c2, s2, 0], [-s2, c2, 0], [0, 0, 1]])
+    np.testing.assert_allclose(R21 @ ref["v_dot_c"][0], ref["v_dot"][1], rtol=TOLERANCE)  # corrected
+    assert np.abs(np.eye(3) @ ref["v_dot_c"][0] - ref["v_dot"][1]).max() > 1.0  # ²R² as printed
+    printed_vector = R21 @ [-l1 * qd[0] ** 2 + g * np.sin(q[0]), l1 * qdd[0] + g * np.sin(q[0]), 0]
+    assert np.abs(printed_vector - ref["v_dot"][1]).max() > 1.0
+
+
 # ---------------------------------------------------------------- structure (6.63)–(6.65) and Lagrange
 
 def test_6_65_centrifugal_vector():
@@ -264,6 +378,28 @@ def test_example_6_5_steps_are_correct():
     assert sympy.simplify(sympy.diff(u, d2) - g * m2 * sympy.sin(t1)) == 0
 
 
+def test_6_75_and_6_77_give_the_rp_arms_torques():
+    """L = k − u (6.75), and d/dt ∂L/∂Θ̇ − ∂L/∂Θ = τ (6.77) with d/dt by the chain rule, on the RP arm's exact
+    energies; its second form, d/dt ∂k/∂Θ̇ − ∂k/∂Θ + ∂u/∂Θ, is the same. Both against Pinocchio's rnea."""
+    from course_dynamics.core.parameters import joint_symbols, rationalize
+
+    model = rationalize(load_robot("rp_arm"))
+    q, qd, qdd = joint_symbols(model)
+    k, u = sum(lagrange.link_kinetic_energies(model, q, qd)), potential_energy(model, q)[()]
+
+    def d_dt(e):
+        return sum(sympy.diff(e, x) * x_dot for x, x_dot in zip([*q, *qd], [*qd, *qdd]))
+
+    L = k - u  # (6.75)
+    by_L = [d_dt(sympy.diff(L, qd[j])) - sympy.diff(L, q[j]) for j in range(model.n)]  # (6.77)
+    by_k_u = [d_dt(sympy.diff(k, qd[j])) - sympy.diff(k, q[j]) + sympy.diff(u, q[j]) for j in range(model.n)]
+    state = np.array([0.6, 0.45]), np.array([1.3, -0.7]), np.array([-0.5, 0.8])  # rad, m and their rates
+    values = dict(zip([*q, *qd, *qdd], np.concatenate(state)))
+    truth = PinocchioOracle(robot_path("rp_arm"), model.joint_names).tau(*state)
+    for tau in (by_L, by_k_u):
+        np.testing.assert_allclose([float(e.subs(values)) for e in tau], truth, rtol=TOLERANCE)
+
+
 # ---------------------------------------------------------------- Cartesian space, example 6.6, (6.105)
 
 @pytest.fixture(scope="module")
@@ -297,6 +433,27 @@ def test_6_105_applies_J_transpose_to_every_term(example_6_6):
 
     printed = terms.J.T @ mass_matrix(model, q) @ x_ddot + terms.Vx + terms.Gx
     assert np.abs(printed - tau).max() > 1.0
+
+
+# ---------------------------------------------------------------- simulation (6.115)
+
+def test_6_115_solves_the_joint_space_equation_with_friction(panda):
+    """The notes derive (6.115) "from (6.104)"; it solves (6.59) with friction added, τ = M Θ̈ + V + G + F (Craig's
+    (6.114)). Θ̈ = M⁻¹ [τ − V − G − F] with Pinocchio's M, V, G is Pinocchio's aba on τ − F, on the Panda, whose
+    nine joints leave (6.104) undefined: no task of at most six rows gives it a square J to invert in (6.99)."""
+    from course_dynamics.core.forward_dynamics import forward_dynamics
+    from course_dynamics.core.friction import Friction
+
+    model, oracle, q, qd, qdd = panda
+    friction = Friction(viscous=np.full(model.n, 0.3), coulomb=np.full(model.n, 0.2))  # N·m·s/rad, N·m
+    tau = oracle.tau(q, qd, qdd) + friction.torques(qd)
+    by_6_115 = np.linalg.solve(oracle.M(q), tau - oracle.V(q, qd) - oracle.G(q) - friction.torques(qd))
+    truth = oracle.aba(q, qd, tau - friction.torques(qd))
+    np.testing.assert_allclose(by_6_115, truth, rtol=TOLERANCE, atol=TOLERANCE * np.abs(truth).max())
+    np.testing.assert_allclose(forward_dynamics(model, q, qd, tau, friction), truth, rtol=TOLERANCE,
+                               atol=TOLERANCE * np.abs(truth).max())
+    with pytest.raises(InputError, match="needs a square Jacobian"):
+        cartesian_dynamics(model, q, qd, "panda_hand")
 
 
 def test_errata_document_names_existing_tests():

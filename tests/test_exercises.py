@@ -205,6 +205,17 @@ def test_newton_euler_on_the_spatial_arm_link_by_link():
     transposed = check("links_spatial_arm", spatial_links("rotation-transposed")).text()
     assert "ⁱωᵢ (6.45) is wrong" in transposed and "[rotation-transposed]" in transposed
     assert "expected" not in gyroscopic + transposed
+    right = spatial_links()
+
+    def columns(q, qd, qdd):  # links as columns: a 3 × 3 array read the wrong way round
+        out = right(q, qd, qdd)
+        return {**out, "omega": np.array(out["omega"]).T}
+
+    assert "ⁱωᵢ (6.45) (key 'omega') should be one 3-vector per link, link 1 first: shape (3, 3), not" not in \
+        check("links_spatial_arm", columns).text()  # same shape: judged on its values, which are wrong
+    assert "is wrong for link" in check("links_spatial_arm", columns).text()
+    flat = check("links_spatial_arm", lambda q, qd, qdd: {**right(q, qd, qdd), "F": np.ravel(right(q, qd, qdd)["F"])})
+    assert "ⁱFᵢ (6.49) (key 'F') should be one 3-vector per link, link 1 first: shape (3, 3), not (9,)" in flat.text()
 
 
 def rp_arm_lagrange(chain_rule=True, half_kinetic_of_d2=False):

@@ -53,11 +53,14 @@ def score(answer: Answer, max_points: float = 1.0, partial_credit: str = "states
                      tuple(finding.text for finding in found), tags, "" if answer.correct else _worst(answer))
 
 
-def _fmt(x) -> str:
+def _fmt(x, floor: float | None = None) -> str:
+    """Numbers to 6 digits; in an array, entries below 1e-12 of its largest are round-off and show as 0."""
     array = np.asarray(x, dtype=float)
+    if floor is None:
+        floor = 1e-12 * float(np.max(np.abs(array), initial=0.0)) if np.all(np.isfinite(array)) else 0.0
     if array.ndim == 0:
-        return f"{float(array):.6g}"
-    return "[" + ", ".join(_fmt(v) for v in array) + "]"
+        return "0" if abs(float(array)) < floor else f"{float(array):.6g}"
+    return "[" + ", ".join(_fmt(v, floor) for v in array) + "]"
 
 
 def _state_text(plan: Plan, term: str, k: int) -> str:

@@ -47,7 +47,8 @@ def student() -> str:
 
 def my_robot(name: str = "two_link") -> Variant:
     """The student's own variant of course robot ``name``: ``.describe()`` lists its numbers, ``.parameters``
-    gives m1, l1, … by name, ``.model`` is the model (for the library, not for the exercises)."""
+    gives m1, l1, … by name, ``.model`` is the model (its bodies' masses, centres of mass, tensors and joint
+    placements, which the spatial arm's exercises read)."""
     return robot_variant(name, student())
 
 
@@ -109,7 +110,7 @@ def symbols(*names: str):
     """Positive real sympy symbols for parameters (m, l, g, …) and real ones for angles and rates."""
     import sympy
 
-    real = ("theta", "theta_dot", "theta_ddot", "theta1", "theta2", "d2")
+    real = ("theta", "theta_dot", "theta_ddot", "theta1", "theta2", "d2", "t")
     made = [sympy.Symbol(n, real=True) if n in real else sympy.Symbol(n, positive=True) for n in names]
     return made[0] if len(made) == 1 else made
 
@@ -214,6 +215,7 @@ class Exercise:
     constant_in: tuple[str, ...] = ()  # a formula may differ by anything that does not depend on these
     hints: tuple[str, ...] = ()
     mistakes: tuple[tuple[str, Callable, str], ...] = ()  # (code, the reference with that mistake, its words)
+    time_functions: tuple[str, ...] = ()  # a formula may be written in these as functions of t (θ(t) for theta)
 
 
 def _random_vectors(count: int):
@@ -317,7 +319,7 @@ EXERCISES: dict[str, Exercise] = {
                            constant_in=("theta",), hints=(
         "the height of the mass as a function of θ; θ = 0 hangs straight down",
         "(6.73): u = −m gᵀ P_C (plus any constant)", "u = −m g l cos θ")),
-    "tau_pendulum": Exercise("formula", lambda: _pendulum("tau"),
+    "tau_pendulum": Exercise("formula", lambda: _pendulum("tau"), time_functions=("theta",),
                              variables=("m", "l", "g", "theta", "theta_dot", "theta_ddot"), hints=(
         "the Lagrangian L = k − u (6.75), differentiated", "(6.77): d/dt ∂L/∂θ̇ − ∂L/∂θ = τ",
         "τ = m l² θ̈ + m g l sin θ")),
@@ -348,7 +350,8 @@ EXERCISES: dict[str, Exercise] = {
             "c sgn(θ̇) + v θ̇")),
     "tau_with_friction": Exercise("value", _tau_with_friction, hints=(
         "the rigid-body torque plus what the joints' friction needs",
-        "friction added to (6.59), as the notes' section on friction says", "τ = M Θ̈ + V + G + F(Θ̇)")),
+        "friction added to (6.59), as the notes' section on friction says (Craig's (6.114))",
+        "τ = M Θ̈ + V + G + F(Θ̇)")),
     "euler_step": Exercise("function", reference=_euler, inputs=lambda rng: [*rng.standard_normal((3, 2)), 0.01],
                            hints=("one step of Taylor series in Δt", "(6.116) for Θ̇, (6.117) for Θ",
                                   "Θ̇ + Θ̈Δt and Θ + Θ̇Δt + ½Θ̈Δt², both with the old Θ̇ and Θ̈")),

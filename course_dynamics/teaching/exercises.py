@@ -177,9 +177,13 @@ def _check_links(name: str, exercise: Exercise, function) -> Verdict:
             continue
         expected = getattr(ours, key)
         try:
-            theirs = np.asarray(returned[key], dtype=float).reshape(expected.shape)
+            theirs = np.asarray(returned[key], dtype=float)
         except (TypeError, ValueError):
-            lines.append(f"{words} should be {expected.shape[0]} entries of shape {expected.shape[1:] or '()'}")
+            theirs = None
+        if theirs is None or theirs.shape != expected.shape:
+            each = "one number per joint" if expected.ndim == 1 else "one 3-vector per link, link 1 first"
+            lines.append(f"{words} (key '{key}') should be {each}: shape {expected.shape}, not "
+                         f"{'numbers' if theirs is None else theirs.shape}")
             break
         wrong = [i + 1 for i in range(model.n) if _value_problems(expected[i], theirs[i], exercise.tolerance)]
         if wrong:
@@ -289,6 +293,8 @@ def _check_formula(name: str, exercise: Exercise, answer) -> Verdict:
         return Verdict(name, "wrong", [f"expected a sympy expression, got {type(answer).__name__}"])
     if isinstance(expected, sympy.MatrixBase) and expected.shape != getattr(answer, "shape", None):
         return Verdict(name, "wrong", [f"has shape {getattr(answer, 'shape', 'none')}, the answer has {expected.shape}"])
+    if exercise.time_functions:  # θ(t), θ̇(t), θ̈(t) written by the chain rule: the symbols θ, θ_dot, θ_ddot
+        answer = in_joint_symbols(answer, {f: symbols(f, f + "_dot", f + "_ddot") for f in exercise.time_functions})
     variables = symbols(*exercise.variables)
     variables = variables if isinstance(variables, list) else [variables]
     stray = sorted(str(s) for s in answer.free_symbols if s not in set(variables))
