@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import inspect
 import os
+import re
 import reprlib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -47,6 +48,7 @@ from .derivations import SUBSCRIPTS, in_joint_symbols, term_differences, time_fu
 __all__ = ["EXERCISES", "Verdict", "check", "given", "hint", "my_robot", "show_values", "student", "symbols",
            "term_assignment", "time_functions", "use_student"]
 MISSING = object()
+BACKTICKS = re.compile(r"`([^`]*)`")
 _REVEAL = {"values": False}
 
 
@@ -74,8 +76,10 @@ class Verdict:
         return self.status == "right"
 
     def text(self) -> str:
+        """Plain text (a console, a log): code names in quotes instead of Markdown's backticks."""
         head = {"right": "✓ right", "wrong": "✗ not yet right", "not done": "… not done yet"}[self.status]
-        return "\n".join([f"{self.name}: {head}"] + [f"  - {line}" for line in self.lines])
+        plain = [BACKTICKS.sub(r"'\1'", line) for line in self.lines]
+        return "\n".join([f"{self.name}: {head}"] + [f"  - {line}" for line in plain])
 
     __repr__ = text
 
@@ -86,6 +90,10 @@ class Verdict:
 
 
 # ---------------------------------------------------------------------------------------- checking
+
+
+def _a(noun: str) -> str:
+    return ("an " if noun[:1].lower() in "aeiou" else "a ") + noun
 
 
 def _not_done(value) -> bool:
@@ -135,7 +143,7 @@ def term_assignment(name: str) -> Assignment:
 def _check_term(name: str, exercise: Exercise, function) -> Verdict:
     """A function of the robot (τ, M, V, G or C), scored exactly as the grader scores it."""
     if not callable(function):
-        return Verdict(name, "wrong", [f"`{name}` should be a function, it is a {type(function).__name__}"])
+        return Verdict(name, "wrong", [f"`{name}` should be a function, it is {_a(type(function).__name__)}"])
     assignment = term_assignment(name)
     plan = make_plan(assignment)
     calls = plan.harness_functions()
@@ -161,7 +169,7 @@ def _check_links(name: str, exercise: Exercise, function) -> Verdict:
     of one 3-vector per link (τ: one number per joint), in the link's own frame. The first wrong quantity, in the
     order the iterations compute them, is named, with the slip of the recursion that explains it, if one does."""
     if not callable(function):
-        return Verdict(name, "wrong", [f"`{name}` should be a function, it is a {type(function).__name__}"])
+        return Verdict(name, "wrong", [f"`{name}` should be a function, it is {_a(type(function).__name__)}"])
     state, model = given(name), my_robot(exercise.robot).model
     returned, problem = _try(function, state["q"], state["qd"], state["qdd"])
     if problem is not None:
@@ -230,6 +238,8 @@ def _check_equations(name: str, exercise: Exercise, answer) -> Verdict:
 
 def _value_problems(expected, value, tolerance: float) -> list[str]:
     """What is wrong with a value, as :func:`~course_dynamics.grading.score.score` finds it; [] when it is right."""
+    if any(x is Ellipsis for x in np.ravel(np.asarray(value, dtype=object))):
+        return ["still holds ... (the placeholder): put your numbers in its place"]
     try:
         theirs = np.asarray(value).astype(float)
     except (TypeError, ValueError):
@@ -249,7 +259,7 @@ def _check_value(name: str, exercise: Exercise, answer) -> Verdict:
 
 def _check_function(name: str, exercise: Exercise, function) -> Verdict:
     if not callable(function):
-        return Verdict(name, "wrong", [f"`{name}` should be a function, it is a {type(function).__name__}"])
+        return Verdict(name, "wrong", [f"`{name}` should be a function, it is {_a(type(function).__name__)}"])
     rng = rng_for(student(), name)
     for trial in range(20):
         arguments = exercise.inputs(rng)
