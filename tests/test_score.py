@@ -138,20 +138,24 @@ def test_screens_name_what_could_not_be_compared(setting):
 
 def test_gravity_flipped_in_the_model(setting):
     G = answer_of(setting, "G", G=lambda q: gravity_torques(FLIPPED, q))
-    assert found(diagnosis.opposite_sign, G).text.startswith("[gravity-sign] has the opposite sign everywhere: ")
+    named = found(diagnosis.named_mistake, G)  # −G: gravity's sign, or every moment reversed, G alone cannot tell
+    assert named.text.startswith("[gravity-sign] [cross-reversed] matches the right answer made with gravity with "
+                                 "the wrong sign in the base acceleration ⁰v̇₀; or, equally, with a cross product")
+    assert named.tags[0] == "gravity-sign" and score(G).tags == named.tags
     tau = answer_of(setting, "tau", tau=lambda q, qd, qdd: inverse_dynamics(FLIPPED, q, qd, qdd))
     assert diagnosis.opposite_sign(tau) is None
     finding = found(diagnosis.named_mistake, tau)
     assert finding.conclusive and finding.text.startswith(
-        "[gravity-sign] matches the right answer made with gravity with the wrong sign in the base acceleration ⁰v̇₀: ")
-    assert score(tau).tags == ("gravity-sign",) and score(G).tags == ("gravity-sign",)
+        "[gravity-sign] matches the right answer made with gravity with the wrong sign in the base acceleration ⁰v̇₀. "
+        "In Craig's recursion")
+    assert score(tau).tags == ("gravity-sign",)
 
 
 @pytest.mark.parametrize("convert, variant", [(np.deg2rad, "read as"), (np.rad2deg, "turned into")])
 def test_angles_in_degrees(setting, convert, variant):
     tau = answer_of(setting, "tau", tau=lambda q, qd, qdd: inverse_dynamics(MODEL, convert(q), qd, qdd))
     assert found(diagnosis.named_mistake, tau).text.startswith(
-        f"[degrees] matches the right answer made with the angles in degrees (positions {variant} degrees): ")
+        f"[degrees] matches the right answer made with the angles in degrees (positions {variant} degrees). ")
     assert score(tau).tags == ("degrees",)
 
 

@@ -39,136 +39,22 @@ into a :class:`Diagnosis`, for the grader and the notebooks alike.
 """
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
-from functools import cached_property
+import re
+from collections.abc import Callable
+from dataclasses import dataclass
 from itertools import permutations
 
 import numpy as np
 
 from ..core.sampling import relative_error, term_scales
-from .mistakes import MISTAKES
-from .plan import Expected, Plan, VelocityProbe
+from .mistakes import closest_mistake, named_mistake
+from .records import TERM_NAMES, Answer, Diagnosis, Finding
 
-TERM_NAMES = {"tau": "τ", "M": "M", "V": "V", "G": "G", "C": "C"}
+__all__ = ["CHECKS", "SCREENS", "Answer", "Diagnosis", "Finding", "diagnose"]
+
 SIGNATURES = {"tau": "tau(q, qd, qdd)", "M": "M(q)", "V": "V(q, qd)", "G": "G(q)", "C": "C(q, qd)"}
-# the floor of the relative error of a value that is no function of the robot; wrong entries named one by one
-VALUE_SCALE, LISTED = 1e-12, 8
-
-
-@dataclass(frozen=True, eq=False)  # holds arrays: compared by identity
-class Answer:
-    """One comparison, state by state, the record every check reads: ``expected`` (N, …) is ours, ``values`` per
-    state the student's array or None where ``errors`` says why, ``scales`` per state the floor of the relative
-    error (:func:`~course_dynamics.core.sampling.term_scales`). For a function of the robot, ``term`` and ``joints``
-    name it and its rows, ``plan`` and ``reference`` give the states and all our answers, ``coefficients`` V probed
-    at the diagnostic states, ``parts`` τ's gravity, inertia and velocity parts (each an Answer of its own)."""
-
-    expected: np.ndarray
-    values: tuple
-    errors: tuple
-    scales: tuple
-    tolerance: float
-    term: str = ""
-    label: str = ""
-    source: str = "direct"
-    joints: tuple[str, ...] = ()
-    plan: Plan | None = None
-    reference: Expected | None = None
-    coefficients: VelocityProbe | None = None
-    parts: Mapping[str, Answer] = field(default_factory=dict)
-    reveal: bool = True  # whether the feedback may show our values (not in a student's notebook)
-
-    @classmethod
-    def single(cls, expected, value, tolerance: float, reveal: bool = True) -> Answer:
-        """A value compared once (a notebook exercise's number, vector or matrix)."""
-        expected = np.asarray(expected, dtype=float)
-        return cls(expected[None], (np.asarray(value, dtype=float),), (None,), (VALUE_SCALE,), tolerance, reveal=reveal)
-
-    @property
-    def name(self) -> str:
-        return TERM_NAMES.get(self.term, "")
-
-    @property
-    def count(self) -> int:
-        return len(self.expected)
-
-    @property
-    def available(self) -> bool:
-        return self.source != "missing"
-
-    @cached_property
-    def usable(self) -> tuple[int, ...]:
-        """The states with a finite value of the right shape."""
-        shape = self.expected.shape[1:]
-        return tuple(k for k, v in enumerate(self.values)
-                     if v is not None and v.shape == shape and bool(np.all(np.isfinite(v))))
-
-    @cached_property
-    def relative_errors(self) -> dict[int, float]:
-        return {k: relative_error(self.values[k], self.expected[k], self.scales[k]) for k in self.usable}
-
-    @property
-    def agreed(self) -> tuple[int, ...]:
-        return tuple(k for k, e in self.relative_errors.items() if e <= self.tolerance)
-
-    @property
-    def wrong(self) -> tuple[int, ...]:
-        return tuple(k for k, e in self.relative_errors.items() if e > self.tolerance)
-
-    @property
-    def correct(self) -> bool:
-        return len(self.agreed) == self.count
-
-    def agrees_with(self, candidates: np.ndarray, tolerance: float | None = None) -> bool:
-        """Whether the value of every usable state agrees with ``candidates`` (N, …) there."""
-        tolerance = self.tolerance if tolerance is None else tolerance
-        return bool(self.usable) and all(relative_error(self.values[k], candidates[k], self.scales[k]) <= tolerance
-                                         for k in self.usable)
-
-
-@dataclass(frozen=True)
-class Finding:
-    """What a check found: the sentence read, the tags counted, and whether it explains everything (``conclusive``)."""
-
-    text: str
-    tags: tuple[str, ...]
-    conclusive: bool = False
-
-
-@dataclass(frozen=True)
-class Diagnosis:
-    """The score of one answer: its points, the states that agree, the findings that explain the rest, the worst
-    state (what :func:`~course_dynamics.grading.score.score` returns)."""
-
-    term: str
-    points: float
-    max_points: float
-    agreeing: tuple[int, ...]
-    total: int
-    source: str
-    tolerance: float
-    findings: tuple[str, ...] = ()
-    tags: tuple[str, ...] = ()
-    worst: str = ""
-
-    @property
-    def agreed(self) -> int:
-        return len(self.agreeing)
-
-    @property
-    def correct(self) -> bool:
-        return self.total > 0 and self.agreed == self.total
-
-    def text(self) -> str:
-        """The feedback as plain text: a summary line, the findings, the worst state."""
-        how = "" if self.source in ("direct", "missing") else f" ({self.source})"
-        lines = [f"{TERM_NAMES.get(self.term, 'the answer')}: {self.points:g} / {self.max_points:g} points{how}; "
-                 f"agrees on {self.agreed} of {self.total} states (relative tolerance {self.tolerance:g})"]
-        lines += [f"- {finding}" for finding in self.findings]
-        if self.worst:
-            lines.append(f"- {self.worst}")
-        return "\n".join(lines)
+LISTED = 8  # wrong entries named one by one
+CODES = re.compile(r"((?:\[[a-z0-9-]+\] )*)(.*)", re.S)  # the codes a finding starts with, and the rest
 
 
 # ---------------------------------------------------------------------------------------- screens: unusable states
@@ -218,46 +104,18 @@ def not_finite(answer: Answer) -> Finding | None:
 
 
 # ---------------------------------------------------------------------------------------- the whole answer explained
+SIGN_ADVICE = {"tau": "check the direction of gravity, of the joint axes, and subtractions done the wrong way round",
+               "G": "check the direction of gravity", "": "check the sign of each term, and subtractions done the "
+               "wrong way round"}
+
+
 def opposite_sign(answer: Answer) -> Finding | None:
     if not answer.agrees_with(-answer.expected):
         return None
-    if answer.term == "G":
-        return Finding(f"[gravity-sign] has the opposite sign everywhere: {MISTAKES['gravity-sign'].advice}",
-                       ("gravity-sign",), True)
-    advice = "check the direction of gravity, of the joint axes, and subtractions done the wrong way round" \
-        if answer.joints else "check the sign of each term, and subtractions done the wrong way round"
+    advice = SIGN_ADVICE.get(answer.term, "check the joint axes and subtractions done the wrong way round")
     returned = f"{answer.name} returned" if answer.name else "yours"
     return Finding(f"has the opposite sign everywhere ({returned} = −1 × the right value): {advice}",
                    ("opposite sign",), conclusive=True)
-
-
-def named_mistake(answer: Answer) -> Finding | None:
-    """Agrees with one of our answers made with a mistake (:mod:`~course_dynamics.grading.mistakes`)."""
-    made = answer.reference.mistakes.get(answer.term, {}) if answer.reference is not None else {}
-    for (code, variant), values in made.items():
-        if answer.agrees_with(values):
-            return Finding(f"[{code}] matches the right answer made with {MISTAKES[code].words}"
-                           f"{' ' + variant if variant else ''}: {MISTAKES[code].advice}", (code,), conclusive=True)
-    return None
-
-
-def closest_mistake(answer: Answer) -> Finding | None:
-    """Much nearer one of our mistaken answers than the right one, without agreeing: that mistake and another?"""
-    made = answer.reference.mistakes.get(answer.term, {}) if answer.reference is not None else {}
-    if not made or not answer.usable:
-        return None
-
-    def distance(candidates):
-        return float(np.median([relative_error(answer.values[k], candidates[k], answer.scales[k])
-                                for k in answer.usable]))
-
-    right = distance(answer.expected)
-    (code, variant), nearest = min(((key, distance(values)) for key, values in made.items()), key=lambda x: x[1])
-    if nearest > min(0.1, right / 10):
-        return None
-    return Finding(f"closest to [{code}] {MISTAKES[code].words}{' ' + variant if variant else ''} (relative error "
-                   f"{nearest:.1g} from that, {right:.1g} from the right answer): that mistake and another?",
-                   (f"closest to {code}",))
 
 
 def constant_factor(answer: Answer) -> Finding | None:
@@ -423,13 +281,13 @@ class InPart:
         finding = self.check(part) if part is not None and part.wrong else None
         if finding is None:
             return None  # the code of a named mistake stays first
-        code, _, text = finding.text.partition("] ") if finding.text.startswith("[") else ("", "", finding.text)
-        return Finding((code + "] " if code else "") + self.prefix + text, finding.tags)
+        codes, text = CODES.match(finding.text).groups()
+        return Finding(codes + self.prefix + text, finding.tags)
 
 
 SCREENS = (not_defined, raised_an_error, wrong_shape, not_finite)
 CHECKS = (
-    opposite_sign, named_mistake, constant_factor, transposed, joints_swapped, closest_mistake,
+    named_mistake, opposite_sign, constant_factor, transposed, joints_swapped, closest_mistake,
     tau_parts, InPart("G", named_mistake, "in τ's gravity part, "), InPart("M", wrong_entries, "in τ's inertia part, "),
     InPart("V", wrong_coefficients),
     InPart("V", coriolis_without_factor_2),

@@ -39,7 +39,9 @@ import numpy as np
 from ..core.joints import kind_of
 from ..core.model import Model
 from ..core.newton_euler import EXACT, Slip, newton_euler_links, slips
+from ..core.sampling import relative_error
 from ..core.symbolic import derive, numeric_functions
+from .records import Answer, Finding
 
 CLOSED_FORM_JOINTS = 2  # closed forms are derived (about 0.7 s) for robots this small, as students derive them
 
@@ -54,50 +56,51 @@ class Mistake:
 
 MISTAKES = {
     "rotation-transposed": Mistake(
-        "the rotation used the wrong way (ᵖᵢR for ⁱₚR)",
-        "ⁱ⁺¹ᵢR carries a vector from frame i into frame i+1; it is the transpose of ⁱᵢ₊₁R, the orientation of "
-        "frame i+1 in frame i that the link's transform gives: (6.45)–(6.47) use ⁱ⁺¹ᵢR, (6.51)–(6.52) ⁱᵢ₊₁R"),
+        "the rotation used the wrong way round",
+        "The outward iteration (6.45)–(6.47) carries vectors from frame i into frame i+1 with ⁱ⁺¹ᵢR, the transpose "
+        "of the orientation ⁱᵢ₊₁R of frame i+1 that the link's transform gives; the inward iteration (6.51)–(6.52) "
+        "carries them back with ⁱᵢ₊₁R"),
     "cross-reversed": Mistake(
         "a cross product in the wrong order",
-        "a × b = −b × a: (6.46) has ⁱ⁺¹ᵢR ⁱωᵢ × θ̇ᵢ₊₁ ⁱ⁺¹Ẑᵢ₊₁, (6.47) and (6.48) ω̇ × P + ω × (ω × P), "
-        "(6.50) ω × ᶜI ω, (6.52) ⁱP_Cᵢ × ⁱFᵢ + ⁱPᵢ₊₁ × ⁱfᵢ₊₁"),
+        "Since a × b = −b × a, the order matters: ⁱ⁺¹ᵢR ⁱωᵢ × θ̇ᵢ₊₁Ẑ in (6.46), ω̇ × P + ω × (ω × P) in (6.47) "
+        "and (6.48), ω × ᶜI ω in (6.50), and ⁱP_Cᵢ × ⁱFᵢ + ⁱPᵢ₊₁ × ⁱfᵢ₊₁ in (6.52)"),
     "centripetal-missing": Mistake(
         "the centripetal term ω × (ω × P) left out",
-        "a point fixed in a turning link accelerates toward the axis even at constant ω: (6.47) and (6.48) "
-        "both carry ω × (ω × P), as (6.12) does"),
+        "A point fixed in a turning link accelerates toward the axis even at constant ω, so (6.47) and (6.48) both "
+        "carry ω × (ω × P), as (6.12) does"),
     "gyroscopic-missing": Mistake(
         "the gyroscopic term ω × ᶜI ω left out",
-        "Euler's equation (6.50) is ⁱNᵢ = ᶜⁱIᵢ ⁱω̇ᵢ + ⁱωᵢ × ᶜⁱIᵢ ⁱωᵢ; the second term vanishes only when ω "
-        "lies along a principal axis of the link"),
+        "Euler's equation (6.50) is ⁱNᵢ = ᶜⁱIᵢ ⁱω̇ᵢ + ⁱωᵢ × ᶜⁱIᵢ ⁱωᵢ, whose second term vanishes only when ω lies "
+        "along a principal axis of the link"),
     "inertia-about-origin": Mistake(
         "the inertia tensor taken about the frame origin instead of the centre of mass",
-        "(6.50) uses ᶜⁱIᵢ, the tensor about the centre of mass (in the axes of frame i); (6.52) adds the moment "
-        "of ⁱFᵢ about the origin through ⁱP_Cᵢ × ⁱFᵢ, so a tensor moved to the origin counts it twice"),
+        "Euler's equation (6.50) uses ᶜⁱIᵢ, the tensor about the centre of mass, because the moment of ⁱFᵢ about "
+        "the origin is added separately, as ⁱP_Cᵢ × ⁱFᵢ in (6.52)"),
     "moment-arm-missing": Mistake(
-        "the moment arm ⁱPᵢ₊₁ × ⁱfᵢ₊₁ of the child's force left out",
-        "(6.52): the force link i+1 exerts at the origin of frame i+1 has a moment about the origin of frame i, "
-        "ⁱPᵢ₊₁ × ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁"),
+        "the moment arm of the child's force left out",
+        "The force that link i+1 exerts at the origin of frame i+1 has a moment about the origin of frame i, the "
+        "term ⁱPᵢ₊₁ × ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁ of (6.52)"),
     "gravity-sign": Mistake(
         "gravity with the wrong sign",
-        "in Craig's recursion the base accelerates upward, ⁰v̇₀ = −g, so that G(Θ) holds the arm up against gravity"),
+        "In Craig's recursion the base accelerates upward, ⁰v̇₀ = −g, so that G(Θ) holds the arm up against gravity"),
     "coriolis-half": Mistake(
         "half the Coriolis coefficient",
-        "Σⱼₖ Γᵢⱼₖ θ̇ⱼθ̇ₖ holds each product θ̇ⱼθ̇ₖ (j ≠ k) twice, so Craig's B is 2Γᵢⱼₖ (6.63), as in the "
-        "two-link arm's −2 m₂l₁l₂s₂ θ̇₁θ̇₂ (6.61)"),
+        "The sum Σⱼₖ Γᵢⱼₖ θ̇ⱼθ̇ₖ holds each product θ̇ⱼθ̇ₖ (j ≠ k) twice, so Craig's B is 2Γᵢⱼₖ (6.63), as in the "
+        "two-link arm's −2m₂l₁l₂s₂θ̇₁θ̇₂ (6.61)"),
     "sin-cos-swapped": Mistake(
         "sin and cos exchanged",
-        "check each sᵢ and cᵢ against the geometry: at θ = 0 a link along X₀ has its gravity moment largest "
-        "(cos θ) and its height change zero (sin θ)"),
+        "Check each sᵢ and cᵢ against the geometry: at θ = 0 a link along X₀ has its largest gravity moment "
+        "(cos θ) and no change of height (sin θ)"),
     "c1-c12-swapped": Mistake(
         "the cosine of one angle exchanged with the cosine of a sum",
-        "c₁ belongs to link 1's direction θ₁, c₁₂ = cos(θ₁ + θ₂) to link 2's: write down which angle each link "
+        "c₁ belongs to link 1's direction θ₁ and c₁₂ = cos(θ₁ + θ₂) to link 2's, so write down the angle each link "
         "makes with X₀ before reading off its moment arm"),
     "degrees": Mistake(
         "the angles in degrees",
-        "every input is in radians, and numpy's trigonometry takes radians: no np.deg2rad or np.rad2deg"),
+        "Every input is in radians, and numpy's trigonometry takes radians, so no np.deg2rad or np.rad2deg"),
     "joints-swapped": Mistake(
         "the joints in the wrong order",
-        "entries follow the joint order that `course-dynamics info` prints"),
+        "Entries follow the joint order that `course-dynamics info` prints"),
 }
 
 
@@ -194,3 +197,42 @@ def mistaken_terms(model: Model, q, qd, qdd) -> dict[str, dict[tuple[str, str], 
             for term, value in terms.items():
                 made[term][key] = value
     return made
+
+
+# ---------------------------------------------------------------------------------------- the checks that name them
+def named_mistake(answer: Answer) -> Finding | None:
+    """Agrees with our answers made with a mistake (:mod:`~course_dynamics.grading.mistakes`); where several give
+    the same answer (G alone cannot tell gravity's sign from reversed moments), all are named, the commonest first."""
+    made, found = answer.reference.mistakes.get(answer.term, {}) if answer.reference is not None else {}, {}
+    for (code, variant), values in made.items():
+        if answer.agrees_with(values):
+            found.setdefault(code, []).append(variant)
+    codes = sorted(found, key=lambda code: code != "gravity-sign")
+    said = [MISTAKES[c].words + "".join(f" {v}" for v in found[c][:1] if v) + "".join(f", or {v}" for v in found[c][1:])
+            for c in codes]
+    return None if not codes else Finding(
+        " ".join(f"[{c}]" for c in codes) + " matches the right answer made with " + "; or, equally, with ".join(said)
+        + ". " + " ".join(_sentence(MISTAKES[c].advice) for c in codes), tuple(codes), conclusive=True)
+
+
+def _sentence(text: str) -> str:
+    return text + ("" if text.endswith(".") else ".")
+
+
+def closest_mistake(answer: Answer) -> Finding | None:
+    """Much nearer one of our mistaken answers than the right one, without agreeing: that mistake and another?"""
+    made = answer.reference.mistakes.get(answer.term, {}) if answer.reference is not None else {}
+    if not made or not answer.usable:
+        return None
+
+    def distance(candidates):
+        return float(np.median([relative_error(answer.values[k], candidates[k], answer.scales[k])
+                                for k in answer.usable]))
+
+    right = distance(answer.expected)
+    (code, variant), nearest = min(((key, distance(values)) for key, values in made.items()), key=lambda x: x[1])
+    if nearest > min(0.1, right / 10):
+        return None
+    return Finding(f"closest to [{code}] {MISTAKES[code].words}{' ' + variant if variant else ''} (relative error "
+                   f"{nearest:.1g} from that, {right:.1g} from the right answer): that mistake and another?",
+                   (f"closest to {code}",))

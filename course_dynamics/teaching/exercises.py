@@ -24,6 +24,7 @@ can carry points.
 """
 from __future__ import annotations
 
+import copy
 import inspect
 import os
 import re
@@ -53,14 +54,20 @@ _REVEAL = {"values": False}
 
 
 def show_values(on: bool = True) -> None:
-    """Let the checks print the expected values (the instructor's solution mode); students' checks never do."""
-    _REVEAL["values"] = bool(on)
+    """Let the checks print the expected values (the instructor's solution mode); students' checks never do, and
+    under nbgrader's autograder it stays off."""
+    _REVEAL["values"] = bool(on) and os.environ.get("NBGRADER_EXECUTION") != "autograde"
 
 
 def hint(name: str, level: int = 1) -> str:
     """Hint ``level`` (1, 2, …) of exercise ``name``: which idea, then which equation, then the formula, last."""
     hints = EXERCISES[name].hints
-    level = max(1, min(int(level), len(hints)))
+    try:
+        level = max(1, min(int(level), len(hints)))
+    except (TypeError, ValueError, OverflowError):
+        level = 1
+    if not hints:
+        return f"{name} has no hints"
     more = f" — for more, hint({name!r}, {level + 1})" if level < len(hints) else ""
     return f"hint {level} of {len(hints)}: {hints[level - 1]}{more}"
 
@@ -92,6 +99,14 @@ class Verdict:
 # ---------------------------------------------------------------------------------------- checking
 
 
+KINDS = {"term": "it should be a function of numpy arrays returning a numpy array",
+         "links": "it should be a function returning a dict of per-link lists",
+         "equations": "it should be a list of sympy expressions",
+         "function": "it should be a function of numpy arrays returning numbers",
+         "value": "it should be a number, a list of numbers or a numpy array",
+         "formula": "it should be a sympy expression (or a sympy Matrix) in the symbols given"}
+
+
 def _a(noun: str) -> str:
     return ("an " if noun[:1].lower() in "aeiou" else "a ") + noun
 
@@ -110,8 +125,14 @@ def check(name: str, answer=MISSING) -> Verdict:
     if _not_done(answer):
         verdict = Verdict(name, "not done", [f"write your answer as `{name}` in the cell above, then run this cell again"])
     else:
-        verdict = {"term": _check_term, "links": _check_links, "equations": _check_equations, "function": _check_function, "value": _check_value,
-                   "formula": _check_formula}[exercise.kind](name, exercise, answer)
+        kind = {"term": _check_term, "links": _check_links, "equations": _check_equations, "function": _check_function,
+                "value": _check_value, "formula": _check_formula}[exercise.kind]
+        try:
+            with np.errstate(all="ignore"):
+                verdict = kind(name, exercise, answer)
+        except Exception as exc:  # an answer of a kind no check foresaw: feedback, never a crash of the notebook
+            verdict = Verdict(name, "wrong", [f"could not check this answer ({type(exc).__name__}: "
+                                              f"{reprlib.repr(str(exc))}): {KINDS[exercise.kind]}"])
     if verdict.status == "wrong" and exercise.hints:
         verdict.lines.append(f"a hint, if you want one: hint({name!r}) (there are {len(exercise.hints)}, "
                              "the formula last)")
@@ -151,7 +172,7 @@ def _check_term(name: str, exercise: Exercise, function) -> Verdict:
     if problem == "not done":
         return Verdict(name, "not done", [f"`{name}` does not return anything yet: write its body"])
     outcome = evaluate({exercise.term: function}, {k: v for k, v in calls.items() if k in FUNCTIONS},
-                       function.__code__.co_filename)
+                       getattr(getattr(function, "__code__", None), "co_filename", "<your answer>"))
     [result] = score_outcome(outcome, assignment, plan, expected_terms(assignment, plan), _REVEAL["values"])
     if result.correct:
         return Verdict(name, "right", [f"agrees with course_dynamics on all {result.total} random states"])
@@ -171,7 +192,7 @@ def _check_links(name: str, exercise: Exercise, function) -> Verdict:
     if not callable(function):
         return Verdict(name, "wrong", [f"`{name}` should be a function, it is {_a(type(function).__name__)}"])
     state, model = given(name), my_robot(exercise.robot).model
-    returned, problem = _try(function, state["q"], state["qd"], state["qdd"])
+    returned, problem = _try(function, *copy.deepcopy([state["q"], state["qd"], state["qdd"]]))
     if problem is not None:
         return Verdict(name, "not done" if problem == "not done" else "wrong",
                        [f"`{name}` does not return anything yet: write its body" if problem == "not done"
@@ -198,13 +219,10 @@ def _check_links(name: str, exercise: Exercise, function) -> Verdict:
             right = [f"link {i}" for i in range(1, model.n + 1) if i not in wrong]
             lines.append(f"{words} is wrong for link {', '.join(map(str, wrong))}"
                          + (f" (right for {', '.join(right)})" if right else "") + "; what comes before it is right")
-            slipped = [slip for slip in slips() if np.allclose(
-                getattr(newton_euler_links(model, state["q"], state["qd"], state["qdd"], slip), key), theirs,
-                rtol=exercise.tolerance, atol=exercise.tolerance * max(1.0, float(np.abs(expected).max())))]
-            if slipped:
-                code = slipped[0].code
-                lines.append(f"[{code}] it matches {MISTAKES[code].words} in {slipped[0].where}: "
-                             f"{MISTAKES[code].advice}")
+            slip = _explaining_slip(model, state, returned, key, exercise.tolerance)
+            if slip is not None:
+                lines.append(f"[{slip.code}] it matches {MISTAKES[slip.code].words} in {slip.where}. "
+                             f"{MISTAKES[slip.code].advice}.")
             break
     return Verdict(name, "wrong" if lines else "right",
                    lines or [f"every quantity of both iterations agrees, link by link, at your state"])
@@ -236,10 +254,31 @@ def _check_equations(name: str, exercise: Exercise, answer) -> Verdict:
     return Verdict(name, "wrong" if lines else "right", lines or ["equals example 6.5's equations of motion"])
 
 
+def _explaining_slip(model, state, returned: dict, first_wrong: str, tolerance: float):
+    """The slip of the recursion that explains the student's quantities: one that matches every quantity they
+    returned if there is one, else one that matches the first wrong quantity; the fewest equations first."""
+    def matches(slip, key):
+        ours = np.asarray(getattr(made[slip], key), dtype=float)
+        try:
+            theirs = np.asarray(returned[key], dtype=float)
+        except (KeyError, TypeError, ValueError):
+            return False
+        return theirs.shape == ours.shape and np.allclose(theirs, ours, rtol=tolerance,
+                                                          atol=tolerance * max(1.0, float(np.abs(ours).max())))
+
+    made = {slip: newton_euler_links(model, state["q"], state["qd"], state["qdd"], slip) for slip in slips()}
+    ordered = sorted(made, key=lambda slip: len(slip.equations))
+    whole = [slip for slip in ordered if all(matches(slip, key) for key in LINK_QUANTITIES if key in returned)]
+    first = [slip for slip in ordered if matches(slip, first_wrong)]
+    return (whole or first or [None])[0]
+
+
 def _value_problems(expected, value, tolerance: float) -> list[str]:
     """What is wrong with a value, as :func:`~course_dynamics.grading.score.score` finds it; [] when it is right."""
     if any(x is Ellipsis for x in np.ravel(np.asarray(value, dtype=object))):
         return ["still holds ... (the placeholder): put your numbers in its place"]
+    if np.iscomplexobj(np.asarray(value)) or any(isinstance(x, complex) for x in np.ravel(np.asarray(value, dtype=object))):
+        return ["holds complex numbers: every quantity here is real (a square root of a negative number?)"]
     try:
         theirs = np.asarray(value).astype(float)
     except (TypeError, ValueError):
@@ -263,12 +302,12 @@ def _check_function(name: str, exercise: Exercise, function) -> Verdict:
     rng = rng_for(student(), name)
     for trial in range(20):
         arguments = exercise.inputs(rng)
-        value, problem = _try(function, *arguments)
+        expected = exercise.reference(*copy.deepcopy(arguments))  # before, and on copies: an answer may change its inputs
+        value, problem = _try(function, *copy.deepcopy(arguments))
         if problem == "not done":
             return Verdict(name, "not done", [f"`{name}` does not return anything yet: write its body"])
         if problem is not None:
             return Verdict(name, "wrong", [f"raised {problem}"])
-        expected = exercise.reference(*arguments)
         if isinstance(expected, tuple):
             if not isinstance(value, (tuple, list)) or len(value) != len(expected):
                 return Verdict(name, "wrong", [f"should return {len(expected)} values, returned {type(value).__name__}"])
@@ -279,7 +318,7 @@ def _check_function(name: str, exercise: Exercise, function) -> Verdict:
         if problems:
             shown = ", ".join(_show(a) for a in arguments)
             named = [f"[{code}] it matches {words}" for code, made, words in exercise.mistakes
-                     if _agrees(made(*arguments), value, exercise.tolerance)]
+                     if _agrees(made(*copy.deepcopy(arguments)), value, exercise.tolerance)]
             return Verdict(name, "wrong", [f"for the inputs {shown}:"] + (named[:1] or problems))
     return Verdict(name, "right", ["agrees with course_dynamics on 20 random inputs"])
 
@@ -295,12 +334,17 @@ def _check_formula(name: str, exercise: Exercise, answer) -> Verdict:
     import sympy
 
     expected = exercise.answer()
+    expected = sympy.Matrix(expected) if isinstance(expected, (np.ndarray, list)) else expected
+    matrix_like = (np.ndarray, list, tuple, sympy.MatrixBase, sympy.NDimArray)
     try:
-        answer = sympy.Matrix(answer) if isinstance(expected, sympy.MatrixBase) or isinstance(answer, np.ndarray) \
+        answer = sympy.Matrix(answer) if isinstance(expected, sympy.MatrixBase) and isinstance(answer, matrix_like) \
             else sympy.sympify(answer)
         expected = sympy.Matrix(expected) if isinstance(answer, sympy.MatrixBase) else sympy.sympify(expected)
     except (sympy.SympifyError, TypeError, ValueError):
         return Verdict(name, "wrong", [f"expected a sympy expression, got {type(answer).__name__}"])
+    if isinstance(expected, sympy.MatrixBase) != isinstance(answer, sympy.MatrixBase):
+        return Verdict(name, "wrong", [f"should be a {'matrix' if isinstance(expected, sympy.MatrixBase) else 'single expression'}"
+                                       f", of shape {getattr(expected, 'shape', '()')}"])
     if isinstance(expected, sympy.MatrixBase) and expected.shape != getattr(answer, "shape", None):
         return Verdict(name, "wrong", [f"has shape {getattr(answer, 'shape', 'none')}, the answer has {expected.shape}"])
     if exercise.time_functions:  # θ(t), θ̇(t), θ̈(t) written by the chain rule: the symbols θ, θ_dot, θ_ddot
