@@ -149,13 +149,17 @@ def G_two_link(q):
 check("G_two_link")
 
 # %% [markdown]
+# (with the solutions only)
+#
 # ## The closed form, by the library
 # Now that you have collected them: the iterations of notebook 3 run on symbols, and collecting τ by Θ̈, Θ̇ and g,
 # give the section's closed form (6.60)–(6.62) (with the section's symbols m₁, m₂, l₁, l₂, g):
 
 # %%
+# (with the solutions only)
 symbolic = trace(arm, None, None, None, symbols=("m1", "m2", "l1", "l2", "g"))
 display(Markdown("$$" + trace_latex(symbolic).replace("% Newton-Euler iterations of two_link\n", "") + "$$"))
 
 # %%
+# (with the solutions only)
 display(Markdown(derivation_text(derive(arm, ("m1", "m2", "l1", "l2", "g")), "markdown")))

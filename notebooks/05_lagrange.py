@@ -159,16 +159,19 @@ C_rp_arm = sympy.Matrix([[0, 0], [-m2 * d2_symbol, 0]])
 check("C_rp_arm")
 
 # %% [markdown]
+# (with the solutions only)
+#
 # The library's Lagrangian path computes each link's kinetic energy from its Jacobians, and (6.77) gives the same
 # equations, here with M, V, G and Craig's B and C read off:
 
 # %%
+# (with the solutions only)
 rp, parameters = symbolic_model(load_robot("rp_arm"), ("m1", "m2", "l1", "Izz1", "Izz2", "g"))
 q, qd, qdd = joint_symbols(rp)
 k1, k2 = lagrange.link_kinetic_energies(rp, q, qd)
 display(Markdown(f"$k_1 = {sympy.latex(sympy.simplify(k1))}$, $\\quad k_2 = {sympy.latex(sympy.simplify(k2))}$"))
-by_lagrange = derive(load_robot("rp_arm"), ("m1", "m2", "l1", "Izz1", "Izz2", "g"), method="lagrange")
-display(Markdown(derivation_text(by_lagrange, "markdown")))
+display(Markdown(derivation_text(derive(load_robot("rp_arm"), ("m1", "m2", "l1", "Izz1", "Izz2", "g"),
+                                        method="lagrange"), "markdown")))
 
 # %% [markdown]
 # ## The same equations as Newton–Euler
@@ -176,6 +179,7 @@ display(Markdown(derivation_text(by_lagrange, "markdown")))
 # identical expressions (compared in an exact normal form):
 
 # %%
+by_lagrange = derive(load_robot("rp_arm"), ("m1", "m2", "l1", "Izz1", "Izz2", "g"), method="lagrange")
 by_newton_euler = derive(load_robot("rp_arm"), ("m1", "m2", "l1", "Izz1", "Izz2", "g"), method="newton-euler")
 same = all(sympy.expand(canonical(a, by_lagrange.q) - canonical(b, by_lagrange.q)) == 0
            for a, b in zip(by_lagrange.tau, by_newton_euler.tau))

@@ -49,15 +49,20 @@ J_tool = sympy.Matrix([[l1 * sympy.sin(theta2), 0], [l1 * sympy.cos(theta2) + l2
 check("J_tool")
 
 # %% [markdown]
+# (with the solutions only)
+#
 # The same library functions that compute J, M, V and G numerically run on symbols, and give example 6.6 in closed
 # form — ³J among them, to compare with yours:
 
 # %%
+# (with the solutions only)
 closed = derive_cartesian(arm, "tool", rows=["x", "y"], expressed_in="frame", symbols=("m1", "m2", "l1", "l2", "g"))
 for name in ("J", "Mx", "Vx", "Gx"):
     display(Markdown(f"${name} = {sympy.latex(getattr(closed, name))}$"))
 
 # %% [markdown]
+# (with the solutions only)
+#
 # (The notes print J with l₁c₂ where ³J has l₁c₂ + l₂; the J⁻¹ they print is the inverse of the right one.)
 
 # %% [markdown]

@@ -16,6 +16,7 @@ from course_dynamics.output.folders import MANIFEST
 from course_dynamics.teaching.course import (
     BEGIN,
     END,
+    SOLUTIONS_ONLY,
     execute,
     first_heading,
     notebook_paths,
@@ -85,6 +86,7 @@ def test_student_version_runs_clean_with_no_solution_left(path, tmp_path):
     student = student_version(source, path.stem)
     text = "\n".join(c.source for c in student.cells)
     assert BEGIN not in text and END not in text
+    assert SOLUTIONS_ONLY not in text  # the library's closed forms of what the student derives stay out
     for cell in source.cells:
         lines = cell.source.splitlines()
         for first, last in solution_regions(cell.source):
@@ -97,6 +99,15 @@ def test_student_version_runs_clean_with_no_solution_left(path, tmp_path):
     assert not [o for o in outputs if o.output_type == "error"]
     checks = [outputs_of(c) for c in executed.cells if c.cell_type == "code" and c.source.startswith("check(")]
     assert checks and all("not done yet" in text for text in checks), checks
+
+
+def test_the_closed_forms_that_answer_exercises_are_shown_with_the_solutions_only():
+    for stem in ("04_structure", "05_lagrange", "06_cartesian"):
+        source = read_notebook(next(p for p in NOTEBOOKS if p.stem == stem))
+        marked = [c for c in source.cells if SOLUTIONS_ONLY in c.source]
+        assert marked, stem
+        assert len(solution_version(source, stem).cells) == len(source.cells)
+        assert len(student_version(source, stem).cells) == len(source.cells) - len(marked)
 
 
 def test_nbgrader_metadata_marks_solutions_and_checks():

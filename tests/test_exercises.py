@@ -241,13 +241,26 @@ def test_example_6_5_by_lagrange_in_theta_of_t():
     assert check("lagrange_rp_arm", [sympy.expand(sympy.trigsimp(tau1)), sympy.factor(tau2)])  # any equivalent form
     without_chain_rule = check("lagrange_rp_arm", rp_arm_lagrange(chain_rule=False)).text()
     assert "V₁ lacks the Coriolis term 2*ḋ₂*d₂*m2*θ̇₁" in without_chain_rule
-    halved = check("lagrange_rp_arm", rp_arm_lagrange(half_kinetic_of_d2=True)).text()
-    assert "M₁₁ is missing d₂^2*m2/2" in halved and "V₂'s centrifugal term has an extra d₂*m2*θ̇₁^2/2" in halved
+    halved = check("lagrange_rp_arm", rp_arm_lagrange(half_kinetic_of_d2=True)).text()  # three terms differ:
+    assert "these parts differ from the right ones: M₁₁, V₁, V₂" in halved and "d₂" not in halved  # named, not shown
+    nothing = check("lagrange_rp_arm", [0, 0]).text()
+    assert "M₁₁, V₁, G₁, M₂₂, V₂, G₂" in nothing and "m2" not in nothing  # the answer is never the feedback
+    assert "[joints-swapped]" in check("lagrange_rp_arm", [tau2, tau1]).text()
+    g = symbols("g")
+    assert "[gravity-sign]" in check("lagrange_rp_arm", [e.subs(g, -g) for e in (tau1, tau2)]).text()
+    assert "write every parameter as its symbol (g, not 9.81)" in check("lagrange_rp_arm",
+                                                                        [tau1.subs(g, 9.81), tau2]).text()
+    swapped = [e.replace(sympy.sin, lambda x: sympy.Function("c")(x)).replace(sympy.cos, sympy.sin)
+               .replace(sympy.Function("c"), sympy.cos) for e in (tau1, tau2)]
+    assert "[sin-cos-swapped]" in check("lagrange_rp_arm", swapped).text()
+    own = sympy.Symbol("m2")  # a student's own symbol, without the package's assumptions, is read by its name
+    assert check("lagrange_rp_arm", [tau1.subs(symbols("m2"), own), tau2.subs(symbols("m2"), own)])
     assert "uses x" in check("lagrange_rp_arm", [tau1 + sympy.Symbol("x"), tau2]).text()
     assert "a list of 2 expressions" in check("lagrange_rp_arm", tau1).text()
     m2, d2 = symbols("m2", "d2")
     assert check("B_rp_arm", sympy.Matrix([[2 * m2 * d2], [0]])) and check("C_rp_arm", sympy.Matrix([[0, 0], [-m2 * d2, 0]]))
-    assert "entry (1, 1) is wrong" in check("B_rp_arm", sympy.Matrix([[m2 * d2], [0]])).text()
+    assert "[coriolis-half]" in check("B_rp_arm", sympy.Matrix([[m2 * d2], [0]])).text()
+    assert "entry (1, 1) is wrong" in check("B_rp_arm", sympy.Matrix([[3 * m2 * d2], [0]])).text()
 
 
 HOMEWORK_SLIPS = [  # exercise, a student's answer with a slip, the code the check names
@@ -289,3 +302,70 @@ def test_the_notes_homework_right(exercise):
 def test_the_notes_homework_names_each_slip(exercise, answer, code):
     verdict = check(exercise, answer)
     assert verdict.status == "wrong" and any(line.startswith(f"[{code}]") for line in verdict.lines), verdict.text()
+
+
+def test_checks_never_raise_whatever_they_are_given():
+    """A student's notebook never gets a traceback from a check: odd types, huge numbers, callables without code."""
+    import functools
+
+    class Callable:
+        def __call__(self, q):
+            return np.zeros(2)
+
+    odd = [("G_two_link", Callable()), ("G_two_link", functools.partial(lambda a, q: a * q, 1.0)),
+           ("I_corner", 0), ("I_corner", "m*w"), ("k_pendulum", [1]), ("k_pendulum", 1j), ("v_dot_c1", 10**400),
+           ("lagrange_rp_arm", [[1]]), ("links_spatial_arm", lambda q, qd, qdd: "abc"), ("euler_step", max)]
+    for name, answer in odd:
+        verdict = check(name, answer)
+        assert verdict.status == "wrong", (name, verdict.text())
+    assert "holds complex numbers" in check("v_dot_c1", np.array([1j, 0, 0])).text()
+    assert hint("v_dot_c1", None).startswith("hint 1 of 3") and hint("v_dot_c1", float("nan")).startswith("hint 1")
+    with pytest.raises(KeyError, match="no exercise named 'nope'"):
+        hint("nope")
+
+
+def test_an_answer_that_changes_its_inputs_is_judged_on_what_it_returns():
+    def in_place(q, qd, qdd, dt):  # right, though it writes into its arguments
+        qd += qdd * dt
+        q += qd * dt
+        return q, qd
+
+    def zeroing(q, qd, qdd, dt):  # wrong: it zeroes the inputs the reference would be computed on
+        q[...], qd[...], qdd[...] = 0, 0, 0
+        return q.copy(), qd.copy()
+
+    assert check("semi_implicit_step", in_place) and not check("euler_step", zeroing)
+
+
+def test_a_function_that_never_returns_is_stopped(monkeypatch):
+    from course_dynamics.teaching import exercises
+
+    monkeypatch.setattr(exercises, "CHECK_SECONDS", 1)
+
+    def endless(q):
+        while True:
+            try:
+                pass
+            except Exception:  # a student's own handler cannot swallow the time limit
+                pass
+
+    verdict = check("G_two_link", endless)
+    assert verdict.status == "wrong" and "took more than 1 s to check: an endless loop?" in verdict.text()
+
+
+def test_the_verdict_says_whose_numbers_it_checked():
+    use_student("ada")
+    assert "(ada's numbers)" in check("v_dot_c1", np.zeros(3)).text()
+    use_student("course")
+    assert "(no student id: the course's own numbers)" in check("v_dot_c1", np.zeros(3)).text()
+    assert "numbers" not in check("k_pendulum", 1).text().splitlines()[0]  # a formula is the same for everyone
+
+
+def test_a_value_from_the_recursion_names_the_slip():
+    from course_dynamics.core.newton_euler import Slip
+    from course_dynamics.teaching.catalogue import _v_dot_c1
+
+    verdict = check("v_dot_c1", _v_dot_c1(Slip("centripetal-missing", ("6.48",))))
+    assert verdict.lines[0].startswith("[centripetal-missing] it matches the centripetal term ω × (ω × P) left out in "
+                                       "(6.48).")
+    assert "[gravity-sign]" in check("v_dot_c1", _v_dot_c1(Slip("gravity-sign", ("base",)))).text()

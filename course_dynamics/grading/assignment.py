@@ -87,12 +87,13 @@ class Assignment:
     notes: tuple[str, ...] = field(default=())
     variant: str = "same"  # "per-student": each student's own robot and states (tools/variants)
 
-    def for_student(self, student: str) -> Assignment:
+    def for_student(self, student: str, where: str = "") -> Assignment:
         """The assignment as ``student`` is graded: with ``variant = "per-student"``, on their own variant of the
-        course robot and their own states (the notebooks' mechanism); otherwise unchanged."""
+        course robot and their own states (the notebooks' mechanism); otherwise unchanged. ``where`` names what
+        gave the id (a submission file) in an error."""
         if self.variant != "per-student":
             return self
-        chosen = robot_variant(self.robot_argument, check_student_id(student, f"{self.source}: student id"))
+        chosen = robot_variant(self.robot_argument, check_student_id(student, f"{where or self.source}: student id"))
         seed = int(rng_for(student, f"assignment seed {self.seed}").integers(2**31))
         return replace(self, robot=chosen.model.with_gravity(self.robot.gravity), seed=seed)
 

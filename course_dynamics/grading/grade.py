@@ -215,8 +215,9 @@ def _unusable_name(name: str) -> str:
 
 
 def student_names(paths) -> list[str]:
-    """The file stems, which name the students; InputError for a missing file or two files with one name."""
-    names = {}
+    """The file stems, which name the students; InputError for a missing file or two files with one name (or names
+    that differ only in case)."""
+    names, folded = {}, {}
     for path in paths:
         path = Path(path)
         if not path.is_file():
@@ -224,12 +225,15 @@ def student_names(paths) -> list[str]:
         problem = _unusable_name(path.stem)
         if problem:
             raise InputError(f"{path}: {problem}, so it cannot name a student's files and rows; rename it")
-        if path.stem in names:
-            raise InputError(f"{path} and {names[path.stem]}: two submissions named '{path.stem}' (a student is a file name)")
+        if path.stem.casefold() in folded:
+            other = folded[path.stem.casefold()]
+            raise InputError(f"{path} and {other}: two submissions named '{path.stem}'" if other.stem == path.stem else
+                             f"{path} and {other}: names that differ only in case (a student is a file name, and "
+                             "some file systems do not tell case apart)")
         if path.stem in RESERVED_NAMES:
             raise InputError(f"{path}: a submission named '{path.stem}' would overwrite the class's {path.stem} file; "
                              "rename it")
-        names[path.stem] = path
+        names[path.stem] = folded[path.stem.casefold()] = path
     return list(names)
 
 
@@ -250,7 +254,7 @@ def grade_class(assignment: Assignment, paths, sandbox: bool = True, jobs: int |
     bwrap = check_sandbox() if sandbox else None
     environment = submission_environment(assignment.allowed_imports)
     for path in paths:
-        assignment.for_student(path.stem)  # a per-student assignment refuses an id it cannot use, before any runs
+        assignment.for_student(path.stem, str(path))  # a per-student assignment refuses an unusable id before any runs
     shared = None if assignment.variant == "per-student" else _planned(assignment)
     jobs = jobs or max(1, min(len(paths), os.cpu_count() or 1))
 

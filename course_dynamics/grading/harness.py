@@ -76,6 +76,8 @@ def _where(exc: BaseException, path: str) -> str:
 def _value(result):
     """A returned value as nested floats, or an error record that says why it cannot be one."""
     try:
+        if np.iscomplexobj(np.asarray(result)):
+            return {"error": "returned complex numbers; every term is real (a square root of a negative number?)"}
         array = np.asarray(result, dtype=float)
     except (TypeError, ValueError):
         kind = type(result).__name__

@@ -93,8 +93,8 @@ def _worst(answer: Answer) -> str:
     else:
         k = next(i for i, e in enumerate(answer.errors) if e is not None)
         returned = f"an error: {answer.errors[k]}"
-    if answer.plan is None:
-        return f"expected {_fmt(ours[k])}, got {returned}" if answer.reveal else f"yours is {returned}"
+    if answer.plan is None:  # a single value: in a student's view its error would tell the answer, so none is shown
+        return f"expected {_fmt(ours[k])}, got {returned}" if answer.reveal else ""
     expected = f"expected {name} = {_fmt(ours[k])}, " if answer.reveal else ""
     return f"worst state #{k + 1}: {_state_text(answer.plan, answer.term, k)}; {expected}returned {returned}"
 

@@ -26,7 +26,7 @@ from ..core import inertia
 from ..core.algebra import Vec3, point_acceleration
 from ..core.cartesian import cartesian_dynamics
 from ..core.friction import Friction
-from ..core.newton_euler import inverse_dynamics, newton_euler_links
+from ..core.newton_euler import EXACT, Slip, inverse_dynamics, newton_euler_links
 from ..core.regressor import base_parameters, parameter_names, regressor
 from ..core.robots import load_robot
 from ..core.symbolic import derive
@@ -103,6 +103,8 @@ GIVEN = {
 
 def given(name: str) -> dict:
     """The data exercise ``name`` gives this student (numbers they work with, the same every time)."""
+    if name not in GIVEN:
+        raise KeyError(f"no exercise named {name!r} gives data (those that do: {', '.join(GIVEN)})")
     return GIVEN[name](rng_for(student(), name))
 
 
@@ -128,9 +130,9 @@ def _I_corner():
     return inertia.parallel_axis(inertia.box(m, w, l, h), m, (w / 2, l / 2, h / 2))
 
 
-def _v_dot_c1():
+def _v_dot_c1(slip: Slip = EXACT):
     d = given("v_dot_c1")
-    return newton_euler_links(_robot("two_link"), d["q"], d["qd"], d["qdd"]).v_dot_c[0]
+    return newton_euler_links(_robot("two_link"), d["q"], d["qd"], d["qdd"], slip).v_dot_c[0]
 
 
 def _pendulum(kind: str):
@@ -138,7 +140,7 @@ def _pendulum(kind: str):
     import sympy
 
     return {"k": m * l**2 * theta_dot**2 / 2, "u": -m * g * l * sympy.cos(theta),
-            "tau": m * l**2 * theta_ddot + m * g * l * sympy.sin(theta)}[kind]
+            "tau": m * l**2 * theta_ddot + m * g * l * sympy.sin(theta), "gravity": m * g * l * sympy.sin(theta)}[kind]
 
 
 def _J_tool():
@@ -216,6 +218,7 @@ class Exercise:
     hints: tuple[str, ...] = ()
     mistakes: tuple[tuple[str, Callable, str], ...] = ()  # (code, the reference with that mistake, its words)
     time_functions: tuple[str, ...] = ()  # a formula may be written in these as functions of t (θ(t) for theta)
+    slipped: Callable | None = None  # a value's answer made by the recursion with a Slip (the slip named if it fits)
 
 
 def _random_vectors(count: int):
@@ -297,7 +300,7 @@ EXERCISES: dict[str, Exercise] = {
     "tau_two_link": Exercise("term", term="tau", hints=NEWTON_EULER_HINTS),
     "tau_spatial_arm": Exercise("term", robot="spatial_arm", term="tau", hints=NEWTON_EULER_HINTS),
     "links_spatial_arm": Exercise("links", robot="spatial_arm", hints=NEWTON_EULER_HINTS),
-    "v_dot_c1": Exercise("value", _v_dot_c1, hints=(
+    "v_dot_c1": Exercise("value", _v_dot_c1, slipped=_v_dot_c1, hints=(
         "the centre of mass accelerates with the origin of frame 1, plus its motion about that origin",
         "(6.47) gives ¹v̇₁ = ¹₀R ⁰v̇₀ with ⁰v̇₀ = −g; then (6.48)",
         "¹v̇_C₁ = ¹ω̇₁ × ¹P_C₁ + ¹ω₁ × (¹ω₁ × ¹P_C₁) + ¹v̇₁")),
@@ -319,7 +322,11 @@ EXERCISES: dict[str, Exercise] = {
                            constant_in=("theta",), hints=(
         "the height of the mass as a function of θ; θ = 0 hangs straight down",
         "(6.73): u = −m gᵀ P_C (plus any constant)", "u = −m g l cos θ")),
-    "tau_pendulum": Exercise("formula", lambda: _pendulum("tau"), time_functions=("theta",),
+    "tau_pendulum": Exercise("formula", lambda: _pendulum("tau"), time_functions=("theta",), mistakes=(
+        ("gravity-sign", lambda: _pendulum("tau") - 2 * _pendulum("gravity"),
+         "gravity with the wrong sign: with it, the pendulum would fall away from hanging (the notes print it so)"),
+        ("time-derivative-missing", lambda: _pendulum("gravity"),
+         "only −∂L/∂θ: d/dt ∂L/∂θ̇ is not zero, since θ̇ changes in time (write θ as a function of t)")),
                              variables=("m", "l", "g", "theta", "theta_dot", "theta_ddot"), hints=(
         "the Lagrangian L = k − u (6.75), differentiated", "(6.77): d/dt ∂L/∂θ̇ − ∂L/∂θ = τ",
         "τ = m l² θ̈ + m g l sin θ")),
@@ -329,7 +336,9 @@ EXERCISES: dict[str, Exercise] = {
         "k = ½(m₁l₁² + I_zz1 + I_zz2 + m₂d₂²)θ̇₁² + ½m₂ḋ₂², u = g(m₁l₁ + m₂d₂) sin θ₁; d/dt (m₂d₂²θ̇₁) = "
         "m₂d₂²θ̈₁ + 2m₂d₂ḋ₂θ̇₁")),
     "B_rp_arm": Exercise("formula", lambda: __import__("sympy").Matrix(rp_arm_equations()[2]),
-                         variables=("m2", "d2"), hints=(
+                         variables=("m2", "d2"), mistakes=(
+        ("coriolis-half", lambda: __import__("sympy").Matrix(rp_arm_equations()[2]) / 2,
+         "half the Coriolis coefficient: d/dt (m₂d₂²θ̇₁) brings 2m₂d₂ḋ₂θ̇₁, and B holds all of it"),), hints=(
         "B multiplies the products θ̇ⱼθ̇ₖ (j < k): the RP arm has one, θ̇₁ḋ₂", "(6.63)–(6.64)",
         "B = [[2m₂d₂], [0]]: the Coriolis term of τ₁ divided by θ̇₁ḋ₂")),
     "C_rp_arm": Exercise("formula", lambda: __import__("sympy").Matrix(rp_arm_equations()[3]),
@@ -386,7 +395,11 @@ EXERCISES: dict[str, Exercise] = {
             "the centre of mass is a point fixed in link i, and everything is written in frame i",
             "(6.12) with {A} = {B} = frame i: (6.36)", "ⁱv̇_Cᵢ = ⁱω̇ᵢ × ⁱP_Cᵢ + ⁱωᵢ × (ⁱωᵢ × ⁱP_Cᵢ) + ⁱv̇ᵢ"),
         mistakes=(("centripetal-missing", lambda w, wd, vd, P_c: _v_dot_next(np.eye(3), w, wd, vd, P_c, 0.0),
-                   "the centripetal term ω × (ω × P_C) left out"),)),
+                   "the centripetal term ω × (ω × P_C) left out"),
+                  ("cross-reversed", lambda w, wd, vd, P_c: vd + np.cross(P_c, wd) + np.cross(w, np.cross(w, P_c)),
+                   "P_C × ω̇ where ω̇ × P_C belongs (a × b = −b × a)"),
+                  ("cross-reversed", lambda w, wd, vd, P_c: vd - np.cross(wd, P_c) - np.cross(w, np.cross(w, P_c)),
+                   "both cross products in the wrong order (a × b = −b × a)"))),
     "inward_moment": Exercise(
         "function", reference=_inward_moment, inputs=_inputs("R", "v", "v", "v", "v", "v", "v"), hints=(
             "the moments on link i about the origin of frame i: its own, its child's, and those of the forces",
@@ -395,7 +408,12 @@ EXERCISES: dict[str, Exercise] = {
         mistakes=(("moment-arm-missing", lambda *a: _inward_moment(*a, arm=0.0),
                    "the moment arm ⁱPᵢ₊₁ × ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁ of the child's force left out"),
                   ("rotation-transposed", lambda R, *a: _inward_moment(R.T, *a),
-                   "the rotation used the wrong way: R is ⁱᵢ₊₁R, from frame i+1 into frame i"))),
+                   "the rotation used the wrong way: R is ⁱᵢ₊₁R, from frame i+1 into frame i"),
+                  ("rotation-missing", lambda R, N, n, P_c, F, P, f: N + R @ n + np.cross(P_c, F) + np.cross(P, f),
+                   "the child's force taken in its own frame: ⁱ⁺¹fᵢ₊₁ must be rotated into frame i, ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁, "
+                   "before its moment arm acts on it"),
+                  ("cross-reversed", lambda R, N, n, P_c, F, P, f: N + R @ n + np.cross(F, P_c) + np.cross(R @ f, P),
+                   "the moments of the forces in the wrong order: r × F, the arm first (a × b = −b × a)"))),
     "prismatic_joint": Exercise(
         "function", reference=_prismatic, inputs=_inputs("R", "v", "v", "v", "v", "s", "s", "v"), hints=(
             "a sliding joint adds a velocity ḋ along Ẑ in a turning frame: a Coriolis term, and no rotation",

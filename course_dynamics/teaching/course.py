@@ -8,8 +8,10 @@ review, and every tool here turns them into ``.ipynb`` notebooks.
 An exercise's solution sits between ``### BEGIN SOLUTION`` and
 ``### END SOLUTION`` in a code cell (nbgrader's convention), and the next cell
 calls :func:`course_dynamics.teaching.exercises.check`. :func:`student_version`
-replaces every solution region by ``...  # YOUR CODE HERE`` at the same
-indentation, so the notebook still runs and the check reports "not done yet";
+replaces every solution region by ``pass  # YOUR CODE HERE`` at the same
+indentation, so the notebook still runs and the check reports "not done yet",
+and leaves out the cells marked :data:`SOLUTIONS_ONLY` (the library showing an
+exercise's answer, which the version with solutions keeps);
 both versions carry nbgrader's cell metadata (solution cells, graded check
 cells), so an instructor can also use nbgrader.
 """
@@ -32,7 +34,8 @@ from ..output.folders import check_folder, write_folder
 from ..tools.variants import check_student_id
 
 BEGIN, END = "### BEGIN SOLUTION", "### END SOLUTION"
-PLACEHOLDER = "...  # YOUR CODE HERE"
+SOLUTIONS_ONLY = "(with the solutions only)"  # a cell whose first line is this (or "# " and this) shows an answer
+PLACEHOLDER = "pass  # YOUR CODE HERE"  # a function with it returns None: "not done yet"; nothing is displayed
 CELL_TIMEOUT = 300  # s
 PUBLISH_OWNER = "publish-notebooks"  # the command named in an output folder's manifest
 # What a published page shows of an output, best first (JupyterLab's order, less what a static page cannot run).
@@ -125,6 +128,7 @@ def student_version(notebook, stem: str = "notebook", student: str | None = None
     """A copy without solutions (placeholders instead) and without outputs, with nbgrader metadata; with
     ``student``, its checks run on that student's robot and numbers."""
     notebook = copy.deepcopy(notebook)
+    notebook.cells = [cell for cell in notebook.cells if not solutions_only(cell)]
     _nbgrader(notebook, stem)
     for cell in notebook.cells:
         if cell.cell_type == "code":
@@ -132,6 +136,13 @@ def student_version(notebook, stem: str = "notebook", student: str | None = None
             cell.outputs, cell.execution_count = [], None
     _for_student(notebook, student)
     return notebook
+
+
+def solutions_only(cell) -> bool:
+    """Whether a cell shows an exercise's answer (the library's closed form of what the student derives), and so
+    stays out of the student version: its first line is :data:`SOLUTIONS_ONLY`."""
+    first = (cell.source.strip().splitlines() or [""])[0].strip()
+    return first in (SOLUTIONS_ONLY, "# " + SOLUTIONS_ONLY)
 
 
 def solution_version(notebook, stem: str = "notebook", student: str | None = None):

@@ -120,3 +120,68 @@ def term_differences(answer, expected, joints: dict, g, row: int) -> list[str]:
         else:
             found.append(f"{part}'s {kind} {verb} {_shown(amount * rates, names)}")
     return found or [f"τ{i} differs from the right one"]
+
+
+REVEALED = 2  # at most this many differing terms are written out; more, and only the parts are named
+
+
+def _by_name(expression, allowed):
+    """``expression`` with symbols named like an allowed one replaced by it (a student's own ``Symbol("m")``)."""
+    named = {str(s): s for s in allowed}
+    return expression.xreplace({s: named[str(s)] for s in expression.free_symbols if str(s) in named})
+
+
+def _slipped(expected, joints, g) -> dict[str, tuple[list, str]]:
+    """The equations made with the slips students make: code → (rows, words)."""
+    sympy = _sympy()
+    qd = [symbols[1] for symbols in joints.values()]
+
+    def coriolis_halved(e):
+        poly = sympy.Poly(sympy.expand(e), *qd)
+        return sum(c * sympy.Mul(*[v**p for v, p in zip(qd, m, strict=True)]) * (sympy.Rational(1, 2) if
+               sum(m) == 2 and max(m) == 1 else 1) for m, c in poly.terms())
+
+    def swapped(e):
+        trig = e.atoms(sympy.sin, sympy.cos)
+        return e.xreplace({f: (sympy.cos if f.func is sympy.sin else sympy.sin)(f.args[0]) for f in trig})
+
+    return {"joints-swapped": (expected[::-1], "the equations of the joints in the wrong order"),
+            "gravity-sign": ([e.xreplace({g: -g}) for e in expected], "gravity with the wrong sign"),
+            "coriolis-half": ([coriolis_halved(e) for e in expected], "half the Coriolis term: d/dt of a square "
+                              "(d₂² here) brings a 2"),
+            "sin-cos-swapped": ([swapped(e) for e in expected], "sin and cos exchanged")}
+
+
+def equation_problems(rows, expected, joints: dict, parameters, g) -> list[str]:
+    """What is wrong with equations of motion derived by hand (``rows``, one per joint) against ``expected``, in
+    Craig's names; [] when every row equals its own up to simplification. A slip students make is named by its
+    code; a few differing terms are written out; many are only located, so that the feedback never is the answer."""
+    sympy = _sympy()
+    t = sympy.Symbol("t", real=True)
+    allowed = {s for q in joints.values() for s in q} | set(parameters) | {t}
+    made, lines = [], []
+    for row, theirs in enumerate(rows, start=1):
+        i = str(row).translate(SUBSCRIPTS)
+        theirs = _by_name(in_joint_symbols(theirs, joints), allowed)
+        stray = sorted(str(s) for s in theirs.free_symbols - allowed)
+        leftover = sorted(map(str, theirs.atoms(sympy.Derivative, sympy.core.function.AppliedUndef)))
+        if stray or leftover:
+            lines.append(f"τ{i} uses {', '.join(stray + leftover)}: write it with time_functions(…) of the joints "
+                         f"and the parameter symbols {', '.join(map(str, parameters))} only")
+        elif theirs.atoms(sympy.Float):
+            lines.append(f"τ{i} holds decimal numbers ({', '.join(sorted({str(x) for x in theirs.atoms(sympy.Float)})[:3])}): "
+                         "write every parameter as its symbol (g, not 9.81)")
+        made.append(theirs)
+    if lines:
+        return lines
+    if all(sympy.simplify(a - b) == 0 for a, b in zip(made, expected, strict=True)):
+        return []
+    for code, (slipped, words) in _slipped(expected, joints, g).items():
+        if all(sympy.simplify(a - b) == 0 for a, b in zip(made, slipped, strict=True)):
+            return [f"[{code}] matches the right equations made with {words}"]
+    found = [term_differences(a, b, joints, g, row) for row, (a, b) in enumerate(zip(made, expected), start=1)]
+    if sum(map(len, found)) <= REVEALED:
+        return [line for lines_ in found for line in lines_]
+    parts = [line.split(" ")[0].rstrip("'s") for lines_ in found for line in lines_]
+    return [f"these parts differ from the right ones: {', '.join(dict.fromkeys(parts))} — start again from k and u, "
+            "and take d/dt with the chain rule"]

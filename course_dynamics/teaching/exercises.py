@@ -24,10 +24,13 @@ can carry points.
 """
 from __future__ import annotations
 
+import contextlib
 import copy
 import inspect
 import os
 import re
+import signal
+import threading
 import reprlib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -42,9 +45,9 @@ from ..grading.mistakes import MISTAKES
 from ..grading.plan import expected_terms, make_plan
 from ..grading.score import score, score_outcome
 from ..output.render import markdown_escape
-from ..tools.variants import rng_for
+from ..tools.variants import COURSE_STUDENT, rng_for
 from .catalogue import RP_PARAMETERS, EXERCISES, Exercise, given, my_robot, rp_arm_equations, student, symbols, use_student
-from .derivations import SUBSCRIPTS, in_joint_symbols, term_differences, time_functions
+from .derivations import equation_problems, in_joint_symbols, time_functions
 
 __all__ = ["EXERCISES", "Verdict", "check", "given", "hint", "my_robot", "show_values", "student", "symbols",
            "term_assignment", "time_functions", "use_student"]
@@ -61,6 +64,8 @@ def show_values(on: bool = True) -> None:
 
 def hint(name: str, level: int = 1) -> str:
     """Hint ``level`` (1, 2, …) of exercise ``name``: which idea, then which equation, then the formula, last."""
+    if name not in EXERCISES:
+        raise KeyError(f"no exercise named {name!r} (exercises: {', '.join(EXERCISES)})")
     hints = EXERCISES[name].hints
     try:
         level = max(1, min(int(level), len(hints)))
@@ -71,6 +76,10 @@ def hint(name: str, level: int = 1) -> str:
     more = f" — for more, hint({name!r}, {level + 1})" if level < len(hints) else ""
     return f"hint {level} of {len(hints)}: {hints[level - 1]}{more}"
 
+def _whose(student: str) -> str:
+    return "no student id: the course's own numbers" if student == COURSE_STUDENT else f"{student}'s numbers"
+
+
 @dataclass
 class Verdict:
     """The outcome of a check: ``status`` is "right", "wrong" or "not done", ``lines`` the feedback."""
@@ -78,6 +87,7 @@ class Verdict:
     name: str
     status: str
     lines: list[str] = field(default_factory=list)
+    numbers_of: str = ""  # the student whose robot and numbers it was checked on
 
     def __bool__(self) -> bool:
         return self.status == "right"
@@ -85,6 +95,7 @@ class Verdict:
     def text(self) -> str:
         """Plain text (a console, a log): code names in quotes instead of Markdown's backticks."""
         head = {"right": "✓ right", "wrong": "✗ not yet right", "not done": "… not done yet"}[self.status]
+        head += f" ({_whose(self.numbers_of)})" if self.numbers_of else ""
         plain = [BACKTICKS.sub(r"'\1'", line) for line in self.lines]
         return "\n".join([f"{self.name}: {head}"] + [f"  - {line}" for line in plain])
 
@@ -93,6 +104,7 @@ class Verdict:
     def _repr_markdown_(self) -> str:
 
         head = {"right": "✅ **right**", "wrong": "❌ **not yet right**", "not done": "⏳ **not done yet**"}[self.status]
+        head += f" ({markdown_escape(_whose(self.numbers_of))})" if self.numbers_of else ""
         return "\n".join([f"`{self.name}`: {head}", ""] + [f"- {markdown_escape(line)}" for line in self.lines])
 
 
@@ -105,6 +117,33 @@ KINDS = {"term": "it should be a function of numpy arrays returning a numpy arra
          "function": "it should be a function of numpy arrays returning numbers",
          "value": "it should be a number, a list of numbers or a numpy array",
          "formula": "it should be a sympy expression (or a sympy Matrix) in the symbols given"}
+
+
+CHECK_SECONDS = 60
+
+
+class CheckTimeout(BaseException):
+    """A check ran out of time (the student's function does not return); not an Exception, so that neither the
+    student's ``except Exception`` nor the check's own handlers can swallow it."""
+
+
+@contextlib.contextmanager
+def _time_limit(seconds: int):
+    """Interrupt the check after ``seconds`` (in the kernel's main thread, where signals arrive; else no limit)."""
+    if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "SIGALRM"):
+        yield
+        return
+
+    def interrupt(*_):
+        raise CheckTimeout
+
+    previous = signal.signal(signal.SIGALRM, interrupt)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
 
 
 def _a(noun: str) -> str:
@@ -128,11 +167,15 @@ def check(name: str, answer=MISSING) -> Verdict:
         kind = {"term": _check_term, "links": _check_links, "equations": _check_equations, "function": _check_function,
                 "value": _check_value, "formula": _check_formula}[exercise.kind]
         try:
-            with np.errstate(all="ignore"):
+            with np.errstate(all="ignore"), _time_limit(CHECK_SECONDS):
                 verdict = kind(name, exercise, answer)
+        except CheckTimeout:
+            verdict = Verdict(name, "wrong", [f"took more than {CHECK_SECONDS} s to check: an endless loop?"])
         except Exception as exc:  # an answer of a kind no check foresaw: feedback, never a crash of the notebook
             verdict = Verdict(name, "wrong", [f"could not check this answer ({type(exc).__name__}: "
                                               f"{reprlib.repr(str(exc))}): {KINDS[exercise.kind]}"])
+        if exercise.kind in ("term", "links", "value"):
+            verdict.numbers_of = student()
     if verdict.status == "wrong" and exercise.hints:
         verdict.lines.append(f"a hint, if you want one: hint({name!r}) (there are {len(exercise.hints)}, "
                              "the formula last)")
@@ -236,21 +279,10 @@ def _check_equations(name: str, exercise: Exercise, answer) -> Verdict:
     rows = list(answer) if isinstance(answer, (list, tuple, sympy.MatrixBase)) else None
     if rows is None or len(rows) != len(expected):
         return Verdict(name, "wrong", [f"should be a list of {len(expected)} expressions, τ₁ first"])
-    allowed = {s for q in joints.values() for s in q} | set(symbols(*RP_PARAMETERS)) | {sympy.Symbol("t", real=True)}
-    lines = []
-    for row, (theirs, ours) in enumerate(zip(rows, expected), start=1):
-        try:
-            theirs = in_joint_symbols(theirs, joints)
-        except (sympy.SympifyError, TypeError, ValueError):
-            return Verdict(name, "wrong", [f"entry {row} is not a sympy expression"])
-        stray = sorted(str(s) for s in theirs.free_symbols - allowed)
-        leftover = theirs.atoms(sympy.Derivative, sympy.core.function.AppliedUndef)
-        if stray or leftover:
-            what = ", ".join(stray + sorted(map(str, leftover)))
-            lines.append(f"τ{str(row).translate(SUBSCRIPTS)} uses {what}: write it with time_functions('theta1', 'd2') and "
-                         f"symbols{RP_PARAMETERS} only")
-            continue
-        lines += term_differences(theirs, ours, joints, symbols("g"), row)
+    try:
+        lines = equation_problems(rows, expected, joints, symbols(*RP_PARAMETERS), symbols("g"))
+    except (sympy.SympifyError, TypeError, ValueError, AttributeError):
+        return Verdict(name, "wrong", ["each entry should be a sympy expression"])
     return Verdict(name, "wrong" if lines else "right", lines or ["equals example 6.5's equations of motion"])
 
 
@@ -284,7 +316,10 @@ def _value_problems(expected, value, tolerance: float) -> list[str]:
     except (TypeError, ValueError):
         return [f"expected numbers, got {reprlib.repr(value)}"]
     result = score(Answer.single(expected, theirs, tolerance, _REVEAL["values"]))
-    return [] if result.correct else [*result.findings] + ([result.worst] if result.worst else [])
+    if result.correct:
+        return []
+    said = [*result.findings] + ([result.worst] if result.worst else [])
+    return said or ["is not the right value: every entry differs from it"]
 
 
 def _show(array) -> str:
@@ -293,6 +328,11 @@ def _show(array) -> str:
 
 def _check_value(name: str, exercise: Exercise, answer) -> Verdict:
     problems = _value_problems(exercise.answer(), answer, exercise.tolerance)
+    if problems and exercise.slipped is not None:  # the one recursion, with each slip a student makes
+        for slip in sorted(slips(), key=lambda slip: len(slip.equations)):
+            if _agrees(exercise.slipped(slip), answer, exercise.tolerance):
+                return Verdict(name, "wrong", [f"[{slip.code}] it matches {MISTAKES[slip.code].words} in {slip.where}. "
+                                               f"{MISTAKES[slip.code].advice}."])
     return Verdict(name, "wrong" if problems else "right", problems or ["equals course_dynamics' value"])
 
 
@@ -351,6 +391,8 @@ def _check_formula(name: str, exercise: Exercise, answer) -> Verdict:
         answer = in_joint_symbols(answer, {f: symbols(f, f + "_dot", f + "_ddot") for f in exercise.time_functions})
     variables = symbols(*exercise.variables)
     variables = variables if isinstance(variables, list) else [variables]
+    named = {str(v): v for v in variables}  # a student's own Symbol("m") is read by its name
+    answer = answer.xreplace({x: named[str(x)] for x in answer.free_symbols if str(x) in named})
     stray = sorted(str(s) for s in answer.free_symbols if s not in set(variables))
     if stray:
         return Verdict(name, "wrong", [f"uses symbols {', '.join(stray)}; use the ones given: "
@@ -362,6 +404,9 @@ def _check_formula(name: str, exercise: Exercise, answer) -> Verdict:
                                          else [symbols(*exercise.constant_in)])
     if sympy.simplify(difference) == (sympy.zeros(*difference.shape) if hasattr(difference, "shape") else 0):
         return Verdict(name, "right", ["equals the closed form" + (" (up to a constant)" if exercise.constant_in else "")])
+    for code, made, words in exercise.mistakes:
+        if sympy.simplify(answer - made()) == (sympy.zeros(*expected.shape) if hasattr(expected, "shape") else 0):
+            return Verdict(name, "wrong", [f"[{code}] it matches {words}"])
     problems = []
     if isinstance(expected, sympy.MatrixBase):
         wrong = [(i + 1, j + 1) for i in range(expected.rows) for j in range(expected.cols)
@@ -372,7 +417,8 @@ def _check_formula(name: str, exercise: Exercise, answer) -> Verdict:
     elif expected != 0:
         ratio = sympy.simplify(answer / expected)
         if ratio.is_number:
-            problems.append("has the opposite sign" if ratio == -1 else f"is the right expression times {ratio}")
+            problems.append("has the opposite sign" if ratio == -1 else "is zero" if ratio == 0
+                            else f"is the right expression times {ratio}")
     rng = np.random.default_rng(1)
     point = {v: float(rng.uniform(0.5, 1.5)) for v in variables}
     value = np.array(sympy.N(answer.subs(point)), dtype=float)

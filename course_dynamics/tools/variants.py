@@ -54,7 +54,7 @@ def check_student_id(student: str, where: str = "student id") -> str:
     """
     if not isinstance(student, str) or not STUDENT_ID.fullmatch(student) or student.endswith("."):
         raise InputError(f"{where} {student!r}: use letters, digits and . _ + - (at most 64, starting with a letter "
-                         "or digit): a login or an e-mail's local part")
+                         "or digit, not ending in a dot): a login or an e-mail's local part")
     return student
 
 
@@ -90,18 +90,25 @@ class Variant:
         return parameter_values(self.model)
 
     def describe(self) -> str:
-        """The variant as a student reads it: one line per link (mass, centre of mass, tensor, next joint)."""
-        lines = [f"{self.robot} for {self.student}: g = {float(np.linalg.norm(self.model.gravity)):g} m/s²"]
-        for i, body in enumerate(self.model.bodies):
-            children = ", ".join(f"{self.model.bodies[c].joint} at {_vector(self.model.bodies[c].P)} m"
-                                 for c in self.model.children[i]) or "none"
-            lines.append(f"link {i + 1} ({body.joint}): m = {float(body.mass):g} kg, P_C = {_vector(body.p_com)} m, "
-                         f"I_C = {_vector(body.I_com.ravel())} kg·m² (row by row); joints it carries: {children}")
+        """The variant as a student reads it: gravity, then per link its joint (where frame i sits in its parent's
+        frame at θ = 0: origin and rotation, the axis Ẑ), its mass, centre of mass and inertia tensor."""
+        model = self.model
+        lines = [f"{self.robot} for {self.student}: gravity g = {_vector(model.gravity)} m/s² in the base frame"]
+        for i, body in enumerate(model.bodies):
+            parent = "the base" if body.parent < 0 else f"link {body.parent + 1}"
+            lines += [f"link {i + 1}, joint {body.joint} ({body.joint_type}, about {_vector(body.axis)} of its own "
+                      f"frame): frame {i + 1} in the frame of {parent} at {body.joint} = 0 has its origin at "
+                      f"{_vector(body.P)} m and rotation rows {'; '.join(_vector(row) for row in body.R0)}",
+                      f"    m = {float(body.mass):g} kg, centre of mass P_C = {_vector(body.p_com)} m, inertia about it "
+                      f"I_C = rows {'; '.join(_vector(row) for row in body.I_com)} kg·m² (frame {i + 1}'s axes)"]
+        for frame in model.frames:
+            if frame.body >= 0 and frame.name not in {b.name for b in model.bodies} and frame.P.any():
+                lines.append(f"frame {frame.name}: fixed to link {frame.body + 1}, origin {_vector(frame.P)} m")
         return "\n".join(lines)
 
 
 def _vector(values) -> str:
-    return "(" + ", ".join(f"{float(v):g}" for v in values) + ")"
+    return "(" + ", ".join(f"{float(v) + 0.0:.6g}" if abs(float(v)) > 1e-12 else "0" for v in values) + ")"
 
 
 @lru_cache(maxsize=64)
@@ -138,18 +145,24 @@ def read_roster(path) -> list[str]:
     except UnicodeDecodeError:
         raise InputError(f"{path}: the roster is not UTF-8 text") from None
     rows = list(csv.reader(text_io.StringIO(text)))
-    if not rows or "id" not in [cell.strip().lower() for cell in rows[0]]:
+    header = [cell.strip().lower() for cell in rows[0]] if rows else []
+    if "id" not in header:
         raise InputError(f"{path}: a roster is a CSV file whose first row names an 'id' column")
-    column = [cell.strip().lower() for cell in rows[0]].index("id")
+    if header.count("id") > 1:
+        raise InputError(f"{path}: the first row names {header.count('id')} 'id' columns; name one")
+    column = header.index("id")
     ids, seen = [], {}
     for number, row in enumerate(rows[1:], start=2):
         if not any(cell.strip() for cell in row):
             continue
         student = row[column].strip() if column < len(row) else ""
         check_student_id(student, f"{path}, row {number}: student id")
-        if student in seen:
-            raise InputError(f"{path}, row {number}: student id {student!r} repeats row {seen[student]}")
-        seen[student] = number
+        if student.casefold() in seen:
+            other, first = seen[student.casefold()]
+            same = "repeats" if other == student else f"differs only in case from {other!r} of"
+            raise InputError(f"{path}, row {number}: student id {student!r} {same} row {first} (one folder each, and "
+                             "some file systems do not tell case apart)")
+        seen[student.casefold()] = (student, number)
         ids.append(student)
     if not ids:
         raise InputError(f"{path}: the roster lists no students")

@@ -3,6 +3,8 @@ from __future__ import annotations
 
 import sys
 
+from ..options import UsageError
+
 HELP = "write the notebook course as .ipynb for students (solutions removed) or instructors (--solutions)"
 DESCRIPTION = ("Write the ten notebooks of the course (one per section of Craig's chapter 6, and identification) to OUTDIR as .ipynb. "
                "Student versions have every solution replaced by a placeholder and no outputs; they run top to "
@@ -34,6 +36,10 @@ def run(args) -> int:
 
     if args.roster:
         students = read_roster(args.roster)  # every id checked before anything is written
+        for student in students:  # and every folder: a roster is written whole or not at all
+            folder = Path(args.out) / student
+            if folder.exists() and not folder.is_dir() or folder.is_symlink():
+                raise UsageError(f"{folder}: exists and is not a folder; nothing was written")
         for student in students:
             _report(write_notebooks(Path(args.out) / student, args.solutions, args.force, student, args.only),
                     args, Path(args.out) / student, f" for {student}")
