@@ -30,6 +30,7 @@ from ..core.newton_euler import EXACT, Slip, inverse_dynamics, newton_euler_link
 from ..core.regressor import base_parameters, parameter_names, regressor
 from ..core.robots import load_robot
 from ..core.symbolic import derive
+from .propagation import Z, inward_moment, moving_point, omega_dot_next, prismatic, random_inputs, v_dot_next
 from ..tools.variants import COURSE_STUDENT, Variant, check_student_id, rng_for, robot_variant
 
 _STUDENT = {"id": COURSE_STUDENT}
@@ -225,46 +226,6 @@ def _random_vectors(count: int):
     return lambda rng: [rng.standard_normal(3) for _ in range(count)]
 
 
-Z = np.array([0.0, 0.0, 1.0])
-
-
-def _rotation(rng) -> np.ndarray:
-    """A random rotation matrix (proper: determinant +1)."""
-    from scipy.spatial.transform import Rotation
-
-    return Rotation.from_rotvec(rng.uniform(-1.5, 1.5, 3)).as_matrix()
-
-
-def _omega_dot_next(R, w, wd, qd, qdd, cross=np.cross):  # (6.32): ⁱ⁺¹ᵢR ⁱω̇ᵢ + ⁱ⁺¹ᵢR ⁱωᵢ × θ̇ Ẑ + θ̈ Ẑ
-    return R @ wd + cross(R @ w, qd * Z) + qdd * Z
-
-
-def _v_dot_next(R, w, wd, vd, P, centripetal=1.0):  # (6.34): ⁱ⁺¹ᵢR (ⁱω̇ᵢ × ⁱPᵢ₊₁ + ⁱωᵢ × (ⁱωᵢ × ⁱPᵢ₊₁) + ⁱv̇ᵢ)
-    return R @ (np.cross(wd, P) + centripetal * np.cross(w, np.cross(w, P)) + vd)
-
-
-def _inward_moment(R, N, n_next, P_c, F, P_next, f_next, arm=1.0):  # (6.42)
-    return N + R @ n_next + np.cross(P_c, F) + arm * np.cross(P_next, R @ f_next)
-
-
-def _prismatic(R, w, wd, vd, P, d_dot, d_ddot, f, coriolis=2.0):  # (6.35) and (6.44)
-    return _v_dot_next(R, w, wd, vd, P) + coriolis * np.cross(R @ w, d_dot * Z) + d_ddot * Z, float(f @ Z)
-
-
-def _moving_point(Vd_org, R, Omega, Omega_dot, Q, V_Q, Vd_Q, coriolis=2.0):  # (6.10) corrected
-    return (Vd_org + R @ Vd_Q + coriolis * np.cross(Omega, R @ V_Q) + np.cross(Omega_dot, R @ Q)
-            + np.cross(Omega, np.cross(Omega, R @ Q)))
-
-
-def _inputs(*kinds):
-    """Random inputs: "R" a rotation, "v" a 3-vector, "s" a number."""
-    def draw(rng):
-        return [_rotation(rng) if k == "R" else rng.standard_normal(3) if k == "v" else float(rng.standard_normal())
-                for k in kinds]
-
-    return draw
-
-
 NEWTON_EULER_HINTS = (
     "τ collects gravity, the inertial forces and the moments of every link outboard of each joint",
     "the outward iteration (6.45)–(6.50) from the base (⁰v̇₀ = −g), then the inward iteration (6.51)–(6.53)",
@@ -369,45 +330,45 @@ EXERCISES: dict[str, Exercise] = {
         "the same two updates in the other order", "the new Θ̇ first, then Θ with the new Θ̇",
         "Θ̇' = Θ̇ + Θ̈Δt, Θ' = Θ + Θ̇'Δt")),
     "omega_dot_propagation": Exercise(
-        "function", reference=_omega_dot_next, inputs=_inputs("R", "v", "v", "s", "s"), hints=(
+        "function", reference=omega_dot_next, inputs=random_inputs("R", "v", "v", "s", "s"), hints=(
             "differentiate (6.45) in time: the rotation turns with link i, the joint axis with link i+1",
             "(6.15) for two frames, with the rotation of (5.45) carrying ⁱω̇ᵢ into frame i+1",
             "ⁱ⁺¹ω̇ᵢ₊₁ = ⁱ⁺¹ᵢR ⁱω̇ᵢ + ⁱ⁺¹ᵢR ⁱωᵢ × θ̇ᵢ₊₁ ⁱ⁺¹Ẑᵢ₊₁ + θ̈ᵢ₊₁ ⁱ⁺¹Ẑᵢ₊₁ (6.32)"),
         mistakes=(("angular-acceleration-in-cross", lambda R, w, wd, qd, qdd: R @ wd + np.cross(R @ wd, qd * Z) + qdd * Z,
                    "ω̇ in the cross product where ω belongs: the notes' line 'from (5.45)' prints it that way"),
-                  ("rotation-transposed", lambda R, w, wd, qd, qdd: _omega_dot_next(R.T, w, wd, qd, qdd),
+                  ("rotation-transposed", lambda R, w, wd, qd, qdd: omega_dot_next(R.T, w, wd, qd, qdd),
                    "the rotation used the wrong way: R is ⁱ⁺¹ᵢR, from frame i into frame i+1"),
-                  ("cross-reversed", lambda R, w, wd, qd, qdd: _omega_dot_next(R, w, wd, qd, qdd,
+                  ("cross-reversed", lambda R, w, wd, qd, qdd: omega_dot_next(R, w, wd, qd, qdd,
                                                                               lambda a, b: np.cross(b, a)),
                    "the cross product in the wrong order: ⁱ⁺¹ᵢR ⁱωᵢ × θ̇ᵢ₊₁Ẑ"))),
     "v_dot_propagation": Exercise(
-        "function", reference=_v_dot_next, inputs=_inputs("R", "v", "v", "v", "v"), hints=(
+        "function", reference=v_dot_next, inputs=random_inputs("R", "v", "v", "v", "v"), hints=(
             "the origin of frame i+1 is a point fixed in link i",
             "(6.12) for that point, then rotated into frame i+1: (6.34)",
             "ⁱ⁺¹v̇ᵢ₊₁ = ⁱ⁺¹ᵢR (ⁱω̇ᵢ × ⁱPᵢ₊₁ + ⁱωᵢ × (ⁱωᵢ × ⁱPᵢ₊₁) + ⁱv̇ᵢ)"),
-        mistakes=(("centripetal-missing", lambda R, w, wd, vd, P: _v_dot_next(R, w, wd, vd, P, 0.0),
+        mistakes=(("centripetal-missing", lambda R, w, wd, vd, P: v_dot_next(R, w, wd, vd, P, 0.0),
                    "the centripetal term ω × (ω × P) left out"),
-                  ("rotation-transposed", lambda R, w, wd, vd, P: _v_dot_next(R.T, w, wd, vd, P),
+                  ("rotation-transposed", lambda R, w, wd, vd, P: v_dot_next(R.T, w, wd, vd, P),
                    "the rotation used the wrong way: R is ⁱ⁺¹ᵢR"))),
     "v_dot_com": Exercise(
-        "function", reference=lambda w, wd, vd, P_c: _v_dot_next(np.eye(3), w, wd, vd, P_c),
-        inputs=_inputs("v", "v", "v", "v"), hints=(
+        "function", reference=lambda w, wd, vd, P_c: v_dot_next(np.eye(3), w, wd, vd, P_c),
+        inputs=random_inputs("v", "v", "v", "v"), hints=(
             "the centre of mass is a point fixed in link i, and everything is written in frame i",
             "(6.12) with {A} = {B} = frame i: (6.36)", "ⁱv̇_Cᵢ = ⁱω̇ᵢ × ⁱP_Cᵢ + ⁱωᵢ × (ⁱωᵢ × ⁱP_Cᵢ) + ⁱv̇ᵢ"),
-        mistakes=(("centripetal-missing", lambda w, wd, vd, P_c: _v_dot_next(np.eye(3), w, wd, vd, P_c, 0.0),
+        mistakes=(("centripetal-missing", lambda w, wd, vd, P_c: v_dot_next(np.eye(3), w, wd, vd, P_c, 0.0),
                    "the centripetal term ω × (ω × P_C) left out"),
                   ("cross-reversed", lambda w, wd, vd, P_c: vd + np.cross(P_c, wd) + np.cross(w, np.cross(w, P_c)),
                    "P_C × ω̇ where ω̇ × P_C belongs (a × b = −b × a)"),
                   ("cross-reversed", lambda w, wd, vd, P_c: vd - np.cross(wd, P_c) - np.cross(w, np.cross(w, P_c)),
                    "both cross products in the wrong order (a × b = −b × a)"))),
     "inward_moment": Exercise(
-        "function", reference=_inward_moment, inputs=_inputs("R", "v", "v", "v", "v", "v", "v"), hints=(
+        "function", reference=inward_moment, inputs=random_inputs("R", "v", "v", "v", "v", "v", "v"), hints=(
             "the moments on link i about the origin of frame i: its own, its child's, and those of the forces",
             "(6.38)–(6.39) balanced for link i, written in frame i: (6.42)",
             "ⁱnᵢ = ⁱNᵢ + ⁱᵢ₊₁R ⁱ⁺¹nᵢ₊₁ + ⁱP_Cᵢ × ⁱFᵢ + ⁱPᵢ₊₁ × ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁"),
-        mistakes=(("moment-arm-missing", lambda *a: _inward_moment(*a, arm=0.0),
+        mistakes=(("moment-arm-missing", lambda *a: inward_moment(*a, arm=0.0),
                    "the moment arm ⁱPᵢ₊₁ × ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁ of the child's force left out"),
-                  ("rotation-transposed", lambda R, *a: _inward_moment(R.T, *a),
+                  ("rotation-transposed", lambda R, *a: inward_moment(R.T, *a),
                    "the rotation used the wrong way: R is ⁱᵢ₊₁R, from frame i+1 into frame i"),
                   ("rotation-missing", lambda R, N, n, P_c, F, P, f: N + R @ n + np.cross(P_c, F) + np.cross(P, f),
                    "the child's force taken in its own frame: ⁱ⁺¹fᵢ₊₁ must be rotated into frame i, ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁, "
@@ -415,21 +376,21 @@ EXERCISES: dict[str, Exercise] = {
                   ("cross-reversed", lambda R, N, n, P_c, F, P, f: N + R @ n + np.cross(F, P_c) + np.cross(R @ f, P),
                    "the moments of the forces in the wrong order: r × F, the arm first (a × b = −b × a)"))),
     "prismatic_joint": Exercise(
-        "function", reference=_prismatic, inputs=_inputs("R", "v", "v", "v", "v", "s", "s", "v"), hints=(
+        "function", reference=prismatic, inputs=random_inputs("R", "v", "v", "v", "v", "s", "s", "v"), hints=(
             "a sliding joint adds a velocity ḋ along Ẑ in a turning frame: a Coriolis term, and no rotation",
             "(6.35) for ⁱ⁺¹v̇ᵢ₊₁ ((6.34) plus two terms from (6.10)), and (6.44) for the joint's force",
             "ⁱ⁺¹v̇ᵢ₊₁ = ⁱ⁺¹ᵢR(ⁱω̇ᵢ × ⁱPᵢ₊₁ + ⁱωᵢ × (ⁱωᵢ × ⁱPᵢ₊₁) + ⁱv̇ᵢ) + 2 ⁱ⁺¹ωᵢ₊₁ × ḋᵢ₊₁Ẑ + d̈ᵢ₊₁Ẑ with "
             "ⁱ⁺¹ωᵢ₊₁ = ⁱ⁺¹ᵢR ⁱωᵢ; τ = ⁱ⁺¹fᵢ₊₁ᵀ Ẑ"),
-        mistakes=(("coriolis-half", lambda *a: _prismatic(*a, coriolis=1.0),
+        mistakes=(("coriolis-half", lambda *a: prismatic(*a, coriolis=1.0),
                    "the Coriolis term 2ω × ḋẐ without its 2"),)),
     "moving_point": Exercise(
-        "function", reference=_moving_point, inputs=_inputs("v", "R", "v", "v", "v", "v", "v"), hints=(
+        "function", reference=moving_point, inputs=random_inputs("v", "R", "v", "v", "v", "v", "v"), hints=(
             "a point that moves in a moving frame: five parts, one of them from both motions at once",
             "(6.10), differentiated from (6.7)–(6.8); the notes print one term too many",
             "ᴬV̇_Q = ᴬV̇_BORG + ᴬ_BR ᴮV̇_Q + 2 ᴬΩ_B × ᴬ_BR ᴮV_Q + ᴬΩ̇_B × ᴬ_BR ᴮQ + ᴬΩ_B × (ᴬΩ_B × ᴬ_BR ᴮQ)"),
-        mistakes=(("coriolis-doubled", lambda *a: _moving_point(*a, coriolis=3.0),
+        mistakes=(("coriolis-doubled", lambda *a: moving_point(*a, coriolis=3.0),
                    "(6.10) as the notes print it: the Coriolis term Ω × R V_Q counted once more beside 2 Ω × R V_Q"),
-                  ("coriolis-half", lambda *a: _moving_point(*a, coriolis=1.0),
+                  ("coriolis-half", lambda *a: moving_point(*a, coriolis=1.0),
                    "the Coriolis term without its 2: Ω × R V_Q comes once from differentiating R V_Q and once "
                    "from differentiating Ω × R Q"))),
     "I_xy_corner": Exercise("value", _I_xy_corner, hints=(
