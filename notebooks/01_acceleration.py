@@ -24,7 +24,8 @@ from course_dynamics.teaching.exercises import check, given, hint
 #
 # The acceleration of a point is the time derivative of its velocity,
 # $${}^B\dot V_Q = \frac{d}{dt}\,{}^BV_Q = \lim_{\Delta t\to 0}\frac{{}^BV_Q(t+\Delta t) - {}^BV_Q(t)}{\Delta t} \qquad (6.1)$$
-# and, likewise, ${}^A\dot\Omega_B = \frac{d}{dt}{}^A\Omega_B$ (6.2). When {B} moves relative to {A}, Q's velocity
+# and, likewise, ${}^A\dot\Omega_B = \frac{d}{dt}{}^A\Omega_B$ (6.2) (the notes write it for an ᴬΩ_Q, "ω_Q in frame
+# {B}", where the angular velocity of the frame {B} itself is meant). When {B} moves relative to {A}, Q's velocity
 # has a part from Q moving in {B} and a part from {B} turning, ${}^AV_Q = {}^A_BR\,{}^BV_Q + {}^A\Omega_B \times
 # {}^A_BR\,{}^BQ$ (6.5). Differentiating it once more, every product is differentiated factor by factor, and a
 # vector carried by the turning rotation ${}^A_BR$ changes at ${}^A\Omega_B\times$ (that vector):

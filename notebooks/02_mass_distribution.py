@@ -38,7 +38,8 @@ sympy.Matrix(inertia.box(m, w, l, h))      # example 6.2: a box of sides w, l, h
 # $${}^AI = {}^CI + m\,(P_C^TP_C\,\mathbf 1 - P_C P_C^T),\qquad
 #   {}^AI_{zz} = {}^CI_{zz} + m(x_c^2 + y_c^2),\qquad {}^AI_{xy} = {}^CI_{xy} + m\,x_c y_c$$
 # (the notes print − in the product rule; with $I_{xy} = \iiint xy\rho\,dv$ it is +, which is what example 6.1's
-# ᴬI_xy = m w l / 4 needs). The moment about an axis is least about the parallel axis through the centre of mass,
+# ᴬI_xy = m w l / 4 needs; their example 6.1 also leaves out the integral over x in I_xy, and where they say "the
+# frame {A} has its origin at ᴬP_c" the frame at the centre of mass, {C}, is meant). The moment about an axis is least about the parallel axis through the centre of mass,
 # and grows with the square of the distance:
 
 # %%

@@ -58,7 +58,8 @@ print("N =", (I_c @ np.zeros(3) + np.cross(omega, I_c @ omega)).round(5), "N·m,
 # \tau_i &= {}^in_i^T\,{}^i\hat Z_i && (6.53)
 # \end{aligned}$$
 # The lecture notes print several of these with the rotation inverted or the wrong link's quantities; the lines
-# above are the corrected ones (notebook 9 shows each misprint numerically).
+# above are the corrected ones (notebook 9 shows each misprint numerically). In words, (6.53) takes the Ẑ component
+# of ⁱnᵢ, the moment the parent exerts on link i — not of the inertial moment ⁱNᵢ, as the notes' sentence reads.
 #
 # ## The two-link arm of section 6.7, link by link
 #
@@ -154,7 +155,8 @@ check("tau_two_link")
 # At the state `given("v_dot_c1")` (your own), compute ¹v̇_C₁, the acceleration of your link 1's centre of mass in
 # frame 1, as `v_dot_c1` (3 numbers, m/s²): first ¹v̇₁ by (6.47) from the base's ⁰v̇₀ = −g, then (6.48). Work it
 # out on paper first; `hint("v_dot_c1", 1)`, `2` and `3` help, the last with the formula. (The lecture notes'
-# version of this step has a misprint in one entry: derive it rather than copy it.)
+# worked example misprints this step — the rotation of ¹v̇₁ and one entry of ¹v̇_C₁ — and later ¹F₁, ¹N₁ and ²v̇₂:
+# derive it rather than copy it; notebook 9 shows each.)
 
 # %%
 state = given("v_dot_c1")
@@ -271,6 +273,8 @@ check("omega_dot_propagation")
 
 # %% [markdown]
 # ### Exercise 3.6 — (6.34) from (6.12)
+# (The notes restate (6.5) on the way with ᴮV̇_Q where the velocity ᴮV_Q belongs; for a point fixed in link i both
+# vanish, and (6.12) is all that is needed.)
 # The origin of frame i+1 is a point fixed in link i, at ⁱPᵢ₊₁. Apply (6.12) in frame i and rotate the result
 # into frame i+1: `v_dot_propagation(R, w, wd, vd, P)` returns ⁱ⁺¹v̇ᵢ₊₁ from R = ⁱ⁺¹ᵢR, w = ⁱωᵢ, wd = ⁱω̇ᵢ,
 # vd = ⁱv̇ᵢ and P = ⁱPᵢ₊₁.

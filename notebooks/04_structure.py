@@ -60,7 +60,8 @@ plt.show()
 
 # %% [markdown]
 # **V is quadratic in Θ̇**: every term is a product of two joint rates, so V(Θ, 2Θ̇) = 4 V(Θ, Θ̇). Its coefficients
-# are Craig's B (Coriolis, θ̇ⱼθ̇ₖ) and C (centrifugal, θ̇ⱼ²) of (6.63):
+# are Craig's B (Coriolis, θ̇ⱼθ̇ₖ) and C (centrifugal, θ̇ⱼ²) of (6.63) (the notes' legend of (6.63) names them B_x and
+# C_x, the Cartesian ones of (6.105); here they are B(Θ) and C(Θ)):
 
 # %%
 B, C = configuration_space_terms(arm, q)

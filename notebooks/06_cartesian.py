@@ -61,6 +61,10 @@ for name in ("J", "Mx", "Vx", "Gx"):
     display(Markdown(f"${name} = {sympy.latex(getattr(closed, name))}$"))
 
 # %% [markdown]
+# (The notes' J of example 6.6 has one entry wrong, and the J⁻¹ they print is the inverse of that wrong J; notebook 9
+# shows which.)
+
+# %% [markdown]
 # (with the solutions only)
 #
 # (The notes print J with l₁c₂ where ³J has l₁c₂ + l₂; the J⁻¹ they print is the inverse of the right one.)

@@ -26,7 +26,10 @@ pendulum = load_robot("double_pendulum_continuous")   # two links; θ = 0 points
 # Forward dynamics solves τ = M Θ̈ + V + G + F for Θ̈:
 # $$\ddot\Theta = M^{-1}(\Theta)\,[\tau - V(\Theta, \dot\Theta) - G(\Theta) - F(\Theta, \dot\Theta)] \qquad (6.115)$$
 # and the notes step it forward over Δt as a body would move if Θ̈ stayed constant during the step: the new velocity
-# (6.116) and the new position (6.117) of uniformly accelerated motion, both from the old Θ, Θ̇ and Θ̈.
+# (6.116) and the new position (6.117) of uniformly accelerated motion, both from the old Θ, Θ̇ and Θ̈. (The notes
+# say (6.115) comes "from (6.104)", the Cartesian form; it is (6.59) with friction solved for Θ̈. And they print the
+# last term of (6.117) as ½Θ̈(Δt)Δt²: read as (6.116) reads Θ̈(Δt), a product, that is Θ̈Δt³/2; the acceleration
+# belongs at time t. Notebook 9 shows both.)
 
 # %%
 q, qd = np.array([2.0, 0.0]), np.array([0.0, 0.0])
