@@ -141,7 +141,10 @@ def test_gravity_flipped_in_the_model(setting):
     named = found(diagnosis.named_mistake, G)  # −G: gravity's sign, or every moment reversed, G alone cannot tell
     assert named.text.startswith("[gravity-sign] [cross-reversed] matches the right answer made with gravity with "
                                  "the wrong sign in the base acceleration ⁰v̇₀; or, equally, with a cross product")
-    assert named.tags[0] == "gravity-sign" and score(G).tags == named.tags
+    sign = found(diagnosis.opposite_sign, G)  # what the student reads first: the plain fact, then the mistakes that fit
+    assert sign.text.startswith("has the opposite sign everywhere (G returned = −1 × the right value): check the "
+                                "direction of gravity; the same answer comes from a mistake: [gravity-sign] [cross-reversed]")
+    assert score(G).tags == ("opposite sign", "gravity-sign", "cross-reversed")
     tau = answer_of(setting, "tau", tau=lambda q, qd, qdd: inverse_dynamics(FLIPPED, q, qd, qdd))
     assert diagnosis.opposite_sign(tau) is None
     finding = found(diagnosis.named_mistake, tau)
@@ -157,6 +160,11 @@ def test_angles_in_degrees(setting, convert, variant):
     assert found(diagnosis.named_mistake, tau).text.startswith(
         f"[degrees] matches the right answer made with the angles in degrees (positions {variant} degrees). ")
     assert score(tau).tags == ("degrees",)
+
+
+def test_zeros_are_not_written_yet_rather_than_a_mistake(setting):
+    V = answer_of(setting, "V", V=lambda q, qd: np.zeros(2))  # on the planar arm: the same as ω × (ω × P) left out
+    assert score(V).findings == ("returns zeros everywhere: not written yet?",) and score(V).tags == ("zeros",)
 
 
 def test_masses_counted_twice_are_a_constant_factor(setting):

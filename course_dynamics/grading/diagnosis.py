@@ -16,7 +16,7 @@ check                         the answer …
 not_defined †                 does not exist: no function, no τ to derive it from
 raised_an_error, wrong_shape  is an exception, has the wrong shape,
 not_finite                    holds NaN or inf (on some states)
-opposite_sign †               agrees with −ours everywhere
+returns_zeros †, opposite_sign †  returns zeros; agrees with −ours everywhere (and the mistakes that do too)
 named_mistake †               agrees with ours made with a mistake of ``mistakes``
 constant_factor †             ≈ k · ours for one k ≠ 1
 transposed †, joints_swapped  agrees with ours transposed, or joints permuted;
@@ -47,7 +47,7 @@ from itertools import permutations
 import numpy as np
 
 from ..core.sampling import relative_error, term_scales
-from .mistakes import closest_mistake, named_mistake
+from .mistakes import closest_mistake, described, matching_mistakes, named_mistake
 from .records import TERM_NAMES, Answer, Diagnosis, Finding
 
 __all__ = ["CHECKS", "SCREENS", "Answer", "Diagnosis", "Finding", "diagnose"]
@@ -110,12 +110,21 @@ SIGN_ADVICE = {"tau": "check the direction of gravity, of the joint axes, and su
 
 
 def opposite_sign(answer: Answer) -> Finding | None:
+    """−ours everywhere; where a named mistake gives the same answer (a negated G is gravity's sign), it is named too."""
     if not answer.agrees_with(-answer.expected):
         return None
     advice = SIGN_ADVICE.get(answer.term, "check the joint axes and subtractions done the wrong way round")
     returned = f"{answer.name} returned" if answer.name else "yours"
-    return Finding(f"has the opposite sign everywhere ({returned} = −1 × the right value): {advice}",
-                   ("opposite sign",), conclusive=True)
+    found = matching_mistakes(answer)
+    also = f"; the same answer comes from a mistake: {described(found)}" if found else ""
+    return Finding(f"has the opposite sign everywhere ({returned} = −1 × the right value): {advice}{also}",
+                   ("opposite sign", *found), conclusive=True)
+
+
+def returns_zeros(answer: Answer) -> Finding | None:
+    if not answer.usable or any(np.any(answer.values[k] != 0) for k in answer.usable):
+        return None
+    return Finding("returns zeros everywhere: not written yet?", ("zeros",), conclusive=True)
 
 
 def constant_factor(answer: Answer) -> Finding | None:
@@ -287,7 +296,7 @@ class InPart:
 
 SCREENS = (not_defined, raised_an_error, wrong_shape, not_finite)
 CHECKS = (
-    named_mistake, opposite_sign, constant_factor, transposed, joints_swapped, closest_mistake,
+    returns_zeros, opposite_sign, named_mistake, constant_factor, transposed, joints_swapped, closest_mistake,
     tau_parts, InPart("G", named_mistake, "in τ's gravity part, "), InPart("M", wrong_entries, "in τ's inertia part, "),
     InPart("V", wrong_coefficients),
     InPart("V", coriolis_without_factor_2),

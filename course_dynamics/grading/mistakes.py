@@ -88,7 +88,7 @@ MISTAKES = {
         "The sum Σⱼₖ Γᵢⱼₖ θ̇ⱼθ̇ₖ holds each product θ̇ⱼθ̇ₖ (j ≠ k) twice, so Craig's B is 2Γᵢⱼₖ (6.63), as in the "
         "two-link arm's −2m₂l₁l₂s₂θ̇₁θ̇₂ (6.61)"),
     "sin-cos-swapped": Mistake(
-        "sin and cos exchanged",
+        "sin and cos exchanged (or gravity along the wrong axis)",
         "Check each sᵢ and cᵢ against the geometry: at θ = 0 a link along X₀ has its largest gravity moment "
         "(cos θ) and no change of height (sin θ)"),
     "c1-c12-swapped": Mistake(
@@ -200,19 +200,29 @@ def mistaken_terms(model: Model, q, qd, qdd) -> dict[str, dict[tuple[str, str], 
 
 
 # ---------------------------------------------------------------------------------------- the checks that name them
-def named_mistake(answer: Answer) -> Finding | None:
-    """Agrees with our answers made with a mistake (:mod:`~course_dynamics.grading.mistakes`); where several give
-    the same answer (G alone cannot tell gravity's sign from reversed moments), all are named, the commonest first."""
-    made, found = answer.reference.mistakes.get(answer.term, {}) if answer.reference is not None else {}, {}
+def matching_mistakes(answer: Answer) -> dict[str, list[str]]:
+    """The mistakes whose answers agree with the student's: code → the variants that do, the commonest code first."""
+    made = answer.reference.mistakes.get(answer.term, {}) if answer.reference is not None else {}
+    found: dict[str, list[str]] = {}
     for (code, variant), values in made.items():
         if answer.agrees_with(values):
             found.setdefault(code, []).append(variant)
-    codes = sorted(found, key=lambda code: code != "gravity-sign")
-    said = [MISTAKES[c].words + "".join(f" {v}" for v in found[c][:1] if v) + "".join(f", or {v}" for v in found[c][1:])
-            for c in codes]
-    return None if not codes else Finding(
-        " ".join(f"[{c}]" for c in codes) + " matches the right answer made with " + "; or, equally, with ".join(said)
-        + ". " + " ".join(_sentence(MISTAKES[c].advice) for c in codes), tuple(codes), conclusive=True)
+    return {code: found[code] for code in sorted(found, key=lambda code: code != "gravity-sign")}
+
+
+def described(found: dict[str, list[str]]) -> str:
+    """"[a] [b] … made with A in …; or, equally, with B in …": the mistakes found, in words."""
+    said = [MISTAKES[c].words + "".join(f" {v}" for v in variants[:1] if v) + "".join(f", or {v}" for v in variants[1:])
+            for c, variants in found.items()]
+    return " ".join(f"[{c}]" for c in found) + " matches the right answer made with " + "; or, equally, with ".join(said)
+
+
+def named_mistake(answer: Answer) -> Finding | None:
+    """Agrees with our answers made with a mistake (:data:`MISTAKES`); where several give the same answer (G alone
+    cannot tell gravity's sign from reversed moments), all are named, the commonest first."""
+    found = matching_mistakes(answer)
+    return None if not found else Finding(described(found) + ". " + " ".join(_sentence(MISTAKES[c].advice)
+                                                                             for c in found), tuple(found), True)
 
 
 def _sentence(text: str) -> str:

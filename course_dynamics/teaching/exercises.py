@@ -24,13 +24,10 @@ can carry points.
 """
 from __future__ import annotations
 
-import contextlib
 import copy
 import inspect
 import os
 import re
-import signal
-import threading
 import reprlib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -47,6 +44,7 @@ from ..grading.score import score, score_outcome
 from ..output.render import markdown_escape
 from ..tools.variants import COURSE_STUDENT, rng_for
 from .catalogue import RP_PARAMETERS, EXERCISES, Exercise, given, my_robot, rp_arm_equations, student, symbols, use_student
+from .limits import CheckTimeout, time_limit
 from .derivations import equation_problems, in_joint_symbols, time_functions
 
 __all__ = ["EXERCISES", "Verdict", "check", "given", "hint", "my_robot", "show_values", "student", "symbols",
@@ -122,30 +120,6 @@ KINDS = {"term": "it should be a function of numpy arrays returning a numpy arra
 CHECK_SECONDS = 60
 
 
-class CheckTimeout(BaseException):
-    """A check ran out of time (the student's function does not return); not an Exception, so that neither the
-    student's ``except Exception`` nor the check's own handlers can swallow it."""
-
-
-@contextlib.contextmanager
-def _time_limit(seconds: int):
-    """Interrupt the check after ``seconds`` (in the kernel's main thread, where signals arrive; else no limit)."""
-    if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "SIGALRM"):
-        yield
-        return
-
-    def interrupt(*_):
-        raise CheckTimeout
-
-    previous = signal.signal(signal.SIGALRM, interrupt)
-    signal.setitimer(signal.ITIMER_REAL, seconds)
-    try:
-        yield
-    finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, previous)
-
-
 def _a(noun: str) -> str:
     return ("an " if noun[:1].lower() in "aeiou" else "a ") + noun
 
@@ -167,11 +141,14 @@ def check(name: str, answer=MISSING) -> Verdict:
         kind = {"term": _check_term, "links": _check_links, "equations": _check_equations, "function": _check_function,
                 "value": _check_value, "formula": _check_formula}[exercise.kind]
         try:
-            with np.errstate(all="ignore"), _time_limit(CHECK_SECONDS):
+            with np.errstate(all="ignore"), time_limit(CHECK_SECONDS):
                 verdict = kind(name, exercise, answer)
         except CheckTimeout:
-            verdict = Verdict(name, "wrong", [f"took more than {CHECK_SECONDS} s to check: an endless loop?"])
-        except Exception as exc:  # an answer of a kind no check foresaw: feedback, never a crash of the notebook
+            verdict = Verdict(name, "wrong", [f"took more than {CHECK_SECONDS} s to check: an endless loop, or an "
+                                              "answer far larger than it should be?"])
+        except KeyboardInterrupt:
+            raise
+        except BaseException as exc:  # an answer no check foresaw (sys.exit too): feedback, never a crash
             verdict = Verdict(name, "wrong", [f"could not check this answer ({type(exc).__name__}: "
                                               f"{reprlib.repr(str(exc))}): {KINDS[exercise.kind]}"])
         if exercise.kind in ("term", "links", "value"):
@@ -190,7 +167,9 @@ def _try(function, *arguments):
         value = function(*arguments)
     except NotImplementedError:
         return None, "not done"
-    except Exception as exc:  # the student's code failed: feedback, not a crash of the notebook
+    except (KeyboardInterrupt, CheckTimeout):
+        raise
+    except BaseException as exc:  # the student's code failed (sys.exit too): feedback, not a crash of the notebook
         return None, f"{type(exc).__name__}: {exc}"
     return (None, "not done") if _not_done(value) else (value, None)
 
@@ -262,9 +241,11 @@ def _check_links(name: str, exercise: Exercise, function) -> Verdict:
             right = [f"link {i}" for i in range(1, model.n + 1) if i not in wrong]
             lines.append(f"{words} is wrong for link {', '.join(map(str, wrong))}"
                          + (f" (right for {', '.join(right)})" if right else "") + "; what comes before it is right")
-            slip = _explaining_slip(model, state, returned, key, exercise.tolerance)
+            slip, everything = _explaining_slip(model, state, returned, key, exercise.tolerance)
             if slip is not None:
-                lines.append(f"[{slip.code}] it matches {MISTAKES[slip.code].words} in {slip.where}. "
+                how = "it matches" if everything else f"{LINK_QUANTITIES[key].split()[0]} matches"
+                more = "" if everything else " (the later quantities do not: that mistake and another?)"
+                lines.append(f"[{slip.code}] {how} {MISTAKES[slip.code].words} in {slip.where}{more}. "
                              f"{MISTAKES[slip.code].advice}.")
             break
     return Verdict(name, "wrong" if lines else "right",
@@ -302,7 +283,7 @@ def _explaining_slip(model, state, returned: dict, first_wrong: str, tolerance: 
     ordered = sorted(made, key=lambda slip: len(slip.equations))
     whole = [slip for slip in ordered if all(matches(slip, key) for key in LINK_QUANTITIES if key in returned)]
     first = [slip for slip in ordered if matches(slip, first_wrong)]
-    return (whole or first or [None])[0]
+    return ((whole or first or [None])[0], bool(whole))
 
 
 def _value_problems(expected, value, tolerance: float) -> list[str]:
@@ -327,7 +308,10 @@ def _show(array) -> str:
 
 
 def _check_value(name: str, exercise: Exercise, answer) -> Verdict:
-    problems = _value_problems(exercise.answer(), answer, exercise.tolerance)
+    expected = exercise.answer()
+    problems = _value_problems(expected, answer, exercise.tolerance)
+    if problems and np.asarray(expected).dtype == bool:  # for yes-or-no answers, which entries are wrong is the answer
+        problems = ["not all of them are right: check each one again"]
     if problems and exercise.slipped is not None:  # the one recursion, with each slip a student makes
         for slip in sorted(slips(), key=lambda slip: len(slip.equations)):
             if _agrees(exercise.slipped(slip), answer, exercise.tolerance):
