@@ -314,7 +314,8 @@ EXERCISES: dict[str, Exercise] = {
         "M_x = J⁻ᵀ M J⁻¹")),
     "friction_torque": Exercise(
         "function", reference=lambda qd, v, c: c * np.sign(qd) + v * qd,
-        inputs=lambda rng: [rng.standard_normal(3), rng.uniform(0, 1, 3), rng.uniform(0, 1, 3)], hints=(
+        inputs=lambda rng: [rng.standard_normal(3) * (rng.uniform(size=3) > 0.2), rng.uniform(0, 1, 3),
+                            rng.uniform(0, 1, 3)], hints=(  # some rates exactly 0: sgn(0) = 0
             "one part grows with speed, one opposes motion with a fixed size",
             "viscous and Coulomb friction together (Craig's (6.112))",
             "c sgn(θ̇) + v θ̇")),
@@ -322,11 +323,11 @@ EXERCISES: dict[str, Exercise] = {
         "the rigid-body torque plus what the joints' friction needs",
         "friction added to (6.59), as the notes' section on friction says (Craig's (6.114))",
         "τ = M Θ̈ + V + G + F(Θ̇)")),
-    "euler_step": Exercise("function", reference=_euler, inputs=lambda rng: [*rng.standard_normal((3, 2)), 0.01],
+    "euler_step": Exercise("function", reference=_euler, inputs=lambda rng: [*rng.standard_normal((3, 2)), float(rng.uniform(0.001, 0.05))],
                            hints=("one step of Taylor series in Δt", "(6.116) for Θ̇, (6.117) for Θ",
                                   "Θ̇ + Θ̈Δt and Θ + Θ̇Δt + ½Θ̈Δt², both with the old Θ̇ and Θ̈")),
     "semi_implicit_step": Exercise("function", reference=_semi_implicit,
-                                   inputs=lambda rng: [*rng.standard_normal((3, 2)), 0.01], hints=(
+                                   inputs=lambda rng: [*rng.standard_normal((3, 2)), float(rng.uniform(0.001, 0.05))], hints=(
         "the same two updates in the other order", "the new Θ̇ first, then Θ with the new Θ̇",
         "Θ̇' = Θ̇ + Θ̈Δt, Θ' = Θ + Θ̇'Δt")),
     "omega_dot_propagation": Exercise(

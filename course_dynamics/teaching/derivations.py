@@ -102,12 +102,14 @@ def term_differences(answer, expected, joints: dict, g, row: int) -> list[str]:
             continue
         rates = sympy.Mul(*[v**p for v, p in zip([*qdd, *qd, g], monomial, strict=True)])
         acc, vel = monomial[:n], monomial[n:2 * n]
-        if any(acc):
+        if monomial[-1]:  # a term in g belongs to G, whatever rates multiply it
+            part, kind = f"G{i}", ""
+        elif any(acc):
             part, kind = f"M{i}{str(list(acc).index(1) + 1).translate(SUBSCRIPTS)}", ""
         elif sum(vel) == 2:
             part, kind = f"V{i}", "Coriolis term" if max(vel) == 1 else "centrifugal term"
         else:
-            part, kind = (f"G{i}" if monomial[-1] else f"τ{i}"), ""
+            part, kind = f"τ{i}", ""
         missing = gap.could_extract_minus_sign()
         amount = -gap if missing else gap
         verb = "is missing" if missing else "has an extra"
