@@ -194,7 +194,8 @@ class Report:
     misprints: int
 
     def as_dict(self) -> dict:
-        return {"robots": [{"name": r.name, "urdf": r.urdf, "joints": r.joints, "bodies": r.bodies, "terms": r.terms,
+        # the URDF by its file name: a report is published, and the folders of this machine are nobody's business
+        return {"robots": [{"name": r.name, "urdf": Path(r.urdf).name, "joints": r.joints, "bodies": r.bodies, "terms": r.terms,
                             "trajectory": r.trajectory, "textbook": r.textbook} for r in self.robots],
                 "tolerance": self.tolerance, "misprints_in_the_notes": self.misprints, "environment": self.environment}
 

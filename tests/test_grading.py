@@ -439,3 +439,10 @@ def test_grade_into_an_existing_folder_replaces_only_its_own_files(tmp_path, cap
     err = capsys.readouterr().err
     assert code == 2 and "bob.md" in err and "not written by course-dynamics" in err
     assert (out / "bob.md").read_text().startswith("a file of the instructor's")
+
+
+def test_one_submission_is_one_submission(tmp_path, capsys):
+    paths = write_class(tmp_path, {"closed_forms": SCORING["closed_forms"][0]})
+    assert main(["grade", str(tmp_path / "assignment.toml"), *map(str, paths), "--out", str(tmp_path / "out"),
+                 "--quiet"]) == 0
+    assert capsys.readouterr().out.startswith("graded 1 submission against two_link: mean 100 of 100 points")

@@ -24,6 +24,8 @@ def test_report_files_and_json(report):
     assert {p.name for p in out.iterdir()} == {"index.html", "report.md", "report.json", "figures", MANIFEST}
     document = json.loads((out / "report.json").read_text())
     assert [r["name"] for r in document["robots"]] == ["two_link", "awkward.urdf"]
+    assert [r["urdf"] for r in document["robots"]] == ["two_link.urdf", "awkward.urdf"]  # a file name, never a path
+    assert str(out.parent) not in (out / "report.json").read_text() and "site-packages" not in (out / "report.json").read_text()
     for robot in document["robots"]:
         assert set(robot["terms"]) == {"tau", "M", "C", "V", "G"}
         for term in robot["terms"].values():

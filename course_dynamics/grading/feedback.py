@@ -109,6 +109,7 @@ def _bounded(text: str) -> str:
 
 def _histogram_svg(totals: list[float], maximum: float) -> str:
     import matplotlib
+    import matplotlib.ticker
 
     matplotlib.use("Agg")
     matplotlib.rcParams["text.parse_math"] = False  # students' names are text, not TeX
@@ -118,6 +119,7 @@ def _histogram_svg(totals: list[float], maximum: float) -> str:
     axis.hist(totals, bins=min(20, max(5, len(totals))), range=(0, maximum or 1), color="#4a6fa5", edgecolor="white")
     axis.set_xlabel("total points")
     axis.set_ylabel("students")
+    axis.yaxis.set_major_locator(matplotlib.ticker.MaxNLocator(integer=True))  # students come whole
     axis.set_title("Score distribution")
     buffer = text_io.StringIO()
     figure.savefig(buffer, format="svg")

@@ -72,7 +72,7 @@ def run(args) -> int:
                                        terms={t: g.points(t) for t in assignment.terms}) for g in grades]))
     else:
         mean = sum(g.total for g in grades) / len(grades)
-        print(f"graded {len(grades)} submissions against {assignment.robot.name}: mean {mean:.3g} of "
+        print(f"graded {len(grades)} submission{'s' if len(grades) != 1 else ''} against {assignment.robot.name}: mean {mean:.3g} of "
               f"{assignment.total_points:g} points; wrote {out / 'gradebook.csv'}, feedback and {out / 'summary.html'}")
         if args.no_sandbox:
             print("warning: graded without a sandbox (--no-sandbox)", file=sys.stderr)
