@@ -138,6 +138,16 @@ def test_closed_form_slips_are_named_in_G_and_in_tau(tmp_path, code):
     assert any(line.startswith(f"[{code}]") for line in check("G_two_link", namespace["G"]).lines)
 
 
+def test_sin_and_cos_exchanged_in_every_closed_form_are_named_in_tau_too(tmp_path):
+    """τ = M Θ̈ + V + G assembled from closed forms that all exchange sin and cos: named in each term and in τ."""
+    path = tmp_path / "student.py"
+    path.write_text(CLOSED_FORMS.replace("np.sin", "np.SIN").replace("np.cos", "np.sin").replace("np.SIN", "np.cos"))
+    assignment = Assignment(tmp_path / "a.toml", "two_link", load_robot("two_link"),
+                            {"tau": 1.0, "M": 1.0, "V": 1.0, "G": 1.0}, samples=12, seed=2)
+    [graded] = grade_class(assignment, [path])
+    assert all("sin-cos-swapped" in d.tags for d in graded.diagnoses), [(d.term, d.findings) for d in graded.diagnoses]
+
+
 def test_closed_form_slips_are_made_on_the_closed_form():
     """sin ↔ cos in the two-link arm's G (6.62) is g(m₁l₁s₁ + m₂(l₁s₁ + l₂s₁₂)), as written by hand."""
     q = np.array([[0.4, -1.3], [2.0, 0.7]])

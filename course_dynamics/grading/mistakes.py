@@ -104,7 +104,7 @@ MISTAKES = {
 }
 
 
-def _unit(model: Model, j: int, shape) -> np.ndarray:
+def _unit(j: int, shape) -> np.ndarray:
     e = np.zeros(shape)
     e[..., j] = 1.0
     return e
@@ -117,7 +117,7 @@ def _terms_by_recursion(model: Model, q, qd, qdd, slip: Slip) -> dict[str, np.nd
 
     zero = np.zeros_like(q)
     G = tau(zero, zero)
-    M = np.stack([tau(zero, _unit(model, j, q.shape)) - G for j in range(model.n)], axis=-1)
+    M = np.stack([tau(zero, _unit(j, q.shape)) - G for j in range(model.n)], axis=-1)
     return {"tau": tau(qd, qdd), "G": G, "V": tau(qd, zero) - G, "M": M}
 
 
@@ -163,11 +163,12 @@ def _terms_by_closed_form(model: Model, q, qd, qdd) -> dict[tuple[str, str], dic
         def swap(e, substitution=substitution):
             return e.xreplace(substitution) if hasattr(e, "xreplace") else e
 
-        slipped = replace(derivation, tau=[swap(e) for e in derivation.tau], G=[swap(e) for e in derivation.G],
-                          V=[swap(e) for e in derivation.V], M=[[swap(e) for e in row] for row in derivation.M])
+        slipped = replace(derivation, G=[swap(e) for e in derivation.G], V=[swap(e) for e in derivation.V],
+                          M=[[swap(e) for e in row] for row in derivation.M])
         functions = numeric_functions(slipped)
-        made[key] = {"tau": functions["tau"](q, qd, qdd), "G": functions["G"](q), "V": functions["V"](q, qd),
-                     "M": functions["M"](q)}
+        M, V, G = functions["M"](q), functions["V"](q, qd), functions["G"](q)
+        # τ = M Θ̈ + V + G (6.59) from the slipped parts, as a student assembles it from the closed forms they wrote
+        made[key] = {"tau": np.einsum("...ij,...j->...i", M, qdd) + V + G, "G": G, "V": V, "M": M}
     return made
 
 

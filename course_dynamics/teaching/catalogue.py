@@ -19,6 +19,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -176,9 +177,11 @@ def _Y_mcx2():
 RP_PARAMETERS = ("m1", "m2", "l1", "Izz1", "Izz2", "g")
 
 
+@lru_cache(maxsize=1)
 def rp_arm_equations():
     """Example 6.5 by the library: τ₁, τ₂ of the RP arm in the parameters m1, m2, l1, Izz1, Izz2, g (the same
-    symbols as :func:`symbols`), with the joint symbols (name → (q, qd, qdd)) they are written in."""
+    symbols as :func:`symbols`), with the joint symbols (name → (q, qd, qdd)) they are written in, and Craig's B
+    and C; derived once per process (every check of the three RP-arm exercises reads it), as tuples."""
     derived = derive(load_robot("rp_arm"), RP_PARAMETERS)
     ours = dict(zip(RP_PARAMETERS, symbols(*RP_PARAMETERS), strict=True))
     to_ours = {derived.parameters[name]: ours[name] for name in RP_PARAMETERS}
@@ -186,9 +189,9 @@ def rp_arm_equations():
     plain = {**to_ours, **{q: symbols(name) for name, (q, _, _) in joints.items()}}  # B and C in θ₁, d₂ as written
 
     def written(rows):
-        return [[e.xreplace(plain) for e in row] for row in rows]
+        return tuple(tuple(e.xreplace(plain) for e in row) for row in rows)
 
-    return [e.xreplace(to_ours) for e in derived.tau], joints, written(derived.B), written(derived.C)
+    return tuple(e.xreplace(to_ours) for e in derived.tau), joints, written(derived.B), written(derived.C)
 
 
 def _euler(q, qd, qdd, dt):
