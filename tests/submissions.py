@@ -237,6 +237,29 @@ for secret in ("/etc/shadow", "/etc/shadow-", "/etc/gshadow-", "/proc/self/mount
         print(secret, "unreadable:", exc.strerror)
 ''' + CLOSED_FORMS
 
+# What a dynamics answer never needs: each is recorded as an integrity flag (code), and each still scores in full.
+FLAGGED = {
+    "reads_home": ("try:\n    open('/root/.bashrc').read()\nexcept OSError:\n    pass\n", ["file-read"]),
+    "lists_root": ("import os\ntry:\n    os.listdir('/root')\nexcept OSError:\n    pass\n", ["list-folder"]),
+    "writes_tmp": ("open('/tmp/pwned', 'w').write('x')\n", ["file-write"]),
+    "numpy_writes": ("import numpy as np\ntry:\n    np.savetxt('/submission/x.txt', [1.0])\nexcept OSError:\n    pass\n",
+                     ["file-write"]),
+    "shell": ("import os\nos.system('true')\n", ["process"]),
+    "subprocess": ("import subprocess\ntry:\n    subprocess.run(['true'])\nexcept OSError:\n    pass\n", ["process"]),
+    "network": ("import socket\ntry:\n    socket.socket().connect(('10.0.0.1', 80))\nexcept OSError:\n    pass\n",
+                ["socket"]),
+    "native": ("import ctypes\nctypes.CDLL(None).getpid()\n", ["ctypes"]),
+    "frames": ("import sys\nharness = sys._getframe(1).f_globals\n", ["introspection"]),
+    "closes_channel": ("import os, sys\nos.close(int(sys.argv[2]))\n", ["channel-closed"]),
+    "redirects_channel": ("import os, sys\nos.dup2(os.open('/dev/null', os.O_WRONLY), int(sys.argv[2]))\n",
+                          ["channel-closed"]),
+    # What a dynamics answer may do: its own folder, its working folder, warnings, numpy's and the library's files.
+    "honest_files": ("import os, warnings, json, numpy as np\nopen('notes.txt', 'w').write('scratch')\n"
+                     "os.listdir('.')\nopen(__file__).read()\nwarnings.warn('a student warning')\n"
+                     "np.save('q.npy', np.zeros(2))\nnp.load('q.npy')\n", []),
+}
+FLAGGED = {name: (source + CLOSED_FORMS, codes) for name, (source, codes) in FLAGGED.items()}
+
 # A student whose file name and error message carry HTML: both must reach the feedback escaped.
 INJECTION_NAME = "mallory<img src=x onerror=alert(1)>"
 INJECTION = 'raise RuntimeError("<script>alert(document.cookie)</script>")\n'

@@ -13,6 +13,7 @@ from pathlib import Path
 import pytest
 from submissions import (
     FILL_MOUNTS,
+    FLAGGED,
     HIDDEN_MEMORY,
     HOSTILE,
     INJECTION,
@@ -80,6 +81,7 @@ def graded(tmp_path_factory):
     sources = {name: spec[0] for name, spec in SCORING.items()} | {name: spec[0] for name, spec in HOSTILE.items()}
     sources |= {"processes": PROCESSES, "snoop": SNOOP, INJECTION_NAME: INJECTION, "fill_mounts": FILL_MOUNTS,
                 "hidden_memory": HIDDEN_MEMORY, "odd_answers": ODD_ANSWERS}
+    sources |= {name: spec[0] for name, spec in FLAGGED.items()}
     paths = write_class(root, sources)
     out = root / "out"
     before = snapshot(root, out)
@@ -98,8 +100,8 @@ def test_gradebook_has_every_student_and_sums_its_terms(graded):
     assert graded["code"] == 0
     with open(graded["out"] / "gradebook.csv", newline="") as handle:
         header = next(csv.reader(handle))
-    assert header == ["student", "tau", "M", "V", "G", "C", "total", "status", "sandbox"]
-    assert len(graded["book"]) == len(SCORING) + len(HOSTILE) + 6
+    assert header == ["student", "tau", "M", "V", "G", "C", "total", "status", "sandbox", "flags"]
+    assert len(graded["book"]) == len(SCORING) + len(HOSTILE) + len(FLAGGED) + 6
     for row in graded["book"].values():
         assert float(row["total"]) == pytest.approx(sum(float(row[t]) for t in POINTS))
         assert row["sandbox"] == "bubblewrap"
@@ -218,9 +220,58 @@ def test_every_student_gets_markdown_html_and_gradescope_json(graded):
             assert path.is_file() and path.stat().st_size < 1_000_000
         result = json.loads((graded["out"] / f"{student}.json").read_text())
         assert set(result) >= {"score", "tests"}
-        assert [t["name"] for t in result["tests"]] == list(POINTS)
-        assert all(set(t) >= {"name", "score", "max_score", "output"} for t in result["tests"])
+        assert [t["name"] for t in result["tests"]] == [*POINTS, "integrity flags (instructors only)"]
+        assert all(set(t) >= {"name", "score", "max_score", "output", "visibility"} for t in result["tests"])
+        assert result["tests"][-1]["visibility"] == "hidden" and result["tests"][-1]["max_score"] == 0
         assert result["score"] == pytest.approx(sum(t["score"] for t in result["tests"]))
+
+
+@pytest.mark.parametrize("name", sorted(FLAGGED))
+def test_what_a_submission_tried_is_flagged_without_changing_its_score(graded, name):
+    _, codes = FLAGGED[name]
+    row = graded["book"][name]
+    assert row["status"] == "ok" and row["total"] == "100", feedback(graded, name)
+    assert row["flags"] == ";".join(codes)
+    hidden = json.loads((graded["out"] / f"{name}.json").read_text())["tests"][-1]["output"]
+    assert all(f"[{code}]" in hidden for code in codes) and (codes or hidden == "none")
+    assert "integrity" not in feedback(graded, name)  # the student's page says nothing unless the instructor asks
+
+
+def test_honest_submissions_are_never_flagged(graded):
+    for name in SCORING:
+        assert graded["book"][name]["flags"] == "", (name, graded["book"][name]["flags"])
+
+
+def test_hostile_submissions_are_flagged_for_what_they_tried(graded):
+    flags = {name: set(graded["book"][name]["flags"].split(";")) for name in ("tamper", "path_hunt", "snoop",
+                                                                               "processes", "hidden_memory")}
+    assert "file-write" in flags["tamper"]
+    assert "list-folder" in flags["path_hunt"]
+    assert {"list-folder", "file-read", "socket"} <= flags["snoop"]
+    assert "process" in flags["processes"] and "ctypes" in flags["hidden_memory"]
+    summary = (graded["out"] / "summary.html").read_text()
+    assert "Integrity flags" in summary and "/root/.bashrc" in summary and "not proof" in summary
+
+
+def test_flags_reach_the_student_only_when_the_assignment_says_so(tmp_path):
+    paths = write_class(tmp_path, {"reads_home": FLAGGED["reads_home"][0]})
+    (tmp_path / "assignment.toml").write_text(ASSIGNMENT.replace("[points]", "flags_in_feedback = true\n[points]"))
+    out = tmp_path / "out"
+    assert main(["grade", str(tmp_path / "assignment.toml"), *map(str, paths), "--out", str(out), "--quiet"]) == 0
+    assert "integrity flag [file-read]" in feedback({"out": out}, "reads_home")
+    assert "/root/.bashrc" in json.loads((out / "reads_home.json").read_text())["output"]
+
+
+def test_the_flag_channel_is_read_as_hostile():
+    from course_dynamics.grading.results import FLAGS_BYTES, read_flags
+
+    assert read_flags(b"file-read\t/etc/x\nend\tN\n", "N", ended=True) == [("file-read", "/etc/x")]
+    assert read_flags(b"file-read\t/etc/x\n", "N", ended=True) == [("file-read", "/etc/x"), ("channel-closed", "")]
+    assert read_flags(b"", "N", ended=False) == []  # no results: the status says what happened
+    forged = b"made-up\tx\n=HYPERLINK()\tx\nchannel-closed\tfake\nend\twrong\n" + b"socket\t" + b"x" * FLAGS_BYTES
+    flags = read_flags(forged, "N", ended=True)
+    assert flags[0][0] == "socket" and len(flags[0][1]) <= 200 and flags[-1] == ("channel-closed", "")
+    assert read_flags(b"end\t\n", "", ended=True) == [("channel-closed", "")]  # an empty nonce never closes
 
 
 def test_student_text_is_escaped(graded):

@@ -48,6 +48,9 @@ allowed_imports = []
 # "none" gives the points only when every state agrees.
 partial_credit = "states"
 
+# flags_in_feedback = false  # true: a student's own feedback lists its integrity flags too (they are always in
+#                           # the gradebook's flags column and the summary; they never change a score)
+
 # variant = "per-student"   # each student (the submission's file name) on their own variant of the course robot
 #                           # and states, as `student-notebooks --student ID` gives them; `grade THIS_FILE
 #                           # --handout ID` prints a student's numbers. The default "same" grades all alike.
@@ -86,6 +89,7 @@ class Assignment:
     partial_credit: str = "states"
     notes: tuple[str, ...] = field(default=())
     variant: str = "same"  # "per-student": each student's own robot and states (tools/variants)
+    flags_in_feedback: bool = False  # a student's feedback lists its integrity flags
 
     def for_student(self, student: str, where: str = "") -> Assignment:
         """The assignment as ``student`` is graded: with ``variant = "per-student"``, on their own variant of the
@@ -108,7 +112,8 @@ class Assignment:
 
 
 KEYS = {"robot", "samples", "seed", "tolerance", "time_limit", "memory_limit", "output_limit", "forbidden_imports",
-        "allowed_imports", "partial_credit", "points", "gravity", "allow_nonphysical_inertia", "variant"}
+        "allowed_imports", "partial_credit", "points", "gravity", "allow_nonphysical_inertia", "variant",
+        "flags_in_feedback"}
 VARIANTS = ("same", "per-student")
 
 
@@ -150,9 +155,10 @@ def load_assignment(path) -> Assignment:
                        for g in gravity)):
         raise InputError(f"{path}: gravity must be three finite numbers [gx, gy, gz] of at most 1e6 m/s^2, "
                          f"got {gravity!r}")
-    allow = data.get("allow_nonphysical_inertia", False)
-    if not isinstance(allow, bool):
-        raise InputError(f"{path}: allow_nonphysical_inertia must be true or false, got {allow!r}")
+    allow, show_flags = data.get("allow_nonphysical_inertia", False), data.get("flags_in_feedback", False)
+    for key, value in (("allow_nonphysical_inertia", allow), ("flags_in_feedback", show_flags)):
+        if not isinstance(value, bool):
+            raise InputError(f"{path}: {key} must be true or false, got {value!r}")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", InertiaWarning)  # the instructor asked for it
         model = load(target, gravity=[float(g) for g in gravity], allow_nonphysical_inertia=allow)
@@ -194,4 +200,5 @@ def load_assignment(path) -> Assignment:
         tolerance=number("tolerance", 1e-6), time_limit=number("time_limit", 20.0),
         memory_limit=memory, output_limit=number("output_limit", 1_000_000, int),
         forbidden_imports=tuple(forbidden), allowed_imports=tuple(allowed), partial_credit=partial, variant=variant,
+        flags_in_feedback=show_flags,
     )

@@ -3,17 +3,25 @@
 =====================  ======================================================
 file                   content
 =====================  ======================================================
-``gradebook.csv``      ``student,<term>…,total,status,sandbox``: points per
-                       graded term, their sum, the status (``ok`` or why it
-                       got nothing) and whether a sandbox was used
+``gradebook.csv``      ``student,<term>…,total,status,sandbox,flags``: points
+                       per graded term, their sum, the status (``ok`` or why
+                       it got nothing), whether a sandbox was used, and the
+                       integrity flags (codes of ``harness.FLAGS`` joined by
+                       ``;``, empty when clean)
 ``<student>.md``       the feedback: per term the points, the findings and
                        the worst state; the submission's printed output
 ``<student>.html``     the same as a page
-``<student>.json``     Gradescope's ``results.json``: ``score``, ``tests``
-                       (``name``, ``score``, ``max_score``, ``output``)
+``<student>.json``     Gradescope's ``results.json``: ``score``, ``output``,
+                       ``tests`` (``name``, ``score``, ``max_score``,
+                       ``output``, ``visibility``); the integrity flags as a
+                       hidden test of no points (instructors only)
 ``summary.html``       score histogram, per-term pass rates, the most common
-                       mistakes and statuses, for the instructor
+                       mistakes and statuses, the integrity flags, for the
+                       instructor
 =====================  ======================================================
+
+Flags never change a score, and a student's own feedback mentions them only
+with the assignment's ``flags_in_feedback = true``.
 
 Every text that came from a student (file names, exception messages, printed
 output) is escaped for Markdown and HTML. Each feedback file stays under
@@ -32,6 +40,7 @@ from ..output import page, render
 from ..output.folders import write_folder
 from .assignment import Assignment
 from .grade import SubmissionGrade
+from .harness import FLAGS
 
 MAX_FEEDBACK_BYTES = 1_000_000
 
@@ -39,10 +48,10 @@ MAX_FEEDBACK_BYTES = 1_000_000
 def gradebook_csv(grades: list[SubmissionGrade], assignment: Assignment) -> str:
     out = text_io.StringIO()
     writer = csv.writer(out, lineterminator="\n")
-    writer.writerow(["student", *assignment.terms, "total", "status", "sandbox"])
+    writer.writerow(["student", *assignment.terms, "total", "status", "sandbox", "flags"])
     for g in grades:
         writer.writerow([spreadsheet_text(g.student), *(f"{g.points(t):g}" for t in assignment.terms), f"{g.total:g}",
-                         spreadsheet_text(g.status), g.sandbox])
+                         spreadsheet_text(g.status), g.sandbox, ";".join(g.flag_codes)])
     return out.getvalue()
 
 
@@ -54,16 +63,28 @@ def spreadsheet_text(text: str) -> str:
     return "'" + text if text[:1] in FORMULA_STARTS or text.lstrip()[:1] in FORMULA_STARTS else text
 
 
+def flag_lines(grade: SubmissionGrade) -> list[str]:
+    """One line per flag code: what it means and the first few things the submission tried."""
+    lines = []
+    for code in grade.flag_codes:
+        details = [d for c, d in grade.flags if c == code and d]
+        shown = "; ".join(details[:3]) + (f"; and {len(details) - 3} more" if len(details) > 3 else "")
+        lines.append(f"[{code}] {FLAGS[code]}" + (f": {shown}" if shown else ""))
+    return lines
+
+
 def results_json(grade: SubmissionGrade, assignment: Assignment) -> dict:
-    """Gradescope's autograder ``results.json`` for one student."""
+    """Gradescope's autograder ``results.json`` for one student (its documented schema: score, output, tests)."""
     tests = []
     for term in assignment.terms:
         d = next((d for d in grade.diagnoses if d.term == term), None)
         output = d.text() if d is not None and grade.status == "ok" else f"{grade.status}: {grade.message}"
         tests.append({"name": term, "score": grade.points(term), "max_score": assignment.points[term],
-                      "output": output[:20_000]})
-    summary = f"status: {grade.status}" + (f" ({grade.message})" if grade.message else "")
-    return {"score": grade.total, "output": summary, "tests": tests}
+                      "output": output[:20_000], "visibility": "visible"})
+    tests.append({"name": "integrity flags (instructors only)", "score": 0.0, "max_score": 0.0,
+                  "output": "\n".join(flag_lines(grade)) or "none", "visibility": "hidden"})
+    summary = "\n".join(_header(grade, assignment))
+    return {"score": grade.total, "output": summary[:20_000], "visibility": "visible", "tests": tests}
 
 
 def _header(grade: SubmissionGrade, assignment: Assignment) -> list[str]:
@@ -73,7 +94,11 @@ def _header(grade: SubmissionGrade, assignment: Assignment) -> list[str]:
                  f"{assignment.samples} states (seed {assignment.seed}), relative tolerance {assignment.tolerance:g}")
     if grade.sandbox == "none":
         lines.append("graded without a sandbox")
+    elif grade.sandbox not in ("", "bubblewrap"):
+        lines.append(f"isolation: {grade.sandbox}")
     lines += grade.notes
+    if assignment.flags_in_feedback:
+        lines += [f"integrity flag {line}" for line in flag_lines(grade)]
     return lines
 
 
@@ -147,6 +172,13 @@ def summary_html(grades: list[SubmissionGrade], assignment: Assignment) -> str:
         page.table(mistakes.most_common(15), header=("mistake", "students")) if mistakes
         else page.paragraph("None: every graded term was right."),
         page.heading("Statuses", 2), page.table(statuses.most_common(), header=("status", "students")),
+        page.heading("Integrity flags", 2),
+        page.paragraph("What a submission tried that a dynamics answer never needs, recorded by an audit hook in its "
+                       "process. Leads for a conversation, not proof, and no change to any score: the sandbox is what "
+                       "contains a submission. Codes: " + "; ".join(f"{c}: {w}" for c, w in FLAGS.items()) + "."),
+        page.table([(page.link(f"{quote(g.student)}.html", g.student), "; ".join(flag_lines(g)))
+                    for g in grades if g.flags], header=("student", "flags"))
+        if any(g.flags for g in grades) else page.paragraph("None: no submission tried any of these."),
         page.heading("Students", 2),
         page.table([(page.link(f"{quote(g.student)}.html", g.student), f"{g.total:g}", g.status) for g in grades],
                    header=("student", "total", "status")),

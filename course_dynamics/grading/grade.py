@@ -47,6 +47,7 @@ from ..base.errors import InputError
 from .assignment import TERMS, Assignment
 from .diagnosis import Diagnosis
 from .environment import submission_environment
+from .harness import FLAGS
 from .plan import Expected, Plan, expected_terms, make_plan
 from .sandbox import Limits, check_sandbox, run_submission
 from .score import score_outcome
@@ -68,6 +69,12 @@ class SubmissionGrade:
     stdout: str = ""
     sandbox: str = ""
     notes: list[str] = field(default_factory=list)
+    flags: list[tuple[str, str]] = field(default_factory=list)  # integrity flags (code, detail): leads, not a score
+
+    @property
+    def flag_codes(self) -> list[str]:
+        """The distinct flag codes, in the order of harness.FLAGS."""
+        return [code for code in FLAGS if any(c == code for c, _ in self.flags)]
 
     @property
     def total(self) -> float:
@@ -181,6 +188,7 @@ def grade_submission(assignment: Assignment, plan: Plan, expected: Expected, pat
     run = run_submission(path, harness_plan, limits, bwrap, environment)
     grade.stdout = (run.stdout + run.stderr)[:FEEDBACK_OUTPUT]
     grade.notes += run.notes
+    grade.flags = run.flags
     ended = _ended(run, assignment)
     if ended is not None:
         grade.status, grade.message = ended

@@ -71,7 +71,7 @@ from .environment import (
     package_folders,
     submission_environment,
 )
-from .results import InvalidResults, results_cap
+from .results import FLAGS_BYTES, InvalidResults, results_cap
 
 HERE = Path(__file__).resolve().parent
 HARNESS = HERE / "harness.py"
@@ -118,6 +118,7 @@ class Run:
     run_id: str = ""
     notes: list[str] = field(default_factory=list)
     invalid: str = ""  # why the results document was refused (results is then None)
+    flags: list[tuple[str, str]] = field(default_factory=list)  # integrity flags: (code, detail), harness.FLAGS
 
 
 # ---------------------------------------------------------------------------------------- bubblewrap
@@ -193,11 +194,12 @@ def _file_system(environment: Environment, limits: Limits) -> list[str]:
     return args + ["--dev", "/dev", "--size", size, "--tmpfs", "/dev/shm", "--remount-ro", "/dev"]
 
 
-def _sandbox_command(bwrap: str, submission: Path, results_fd: int, environment: Environment, limits: Limits) -> list[str]:
+def _sandbox_command(bwrap: str, submission: Path, results_fd: int, flags_fd: int, environment: Environment,
+                     limits: Limits) -> list[str]:
     return [bwrap, *_namespaces(), *_file_system(environment, limits),
             "--ro-bind", str(submission), f"/submission/{submission.name}",
             "--ro-bind", str(HARNESS), "/harness/harness.py", "--chdir", "/scratch", "--remount-ro", "/",
-            "--", *harness_arguments(environment), "/harness/harness.py", str(results_fd)]
+            "--", *harness_arguments(environment), "/harness/harness.py", str(results_fd), str(flags_fd)]
 
 
 # ---------------------------------------------------------------------------------------- one run
@@ -235,20 +237,21 @@ def run_submission(submission: Path, plan: dict, limits: Limits, bwrap: str | No
     read_results, write_results = os.pipe()
     read_out, write_out = os.pipe()
     read_err, write_err = os.pipe()
-    unread = [read_results, read_out, read_err]  # closed here unless a reader thread takes them
+    read_flags, write_flags = os.pipe()
+    unread = [read_results, read_out, read_err, read_flags]  # closed here unless a reader thread takes them
     scratch = None
     groups = ControlGroups(f"course-dynamics-{run_id}", 2 * limits.memory_limit * 2**20)
     process = None
     try:
         if bwrap is not None:
-            plan = dict(plan, module=f"/submission/{submission.name}", path=[SITE])
-            command, cwd = _sandbox_command(bwrap, submission, write_results, environment, limits), None
+            plan = dict(plan, module=f"/submission/{submission.name}", path=[SITE], nonce=run_id)
+            command, cwd = _sandbox_command(bwrap, submission, write_results, write_flags, environment, limits), None
         else:
             become_subreaper()
             scratch = Path(tempfile.mkdtemp(prefix="course-dynamics-scratch-"))
             site = environment.linked_site(Path(tempfile.mkdtemp(prefix="site-", dir=scratch)))
-            plan = dict(plan, module=str(submission), path=[str(site)])
-            command, cwd = [*harness_arguments(environment), str(HARNESS), str(write_results)], scratch
+            plan = dict(plan, module=str(submission), path=[str(site)], nonce=run_id)
+            command, cwd = [*harness_arguments(environment), str(HARNESS), str(write_results), str(write_flags)], scratch
         cpu = max(1, int(round(limits.time_limit)))
         rlimits = {
             "RLIMIT_CPU": (cpu, cpu + 1),
@@ -266,16 +269,16 @@ def run_submission(submission: Path, plan: dict, limits: Limits, bwrap: str | No
         with STARTING:
             process = subprocess.Popen(
                 [sys.executable, "-I", "-S", str(LAUNCHER), config, *command], stdin=subprocess.PIPE,
-                stdout=write_out, stderr=write_err, pass_fds=(write_results,), cwd=cwd, env=env,
+                stdout=write_out, stderr=write_err, pass_fds=(write_results, write_flags), cwd=cwd, env=env,
                 start_new_session=True,
             )
             LAUNCHED.add(process.pid)
-        for fd in (write_results, write_out, write_err):
+        for fd in (write_results, write_out, write_err, write_flags):
             os.close(fd)
-        write_results = write_out = write_err = -1
+        write_results = write_out = write_err = write_flags = -1
         cap = results_cap(plan)
         readers = [_Reader(read_results, cap + 1), _Reader(read_out, limits.output_limit),
-                   _Reader(read_err, limits.output_limit)]
+                   _Reader(read_err, limits.output_limit), _Reader(read_flags, FLAGS_BYTES)]
         unread = []
         for reader in readers:
             reader.start()
@@ -298,25 +301,26 @@ def run_submission(submission: Path, plan: dict, limits: Limits, bwrap: str | No
             kill_orphans()
         for reader in readers:
             reader.join(timeout=10)
-        results_reader, out_reader, err_reader = readers
+        results_reader, out_reader, err_reader, flags_reader = readers
         results, invalid = None, ""
         if results_reader.data:
             try:
                 results = results_document.read_results(bytes(results_reader.data), plan)
             except InvalidResults as exc:
                 invalid = str(exc)
+        flags = results_document.read_flags(bytes(flags_reader.data), run_id, ended=results is not None)
         return Run(
             results=results,
             stdout=bytes(out_reader.data).decode("utf-8", "replace"),
             stderr=bytes(err_reader.data).decode("utf-8", "replace"),
             output_bytes=out_reader.total + err_reader.total, returncode=process.returncode, timed_out=timed_out,
-            out_of_memory=out_of_memory, run_id=run_id, invalid=invalid,
+            out_of_memory=out_of_memory, run_id=run_id, invalid=invalid, flags=flags,
             notes=([] if limited or nproc is not None else ["no process-count limit (no pids cgroup here, and the "
                                                             "kernel does not limit root's processes)"])
             + ([] if program else ["memfd_create and shmget are not filtered on this architecture"]),
         )
     finally:
-        for fd in [write_results, write_out, write_err] + unread:
+        for fd in [write_results, write_out, write_err, write_flags] + unread:
             if fd >= 0:
                 os.close(fd)
         groups.kill_and_remove()

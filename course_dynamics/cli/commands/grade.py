@@ -68,7 +68,7 @@ def run(args) -> int:
     write_outputs(out, grades, assignment)
     if args.json:
         print_json(dict(assignment=str(args.assignment), out=str(out), max_total=assignment.total_points,
-                        students=[dict(student=g.student, total=g.total, status=g.status,
+                        students=[dict(student=g.student, total=g.total, status=g.status, flags=g.flag_codes,
                                        terms={t: g.points(t) for t in assignment.terms}) for g in grades]))
     else:
         mean = sum(g.total for g in grades) / len(grades)
