@@ -16,8 +16,11 @@ file                   content
                        ``output``, ``visibility``); the integrity flags as a
                        hidden test of no points (instructors only)
 ``summary.html``       score histogram, per-term pass rates, the most common
-                       mistakes and statuses, the integrity flags, for the
+                       mistakes and statuses, the integrity flags and (with
+                       ``--similarity``) the near-identical pairs, for the
                        instructor
+``similar-<k>.html``   the k-th near-identical pair side by side, the shared
+                       lines marked (:mod:`~course_dynamics.grading.similarity`)
 =====================  ======================================================
 
 Flags never change a score, and a student's own feedback mentions them only
@@ -36,11 +39,14 @@ from collections import Counter
 from pathlib import Path
 from urllib.parse import quote
 
+from markupsafe import Markup
+
 from ..output import page, render
 from ..output.folders import write_folder
 from .assignment import Assignment
 from .grade import SubmissionGrade
 from .harness import FLAGS
+from .similarity import Pair
 
 MAX_FEEDBACK_BYTES = 1_000_000
 
@@ -153,7 +159,48 @@ def _histogram_svg(totals: list[float], maximum: float) -> str:
     return svg[svg.index("<svg"):]
 
 
-def summary_html(grades: list[SubmissionGrade], assignment: Assignment) -> str:
+def similar_name(index: int) -> str:
+    return f"similar-{index + 1}.html"
+
+
+def _marked_source(pair: Pair, which) -> Markup:
+    """The source of one side with the lines the pair shares in ``<mark>``, each line numbered."""
+    shared, lines = pair.lines(which), which.source.splitlines()
+    width = len(str(len(lines)))
+    parts = []
+    for number, line in enumerate(lines, start=1):
+        text = f"{number:>{width}}  {line}\n"
+        parts.append(page.element("mark", text, inline=True) if number in shared else text)
+    return page.element("pre", *parts, inline=True)
+
+
+def similar_html(pair: Pair, assignment: Assignment) -> str:
+    """One pair side by side: a lead for the instructor to read, not a verdict."""
+    title = f"{pair.first.student} and {pair.second.student}: {pair.score:.0%} of the smaller submission shared"
+    body = [page.heading(title),
+            page.paragraph(f"{assignment.source.name}. Compared on the syntax tree, names, comments and formatting "
+                           "set aside and the starter code removed; marked lines hold shared runs. Two students who "
+                           "worked from the same lecture can be alike: a lead, not a verdict; read both."),
+            page.table([(_marked_source(pair, pair.first), _marked_source(pair, pair.second))],
+                       header=(pair.first.student, pair.second.student), css="side-by-side")]
+    return page.page(title, body)
+
+
+def _similar_section(pairs) -> list:
+    if pairs is None:
+        return []
+    rows = [(page.link(f"{quote(p.first.student)}.html", p.first.student),
+             page.link(f"{quote(p.second.student)}.html", p.second.student), f"{p.score:.0%}",
+             page.link(similar_name(k), "side by side")) for k, p in enumerate(pairs)]
+    return [page.heading("Similar submissions", 2),
+            page.paragraph("Pairs whose code is near-identical once names, comments, formatting and the starter code "
+                           "are set aside (the score is the share of the smaller submission the other holds too). "
+                           "Leads to read, not verdicts."),
+            page.table(rows, header=("student", "student", "shared", "compare")) if rows
+            else page.paragraph("None at this threshold.")]
+
+
+def summary_html(grades: list[SubmissionGrade], assignment: Assignment, pairs=None) -> str:
     totals = [g.total for g in grades]
     rows = []
     for term in assignment.terms:
@@ -179,6 +226,7 @@ def summary_html(grades: list[SubmissionGrade], assignment: Assignment) -> str:
         page.table([(page.link(f"{quote(g.student)}.html", g.student), "; ".join(flag_lines(g)))
                     for g in grades if g.flags], header=("student", "flags"))
         if any(g.flags for g in grades) else page.paragraph("None: no submission tried any of these."),
+        *_similar_section(pairs),
         page.heading("Students", 2),
         page.table([(page.link(f"{quote(g.student)}.html", g.student), f"{g.total:g}", g.status) for g in grades],
                    header=("student", "total", "status")),
@@ -189,17 +237,22 @@ def summary_html(grades: list[SubmissionGrade], assignment: Assignment) -> str:
 OWNER = "grade"  # the command named in the output folder's manifest
 
 
-def output_names(students) -> list[str]:
+def output_names(students, pairs=()) -> list[str]:
     """The files :func:`write_outputs` writes for these students (what ``grade`` checks before grading)."""
-    return ["gradebook.csv", "summary.html"] + [f"{s}{suffix}" for s in students for suffix in (".md", ".html", ".json")]
+    return (["gradebook.csv", "summary.html"] + [f"{s}{suffix}" for s in students for suffix in (".md", ".html", ".json")]
+            + [similar_name(k) for k in range(len(pairs or ()))])
 
 
-def write_outputs(out: Path, grades: list[SubmissionGrade], assignment: Assignment) -> list[Path]:
+def write_outputs(out: Path, grades: list[SubmissionGrade], assignment: Assignment, pairs=None) -> list[Path]:
     """Every output file in ``out`` (made if missing), through the folder's manifest (:func:`write_folder`):
-    only files an earlier ``grade`` wrote there are replaced, and nothing else in the folder is touched."""
+    only files an earlier ``grade`` wrote there are replaced, and nothing else in the folder is touched.
+    ``pairs`` (similarity's, or None when not asked for) add the summary's table and one page per pair."""
     import json
 
-    documents = {"gradebook.csv": gradebook_csv(grades, assignment), "summary.html": summary_html(grades, assignment)}
+    documents = {"gradebook.csv": gradebook_csv(grades, assignment),
+                 "summary.html": summary_html(grades, assignment, pairs)}
+    for k, pair in enumerate(pairs or ()):
+        documents[similar_name(k)] = similar_html(pair, assignment)
     for g in grades:
         documents[f"{g.student}.md"] = feedback_markdown(g, assignment)
         documents[f"{g.student}.html"] = feedback_html(g, assignment)

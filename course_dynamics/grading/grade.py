@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import ast
 import os
+import re
 import signal
 import stat
 from concurrent.futures import ThreadPoolExecutor
@@ -108,28 +109,36 @@ def _forbidden_in_source(tree: ast.AST, forbidden) -> tuple[str, int] | None:
     return None
 
 
-def inspect_source(path: Path, assignment: Assignment) -> tuple[str, str] | None:
-    """(status, message) when the file cannot be graded at all, read without running it; None otherwise."""
+def read_source(path: Path) -> tuple[str | None, str]:
+    """(source, "") for a readable UTF-8 file of at most MAX_SOURCE_BYTES, read without blocking on a FIFO;
+    (None, why not) otherwise."""
     try:
         fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)  # a FIFO planted as a submission must not block us
         try:
             st = os.fstat(fd)
             if not stat.S_ISREG(st.st_mode):
-                return "not python", "not a regular file"
+                return None, "not a regular file"
             if st.st_size > MAX_SOURCE_BYTES:
-                return "not python", f"the file has {st.st_size} bytes; a submission may have at most {MAX_SOURCE_BYTES}"
+                return None, f"the file has {st.st_size} bytes; a submission may have at most {MAX_SOURCE_BYTES}"
             with os.fdopen(os.dup(fd), "rb") as handle:
                 data = handle.read(MAX_SOURCE_BYTES + 1)
         finally:
             os.close(fd)
     except OSError as exc:
-        return "not python", f"cannot read the file: {exc.strerror}"
+        return None, f"cannot read the file: {exc.strerror}"
     if len(data) > MAX_SOURCE_BYTES:
-        return "not python", f"the file has more than {MAX_SOURCE_BYTES} bytes; a submission may have at most that"
+        return None, f"the file has more than {MAX_SOURCE_BYTES} bytes; a submission may have at most that"
     try:
-        source = data.decode("utf-8")
+        return data.decode("utf-8"), ""
     except UnicodeDecodeError:
-        return "not python", "the file is not UTF-8 text"
+        return None, "the file is not UTF-8 text"
+
+
+def inspect_source(path: Path, assignment: Assignment) -> tuple[str, str] | None:
+    """(status, message) when the file cannot be graded at all, read without running it; None otherwise."""
+    source, problem = read_source(path)
+    if source is None:
+        return "not python", problem
     try:
         tree = ast.parse(source, filename=path.name)
     except SyntaxError as exc:
@@ -198,6 +207,7 @@ def grade_submission(assignment: Assignment, plan: Plan, expected: Expected, pat
 
 
 RESERVED_NAMES = ("summary", "gradebook")  # the class's own files in the output folder
+RESERVED_PATTERN = re.compile(r"similar-[0-9]+")  # the similarity pages
 
 
 MAX_NAME_BYTES = 200  # a student's name plus ".html" must fit a file name (255 bytes on Linux)
@@ -238,11 +248,25 @@ def student_names(paths) -> list[str]:
             raise InputError(f"{path} and {other}: two submissions named '{path.stem}'" if other.stem == path.stem else
                              f"{path} and {other}: names that differ only in case (a student is a file name, and "
                              "some file systems do not tell case apart)")
-        if path.stem in RESERVED_NAMES:
+        if path.stem in RESERVED_NAMES or RESERVED_PATTERN.fullmatch(path.stem):
             raise InputError(f"{path}: a submission named '{path.stem}' would overwrite the class's {path.stem} file; "
                              "rename it")
         names[path.stem] = folded[path.stem.casefold()] = path
     return list(names)
+
+
+def similar_submissions(paths, threshold: float, starter=None) -> list:
+    """Near-identical pairs among the submission files (similarity.similar_pairs), read without running them;
+    ``starter`` is the path of the starter code given to everyone, or None."""
+    from .similarity import fingerprints, read_starter, similar_pairs
+
+    given = read_starter(starter) if starter is not None else None
+    found = []
+    for path in map(Path, paths):
+        source, _ = read_source(path)
+        if source is not None:
+            found.append(fingerprints(path.stem, source, given))
+    return similar_pairs(found, threshold)
 
 
 def _planned(assignment: Assignment):

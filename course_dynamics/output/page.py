@@ -67,6 +67,9 @@ math{font-family:"STIX Two Math","Latin Modern Math","Cambria Math",math}
 math[display="block"]{margin:.6rem 0;overflow-x:auto;overflow-y:hidden}
 .math-error{color:#b3261e}
 .ok{color:#1a7f37}
+mark{background:#fff1a8}
+table.side-by-side{table-layout:fixed;width:100%}
+table.side-by-side td{width:50%}
 .bad{color:#b3261e}
 body.viewer{margin:0;padding:0;max-width:none}
 #meshcat-pane{width:100vw;height:100vh;overflow:hidden}

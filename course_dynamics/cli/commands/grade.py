@@ -22,6 +22,12 @@ def add_arguments(parser) -> None:
     parser.add_argument("--example-assignment", action="store_true", help="print a commented assignment file and exit")
     parser.add_argument("--handout", metavar="ID", help="print the numbers of student ID's robot (an assignment with "
                         "variant = \"per-student\") and, with --out DIR, write its URDF there; grades nothing")
+    parser.add_argument("--similarity", nargs="?", type=float, const=0.8, metavar="SCORE",
+                        help="add the near-identical pairs of submissions to the summary, each with a side-by-side "
+                        "page: compared on the syntax tree (names, comments, formatting set aside), listed from SCORE "
+                        "(the share of the smaller submission the other holds; default 0.8). A lead, not a verdict")
+    parser.add_argument("--starter", metavar="FILE", help="the starter code every student was given: removed before "
+                        "--similarity compares (implies --similarity)")
     parser.add_argument("--no-sandbox", action="store_true",
                         help="grade without bubblewrap (separate processes and limits only); the gradebook says so")
     parser.add_argument("--jobs", type=int, help="submissions graded at once (default: the number of CPUs)")
@@ -37,8 +43,8 @@ def run(args) -> int:
         load_assignment,
         write_outputs,
     )
-    from ...grading.feedback import OWNER, output_names
-    from ...grading.grade import student_names
+    from ...grading.feedback import OWNER, output_names, similar_name
+    from ...grading.grade import similar_submissions, student_names
     from ...output import io
     from ...output.folders import check_folder
 
@@ -52,12 +58,17 @@ def run(args) -> int:
                          "(or --example-assignment)")
     if args.jobs is not None and args.jobs < 1:
         raise UsageError("--jobs must be at least 1")
+    if args.starter is not None and args.similarity is None:
+        args.similarity = 0.8
+    if args.similarity is not None and not 0 < args.similarity <= 1:
+        raise UsageError("--similarity takes a score from 0 (exclusive) to 1")
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise UsageError(f"{out}: exists and is not a directory")
     io.check_writable(out / "gradebook.csv") if out.is_dir() else io.check_writable(out)
     assignment = load_assignment(args.assignment)
-    check_folder(out, output_names(student_names(args.submissions)), OWNER)  # before any student code runs
+    pairs = None if args.similarity is None else similar_submissions(args.submissions, args.similarity, args.starter)
+    check_folder(out, output_names(student_names(args.submissions), pairs), OWNER)  # before any student code runs
     if not args.no_sandbox:
         check_sandbox()  # before any output: no sandbox is an error, not a quiet downgrade
     progress = progress_bar(total=len(args.submissions), enabled=not (args.quiet or args.json) and sys.stderr.isatty(),
@@ -65,15 +76,23 @@ def run(args) -> int:
     grades = grade_class(assignment, args.submissions, sandbox=not args.no_sandbox, jobs=args.jobs,
                          progress=progress.update)
     progress.close()
-    write_outputs(out, grades, assignment)
+    write_outputs(out, grades, assignment, pairs)
     if args.json:
-        print_json(dict(assignment=str(args.assignment), out=str(out), max_total=assignment.total_points,
+        similar = None if pairs is None else [dict(students=[p.first.student, p.second.student], score=round(p.score, 3),
+                                                   page=similar_name(k)) for k, p in enumerate(pairs)]
+        print_json(dict(assignment=str(args.assignment), out=str(out), max_total=assignment.total_points, similar=similar,
                         students=[dict(student=g.student, total=g.total, status=g.status, flags=g.flag_codes,
                                        terms={t: g.points(t) for t in assignment.terms}) for g in grades]))
     else:
         mean = sum(g.total for g in grades) / len(grades)
         print(f"graded {len(grades)} submission{'s' if len(grades) != 1 else ''} against {assignment.robot.name}: mean {mean:.3g} of "
               f"{assignment.total_points:g} points; wrote {out / 'gradebook.csv'}, feedback and {out / 'summary.html'}")
+        flagged = sum(1 for g in grades if g.flags)
+        if flagged:
+            print(f"{flagged} submission{'s' if flagged != 1 else ''} with integrity flags (leads, not proof): see the "
+                  "gradebook's flags column and the summary")
+        if pairs:
+            print(f"{len(pairs)} near-identical pair{'s' if len(pairs) != 1 else ''} of submissions: see the summary")
         if args.no_sandbox:
             print("warning: graded without a sandbox (--no-sandbox)", file=sys.stderr)
     return 0

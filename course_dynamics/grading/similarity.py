@@ -1,0 +1,155 @@
+"""Near-identical submissions: a lead for the instructor, never a verdict.
+
+Each submission is parsed (never run) and read as a stream of tokens from its
+syntax tree, in source order: the kinds of node and operator, attribute names
+(``np.cos``), numbers, and one placeholder for every name a student chooses
+(variables, functions, arguments). Comments, docstrings, blank lines and
+formatting never reach the tree, and renaming changes nothing. Every run of
+:data:`GRAM` tokens within one top-level statement is a fingerprint (so the
+order of the functions does not matter); what the starter code gives everyone is
+removed from every submission's fingerprints first. Two submissions score by
+the share of the smaller one's fingerprints that the other holds too (1.0: the
+smaller is contained in the other), and a pair is listed when the score reaches
+the threshold and the smaller has at least :data:`MIN_GRAMS` fingerprints of
+its own. Independent implementations of one algorithm share short runs, not
+long ones: :data:`GRAM` is long enough that they score low (see the tests).
+
+======================  =========================================================
+name                    meaning
+======================  =========================================================
+:class:`Fingerprints`   one submission's fingerprints and the lines each covers
+:func:`fingerprints`    a submission's source to its fingerprints
+:func:`similar_pairs`   every pair at or above the threshold, highest first
+======================  =========================================================
+"""
+from __future__ import annotations
+
+import ast
+import hashlib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..base.errors import InputError
+
+GRAM = 16          # tokens per fingerprint
+MIN_GRAMS = 30     # a submission with fewer fingerprints of its own (beyond the starter) is never listed
+THRESHOLD = 0.8    # the default score at which a pair is listed
+COMMON_CLASS = 10  # from this many submissions, what most of them hold is common ground
+CONTEXTS = (ast.Load, ast.Store, ast.Del)
+
+
+@dataclass(frozen=True)
+class Fingerprints:
+    """A submission's fingerprints: hash -> the source lines (first, last) its tokens span."""
+
+    student: str
+    source: str
+    grams: dict[int, tuple[int, int]] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class Pair:
+    """Two submissions and their score (the share of the smaller one's fingerprints the other holds)."""
+
+    first: Fingerprints
+    second: Fingerprints
+    score: float
+    shared: frozenset[int]
+
+    def lines(self, which: Fingerprints) -> set[int]:
+        """The source lines of ``which`` that the shared fingerprints cover."""
+        covered = set()
+        for gram in self.shared:
+            first, last = which.grams[gram]
+            covered.update(range(first, last + 1))
+        return covered
+
+
+def _is_docstring(node: ast.AST) -> bool:
+    return isinstance(node, ast.Expr) and isinstance(node.value, ast.Constant) and isinstance(node.value.value, str)
+
+
+def _tokens(node: ast.AST, line: int = 1):
+    """(token, line) in source order; a student's names are all one placeholder."""
+    if isinstance(node, CONTEXTS) or _is_docstring(node):
+        return
+    line = getattr(node, "lineno", line)
+    yield type(node).__name__, line
+    if isinstance(node, ast.Attribute):
+        yield "." + node.attr, line
+    elif isinstance(node, ast.Constant):
+        yield ("str" if isinstance(node.value, (str, bytes)) else repr(node.value)), line
+    elif isinstance(node, (ast.alias,)):
+        yield node.name, line  # what is imported (numpy), not what it is called
+    for child in ast.iter_child_nodes(node):
+        yield from _tokens(child, line)
+
+
+def _hash(tokens) -> int:
+    return int.from_bytes(hashlib.blake2b("\x00".join(tokens).encode(), digest_size=8).digest(), "big")
+
+
+def _grams(source: str, where: str) -> dict[int, tuple[int, int]]:
+    try:
+        tree = ast.parse(source, filename=where)
+    except (SyntaxError, ValueError, RecursionError, MemoryError):
+        return {}  # nothing to compare: the grader reports the file itself
+    grams = {}
+    for statement in tree.body:  # windows stay inside one top-level statement: reordering functions changes nothing
+        stream = list(_tokens(statement))
+        for start in range(max(1, len(stream) - GRAM + 1)):
+            window = stream[start:start + GRAM]
+            if window:
+                grams.setdefault(_hash(t for t, _ in window), (window[0][1], max(line for _, line in window)))
+    return grams
+
+
+def fingerprints(student: str, source: str, starter: Fingerprints | None = None) -> Fingerprints:
+    """``source``'s fingerprints, less those of ``starter`` (the code every student was given)."""
+    grams = _grams(source, student)
+    if starter is not None:
+        grams = {g: lines for g, lines in grams.items() if g not in starter.grams}
+    return Fingerprints(student, source, grams)
+
+
+def read_starter(path) -> Fingerprints:
+    """The starter file's fingerprints; InputError when it cannot be read or parsed."""
+    path = Path(path)
+    try:
+        source = path.read_text(encoding="utf-8")
+        ast.parse(source, filename=str(path))
+    except FileNotFoundError:
+        raise InputError(f"{path}: no such starter file") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"{path}: cannot read the starter file: {exc}") from None
+    except SyntaxError as exc:
+        raise InputError(f"{path}: the starter file is not Python: {exc.msg} (line {exc.lineno})") from None
+    return fingerprints("starter", source)
+
+
+def similar_pairs(submissions: list[Fingerprints], threshold: float = THRESHOLD) -> list[Pair]:
+    """Every pair scoring at least ``threshold``, highest first.
+
+    In a class of at least :data:`COMMON_CLASS`, a fingerprint that more than half the submissions hold is common
+    ground, like the starter's, and counts for no pair. Only pairs that share a fingerprint are compared.
+    """
+    owners: dict[int, list[int]] = {}
+    for index, submission in enumerate(submissions):
+        for gram in submission.grams:
+            owners.setdefault(gram, []).append(index)
+    common = {g for g, holders in owners.items()
+              if len(submissions) >= COMMON_CLASS and len(holders) > len(submissions) / 2}
+    own = [len(s.grams.keys() - common) for s in submissions]
+    counts: dict[tuple[int, int], int] = {}
+    for gram, holders in owners.items():
+        if gram not in common:
+            for a in range(len(holders)):
+                for b in range(a + 1, len(holders)):
+                    counts[holders[a], holders[b]] = counts.get((holders[a], holders[b]), 0) + 1
+    pairs = []
+    for (a, b), count in counts.items():
+        smaller = min(own[a], own[b])
+        if smaller >= MIN_GRAMS and count / smaller >= threshold:
+            first, second = submissions[a], submissions[b]
+            pairs.append(Pair(first, second, count / smaller, frozenset(first.grams.keys() & second.grams.keys() - common)))
+    return sorted(pairs, key=lambda p: (-p.score, p.first.student, p.second.student))
