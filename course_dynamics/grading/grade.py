@@ -52,6 +52,7 @@ from .harness import FLAGS
 from .plan import Expected, Plan, expected_terms, make_plan
 from .sandbox import Limits, check_sandbox, run_submission
 from .score import score_outcome
+from .similarity import fingerprints, read_starter, similar_pairs
 
 MAX_SOURCE_BYTES = 1_000_000
 FEEDBACK_OUTPUT = 20_000  # characters of a submission's printed output kept in its feedback
@@ -258,8 +259,6 @@ def student_names(paths) -> list[str]:
 def similar_submissions(paths, threshold: float, starter=None) -> list:
     """Near-identical pairs among the submission files (similarity.similar_pairs), read without running them;
     ``starter`` is the path of the starter code given to everyone, or None."""
-    from .similarity import fingerprints, read_starter, similar_pairs
-
     given = read_starter(starter) if starter is not None else None
     found = []
     for path in map(Path, paths):
