@@ -53,3 +53,16 @@ def test_derivation_record_is_strings():
 def test_json_refuses_nan():
     with pytest.raises(ValueError):
         json_text({"x": float("nan")})
+
+
+def test_bare_urls_in_a_students_text_never_become_links():
+    """A renderer links a bare URL by itself; in inline code it stays text (the Markdown feedback quotes exceptions)."""
+    from course_dynamics.output import page
+    from course_dynamics.output.render import markdown_escape
+
+    text = "RuntimeError: log in at http://evil.example/login?a=1|b or www.evil.example, mail a@evil.example"
+    assert "<a " in page.markdown(text)  # the renderer would link it
+    rendered = page.markdown(markdown_escape(text))
+    assert "<a " not in rendered and "<code>http://evil.example/login?a=1%7Cb</code>" in rendered
+    assert "<code>www.evil.example,</code>" in rendered and "<code>a@evil.example</code>" in rendered
+    assert markdown_escape("x ``` http://a.example/```") == "x \\`\\`\\` ```` http://a.example/``` ````"

@@ -69,15 +69,37 @@ def matrix_lines(labels, matrix, width: int = 12) -> list[str]:
     return [f"{label:<{label_width}}  " + " ".join(f"{x:>{width}.6g}" for x in row) for label, row in zip(labels, matrix)]
 
 
+URL_LIKE = re.compile(r"(?:[A-Za-z][A-Za-z0-9+.-]*://|www\.)\S+|[\w.+-]+@[\w-]+(?:\.[\w-]+)+")
+
+
 def markdown_escape(text) -> str:
     """``text`` on one line, with the characters that make Markdown or HTML markup escaped.
 
     Escaped: backslash, backtick, ``*``, ``_``, ``[``, ``]``, ``|``, ``~`` and HTML's ``<``, ``>``, ``&``
-    (as entities); without brackets no link or image can form, so parentheses may stay.
+    (as entities); without brackets no link or image can form, so parentheses may stay. What a renderer
+    would turn into a link by itself (a bare URL, ``www.``…, an e-mail address) becomes inline code.
+
+    >>> markdown_escape("see http://evil.example/x_y or me@evil.example <b>")
+    'see `http://evil.example/x_y` or `me@evil.example` &lt;b&gt;'
     """
-    text = str(text).replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
-    text = re.sub(r"([\\`*_\[\]|~])", r"\\\1", text)
-    return " ".join(text.splitlines())
+    text = " ".join(str(text).splitlines())
+    pieces, last = [], 0
+    for found in URL_LIKE.finditer(text):
+        pieces += [_escaped(text[last:found.start()]), _code_span(found.group().replace("|", "%7C"))]
+        last = found.end()
+    return "".join(pieces + [_escaped(text[last:])])
+
+
+def _escaped(text: str) -> str:
+    text = text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+    return re.sub(r"([\\`*_\[\]|~])", r"\\\1", text)
+
+
+def _code_span(text: str) -> str:
+    """Inline code holding ``text`` literally: a fence longer than any run of backticks in it."""
+    fence = "`" * (max((len(run) for run in re.findall(r"`+", text)), default=0) + 1)
+    pad = " " if text.startswith("`") or text.endswith("`") else ""
+    return f"{fence}{pad}{text}{pad}{fence}"
 
 
 def code_block(text, language: str = "text") -> str:
