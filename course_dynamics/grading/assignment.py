@@ -8,6 +8,7 @@ naming the file and the key.
 from __future__ import annotations
 
 import math
+import re
 import tomllib
 import warnings
 from dataclasses import dataclass, field, replace
@@ -51,6 +52,10 @@ partial_credit = "states"
 # flags_in_feedback = false  # true: a student's own feedback lists its integrity flags too (they are always in
 #                           # the gradebook's flags column and the summary; they never change a score)
 
+# gradescope_student = "email"  # in the Gradescope bundle (`grade THIS_FILE --gradescope autograder.zip`), the
+#                               # user field of submission_metadata.json that names the student: "email" (its
+#                               # local part, the default), or another field such as "sid" or "id"
+
 # variant = "per-student"   # each student (the submission's file name) on their own variant of the course robot
 #                           # and states, as `student-notebooks --student ID` gives them; `grade THIS_FILE
 #                           # --handout ID` prints a student's numbers. The default "same" grades all alike.
@@ -90,6 +95,7 @@ class Assignment:
     notes: tuple[str, ...] = field(default=())
     variant: str = "same"  # "per-student": each student's own robot and states (tools/variants)
     flags_in_feedback: bool = False  # a student's feedback lists its integrity flags
+    gradescope_student: str = "email"  # the user field of Gradescope's metadata that names the student
 
     def for_student(self, student: str, where: str = "") -> Assignment:
         """The assignment as ``student`` is graded: with ``variant = "per-student"``, on their own variant of the
@@ -113,7 +119,7 @@ class Assignment:
 
 KEYS = {"robot", "samples", "seed", "tolerance", "time_limit", "memory_limit", "output_limit", "forbidden_imports",
         "allowed_imports", "partial_credit", "points", "gravity", "allow_nonphysical_inertia", "variant",
-        "flags_in_feedback"}
+        "flags_in_feedback", "gradescope_student"}
 VARIANTS = ("same", "per-student")
 
 
@@ -189,6 +195,10 @@ def load_assignment(path) -> Assignment:
     if variant == "per-student" and robot_argument not in COURSE_ROBOTS:
         raise InputError(f"{path}: variant = \"per-student\" needs a course robot ({', '.join(COURSE_ROBOTS)}), "
                          f"not '{robot_argument}'")
+    field_name = data.get("gradescope_student", "email")
+    if not isinstance(field_name, str) or not re.fullmatch(r"[a-z][a-z_]{0,31}", field_name):
+        raise InputError(f"{path}: gradescope_student must name a user field of Gradescope's submission metadata "
+                         f"(such as \"email\" or \"sid\"), got {field_name!r}")
     samples, memory = number("samples", 40, int), number("memory_limit", 1024, int)
     if samples > MAX_SAMPLES:
         raise InputError(f"{path}: samples must be at most {MAX_SAMPLES}, got {samples}")
@@ -200,5 +210,5 @@ def load_assignment(path) -> Assignment:
         tolerance=number("tolerance", 1e-6), time_limit=number("time_limit", 20.0),
         memory_limit=memory, output_limit=number("output_limit", 1_000_000, int),
         forbidden_imports=tuple(forbidden), allowed_imports=tuple(allowed), partial_credit=partial, variant=variant,
-        flags_in_feedback=show_flags,
+        flags_in_feedback=show_flags, gradescope_student=field_name,
     )

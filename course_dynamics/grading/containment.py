@@ -231,12 +231,13 @@ def kill_orphans() -> None:
                 pass
 
 
-def process_limit() -> int | None:
-    """RLIMIT_NPROC counts every process of the user, so allow the ones already running plus PROCESSES.
+def process_limit(uid: int | None = None) -> int | None:
+    """RLIMIT_NPROC counts every process of the user (``uid``, default this process's), so allow the ones already
+    running plus PROCESSES.
 
     None for root, to whom the kernel does not apply the limit.
     """
-    uid = os.getuid()
+    uid = os.getuid() if uid is None else uid
     if uid == 0:
         return None
     running = 0

@@ -81,17 +81,49 @@ def _package_files(name: str) -> list[tuple[str, Path]]:
     return []  # built into the interpreter
 
 
-def submission_environment(allowed=()) -> Environment:
-    """The environment for a submission: numpy and ``allowed`` (top-level module names) beside the standard library."""
+def submission_environment(allowed=(), site: Path | None = None) -> Environment:
+    """The environment for a submission: numpy and ``allowed`` (top-level module names) beside the standard library.
+
+    The packages are this installation's, or with ``site`` those in that folder (a copy made for submissions,
+    as the Gradescope bundle's setup makes one: :func:`copy_packages`).
+    """
     packages: dict[str, Path] = {}
     for name in dict.fromkeys((*ALWAYS, *allowed)):
-        for site_name, source in _package_files(name):
+        found = _package_files(name) if site is None else _site_files(Path(site), name)
+        for site_name, source in found:
             packages[site_name] = source
     libdir, soname = sysconfig.get_config_var("LIBDIR"), sysconfig.get_config_var("INSTSONAME")
     library = Path(libdir) / soname if libdir and soname and sysconfig.get_config_var("Py_ENABLE_SHARED") else None
     libraries = (library.resolve(),) if library is not None and library.is_file() else ()
     return Environment(base_interpreter(), Path(sysconfig.get_paths()["stdlib"]).resolve(), libraries,
                        tuple(packages.items()))
+
+
+def _site_files(site: Path, name: str) -> list[tuple[str, Path]]:
+    found = [(entry.name, entry.resolve()) for entry in (site / name, site / f"{name}.libs") if entry.exists()]
+    found += [(entry.name, entry.resolve()) for entry in sorted(site.glob(f"{name}.*.so")) + [site / f"{name}.py"]
+              if entry.is_file()]
+    if not found:
+        raise InputError(f"allowed_imports: '{name}' is not in {site}")
+    return found
+
+
+def copy_packages(allowed, site: Path) -> list[str]:
+    """Copy numpy and ``allowed`` from this installation into ``site`` (readable by everyone); their names."""
+    import shutil
+
+    copied = []
+    for name in dict.fromkeys((*ALWAYS, *allowed)):
+        for site_name, source in _package_files(name):
+            target = site / site_name
+            if source.is_dir():
+                shutil.copytree(source, target, ignore=shutil.ignore_patterns("__pycache__", "tests"), dirs_exist_ok=True)
+            else:
+                shutil.copy2(source, target)
+            copied.append(site_name)
+    for path in [site, *site.rglob("*")]:
+        path.chmod(0o755 if path.is_dir() else 0o644 | (path.stat().st_mode & 0o111))
+    return copied
 
 
 def package_folders(roots) -> list[Path]:

@@ -100,8 +100,6 @@ def _header(grade: SubmissionGrade, assignment: Assignment) -> list[str]:
                  f"{assignment.samples} states (seed {assignment.seed}), relative tolerance {assignment.tolerance:g}")
     if grade.sandbox == "none":
         lines.append("graded without a sandbox")
-    elif grade.sandbox not in ("", "bubblewrap"):
-        lines.append(f"isolation: {grade.sandbox}")
     lines += grade.notes
     if assignment.flags_in_feedback:
         lines += [f"integrity flag {line}" for line in flag_lines(grade)]

@@ -183,10 +183,14 @@ def _ended(run, assignment: Assignment) -> tuple[str, str] | None:
 
 
 def grade_submission(assignment: Assignment, plan: Plan, expected: Expected, path: Path, bwrap: str | None,
-                     environment=None) -> SubmissionGrade:
-    """Grade one file: inspect, run in the sandbox, score every term."""
-    grade = SubmissionGrade(student=path.stem, path=path, status="ok", max_total=assignment.total_points,
-                            sandbox="bubblewrap" if bwrap else "none")
+                     environment=None, user: tuple[int, int] | None = None, student: str | None = None) -> SubmissionGrade:
+    """Grade one file (as ``student``, default its stem): inspect, run in the sandbox, score every term.
+
+    Without ``bwrap``, a ``user`` (uid, gid) is the unprivileged user the submission runs as (sandbox.run_submission).
+    """
+    isolation = "bubblewrap" if bwrap else "unprivileged-user" if user is not None else "none"
+    grade = SubmissionGrade(student=student or path.stem, path=path, status="ok", max_total=assignment.total_points,
+                            sandbox=isolation)
     problem = inspect_source(path, assignment)
     if problem is not None:
         grade.status, grade.message = problem
@@ -195,7 +199,7 @@ def grade_submission(assignment: Assignment, plan: Plan, expected: Expected, pat
                     "functions": plan.harness_functions()}
     limits = Limits(time_limit=assignment.time_limit, memory_limit=assignment.memory_limit,
                     output_limit=assignment.output_limit)
-    run = run_submission(path, harness_plan, limits, bwrap, environment)
+    run = run_submission(path, harness_plan, limits, bwrap, environment, user)
     grade.stdout = (run.stdout + run.stderr)[:FEEDBACK_OUTPUT]
     grade.notes += run.notes
     grade.flags = run.flags
@@ -274,31 +278,35 @@ def _planned(assignment: Assignment):
 
 
 def grade_class(assignment: Assignment, paths, sandbox: bool = True, jobs: int | None = None,
-                progress=None) -> list[SubmissionGrade]:
+                progress=None, students=None, user: tuple[int, int] | None = None,
+                environment=None) -> list[SubmissionGrade]:
     """Grade every submission (in parallel, ``jobs`` at a time); ``progress`` is called once per submission.
 
     With ``sandbox`` (the default) a machine where bubblewrap cannot start is a
-    :class:`~course_dynamics.grading.sandbox.SandboxError`, never a silent downgrade.
+    :class:`~course_dynamics.grading.sandbox.SandboxError`, never a silent downgrade. ``students`` name the
+    submissions (default: their file stems); ``user`` and ``environment`` are as in :func:`grade_submission`
+    (default environment: numpy and the assignment's allowed packages from this installation).
     """
     paths = [Path(p) for p in paths]
-    student_names(paths)
+    names = list(students) if students is not None else student_names(paths)
     bwrap = check_sandbox() if sandbox else None
-    environment = submission_environment(assignment.allowed_imports)
-    for path in paths:
-        assignment.for_student(path.stem, str(path))  # a per-student assignment refuses an unusable id before any runs
+    environment = environment or submission_environment(assignment.allowed_imports)
+    for path, name in zip(paths, names):
+        assignment.for_student(name, str(path))  # a per-student assignment refuses an unusable id before any runs
     shared = None if assignment.variant == "per-student" else _planned(assignment)
     jobs = jobs or max(1, min(len(paths), os.cpu_count() or 1))
 
-    def one(path):
-        graded, plan, expected = shared or _planned(assignment.for_student(path.stem))
+    def one(path_and_name):
+        path, name = path_and_name
+        graded, plan, expected = shared or _planned(assignment.for_student(name))
         # A student's 1e308 overflows in the comparison: inf, which the diagnosis reports (numpy's error
         # state is per thread, so the command line's does not reach the pool's threads).
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-            grade = grade_submission(graded, plan, expected, path.resolve(), bwrap, environment)
+            grade = grade_submission(graded, plan, expected, path.resolve(), bwrap, environment, user, name)
         grade.path = path
         if progress is not None:
             progress(1)
         return grade
 
     with ThreadPoolExecutor(max_workers=jobs) as pool:
-        return list(pool.map(one, paths))
+        return list(pool.map(one, zip(paths, names)))

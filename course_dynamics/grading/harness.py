@@ -66,7 +66,7 @@ FLAGS = {
     "introspection": "read the interpreter's frames or object lists (sys._getframe, gc), where the harness's state is",
     "channel-closed": "the integrity channel was closed or redirected before the run ended",
 }
-MAX_FLAG_LINES = 200  # lines the hook writes at most (each distinct attempt once)
+MAX_FLAG_LINES = 50  # lines the hook writes at most per code (each distinct attempt once): a flood hides no other
 MAX_FLAG_DETAIL = 200  # characters of a flag's detail (a path, a command)
 WRITE_BITS = os.O_WRONLY | os.O_RDWR | os.O_APPEND | os.O_CREAT | os.O_TRUNC
 FILE_CHANGES = ("os.remove", "os.rename", "os.mkdir", "os.rmdir", "os.chmod", "os.chown", "os.link", "os.symlink",
@@ -88,7 +88,7 @@ class IntegrityHook:
     """
 
     def __init__(self, fd: int, submission: str, readable, writable):
-        self.fd, self.submission, self.armed, self.busy, self.written = fd, submission, False, False, set()
+        self.fd, self.submission, self.armed, self.busy, self.written, self.counts = fd, submission, False, False, set(), {}
         self.readable = tuple(os.path.join(os.path.realpath(r), "") for r in readable)
         self.writable = tuple(os.path.join(os.path.realpath(w), "") for w in writable)
         # Files anyone may open: the null devices, and this file (a traceback of the student's error quotes it).
@@ -158,9 +158,10 @@ class IntegrityHook:
 
     def _write(self, code, detail):
         detail = " ".join(str(detail).split())[:MAX_FLAG_DETAIL]
-        if (code, detail) in self.written or len(self.written) >= MAX_FLAG_LINES:
+        if (code, detail) in self.written or self.counts.get(code, 0) >= MAX_FLAG_LINES:
             return
         self.written.add((code, detail))
+        self.counts[code] = self.counts.get(code, 0) + 1
         os.write(self.fd, f"{code}\t{detail}\n".encode("utf-8", "replace"))
 
     def end(self, nonce: str) -> None:

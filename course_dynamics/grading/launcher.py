@@ -2,8 +2,10 @@
 
 Run by the grader as a fresh process (standard library only): it moves itself
 into the grading cgroups named in CONFIG (JSON), sets the resource limits,
-installs the seccomp filter CONFIG carries (a BPF program, hex; see
-``containment.seccomp_program``), and replaces itself with COMMAND, so that the
+takes the unprivileged user and group CONFIG names (if any: a run without
+the sandbox, started by root), installs the seccomp filter CONFIG carries (a
+BPF program, hex; see ``containment.seccomp_program``), and replaces itself
+with COMMAND, so that the
 limits and the filter hold from the first instruction of the sandbox and of
 everything it starts. Doing this in a
 process of its own keeps the grader free of ``preexec_fn``, which is unsafe
@@ -43,6 +45,14 @@ def main() -> None:
             handle.write(str(os.getpid()))
     for name, (soft, hard) in config.get("rlimits", {}).items():
         resource.setrlimit(getattr(resource, name), (soft, hard))
+    if config.get("user"):
+        uid, gid = config["user"]
+        os.setgroups([])
+        os.setgid(gid)
+        os.setuid(uid)  # for good: a process that is no longer root cannot become root again
+        if os.getuid() != uid or os.geteuid() != uid:
+            sys.stderr.write("course-dynamics launcher: cannot take the unprivileged user\n")
+            os._exit(126)
     if config.get("seccomp"):
         install_filter(bytes.fromhex(config["seccomp"]))
     os.execv(command[0], command)

@@ -29,7 +29,7 @@ MAX_NAMES = 100            # forbidden import attempts listed
 MAX_DIGITS = 18            # an integer in the document (a shape, a returned int) has at most this many digits
 BYTES_PER_VALUE = 32       # a float's repr with its separator
 BYTES_PER_RECORD = 2 * MAX_TEXT + 256
-FLAGS_BYTES = (MAX_FLAG_LINES + 2) * (4 * MAX_FLAG_DETAIL + 32)  # the integrity channel, read at most
+FLAGS_BYTES = (len(FLAGS) * MAX_FLAG_LINES + 2) * (4 * MAX_FLAG_DETAIL + 32)  # the integrity channel, read at most
 
 
 class InvalidResults(CourseDynamicsError):
@@ -146,15 +146,16 @@ def read_flags(data: bytes, nonce: str, ended: bool) -> list[tuple[str, str]]:
     """The integrity flags from the channel's raw bytes (harness.IntegrityHook), as ``(code, detail)`` once each.
 
     The channel is hostile input like the results: lines that are not ``code<TAB>detail`` with a known code are
-    dropped, and at most MAX_FLAG_LINES are kept. ``ended`` says the results came back; a channel without the
+    dropped, and at most MAX_FLAG_LINES are kept per code. ``ended`` says the results came back; a channel without the
     harness's closing line (``end<TAB>nonce``) is then the flag ``channel-closed``.
     """
-    flags, closed = [], False
+    flags, closed, counts = [], False, dict.fromkeys(FLAGS, 0)
     for line in data[:FLAGS_BYTES].decode("utf-8", "replace").split("\n"):
         code, tab, detail = line.partition("\t")
         if code == "end" and detail == nonce and nonce:
             closed = True
-        elif tab and code in FLAGS and code != "channel-closed" and len(flags) < MAX_FLAG_LINES:
+        elif tab and code in FLAGS and code != "channel-closed" and counts[code] < MAX_FLAG_LINES:
+            counts[code] += 1
             flags.append((code, " ".join(detail.split())[:MAX_FLAG_DETAIL]))
     if ended and not closed:
         flags.append(("channel-closed", ""))

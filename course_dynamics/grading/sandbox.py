@@ -37,7 +37,11 @@ Without the sandbox, the submission runs in the same restricted interpreter
 environment, and the grader makes itself the *subreaper* of what it starts
 (``PR_SET_CHILD_SUBREAPER``): a process that a submission detaches (a new
 session, a double fork) is re-parented to the grader instead of init, and is
-killed when the run ends.
+killed when the run ends. Given a ``user`` (a grader running as root where
+bubblewrap cannot start, as in Gradescope's containers), the submission also
+runs as that unprivileged user and group, from a copy of its file in its
+throw-away working folder: it then reads only what others may read, writes
+only there and in world-writable places, and the process limit holds.
 """
 from __future__ import annotations
 
@@ -205,6 +209,20 @@ def _sandbox_command(bwrap: str, submission: Path, results_fd: int, flags_fd: in
 # ---------------------------------------------------------------------------------------- one run
 
 
+def _hand_over(submission: Path, scratch: Path, user: tuple[int, int]) -> tuple[Path, Path]:
+    """Copies of the submission and the harness in ``scratch``, which (with all in it) then belongs to ``user``:
+    the grader's own files may be closed to that user."""
+    copies = []
+    for folder, source in (("submission", submission), ("harness", HARNESS)):
+        (scratch / folder).mkdir()
+        copies.append(scratch / folder / source.name)
+        shutil.copyfile(source, copies[-1])
+    for path in [scratch, *scratch.rglob("*")]:
+        os.lchown(path, *user)
+    return copies[0], copies[1]
+
+
+
 class _Reader(threading.Thread):
     """Drains a pipe, keeping at most ``cap`` bytes and counting all of them."""
 
@@ -227,10 +245,11 @@ class _Reader(threading.Thread):
 
 
 def run_submission(submission: Path, plan: dict, limits: Limits, bwrap: str | None,
-                   environment: Environment | None = None) -> Run:
+                   environment: Environment | None = None, user: tuple[int, int] | None = None) -> Run:
     """Run ``submission`` through the harness on ``plan``; ``bwrap`` None means no sandbox.
 
-    ``environment`` is the submission's interpreter environment (default: numpy beside the standard library).
+    ``environment`` is the submission's interpreter environment (default: numpy beside the standard library);
+    ``user`` the (uid, gid) a run without the sandbox takes (module docstring), None to stay this process's user.
     """
     environment = environment or submission_environment()
     run_id = uuid.uuid4().hex
@@ -250,8 +269,11 @@ def run_submission(submission: Path, plan: dict, limits: Limits, bwrap: str | No
             become_subreaper()
             scratch = Path(tempfile.mkdtemp(prefix="course-dynamics-scratch-"))
             site = environment.linked_site(Path(tempfile.mkdtemp(prefix="site-", dir=scratch)))
+            harness = HARNESS
+            if user is not None:
+                submission, harness = _hand_over(submission, scratch, user)
             plan = dict(plan, module=str(submission), path=[str(site)], nonce=run_id)
-            command, cwd = [*harness_arguments(environment), str(HARNESS), str(write_results), str(write_flags)], scratch
+            command, cwd = [*harness_arguments(environment), str(harness), str(write_results), str(write_flags)], scratch
         cpu = max(1, int(round(limits.time_limit)))
         rlimits = {
             "RLIMIT_CPU": (cpu, cpu + 1),
@@ -259,11 +281,12 @@ def run_submission(submission: Path, plan: dict, limits: Limits, bwrap: str | No
             "RLIMIT_FSIZE": (FILE_SIZE_BYTES,) * 2,
             "RLIMIT_CORE": (0, 0),
         }
-        nproc = process_limit()
+        nproc = process_limit(user[0] if user is not None and bwrap is None else None)
         if nproc is not None:
             rlimits["RLIMIT_NPROC"] = (nproc, nproc)
         program = seccomp_program()
-        config = json.dumps({"cgroups": groups.procs, "rlimits": rlimits, "seccomp": program.hex() if program else ""})
+        config = json.dumps({"cgroups": groups.procs, "rlimits": rlimits, "seccomp": program.hex() if program else "",
+                             "user": list(user) if user is not None and bwrap is None else None})
         env = {"PATH": "/usr/bin:/bin", "LANG": "C.UTF-8", "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1",
                "HOME": str(scratch or "/scratch"), "COURSE_DYNAMICS_RUN": run_id}
         with STARTING:

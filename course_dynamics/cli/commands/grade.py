@@ -20,6 +20,9 @@ def add_arguments(parser) -> None:
     parser.add_argument("submissions", nargs="*", help="student files, one Python file per student")
     parser.add_argument("--out", help="folder for the gradebook and feedback (made if missing)")
     parser.add_argument("--example-assignment", action="store_true", help="print a commented assignment file and exit")
+    parser.add_argument("--gradescope", metavar="ZIP", help="write a Gradescope autograder bundle for the assignment "
+                        "(setup.sh, run_autograder, the assignment, this course-dynamics as a wheel) to ZIP and exit; "
+                        "upload it as the assignment's autograder (Ubuntu 24.04 base image)")
     parser.add_argument("--handout", metavar="ID", help="print the numbers of student ID's robot (an assignment with "
                         "variant = \"per-student\") and, with --out DIR, write its URDF there; grades nothing")
     parser.add_argument("--similarity", nargs="?", type=float, const=0.8, metavar="SCORE",
@@ -53,6 +56,8 @@ def run(args) -> int:
         return 0
     if args.handout is not None:
         return _handout(args, load_assignment)
+    if args.gradescope is not None:
+        return _gradescope(args, load_assignment)
     if args.assignment is None or not args.submissions or args.out is None:
         raise UsageError("grade needs ASSIGNMENT.toml, at least one SUBMISSION.py and --out DIR "
                          "(or --example-assignment)")
@@ -95,6 +100,21 @@ def run(args) -> int:
             print(f"{len(pairs)} near-identical pair{'s' if len(pairs) != 1 else ''} of submissions: see the summary")
         if args.no_sandbox:
             print("warning: graded without a sandbox (--no-sandbox)", file=sys.stderr)
+    return 0
+
+
+def _gradescope(args, load_assignment) -> int:
+    """The autograder bundle: everything Gradescope needs to grade this assignment on its own workers."""
+    from ...grading.autograder import write_bundle
+
+    if args.assignment is None or args.submissions or args.out is not None:
+        raise UsageError("grade --gradescope ZIP takes the assignment only: grade ASSIGNMENT.toml --gradescope autograder.zip")
+    target = write_bundle(load_assignment(args.assignment), args.gradescope)
+    if args.json:
+        print_json(dict(assignment=str(args.assignment), bundle=str(target)))
+    else:
+        print(f"wrote {target}: upload it in Gradescope as the assignment's autograder (Configure Autograder, "
+              "Ubuntu 24.04 base image); students submit one Python file")
     return 0
 
 

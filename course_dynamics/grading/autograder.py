@@ -1,0 +1,305 @@
+"""Gradescope's autograder: the bundle ``grade ASSIGNMENT --gradescope autograder.zip`` writes, and what runs in it.
+
+Gradescope builds an image from the zip once (running ``setup.sh`` as root)
+and then runs ``run_autograder`` for each submission, with the student's files
+in ``/autograder/submission`` and ``/autograder/submission_metadata.json``
+beside them; the results go to ``/autograder/results/results.json``.
+
+===========================  ===================================================
+in the zip                   what it is
+===========================  ===================================================
+``setup.sh``                 checks for Python >= 3.11 (stops with one line
+                             naming the image otherwise), makes the grader's
+                             environment ``/autograder/grader-env`` with the
+                             bundled wheel and its dependencies, then runs
+                             :func:`prepare`
+``run_autograder``           runs :func:`run` in the grader's environment
+``assignment/``              the assignment file, and its robot's URDF when the
+                             robot is a file
+``course_dynamics-*.whl``    this installation of course-dynamics as a wheel
+``bundle.json``              the version, the assignment's file name
+===========================  ===================================================
+
+:func:`prepare` copies numpy and the assignment's allowed packages into
+``/autograder/submission-site``, the only packages a submission's Python sees
+(so Pinocchio and course-dynamics stay out of its reach), and closes the
+grader's environment and the bundle to everyone but root. :func:`run` grades
+the one Python file of the submission as one student: the student id is the
+local part of the first user's e-mail in ``submission_metadata.json``, or the
+user field the assignment names (``gradescope_student``), which is what a
+per-student assignment gives each student their own robot by. It uses the
+bubblewrap sandbox where it starts; inside Gradescope's container it usually
+cannot (no namespaces), and the submission then runs in a separate process
+with the limits, a throw-away working folder and, the grader being root, an
+unprivileged user of its own (:data:`SUBMISSION_UID`). The results say which.
+
+``AUTOGRADER`` (default ``/autograder``) moves the whole layout, and
+``COURSE_DYNAMICS_ISOLATION=process`` asks for the fallback even where
+bubblewrap starts (both for trying the bundle outside Gradescope).
+"""
+from __future__ import annotations
+
+import base64
+import hashlib
+import importlib.metadata
+import importlib.util
+import io as text_io
+import json
+import os
+import re
+import sys
+import time
+import traceback
+import zipfile
+from pathlib import Path
+
+from ..base.errors import CourseDynamicsError, InputError
+from ..core.robots import robot_names
+from ..output import io
+from ..tools.variants import check_student_id
+from .assignment import Assignment, load_assignment
+from .environment import copy_packages, submission_environment
+from .feedback import results_json
+from .grade import grade_class
+from .sandbox import SandboxError, check_sandbox
+
+ROOT = "/autograder"
+PACKAGES = ("course_dynamics", "course_dynamics_reference", "course_dynamics_notebooks", "course_dynamics_robots")
+SUBMISSION_UID = 61_000  # the unprivileged user (and group) a submission runs as without the sandbox
+MAX_METADATA_BYTES = 10 * 2**20
+ISOLATION_WORDS = {
+    "bubblewrap": "the bubblewrap sandbox (no network, only its own files, limits)",
+    "unprivileged-user": "a separate process with limits and a throw-away working folder, as an unprivileged user, "
+                         "without bubblewrap",
+    "none": "a separate process with limits and a throw-away working folder, as the grader's own user (not root, so "
+            "it cannot give the submission another), without bubblewrap",
+}
+
+SETUP = r"""#!/usr/bin/env bash
+# course-dynamics autograder: Gradescope runs this once, as root, when it builds the autograder's image.
+set -euo pipefail
+AUTOGRADER="${AUTOGRADER:-/autograder}"
+SOURCE="$AUTOGRADER/source"
+PYTHON="${COURSE_DYNAMICS_PYTHON:-python3}"
+recent() { "$PYTHON" -c 'import sys, venv, ensurepip; sys.exit(sys.version_info < (3, 11))' 2>/dev/null; }
+if ! recent && [ -z "${COURSE_DYNAMICS_OFFLINE:-}" ] && command -v apt-get >/dev/null; then
+    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq python3 python3-venv >/dev/null
+fi
+if ! recent; then
+    echo "error: course-dynamics needs Python 3.11 or newer with venv; this image has $("$PYTHON" --version 2>&1 || echo no python3): choose the Ubuntu 24.04 base image in the autograder's settings" >&2
+    exit 2
+fi
+"$PYTHON" -m venv "$AUTOGRADER/grader-env"
+GRADER="$AUTOGRADER/grader-env/bin/python"
+if [ -n "${COURSE_DYNAMICS_DEPENDENCIES:-}" ]; then
+    # An offline build: the dependencies come from a folder that already holds them.
+    purelib="$("$GRADER" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')"
+    echo "import site; site.addsitedir('$COURSE_DYNAMICS_DEPENDENCIES')" > "$purelib/zz-course-dynamics-dependencies.pth"
+    "$GRADER" -m pip install -q --no-deps --no-index "$SOURCE"/course_dynamics-*.whl
+else
+    "$GRADER" -m pip install -q "$SOURCE"/course_dynamics-*.whl
+fi
+"$GRADER" -I -m course_dynamics.grading.autograder prepare
+"""
+
+RUN = r"""#!/usr/bin/env bash
+# course-dynamics autograder: Gradescope runs this for every submission.
+exec "${AUTOGRADER:-/autograder}/grader-env/bin/python" -I -m course_dynamics.grading.autograder run
+"""
+
+
+# ---------------------------------------------------------------------------------------- the bundle
+
+
+def _record_hash(data: bytes) -> str:
+    return "sha256=" + base64.urlsafe_b64encode(hashlib.sha256(data).digest()).rstrip(b"=").decode()
+
+
+def wheel() -> tuple[str, bytes]:
+    """This installation of course-dynamics as a wheel (file name, bytes): its packages' files and its metadata.
+
+    Made from what is installed (an editable install too), so the bundle grades with exactly the code that
+    wrote it.
+    """
+    distribution = importlib.metadata.distribution("course-dynamics")
+    version = distribution.version
+    info = f"course_dynamics-{version}.dist-info"
+    files: dict[str, bytes] = {}
+    for package in PACKAGES:
+        spec = importlib.util.find_spec(package)
+        folder = Path(list(spec.submodule_search_locations)[0])
+        for path in sorted(folder.rglob("*")):
+            relative = path.relative_to(folder)
+            if path.is_file() and "__pycache__" not in relative.parts and not relative.name.startswith("."):
+                files[f"{package}/{relative.as_posix()}"] = path.read_bytes()
+    metadata = distribution.read_text("METADATA") or distribution.read_text("PKG-INFO") or ""
+    files[f"{info}/METADATA"] = metadata.encode()
+    files[f"{info}/WHEEL"] = b"Wheel-Version: 1.0\nGenerator: course-dynamics\nRoot-Is-Purelib: true\nTag: py3-none-any\n"
+    files[f"{info}/entry_points.txt"] = (distribution.read_text("entry_points.txt") or "").encode()
+    record = "".join(f"{name},{_record_hash(data)},{len(data)}\n" for name, data in files.items())
+    files[f"{info}/RECORD"] = (record + f"{info}/RECORD,,\n").encode()
+    buffer = text_io.BytesIO()
+    with zipfile.ZipFile(buffer, "w", zipfile.ZIP_DEFLATED) as archive:
+        for name, data in files.items():
+            archive.writestr(_entry(name), data)
+    return f"course_dynamics-{version}-py3-none-any.whl", buffer.getvalue()
+
+
+def _entry(name: str, executable: bool = False) -> zipfile.ZipInfo:
+    """A zip entry with a fixed date (the same input makes the same zip) and a regular file's mode."""
+    info = zipfile.ZipInfo(name, date_time=(2020, 1, 1, 0, 0, 0))
+    info.external_attr = (0o100755 if executable else 0o100644) << 16  # Gradescope runs both scripts
+    info.compress_type = zipfile.ZIP_DEFLATED
+    return info
+
+
+def write_bundle(assignment: Assignment, target) -> Path:
+    """The autograder zip for ``assignment`` at ``target`` (module docstring); InputError if something is there."""
+    target = Path(target)
+    files = {f"assignment/{assignment.source.name}": assignment.source.read_bytes()}
+    robot_file = assignment.source.parent / assignment.robot_argument
+    if robot_file.is_file() and assignment.robot_argument not in robot_names():
+        if Path(assignment.robot_argument).is_absolute() or ".." in Path(assignment.robot_argument).parts:
+            raise InputError(f"{assignment.source}: robot '{assignment.robot_argument}' is outside the assignment's "
+                             "folder; put the URDF beside the assignment (or below it) to bundle it")
+        files[f"assignment/{Path(assignment.robot_argument).as_posix()}"] = robot_file.read_bytes()
+    wheel_name, wheel_data = wheel()
+    files[wheel_name] = wheel_data
+    files["bundle.json"] = json.dumps({"course_dynamics": importlib.metadata.version("course-dynamics"),
+                                       "assignment": assignment.source.name}, indent=2).encode()
+    buffer = text_io.BytesIO()
+    with zipfile.ZipFile(buffer, "w", zipfile.ZIP_DEFLATED) as archive:
+        archive.writestr(_entry("setup.sh", executable=True), SETUP)
+        archive.writestr(_entry("run_autograder", executable=True), RUN)
+        for name, data in files.items():
+            archive.writestr(_entry(name), data)
+    if not io.write_new(target, buffer.getvalue()):
+        raise InputError(f"{target}: exists; kept as it is (remove it, or name another file, to write the bundle)")
+    return target
+
+
+# ---------------------------------------------------------------------------------------- inside Gradescope
+
+
+def root() -> Path:
+    return Path(os.environ.get("AUTOGRADER", ROOT))
+
+
+def prepare(where: Path | None = None) -> list[str]:
+    """After ``setup.sh`` installed the wheel: the submissions' packages, and the grader's files closed to others."""
+    where = where or root()
+    assignment = _assignment(where)
+    site = where / "submission-site"
+    site.mkdir(exist_ok=True)
+    copied = copy_packages(assignment.allowed_imports, site)
+    for private in (where / "grader-env", where / "source"):
+        private.chmod(0o700)
+    print(f"course-dynamics autograder: {assignment.source.name} on {assignment.robot.name}; submissions see "
+          f"{', '.join(copied)} beside the standard library; grading runs in {_isolation()[2]}")
+    return copied
+
+
+def _assignment(where: Path) -> Assignment:
+    bundle = json.loads((where / "source" / "bundle.json").read_text())
+    return load_assignment(where / "source" / "assignment" / bundle["assignment"])
+
+
+def _isolation() -> tuple[bool, tuple[int, int] | None, str]:
+    """(sandbox, user, words): bubblewrap where it starts (unless the environment asks for the fallback), else a
+    separate process as SUBMISSION_UID when the grader is root."""
+    reason = "asked for with COURSE_DYNAMICS_ISOLATION=process"
+    if os.environ.get("COURSE_DYNAMICS_ISOLATION") != "process":
+        try:
+            check_sandbox()
+            return True, None, ISOLATION_WORDS["bubblewrap"]
+        except SandboxError as exc:
+            reason = str(exc).split("; pass --no-sandbox")[0]
+    if os.geteuid() == 0:
+        return False, (SUBMISSION_UID, SUBMISSION_UID), f"{ISOLATION_WORDS['unprivileged-user']}: {reason}"
+    return False, None, f"{ISOLATION_WORDS['none']}: {reason}"
+
+
+def student_id(metadata_path: Path, field: str) -> str:
+    """The student from Gradescope's ``submission_metadata.json``: the first user's ``field`` (``email``: its local
+    part), checked as an id; InputError naming the file and the field otherwise."""
+    where = f"{metadata_path.name}: users[0].{field}"
+    try:
+        with open(metadata_path, "rb") as handle:
+            data = handle.read(MAX_METADATA_BYTES + 1)
+        metadata = json.loads(data) if len(data) <= MAX_METADATA_BYTES else None
+    except FileNotFoundError:
+        raise InputError(f"{metadata_path}: no submission metadata (Gradescope writes it beside the submission)") from None
+    except (OSError, ValueError, RecursionError) as exc:
+        raise InputError(f"{metadata_path}: not readable JSON ({type(exc).__name__})") from None
+    users = metadata.get("users") if isinstance(metadata, dict) else None
+    if not isinstance(users, list) or not users or not isinstance(users[0], dict) or field not in users[0]:
+        raise InputError(f"{where}: missing; the assignment's gradescope_student names the user field that "
+                         "identifies a student")
+    value = users[0][field]
+    if field == "email" and isinstance(value, str):
+        value = value.split("@", 1)[0]
+    return check_student_id(str(value) if isinstance(value, int) and not isinstance(value, bool) else value, where)
+
+
+def submission_file(folder: Path) -> Path:
+    """The one Python file of the submission (at its top, or alone anywhere below it); InputError otherwise."""
+    found = sorted(p for p in folder.glob("*.py") if p.is_file()) or \
+        sorted(p for p in folder.rglob("*.py") if p.is_file() and "__MACOSX" not in p.parts)
+    if len(found) != 1:
+        names = ", ".join(p.relative_to(folder).as_posix() for p in found[:5]) or "none"
+        raise InputError(f"submit exactly one Python file defining tau, M, V, G or C; found {len(found)} ({names})")
+    return found[0]
+
+
+def grade_here(where: Path) -> dict:
+    """Grade the submission in ``where`` (the /autograder layout) and return Gradescope's results document."""
+    assignment = _assignment(where)
+    student = student_id(where / "submission_metadata.json", assignment.gradescope_student)
+    path = submission_file(where / "submission")
+    sandbox, user, words = _isolation()
+    environment = submission_environment(assignment.allowed_imports, site=where / "submission-site")
+    grade, = grade_class(assignment, [path], sandbox=sandbox, students=[student], user=user, environment=environment,
+                         jobs=1)
+    document = results_json(grade, assignment)
+    document["output"] = f"student {student}; graded in {words}\n{document['output']}"[:20_000]
+    return document
+
+
+def run(where: Path | None = None) -> dict:
+    """Grade and write ``results/results.json`` whatever happens: a problem becomes a score of 0 with its reason."""
+    where = where or root()
+    started = time.monotonic()
+    metadata = where / "submission_metadata.json"
+    if metadata.exists():
+        metadata.chmod(0o600)  # other students' names and earlier results: not for the submission to read
+    (where / "results").mkdir(exist_ok=True)
+    (where / "results").chmod(0o755)
+    try:
+        document = grade_here(where)
+    except CourseDynamicsError as exc:
+        document = {"score": 0.0, "output": f"error: {exc}", "tests": []}
+    except Exception:  # our own failure: the instructor sees the traceback in the autograder's stdout
+        traceback.print_exc()
+        document = {"score": 0.0, "output": "the autograder failed (a fault of course-dynamics, not of the "
+                    "submission); your instructor can see its log", "tests": []}
+    document["execution_time"] = round(time.monotonic() - started, 1)
+    io.write_text(where / "results" / "results.json", json.dumps(document, indent=2, allow_nan=False) + "\n")
+    print(f"course-dynamics autograder: score {document['score']:g}; {document['output'].splitlines()[0]}")
+    return document
+
+
+def main(argv=None) -> int:
+    argv = sys.argv[1:] if argv is None else argv
+    if argv == ["prepare"]:
+        prepare()
+        return 0
+    if argv == ["run"]:
+        run()
+        return 0
+    print("usage: python -m course_dynamics.grading.autograder {prepare|run} (run by the Gradescope bundle's "
+          "setup.sh and run_autograder)", file=sys.stderr)
+    return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())
