@@ -69,20 +69,23 @@ def _is_docstring(node: ast.AST) -> bool:
     return isinstance(node, ast.Expr) and isinstance(node.value, ast.Constant) and isinstance(node.value.value, str)
 
 
-def _tokens(node: ast.AST, line: int = 1):
-    """(token, line) in source order; a student's names are all one placeholder."""
-    if isinstance(node, CONTEXTS) or _is_docstring(node):
-        return
-    line = getattr(node, "lineno", line)
-    yield type(node).__name__, line
-    if isinstance(node, ast.Attribute):
-        yield "." + node.attr, line
-    elif isinstance(node, ast.Constant):
-        yield ("str" if isinstance(node.value, (str, bytes)) else repr(node.value)), line
-    elif isinstance(node, (ast.alias,)):
-        yield node.name, line  # what is imported (numpy), not what it is called
-    for child in ast.iter_child_nodes(node):
-        yield from _tokens(child, line)
+def _tokens(node: ast.AST):
+    """(token, line) in source order, depth first without recursion (a file may nest deeply); a student's names
+    are all one placeholder."""
+    stack = [(node, 1)]
+    while stack:
+        node, line = stack.pop()
+        if isinstance(node, CONTEXTS) or _is_docstring(node):
+            continue
+        line = getattr(node, "lineno", line)
+        yield type(node).__name__, line
+        if isinstance(node, ast.Attribute):
+            yield "." + node.attr, line
+        elif isinstance(node, ast.Constant):
+            yield ("str" if isinstance(node.value, (str, bytes)) else repr(node.value)[:40]), line
+        elif isinstance(node, ast.alias):
+            yield node.name, line  # what is imported (numpy), not what it is called
+        stack.extend((child, line) for child in reversed(list(ast.iter_child_nodes(node))))
 
 
 def _hash(tokens) -> int:
