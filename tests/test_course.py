@@ -228,3 +228,15 @@ def test_without_the_installed_package_data_the_checkouts_notebooks_are_found(mo
 
     monkeypatch.setattr(course.resources, "files", not_installed)
     assert len(list(course.notebooks_folder().glob("[0-9][0-9]_*.py"))) == 10
+
+
+def test_publishing_without_the_notebook_extra_says_what_to_install(tmp_path, monkeypatch, capsys):
+    """The base install leaves out the execution stack: publish-notebooks says, in one line, what to install."""
+    import sys
+
+    monkeypatch.setitem(sys.modules, "nbclient", None)  # as if not installed
+    monkeypatch.setitem(sys.modules, "ipykernel", None)
+    assert main(["publish-notebooks", str(tmp_path / "site"), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: running the notebooks needs nbclient, ipykernel") and err.count("\n") == 1
+    assert "pip install 'course-dynamics[notebooks]'" in err and not (tmp_path / "site").exists()

@@ -212,6 +212,25 @@ def write_notebooks(out: Path, solutions: bool = False, force: bool = False, stu
     return NotebooksWritten(written=tuple(written), kept=tuple(kept), backups=tuple(backups))
 
 
+NOTEBOOK_STACK = ("nbclient", "nbconvert", "ipykernel")  # the `notebooks` extra: running and rendering notebooks
+
+
+def check_notebook_stack() -> None:
+    """An InputError saying what to install when the notebook execution stack is missing (the base install
+    leaves it out: an engineer computing torques never runs a notebook)."""
+    import importlib
+
+    missing = []
+    for name in NOTEBOOK_STACK:
+        try:
+            importlib.import_module(name)
+        except ImportError:
+            missing.append(name)
+    if missing:
+        raise InputError(f"running the notebooks needs {', '.join(missing)}, which the base install leaves out: "
+                         "pip install 'course-dynamics[notebooks]' (from a checkout: pip install -e '.[notebooks]')")
+
+
 def execute(notebook, folder: Path, timeout: int = CELL_TIMEOUT):
     """Run every cell in a fresh kernel with ``folder`` as working directory; a failing cell raises."""
     import subprocess
@@ -308,6 +327,7 @@ def publish(out: Path, solutions: bool = False, only=None, progress=None) -> lis
     """
     import tempfile
 
+    check_notebook_stack()
     out = Path(out)
     paths = notebook_paths(only)
     check_folder(out, [f"{path.stem}.html" for path in paths] + ["index.html"], PUBLISH_OWNER)  # before minutes of work
