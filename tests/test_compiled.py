@@ -12,7 +12,7 @@ from course_dynamics import (
     load_urdf,
     mass_matrix,
 )
-from course_dynamics.core.compiled import compile_model
+from course_dynamics.core.compiled import compile_model, native
 from course_dynamics.core.dynamics import mass_matrix_and_bias
 from course_dynamics.core.forward_dynamics import (
     SingularMassMatrixError,
@@ -20,10 +20,14 @@ from course_dynamics.core.forward_dynamics import (
 )
 
 
-@pytest.fixture(scope="module")
-def compiled(robot):
+@pytest.fixture(scope="module", params=["python", "native"])
+def compiled(robot, request):
+    """Each robot's compiled model twice: the Python programs alone, and with their C version (native.py) where
+    a compiler exists (everything below then runs natively)."""
     name, model, oracle, states = robot
-    return name, model, oracle, states, compile_model(model)
+    c = compile_model(model, native_code=request.param == "native")
+    assert bool(c.native) == (request.param == "native" and native.compiler() is not None and native.enabled())
+    return name, model, oracle, states, c
 
 
 def test_every_program_agrees_with_pinocchio(compiled):
@@ -322,3 +326,65 @@ def test_an_entry_that_is_no_regular_file_is_replaced_never_opened(tmp_path, mon
     if kind == "device link":
         assert stat.S_IMODE(os.stat(device).st_mode) == 0o666  # never chmod'ed through the link
     assert compile_model(model).from_cache
+
+
+def test_the_native_path_checks_what_it_is_given(tmp_path, monkeypatch):
+    """One finite float64 state goes straight to C; anything else takes the checked path and its errors."""
+    from course_dynamics import StateError
+
+    monkeypatch.setenv("COURSE_DYNAMICS_CACHE", str(tmp_path / "cache"))
+    arm = load_robot("two_link")
+    c = compile_model(arm)
+    if not c.native:
+        pytest.skip("no C compiler with Python's headers here: the Python programs run (tested above)")
+    q = np.array([0.1, 0.2])
+    expected = inverse_dynamics(arm, q, q, q)
+    for given in ([0.1, 0.2], q.astype(np.float32), np.array([[0.1, 0.2]])[0], np.array([0.1, 9, 0.2, 9])[::2]):
+        np.testing.assert_allclose(c.inverse_dynamics(given, q, q), expected, rtol=1e-6)
+    for bad, message in (([np.nan, 0.0], "is nan"), ([np.inf, 0.0], "is inf"), ([0.0], "has 1 values")):
+        with pytest.raises(StateError, match=message):
+            c.inverse_dynamics(np.array(bad), q, q)
+    assert "double t" in c.native_source and "out[0]" in c.native_source  # the generated C, for reading
+
+
+def test_a_native_library_in_the_cache_runs_only_behind_its_keyed_hash(tmp_path, monkeypatch):
+    from course_dynamics.core.compiled import model_key
+
+    monkeypatch.setenv("COURSE_DYNAMICS_CACHE", str(tmp_path / "cache"))
+    arm = load_robot("rp_arm")
+    built = compile_model(arm)
+    if not built.native:
+        pytest.skip("no C compiler with Python's headers here")
+    again = compile_model(arm, native_code=None)  # from the cache, no build
+    assert again.native and again.native_source == "" and again.native_seconds < built.native_seconds
+    library = tmp_path / "cache" / f"{model_key(arm)}.native"
+    library.write_bytes(library.read_bytes()[:32] + b"\x7fELF planted" + library.read_bytes()[45:])
+    assert compile_model(arm, native_code=None).native == {}  # a damaged or planted library is never loaded
+    assert compile_model(arm).native  # and is built again when asked
+
+
+def test_without_a_compiler_or_with_native_off_the_python_programs_run(tmp_path, monkeypatch):
+    monkeypatch.setenv("COURSE_DYNAMICS_CACHE", str(tmp_path / "cache"))
+    arm = load_robot("rrr_arm")
+    q = np.array([0.3, -0.2, 0.5])
+    monkeypatch.setattr(native, "compiler", lambda: None)
+    without = compile_model(arm)
+    assert without.native == {}
+    np.testing.assert_allclose(without.inverse_dynamics(q, q, q), inverse_dynamics(arm, q, q, q), rtol=1e-12)
+    monkeypatch.undo()
+    monkeypatch.setenv("COURSE_DYNAMICS_CACHE", str(tmp_path / "cache"))
+    monkeypatch.setenv("COURSE_DYNAMICS_NATIVE", "off")
+    assert compile_model(arm).native == {}
+
+
+def test_a_native_batch_shared_by_threads_equals_one_thread(monkeypatch):
+    from course_dynamics.core import compiled as compiled_module
+
+    ur5 = load_robot("ur5")
+    c = compile_model(ur5)
+    if not c.native:
+        pytest.skip("no C compiler with Python's headers here")
+    Q = np.random.default_rng(4).uniform(-1, 1, (3 * compiled_module.THREAD_STATES + 7, ur5.n))
+    shared = c.inverse_dynamics(Q, Q, Q)
+    monkeypatch.setattr(compiled_module, "THREADS", 1)
+    np.testing.assert_array_equal(shared, c.inverse_dynamics(Q, Q, Q))

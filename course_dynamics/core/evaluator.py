@@ -17,6 +17,11 @@ floats, work that pays     the compiled model: loaded from the cache (or compile
                            process and model, then used for every later call on that model
 =========================  ===================================================================
 
+The compiled model runs as C where a compiler exists (:mod:`~course_dynamics.core.compiled.native`):
+built when the work reaches :data:`NATIVE_SECONDS` (a long simulation; building takes seconds, once, as the
+library is cached), and used at once wherever the cache already holds it. A call whose arguments are one
+finite float64 state each goes straight to the native code, with no other check.
+
 "Work that pays" is an estimate in seconds of what the interpreted recursions would take —
 :data:`CALL_SECONDS` a call plus :data:`STATE_SECONDS` a state of a batch — summed over the calls on one
 model in this process; when it reaches :data:`COMPILE_SECONDS`, about what loading a compiled model from a
@@ -53,6 +58,7 @@ from .state import as_state
 CALL_SECONDS = 3e-4     # the interpreted recursions' cost of one call (UR5: 0.26 ms for τ at one state)
 STATE_SECONDS = 1.5e-6  # and of one more state in a vectorised batch (UR5: 13 ms for τ at 10 000 states)
 COMPILE_SECONDS = 0.03  # a compiled model loaded from a warm cache (two-link 10 ms, UR5 25 ms, Panda 50 ms)
+NATIVE_SECONDS = 1.0    # work that pays for building the C version once (UR5 about 3 s, then cached)
 
 
 @dataclass
@@ -63,6 +69,7 @@ class _Record:
     seconds: float = 0.0
     compiled: CompiledModel | None = None
     too_large: bool = False
+    native_tried: bool = False
 
 
 _RECORDS: dict[int, _Record] = {}
@@ -99,7 +106,7 @@ def implementation(model: Model, calls: int = 1, states: int = 1, compiled: bool
     if compiled is False:
         return None
     record = _record(model)
-    if record.compiled is not None:
+    if record.compiled is not None and (record.native_tried or record.compiled.native):
         return record.compiled
     if compiled is None:
         if record.too_large:
@@ -107,8 +114,12 @@ def implementation(model: Model, calls: int = 1, states: int = 1, compiled: bool
         record.seconds += interpreted_seconds(calls, states)
         if record.seconds < COMPILE_SECONDS:
             return None
+    build = bool(compiled) or record.seconds >= NATIVE_SECONDS
+    if record.compiled is not None and not build:
+        return record.compiled
     try:
-        record.compiled = compile_model(model)
+        record.compiled = compile_model(model, native_code=True if build else None)
+        record.native_tried = build
     except ProgramTooLargeError as error:
         if compiled:
             raise
@@ -117,6 +128,14 @@ def implementation(model: Model, calls: int = 1, states: int = 1, compiled: bool
                       stacklevel=3)
         return None
     return record.compiled
+
+
+def _native(model: Model, name: str, *arguments) -> np.ndarray | None:
+    """The model's native program on one finite float64 state as given, or None (CompiledModel.native_call)."""
+    record = _RECORDS.get(id(model))
+    if record is None or record.compiled is None or not record.compiled.native or record.model() is not model:
+        return None
+    return record.compiled.native_call(name, *arguments)
 
 
 def _float_work(model: Model, *arrays: np.ndarray) -> CompiledModel | None:
@@ -136,6 +155,9 @@ def inverse_dynamics(model: Model, q, qd, qdd) -> np.ndarray:
     >>> np.round(inverse_dynamics(load_robot("two_link"), [0.1, 0.2], [1, 0], [0, 1]), 6)
     array([18.74624 ,  3.948474])
     """
+    out = _native(model, "tau", q, qd, qdd)
+    if out is not None:
+        return out
     q, qd, qdd = as_state(model, q, "q"), as_state(model, qd, "qd"), as_state(model, qdd, "qdd")
     fast = _float_work(model, q, qd, qdd)
     return fast.inverse_dynamics(q, qd, qdd) if fast is not None else newton_euler.inverse_dynamics(model, q, qd, qdd)
@@ -149,6 +171,9 @@ def mass_matrix(model: Model, q) -> np.ndarray:
     array([[1.261033, 0.335517],
            [0.335517, 0.16    ]])
     """
+    out = _native(model, "mass_matrix", q)
+    if out is not None:
+        return out.reshape(model.n, model.n)
     q = as_state(model, q, "q")
     fast = _float_work(model, q)
     return fast.mass_matrix(q) if fast is not None else dynamics.mass_matrix(model, q)
@@ -187,6 +212,10 @@ def forward_dynamics(model: Model, q, qd, tau, friction: Friction | None = None)
     >>> np.round(forward_dynamics(load_robot("two_link"), [0.0, 0.5], [0, 0], [24.0, 5.0]), 6)
     array([4.623991, 0.030879])
     """
+    if friction is None:
+        out = _native(model, "forward_dynamics", q, qd, tau)
+        if out is not None:
+            return _RECORDS[id(model)].compiled._checked_accelerations(out, q, qd, tau)
     q, qd, tau = as_state(model, q, "q"), as_state(model, qd, "qd"), as_state(model, tau, "tau")
     fast = _float_work(model, q, qd, tau)
     if fast is not None:

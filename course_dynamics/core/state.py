@@ -9,6 +9,7 @@ nested lists of entries, back into arrays.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -48,7 +49,13 @@ def as_state(model, values, name: str = "q") -> np.ndarray:
     >>> from course_dynamics import load_robot
     >>> as_state(load_robot("two_link"), [0, 1])
     array([0., 1.])
+
+    A float array of the right shape whose values are finite is returned as it is (no copy): the one-state
+    path of the compiled models calls this for every argument.
     """
+    if type(values) is np.ndarray and values.dtype == np.float64 and values.ndim and values.shape[-1] == model.n \
+            and math.isfinite(sum(values.tolist()) if values.ndim == 1 else values.sum()):
+        return values  # finite: a NaN or an inf (or a sum that overflows) takes the checks below
     array = np.asarray(values)
     if array.dtype != object and array.dtype.kind != "c":  # complex: for complex-step derivatives
         try:

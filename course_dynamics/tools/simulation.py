@@ -38,6 +38,7 @@ stop), also recorded. Nothing passes a limit silently.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Callable
 
@@ -189,7 +190,11 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
         dynamics = fast.accelerations if fast is not None else newton_euler_dynamics(model)
     solve_accelerations = dynamics
 
+    constant = None if callable(torque) else tau_of(0.0, q0, qd0)  # checked once: None or an array (n,)
+
     def applied(t, q, qd):
+        if constant is not None:
+            return constant if q.ndim == 1 else np.broadcast_to(constant, q.shape)
         tau = np.asarray(tau_of(t, q, qd), dtype=float)
         if tau.shape not in ((model.n,), q.shape) or not np.all(np.isfinite(tau)):
             shown = tau.tolist() if tau.size <= 3 * model.n else f"an array of shape {tau.shape}"
@@ -198,7 +203,7 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
         return np.broadcast_to(tau, q.shape)
 
     def accelerations(t, q, qd):
-        if not (np.all(np.isfinite(q)) and np.all(np.isfinite(qd))):
+        if not (_finite(q) and _finite(qd)):
             raise SimulationError(f"the state became non-finite near t = {t:.6g} s (try a smaller dt)")
         tau = applied(t, q, qd)
         driving = tau if friction is None else tau - friction.torques(qd)  # (6.114)
@@ -221,6 +226,14 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
     qdd = solve_accelerations(q, qd, driving)
     return Trajectory(joints=model.joint_names, t=times, q=q, qd=qd, qdd=qdd, tau=tau,
                       energy=total_energy(model, q, qd), events=tuple(guard.events))
+
+
+def _finite(a: np.ndarray) -> bool:
+    """Whether every value is finite; for one state by a sum of Python floats, which is quicker than numpy's check
+    (a NaN or an inf makes the sum so, and a sum that merely overflows is checked value by value)."""
+    if a.ndim == 1 and math.isfinite(sum(a.tolist())):
+        return True
+    return bool(np.all(np.isfinite(a)))
 
 
 def _euler_step(f, t, q, qd, dt):

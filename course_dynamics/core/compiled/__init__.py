@@ -65,6 +65,7 @@ import functools
 import hashlib
 import json
 import marshal
+import os
 import sys
 import time
 from dataclasses import dataclass, field
@@ -78,7 +79,7 @@ from ..forward_dynamics import SINGULAR_PIVOT_RATIO, accelerations
 from ..model import Model
 from ..newton_euler import inverse_dynamics
 from ..state import as_state
-from . import codegen, tracing
+from . import codegen, native, tracing
 from .cache import CACHE_OFF, Cache, CacheWarning, cache_folder
 from .codegen import module_source, program_source
 from .tracing import (
@@ -185,8 +186,14 @@ class CompiledModel:
     from_cache: bool
     path: Path | None = None
     functions: dict = field(repr=False, default_factory=dict)
+    native: dict = field(repr=False, default_factory=dict)  # the same programs as C (native.py), where built
+    native_source: str = ""
+    native_seconds: float = 0.0  # building (or loading) the native library
 
     def _run(self, name: str, *arrays) -> np.ndarray:
+        function = self.native.get(name)
+        if function is not None and all(a.dtype == np.float64 for a in arrays):
+            return self._run_native(function, name, arrays)
         if all(a.ndim == 1 for a in arrays):
             return np.array(self.functions[name](*(a.tolist() for a in arrays)))
         batch = np.broadcast_shapes(*(a.shape[:-1] for a in arrays))
@@ -194,20 +201,58 @@ class CompiledModel:
         out = self.functions[f"{name}_batch"](*(c.T if c.ndim == 2 else np.moveaxis(c, -1, 0) for c in columns))
         return np.stack([o if np.shape(o) == batch else np.broadcast_to(o, batch) for o in out], axis=-1)
 
+    def native_call(self, name: str, *arrays) -> np.ndarray | None:
+        """The native program on arguments as given, if they are one state of finite float64 values (n,) each;
+        None otherwise (no native code, or anything the checked path should see first)."""
+        function = self.native.get(name)
+        if function is None:
+            return None
+        out = np.empty(native.width(name, self.model.n))
+        try:
+            function(*arrays, out)
+        except (TypeError, ValueError, BufferError):
+            return None
+        return out
+
+    def _run_native(self, function, name: str, arrays) -> np.ndarray:
+        width = native.width(name, self.model.n)
+        if all(a.ndim == 1 and a.flags.c_contiguous for a in arrays):  # one state: the path a loop of calls takes
+            out = np.empty(width)
+            function(*arrays, out)
+            return out
+        batch = np.broadcast_shapes(*(a.shape[:-1] for a in arrays))
+        columns = [np.ascontiguousarray(np.broadcast_to(a, batch + a.shape[-1:])) for a in arrays]
+        out = np.empty(batch + (width,))
+        states = int(np.prod(batch))
+        parts = min(THREADS, states // THREAD_STATES)
+        if parts < 2:
+            function(*columns, out)
+            return out
+        flat = [c.reshape(states, -1) for c in columns] + [out.reshape(states, width)]
+        bounds = np.linspace(0, states, parts + 1).astype(int)
+        list(_pool().map(lambda k: function(*(a[bounds[k]:bounds[k + 1]] for a in flat)), range(parts)))
+        return out
+
     def inverse_dynamics(self, q, qd, qdd) -> np.ndarray:
         """τ, shape (n,) or (N, n), as :func:`~course_dynamics.core.newton_euler.inverse_dynamics`."""
+        fast = self.native_call("tau", q, qd, qdd)
+        if fast is not None:
+            return fast
         m = self.model
         return self._run("tau", as_state(m, q, "q"), as_state(m, qd, "qd"), as_state(m, qdd, "qdd"))
 
     def mass_matrix(self, q) -> np.ndarray:
         """M(Θ), shape (n, n) or (N, n, n)."""
-        upper = self._run("mass_matrix", as_state(self.model, q, "q"))
         n = self.model.n
-        M = np.empty(upper.shape[:-1] + (n, n))
-        rows, cols = np.triu_indices(n)
-        M[..., rows, cols] = upper
-        M[..., cols, rows] = upper
-        return M
+        whole = self.native_call("mass_matrix", q)
+        if whole is not None:
+            return whole.reshape(n, n)
+        q = as_state(self.model, q, "q")
+        if "mass_matrix" in self.native and q.dtype == np.float64:
+            whole = self._run("mass_matrix", q)  # natively M comes whole
+            return whole.reshape(whole.shape[:-1] + (n, n))
+        upper = self._run("mass_matrix", q)
+        return upper[..., _symmetric_index(n)].reshape(upper.shape[:-1] + (n, n))
 
     def bias(self, q, qd) -> np.ndarray:
         """V(Θ, Θ̇) + G(Θ), shape (n,) or (N, n)."""
@@ -220,15 +265,30 @@ class CompiledModel:
 
     def forward_dynamics(self, q, qd, tau, friction=None) -> np.ndarray:
         """Θ̈ (6.115), shape (n,) or (N, n), as :func:`~course_dynamics.core.forward_dynamics.forward_dynamics`."""
+        if friction is None and self.native:
+            out = self.native_call("forward_dynamics", q, qd, tau)
+            if out is not None:
+                return self._checked_accelerations(out, q, qd, tau)
         m = self.model
         q, qd, tau = as_state(m, q, "q"), as_state(m, qd, "qd"), as_state(m, tau, "tau")
         if friction is not None:
             tau = tau - friction.torques(qd)  # (6.114)
         return self.accelerations(q, qd, tau)
 
+    def _checked_accelerations(self, out: np.ndarray, q, qd, tau) -> np.ndarray:
+        """Θ̈ from one state's forward-dynamics output, once its pivots show M is not singular."""
+        n = self.model.n
+        pivots = out[n:].tolist()
+        if min(pivots) > SINGULAR_PIVOT_RATIO * max(map(abs, pivots)):
+            return out[:n]
+        return accelerations(self.model, q, qd, tau)  # raises SingularMassMatrixError, naming the joint
+
     def accelerations(self, q: np.ndarray, qd: np.ndarray, tau: np.ndarray) -> np.ndarray:
         """Θ̈ for checked float arrays (n,) or (K, n): an AccelerationFunction for ``simulate``."""
         n = self.model.n
+        out = self.native_call("forward_dynamics", q, qd, tau) if q.ndim == 1 else None
+        if out is not None:  # one state, natively: the path of a simulation's every step
+            return self._checked_accelerations(out, q, qd, tau)
         try:
             with np.errstate(divide="ignore", invalid="ignore"):
                 out = self._run("forward_dynamics", q, qd, tau)
@@ -242,6 +302,24 @@ class CompiledModel:
 
 
 PROGRAMS = ("tau", "mass_matrix", "bias", "coriolis", "forward_dynamics")
+THREADS = max(1, min(4, os.cpu_count() or 1))  # a native batch is shared by this many threads ...
+THREAD_STATES = 2000                            # ... when each gets at least this many states
+
+
+@functools.cache
+def _symmetric_index(n: int) -> np.ndarray:
+    """For each entry of an n×n symmetric matrix, row by row, its place in the packed upper triangle."""
+    packed = np.empty((n, n), dtype=np.intp)
+    rows, cols = np.triu_indices(n)
+    packed[rows, cols] = packed[cols, rows] = np.arange(len(rows))
+    return packed.ravel()
+
+
+@functools.cache
+def _pool():
+    from concurrent.futures import ThreadPoolExecutor
+
+    return ThreadPoolExecutor(max_workers=THREADS, thread_name_prefix="course-dynamics-native")
 
 
 def _functions_of(code, name: str) -> dict:
@@ -250,8 +328,9 @@ def _functions_of(code, name: str) -> dict:
     return {n: namespace[n] for p in PROGRAMS for n in (p, f"{p}_batch")}
 
 
-def _agrees_with_the_recursion(model: Model, functions: dict) -> bool:
-    """Every compiled function at one random state against the interpreted recursions, to 1e-12."""
+def _agrees_with_the_recursion(model: Model, functions: dict, native_out: bool = False) -> bool:
+    """Every compiled function at one random state against the interpreted recursions, to 1e-12 (``native_out``:
+    the native functions, which fill an output array, for one state and for a batch of two)."""
 
     n = model.n
     q, qd, qdd = np.random.default_rng().uniform(-1, 1, (3, n))
@@ -264,9 +343,16 @@ def _agrees_with_the_recursion(model: Model, functions: dict) -> bool:
         arguments = {"tau": (q, qd, qdd), "mass_matrix": (q,), "bias": (q, qd), "coriolis": (q, qd),
                      "forward_dynamics": (q, qd, qdd)}
         for name, ours in expected.items():
-            got = np.array(functions[name](*(a.tolist() for a in arguments[name])))[:len(ours)]
-            out = functions[f"{name}_batch"](*(a[:, None] for a in arguments[name]))
-            batch = np.array([np.broadcast_to(np.asarray(o, dtype=float), (1,))[0] for o in out])[:len(ours)]
+            if native_out:
+                ours = M.ravel() if name == "mass_matrix" else ours  # natively M comes whole
+                got, pair = np.empty(native.width(name, n)), np.empty((2, native.width(name, n)))
+                functions[name](*arguments[name], got)
+                functions[name](*(np.stack([a, a]) for a in arguments[name]), pair)
+                got, batch = got[:len(ours)], pair[1, :len(ours)]
+            else:
+                got = np.array(functions[name](*(a.tolist() for a in arguments[name])))[:len(ours)]
+                out = functions[f"{name}_batch"](*(a[:, None] for a in arguments[name]))
+                batch = np.array([np.broadcast_to(np.asarray(o, dtype=float), (1,))[0] for o in out])[:len(ours)]
             scale = 1 + np.abs(ours).max()
             if not (np.all(np.abs(got - ours) <= 1e-9 * scale) and np.all(np.abs(batch - ours) <= 1e-9 * scale)):
                 return False
@@ -275,10 +361,31 @@ def _agrees_with_the_recursion(model: Model, functions: dict) -> bool:
     return True
 
 
-def compile_model(model: Model, cache: bool = True) -> CompiledModel:
+def _native_functions(model: Model, programs, key: str, store: Cache, build: bool) -> tuple[dict, str, float]:
+    """The native functions (native.py) from the cache, or built when ``build``: ({} where there are none)."""
+    if not native.enabled():
+        return {}, "", 0.0
+    start = time.perf_counter()
+    name = f"{key}.native"
+    data = store.load_bytes(name)
+    source = ""
+    if data is None and build and native.compiler() is not None:
+        programs = programs or trace_programs(model)
+        source = native.c_source(programs, model.n, key, model.name)
+        data = native.build(source, key)
+        if data is not None:
+            store.store_bytes(name, data)
+    functions = native.load(data, key) if data is not None else None
+    if not functions or not _agrees_with_the_recursion(model, functions, native_out=True):
+        return {}, "", 0.0
+    return functions, source, time.perf_counter() - start
+
+
+def compile_model(model: Model, cache: bool = True, native_code: bool | None = True) -> CompiledModel:
     """Trace (or load from the cache) and compile the programs of ``model`` (module docstring).
 
-    Raises :class:`ProgramTooLargeError` for a robot too large to compile.
+    ``native_code``: True also builds the C version (native.py) where a compiler exists, None uses one only
+    if the cache holds it, False never. Raises :class:`ProgramTooLargeError` for a robot too large to compile.
 
     >>> from course_dynamics import load_robot
     >>> ur5 = compile_model(load_robot("ur5"))
@@ -289,6 +396,7 @@ def compile_model(model: Model, cache: bool = True) -> CompiledModel:
     key = model_key(model)
     with Cache(cache_folder() if cache else None) as store:
         entry = store.load(key)
+        compiled = None
         if entry is not None:
             source, code = entry
             try:
@@ -296,9 +404,16 @@ def compile_model(model: Model, cache: bool = True) -> CompiledModel:
             except Exception:  # a program that does not run: generate it again
                 functions = None
             if functions is not None and _agrees_with_the_recursion(model, functions):
-                return CompiledModel(model, source, time.perf_counter() - start, True, store.path(key), functions)
-        source = module_source(model, trace_programs(model), key)
-        code = compile(source, f"<compiled {key[:16]}>", "exec")
-        functions = _functions_of(code, key[:16])
-        stored = store.store(key, source, code)
-    return CompiledModel(model, source, time.perf_counter() - start, False, stored, functions)
+                compiled = CompiledModel(model, source, time.perf_counter() - start, True, store.path(key), functions)
+        programs = None
+        if compiled is None:
+            programs = trace_programs(model)
+            source = module_source(model, programs, key)
+            code = compile(source, f"<compiled {key[:16]}>", "exec")
+            functions = _functions_of(code, key[:16])
+            stored = store.store(key, source, code)
+            compiled = CompiledModel(model, source, time.perf_counter() - start, False, stored, functions)
+        if native_code is not False:
+            compiled.native, compiled.native_source, compiled.native_seconds = _native_functions(
+                model, programs, key, store, build=bool(native_code))
+    return compiled

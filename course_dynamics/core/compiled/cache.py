@@ -236,6 +236,20 @@ class Cache:
         except (ValueError, EOFError, TypeError, UnicodeDecodeError):
             return None
 
+    def load_bytes(self, name: str) -> bytes | None:
+        """The body of the checked file ``name`` (HMAC, then the bytes), or None: a native library."""
+        if self.folder is None:
+            return None
+        data = _read_private(self.fd, name, 0o022, MAX_ENTRY_BYTES)
+        if data is None or len(data) < 32 or not hmac.compare_digest(data[:32], self._mac(name, data[32:])):
+            return None
+        return data[32:]
+
+    def store_bytes(self, name: str, body: bytes) -> Path | None:
+        if self.folder is None:
+            return None
+        return self.folder / name if _write_private(self.fd, name, self._mac(name, body) + body) else None
+
     def store(self, key: str, source: str, code) -> Path | None:
         if self.folder is None:
             return None
