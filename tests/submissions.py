@@ -89,12 +89,14 @@ SCORING = {
     "newton_euler": (NEWTON_EULER, "ok", {}, []),
     "closed_forms": (closed_forms(), "ok", {}, []),
     "gravity_sign": (closed_forms("\ng = -9.81\n"), "ok", {"tau": 0, "G": 0},
-                     ["[gravity-sign] matches the right answer made with gravity with the wrong sign",
-                      "[gravity-sign] [cross-reversed] matches"]),
+                     ["[gravity-sign] matches the right answer computed with this slip: gravity with the wrong sign",
+                      "the same answer comes from [gravity-sign] gravity with the wrong sign or from [cross-reversed]"]),
+    "rounded_g": (closed_forms("\ng = 9.8\n"), "ok", {"tau": 0, "G": 0},
+                  ["is the right answer times 0.998981, within 2 % of it everywhere: a constant rounded"]),
     "swapped_joints": (NEWTON_EULER + "\n_right = tau\n\ndef tau(q, qd, qdd):\n    return _right(q, qd, qdd)[::-1]\n", "ok", {"tau": 0, "M": 0, "V": 0, "G": 0, "C": 0},
                        ["wrong order"]),
     "degrees": (NEWTON_EULER + "\n_right = tau\n\ndef tau(q, qd, qdd):\n    return _right(np.deg2rad(q), qd, qdd)\n", "ok", {"tau": 0, "M": 0, "V": 0, "G": 0, "C": 0},
-                ["[degrees] matches the right answer made with the angles in degrees (positions read as degrees)"]),
+                ["[degrees] matches the right answer computed with this slip: the angles in degrees (positions read as degrees)"]),
     "wrong_length": (closed_forms("\ndef G(q):\n    return np.zeros(3)\n"), "ok", {"G": 0, "tau": 0},
                      ["returned 3 values, the robot has 2 joints (theta1, theta2)"]),
     "nan_values": (closed_forms("\ndef G(q):\n    return np.array([np.nan, 0.0])\n"), "ok", {"G": 0, "tau": 0},
@@ -253,10 +255,26 @@ FLAGGED = {
     "closes_channel": ("import os, sys\nos.close(int(sys.argv[2]))\n", ["channel-closed"]),
     "redirects_channel": ("import os, sys\nos.dup2(os.open('/dev/null', os.O_WRONLY), int(sys.argv[2]))\n",
                           ["channel-closed"]),
+    # Ways around the hook that it sees anyway.
+    "spoofed_frozen": ("exec(compile(\"try:\\n    open('/root/.bashrc')\\nexcept OSError:\\n    pass\\n\", "
+                       "'<frozen importlib._bootstrap>', 'exec'))\n", ["file-read"]),
+    "frames_removed": ("import glob, importlib._bootstrap as b\nb._call_with_frames_removed(glob.glob, '/root/*')\n",
+                       ["list-folder"]),
+    "own_module": ("import sys\nopen('helper.py', 'w').write('import os\\nos.system(\"true\")\\n')\n"
+                   "sys.path.insert(0, '.')\nimport helper\n", ["process"]),
+    "traceback_frames": ("try:\n    1 / 0\nexcept ZeroDivisionError as exc:\n    harness = exc.__traceback__.tb_frame\n",
+                         ["introspection"]),
+    "thread_gc": ("import gc\nfrom concurrent.futures import ThreadPoolExecutor\n"
+                  "ThreadPoolExecutor().submit(gc.get_objects).result()\n", ["introspection"]),
+    "junk_on_channel": ("import os, sys\nos.write(int(sys.argv[2]), b'x')\n", ["channel-closed"]),
+    "climbs_out": ("import os\ntry:\n    os.open('../' * 12 + 'etc/hostname', os.O_RDONLY)\nexcept OSError:\n    pass\n",
+                   ["file-read"]),
+    "lists_a_descriptor": ("import os\nos.listdir(os.open('/usr', os.O_RDONLY))\n", ["file-read", "list-folder"]),
     # What a dynamics answer may do: its own folder, its working folder, warnings, numpy's and the library's files.
-    "honest_files": ("import os, warnings, json, numpy as np\nopen('notes.txt', 'w').write('scratch')\n"
+    "honest_files": ("import os, warnings, json, numpy as np\nfrom collections import namedtuple\n"
+                     "open('notes.txt', 'w').write('scratch')\nParameters = namedtuple('Parameters', 'm1 m2')\n"
                      "os.listdir('.')\nopen(__file__).read()\nwarnings.warn('a student warning')\n"
-                     "np.save('q.npy', np.zeros(2))\nnp.load('q.npy')\n", []),
+                     "np.save('q.npy', np.zeros(2))\nnp.load('q.npy')\nimport inspect\ninspect.currentframe()\n", []),
 }
 FLAGGED = {name: (source + CLOSED_FORMS, codes) for name, (source, codes) in FLAGGED.items()}
 

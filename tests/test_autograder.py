@@ -185,13 +185,14 @@ def test_setup_installs_the_bundled_wheel_and_closes_the_grader(bundle):
 def test_a_correct_and_a_wrong_submission(bundle, isolation):
     right = submit(bundle["root"], {"dynamics.py": CLOSED_FORMS}, isolation=isolation)
     assert right["score"] == 100.0
-    assert right["output"].startswith("student ada.lovelace; graded in ")
+    assert right["output"].startswith("student ada.lovelace\n") and "graded in" not in right["output"]
     words = "bubblewrap sandbox" if not isolation else ("as an unprivileged user" if os.geteuid() == 0 else
                                                         "as the grader's own user")
-    assert words in right["output"].splitlines()[0]
     assert [t["name"] for t in right["tests"]] == ["tau", "M", "G", "integrity flags (instructors only)"]
-    assert right["tests"][-1] == {"name": "integrity flags (instructors only)", "score": 0.0, "max_score": 0.0,
-                                  "output": "none", "visibility": "hidden"}
+    hidden = right["tests"][-1]  # which isolation ran is for the instructors, beside the flags
+    assert hidden["visibility"] == "hidden" and hidden["score"] == hidden["max_score"] == 0.0
+    assert hidden["output"].startswith("graded in ") and words in hidden["output"].splitlines()[0]
+    assert hidden["output"].splitlines()[1] == "none"
     wrong = submit(bundle["root"], {"dynamics.py": closed_forms("\ndef G(q):\n    return -np.array("
                                                                  "[m2 * l2 * g * np.cos(q[0] + q[1]) + (m1 + m2) * l1 * g"
                                                                  " * np.cos(q[0]), m2 * l2 * g * np.cos(q[0] + q[1])])\n",
@@ -234,21 +235,35 @@ def test_each_student_is_graded_on_their_own_robot(tmp_path, field, user, studen
         assert submit(root, {"arm.py": theirs}, user=user)["score"] == 100.0
         other = spatial_newton_euler(load_assignment(tmp_path / "own.toml").for_student("grace.h").robot)
         results = submit(root, {"arm.py": other}, user=user)
-        assert results["score"] < 100.0 and results["output"].startswith(f"student {student};")
+        assert results["score"] < 100.0 and results["output"].startswith(f"student {student}\n")
     finally:
         shutil.rmtree(root, ignore_errors=True)
 
 
 @pytest.mark.parametrize("files, user, message", [
     ({"a.py": CLOSED_FORMS, "b.py": CLOSED_FORMS}, None, "exactly one Python file defining tau, M, V, G or C; found 2 (a.py, b.py)"),
-    ({"notes.txt": "hello"}, None, "C; found 0 (none)"),
+    ({"notes.txt": "hello"}, None, "C; found none"),
     ({"a.py": CLOSED_FORMS}, {"name": "No Email"}, "users[0].email: missing"),
     ({"a.py": CLOSED_FORMS}, {"email": "../../etc@x.example"}, "users[0].email '../../etc'"),
+    ({"a.py": CLOSED_FORMS}, {"email": "x" * 9_000_000},
+     "users[0].email '" + "x" * 39 + "…: not an id of at most 64 characters"),
 ])
 def test_what_cannot_be_graded_is_a_zero_that_says_why(bundle, files, user, message):
     results = submit(bundle["root"], files, user=user)
     assert results["score"] == 0.0 and results["tests"] == [] and results["output"].startswith("error: ")
     assert message in results["output"], results["output"]
+    assert len(results["output"]) < 1000
+
+
+def test_a_link_in_the_submission_is_never_followed(bundle):
+    """The grader reads the submission as root: a link to the assignment (closed to the submission) is no file."""
+    root = bundle["root"]
+    submit(root, {})
+    (root / "submission" / "peek.py").symlink_to(root / "source" / "assignment" / "hw.toml")
+    env = dict(os.environ, AUTOGRADER=str(root))
+    subprocess.run([str(root / "source" / "run_autograder")], env=env, capture_output=True, cwd=root, check=True)
+    results = json.loads((root / "results" / "results.json").read_text())
+    assert results["score"] == 0.0 and "found none" in results["output"] and "points" not in results["output"]
 
 
 def test_a_submission_in_a_folder_is_found(bundle):

@@ -251,6 +251,9 @@ def test_hostile_submissions_are_flagged_for_what_they_tried(graded):
     assert "process" in flags["processes"] and "ctypes" in flags["hidden_memory"]
     summary = (graded["out"] / "summary.html").read_text()
     assert "Integrity flags" in summary and "/root/.bashrc" in summary and "not proof" in summary
+    unwatched = summary.split("Not run, so not watched: ")[1].split(" (refused")[0].split(", ")
+    assert {"syntax_error", "forbidden_import"} <= set(unwatched)
+    assert "crash" not in unwatched and "forbidden_hidden" not in unwatched  # a computed name is found only by running
 
 
 def test_flags_reach_the_student_only_when_the_assignment_says_so(tmp_path):

@@ -139,17 +139,18 @@ def test_screens_name_what_could_not_be_compared(setting):
 def test_gravity_flipped_in_the_model(setting):
     G = answer_of(setting, "G", G=lambda q: gravity_torques(FLIPPED, q))
     named = found(diagnosis.named_mistake, G)  # −G: gravity's sign, or every moment reversed, G alone cannot tell
-    assert named.text.startswith("[gravity-sign] [cross-reversed] matches the right answer made with gravity with "
-                                 "the wrong sign in the base acceleration ⁰v̇₀; or, equally, with a cross product")
+    assert named.text.startswith("[gravity-sign] [cross-reversed] matches the right answer computed with this slip: gravity with "
+                                 "the wrong sign in the base acceleration ⁰v̇₀; or, equally, with this one: a cross product")
     sign = found(diagnosis.opposite_sign, G)  # what the student reads first: the plain fact, then the mistakes that fit
     assert sign.text.startswith("has the opposite sign everywhere (G returned = −1 × the right value): check the "
-                                "direction of gravity; the same answer comes from a mistake: [gravity-sign] [cross-reversed]")
+                                "direction of gravity; the same answer comes from [gravity-sign] gravity with the wrong sign or from "
+                                "[cross-reversed] a cross product in the wrong order")
     assert score(G).tags == ("opposite sign", "gravity-sign", "cross-reversed")
     tau = answer_of(setting, "tau", tau=lambda q, qd, qdd: inverse_dynamics(FLIPPED, q, qd, qdd))
     assert diagnosis.opposite_sign(tau) is None
     finding = found(diagnosis.named_mistake, tau)
     assert finding.conclusive and finding.text.startswith(
-        "[gravity-sign] matches the right answer made with gravity with the wrong sign in the base acceleration ⁰v̇₀. "
+        "[gravity-sign] matches the right answer computed with this slip: gravity with the wrong sign in the base acceleration ⁰v̇₀. "
         "In Craig's recursion")
     assert score(tau).tags == ("gravity-sign",)
 
@@ -158,7 +159,7 @@ def test_gravity_flipped_in_the_model(setting):
 def test_angles_in_degrees(setting, convert, variant):
     tau = answer_of(setting, "tau", tau=lambda q, qd, qdd: inverse_dynamics(MODEL, convert(q), qd, qdd))
     assert found(diagnosis.named_mistake, tau).text.startswith(
-        f"[degrees] matches the right answer made with the angles in degrees (positions {variant} degrees). ")
+        f"[degrees] matches the right answer computed with this slip: the angles in degrees (positions {variant} degrees). ")
     assert score(tau).tags == ("degrees",)
 
 

@@ -78,20 +78,22 @@ def test_grade_lists_pairs_with_a_side_by_side_page(tmp_path, capsys):
     (tmp_path / "a.toml").write_text(ASSIGNMENT)
     out = tmp_path / "out"
     argv = ["grade", str(tmp_path / "a.toml"), *(str(tmp_path / f"{n}.py") for n in sources), "--out", str(out)]
-    assert main([*argv, "--similarity", "--quiet", "--json"]) == 0
+    assert main(["grade", "--similarity", *argv[1:], "--quiet", "--json"]) == 0  # the flag anywhere
     report = json.loads(capsys.readouterr().out)
     assert report["similar"] == [{"students": ["ada", "bob"], "score": 1.0, "page": "similar-1.html"}]
     page = (out / "similar-1.html").read_text()
     assert "<mark>" in page and "ada" in page and "bob" in page and hostile not in page and "a lead, not a verdict" in page
     summary = (out / "summary.html").read_text()
     assert "Similar submissions" in summary and 'href="similar-1.html"' in summary
+    assert "from a score of 0.8" in summary and "no starter code given" in summary and "no starter code" in page
     assert [p.name for p in out.glob("similar-*.html")] == ["similar-1.html"]
-    assert main([*argv, "--quiet"]) == 0  # without --similarity: no table (the old page stays, it is ours)
+    assert main([*argv[:-3], *argv[-2:], "--quiet"]) == 0  # one student fewer, without --similarity: no table
     assert "Similar submissions" not in (out / "summary.html").read_text()
+    assert "still holds the feedback an earlier grade wrote for 1 student not graded now (cy)" in capsys.readouterr().err
 
 
-@pytest.mark.parametrize("extra, message", [(["--similarity", "0"], "from 0 (exclusive) to 1"),
-                                            (["--similarity", "1.5"], "from 0 (exclusive) to 1"),
+@pytest.mark.parametrize("extra, message", [(["--similarity-threshold", "0"], "from 0 (exclusive) to 1"),
+                                            (["--similarity-threshold", "1.5"], "from 0 (exclusive) to 1"),
                                             (["--starter", "missing.py"], "no such starter file")])
 def test_bad_similarity_options(tmp_path, capsys, monkeypatch, extra, message):
     monkeypatch.chdir(tmp_path)
@@ -108,3 +110,21 @@ def test_a_student_named_like_a_similarity_page_is_refused(tmp_path, capsys):
     (tmp_path / "a.toml").write_text(ASSIGNMENT)
     assert main(["grade", str(tmp_path / "a.toml"), str(tmp_path / "similar-1.py"), "--out", str(tmp_path / "o")]) == 2
     assert "would overwrite the class's similar-1 file" in capsys.readouterr().err
+
+
+def test_hostile_sources_cannot_stop_the_comparison():
+    """A literal with no repr, a flood of tokens: each file is compared as far as it goes, the class still is."""
+    huge = "BIG = 0x" + "f" * 4000 + "\n" + CLOSED_FORMS
+    flood = "x = [" + "1, " * 300_000 + "]\n"
+    found = [fingerprints("a", huge), fingerprints("b", CLOSED_FORMS), fingerprints("c", flood)]
+    assert {frozenset((p.first.student, p.second.student)) for p in similar_pairs(found)} == {frozenset("ab")}
+
+
+def test_imported_names_are_compared_and_pass_is_nothing():
+    cosines = "from numpy import cos, log, array\n" + CLOSED_FORMS.replace("np.cos", "cos")
+    logs = "from numpy import cos, log, array\n" + CLOSED_FORMS.replace("np.cos", "log")
+    padded = "\n".join(line + ("\n    pass" if line.startswith("    ") and not line.rstrip().endswith(",") else "")
+                       for line in cosines.splitlines())
+    found = scores({"cos": cosines, "log": logs, "padded": padded})
+    assert found[frozenset(("cos", "padded"))] == 1.0
+    assert found[frozenset(("cos", "log"))] < found[frozenset(("cos", "padded"))]

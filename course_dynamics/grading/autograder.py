@@ -194,9 +194,30 @@ def prepare(where: Path | None = None) -> list[str]:
     copied = copy_packages(assignment.allowed_imports, site)
     for private in (where / "grader-env", where / "source"):
         private.chmod(0o700)
+    if os.geteuid() == 0:
+        environment = submission_environment(assignment.allowed_imports, site=site)
+        closed = _closed_to_others([environment.interpreter, environment.stdlib, site, where])
+        if closed:
+            raise InputError(f"{closed}: not readable by other users, so a submission run as an unprivileged user "
+                             "(where bubblewrap cannot start) could not start Python; make it and the folders above "
+                             "it readable and searchable by all (chmod o+rx)")
     print(f"course-dynamics autograder: {assignment.source.name} on {assignment.robot.name}; submissions see "
           f"{', '.join(copied)} beside the standard library; grading runs in {_isolation()[2]}")
     return copied
+
+
+def _closed_to_others(paths) -> Path | None:
+    """The first of ``paths`` (or a folder above one) that a user other than its owner cannot reach, or None."""
+    import stat
+
+    for path in map(Path, paths):
+        path = path.resolve()
+        for folder in [*reversed(path.parents), path]:
+            mode = folder.stat().st_mode
+            needed = stat.S_IXOTH if folder != path or folder.is_dir() else stat.S_IROTH
+            if not mode & needed:
+                return folder
+    return None
 
 
 def _assignment(where: Path) -> Assignment:
@@ -238,22 +259,33 @@ def student_id(metadata_path: Path, field: str) -> str:
     value = users[0][field]
     if field == "email" and isinstance(value, str):
         value = value.split("@", 1)[0]
-    return check_student_id(str(value) if isinstance(value, int) and not isinstance(value, bool) else value, where)
+    if isinstance(value, int) and not isinstance(value, bool):
+        value = str(value)
+    if not isinstance(value, str) or len(value) > 64:  # no id; and the message quotes only its start
+        raise InputError(f"{where} {repr(value)[:40]}…: not an id of at most 64 characters")
+    return check_student_id(value, where)
 
 
 def submission_file(folder: Path) -> Path:
     """The one Python file of the submission (at its top, or alone anywhere below it); InputError otherwise."""
-    found = sorted(p for p in folder.glob("*.py") if p.is_file()) or \
-        sorted(p for p in folder.rglob("*.py") if p.is_file() and "__MACOSX" not in p.parts)
+    def usable(path: Path) -> bool:  # a regular file inside the folder: a link is never followed, as root
+        return not path.is_symlink() and path.is_file() and not any(p.is_symlink() for p in path.parents
+                                                                     if p.is_relative_to(folder))
+
+    found = sorted(p for p in folder.glob("*.py") if usable(p)) or \
+        sorted(p for p in folder.rglob("*.py") if usable(p) and "__MACOSX" not in p.parts)
     if len(found) != 1:
-        names = ", ".join(p.relative_to(folder).as_posix() for p in found[:5]) or "none"
-        raise InputError(f"submit exactly one Python file defining tau, M, V, G or C; found {len(found)} ({names})")
+        names = ", ".join(p.relative_to(folder).as_posix() for p in found[:5])
+        raise InputError("submit exactly one Python file defining tau, M, V, G or C; "
+                         + (f"found {len(found)} ({names})" if found else "found none"))
     return found[0]
 
 
 def grade_here(where: Path) -> dict:
     """Grade the submission in ``where`` (the /autograder layout) and return Gradescope's results document."""
     assignment = _assignment(where)
+    if os.geteuid() == 0 and _closed_to_others([where / "submission-site", where]) is not None:
+        raise RuntimeError("the autograder's folders are closed to the unprivileged user (see setup.sh's output)")
     student = student_id(where / "submission_metadata.json", assignment.gradescope_student)
     path = submission_file(where / "submission")
     sandbox, user, words = _isolation()
@@ -261,7 +293,9 @@ def grade_here(where: Path) -> dict:
     grade, = grade_class(assignment, [path], sandbox=sandbox, students=[student], user=user, environment=environment,
                          jobs=1)
     document = results_json(grade, assignment)
-    document["output"] = f"student {student}; graded in {words}\n{document['output']}"[:20_000]
+    document["output"] = f"student {student}\n{document['output']}"[:20_000]
+    hidden = document["tests"][-1]  # the instructors' test: which isolation ran is for them
+    hidden["output"] = f"graded in {words}\n{hidden['output']}"
     return document
 
 
@@ -284,7 +318,8 @@ def run(where: Path | None = None) -> dict:
                     "submission); your instructor can see its log", "tests": []}
     document["execution_time"] = round(time.monotonic() - started, 1)
     io.write_text(where / "results" / "results.json", json.dumps(document, indent=2, allow_nan=False) + "\n")
-    print(f"course-dynamics autograder: score {document['score']:g}; {document['output'].splitlines()[0]}")
+    print(f"course-dynamics autograder: score {document['score']:g}; {document['output'].splitlines()[0]}"
+          + (f"; {document['tests'][-1]['output'].splitlines()[0]}" if document["tests"] else ""))
     return document
 
 

@@ -47,7 +47,7 @@ from itertools import permutations
 import numpy as np
 
 from ..core.sampling import relative_error, term_scales
-from .mistakes import closest_mistake, described, matching_mistakes, named_mistake
+from .mistakes import MISTAKES, closest_mistake, described, matching_mistakes, named_mistake
 from .records import TERM_NAMES, Answer, Diagnosis, Finding
 
 __all__ = ["CHECKS", "SCREENS", "Answer", "Diagnosis", "Finding", "diagnose"]
@@ -116,7 +116,7 @@ def opposite_sign(answer: Answer) -> Finding | None:
     advice = SIGN_ADVICE.get(answer.term, "check the joint axes and subtractions done the wrong way round")
     returned = f"{answer.name} returned" if answer.name else "yours"
     found = matching_mistakes(answer)
-    also = f"; the same answer comes from a mistake: {described(found)}" if found else ""
+    also = ("; the same answer comes from " + " or from ".join(f"[{c}] {MISTAKES[c].words}" for c in found)) if found else ""
     return Finding(f"has the opposite sign everywhere ({returned} = −1 × the right value): {advice}{also}",
                    ("opposite sign", *found), conclusive=True)
 
@@ -136,6 +136,9 @@ def constant_factor(answer: Answer) -> Finding | None:
     loose = 10 * answer.tolerance
     if abs(factor) < 1e-6 or abs(factor - 1) <= loose or not answer.agrees_with(factor * ours, loose):
         return None
+    if abs(factor - 1) < 0.02:  # 9.8 for 9.81, a length rounded: not a missing ½ or 2
+        return Finding(f"is the right answer times {factor:.6g}, within 2 % of it everywhere: a constant rounded or "
+                       "typed differently (g = 9.8 for 9.81? a length or a mass)?", ("constant factor",), conclusive=True)
     return Finding(f"is the right answer times a constant factor {factor:.6g}: a missing or extra factor such as ½, 2, "
                    "a mass or a length squared?", ("constant factor",), conclusive=True)
 

@@ -145,5 +145,6 @@ def package_folders(roots) -> list[Path]:
 
 
 def harness_arguments(environment: Environment) -> list[str]:
-    """How the interpreter is started: isolated (-I: no PYTHON* variables, no user site) and without site (-S)."""
-    return [str(environment.interpreter), "-I", "-S"]
+    """How the interpreter is started: isolated (-I: no PYTHON* variables, no user site), without site (-S), and
+    unbuffered (-u: what a submission prints and what its processes print stay in order)."""
+    return [str(environment.interpreter), "-I", "-S", "-u"]

@@ -42,13 +42,14 @@ from urllib.parse import quote
 from markupsafe import Markup
 
 from ..output import page, render
-from ..output.folders import write_folder
+from ..output.folders import write_folder, written_by
 from .assignment import Assignment
 from .grade import SubmissionGrade
 from .harness import FLAGS
-from .similarity import Pair
+from .similarity import Comparison, Pair
 
 MAX_FEEDBACK_BYTES = 1_000_000
+FEEDBACK_PRINTED = 10_000  # characters of a submission's printed output in Gradescope's results
 
 
 def gradebook_csv(grades: list[SubmissionGrade], assignment: Assignment) -> str:
@@ -84,17 +85,20 @@ def results_json(grade: SubmissionGrade, assignment: Assignment) -> dict:
     tests = []
     for term in assignment.terms:
         d = next((d for d in grade.diagnoses if d.term == term), None)
-        output = d.text() if d is not None and grade.status == "ok" else f"{grade.status}: {grade.message}"
+        output = d.text() if d is not None and grade.status == "ok" else f"not graded ({grade.status}: see above)"
         tests.append({"name": term, "score": grade.points(term), "max_score": assignment.points[term],
                       "output": output[:20_000], "visibility": "visible"})
     tests.append({"name": "integrity flags (instructors only)", "score": 0.0, "max_score": 0.0,
                   "output": "\n".join(flag_lines(grade)) or "none", "visibility": "hidden"})
     summary = "\n".join(_header(grade, assignment))
+    if grade.stdout:
+        summary += "\n\nWhat your file printed:\n" + grade.stdout[:FEEDBACK_PRINTED]
     return {"score": grade.total, "output": summary[:20_000], "visibility": "visible", "tests": tests}
 
 
 def _header(grade: SubmissionGrade, assignment: Assignment) -> list[str]:
-    lines = [f"total {grade.total:g} / {assignment.total_points:g} points; status {grade.status}"
+    ran = "ran, and each term is graded below" if grade.status == "ok" else f"status {grade.status}"
+    lines = [f"total {grade.total:g} / {assignment.total_points:g} points; {ran}"
              + (f": {grade.message}" if grade.message else "")]
     lines.append(f"robot {assignment.robot.name} (joints {', '.join(assignment.robot.joint_names)}), "
                  f"{assignment.samples} states (seed {assignment.seed}), relative tolerance {assignment.tolerance:g}")
@@ -172,40 +176,62 @@ def _marked_source(pair: Pair, which) -> Markup:
     return page.element("pre", *parts, inline=True)
 
 
-def similar_html(pair: Pair, assignment: Assignment) -> str:
+def _compared(comparison: Comparison) -> str:
+    starter = f"the starter code ({comparison.starter}) removed" if comparison.starter else "no starter code given"
+    return f"compared on the syntax tree, names, comments and formatting set aside, {starter}"
+
+
+def similar_html(pair: Pair, assignment: Assignment, comparison: Comparison) -> str:
     """One pair side by side: a lead for the instructor to read, not a verdict."""
     title = f"{pair.first.student} and {pair.second.student}: {pair.score:.0%} of the smaller submission shared"
     body = [page.heading(title),
-            page.paragraph(f"{assignment.source.name}. Compared on the syntax tree, names, comments and formatting "
-                           "set aside and the starter code removed; marked lines hold shared runs. Two students who "
-                           "worked from the same lecture can be alike: a lead, not a verdict; read both."),
+            page.paragraph(f"{assignment.source.name}; {_compared(comparison)}; marked lines hold shared runs. Two "
+                           "students who worked from the same lecture can be alike: a lead, not a verdict; read both."),
             page.table([(_marked_source(pair, pair.first), _marked_source(pair, pair.second))],
                        header=(pair.first.student, pair.second.student), css="side-by-side")]
     return page.page(title, body)
 
 
-def _similar_section(pairs) -> list:
-    if pairs is None:
+def _similar_section(comparison: Comparison | None) -> list:
+    if comparison is None:
         return []
     rows = [(page.link(f"{quote(p.first.student)}.html", p.first.student),
              page.link(f"{quote(p.second.student)}.html", p.second.student), f"{p.score:.0%}",
-             page.link(similar_name(k), "side by side")) for k, p in enumerate(pairs)]
+             page.link(similar_name(k), "side by side")) for k, p in enumerate(comparison.pairs)]
     return [page.heading("Similar submissions", 2),
-            page.paragraph("Pairs whose code is near-identical once names, comments, formatting and the starter code "
-                           "are set aside (the score is the share of the smaller submission the other holds too). "
+            page.paragraph(f"Pairs whose code is near-identical, {_compared(comparison)}: listed from a score of "
+                           f"{comparison.threshold:g}, the share of the smaller submission the other holds too. "
                            "Leads to read, not verdicts."),
             page.table(rows, header=("student", "student", "shared", "compare")) if rows
-            else page.paragraph("None at this threshold.")]
+            else page.paragraph(f"None at a score of {comparison.threshold:g} or more.")]
 
 
-def summary_html(grades: list[SubmissionGrade], assignment: Assignment, pairs=None) -> str:
+def _flags_section(grades: list[SubmissionGrade]) -> list:
+    unwatched = [g.student for g in grades if not g.ran]
+    rows = [(page.link(f"{quote(g.student)}.html", g.student), "; ".join(flag_lines(g))) for g in grades if g.flags]
+    parts = [page.heading("Integrity flags", 2),
+             page.paragraph("What a submission tried that a dynamics answer never needs, recorded by an audit hook in "
+                            "its process. Leads for a conversation, not proof, and no change to any score: the sandbox "
+                            "is what contains a submission. Students do not see their flags unless the assignment sets "
+                            "flags_in_feedback = true (on Gradescope they are a hidden test). Codes: "
+                            + "; ".join(f"{c}: {w}" for c, w in FLAGS.items()) + "."),
+             page.table(rows, header=("student", "flags")) if rows
+             else page.paragraph("None: no submission that ran tried any of these.")]
+    if unwatched:
+        parts.append(page.paragraph(f"Not run, so not watched: {', '.join(unwatched)} (refused from the source alone; "
+                                    "see their statuses)."))
+    return parts
+
+
+def summary_html(grades: list[SubmissionGrade], assignment: Assignment, comparison=None) -> str:
     totals = [g.total for g in grades]
     rows = []
     for term in assignment.terms:
         correct = sum(1 for g in grades for d in g.diagnoses if d.term == term and d.correct)
         mean = sum(g.points(term) for g in grades) / max(len(grades), 1)
         rows.append((term, f"{correct} of {len(grades)}", f"{mean:.3g} / {assignment.points[term]:g}"))
-    mistakes = Counter(f"{d.term}: {tag}" for g in grades for d in g.diagnoses for tag in d.tags)
+    # Each student counts once per mistake, whichever terms show it (one slip in τ shows in M, V, G too).
+    mistakes = Counter(tag for g in grades for tag in {tag for d in g.diagnoses for tag in d.tags})
     statuses = Counter(g.status for g in grades)
     body = [
         page.heading(f"{assignment.source.name}: class summary"),
@@ -217,14 +243,8 @@ def summary_html(grades: list[SubmissionGrade], assignment: Assignment, pairs=No
         page.table(mistakes.most_common(15), header=("mistake", "students")) if mistakes
         else page.paragraph("None: every graded term was right."),
         page.heading("Statuses", 2), page.table(statuses.most_common(), header=("status", "students")),
-        page.heading("Integrity flags", 2),
-        page.paragraph("What a submission tried that a dynamics answer never needs, recorded by an audit hook in its "
-                       "process. Leads for a conversation, not proof, and no change to any score: the sandbox is what "
-                       "contains a submission. Codes: " + "; ".join(f"{c}: {w}" for c, w in FLAGS.items()) + "."),
-        page.table([(page.link(f"{quote(g.student)}.html", g.student), "; ".join(flag_lines(g)))
-                    for g in grades if g.flags], header=("student", "flags"))
-        if any(g.flags for g in grades) else page.paragraph("None: no submission tried any of these."),
-        *_similar_section(pairs),
+        *_flags_section(grades),
+        *_similar_section(comparison),
         page.heading("Students", 2),
         page.table([(page.link(f"{quote(g.student)}.html", g.student), f"{g.total:g}", g.status) for g in grades],
                    header=("student", "total", "status")),
@@ -235,22 +255,30 @@ def summary_html(grades: list[SubmissionGrade], assignment: Assignment, pairs=No
 OWNER = "grade"  # the command named in the output folder's manifest
 
 
-def output_names(students, pairs=()) -> list[str]:
+def output_names(students, comparison: Comparison | None = None) -> list[str]:
     """The files :func:`write_outputs` writes for these students (what ``grade`` checks before grading)."""
+    pairs = comparison.pairs if comparison is not None else ()
     return (["gradebook.csv", "summary.html"] + [f"{s}{suffix}" for s in students for suffix in (".md", ".html", ".json")]
-            + [similar_name(k) for k in range(len(pairs or ()))])
+            + [similar_name(k) for k in range(len(pairs))])
 
 
-def write_outputs(out: Path, grades: list[SubmissionGrade], assignment: Assignment, pairs=None) -> list[Path]:
+def other_students(out: Path, students) -> list[str]:
+    """Students whose feedback an earlier ``grade`` wrote in ``out`` and who are not among ``students``."""
+    now = set(students)
+    return sorted({name[:-3] for name in written_by(out, OWNER) if name.endswith(".md")} - now)
+
+
+def write_outputs(out: Path, grades: list[SubmissionGrade], assignment: Assignment,
+                  comparison: Comparison | None = None) -> list[Path]:
     """Every output file in ``out`` (made if missing), through the folder's manifest (:func:`write_folder`):
     only files an earlier ``grade`` wrote there are replaced, and nothing else in the folder is touched.
-    ``pairs`` (similarity's, or None when not asked for) add the summary's table and one page per pair."""
+    ``comparison`` (similarity's, or None when not asked for) adds the summary's table and one page per pair."""
     import json
 
     documents = {"gradebook.csv": gradebook_csv(grades, assignment),
-                 "summary.html": summary_html(grades, assignment, pairs)}
-    for k, pair in enumerate(pairs or ()):
-        documents[similar_name(k)] = similar_html(pair, assignment)
+                 "summary.html": summary_html(grades, assignment, comparison)}
+    for k, pair in enumerate(comparison.pairs if comparison is not None else ()):
+        documents[similar_name(k)] = similar_html(pair, assignment, comparison)
     for g in grades:
         documents[f"{g.student}.md"] = feedback_markdown(g, assignment)
         documents[f"{g.student}.html"] = feedback_html(g, assignment)

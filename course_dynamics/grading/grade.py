@@ -52,7 +52,7 @@ from .harness import FLAGS
 from .plan import Expected, Plan, expected_terms, make_plan
 from .sandbox import Limits, check_sandbox, run_submission
 from .score import score_outcome
-from .similarity import fingerprints, read_starter, similar_pairs
+from .similarity import Comparison, fingerprints, read_starter, similar_pairs
 
 MAX_SOURCE_BYTES = 1_000_000
 FEEDBACK_OUTPUT = 20_000  # characters of a submission's printed output kept in its feedback
@@ -72,6 +72,7 @@ class SubmissionGrade:
     sandbox: str = ""
     notes: list[str] = field(default_factory=list)
     flags: list[tuple[str, str]] = field(default_factory=list)  # integrity flags (code, detail): leads, not a score
+    ran: bool = True  # False: refused from its source alone (not run, so not watched for flags either)
 
     @property
     def flag_codes(self) -> list[str]:
@@ -194,6 +195,7 @@ def grade_submission(assignment: Assignment, plan: Plan, expected: Expected, pat
     problem = inspect_source(path, assignment)
     if problem is not None:
         grade.status, grade.message = problem
+        grade.ran = False
         return grade
     harness_plan = {"module": str(path), "forbidden": list(assignment.forbidden_imports),
                     "functions": plan.harness_functions()}
@@ -260,7 +262,7 @@ def student_names(paths) -> list[str]:
     return list(names)
 
 
-def similar_submissions(paths, threshold: float, starter=None) -> list:
+def similar_submissions(paths, threshold: float, starter=None) -> Comparison:
     """Near-identical pairs among the submission files (similarity.similar_pairs), read without running them;
     ``starter`` is the path of the starter code given to everyone, or None."""
     given = read_starter(starter) if starter is not None else None
@@ -269,7 +271,7 @@ def similar_submissions(paths, threshold: float, starter=None) -> list:
         source, _ = read_source(path)
         if source is not None:
             found.append(fingerprints(path.stem, source, given))
-    return similar_pairs(found, threshold)
+    return Comparison(tuple(similar_pairs(found, threshold)), threshold, Path(starter).name if starter else None)
 
 
 def _planned(assignment: Assignment):

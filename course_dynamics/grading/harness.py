@@ -14,7 +14,7 @@ to the same descriptor. The import guard below only names a forbidden import
 in the feedback: what keeps a forbidden package out is that it is not there.
 The notebooks' exercise checks call :func:`evaluate` in the student's own kernel.
 
-Integrity flags: before the submission runs, :class:`IntegrityHook` (a Python
+Integrity flags: before the submission runs, :func:`integrity_hook` (a Python
 audit hook, which cannot be removed once added) records what it tries that a
 dynamics answer never needs (:data:`FLAGS`), each line written at once on the
 channel FLAGS_FD, before the attempt itself proceeds. The harness ends the
@@ -64,7 +64,7 @@ FLAGS = {
     "socket": "opened a network socket or looked up a host",
     "ctypes": "loaded or called native code through ctypes",
     "introspection": "read the interpreter's frames or object lists (sys._getframe, gc), where the harness's state is",
-    "channel-closed": "the integrity channel was closed or redirected before the run ended",
+    "channel-closed": "the integrity channel was closed, redirected or written to by the submission",
 }
 MAX_FLAG_LINES = 50  # lines the hook writes at most per code (each distinct attempt once): a flood hides no other
 MAX_FLAG_DETAIL = 200  # characters of a flag's detail (a path, a command)
@@ -75,51 +75,87 @@ PROCESS_EVENTS = ("os.system", "os.exec", "os.posix_spawn", "os.spawn", "os.fork
                   "pty.spawn", "os.kill", "os.killpg", "os.startfile")
 LISTINGS = ("os.listdir", "os.scandir", "glob.glob")
 INTROSPECTION = ("sys._getframe", "sys._current_frames", "gc.get_objects", "gc.get_referrers", "gc.get_referents")
+FRAME_ATTRIBUTES = ("tb_frame", "gi_frame", "cr_frame", "ag_frame", "f_back")
 
 
-class IntegrityHook:
-    """The audit hook behind the integrity flags (module docstring): one line ``code<TAB>detail`` per attempt.
+def integrity_hook(fd: int, own, library, writable, nonce: str):
+    """The audit hook behind the integrity flags (module docstring), and the function that ends its channel.
 
-    ``readable`` are the folders whose files and listings are the submission's
-    business (its own folder, its working folder, Python's standard library and
-    its allowed packages), ``writable`` its working folder. Events during an
-    import (a frame of importlib on the stack) are the importer's work: a
-    library loading itself is no flag, whoever imported it.
+    Each attempt is one line ``code<TAB>detail`` on ``fd``, written before the attempt proceeds, once per
+    distinct attempt and at most MAX_FLAG_LINES per code. ``readable`` are the folders whose files and
+    listings are the submission's business are ``own`` (its folder, its working folder) and ``library``
+    (Python's standard library and the allowed packages), ``writable`` its working folder.
+
+    Which code is the submission's: every frame whose code is not Python's or the harness's (the submission,
+    a module it wrote and imported, code it compiled, whatever name it gave it). An event whose stack reaches
+    importlib's entry (``_find_and_load``) before any such frame is an import's work (a library loading
+    itself), and a frame lookup counts only when the submission's code makes it directly (the standard
+    library's warnings and namedtuple look up frames too).
+
+    Everything the hook uses lives in this closure, not in module globals or a class a submission could patch
+    without an audit event; replacing the hook's code is itself an event, and flagged.
     """
+    import importlib._bootstrap as bootstrap
+    import importlib._bootstrap_external as external
 
-    def __init__(self, fd: int, submission: str, readable, writable):
-        self.fd, self.submission, self.armed, self.busy, self.written, self.counts = fd, submission, False, False, set(), {}
-        self.readable = tuple(os.path.join(os.path.realpath(r), "") for r in readable)
-        self.writable = tuple(os.path.join(os.path.realpath(w), "") for w in writable)
-        # Files anyone may open: the null devices, and this file (a traceback of the student's error quotes it).
-        self.files = {"/dev/null/", "/dev/urandom/", os.path.join(os.path.realpath(__file__), "")}
+    def codes(modules) -> set:
+        found = set()
+        for module in modules:
+            for value in list(vars(module).values()):
+                for function in [value, *(list(vars(value).values()) if isinstance(value, type) else ())]:
+                    function = getattr(function, "__func__", function)
+                    if hasattr(function, "__code__"):
+                        found.add(function.__code__)
+        return found
 
-    def __call__(self, event, args):
-        if not self.armed or self.busy:  # busy: an event raised by the hook itself (its own sys._getframe)
-            return
-        self.busy = True
-        try:
-            found = self._flag(event, args)
-            if found is not None and self._attributed(found[0]):
-                self._write(*found)
-        except Exception:  # the hook never disturbs the submission, whatever its arguments are
-            pass
-        finally:
-            self.busy = False
+    importer = codes((bootstrap, external))
+    entry = bootstrap._find_and_load.__code__  # where every import statement enters importlib
+    # Frozen modules (os, posixpath, codecs, importlib's) have no file: their code objects are known instead,
+    # so that a submission's code compiled under a name like "<frozen os>" is still its own.
+    frozen = codes([m for m in list(sys.modules.values())
+                    if getattr(getattr(m, "__spec__", None), "origin", None) == "frozen"]) | importer
+    library = tuple(os.path.join(os.path.realpath(r), "") for r in library)
+    this_file = os.path.realpath(__file__)
+    readable = tuple(os.path.join(os.path.realpath(r), "") for r in own) + library
+    writable = tuple(os.path.join(os.path.realpath(w), "") for w in writable)
+    anyone = {"/dev/null/", "/dev/urandom/", os.path.join(this_file, "")}  # a traceback quotes this file
+    state = {"armed": False, "busy": False, "counts": {}}
+    written = set()
 
-    def _flag(self, event, args):
+    def ours(code) -> bool:
+        """Whether this code object is the submission's (see above)."""
+        if code in frozen:
+            return False
+        if not code.co_filename.startswith("/"):
+            return True  # compiled from a string, or a frozen module's name borrowed
+        path = os.path.realpath(code.co_filename)
+        return not (path == this_file or path.startswith(library))
+
+    def path_flag(path, code):
+        if isinstance(path, int):
+            return code, f"file descriptor {path}"
+        if isinstance(path, bytes):
+            path = os.fsdecode(path)
+        path = os.fspath(path)
+        if not os.path.isabs(path) and ".." in path.replace("\\", "/").split("/"):
+            return code, path  # relative to what (a dir_fd is not in the event)? climbing out is a lead anyway
+        where = os.path.join(os.path.realpath(path), "")
+        allowed = writable if code == "file-write" else readable
+        if where.startswith(allowed) or where in anyone:
+            return None
+        return code, path
+
+    def flag(event, args):
         if event == "open":
             path, mode, flags = args
             writing = bool(flags & WRITE_BITS) if isinstance(flags, int) else any(c in str(mode) for c in "wax+")
-            if isinstance(path, int):
-                return ("file-write" if writing else "file-read"), f"file descriptor {path}"
-            return self._path_flag(path, "file-write" if writing else "file-read")
+            return path_flag(path, "file-write" if writing else "file-read")
         if event in LISTINGS:
-            return self._path_flag(args[0] if args and args[0] is not None else ".", "list-folder")
+            return path_flag(args[0] if args and args[0] is not None else ".", "list-folder")
         if event in FILE_CHANGES:
             for path in args[:2]:
                 if isinstance(path, (str, bytes, os.PathLike)):
-                    found = self._path_flag(path, "file-write")
+                    found = path_flag(path, "file-write")
                     if found is not None:
                         return found
             return None
@@ -129,49 +165,65 @@ class IntegrityHook:
             return "socket", f"{event} {args[1] if len(args) > 1 else ''}"
         if event.startswith("ctypes."):
             return "ctypes", f"{event} {args[0] if args else ''}"
-        if event in INTROSPECTION:
-            return "introspection", event
+        if event in INTROSPECTION or (event == "object.__getattr__" and len(args) > 1 and args[1] in FRAME_ATTRIBUTES):
+            return "introspection", event if event != "object.__getattr__" else f"the attribute {args[1]}"
+        if event in ("object.__setattr__", "object.__delattr__") and args and args[0] is hook:
+            return "introspection", f"{event} {args[1] if len(args) > 1 else ''} of the integrity hook itself"
         return None
 
-    def _path_flag(self, path, code):
-        if isinstance(path, bytes):
-            path = os.fsdecode(path)
-        where = os.path.join(os.path.realpath(os.fspath(path)), "")
-        allowed = self.writable if code == "file-write" else self.readable
-        if where.startswith(allowed) or where in self.files:
-            return None
-        return code, os.fspath(path)
-
-    def _attributed(self, code: str) -> bool:
-        """Whether the event is the submission's doing: not an import's; a frame lookup only from its own code (or
-        one call away: ``inspect.currentframe``), since the standard library's warnings look up frames too."""
-        frame = sys._getframe(2)  # 0 here, 1 __call__, 2 the frame that raised the event
-        if code == "introspection" and frame is not None:
-            near = [frame.f_code.co_filename, frame.f_back.f_code.co_filename if frame.f_back else ""]
-            if self.submission not in near:
-                return False
+    def attributed(code: str) -> bool:
+        frame = sys._getframe(2)  # 0 here, 1 the hook, 2 the frame that raised the event
+        if code == "introspection":
+            return frame is not None and ours(frame.f_code)
         while frame is not None:
-            if frame.f_code.co_filename.startswith("<frozen importlib"):
+            if frame.f_code is entry:  # an import, with no code of the submission's on the way
                 return False
+            if ours(frame.f_code):
+                return True
             frame = frame.f_back
-        return True
+        return False  # the harness's own work
 
-    def _write(self, code, detail):
-        detail = " ".join(str(detail).split())[:MAX_FLAG_DETAIL]
-        if (code, detail) in self.written or self.counts.get(code, 0) >= MAX_FLAG_LINES:
+    def write(code, detail):
+        detail = "".join(c if c.isprintable() else f"\\x{ord(c):02x}" for c in " ".join(str(detail).split()))
+        detail = detail[:MAX_FLAG_DETAIL]
+        counts = state["counts"]
+        if (code, detail) in written or counts.get(code, 0) >= MAX_FLAG_LINES:
             return
-        self.written.add((code, detail))
-        self.counts[code] = self.counts.get(code, 0) + 1
-        os.write(self.fd, f"{code}\t{detail}\n".encode("utf-8", "replace"))
+        written.add((code, detail))
+        counts[code] = counts.get(code, 0) + 1
+        os.write(fd, f"\n{code}\t{detail}\n".encode("utf-8", "replace"))  # a line of its own, whatever came before
 
-    def end(self, nonce: str) -> None:
-        """The channel's last line; written only by the harness, after the submission has run."""
-        self.armed = False
+    def hook(event, args):
+        if not state["armed"] or state["busy"]:  # busy: an event raised by the hook itself (its own sys._getframe)
+            return
+        state["busy"] = True
         try:
-            os.write(self.fd, f"end\t{nonce}\n".encode())
-            os.close(self.fd)
+            found = flag(event, args)
+            if found is not None and (event.startswith("gc.") or attributed(found[0])):
+                write(*found)
+        except RecursionError:  # a recursion limit set to starve the hook: that itself is the flag
+            try:
+                os.write(fd, b"\nintrospection\tthe recursion limit was set too low for the integrity hook to run\n")
+            except OSError:
+                pass
+        except Exception:  # the hook never disturbs the submission, whatever its arguments are
+            pass
+        finally:
+            state["busy"] = False
+
+    def arm():
+        state["armed"] = True
+
+    def end():
+        """The channel's last line; written only by the harness, after the submission has run."""
+        state["armed"] = False
+        try:
+            os.write(fd, f"\nend\t{nonce}\n".encode())
+            os.close(fd)
         except OSError:
             pass
+
+    return hook, arm, end
 
 
 class ForbiddenImport(ImportError):
@@ -280,7 +332,7 @@ def run(plan: dict) -> dict:
         outcome.update(status="crashed", message=_where(exc, path))
     loaded = sorted({m.split(".")[0] for m in sys.modules} & set(plan.get("forbidden", ())))
     if (guard.attempts or loaded) and outcome["status"] == "ok":
-        outcome.update(status="forbidden import", message=f"imported {', '.join(guard.attempts or loaded)}")
+        outcome.update(status="forbidden import", message=f"tried to import {', '.join(guard.attempts or loaded)}")
     return outcome
 
 
@@ -289,15 +341,17 @@ def main() -> None:
     results_fd, flags_fd = int(sys.argv[1]), int(sys.argv[2])
     plan = json.loads(sys.stdin.read())
     sys.stdin.close()
-    nonce = plan.pop("nonce", "")
     sys.path[:0] = plan.get("path", [])
     sys.dont_write_bytecode = True  # a cache write into Python's folders would be the harness's, not a flag
     import numpy as np
-    hook = IntegrityHook(flags_fd, plan["module"], readable=_readable(plan), writable=[os.getcwd()])
+    writable = [os.getcwd()]  # not /tmp, even the sandbox's private one: a probe writes there first
+    own = [os.path.dirname(os.path.abspath(plan["module"])), os.getcwd()]
+    hook, arm, end = integrity_hook(flags_fd, own, _library(plan), writable, plan.pop("nonce", ""))
     sys.addaudithook(hook)
-    hook.armed = True
+    arm()
+    del hook, arm  # nothing of the hook stays within the submission's reach but its channel
     outcome = run(plan)
-    hook.end(nonce)
+    end()
     data = json.dumps(outcome).encode()
     with os.fdopen(results_fd, "wb") as channel:
         channel.write(data)
@@ -306,9 +360,9 @@ def main() -> None:
     os._exit(0)  # no student atexit handler runs after the results are written
 
 
-def _readable(plan: dict) -> list[str]:
-    """The submission's folder, its working folder, the standard library, the allowed packages (links followed)."""
-    folders = [os.path.dirname(os.path.abspath(plan["module"])), os.getcwd(), os.path.dirname(os.__file__)]
+def _library(plan: dict) -> list[str]:
+    """The standard library and the allowed packages (links followed)."""
+    folders = [os.path.dirname(os.__file__)]
     for site in plan.get("path", []):
         folders.append(site)
         try:

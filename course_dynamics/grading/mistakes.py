@@ -215,7 +215,7 @@ def described(found: dict[str, list[str]]) -> str:
     """"[a] [b] … made with A in …; or, equally, with B in …": the mistakes found, in words."""
     said = [MISTAKES[c].words + "".join(f" {v}" for v in variants[:1] if v) + "".join(f", or {v}" for v in variants[1:])
             for c, variants in found.items()]
-    return " ".join(f"[{c}]" for c in found) + " matches the right answer made with " + "; or, equally, with ".join(said)
+    return " ".join(f"[{c}]" for c in found) + " matches the right answer computed with this slip: " + "; or, equally, with this one: ".join(said)
 
 
 def named_mistake(answer: Answer) -> Finding | None:

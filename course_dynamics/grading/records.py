@@ -130,7 +130,7 @@ class Diagnosis:
         """The feedback as plain text: a summary line, the findings, the worst state."""
         how = "" if self.source in ("direct", "missing") else f" ({self.source})"
         lines = [f"{TERM_NAMES.get(self.term, 'the answer')}: {self.points:g} / {self.max_points:g} points{how}; "
-                 f"agrees on {self.agreed} of {self.total} states (relative tolerance {self.tolerance:g})"]
+                 f"agrees on {self.agreed} of {self.total} states"]
         lines += [f"- {finding}" for finding in self.findings]
         if self.worst:
             lines.append(f"- {self.worst}")

@@ -143,20 +143,28 @@ def read_results(data: bytes, plan: dict) -> dict:
 
 
 def read_flags(data: bytes, nonce: str, ended: bool) -> list[tuple[str, str]]:
-    """The integrity flags from the channel's raw bytes (harness.IntegrityHook), as ``(code, detail)`` once each.
+    """The integrity flags from the channel's raw bytes (harness.integrity_hook), as ``(code, detail)`` once each.
 
     The channel is hostile input like the results: lines that are not ``code<TAB>detail`` with a known code are
     dropped, and at most MAX_FLAG_LINES are kept per code. ``ended`` says the results came back; a channel without the
     harness's closing line (``end<TAB>nonce``) is then the flag ``channel-closed``.
     """
-    flags, closed, counts = [], False, dict.fromkeys(FLAGS, 0)
+    flags, closed, counts, foreign = [], False, dict.fromkeys(FLAGS, 0), False
     for line in data[:FLAGS_BYTES].decode("utf-8", "replace").split("\n"):
         code, tab, detail = line.partition("\t")
+        if not line:
+            continue  # the hook starts every line on a line of its own
         if code == "end" and detail == nonce and nonce:
             closed = True
-        elif tab and code in FLAGS and code != "channel-closed" and counts[code] < MAX_FLAG_LINES:
-            counts[code] += 1
-            flags.append((code, " ".join(detail.split())[:MAX_FLAG_DETAIL]))
+        elif tab and code in FLAGS and code != "channel-closed":
+            if counts[code] < MAX_FLAG_LINES:
+                counts[code] += 1
+                detail = "".join(c if c.isprintable() else f"\\x{ord(c):02x}" for c in " ".join(detail.split()))
+                flags.append((code, detail[:MAX_FLAG_DETAIL]))
+        else:
+            foreign = True  # nothing the hook writes: the submission wrote on the channel
     if ended and not closed:
         flags.append(("channel-closed", ""))
+    elif ended and (foreign or len(data) > FLAGS_BYTES):
+        flags.append(("channel-closed", "written to by the submission"))
     return list(dict.fromkeys(flags))

@@ -47,6 +47,7 @@ from __future__ import annotations
 
 import json
 import os
+import secrets
 import shutil
 import subprocess
 import sys
@@ -253,6 +254,7 @@ def run_submission(submission: Path, plan: dict, limits: Limits, bwrap: str | No
     """
     environment = environment or submission_environment()
     run_id = uuid.uuid4().hex
+    nonce = secrets.token_hex(16)  # closes the integrity channel; unlike run_id, in no environment variable
     read_results, write_results = os.pipe()
     read_out, write_out = os.pipe()
     read_err, write_err = os.pipe()
@@ -263,7 +265,7 @@ def run_submission(submission: Path, plan: dict, limits: Limits, bwrap: str | No
     process = None
     try:
         if bwrap is not None:
-            plan = dict(plan, module=f"/submission/{submission.name}", path=[SITE], nonce=run_id)
+            plan = dict(plan, module=f"/submission/{submission.name}", path=[SITE], nonce=nonce)
             command, cwd = _sandbox_command(bwrap, submission, write_results, write_flags, environment, limits), None
         else:
             become_subreaper()
@@ -272,7 +274,7 @@ def run_submission(submission: Path, plan: dict, limits: Limits, bwrap: str | No
             harness = HARNESS
             if user is not None:
                 submission, harness = _hand_over(submission, scratch, user)
-            plan = dict(plan, module=str(submission), path=[str(site)], nonce=run_id)
+            plan = dict(plan, module=str(submission), path=[str(site)], nonce=nonce)
             command, cwd = [*harness_arguments(environment), str(harness), str(write_results), str(write_flags)], scratch
         cpu = max(1, int(round(limits.time_limit)))
         rlimits = {
@@ -331,7 +333,7 @@ def run_submission(submission: Path, plan: dict, limits: Limits, bwrap: str | No
                 results = results_document.read_results(bytes(results_reader.data), plan)
             except InvalidResults as exc:
                 invalid = str(exc)
-        flags = results_document.read_flags(bytes(flags_reader.data), run_id, ended=results is not None)
+        flags = results_document.read_flags(bytes(flags_reader.data), nonce, ended=results is not None)
         return Run(
             results=results,
             stdout=bytes(out_reader.data).decode("utf-8", "replace"),

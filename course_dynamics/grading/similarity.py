@@ -3,7 +3,8 @@
 Each submission is parsed (never run) and read as a stream of tokens from its
 syntax tree, in source order: the kinds of node and operator, attribute names
 (``np.cos``), numbers, and one placeholder for every name a student chooses
-(variables, functions, arguments). Comments, docstrings, blank lines and
+(variables, functions, arguments); imported and built-in names stay what they
+are (``cos`` is not ``log``). Comments, docstrings, ``pass``, blank lines and
 formatting never reach the tree, and renaming changes nothing. Every run of
 :data:`GRAM` tokens within one top-level statement is a fingerprint (so the
 order of the functions does not matter); what the starter code gives everyone is
@@ -17,6 +18,7 @@ long ones: :data:`GRAM` is long enough that they score low (see the tests).
 ======================  =========================================================
 name                    meaning
 ======================  =========================================================
+:class:`Comparison`     the pairs of a class, with the threshold and the starter
 :class:`Fingerprints`   one submission's fingerprints and the lines each covers
 :func:`fingerprints`    a submission's source to its fingerprints
 :func:`similar_pairs`   every pair at or above the threshold, highest first
@@ -26,6 +28,7 @@ from __future__ import annotations
 
 import ast
 import hashlib
+import itertools
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -35,6 +38,7 @@ GRAM = 16          # tokens per fingerprint
 MIN_GRAMS = 30     # a submission with fewer fingerprints of its own (beyond the starter) is never listed
 THRESHOLD = 0.8    # the default score at which a pair is listed
 COMMON_CLASS = 10  # from this many submissions, what most of them hold is common ground
+MAX_TOKENS = 200_000  # tokens read of one file (a dynamics answer has a few thousand)
 CONTEXTS = (ast.Load, ast.Store, ast.Del)
 
 
@@ -45,6 +49,15 @@ class Fingerprints:
     student: str
     source: str
     grams: dict[int, tuple[int, int]] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """A class compared: the pairs listed, the threshold they reached, the starter file's name (or None)."""
+
+    pairs: tuple
+    threshold: float
+    starter: str | None = None
 
 
 @dataclass(frozen=True)
@@ -69,20 +82,45 @@ def _is_docstring(node: ast.AST) -> bool:
     return isinstance(node, ast.Expr) and isinstance(node.value, ast.Constant) and isinstance(node.value.value, str)
 
 
-def _tokens(node: ast.AST):
-    """(token, line) in source order, depth first without recursion (a file may nest deeply); a student's names
-    are all one placeholder."""
+def _own_names(tree: ast.AST) -> tuple[set[str], dict[str, str]]:
+    """The names the file binds itself (variables, functions, arguments), and what each imported name stands for."""
+    own, imported = set(), {}
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Name) and isinstance(node.ctx, (ast.Store, ast.Del)):
+            own.add(node.id)
+        elif isinstance(node, ast.arg):
+            own.add(node.arg)
+        elif isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+            own.add(node.name)
+        elif isinstance(node, ast.alias):
+            imported[node.asname or node.name.split(".")[0]] = node.name
+    return own - set(imported), imported
+
+
+def _constant(value) -> str:
+    if isinstance(value, (str, bytes)):
+        return "str"
+    if isinstance(value, int) and not isinstance(value, bool) and abs(value) > 10**30:
+        return "int"  # a huge literal has no repr worth comparing (and may have none at all)
+    return repr(value)[:40]
+
+
+def _tokens(node: ast.AST, own: set[str], imported: dict[str, str]):
+    """(token, line) in source order, depth first without recursion (a file may nest deeply): the names the
+    student chose are one placeholder, imported and built-in names are themselves, ``pass`` is nothing."""
     stack = [(node, 1)]
     while stack:
         node, line = stack.pop()
-        if isinstance(node, CONTEXTS) or _is_docstring(node):
+        if isinstance(node, (*CONTEXTS, ast.Pass)) or _is_docstring(node):
             continue
         line = getattr(node, "lineno", line)
         yield type(node).__name__, line
-        if isinstance(node, ast.Attribute):
+        if isinstance(node, ast.Name):
+            yield ("name" if node.id in own else imported.get(node.id, node.id)), line
+        elif isinstance(node, ast.Attribute):
             yield "." + node.attr, line
         elif isinstance(node, ast.Constant):
-            yield ("str" if isinstance(node.value, (str, bytes)) else repr(node.value)[:40]), line
+            yield _constant(node.value), line
         elif isinstance(node, ast.alias):
             yield node.name, line  # what is imported (numpy), not what it is called
         stack.extend((child, line) for child in reversed(list(ast.iter_child_nodes(node))))
@@ -97,9 +135,10 @@ def _grams(source: str, where: str) -> dict[int, tuple[int, int]]:
         tree = ast.parse(source, filename=where)
     except (SyntaxError, ValueError, RecursionError, MemoryError):
         return {}  # nothing to compare: the grader reports the file itself
-    grams = {}
+    grams, own, imported, budget = {}, *_own_names(tree), MAX_TOKENS
     for statement in tree.body:  # windows stay inside one top-level statement: reordering functions changes nothing
-        stream = list(_tokens(statement))
+        stream = list(itertools.islice(_tokens(statement, own, imported), budget))
+        budget -= len(stream)
         for start in range(max(1, len(stream) - GRAM + 1)):
             window = stream[start:start + GRAM]
             if window:

@@ -181,6 +181,18 @@ def _write_manifest(folder: Path, files: dict[str, dict]) -> None:
         handle.write(json.dumps(document, indent=1) + "\n")
 
 
+def written_by(folder, owner: str) -> list[str]:
+    """The names of the files ``owner`` wrote in ``folder`` by its manifest (none for a missing folder).
+
+    >>> written_by("/no/such/folder", "grade")
+    []
+    """
+    folder = Path(folder)
+    if not folder.is_dir():
+        return []
+    return sorted(name for name, entry in _read_manifest(folder).items() if entry["command"] == owner)
+
+
 def check_folder(folder, names, owner: str) -> None:
     """Fail before long work unless :func:`write_folder` could write ``names`` (relative file names) into
     ``folder`` for the command ``owner`` now: InputError naming the first file in the way."""

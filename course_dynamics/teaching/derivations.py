@@ -180,7 +180,7 @@ def equation_problems(rows, expected, joints: dict, parameters, g) -> list[str]:
         return []
     for code, (slipped, words) in _slipped(expected, joints, g).items():
         if all(sympy.simplify(a - b) == 0 for a, b in zip(made, slipped, strict=True)):
-            return [f"[{code}] matches the right equations made with {words}"]
+            return [f"[{code}] matches the right equations computed with this slip: {words}"]
     found = [term_differences(a, b, joints, g, row) for row, (a, b) in enumerate(zip(made, expected), start=1)]
     if sum(map(len, found)) <= REVEALED:
         return [line for lines_ in found for line in lines_]

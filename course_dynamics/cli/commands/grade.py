@@ -25,10 +25,12 @@ def add_arguments(parser) -> None:
                         "upload it as the assignment's autograder (Ubuntu 24.04 base image)")
     parser.add_argument("--handout", metavar="ID", help="print the numbers of student ID's robot (an assignment with "
                         "variant = \"per-student\") and, with --out DIR, write its URDF there; grades nothing")
-    parser.add_argument("--similarity", nargs="?", type=float, const=0.8, metavar="SCORE",
+    parser.add_argument("--similarity", action="store_true",
                         help="add the near-identical pairs of submissions to the summary, each with a side-by-side "
-                        "page: compared on the syntax tree (names, comments, formatting set aside), listed from SCORE "
-                        "(the share of the smaller submission the other holds; default 0.8). A lead, not a verdict")
+                        "page: compared on the syntax tree (names, comments, formatting set aside). A lead, not a "
+                        "verdict")
+    parser.add_argument("--similarity-threshold", type=float, metavar="SCORE", help="list pairs from SCORE, the "
+                        "share of the smaller submission the other holds (default 0.8; implies --similarity)")
     parser.add_argument("--starter", metavar="FILE", help="the starter code every student was given: removed before "
                         "--similarity compares (implies --similarity)")
     parser.add_argument("--no-sandbox", action="store_true",
@@ -46,7 +48,8 @@ def run(args) -> int:
         load_assignment,
         write_outputs,
     )
-    from ...grading.feedback import OWNER, output_names, similar_name
+    from ...grading.feedback import OWNER, other_students, output_names, similar_name
+    from ...grading.similarity import THRESHOLD
     from ...grading.grade import similar_submissions, student_names
     from ...output import io
     from ...output.folders import check_folder
@@ -63,17 +66,17 @@ def run(args) -> int:
                          "(or --example-assignment)")
     if args.jobs is not None and args.jobs < 1:
         raise UsageError("--jobs must be at least 1")
-    if args.starter is not None and args.similarity is None:
-        args.similarity = 0.8
-    if args.similarity is not None and not 0 < args.similarity <= 1:
-        raise UsageError("--similarity takes a score from 0 (exclusive) to 1")
+    threshold = args.similarity_threshold if args.similarity_threshold is not None else THRESHOLD
+    if not 0 < threshold <= 1:
+        raise UsageError("--similarity-threshold takes a score from 0 (exclusive) to 1")
+    compare = args.similarity or args.starter is not None or args.similarity_threshold is not None
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise UsageError(f"{out}: exists and is not a directory")
     io.check_writable(out / "gradebook.csv") if out.is_dir() else io.check_writable(out)
     assignment = load_assignment(args.assignment)
-    pairs = None if args.similarity is None else similar_submissions(args.submissions, args.similarity, args.starter)
-    check_folder(out, output_names(student_names(args.submissions), pairs), OWNER)  # before any student code runs
+    comparison = similar_submissions(args.submissions, threshold, args.starter) if compare else None
+    check_folder(out, output_names(student_names(args.submissions), comparison), OWNER)  # before any student code runs
     if not args.no_sandbox:
         check_sandbox()  # before any output: no sandbox is an error, not a quiet downgrade
     progress = progress_bar(total=len(args.submissions), enabled=not (args.quiet or args.json) and sys.stderr.isatty(),
@@ -81,10 +84,12 @@ def run(args) -> int:
     grades = grade_class(assignment, args.submissions, sandbox=not args.no_sandbox, jobs=args.jobs,
                          progress=progress.update)
     progress.close()
-    write_outputs(out, grades, assignment, pairs)
+    earlier = other_students(out, student_names(args.submissions))
+    write_outputs(out, grades, assignment, comparison)
     if args.json:
-        similar = None if pairs is None else [dict(students=[p.first.student, p.second.student], score=round(p.score, 3),
-                                                   page=similar_name(k)) for k, p in enumerate(pairs)]
+        similar = None if comparison is None else [
+            dict(students=[p.first.student, p.second.student], score=round(p.score, 3), page=similar_name(k))
+            for k, p in enumerate(comparison.pairs)]
         print_json(dict(assignment=str(args.assignment), out=str(out), max_total=assignment.total_points, similar=similar,
                         students=[dict(student=g.student, total=g.total, status=g.status, flags=g.flag_codes,
                                        terms={t: g.points(t) for t in assignment.terms}) for g in grades]))
@@ -96,10 +101,16 @@ def run(args) -> int:
         if flagged:
             print(f"{flagged} submission{'s' if flagged != 1 else ''} with integrity flags (leads, not proof): see the "
                   "gradebook's flags column and the summary")
-        if pairs:
-            print(f"{len(pairs)} near-identical pair{'s' if len(pairs) != 1 else ''} of submissions: see the summary")
+        if comparison is not None and comparison.pairs:
+            count = len(comparison.pairs)
+            print(f"{count} near-identical pair{'s' if count != 1 else ''} of submissions: see the summary")
         if args.no_sandbox:
             print("warning: graded without a sandbox (--no-sandbox)", file=sys.stderr)
+    if earlier:
+        shown = ", ".join(earlier[:5]) + (f" and {len(earlier) - 5} more" if len(earlier) > 5 else "")
+        print(f"note: {out} still holds the feedback an earlier grade wrote for {len(earlier)} student"
+              f"{'s' if len(earlier) != 1 else ''} not graded now ({shown}); the gradebook and the summary list this "
+              "run's submissions only", file=sys.stderr)
     return 0
 
 
