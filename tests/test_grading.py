@@ -10,6 +10,7 @@ import csv
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 from submissions import (
     FILL_MOUNTS,
@@ -500,3 +501,30 @@ def test_one_submission_is_one_submission(tmp_path, capsys):
     assert main(["grade", str(tmp_path / "assignment.toml"), *map(str, paths), "--out", str(tmp_path / "out"),
                  "--quiet"]) == 0
     assert capsys.readouterr().out.startswith("graded 1 submission against two_link: mean 100 of 100 points")
+
+
+def test_each_file_meets_states_of_its_own_so_a_table_of_answers_fails(tmp_path):
+    """A student who learnt the states (from a seed, from feedback) and hard-codes the answers: the table's own
+    bytes choose other states. The same file always gets the same states."""
+    from course_dynamics import load_robot
+    from course_dynamics.grading.plan import make_plan
+    from course_dynamics.core.newton_euler import inverse_dynamics
+
+    (tmp_path / "assignment.toml").write_text(ASSIGNMENT)
+    assignment = load_assignment(tmp_path / "assignment.toml")
+    honest = SCORING["closed_forms"][0]
+    learnt = make_plan(assignment.for_submission("cheat", honest.encode()))  # the states the honest file met
+    robot = load_robot("two_link")
+    table = {tuple(np.round(np.r_[q, qd, qdd], 12)): inverse_dynamics(robot, q, qd, qdd).tolist()
+             for q, qd, qdd in zip(learnt.q, learnt.qd, learnt.qdd)}
+    cheat = ("import numpy as np\nTABLE = " + repr(table) + "\n\ndef tau(q, qd, qdd):\n"
+             "    return np.array(TABLE.get(tuple(np.round(np.r_[q, qd, qdd], 12)), [0.0, 0.0]))\n")
+    assert make_plan(assignment.for_submission("cheat", honest.encode())).q.tolist() == learnt.q.tolist()
+    assert make_plan(assignment.for_submission("cheat", cheat.encode())).q.tolist() != learnt.q.tolist()
+    paths = write_class(tmp_path, {"cheat": cheat, "honest": honest})
+    out = tmp_path / "out"
+    assert main(["grade", str(tmp_path / "assignment.toml"), *map(str, paths), "--out", str(out), "--quiet"]) == 0
+    with open(out / "gradebook.csv", newline="") as handle:
+        book = {row["student"]: row for row in csv.DictReader(handle)}
+    assert book["honest"]["total"] == "100" and book["cheat"]["tau"] == "0"
+    assert "seed" not in (out / "cheat.md").read_text()

@@ -7,6 +7,7 @@ naming the file and the key.
 """
 from __future__ import annotations
 
+import hashlib
 import math
 import re
 import tomllib
@@ -33,7 +34,9 @@ robot = "two_link"          # a shipped robot's name, or a URDF path relative to
 # gravity = [0.0, 0.0, -9.81]        # m/s^2 in the base frame (the default); tell students if you change it
 # allow_nonphysical_inertia = false  # true loads a URDF whose inertias break the triangle inequality
 samples = 40                # seeded random states (within joint limits; velocities, accelerations ~ N(0, 1))
-seed = 7                    # the same seed gives every student the same states
+seed = 7                    # with each file's own text, chooses the states it is graded on: the same file
+                            # always gets the same states, and a table of answers read off earlier feedback
+                            # does not fit a file of its own
 tolerance = 1e-6            # relative error allowed per state and term, against course_dynamics
                             # (which agrees with Pinocchio to 1e-9)
 time_limit = 20             # CPU seconds per submission; the wall clock allows 2 x time_limit + 5 s
@@ -106,6 +109,13 @@ class Assignment:
         chosen = robot_variant(self.robot_argument, check_student_id(student, f"{where or self.source}: student id"))
         seed = int(rng_for(student, f"assignment seed {self.seed}").integers(2**31))
         return replace(self, robot=chosen.model.with_gravity(self.robot.gravity), seed=seed)
+
+    def for_submission(self, student: str, source: bytes, where: str = "") -> Assignment:
+        """The assignment as this submission is graded: :meth:`for_student`, on states of its own, seeded by the
+        assignment's seed and the file's bytes (so a lookup table cannot be made for the states it will meet)."""
+        graded = self.for_student(student, where)
+        digest = hashlib.sha256(f"{graded.seed}".encode() + b"\0" + source).digest()
+        return replace(graded, seed=int.from_bytes(digest[:4], "little") & 0x7FFFFFFF)
 
     @property
     def total_points(self) -> float:

@@ -100,8 +100,9 @@ def _header(grade: SubmissionGrade, assignment: Assignment) -> list[str]:
     ran = "ran, and each term is graded below" if grade.status == "ok" else f"status {grade.status}"
     lines = [f"total {grade.total:g} / {assignment.total_points:g} points; {ran}"
              + (f": {grade.message}" if grade.message else "")]
-    lines.append(f"robot {assignment.robot.name} (joints {', '.join(assignment.robot.joint_names)}), "
-                 f"{assignment.samples} states (seed {assignment.seed}), relative tolerance {assignment.tolerance:g}")
+    own = f", your own variant for {grade.student}" if assignment.variant == "per-student" else ""
+    lines.append(f"robot {assignment.robot.name}{own} (joints {', '.join(assignment.robot.joint_names)}), "
+                 f"{assignment.samples} random states of this file's own, relative tolerance {assignment.tolerance:g}")
     if grade.sandbox == "none":
         lines.append("graded without a sandbox")
     lines += grade.notes

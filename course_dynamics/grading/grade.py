@@ -287,7 +287,8 @@ def grade_class(assignment: Assignment, paths, sandbox: bool = True, jobs: int |
     With ``sandbox`` (the default) a machine where bubblewrap cannot start is a
     :class:`~course_dynamics.grading.sandbox.SandboxError`, never a silent downgrade. ``students`` name the
     submissions (default: their file stems); ``user`` and ``environment`` are as in :func:`grade_submission`
-    (default environment: numpy and the assignment's allowed packages from this installation).
+    (default environment: numpy and the assignment's allowed packages from this installation). Each file is
+    graded on states of its own (:meth:`~course_dynamics.grading.assignment.Assignment.for_submission`).
     """
     paths = [Path(p) for p in paths]
     names = list(students) if students is not None else student_names(paths)
@@ -295,12 +296,13 @@ def grade_class(assignment: Assignment, paths, sandbox: bool = True, jobs: int |
     environment = environment or submission_environment(assignment.allowed_imports)
     for path, name in zip(paths, names):
         assignment.for_student(name, str(path))  # a per-student assignment refuses an unusable id before any runs
-    shared = None if assignment.variant == "per-student" else _planned(assignment)
     jobs = jobs or max(1, min(len(paths), os.cpu_count() or 1))
 
     def one(path_and_name):
         path, name = path_and_name
-        graded, plan, expected = shared or _planned(assignment.for_student(name))
+        source, _ = read_source(path)  # unreadable: inspect_source gives its status, on the assignment's own states
+        graded = assignment.for_submission(name, source.encode(), str(path)) if source is not None else assignment
+        graded, plan, expected = _planned(graded)
         # A student's 1e308 overflows in the comparison: inf, which the diagnosis reports (numpy's error
         # state is per thread, so the command line's does not reach the pool's threads).
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
