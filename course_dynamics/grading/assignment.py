@@ -37,6 +37,8 @@ samples = 40                # seeded random states (within joint limits; velocit
 seed = 7                    # with each file's own text, chooses the states it is graded on: the same file
                             # always gets the same states, and a table of answers read off earlier feedback
                             # does not fit a file of its own
+# states = "per-file"       # "shared": every file on the same states of the seed (a table of answers
+                            # computed from the seed would then pass)
 tolerance = 1e-6            # relative error allowed per state and term, against course_dynamics
                             # (which agrees with Pinocchio to 1e-9)
 time_limit = 20             # CPU seconds per submission; the wall clock allows 2 x time_limit + 5 s
@@ -99,6 +101,7 @@ class Assignment:
     variant: str = "same"  # "per-student": each student's own robot and states (tools/variants)
     flags_in_feedback: bool = False  # a student's feedback lists its integrity flags
     gradescope_student: str = "email"  # the user field of Gradescope's metadata that names the student
+    states: str = "per-file"  # "shared": every submission on the seed's states
 
     def for_student(self, student: str, where: str = "") -> Assignment:
         """The assignment as ``student`` is graded: with ``variant = "per-student"``, on their own variant of the
@@ -114,6 +117,8 @@ class Assignment:
         """The assignment as this submission is graded: :meth:`for_student`, on states of its own, seeded by the
         assignment's seed and the file's bytes (so a lookup table cannot be made for the states it will meet)."""
         graded = self.for_student(student, where)
+        if self.states == "shared":
+            return graded
         digest = hashlib.sha256(f"{graded.seed}".encode() + b"\0" + source).digest()
         return replace(graded, seed=int.from_bytes(digest[:4], "little") & 0x7FFFFFFF)
 
@@ -129,7 +134,8 @@ class Assignment:
 
 KEYS = {"robot", "samples", "seed", "tolerance", "time_limit", "memory_limit", "output_limit", "forbidden_imports",
         "allowed_imports", "partial_credit", "points", "gravity", "allow_nonphysical_inertia", "variant",
-        "flags_in_feedback", "gradescope_student"}
+        "flags_in_feedback", "gradescope_student", "states"}
+STATES = ("per-file", "shared")
 VARIANTS = ("same", "per-student")
 
 
@@ -209,6 +215,9 @@ def load_assignment(path) -> Assignment:
     if not isinstance(field_name, str) or not re.fullmatch(r"[a-z][a-z_]{0,31}", field_name):
         raise InputError(f"{path}: gradescope_student must name a user field of Gradescope's submission metadata "
                          f"(such as \"email\" or \"sid\"), got {field_name!r}")
+    states = data.get("states", "per-file")
+    if states not in STATES:
+        raise InputError(f"{path}: states must be one of {', '.join(STATES)}, got {states!r}")
     samples, memory = number("samples", 40, int), number("memory_limit", 1024, int)
     if samples > MAX_SAMPLES:
         raise InputError(f"{path}: samples must be at most {MAX_SAMPLES}, got {samples}")
@@ -220,5 +229,5 @@ def load_assignment(path) -> Assignment:
         tolerance=number("tolerance", 1e-6), time_limit=number("time_limit", 20.0),
         memory_limit=memory, output_limit=number("output_limit", 1_000_000, int),
         forbidden_imports=tuple(forbidden), allowed_imports=tuple(allowed), partial_credit=partial, variant=variant,
-        flags_in_feedback=show_flags, gradescope_student=field_name,
+        flags_in_feedback=show_flags, gradescope_student=field_name, states=states,
     )
