@@ -301,9 +301,9 @@ SCREENS = (not_defined, raised_an_error, wrong_shape, not_finite)
 CHECKS = (
     returns_zeros, opposite_sign, named_mistake, constant_factor, transposed, joints_swapped, closest_mistake,
     tau_parts, InPart("G", named_mistake, "in τ's gravity part, "), InPart("M", wrong_entries, "in τ's inertia part, "),
+    InPart("V", coriolis_without_factor_2),  # a named mistake first, then what is wrong where
     InPart("V", wrong_coefficients),
-    InPart("V", coriolis_without_factor_2),
-    wrong_entries, not_symmetric, not_christoffel, wrong_coefficients, coriolis_without_factor_2,
+    coriolis_without_factor_2, wrong_entries, not_symmetric, not_christoffel, wrong_coefficients,
 )
 
 
