@@ -11,7 +11,7 @@ BENCHMARKS = Path(__file__).resolve().parent.parent / "benchmarks"
 
 
 @pytest.mark.parametrize("script, args, expected", [
-    ("bench_performance.py", ["--batch", "20", "--repeat", "1", "--duration", "0.01", "--members", "3"],
+    ("bench_performance.py", ["--batch", "20", "--repeat", "1", "--duration", "0.01", "--members", "3", "--chains", "4"],
      "one ensemble, compiled / aba for every member"),
     ("bench_symbolic.py", ["--robots", "rp_arm"], "rp_arm"),
     ("bench_torques.py", ["--rows", "500", "--repeat", "1"], "tau stage, ours / Pinocchio"),

@@ -410,7 +410,7 @@ def test_grading_refuses_names_of_the_class_files_and_formulas_in_the_gradebook(
         student_names([tmp_path / "summary.py"])
 
     class Grade:
-        student, total, status, sandbox = "=1+2", 0.0, "ok", "bubblewrap"
+        student, total, status, sandbox, flag_codes = "=1+2", 0.0, "ok", "bubblewrap", []
 
         def points(self, term):
             return 0.0
@@ -418,7 +418,7 @@ def test_grading_refuses_names_of_the_class_files_and_formulas_in_the_gradebook(
     class Assignment:
         terms = ("tau",)
 
-    assert "\n'=1+2,0,0,ok,bubblewrap\n" in gradebook_csv([Grade()], Assignment())
+    assert "\n'=1+2,0,0,ok,bubblewrap,\n" in gradebook_csv([Grade()], Assignment())
 
 
 def test_report_never_writes_through_a_planted_figures_link(capsys, tmp_path):
