@@ -328,15 +328,21 @@ def test_an_entry_that_is_no_regular_file_is_replaced_never_opened(tmp_path, mon
     assert compile_model(model).from_cache
 
 
+def native_model(name: str, tmp_path, monkeypatch):
+    """``name`` compiled with its native code, in a cache of the test's own (where a compiler exists)."""
+    monkeypatch.setenv("COURSE_DYNAMICS_CACHE", str(tmp_path / "cache"))
+    model = load_robot(name)
+    c = compile_model(model)
+    if not c.native:  # CI has gcc: this runs there
+        pytest.skip("no C compiler with Python's headers here: the Python programs run (tested above)")
+    return model, c
+
+
 def test_the_native_path_checks_what_it_is_given(tmp_path, monkeypatch):
     """One finite float64 state goes straight to C; anything else takes the checked path and its errors."""
     from course_dynamics import StateError
 
-    monkeypatch.setenv("COURSE_DYNAMICS_CACHE", str(tmp_path / "cache"))
-    arm = load_robot("two_link")
-    c = compile_model(arm)
-    if not c.native:
-        pytest.skip("no C compiler with Python's headers here: the Python programs run (tested above)")
+    arm, c = native_model("two_link", tmp_path, monkeypatch)
     q = np.array([0.1, 0.2])
     expected = inverse_dynamics(arm, q, q, q)
     for given in ([0.1, 0.2], q.astype(np.float32), np.array([[0.1, 0.2]])[0], np.array([0.1, 9, 0.2, 9])[::2]):
@@ -350,11 +356,7 @@ def test_the_native_path_checks_what_it_is_given(tmp_path, monkeypatch):
 def test_a_native_library_in_the_cache_runs_only_behind_its_keyed_hash(tmp_path, monkeypatch):
     from course_dynamics.core.compiled import model_key
 
-    monkeypatch.setenv("COURSE_DYNAMICS_CACHE", str(tmp_path / "cache"))
-    arm = load_robot("rp_arm")
-    built = compile_model(arm)
-    if not built.native:
-        pytest.skip("no C compiler with Python's headers here")
+    arm, built = native_model("rp_arm", tmp_path, monkeypatch)
     again = compile_model(arm, native_code=None)  # from the cache, no build
     assert again.native and again.native_source == "" and again.native_seconds < built.native_seconds
     library = tmp_path / "cache" / f"{model_key(arm)}.native"
@@ -377,13 +379,10 @@ def test_without_a_compiler_or_with_native_off_the_python_programs_run(tmp_path,
     assert compile_model(arm).native == {}
 
 
-def test_a_native_batch_shared_by_threads_equals_one_thread(monkeypatch):
+def test_a_native_batch_shared_by_threads_equals_one_thread(tmp_path, monkeypatch):
     from course_dynamics.core import compiled as compiled_module
 
-    ur5 = load_robot("ur5")
-    c = compile_model(ur5)
-    if not c.native:
-        pytest.skip("no C compiler with Python's headers here")
+    ur5, c = native_model("ur5", tmp_path, monkeypatch)
     Q = np.random.default_rng(4).uniform(-1, 1, (3 * compiled_module.THREAD_STATES + 7, ur5.n))
     shared = c.inverse_dynamics(Q, Q, Q)
     monkeypatch.setattr(compiled_module, "THREADS", 1)
