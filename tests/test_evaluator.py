@@ -87,3 +87,11 @@ def test_the_package_functions_agree_with_pinocchio_on_either_path(robot, path):
         assert_agrees(C[i], oracle.C(q[i], qd[i]), scale=scale, what=f"{name} C {i}")
         assert_agrees(G[i], oracle.G(q[i]), scale=scale, what=f"{name} G {i}")
         assert_agrees(qdd_back[i], oracle.aba(q[i], qd[i], tau[i]), scale=np.abs(qdd[i]).max(), what=f"{name} qdd {i}")
+    for i in range(5):  # one state at a time: compiled, the native code where it was built, with no other check
+        assert_agrees(course_dynamics.inverse_dynamics(model, q[i], qd[i], qdd[i]), oracle.tau(q[i], qd[i], qdd[i]),
+                      what=f"{name} one-state tau {i}")
+        assert_agrees(course_dynamics.mass_matrix(model, q[i]), oracle.M(q[i]), what=f"{name} one-state M {i}")
+        assert_agrees(course_dynamics.forward_dynamics(model, q[i], qd[i], tau[i]), oracle.aba(q[i], qd[i], tau[i]),
+                      scale=np.abs(qdd[i]).max(), what=f"{name} one-state qdd {i}")
+    with pytest.raises(course_dynamics.StateError, match="is nan"):
+        course_dynamics.inverse_dynamics(model, np.full(model.n, np.nan), qd[0], qdd[0])

@@ -63,7 +63,8 @@ FLAGS = {
     "process": "started, replaced or signalled a process (os.system, subprocess, fork, exec, kill)",
     "socket": "opened a network socket or looked up a host",
     "ctypes": "loaded or called native code through ctypes",
-    "introspection": "read the interpreter's frames or object lists (sys._getframe, gc), where the harness's state is",
+    "introspection": "read the interpreter's frames or object lists (sys._getframe, a traceback's frames, gc), where "
+                     "the harness's state is",
     "channel-closed": "the integrity channel was closed, redirected or written to by the submission",
 }
 MAX_FLAG_LINES = 50  # lines the hook writes at most per code (each distinct attempt once): a flood hides no other
