@@ -118,8 +118,8 @@ def chain_urdf(n: int) -> str:
 
 
 def one_state(model, oracle, compiled, x, xd, xdd, r) -> None:
-    native = "native" if compiled.native else "pure Python: no C compiler here"
-    print(f"1. one state ({native}; µs)")
+    native = "native code" if compiled.native else "pure Python: no C compiler here"
+    print(f"1. one state (the compiled model's {native}; µs)")
     qp, vp, ap = oracle.configuration(x), oracle.velocity(xd), oracle.velocity(xdd)
     pm, pd = oracle.model, oracle.data
     rnea = best(lambda: pin.rnea(pm, pd, qp, vp, ap), r, 20000)
@@ -159,17 +159,20 @@ def batches(model, oracle, q, qd, qdd, r) -> None:
          best(lambda: [pin.computeCoriolisMatrix(pm, pd, a, b) for a, b in zip(Q, V)], r) / N, "µs", "C batch")
     line("forward dynamics / abaInParallel(1 thread)", best(lambda: forward_dynamics(model, q, qd, qdd), r) / N,
          best(lambda: pin.abaInParallel(1, pool, QT, VT, AT, out), r) / N, "µs", "FD batch")
-    print(f"3. the τ batch on 2 threads, per sample (µs; this machine has {os.cpu_count()} cores)")
+    used = min(2, N // compiled_module.THREAD_STATES) if compiled_module.native.compiler() else 1
+    print(f"3. the τ batch on 2 threads, per sample (µs; this machine has {os.cpu_count()} cores; ours shares a "
+          f"batch from {compiled_module.THREAD_STATES} states a thread, so {max(used, 1)} here)")
     threads = compiled_module.THREADS
     compiled_module.THREADS = 2
     ours_2 = best(lambda: inverse_dynamics(model, q, qd, qdd), r) / N
     compiled_module.THREADS = 1
     ours_1 = best(lambda: inverse_dynamics(model, q, qd, qdd), r) / N
     compiled_module.THREADS = threads
-    line("τ on 2 threads / rneaInParallel(2 threads)", ours_2, best(lambda: pin.rneaInParallel(2, pool, QT, VT, AT, out),
-                                                                    r) / N, "µs", "2 threads")
-    print(f"  ours: {ours_1 / ours_2:.2f}× the throughput of one thread (a batch is shared from "
-          f"{compiled_module.THREAD_STATES} states a thread)")
+    theirs_2 = best(lambda: pin.rneaInParallel(2, pool, QT, VT, AT, out), r) / N
+    line(f"τ on {max(used, 1)} thread(s) / rneaInParallel(2 threads)", ours_2, theirs_2, "µs", "2 threads")
+    print(f"  ours: {ours_1 / ours_2:.2f}× the throughput of one thread; Pinocchio's 2 threads: "
+          f"{rnea_1 / theirs_2:.2f}× its one" + ("  (slower than one: the machine was busy, measure again)"
+                                                   if theirs_2 > rnea_1 else ""))
 
 
 def simulation(model, oracle, duration: float, r) -> None:

@@ -270,6 +270,12 @@ FLAGGED = {
     "climbs_out": ("import os\ntry:\n    os.open('../' * 12 + 'etc/hostname', os.O_RDONLY)\nexcept OSError:\n    pass\n",
                    ["file-read"]),
     "lists_a_descriptor": ("import os\nos.listdir(os.open('/usr', os.O_RDONLY))\n", ["file-read", "list-folder"]),
+    "borrowed_name": ("import os\n_right = tau if 'tau' in dir() else None\n"
+                      "exec(compile(\"def probe():\\n    import os\\n    os.listdir('/root')\\n\", os.__file__, 'exec'))\n"
+                      "try:\n    probe()\nexcept OSError:\n    pass\n", ["list-folder", "introspection"]),
+    "thread_work": ("import os, threading\nt = threading.Thread(target=os.system, args=('true',))\nt.start()\nt.join()\n",
+                    ["process"]),
+    "import_side_effect": ("import os\nos.environ['BROWSER'] = 'true'\nimport antigravity\n", ["process"]),
     # What a dynamics answer may do: its own folder, its working folder, warnings, numpy's and the library's files.
     "honest_files": ("import os, warnings, json, numpy as np\nfrom collections import namedtuple\n"
                      "open('notes.txt', 'w').write('scratch')\nParameters = namedtuple('Parameters', 'm1 m2')\n"

@@ -95,3 +95,22 @@ def test_the_package_functions_agree_with_pinocchio_on_either_path(robot, path):
                       scale=np.abs(qdd[i]).max(), what=f"{name} one-state qdd {i}")
     with pytest.raises(course_dynamics.StateError, match="is nan"):
         course_dynamics.inverse_dynamics(model, np.full(model.n, np.nan), qd[0], qdd[0])
+
+
+def test_a_batch_of_one_keeps_its_shape_on_every_path():
+    """A (1, n) batch is a batch, whether the interpreted, the compiled or the native code answers."""
+    model = load_robot("rrr_arm")
+    z = np.zeros((1, model.n))
+    shapes = []
+    for compiled in (False, True):
+        if compiled:
+            implementation(model, compiled=True)
+        shapes.append((course_dynamics.inverse_dynamics(model, z, z, z).shape, course_dynamics.mass_matrix(model, z).shape,
+                       course_dynamics.forward_dynamics(model, z, z, z).shape))
+    assert shapes[0] == shapes[1] == ((1, 3), (1, 3, 3), (1, 3))
+
+
+def test_batches_of_different_lengths_are_one_clear_error():
+    model = load_robot("two_link")
+    with pytest.raises(course_dynamics.StateError, match=r"batches of different lengths \(10,\), \(9,\)"):
+        course_dynamics.inverse_dynamics(model, np.zeros((10, 2)), np.zeros((9, 2)), np.zeros(2))

@@ -53,7 +53,7 @@ from . import newton_euler
 from .compiled import CompiledModel, CompileWarning, ProgramTooLargeError, compile_model
 from .friction import Friction
 from .model import Model
-from .state import as_state
+from .state import as_state, batch_shape
 
 CALL_SECONDS = 3e-4     # the interpreted recursions' cost of one call (UR5: 0.26 ms for τ at one state)
 STATE_SECONDS = 1.5e-6  # and of one more state in a vectorised batch (UR5: 13 ms for τ at 10 000 states)
@@ -142,7 +142,7 @@ def _float_work(model: Model, *arrays: np.ndarray) -> CompiledModel | None:
     """The implementation for one call on these checked states: compiled only for float arrays."""
     if not all(a.dtype == np.float64 for a in arrays):
         return None
-    states = int(np.prod(np.broadcast_shapes(*(a.shape[:-1] for a in arrays)), dtype=np.int64))
+    states = int(np.prod(batch_shape(*arrays), dtype=np.int64))
     return implementation(model, 1, states)
 
 

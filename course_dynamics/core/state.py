@@ -87,13 +87,27 @@ def entries(array: np.ndarray) -> list:
     return [array[..., j] for j in range(array.shape[-1])]
 
 
+def batch_shape(*arrays: np.ndarray) -> tuple[int, ...]:
+    """The batch shape the states share (numpy's broadcasting); StateError when they share none.
+
+    >>> batch_shape(np.zeros((5, 2)), np.zeros(2))
+    (5,)
+    """
+    shapes = [a.shape[:-1] for a in arrays]
+    try:
+        return tuple(np.broadcast_shapes(*shapes))
+    except ValueError:
+        raise StateError(f"the states hold batches of different lengths {', '.join(map(str, shapes))}: give each "
+                         "argument the same number of rows (or one state, shared by every row)") from None
+
+
 def layout_of(*arrays: np.ndarray) -> Layout:
     """The common batch shape of the inputs; object dtype if any is symbolic, complex if any is complex.
 
     >>> layout_of(np.zeros((5, 2)), np.zeros(2))
     Layout(batch=(5,), dtype=<class 'float'>)
     """
-    batch = np.broadcast_shapes(*(a.shape[:-1] for a in arrays))
+    batch = batch_shape(*arrays)
     dtype = float
     if any(a.dtype.kind == "c" for a in arrays):
         dtype = complex

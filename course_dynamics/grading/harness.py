@@ -109,6 +109,9 @@ def integrity_hook(fd: int, own, library, writable, nonce: str):
                         found.add(function.__code__)
         return found
 
+    import _thread
+
+    main_thread = _thread.get_ident()
     importer = codes((bootstrap, external))
     entry = bootstrap._find_and_load.__code__  # where every import statement enters importlib
     # Frozen modules (os, posixpath, codecs, importlib's) have no file: their code objects are known instead,
@@ -122,9 +125,12 @@ def integrity_hook(fd: int, own, library, writable, nonce: str):
     anyone = {"/dev/null/", "/dev/urandom/", os.path.join(this_file, "")}  # a traceback quotes this file
     state = {"armed": False, "busy": False, "counts": {}}
     written = set()
+    theirs = set()  # code objects the submission ran through exec, whatever file name they were given
 
     def ours(code) -> bool:
         """Whether this code object is the submission's (see above)."""
+        if code in theirs:
+            return True
         if code in frozen:
             return False
         if not code.co_filename.startswith("/"):
@@ -170,19 +176,41 @@ def integrity_hook(fd: int, own, library, writable, nonce: str):
             return "introspection", event if event != "object.__getattr__" else f"the attribute {args[1]}"
         if event in ("object.__setattr__", "object.__delattr__") and args and args[0] is hook:
             return "introspection", f"{event} {args[1] if len(args) > 1 else ''} of the integrity hook itself"
+        if event == "compile" and len(args) > 1 and isinstance(args[1], str) and args[1].startswith("/"):
+            where = os.path.join(os.path.realpath(args[1]), "")
+            if where.startswith(library) or where == os.path.join(this_file, ""):
+                return "introspection", f"compiled code under the name of {args[1]}, a file of Python's or the harness's"
         return None
 
+    def remember(code) -> None:
+        """A code object the submission runs, and every function defined in it, as the submission's own."""
+        pending = [code]
+        while pending:
+            code = pending.pop()
+            if code not in theirs:
+                theirs.add(code)
+                pending += [c for c in code.co_consts if hasattr(c, "co_consts")]
+
     def attributed(code: str) -> bool:
+        """Whether the event is the submission's doing. An import's work is not, unless it starts processes,
+        sockets or native code (an import with side effects of that kind is itself a lead); the bottom of a
+        stack without the submission's code is a thread or a finalizer it started, and is its doing."""
         frame = sys._getframe(2)  # 0 here, 1 the hook, 2 the frame that raised the event
         if code == "introspection":
             return frame is not None and ours(frame.f_code)
+        bottom = True
         while frame is not None:
             if frame.f_code is entry:  # an import, with no code of the submission's on the way
-                return False
+                return code in ("process", "socket", "ctypes")
             if ours(frame.f_code):
                 return True
+            if frame.f_back is None and frame.f_code.co_filename == this_file and not threaded():
+                bottom = False  # the harness's own main thread, with no code of the submission's on it
             frame = frame.f_back
-        return False  # the harness's own work
+        return bottom
+
+    def threaded() -> bool:
+        return _thread.get_ident() != main_thread
 
     def write(code, detail):
         detail = "".join(c if c.isprintable() else f"\\x{ord(c):02x}" for c in " ".join(str(detail).split()))
@@ -199,6 +227,8 @@ def integrity_hook(fd: int, own, library, writable, nonce: str):
             return
         state["busy"] = True
         try:
+            if event == "exec" and args and hasattr(args[0], "co_consts") and attributed("exec"):
+                remember(args[0])
             found = flag(event, args)
             if found is not None and (event.startswith("gc.") or attributed(found[0])):
                 write(*found)

@@ -78,7 +78,7 @@ from ..dynamics import coriolis_matrix, mass_matrix_and_bias
 from ..forward_dynamics import SINGULAR_PIVOT_RATIO, accelerations
 from ..model import Model
 from ..newton_euler import inverse_dynamics
-from ..state import as_state
+from ..state import as_state, batch_shape
 from . import codegen, native, tracing
 from .cache import CACHE_OFF, Cache, CacheWarning, cache_folder
 from .codegen import module_source, program_source
@@ -196,7 +196,7 @@ class CompiledModel:
             return self._run_native(function, name, arrays)
         if all(a.ndim == 1 for a in arrays):
             return np.array(self.functions[name](*(a.tolist() for a in arrays)))
-        batch = np.broadcast_shapes(*(a.shape[:-1] for a in arrays))
+        batch = batch_shape(*arrays)
         columns = [(a if a.shape[:-1] == batch else np.broadcast_to(a, batch + a.shape[-1:])) for a in arrays]
         out = self.functions[f"{name}_batch"](*(c.T if c.ndim == 2 else np.moveaxis(c, -1, 0) for c in columns))
         return np.stack([o if np.shape(o) == batch else np.broadcast_to(o, batch) for o in out], axis=-1)
@@ -207,6 +207,9 @@ class CompiledModel:
         function = self.native.get(name)
         if function is None:
             return None
+        for a in arrays:  # one state each: a batch of one keeps its batch shape on the other path
+            if type(a) is not np.ndarray or a.ndim != 1:
+                return None
         out = np.empty(native.width(name, self.model.n))
         try:
             function(*arrays, out)
@@ -220,7 +223,7 @@ class CompiledModel:
             out = np.empty(width)
             function(*arrays, out)
             return out
-        batch = np.broadcast_shapes(*(a.shape[:-1] for a in arrays))
+        batch = batch_shape(*arrays)
         columns = [np.ascontiguousarray(np.broadcast_to(a, batch + a.shape[-1:])) for a in arrays]
         out = np.empty(batch + (width,))
         states = int(np.prod(batch))

@@ -28,6 +28,7 @@ programs then run, as wherever no compiler exists).
 """
 from __future__ import annotations
 
+import functools
 import importlib.machinery
 import importlib.util
 import math
@@ -97,6 +98,7 @@ def _function(program: Program, n: int) -> str:
     return "\n".join(lines + ["}"])
 
 
+@functools.cache
 def width(name: str, n: int) -> int:
     """Entries a native program writes per state (M whole, n × n, where the Python programs give its upper
     triangle).
