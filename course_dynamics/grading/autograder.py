@@ -214,8 +214,9 @@ def _closed_to_others(paths) -> Path | None:
         path = path.resolve()
         for folder in [*reversed(path.parents), path]:
             mode = folder.stat().st_mode
-            needed = stat.S_IXOTH if folder != path or folder.is_dir() else stat.S_IROTH
-            if not mode & needed:
+            # a folder on the way must be searchable; the end read (a folder listed too, a program run too)
+            needed = stat.S_IXOTH if folder != path else stat.S_IROTH | (stat.S_IXOTH if folder.is_dir() else 0)
+            if mode & needed != needed:
                 return folder
     return None
 
