@@ -12,6 +12,7 @@ exit code 130. No output file is left behind half-written.
 from __future__ import annotations
 
 import importlib
+import logging
 import os
 import sys
 import warnings
@@ -70,6 +71,9 @@ def _main(argv: list) -> int:
         print(f"error: {one_line(exc)}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
+        # What an interrupted notebook kernel leaves behind (asyncio's "Task exception was never retrieved",
+        # logged when the task is collected) is not the user's business: one line, as for any error.
+        logging.getLogger("asyncio").disabled = True
         print("error: interrupted", file=sys.stderr)
         return 130
     except BrokenPipeError:
