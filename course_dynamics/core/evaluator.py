@@ -131,7 +131,7 @@ def implementation(model: Model, calls: int = 1, states: int = 1, compiled: bool
 
 
 def _native(model: Model, name: str, *arguments) -> np.ndarray | None:
-    """The model's native program on one finite float64 state as given, or None (CompiledModel.native_call)."""
+    """The model's native result for one finite float64 state as given, or None (CompiledModel.native_call)."""
     record = _RECORDS.get(id(model))
     if record is None or record.compiled is None or not record.compiled.native or record.model() is not model:
         return None
@@ -173,7 +173,7 @@ def mass_matrix(model: Model, q) -> np.ndarray:
     """
     out = _native(model, "mass_matrix", q)
     if out is not None:
-        return out.reshape(model.n, model.n)
+        return out
     q = as_state(model, q, "q")
     fast = _float_work(model, q)
     return fast.mass_matrix(q) if fast is not None else dynamics.mass_matrix(model, q)
@@ -212,10 +212,9 @@ def forward_dynamics(model: Model, q, qd, tau, friction: Friction | None = None)
     >>> np.round(forward_dynamics(load_robot("two_link"), [0.0, 0.5], [0, 0], [24.0, 5.0]), 6)
     array([4.623991, 0.030879])
     """
-    if friction is None:
-        out = _native(model, "forward_dynamics", q, qd, tau)
-        if out is not None:
-            return _RECORDS[id(model)].compiled._checked_accelerations(out, q, qd, tau)
+    out = _native(model, "forward_dynamics", q, qd, tau) if friction is None else None
+    if out is not None:
+        return out
     q, qd, tau = as_state(model, q, "q"), as_state(model, qd, "qd"), as_state(model, tau, "tau")
     fast = _float_work(model, q, qd, tau)
     if fast is not None:

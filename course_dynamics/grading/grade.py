@@ -138,11 +138,15 @@ def read_source(path: Path) -> tuple[str | None, str]:
 
 def inspect_source(path: Path, assignment: Assignment) -> tuple[str, str] | None:
     """(status, message) when the file cannot be graded at all, read without running it; None otherwise."""
-    source, problem = read_source(path)
+    return check_source(*read_source(path), path.name, assignment)
+
+
+def check_source(source: str | None, problem: str, name: str, assignment: Assignment) -> tuple[str, str] | None:
+    """:func:`inspect_source` on what :func:`read_source` read: (status, message), or None."""
     if source is None:
         return "not python", problem
     try:
-        tree = ast.parse(source, filename=path.name)
+        tree = ast.parse(source, filename=name)
     except SyntaxError as exc:
         return "syntax error", f"{exc.msg} (line {exc.lineno})"
     except (ValueError, RecursionError, MemoryError) as exc:
@@ -184,15 +188,17 @@ def _ended(run, assignment: Assignment) -> tuple[str, str] | None:
 
 
 def grade_submission(assignment: Assignment, plan: Plan, expected: Expected, path: Path, bwrap: str | None,
-                     environment=None, user: tuple[int, int] | None = None, student: str | None = None) -> SubmissionGrade:
+                     environment=None, user: tuple[int, int] | None = None, student: str | None = None,
+                     read: tuple[str | None, str] | None = None) -> SubmissionGrade:
     """Grade one file (as ``student``, default its stem): inspect, run in the sandbox, score every term.
 
     Without ``bwrap``, a ``user`` (uid, gid) is the unprivileged user the submission runs as (sandbox.run_submission).
+    ``read`` is what :func:`read_source` already read of the file, if the caller read it.
     """
     isolation = "bubblewrap" if bwrap else "unprivileged-user" if user is not None else "none"
     grade = SubmissionGrade(student=student or path.stem, path=path, status="ok", max_total=assignment.total_points,
                             sandbox=isolation)
-    problem = inspect_source(path, assignment)
+    problem = check_source(*(read or read_source(path)), path.name, assignment)
     if problem is not None:
         grade.status, grade.message = problem
         grade.ran = False
@@ -300,13 +306,13 @@ def grade_class(assignment: Assignment, paths, sandbox: bool = True, jobs: int |
 
     def one(path_and_name):
         path, name = path_and_name
-        source, _ = read_source(path)  # unreadable: inspect_source gives its status, on the assignment's own states
-        graded = assignment.for_submission(name, source.encode(), str(path)) if source is not None else assignment
+        read = read_source(path)  # unreadable: check_source gives its status, on the assignment's own states
+        graded = assignment.for_submission(name, read[0].encode(), str(path)) if read[0] is not None else assignment
         graded, plan, expected = _planned(graded)
         # A student's 1e308 overflows in the comparison: inf, which the diagnosis reports (numpy's error
         # state is per thread, so the command line's does not reach the pool's threads).
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-            grade = grade_submission(graded, plan, expected, path.resolve(), bwrap, environment, user, name)
+            grade = grade_submission(graded, plan, expected, path.resolve(), bwrap, environment, user, name, read)
         grade.path = path
         if progress is not None:
             progress(1)

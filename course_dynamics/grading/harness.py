@@ -83,9 +83,9 @@ def integrity_hook(fd: int, own, library, writable, nonce: str):
     """The audit hook behind the integrity flags (module docstring), and the function that ends its channel.
 
     Each attempt is one line ``code<TAB>detail`` on ``fd``, written before the attempt proceeds, once per
-    distinct attempt and at most MAX_FLAG_LINES per code. ``readable`` are the folders whose files and
-    listings are the submission's business are ``own`` (its folder, its working folder) and ``library``
-    (Python's standard library and the allowed packages), ``writable`` its working folder.
+    distinct attempt and at most MAX_FLAG_LINES per code. The folders whose files and listings are the
+    submission's business are ``own`` (its folder, its working folder) and ``library`` (Python's standard
+    library and the allowed packages); ``writable`` is its working folder.
 
     Which code is the submission's: every frame whose code is not Python's or the harness's (the submission,
     a module it wrote and imported, code it compiled, whatever name it gave it). An event whose stack reaches
@@ -96,6 +96,7 @@ def integrity_hook(fd: int, own, library, writable, nonce: str):
     Everything the hook uses lives in this closure, not in module globals or a class a submission could patch
     without an audit event; replacing the hook's code is itself an event, and flagged.
     """
+    import _thread
     import importlib._bootstrap as bootstrap
     import importlib._bootstrap_external as external
 
@@ -108,8 +109,6 @@ def integrity_hook(fd: int, own, library, writable, nonce: str):
                     if hasattr(function, "__code__"):
                         found.add(function.__code__)
         return found
-
-    import _thread
 
     main_thread = _thread.get_ident()
     importer = codes((bootstrap, external))
@@ -198,18 +197,14 @@ def integrity_hook(fd: int, own, library, writable, nonce: str):
         frame = sys._getframe(2)  # 0 here, 1 the hook, 2 the frame that raised the event
         if code == "introspection":
             return frame is not None and ours(frame.f_code)
-        bottom = True
         while frame is not None:
             if frame.f_code is entry:  # an import, with no code of the submission's on the way
                 return code in ("process", "socket", "ctypes")
             if ours(frame.f_code):
                 return True
-            if frame.f_back is None and frame.f_code.co_filename == this_file and not threaded():
-                bottom = False  # the harness's own main thread, with no code of the submission's on it
             frame = frame.f_back
-        return bottom
-
-    def threaded() -> bool:
+        # The bottom of the stack: in the main thread the harness's own work; in another, a thread the submission
+        # started (the harness starts none).
         return _thread.get_ident() != main_thread
 
     def write(code, detail):

@@ -210,18 +210,19 @@ def _sandbox_command(bwrap: str, submission: Path, results_fd: int, flags_fd: in
 # ---------------------------------------------------------------------------------------- one run
 
 
-def _hand_over(submission: Path, scratch: Path, user: tuple[int, int]) -> tuple[Path, Path]:
-    """Copies of the submission and the harness in ``scratch``, which (with all in it) then belongs to ``user``:
-    the grader's own files may be closed to that user."""
-    copies = []
-    for folder, source in (("submission", submission), ("harness", HARNESS)):
-        (scratch / folder).mkdir()
-        copies.append(scratch / folder / source.name)
-        shutil.copyfile(source, copies[-1])
+def _hand_over(submission: Path, given: Path, scratch: Path, user: tuple[int, int]) -> tuple[Path, Path]:
+    """Copies of the submission and the harness in ``given``, a folder of the grader's that ``user`` can read but
+    not change (the grader's own files may be closed to that user); the working folder ``scratch`` becomes
+    ``user``'s."""
+    given.chmod(0o755)
+    copies = [given / "submission" / submission.name, given / "harness" / HARNESS.name]
+    for copy, source in zip(copies, (submission, HARNESS)):
+        copy.parent.mkdir(mode=0o755)
+        shutil.copyfile(source, copy)
+        copy.chmod(0o644)
     for path in [scratch, *scratch.rglob("*")]:
         os.lchown(path, *user)
     return copies[0], copies[1]
-
 
 
 class _Reader(threading.Thread):
@@ -253,6 +254,7 @@ def run_submission(submission: Path, plan: dict, limits: Limits, bwrap: str | No
     ``user`` the (uid, gid) a run without the sandbox takes (module docstring), None to stay this process's user.
     """
     environment = environment or submission_environment()
+    user = user if bwrap is None else None  # in the sandbox, its own user namespace
     run_id = uuid.uuid4().hex
     nonce = secrets.token_hex(16)  # closes the integrity channel; unlike run_id, in no environment variable
     read_results, write_results = os.pipe()
@@ -260,7 +262,7 @@ def run_submission(submission: Path, plan: dict, limits: Limits, bwrap: str | No
     read_err, write_err = os.pipe()
     read_flags, write_flags = os.pipe()
     unread = [read_results, read_out, read_err, read_flags]  # closed here unless a reader thread takes them
-    scratch = None
+    scratch = given = None
     groups = ControlGroups(f"course-dynamics-{run_id}", 2 * limits.memory_limit * 2**20)
     process = None
     try:
@@ -273,7 +275,8 @@ def run_submission(submission: Path, plan: dict, limits: Limits, bwrap: str | No
             site = environment.linked_site(Path(tempfile.mkdtemp(prefix="site-", dir=scratch)))
             harness = HARNESS
             if user is not None:
-                submission, harness = _hand_over(submission, scratch, user)
+                given = Path(tempfile.mkdtemp(prefix="course-dynamics-given-"))
+                submission, harness = _hand_over(submission, given, scratch, user)
             plan = dict(plan, module=str(submission), path=[str(site)], nonce=nonce)
             command, cwd = [*harness_arguments(environment), str(harness), str(write_results), str(write_flags)], scratch
         cpu = max(1, int(round(limits.time_limit)))
@@ -283,12 +286,12 @@ def run_submission(submission: Path, plan: dict, limits: Limits, bwrap: str | No
             "RLIMIT_FSIZE": (FILE_SIZE_BYTES,) * 2,
             "RLIMIT_CORE": (0, 0),
         }
-        nproc = process_limit(user[0] if user is not None and bwrap is None else None)
+        nproc = process_limit(user[0] if user is not None else None)
         if nproc is not None:
             rlimits["RLIMIT_NPROC"] = (nproc, nproc)
         program = seccomp_program()
         config = json.dumps({"cgroups": groups.procs, "rlimits": rlimits, "seccomp": program.hex() if program else "",
-                             "user": list(user) if user is not None and bwrap is None else None})
+                             "user": list(user) if user is not None else None})
         env = {"PATH": "/usr/bin:/bin", "LANG": "C.UTF-8", "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1",
                "HOME": str(scratch or "/scratch"), "COURSE_DYNAMICS_RUN": run_id}
         with STARTING:
@@ -351,5 +354,6 @@ def run_submission(submission: Path, plan: dict, limits: Limits, bwrap: str | No
         groups.kill_and_remove()
         if process is not None:
             LAUNCHED.discard(process.pid)
-        if scratch is not None:
-            shutil.rmtree(scratch, ignore_errors=True)
+        for folder in (scratch, given):
+            if folder is not None:
+                shutil.rmtree(folder, ignore_errors=True)

@@ -33,12 +33,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..base.errors import InputError
+from ..base.files import read_small
 
 GRAM = 16          # tokens per fingerprint
 MIN_GRAMS = 30     # a submission with fewer fingerprints of its own (beyond the starter) is never listed
 THRESHOLD = 0.8    # the default score at which a pair is listed
 COMMON_CLASS = 10  # from this many submissions, what most of them hold is common ground
 MAX_TOKENS = 200_000  # tokens read of one file (a dynamics answer has a few thousand)
+MAX_STARTER_BYTES = 1_000_000  # as a submission may have
 CONTEXTS = (ast.Load, ast.Store, ast.Del)
 
 
@@ -155,14 +157,15 @@ def fingerprints(student: str, source: str, starter: Fingerprints | None = None)
 
 
 def read_starter(path) -> Fingerprints:
-    """The starter file's fingerprints; InputError when it cannot be read or parsed."""
+    """The starter file's fingerprints; InputError when it cannot be read (as a regular file of at most 1 MB) or
+    parsed."""
     path = Path(path)
+    if not path.exists():
+        raise InputError(f"{path}: no such starter file")
     try:
-        source = path.read_text(encoding="utf-8")
+        source = read_small(path, MAX_STARTER_BYTES, "starter file").decode("utf-8")
         ast.parse(source, filename=str(path))
-    except FileNotFoundError:
-        raise InputError(f"{path}: no such starter file") from None
-    except (OSError, UnicodeDecodeError) as exc:
+    except UnicodeDecodeError as exc:
         raise InputError(f"{path}: cannot read the starter file: {exc}") from None
     except SyntaxError as exc:
         raise InputError(f"{path}: the starter file is not Python: {exc.msg} (line {exc.lineno})") from None

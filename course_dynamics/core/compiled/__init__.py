@@ -202,8 +202,9 @@ class CompiledModel:
         return np.stack([o if np.shape(o) == batch else np.broadcast_to(o, batch) for o in out], axis=-1)
 
     def native_call(self, name: str, *arrays) -> np.ndarray | None:
-        """The native program on arguments as given, if they are one state of finite float64 values (n,) each;
-        None otherwise (no native code, or anything the checked path should see first)."""
+        """What the method ``name`` returns (τ; M as an n × n matrix; Θ̈ once its pivots show M is not singular),
+        from the native program, if the arguments are one state of finite float64 values (n,) each; None otherwise
+        (no native code, or anything the checked path should see first)."""
         function = self.native.get(name)
         if function is None:
             return None
@@ -215,14 +216,19 @@ class CompiledModel:
             function(*arrays, out)
         except (TypeError, ValueError, BufferError):
             return None
+        n = self.model.n
+        if name == "mass_matrix":
+            return out.reshape(n, n)
+        if name == "forward_dynamics":
+            pivots = out[n:].tolist()
+            if not min(pivots) > SINGULAR_PIVOT_RATIO * max(map(abs, pivots)):
+                return accelerations(self.model, *arrays)  # raises SingularMassMatrixError, naming the joint
+            return out[:n]
         return out
 
     def _run_native(self, function, name: str, arrays) -> np.ndarray:
+        """The native program on checked float64 states: any batch shape, shared over threads when large."""
         width = native.width(name, self.model.n)
-        if all(a.ndim == 1 and a.flags.c_contiguous for a in arrays):  # one state: the path a loop of calls takes
-            out = np.empty(width)
-            function(*arrays, out)
-            return out
         batch = batch_shape(*arrays)
         columns = [np.ascontiguousarray(np.broadcast_to(a, batch + a.shape[-1:])) for a in arrays]
         out = np.empty(batch + (width,))
@@ -246,16 +252,14 @@ class CompiledModel:
 
     def mass_matrix(self, q) -> np.ndarray:
         """M(Θ), shape (n, n) or (N, n, n)."""
+        fast = self.native_call("mass_matrix", q)
+        if fast is not None:
+            return fast
         n = self.model.n
-        whole = self.native_call("mass_matrix", q)
-        if whole is not None:
-            return whole.reshape(n, n)
-        q = as_state(self.model, q, "q")
-        if "mass_matrix" in self.native and q.dtype == np.float64:
-            whole = self._run("mass_matrix", q)  # natively M comes whole
-            return whole.reshape(whole.shape[:-1] + (n, n))
-        upper = self._run("mass_matrix", q)
-        return upper[..., _symmetric_index(n)].reshape(upper.shape[:-1] + (n, n))
+        out = self._run("mass_matrix", as_state(self.model, q, "q"))
+        if out.shape[-1] != n * n:  # the Python programs give the upper triangle, the native ones M whole
+            out = out[..., _symmetric_index(n)]
+        return out.reshape(out.shape[:-1] + (n, n))
 
     def bias(self, q, qd) -> np.ndarray:
         """V(Θ, Θ̇) + G(Θ), shape (n,) or (N, n)."""
@@ -268,30 +272,21 @@ class CompiledModel:
 
     def forward_dynamics(self, q, qd, tau, friction=None) -> np.ndarray:
         """Θ̈ (6.115), shape (n,) or (N, n), as :func:`~course_dynamics.core.forward_dynamics.forward_dynamics`."""
-        if friction is None and self.native:
-            out = self.native_call("forward_dynamics", q, qd, tau)
-            if out is not None:
-                return self._checked_accelerations(out, q, qd, tau)
+        fast = self.native_call("forward_dynamics", q, qd, tau) if friction is None else None
+        if fast is not None:
+            return fast
         m = self.model
         q, qd, tau = as_state(m, q, "q"), as_state(m, qd, "qd"), as_state(m, tau, "tau")
         if friction is not None:
             tau = tau - friction.torques(qd)  # (6.114)
         return self.accelerations(q, qd, tau)
 
-    def _checked_accelerations(self, out: np.ndarray, q, qd, tau) -> np.ndarray:
-        """Θ̈ from one state's forward-dynamics output, once its pivots show M is not singular."""
-        n = self.model.n
-        pivots = out[n:].tolist()
-        if min(pivots) > SINGULAR_PIVOT_RATIO * max(map(abs, pivots)):
-            return out[:n]
-        return accelerations(self.model, q, qd, tau)  # raises SingularMassMatrixError, naming the joint
-
     def accelerations(self, q: np.ndarray, qd: np.ndarray, tau: np.ndarray) -> np.ndarray:
         """Θ̈ for checked float arrays (n,) or (K, n): an AccelerationFunction for ``simulate``."""
         n = self.model.n
-        out = self.native_call("forward_dynamics", q, qd, tau) if q.ndim == 1 else None
-        if out is not None:  # one state, natively: the path of a simulation's every step
-            return self._checked_accelerations(out, q, qd, tau)
+        fast = self.native_call("forward_dynamics", q, qd, tau)
+        if fast is not None:  # one state, natively: the path of a simulation's every step
+            return fast
         try:
             with np.errstate(divide="ignore", invalid="ignore"):
                 out = self._run("forward_dynamics", q, qd, tau)
