@@ -268,6 +268,35 @@ def test_a_planted_link_at_the_html_target_is_replaced_not_followed(capsys, tmp_
     assert stat.S_IMODE(page.stat().st_mode) & 0o044  # follows the umask, not 0600
 
 
+def _long_torques_log(tmp_path):
+    log = tmp_path / "log.csv"
+    t = np.arange(200_000) * 1e-3
+    q = 0.3 * np.sin(np.outer(t, np.arange(1, 7)))
+    np.savetxt(log, np.column_stack([t, q]), delimiter=",", comments="",
+               header="t," + ",".join(f"q_{j}" for j in ("shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint",
+                                                          "wrist_1_joint", "wrist_2_joint", "wrist_3_joint")))
+    return log
+
+
+# The console script, as pip writes it for the entry point in pyproject.toml.
+ENTRY_POINT = [sys.executable, "-c", "import sys, course_dynamics_command; sys.exit(course_dynamics_command.main())"]
+
+
+def _interrupted(argv, out, when):
+    """Run the command, send SIGINT when ``when()`` says so, and return its stderr once it has ended."""
+    process = subprocess.Popen([*ENTRY_POINT, *argv], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        when(process)
+        process.send_signal(signal.SIGINT)
+        _, err = process.communicate(timeout=60)
+    finally:
+        process.kill()
+        process.wait()
+    assert process.returncode == 130, err
+    assert err == "error: interrupted\n"
+    assert not out.exists() and not [p for p in out.parent.iterdir() if p.name.startswith(f".{out.name}.")]
+
+
 @pytest.mark.parametrize("command", ["simulate", "torques"])
 def test_ctrl_c_exits_130_with_one_line_and_no_file(tmp_path, command):
     out = tmp_path / "out.csv"
@@ -275,21 +304,29 @@ def test_ctrl_c_exits_130_with_one_line_and_no_file(tmp_path, command):
         argv = ["simulate", "ur5", "--q0", "0,-1,1,0,0.5,0", "--duration", "60", "--dt", "0.0005", "--no-compile",
                 "--out", str(out), "--quiet"]
     else:
-        log = tmp_path / "log.csv"
-        t = np.arange(200_000) * 1e-3
-        q = 0.3 * np.sin(np.outer(t, np.arange(1, 7)))
-        np.savetxt(log, np.column_stack([t, q]), delimiter=",", comments="",
-                   header="t," + ",".join(f"q_{j}" for j in ("shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint",
-                                                              "wrist_1_joint", "wrist_2_joint", "wrist_3_joint")))
-        argv = ["torques", "ur5", "--log", str(log), "--out", str(out), "--no-compile"]
-    process = subprocess.Popen([sys.executable, "-m", "course_dynamics.cli", *argv], stdout=subprocess.PIPE,
-                               stderr=subprocess.PIPE, text=True)
-    time.sleep(2.5)
-    process.send_signal(signal.SIGINT)
-    _, err = process.communicate(timeout=60)
-    assert process.returncode == 130, err
-    assert err == "error: interrupted\n"
-    assert not out.exists() and not [p for p in tmp_path.iterdir() if p.name.endswith(".partial")]
+        argv = ["torques", "ur5", "--log", str(_long_torques_log(tmp_path)), "--out", str(out), "--no-compile"]
+    _interrupted(argv, out, lambda process: time.sleep(2.5))
+
+
+@pytest.mark.parametrize("offset", [0.4, 0.7, 1.0, 1.5, 2.0])
+def test_ctrl_c_in_the_first_seconds_is_not_lost(tmp_path, offset):
+    # Imports run in these seconds, among them trimesh's, which catches BaseException in its optional imports.
+    out = tmp_path / "out.csv"
+    argv = ["torques", "ur5", "--log", str(_long_torques_log(tmp_path)), "--out", str(out), "--no-compile"]
+    _interrupted(argv, out, lambda process: time.sleep(offset))
+
+
+def test_ctrl_c_while_the_output_is_written_leaves_no_file(tmp_path):
+    out = tmp_path / "out.csv"
+    argv = ["torques", "ur5", "--log", str(_long_torques_log(tmp_path)), "--out", str(out), "--no-compile"]
+
+    def once_the_partial_file_exists(process):
+        deadline = time.monotonic() + 60
+        while not [p for p in tmp_path.iterdir() if p.name.startswith(".out.csv.")]:
+            assert process.poll() is None and time.monotonic() < deadline, "the command ended before writing"
+            time.sleep(0.002)
+
+    _interrupted(argv, out, once_the_partial_file_exists)
 
 
 # ---------------------------------------------------------------------------- found by trying to break it

@@ -7,7 +7,9 @@ option handling is in :mod:`course_dynamics.cli.options`.
 
 Bad input of any kind (a :class:`~course_dynamics.base.errors.CourseDynamicsError`)
 ends with one line ``error: …`` on stderr and exit code 2; Ctrl-C ends with
-exit code 130. No output file is left behind half-written.
+exit code 130, even where a library we call catches the interrupt
+(:mod:`course_dynamics.cli.interrupts`). No output file is left behind
+half-written.
 """
 from __future__ import annotations
 
@@ -22,6 +24,7 @@ import numpy as np
 from ..base.errors import CourseDynamicsError
 from ..output.render import one_line
 from .commands import COMMANDS
+from .interrupts import Interrupts, interruptible
 from .options import Parser, check_output_names, join_value_options, robots_epilog
 
 
@@ -55,10 +58,11 @@ def main(argv=None) -> int:
                 shown(message, category, filename, lineno, file, line)
 
         warnings.showwarning = warning_line
-        return _main(argv)
+        with interruptible() as interrupts:
+            return _main(argv, interrupts)
 
 
-def _main(argv: list) -> int:
+def _main(argv: list, interrupts: Interrupts | None) -> int:
     try:
         args = build_parser().parse_args(join_value_options(argv))
         check_output_names(args)
@@ -71,6 +75,8 @@ def _main(argv: list) -> int:
         print(f"error: {one_line(exc)}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
+        if interrupts is not None:
+            interrupts.received()
         # What an interrupted notebook kernel leaves behind (asyncio's "Task exception was never retrieved",
         # logged when the task is collected) is not the user's business: one line, as for any error.
         logging.getLogger("asyncio").disabled = True
