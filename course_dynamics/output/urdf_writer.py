@@ -17,12 +17,20 @@ v, c                ``<dynamics damping="v" friction="c"/>`` on each moving join
 ==================  ==========================================================================
 
 Everything else — links fixed to the base, visuals, collisions, meshes, limits, transmissions,
-gazebo tags, comments, the layout — is kept byte for byte: the file is not re-serialised. It is
-parsed by the standard library's expat (the parser under ``xml.etree``) only to find where the
-changed elements start and end; a DTD or an entity is refused, nothing is fetched or run. What
-is inserted is ASCII, so the text keeps its encoding (UTF-8, ASCII or Latin-1; UTF-16 is refused).
-Numbers are written with ``repr`` (17 significant digits at most), so they read back exactly.
-Relative mesh paths are kept as they are: they resolve against the folder of the written file.
+gazebo tags, comments, the layout — is kept byte for byte: the file is not re-serialised. Where
+the changed elements and attribute values are comes from the parser's own positions
+(:mod:`~course_dynamics.output.xml_spans`): the text of a comment, a CDATA section, a processing
+instruction or another attribute's value (``note='damping="0.1"'``) is never taken for a tag or an
+attribute. Elements are the ones our loader reads: the root's ``<link>`` and ``<joint>`` children,
+and of each its own ``<inertial>`` or ``<dynamics>`` child, in no namespace (a second one, or one
+put in a namespace by a default ``xmlns``, on which readers disagree, is refused). A DTD or an
+entity is refused, nothing is fetched or run. What is inserted is ASCII, with the file's line
+ends, so the text keeps its encoding (UTF-8 with or without a BOM, ASCII, Latin-1 and the other
+one-byte encodings expat reads; UTF-16 is refused). Numbers are written with ``repr`` (17
+significant digits at most), so they read back exactly; and before anything is written the text
+is read back by our loader and every identified value compared (:func:`check_reads_back`): a file
+that reads back differently is never left. Relative mesh paths are kept as they are: they resolve
+against the folder of the written file.
 
 >>> from dataclasses import replace
 >>> from pathlib import Path
@@ -35,112 +43,70 @@ True
 """
 from __future__ import annotations
 
-import re
-import xml.parsers.expat
+import tempfile
+import warnings
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
-from ..base.errors import InputError
+from ..base.errors import InputError, ModelError
 from ..base.files import read_small
 from ..core.friction import Friction
 from ..core.model import Model
+from ..core.urdf import InertiaWarning, load_urdf
 from . import io
+from .xml_spans import Element, elements
 
 MAX_URDF_BYTES = 64 * 2**20  # as the loader's limit: a URDF larger than this was never loaded
 MERGED_NOTE = b"<!-- inertial removed: lumped into the identified inertial of the moving link it is fixed to -->"
 HEADER_NOTE = b"<!-- inertial parameters and joint friction identified by course-dynamics identify -->\n"
-
-
-@dataclass
-class _Element:
-    """Where a top-level ``<link>`` or ``<joint>`` of the text starts and ends, and its changed child."""
-
-    name: str
-    start: int                  # '<' of the start tag
-    start_end: int              # just after the start tag's '>'
-    empty: bool                 # <link .../>
-    end: int = -1               # '<' of the end tag (start_end for an empty element)
-    child_indent: bytes = b""
-    part: tuple[int, int] | None = None   # (start, end) of the <inertial> or <dynamics> child
-    part_tag: str = ""
-    part_tag_end: int = -1      # just after the child's start tag
-    first_child: int | None = None
+INDENT_WINDOW = 4096  # bytes looked back for a line's indentation: a 64 MiB one-line file is not scanned per element
+# Reading back, the loader lumps each moving link with the links merged into it (now massless): m·c/m differs from
+# c by an ulp or two, and the parallel-axis term of that difference is ~m·(1e-17 m)²; a misread value is far off.
+READBACK_RTOL, READBACK_ATOL = 1e-12, 1e-15
 
 
 @dataclass
 class _Layout:
-    links: dict = field(default_factory=dict)
-    joints: dict = field(default_factory=dict)
-    robot: int = 0
+    """The top-level links and joints of the text (:class:`~.xml_spans.Element`), with the child each one has edited."""
 
-
-def _tag_end(raw: bytes, start: int) -> int:
-    """Just after the '>' that closes the tag starting at ``start`` (quoted attribute values may hold '>')."""
-    quote = None
-    for i in range(start + 1, len(raw)):
-        c = raw[i:i + 1]
-        if quote:
-            quote = None if c == quote else quote
-        elif c in (b'"', b"'"):
-            quote = c
-        elif c == b">":
-            return i + 1
-    raise InputError("unterminated tag")
+    root: Element
+    links: dict = field(default_factory=dict)      # name → (link, its <inertial> or None)
+    joints: dict = field(default_factory=dict)     # name → (joint, its <dynamics> or None)
 
 
 def _indent(raw: bytes, position: int) -> bytes:
-    """The spaces and tabs between the start of ``position``'s line and ``position``."""
-    line = raw.rfind(b"\n", 0, position) + 1
+    """The spaces and tabs between the start of ``position``'s line and ``position`` (none on a very long line)."""
+    earliest = max(0, position - INDENT_WINDOW)
+    line = raw.rfind(b"\n", earliest, position) + 1
     before = raw[line:position]
-    return before if not before.strip() else b""
+    return before if (line or not earliest) and not before.strip() else b""
 
 
 def _layout(raw: bytes, where: str) -> _Layout:
-    """The top-level links and joints of the URDF text, with their ``<inertial>``/``<dynamics>`` children."""
-    parser = xml.parsers.expat.ParserCreate()
-    parser.SetParamEntityParsing(xml.parsers.expat.XML_PARAM_ENTITY_PARSING_NEVER)
-    layout, stack = _Layout(), []
-
-    def refuse(*_):
-        raise InputError(f"{where}: declares a DTD or an entity; URDF files have none")
-
-    def start(name, attributes):
-        at = parser.CurrentByteIndex
-        end = _tag_end(raw, at)
-        empty = raw[end - 2:end] == b"/>"
-        if not stack:
-            layout.robot = at
-        owner = stack[1] if len(stack) == 2 and isinstance(stack[1], _Element) else None
-        if owner is not None:
-            if owner.first_child is None:
-                owner.first_child, owner.child_indent = at, _indent(raw, at)
-            if name in ("inertial", "dynamics") and owner.part is None:
-                owner.part, owner.part_tag, owner.part_tag_end = (at, end if empty else -1), name, end
-        if len(stack) == 1 and name in ("link", "joint"):
-            element = _Element(attributes.get("name", ""), at, end, empty, end if empty else -1)
-            table = layout.links if name == "link" else layout.joints
-            if element.name in table:
-                raise InputError(f"{where}: two {name}s are named '{element.name}'")
-            table[element.name] = element
-            stack.append(element)
-        else:
-            stack.append(name)
-
-    def finish(name):
-        at = parser.CurrentByteIndex
-        top = stack.pop()
-        if isinstance(top, _Element) and not top.empty:
-            top.end = at
-        if len(stack) == 2 and isinstance(stack[1], _Element) and name == stack[1].part_tag and stack[1].part[1] < 0:
-            stack[1].part = (stack[1].part[0], _tag_end(raw, at))
-
-    parser.StartElementHandler, parser.EndElementHandler = start, finish
-    parser.StartDoctypeDeclHandler = parser.EntityDeclHandler = refuse
-    try:
-        parser.Parse(raw, True)
-    except xml.parsers.expat.ExpatError as exc:
-        raise InputError(f"{where}: malformed XML: {exc}") from None
+    """Links and joints as the loader reads them: the root's children named ``link`` or ``joint`` (in no
+    namespace), and of each the first child named ``inertial`` or ``dynamics`` (yourdfpy's and urdfdom's
+    ``find``); a second one, or an element whose namespace only a namespace-aware reader sees, is refused."""
+    root = elements(raw, where, depth=2)
+    layout = _Layout(root)
+    for element in [root] + root.children + [c for top in root.children for c in top.children]:
+        if element.default_namespace:
+            raise InputError(f"{where}: <{element.qualified}> at byte {element.start} is in the namespace "
+                             f"'{element.name.split(' ')[0]}' by a default xmlns: readers of URDF disagree on "
+                             "whether it is there")
+    for top in root.children:
+        if top.name not in ("link", "joint"):
+            continue
+        table, part = (layout.links, "inertial") if top.name == "link" else (layout.joints, "dynamics")
+        name = top.values.get("name", "")
+        if name in table:
+            raise InputError(f"{where}: two {top.name}s are named '{name}'")
+        parts = [child for child in top.children if child.name == part]
+        if len(parts) > 1:
+            raise InputError(f"{where}: {top.name} '{name}' has {len(parts)} <{part}> elements; a URDF has one, "
+                             "and which one a reader takes is not written down")
+        table[name] = (top, parts[0] if parts else None)
     return layout
 
 
@@ -151,7 +117,7 @@ def _number(x) -> str:
     return repr(value + 0.0)  # + 0.0: -0.0 reads back the same, but is written 0.0
 
 
-def _inertial(body, indent: bytes, unit: bytes) -> bytes:
+def _inertial(body, indent: bytes, unit: bytes, newline: bytes = b"\n") -> bytes:
     c, I = body.p_com, body.I_com
     inner = indent + unit
     lines = [b"<inertial>",
@@ -160,42 +126,54 @@ def _inertial(body, indent: bytes, unit: bytes) -> bytes:
              inner + (f'<inertia ixx="{_number(I[0, 0])}" ixy="{_number(I[0, 1])}" ixz="{_number(I[0, 2])}" '
                       f'iyy="{_number(I[1, 1])}" iyz="{_number(I[1, 2])}" izz="{_number(I[2, 2])}"/>').encode(),
              indent + b"</inertial>"]
-    return b"\n".join(lines)
+    return newline.join(lines)
 
 
-def _unit(raw: bytes, element: _Element) -> bytes:
+def _child_indent(raw: bytes, element: Element) -> bytes:
+    return _indent(raw, element.children[0].start) if element.children else b""
+
+
+def _unit(raw: bytes, element: Element) -> bytes:
     """One level of indentation, as the file uses it (two spaces where it cannot tell)."""
-    outer = _indent(raw, element.start)
-    if element.first_child is not None and element.child_indent.startswith(outer) and element.child_indent != outer:
-        return element.child_indent[len(outer):]
+    outer, inner = _indent(raw, element.start), _child_indent(raw, element)
+    if element.children and inner.startswith(outer) and inner != outer:
+        return inner[len(outer):]
     return b"  "
 
 
-def _with_attributes(tag: bytes, values: dict) -> bytes:
-    """The start tag ``tag`` with ``values`` (name → text) set: replaced where present, else added at its end."""
-    for name, value in values.items():
-        pattern = re.compile(rb"(\s" + name.encode() + rb"\s*=\s*)(\"[^\"]*\"|'[^']*')")
-        if pattern.search(tag):
-            tag = pattern.sub(lambda m: m.group(1) + b'"' + value.encode() + b'"', tag, count=1)
-        else:
-            close = len(tag) - (2 if tag.endswith(b"/>") else 1)
-            tag = tag[:close].rstrip() + f' {name}="{value}"'.encode() + (b"/>" if tag.endswith(b"/>") else b">")
-    return tag
+def _set_attributes(raw: bytes, tag: Element, values: dict) -> list:
+    """The edits that give the start tag of ``tag`` the ``values`` (name → text): a value there is replaced between
+    its quotes, any other attribute is added after the last one (the space before ``/>`` stays)."""
+    close = tag.start_end - (2 if tag.empty else 1)
+    while raw[close - 1:close] in (b" ", b"\t", b"\r", b"\n"):
+        close -= 1
+    return [(*tag.attributes[name], value.encode()) if name in tag.attributes else
+            (close, close, f' {name}="{value}"'.encode()) for name, value in values.items()]
 
 
-def _before_end_tag(raw: bytes, element: _Element, text: bytes) -> tuple[int, int, bytes]:
+def _before_end_tag(raw: bytes, element: Element, text: bytes, newline: bytes) -> tuple[int, int, bytes]:
     """The edit that puts ``text`` as the last child of ``element``: on a line of its own when the end tag has one."""
-    outer = _indent(raw, element.end)
-    line_start = element.end - len(outer)
+    outer = _indent(raw, element.end_tag)
+    line_start = element.end_tag - len(outer)
     if raw[line_start - 1:line_start] != b"\n":
-        return element.end, element.end, text          # all on one line: <joint ...><parent/>...</joint>
-    indent = element.child_indent if element.first_child is not None else outer + _unit(raw, element)
-    return line_start, line_start, indent + text + b"\n"
+        return element.end_tag, element.end_tag, text          # all on one line: <joint ...><parent/>...</joint>
+    indent = _child_indent(raw, element) if element.children else outer + _unit(raw, element)
+    return line_start, line_start, indent + text + newline
 
 
 def _check_encoding(raw: bytes, where: str) -> None:
     if raw.startswith((b"\xff\xfe", b"\xfe\xff")) or b"\x00" in raw[:200]:
         raise InputError(f"{where}: a UTF-16 or UTF-32 URDF cannot be edited in place; save it as UTF-8")
+
+
+def _applied(raw: bytes, edits: list) -> bytes:
+    """``raw`` with each (start, end, text) of ``edits`` done, in one pass (insertions at one place in their order)."""
+    pieces, at = [], 0
+    for start, end, text in sorted(edits, key=lambda edit: edit[:2]):
+        assert start >= at, "two edits of the URDF overlap"
+        pieces += [raw[at:start], text]
+        at = end
+    return b"".join(pieces + [raw[at:]])
 
 
 def identified_urdf(raw: bytes, identified: Model, friction: Friction | None = None, where: str = "the URDF") -> bytes:
@@ -207,59 +185,95 @@ def identified_urdf(raw: bytes, identified: Model, friction: Friction | None = N
     """
     _check_encoding(raw, where)
     layout = _layout(raw, where)
+    newline = b"\r\n" if b"\r\n" in raw else b"\n"
     moving = {body.name for body in identified.bodies}
     merged = [f.name for f in identified.frames if f.body >= 0 and f.name not in moving]
     edits = []   # (start, end, replacement)
     for body in identified.bodies:
-        link = layout.links.get(body.name)
-        if link is None or body.joint not in layout.joints:
-            missing = f"link '{body.name}'" if link is None else f"joint '{body.joint}'"
+        if body.name not in layout.links or body.joint not in layout.joints:
+            missing = f"link '{body.name}'" if body.name not in layout.links else f"joint '{body.joint}'"
             raise InputError(f"{where}: has no {missing}, which the identified model has: write the URDF the model "
                              "was loaded from")
+        link, inertial = layout.links[body.name]
         unit = _unit(raw, link)
-        indent = link.child_indent if link.first_child is not None else _indent(raw, link.start) + unit
-        if link.part is not None:
-            edits.append((link.part[0], link.part[1], _inertial(body, _indent(raw, link.part[0]), unit)))
-        elif link.empty:
-            outer = _indent(raw, link.start)
-            closing = raw[link.start:link.start_end - 2].rstrip() + b">"
-            edits.append((link.start, link.start_end, closing + b"\n" + indent + _inertial(body, indent, unit)
-                          + b"\n" + outer + b"</link>"))
+        indent = _child_indent(raw, link) if link.children else _indent(raw, link.start) + unit
+        if inertial is not None:
+            edits.append((inertial.start, inertial.end, _inertial(body, _indent(raw, inertial.start), unit, newline)))
+        elif link.empty:   # <link name="x"/>: its '/>' becomes '>', the inertial and '</link>'
+            edits.append((link.start_end - 2, link.start_end, b">" + newline + indent + _inertial(body, indent, unit,
+                          newline) + newline + _indent(raw, link.start) + b"</link>"))
         else:
-            edits.append((link.start_end, link.start_end, b"\n" + indent + _inertial(body, indent, unit)))
+            edits.append((link.start_end, link.start_end, newline + indent + _inertial(body, indent, unit, newline)))
     for name in merged:
-        link = layout.links.get(name)
-        if link is not None and link.part is not None:
-            edits.append((link.part[0], link.part[1], MERGED_NOTE))
+        inertial = layout.links.get(name, (None, None))[1]
+        if inertial is not None:
+            edits.append((inertial.start, inertial.end, MERGED_NOTE))
     if friction is not None:
         for i, body in enumerate(identified.bodies):
-            joint = layout.joints[body.joint]
+            joint, dynamics = layout.joints[body.joint]
             values = {"damping": _number(friction.viscous[i]), "friction": _number(friction.coulomb[i])}
-            if joint.part is not None:  # its other attributes (a simulator's) stay
-                tag = raw[joint.part[0]:joint.part_tag_end]
-                edits.append((joint.part[0], joint.part_tag_end, _with_attributes(tag, values)))
-                continue
-            text = "<dynamics " + " ".join(f'{k}="{v}"' for k, v in values.items()) + "/>"
-            if not joint.empty:
-                edits.append(_before_end_tag(raw, joint, text.encode()))
-    edits.append((layout.robot, layout.robot, HEADER_NOTE))
-    out = raw
-    for start, end, text in sorted(edits, key=lambda e: (e[0], e[1]), reverse=True):
-        out = out[:start] + text + out[end:]
-    return out
+            if dynamics is not None:  # its other attributes (a simulator's) stay
+                edits += _set_attributes(raw, dynamics, values)
+            elif not joint.empty:
+                text = "<dynamics " + " ".join(f'{k}="{v}"' for k, v in values.items()) + "/>"
+                edits.append(_before_end_tag(raw, joint, text.encode(), newline))
+    edits.append((layout.root.start, layout.root.start, HEADER_NOTE.rstrip(b"\n") + newline))
+    return _applied(raw, edits)
+
+
+def _shown(value) -> str:
+    return " ".join(f"{float(x):.17g}" for x in np.ravel(value))
+
+
+def check_reads_back(text: bytes, identified: Model, friction: Friction | None, target: str, source: str) -> None:
+    """InputError unless our loader reads ``text`` as ``identified`` (every mass, centre of mass and inertia of a
+    moving body) and ``friction`` (every damping and friction written): an edit of the wrong text is never left
+    behind. ``target`` (the file to be written) and ``source`` (the URDF edited) name the problem."""
+    with tempfile.TemporaryDirectory(prefix="course-dynamics-") as folder:
+        copy = Path(folder) / "identified.urdf"
+        io.write_bytes(copy, text)
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", InertiaWarning)   # physics is the identification's; here, numbers
+                back = load_urdf(copy, allow_nonphysical_inertia=True)
+        except ModelError as exc:
+            problem = str(exc).replace(f"{copy}: ", "")
+            raise InputError(f"{target}: the URDF edited from {source} would not load ({problem}); nothing was "
+                             "written") from None
+
+    def refuse(what, got, expected):
+        raise InputError(f"{target}: {what} reads back as {got} from the URDF edited from {source}, not the "
+                         f"identified {expected}; nothing was written")
+
+    if back.joint_names != identified.joint_names:
+        refuse("the moving joints", ", ".join(back.joint_names), ", ".join(identified.joint_names))
+    for i, (got, body) in enumerate(zip(back.bodies, identified.bodies)):
+        for what, value, expected in (("mass", got.mass, body.mass), ("centre of mass", got.p_com, body.p_com),
+                                      ("inertia", got.I_com, body.I_com)):
+            if got.name != body.name or not np.allclose(value, expected, rtol=READBACK_RTOL, atol=READBACK_ATOL):
+                refuse(f"link '{body.name}': {what}", _shown(value), _shown(expected))
+        if friction is not None:
+            for what, value, expected in (("damping", got.damping, friction.viscous[i]),
+                                          ("friction", got.friction, friction.coulomb[i])):
+                if value != float(expected):
+                    refuse(f"joint '{body.joint}': {what}", _shown(value), _shown(expected))
 
 
 def write_identified_urdf(path, identified: Model, friction: Friction | None = None, source=None) -> None:
     """Write the identified URDF to ``path`` (whole or not at all; ``-`` is standard output).
 
     ``source``: the URDF the model was loaded from (default ``identified.source``), read as text
-    (a regular file of at most :data:`MAX_URDF_BYTES`).
+    (a regular file of at most :data:`MAX_URDF_BYTES`). The text is read back by our loader before
+    anything is written (:func:`check_reads_back`).
     """
     source = identified.source if source is None else source
     if not source:
         raise InputError(f"robot '{identified.name}': the URDF it was loaded from is not known; give source")
     raw = read_small(source, MAX_URDF_BYTES, "URDF file")
-    io.write_bytes(path, identified_urdf(raw, identified, friction, where=str(source)))
+    text = identified_urdf(raw, identified, friction, where=str(source))
+    check_reads_back(text, identified, friction, "standard output" if str(path) == io.STDOUT else str(path),
+                     str(source))
+    io.write_bytes(path, text)
 
 
 def model_urdf(model: Model, comment: str = "") -> bytes:
