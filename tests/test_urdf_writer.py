@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import re
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -123,3 +124,102 @@ def test_a_model_of_another_urdf_is_refused_and_nothing_is_written(tmp_path):
     with pytest.raises(InputError, match="not finite"):
         write_identified_urdf(target, broken)
     assert target.read_text() == "keep me" and sorted(p.name for p in tmp_path.iterdir()) == ["out.urdf"]
+
+
+# ---------------------------------------------------------------- hostile text: only what the loader reads is edited
+
+FRICTION = Friction(viscous=np.array([1.25, 2.5]), coulomb=np.array([0.75, 0.125]))
+THETA1 = '<joint name="theta1" type="revolute">'
+THETA2 = '<joint name="theta2" type="revolute">'
+# Text that looks like a <dynamics> or a damping attribute but is none: another attribute's value, a comment, a
+# CDATA section, a joint's <inertial> (not its <dynamics>), look-alike element names.
+DECOYS_1 = ("""<joint name="theta1" type="revolute" note='damping="0.1"'>\n"""
+            """    <!-- <dynamics damping="9"/> --><![CDATA[ <dynamics damping="9"/> ]]>\n"""
+            """    <inertial><mass value="1"/></inertial>\n"""
+            """    <dynamics friction="0" note=' damping="7"' damping = '0.5' />""")
+DECOYS_2 = ("""<joint name="theta2" type="revolute">\n"""
+            """    <dynamicsX damping="3"/><x:dynamics xmlns:x="urn:x" damping="3"/>\n"""
+            """    <dynamics note=' damping="7" friction="7"'/>""")
+
+
+def hostile_copy(folder, replacements, encoding="utf-8", newline="\n", prefix=b"", renamed=None):
+    """two_link's URDF with ``replacements`` (old → new text, the first occurrence) made and ``renamed`` (old → new
+    name, everywhere), written to ``folder`` as ``encoding``."""
+    text = Path(load_robot("two_link").source).read_text()
+    for old, new in replacements.items():
+        assert old in text, old
+        text = text.replace(old, new, 1)
+    for old, new in (renamed or {}).items():
+        text = text.replace(f'"{old}"', f'"{new}"')
+    path = folder / "hostile.urdf"
+    path.write_bytes(prefix + text.replace("\n", newline).encode(encoding))
+    return path
+
+
+def test_only_the_loaders_dynamics_is_edited_never_text_that_looks_like_one(tmp_path):
+    source = hostile_copy(tmp_path, {THETA1: DECOYS_1, THETA2: DECOYS_2})
+    model, out = load_urdf(source), tmp_path / "identified.urdf"
+    write_identified_urdf(out, model, FRICTION)
+    back = load_urdf(out)
+    np.testing.assert_array_equal([b.damping for b in back.bodies], FRICTION.viscous)
+    np.testing.assert_array_equal([b.friction for b in back.bodies], FRICTION.coulomb)
+    oracle = PinocchioOracle(out, model.joint_names, model.gravity)   # urdfdom reads the same <dynamics>
+    np.testing.assert_array_equal(oracle.damping, FRICTION.viscous)
+    np.testing.assert_array_equal(oracle.friction, FRICTION.coulomb)
+    text = out.read_text()
+    for decoy in ("""note='damping="0.1"'""", '<!-- <dynamics damping="9"/> -->', '<![CDATA[ <dynamics damping="9"/> ]]>',
+                  '<inertial><mass value="1"/></inertial>', '<dynamicsX damping="3"/>',
+                  '<x:dynamics xmlns:x="urn:x" damping="3"/>'):
+        assert text.count(decoy) == 1, decoy
+    assert """<dynamics friction="0.75" note=' damping="7"' damping = '1.25' />""" in text    # its quotes, its spaces
+    assert """<dynamics note=' damping="7" friction="7"' damping="2.5" friction="0.125"/>""" in text
+
+
+@pytest.mark.parametrize("replacements, fragments", [
+    ({"    <axis": '    <dynamics xmlns="urn:x" damping="3"/>\n    <axis'}, ["joint 'theta1'", "default xmlns"]),
+    ({"    <axis": '    <dynamics damping="3"/><dynamics damping="4"/>\n    <axis'}, ["joint 'theta1'", "2 <dynamics>"]),
+    ({"    </inertial>": '    </inertial>\n    <inertial><mass value="5"/></inertial>'}, ["link 'link1'", "2 <inertial>"]),
+])
+def test_an_element_readers_disagree_on_or_a_second_one_is_refused_and_nothing_is_written(tmp_path, replacements,
+                                                                                            fragments):
+    source = hostile_copy(tmp_path, replacements)
+    model, out = load_urdf(source), tmp_path / "identified.urdf"   # our loader reads it (and skips or takes the first)
+    with pytest.raises(InputError) as error:
+        write_identified_urdf(out, model, FRICTION)
+    assert str(error.value).startswith(str(source)) and "\n" not in str(error.value)
+    assert all(fragment in str(error.value) for fragment in fragments), str(error.value)
+    assert not out.exists()
+
+
+def test_a_text_that_reads_back_otherwise_than_identified_is_never_written(tmp_path):
+    """A URDF with a link the model does not know (a camera fixed to link 2): its mass would be lumped into the
+    identified link 2 by every reader; the read-back names the file and the link, and nothing is left."""
+    camera = ('<link name="camera"><inertial><mass value="0.25"/><inertia ixx="1e-3" ixy="0" ixz="0" iyy="1e-3" iyz="0" '
+              'izz="1e-3"/></inertial></link>\n  <joint name="camera_fixed" type="fixed"><parent link="link2"/>'
+              '<child link="camera"/></joint>\n</robot>')
+    source, arm = hostile_copy(tmp_path, {"</robot>": camera}), load_robot("two_link")
+    out = tmp_path / "identified.urdf"
+    with pytest.raises(InputError, match=rf"^{re.escape(str(out))}: link 'link2': mass reads back as 1.25 .* not the "
+                                         r"identified 1; nothing was written$"):
+        write_identified_urdf(out, arm, FRICTION, source=source)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["hostile.urdf"]
+
+
+@pytest.mark.parametrize("encoding, declaration, prefix", [
+    ("utf-8", '<?xml version="1.0"?>', b"\xef\xbb\xbf"),                                 # a BOM
+    ("latin-1", '<?xml version="1.0" encoding="ISO-8859-1"?>', b""),
+    ("cp1252", '<?xml version="1.0" encoding="windows-1252"?>', b""),
+])
+def test_crlf_lines_a_bom_and_one_byte_encodings_are_kept(tmp_path, encoding, declaration, prefix):
+    source = hostile_copy(tmp_path, {'<?xml version="1.0"?>': declaration, "section 6.7": "§ 6.7 (für Übungen)"},
+                          encoding, "\r\n", prefix, renamed={"link2": "glied2ä"})
+    model, out = load_urdf(source), tmp_path / "identified.urdf"
+    identified, _ = perturbed(model)
+    write_identified_urdf(out, identified, FRICTION)
+    raw = out.read_bytes()
+    assert raw.startswith(prefix + declaration.encode()) and raw.count(b"\n") == raw.count(b"\r\n")   # no bare LF
+    assert "glied2ä".encode(encoding) in raw and "§ 6.7 (für Übungen)".encode(encoding) in raw
+    back = load_urdf(out)
+    assert back.bodies[1].name == "glied2ä"
+    np.testing.assert_allclose(parameters(back), parameters(identified), rtol=1e-12, atol=1e-15)
+    np.testing.assert_array_equal([b.damping for b in back.bodies], FRICTION.viscous)

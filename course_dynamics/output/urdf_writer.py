@@ -84,28 +84,34 @@ def _indent(raw: bytes, position: int) -> bytes:
     return before if (line or not earliest) and not before.strip() else b""
 
 
+def _check_namespace(element: Element, where: str, owner: str) -> None:
+    if element.default_namespace:
+        raise InputError(f"{where}: {owner}: <{element.qualified}> is in the namespace "
+                         f"'{element.name.split(' ')[0]}' by a default xmlns: our loader skips it, urdfdom "
+                         "(Pinocchio) reads it; remove the xmlns")
+
+
 def _layout(raw: bytes, where: str) -> _Layout:
     """Links and joints as the loader reads them: the root's children named ``link`` or ``joint`` (in no
     namespace), and of each the first child named ``inertial`` or ``dynamics`` (yourdfpy's and urdfdom's
     ``find``); a second one, or an element whose namespace only a namespace-aware reader sees, is refused."""
     root = elements(raw, where, depth=2)
     layout = _Layout(root)
-    for element in [root] + root.children + [c for top in root.children for c in top.children]:
-        if element.default_namespace:
-            raise InputError(f"{where}: <{element.qualified}> at byte {element.start} is in the namespace "
-                             f"'{element.name.split(' ')[0]}' by a default xmlns: readers of URDF disagree on "
-                             "whether it is there")
+    _check_namespace(root, where, "the robot")
     for top in root.children:
+        name = top.values.get("name", "")
+        owner = f"{top.qualified} '{name}'"
+        for element in [top] + top.children:
+            _check_namespace(element, where, owner)
         if top.name not in ("link", "joint"):
             continue
         table, part = (layout.links, "inertial") if top.name == "link" else (layout.joints, "dynamics")
-        name = top.values.get("name", "")
         if name in table:
             raise InputError(f"{where}: two {top.name}s are named '{name}'")
         parts = [child for child in top.children if child.name == part]
         if len(parts) > 1:
-            raise InputError(f"{where}: {top.name} '{name}' has {len(parts)} <{part}> elements; a URDF has one, "
-                             "and which one a reader takes is not written down")
+            raise InputError(f"{where}: {owner}: {len(parts)} <{part}> elements; a URDF has one (readers take the "
+                             "first, and the others would stay beside the identified one): remove the others")
         table[name] = (top, parts[0] if parts else None)
     return layout
 
