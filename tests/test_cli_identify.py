@@ -4,14 +4,17 @@ from __future__ import annotations
 import json
 import re
 import sys
+from pathlib import Path
 
+import numpy as np
 import pytest
 from helpers import ROOT, assert_one_line_error, run
 from logmakers import write_csv
 from test_identification import log_columns, true_robot   # the perturbed UR5 and its noisy logs
 
-from course_dynamics import load_robot
+from course_dynamics import load_robot, load_urdf
 from course_dynamics.cli import main
+from course_dynamics.core.regressor import parameter_names, parameters
 
 SECONDS = 15.0   # of the fitted log: enough for every assertion here (tests/test_identification.py: 60 s)
 
@@ -138,3 +141,53 @@ def test_the_commands_friction_choices_are_the_librarys():
     from course_dynamics.tools import identification
 
     assert command.FRICTION_MODELS == identification.FRICTION_MODELS
+
+
+def hostile_ur5(folder, replacements) -> Path:
+    """The UR5's URDF with ``replacements`` (old → new text, each where it first appears) made."""
+    text = Path(load_robot("ur5").source).read_text()
+    for old, new in replacements.items():
+        assert old in text, old
+        text = text.replace(old, new, 1)
+    path = folder / "ur5_hostile.urdf"
+    path.write_text(text)
+    return path
+
+
+def test_the_written_urdf_reads_back_as_reported_whatever_text_looks_like_dynamics(capsys, tmp_path, logs):
+    """A damping inside another attribute's value, a comment, CDATA, a processing instruction and a joint's
+    <inertial> are left alone; every identified value of the report (masses, first moments, inertias, F_v, F_c)
+    is what our loader reads from the written URDF."""
+    pan = '<joint name="shoulder_pan_joint" type="revolute">'
+    elbow = '<joint name="elbow_joint" type="revolute">'
+    urdf = hostile_ur5(tmp_path, {
+        pan: pan + """\n    <!-- <dynamics damping="9"/> --><![CDATA[ <dynamics damping="9"/> ]]><?note damping="9"?>""",
+        '<dynamics damping="0.0" friction="0.0"/>': """<dynamics note=' damping="0.0" friction="0.0"'/>""",
+        elbow: """<joint name="elbow_joint" type="revolute" note='damping="0.1"'>\n    <inertial><mass value="1"/></inertial>""",
+    })
+    out = tmp_path / "identified.urdf"
+    code, stdout, err = run(capsys, "identify", str(urdf), "--log", str(logs[0]), "--out", str(out), "--json", "--quiet")
+    assert code == 0, err
+    reported = {p["name"]: p["identified"] for p in json.loads(stdout)["parameters"]}
+    back = load_urdf(out)
+    np.testing.assert_array_equal([b.damping for b in back.bodies], [reported[f"Fv_{j}"] for j in back.joint_names])
+    np.testing.assert_array_equal([b.friction for b in back.bodies], [reported[f"Fc_{j}"] for j in back.joint_names])
+    assert min(reported[f"Fv_{j}"] for j in back.joint_names) > 0      # the log's friction, not the URDF's zeros
+    np.testing.assert_allclose(parameters(back), [reported[n] for n in parameter_names(back)], rtol=1e-12, atol=1e-15)
+    text = out.read_text()
+    for decoy in ('<!-- <dynamics damping="9"/> -->', '<![CDATA[ <dynamics damping="9"/> ]]>', '<?note damping="9"?>',
+                  """note='damping="0.1"'>""", """<dynamics note=' damping="0.0" friction="0.0"' damping=""",
+                  '<inertial><mass value="1"/></inertial>'):
+        assert text.count(decoy) == 1, decoy
+
+
+def test_a_urdf_readers_disagree_on_is_refused_in_one_line_and_nothing_is_written(capsys, tmp_path, logs):
+    """A <dynamics> put in a namespace by a default xmlns: our loader skips it, urdfdom (Pinocchio) reads it."""
+    urdf = hostile_ur5(tmp_path, {'<dynamics damping="0.0" friction="0.0"/>':
+                                  '<dynamics xmlns="urn:x" damping="0.0" friction="0.0"/>'})
+    out, report = tmp_path / "identified.urdf", tmp_path / "report"
+    code, _, err = run(capsys, "identify", str(urdf), "--log", str(logs[0]), "--out", str(out), "--report",
+                       str(report), "--quiet")
+    assert_one_line_error(code, err, str(urdf), "joint 'shoulder_pan_joint'", "default xmlns")
+    assert not out.exists() and not report.exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["ur5_hostile.urdf"]
