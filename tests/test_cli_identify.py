@@ -129,7 +129,7 @@ def test_help_explains(capsys):
     text = re.sub(r"(\w)- (\w)", r"\1-\2", " ".join(capsys.readouterr().out.split()))   # argparse's line breaks undone
     assert exit_info.value.code == 0
     for words in ("--log LOG", "tau_meas_<joint>", "pseudo-inertia", "--holdout", "--report DIR", "--torque-constant",
-                  "--split-gaps", "course-dynamics[identify]"):
+                  "--split-gaps", "course-dynamics[identify]", "read back before it is written"):
         assert words in text, words
     with pytest.raises(SystemExit):
         main(["--help"])

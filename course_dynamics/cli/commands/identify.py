@@ -17,7 +17,8 @@ DESCRIPTION = (
     "non-negative; cvxpy with Clarabel) that keeps what the log does not excite at the URDF's values. The last "
     "--holdout share of the log is kept out of the fit and predicted by both models. Writes --out, the input URDF "
     "with each moving link's <inertial> and each joint's <dynamics damping friction> identified (links merged into a "
-    "moving body by fixed joints lose their <inertial>; everything else is kept as it was), and with --report DIR "
+    "moving body by fixed joints lose their <inertial>; everything else is kept as it was; the text is read back before "
+    "it is written, and one that would read back otherwise than identified is refused), and with --report DIR "
     "report.html, report.md, report.json and held_out.svg. Needs course-dynamics[identify]. Exit 0, 2 on bad input.")
 
 SHOWN = 5  # hardly excited combinations printed; the report and --json list all
