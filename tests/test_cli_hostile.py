@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import signal
 import stat
 import subprocess
@@ -23,6 +24,34 @@ BODY = arm_urdf().split("?>", 1)[1]
 
 
 # ---------------------------------------------------------------------------- URDF files
+
+EXTREME = "1.7976931348623157e308"  # the largest float, as exporters write "no limit"
+EXTREME_URDFS = {
+    **{f"{key} at {sign}max": re.sub(rf'\b{key}="([^"]*)"', lambda m, key=key, sign=sign: f'{key}="'
+                                      + " ".join([sign + EXTREME] * len(m.group(1).split())) + '"', arm_urdf())
+       for key in ("xyz", "rpy", "value", "ixx", "iyy", "ixy", "effort", "velocity") for sign in ("", "-")},
+    "limits at ±max": arm_urdf().replace('lower="-1" upper="1"', f'lower="-{EXTREME}" upper="{EXTREME}"'),
+    "prismatic limits at ±max": arm_urdf(joint_type="prismatic").replace('lower="-1" upper="1"',
+                                                                          f'lower="-{EXTREME}" upper="{EXTREME}"'),
+    "friction at max": arm_urdf().replace("</joint>", f'<dynamics damping="{EXTREME}" friction="{EXTREME}"/></joint>'),
+    "the smallest mass": arm_urdf(mass="5e-324"),
+}
+
+
+@pytest.mark.parametrize("name", EXTREME_URDFS)
+def test_every_urdf_number_at_its_extreme_gives_a_result_or_one_line(capsys, tmp_path, name):
+    urdf = tmp_path / "robot.urdf"
+    urdf.write_text(EXTREME_URDFS[name])
+    for argv in (["info"], ["validate", "--samples", "2"], ["terms", "--q", "0.1,0.2", "--qd", "1,-1", "--qdd", "2,1"],
+                 ["simulate", "--q0", "0.1,0.2", "--duration", "0.01", "--dt", "0.005", "--out", str(tmp_path / "s.csv"),
+                  "--quiet"]):
+        code, out, err = run(capsys, argv[0], str(urdf), *argv[1:])
+        if code == 2:
+            assert_one_line_error(code, err)
+        else:
+            assert code in (0, 1) and "Traceback" not in err, (argv, err)
+            assert not re.search(r"\b(nan|inf)\b", out, re.IGNORECASE), (argv, out)
+
 
 @pytest.mark.parametrize("name, content, fragment", [
     ("xxe", '<?xml version="1.0"?><!DOCTYPE r [<!ENTITY x SYSTEM "file:///etc/hostname">]>'

@@ -7,13 +7,14 @@ import pytest
 from course_dynamics import gravity_torques, load_robot, load_urdf
 from course_dynamics.core.sampling import (
     gravity_free,
+    reach,
     random_states,
     relative_error,
     sampling_bounds,
     smooth_trajectory,
     term_scales,
 )
-from helpers import CHECKED_ROBOTS, urdf_of
+from helpers import CHECKED_ROBOTS, arm_urdf, urdf_of
 
 
 @pytest.mark.parametrize("name", CHECKED_ROBOTS)
@@ -68,3 +69,30 @@ def test_gravity_free_is_a_robot_on_which_gravity_cannot_act():
     upright = arm.with_gravity(9.81 * (arm.bodies[0].R0 @ arm.bodies[0].axis))  # along the (parallel) joint axes
     assert gravity_free(upright)
     assert np.abs(gravity_torques(upright, np.array([0.3, -0.4]))).max() < 1e-12
+
+
+def test_limits_at_the_largest_floats_are_no_limits(tmp_path):
+    # Exporters write ±1.8e308 for "no limit"; their distance is no float, so uniform sampling cannot use them.
+    urdf = tmp_path / "robot.urdf"
+    urdf.write_text(arm_urdf().replace('lower="-1" upper="1"', 'lower="-1.7976931348623157e308" upper="1.7976931348623157e308"'))
+    lower, upper = sampling_bounds(load_urdf(urdf))
+    np.testing.assert_array_equal(lower, [-np.pi, -np.pi])
+    np.testing.assert_array_equal(upper, [np.pi, np.pi])
+    q, _, _ = random_states(load_urdf(urdf), 20, seed=0)
+    assert np.all(np.abs(q) <= np.pi)
+
+
+@pytest.mark.parametrize("limits, expected", [
+    ((-1e10, 1e10), lambda window: (-window, window)),   # ten reaches either side of 0
+    ((5.0, 1e300), lambda window: (5.0, 5.0 + window)),  # from the end nearest 0, one way only
+    ((-0.5, 0.25), lambda window: (-0.5, 0.25)),         # a range within the window is kept as it is
+])
+def test_a_prismatic_joint_is_sampled_within_ten_reaches(tmp_path, limits, expected):
+    urdf = tmp_path / "robot.urdf"
+    text = arm_urdf(joint_type="prismatic")
+    last = text.rindex('lower="-1" upper="1"')
+    urdf.write_text(text[:last] + f'lower="{limits[0]!r}" upper="{limits[1]!r}"' + text[last + len('lower="-1" upper="1"'):])
+    model = load_urdf(urdf)
+    lower, upper = sampling_bounds(model)
+    assert (lower[0], upper[0]) == (-1.0, 1.0)   # the revolute joint keeps its limits
+    assert (lower[1], upper[1]) == expected(10 * reach(model))

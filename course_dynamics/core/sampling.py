@@ -29,7 +29,12 @@ def sampling_bounds(model: Model) -> tuple[np.ndarray, np.ndarray]:
     """Where random Θ are drawn: the joint limits, or [−π, π] where a joint has none.
 
     A joint whose URDF limits are empty or unbounded (continuous joints, or
-    lower = upper as some exporters write) is sampled over [−π, π] (rad or m).
+    lower = upper as some exporters write) is sampled over [−π, π] (rad or m), and
+    so is one whose limits are so far apart that their distance is no float
+    (±1.8e308, the largest floats, which exporters write for "no limit"). A
+    prismatic joint is sampled no further than 10 reaches (:func:`reach`) from the
+    point of its range nearest 0: far beyond the robot's size every engine's
+    round-off grows with Θ², and a comparison would only measure that.
 
     >>> from course_dynamics import load_robot
     >>> lower, upper = sampling_bounds(load_robot("pendulum"))   # a continuous joint: [−π, π]
@@ -37,9 +42,24 @@ def sampling_bounds(model: Model) -> tuple[np.ndarray, np.ndarray]:
     (array([-3.142]), array([3.142]))
     """
     lower, upper = model.lower.copy(), model.upper.copy()
-    free = ~(np.isfinite(lower) & np.isfinite(upper) & (lower < upper))
+    with np.errstate(over="ignore"):
+        free = ~(np.isfinite(lower) & np.isfinite(upper) & (lower < upper) & np.isfinite(upper - lower))
     lower[free], upper[free] = -np.pi, np.pi
+    prismatic = np.array([body.is_prismatic for body in model.bodies], dtype=bool)
+    nearest, window = np.clip(0.0, lower, upper), 10.0 * reach(model)
+    lower = np.where(prismatic, np.maximum(lower, nearest - window), lower)
+    upper = np.where(prismatic, np.minimum(upper, nearest + window), upper)
     return lower, upper
+
+
+def reach(model: Model) -> float:
+    """1 m plus every body's joint offset |ᵖPᵢ| and centre of mass |ⁱP_Cᵢ| (m): how far the robot's masses can be.
+
+    >>> from course_dynamics import load_robot
+    >>> round(reach(load_robot("two_link")), 3)   # 1 + (0 + 0.5) + (0.5 + 0.4)
+    2.4
+    """
+    return 1.0 + sum(float(np.linalg.norm(b.P)) + float(np.linalg.norm(b.p_com)) for b in model.bodies)
 
 
 def random_states(model: Model, samples: int, seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -73,8 +93,8 @@ def gravity_free(model: Model, samples: int = 16, seed: int = 0) -> bool:
 
     q, _, _ = random_states(model, samples, seed)
     G = gravity_torques(model, q)
-    reach = sum(b.mass * (1.0 + float(np.linalg.norm(b.P)) + float(np.linalg.norm(b.p_com))) for b in model.bodies)
-    scale = float(np.linalg.norm(model.gravity)) * reach
+    moment = sum(b.mass * (1.0 + float(np.linalg.norm(b.P)) + float(np.linalg.norm(b.p_com))) for b in model.bodies)
+    scale = float(np.linalg.norm(model.gravity)) * moment
     return bool(scale == 0.0 or np.abs(G).max() <= 1e-12 * scale)
 
 

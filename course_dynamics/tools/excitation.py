@@ -216,10 +216,13 @@ class _Bounds(NamedTuple):
 
 
 def _ranges(model: Model):
-    """(has a range, q_mid, half the range) per joint: 0 and inf without one."""
+    """(has a range, q_mid, half the range) per joint: 0 and inf without one.
+
+    Halved before they are added, so that limits at the largest floats (±1.8e308) give a finite middle and half.
+    """
     ranged = np.isfinite(model.lower) & np.isfinite(model.upper)
     lower, upper = np.where(ranged, model.lower, 0.0), np.where(ranged, model.upper, 0.0)
-    return ranged, (lower + upper) / 2, np.where(ranged, (upper - lower) / 2, np.inf)
+    return ranged, lower / 2 + upper / 2, np.where(ranged, upper / 2 - lower / 2, np.inf)
 
 
 def _bounds(model: Model, omega: float) -> _Bounds:
