@@ -84,6 +84,13 @@ def _indent(raw: bytes, position: int) -> bytes:
     return before if (line or not earliest) and not before.strip() else b""
 
 
+EDITED = {"link": "inertial", "joint": "dynamics"}   # the root's children, and the child of each that is edited
+
+
+def _local(element: Element) -> str:
+    return element.name.split(" ")[-1]
+
+
 def _check_namespace(element: Element, where: str, owner: str) -> None:
     if element.default_namespace:
         raise InputError(f"{where}: {owner}: <{element.qualified}> is in the namespace "
@@ -93,19 +100,17 @@ def _check_namespace(element: Element, where: str, owner: str) -> None:
 
 def _layout(raw: bytes, where: str) -> _Layout:
     """Links and joints as the loader reads them: the root's children named ``link`` or ``joint`` (in no
-    namespace), and of each the first child named ``inertial`` or ``dynamics`` (yourdfpy's and urdfdom's
-    ``find``); a second one, or an element whose namespace only a namespace-aware reader sees, is refused."""
+    namespace), and the child of each named ``inertial`` or ``dynamics``. Two of those, or one that a default
+    ``xmlns`` puts in a namespace (which lxml sees and urdfdom does not), are refused: readers would differ."""
     root = elements(raw, where, depth=2)
     layout = _Layout(root)
     _check_namespace(root, where, "the robot")
-    for top in root.children:
-        name = top.values.get("name", "")
+    for top in (element for element in root.children if _local(element) in EDITED):
+        name, part = top.values.get("name", ""), EDITED[_local(top)]
         owner = f"{top.qualified} '{name}'"
-        for element in [top] + top.children:
+        for element in [top] + [child for child in top.children if _local(child) == part]:
             _check_namespace(element, where, owner)
-        if top.name not in ("link", "joint"):
-            continue
-        table, part = (layout.links, "inertial") if top.name == "link" else (layout.joints, "dynamics")
+        table = layout.links if top.name == "link" else layout.joints
         if name in table:
             raise InputError(f"{where}: two {top.name}s are named '{name}'")
         parts = [child for child in top.children if child.name == part]
