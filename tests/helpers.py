@@ -28,6 +28,26 @@ CHROMIUM_ARGS = ["--headless=new", "--no-sandbox", "--disable-gpu", "--use-angle
                  "--disable-sync", "--no-first-run", "--disable-quic"]
 
 
+def venv_seeing_this_environment(venv: Path, pip: bool = False) -> Path:
+    """A new virtual environment that also sees every package this test run sees; its python.
+
+    ``--system-site-packages`` would show it the base interpreter's packages only, without those of a
+    virtual environment the tests run in, so a .pth file adds this run's own site folders (processing
+    their .pth files, which is how pin finds Pinocchio) after the new environment's own.
+    """
+    import os
+    import subprocess
+    import sys
+
+    subprocess.run([sys.executable, "-m", "venv", *([] if pip else ["--without-pip"]), str(venv)], check=True)
+    python = venv / "bin" / "python"
+    purelib = subprocess.run([python, "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"],
+                             capture_output=True, text=True, check=True).stdout.strip()
+    outer = [p for p in sys.path if p.endswith(("site-packages", "dist-packages")) and os.path.isdir(p)]
+    (Path(purelib) / "outer-environment.pth").write_text(f"import site; list(map(site.addsitedir, {outer!r}))\n")
+    return python
+
+
 def urdf_of(name: str) -> Path:
     return AWKWARD if name == "awkward" else robot_path(name)
 

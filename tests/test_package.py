@@ -7,6 +7,7 @@ import sys
 from pathlib import Path
 
 import course_dynamics
+from helpers import venv_seeing_this_environment
 
 PACKAGE = Path(course_dynamics.__file__).parent
 
@@ -65,8 +66,7 @@ def test_a_non_editable_install_runs_from_any_folder(tmp_path):
     shutil.copytree(root, source, ignore=shutil.ignore_patterns(".git", "__pycache__", "build", "*.egg-info",
                                                                 ".pytest_cache", ".ruff_cache"))
     venv = tmp_path / "venv"
-    subprocess.run([sys.executable, "-m", "venv", "--system-site-packages", str(venv)], check=True)
-    python = venv / "bin" / "python"
+    python = venv_seeing_this_environment(venv, pip=True)
     install = subprocess.run([python, "-m", "pip", "install", "-q", "--no-deps", str(source)],
                              capture_output=True, text=True)
     assert install.returncode == 0, install.stderr
