@@ -7,18 +7,32 @@ ROS version, with every field a real message has (zeros for those not given).
 
 Stamps: a time t (s) is stamped as sec = ⌊t⌋, nanosec = round((t − sec)·1e9) (:func:`stamp`); a reader
 gives back sec + nanosec·1e-9 (:func:`stamped_seconds`), within 0.5 ns of t plus float rounding.
+
+Compression (:func:`write_bag`'s ``compression``): a ROS1 bag's chunks in bz2 or lz4, an MCAP file's chunks in zstd
+or lz4, a ROS2 bag's messages one by one (``message``); :func:`file_compressed` compresses a ROS2 bag's storage files
+(``compression_mode: file``). Decompression bombs: ``zeros`` bytes of zeros after every chunk's own data (or a
+storage file's), while the chunk's header still declares its own size; zeros compress 10⁶ times in bz2, 3·10⁴ in
+zstd and 250 in lz4 (:func:`compressed`), so a few kilobytes stand for gigabytes.
 """
 from __future__ import annotations
 
+import bz2
 import math
 import shutil
 import sqlite3
 from contextlib import closing
+from functools import lru_cache
 from pathlib import Path
 
+import lz4.frame
 import numpy as np
 from rosbags.rosbag1 import Writer as Writer1
-from rosbags.rosbag2 import StoragePlugin, Writer as Writer2
+from rosbags.rosbag2 import CompressionFormat, CompressionMode, StoragePlugin, Writer as Writer2
+
+try:  # the zstd module rosbags uses
+    from compression import zstd
+except ImportError:
+    from backports import zstd
 
 from course_dynamics.tools.bags import FRANKA_STATE, JOINT_STATE, typestore
 
@@ -94,20 +108,51 @@ def _message(store, msgtype: str, ros1: bool, values: dict, seq: int = 0):
     return store.types[msgtype](**fields)
 
 
-def write_bag(path, fmt: str, topics: dict) -> Path:
+ZERO_UNITS = {"bz2": 45_000_000, "zstd": 2**27, "lz4": 2**22}  # zeros in one bz2 stream (its most), zstd frame
+
+
+@lru_cache(maxsize=None)
+def _zeros(kind: str) -> bytes:  # ZERO_UNITS[kind] zeros compressed: bz2 streams and zstd frames follow each other
+    return {"bz2": bz2.compress, "zstd": zstd.compress}[kind](bytes(ZERO_UNITS[kind]))
+
+
+def compressed(kind: str, data: bytes, zeros: int = 0) -> bytes:
+    """``data`` followed by at least ``zeros`` zero bytes, compressed as ``kind`` (bz2, zstd, lz4), as fast as can be.
+
+    bz2 and zstd: ``data``'s stream (frame) followed by copies of one of zeros; lz4 (whose decompress reads one
+    frame): one frame, fed the zeros 4 MiB at a time.
+    """
+    if kind == "lz4":
+        compressor = lz4.frame.LZ4FrameCompressor()
+        pieces = [compressor.begin(), compressor.compress(data)]
+        unit = bytes(ZERO_UNITS["lz4"])
+        pieces += [compressor.compress(unit) for _ in range(-(-zeros // len(unit)))]
+        return b"".join(pieces + [compressor.flush()])
+    own = {"bz2": bz2.compress, "zstd": zstd.compress}[kind](data)
+    return own + _zeros(kind) * -(-zeros // ZERO_UNITS[kind])
+
+
+def write_bag(path, fmt: str, topics: dict, compression: str | None = None, zeros: int = 0) -> Path:
     """A bag at ``path`` (plus the format's suffix) holding ``topics`` {topic: (msgtype, [message dicts])}.
 
     Messages of all topics are written in the order they reach the recorder: LATENCY_NS after their stamp,
     and never before the one written last (so a message stamped earlier than the previous one stays after it).
+    ``compression``: the chunks' (bz2 or lz4 for ROS1, zstd or lz4 for MCAP), or ``message`` (ROS2: each message
+    compressed with zstd); ``zeros``: that many zero bytes compressed after each chunk's data (module docstring).
     """
     path = Path(str(path) + SUFFIXES[fmt])
     ros1 = fmt == "ros1"
     store = typestore(ros1)
     if ros1:
         writer = Writer1(path)
+        if compression:
+            writer.set_compression(Writer1.CompressionFormat[compression.upper()])
     else:
         plugin = StoragePlugin.SQLITE3 if fmt == "ros2-sqlite3" else StoragePlugin.MCAP
         writer = Writer2(path.with_suffix("") if fmt == "mcap" else path, version=9, storage_plugin=plugin)
+        if compression:
+            writer.set_compression(CompressionMode.MESSAGE if compression == "message" else CompressionMode.STORAGE,
+                                   CompressionFormat.ZSTD)
     pending = []
     for topic, (msgtype, messages) in topics.items():
         last = 0
@@ -116,6 +161,10 @@ def write_bag(path, fmt: str, topics: dict) -> Path:
             last = max(sec * 10**9 + nanosec + LATENCY_NS, last + 1)
             pending.append((last, topic, msgtype, seq, values))
     with writer:
+        if compression and compression != "message":  # rosbags' own compressor, made ours
+            storage = writer if ros1 else writer.storage
+            storage.compression = compression
+            storage.compressor = lambda data: compressed(compression, data, zeros)
         connections = {topic: writer.add_connection(topic, msgtype, typestore=store)
                        for topic, (msgtype, _) in topics.items()}
         for received, topic, msgtype, seq, values in sorted(pending, key=lambda item: item[0]):
@@ -138,9 +187,11 @@ def without_definitions(folder) -> Path:
     return Path(folder)
 
 
-def write_joint_states(path, fmt: str, joints, t, q, qd=None, tau=None, topic="/joint_states", **options) -> Path:
-    """A bag of one JointState topic (:func:`joint_states` with ``options``)."""
-    return write_bag(path, fmt, {topic: (JOINT_STATE, joint_states(joints, t, q, qd, tau, **options))})
+def write_joint_states(path, fmt: str, joints, t, q, qd=None, tau=None, topic="/joint_states", compression=None,
+                       zeros: int = 0, **options) -> Path:
+    """A bag of one JointState topic (:func:`joint_states` with ``options``; :func:`write_bag`'s compression)."""
+    return write_bag(path, fmt, {topic: (JOINT_STATE, joint_states(joints, t, q, qd, tau, **options))}, compression,
+                     zeros)
 
 
 def write_franka(path, fmt: str, joints, t, q, qd, tau) -> Path:
@@ -149,3 +200,31 @@ def write_franka(path, fmt: str, joints, t, q, qd, tau) -> Path:
         FRANKA_TOPIC: (FRANKA_STATE, franka_states(t, q, qd, tau)),
         FRANKA_JOINT_STATES: (JOINT_STATE, joint_states(joints[:7], t, q, qd, tau, extra=(), shuffle_seed=None)),
     })
+
+
+def file_compressed(folder, zeros: int = 0) -> Path:
+    """The ROS2 bag ``folder`` with its storage files compressed with zstd, as ``ros2 bag record --compression-mode
+    file`` leaves them (``x.db3.zstd``, metadata.yaml saying so), ``zeros`` zero bytes compressed after each."""
+    folder = Path(folder)
+    metadata = folder / "metadata.yaml"
+    text = metadata.read_text()
+    for storage in sorted(p for p in folder.iterdir() if p.suffix in (".db3", ".mcap")):
+        (folder / (storage.name + ".zstd")).write_bytes(compressed("zstd", storage.read_bytes(), zeros))
+        storage.unlink()
+        text = text.replace(f"- {storage.name}\n", f"- {storage.name}.zstd\n").replace(
+            f"path: {storage.name}\n", f"path: {storage.name}.zstd\n")
+    assert "compression_mode: ''" in text and "compression_format: ''" in text, text
+    metadata.write_text(text.replace("compression_mode: ''", "compression_mode: FILE").replace(
+        "compression_format: ''", "compression_format: zstd"))
+    return folder
+
+
+def message_bombed(folder, zeros: int) -> Path:
+    """The ROS2 sqlite3 bag ``folder`` (written with compression ``message``) whose first message is followed by
+    ``zeros`` zero bytes inside its compressed data."""
+    (database,) = Path(folder).glob("*.db3")
+    with closing(sqlite3.connect(database)) as connection, connection:
+        data = connection.execute("SELECT data FROM messages ORDER BY id LIMIT 1").fetchone()[0]
+        connection.execute("UPDATE messages SET data = ? WHERE id = (SELECT MIN(id) FROM messages)",
+                           (compressed("zstd", zstd.decompress(data), zeros),))
+    return Path(folder)

@@ -28,7 +28,8 @@ Messages (one topic, :func:`read_bag`):
   joints in order, given to the first 7 of ``joints`` (panda_joint1…7).
 
 Messages are counted from 1 in the order of the bag (its receive times); the header stamps must increase strictly
-along them. Names from the bag reach notes and errors with their control characters escaped.
+along them. Names from the bag reach notes and errors with their control characters escaped. What rosbags decompresses
+(chunks, ROS2 storage files and messages) is bounded before it grows (:mod:`~course_dynamics.tools.decompression`).
 """
 from __future__ import annotations
 
@@ -38,17 +39,16 @@ import stat
 from array import array
 from contextlib import suppress
 from dataclasses import dataclass
-from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
 
 from ..base.errors import InputError
 from ..base.files import kind_of_file, read_small
-from ..base.resources import check_memory, format_bytes, memory_budget
+from ..base.resources import budget_text, check_memory, memory_budget
+from .bagtypes import FRANKA_STATE, JOINT_STATE, typestore
+from .decompression import bounded
 
-JOINT_STATE, FRANKA_STATE, FRANKA_ERRORS = ("sensor_msgs/msg/JointState", "franka_msgs/msg/FrankaState",
-                                            "franka_msgs/msg/Errors")
 MESSAGE_TYPES = (JOINT_STATE, FRANKA_STATE)
 DEFAULT_TOPIC, FRANKA_JOINTS = "/joint_states", 7
 KINDS = ("q", "qd", "tau_meas")
@@ -73,49 +73,6 @@ SKIPPED_NAMES = 5  # at most this many joint names of skipped messages in the no
 # message, most of it rosbags decoding it.
 BYTES_PER_VALUE = 100
 
-# franka_msgs/msg/FrankaState and Errors as franka_ros 0.10 defines them (frankaemika/franka_ros, franka_msgs/msg),
-# field for field in their order, one (type, names) group per run of fields of one type. Only header, q, dq and tau_J
-# are read, but the whole message is needed: a message is decoded field after field, its length is checked, and the
-# ROS1 MD5 sum covers every field and constant (the test checks ours against rosserial's from franka_ros 0.10).
-FRANKA_STATE_FIELDS = (
-    ("std_msgs/Header", "header"), ("float64[6]", "cartesian_collision cartesian_contact"),
-    ("float64[7]", "q q_d dq dq_d ddq_d theta dtheta tau_J dtau_J tau_J_d"), ("float64[6]", "K_F_ext_hat_K"),
-    ("float64[2]", "elbow elbow_d elbow_c delbow_c ddelbow_c"), ("float64[7]", "joint_collision joint_contact"),
-    ("float64[6]", "O_F_ext_hat_K O_dP_EE_d"), ("float64[3]", "O_ddP_O"), ("float64[6]", "O_dP_EE_c O_ddP_EE_c"),
-    ("float64[7]", "tau_ext_hat_filtered"), ("float64", "m_ee"), ("float64[3]", "F_x_Cee"), ("float64[9]", "I_ee"),
-    ("float64", "m_load"), ("float64[3]", "F_x_Cload"), ("float64[9]", "I_load"), ("float64", "m_total"),
-    ("float64[3]", "F_x_Ctotal"), ("float64[9]", "I_total"),
-    ("float64[16]", "O_T_EE O_T_EE_d O_T_EE_c F_T_EE F_T_NE NE_T_EE EE_T_K"),
-    ("float64", "time control_command_success_rate"),
-    ("uint8", "ROBOT_MODE_OTHER=0 ROBOT_MODE_IDLE=1 ROBOT_MODE_MOVE=2 ROBOT_MODE_GUIDING=3 ROBOT_MODE_REFLEX=4 "
-              "ROBOT_MODE_USER_STOPPED=5 ROBOT_MODE_AUTOMATIC_ERROR_RECOVERY=6 robot_mode"),
-    ("franka_msgs/Errors", "current_errors last_motion_errors"),
-)
-FRANKA_ERRORS_FIELDS = (("bool", """joint_position_limits_violation cartesian_position_limits_violation
-    self_collision_avoidance_violation joint_velocity_violation cartesian_velocity_violation
-    force_control_safety_violation joint_reflex cartesian_reflex max_goal_pose_deviation_violation
-    max_path_pose_deviation_violation cartesian_velocity_profile_safety_violation
-    joint_position_motion_generator_start_pose_invalid joint_motion_generator_position_limits_violation
-    joint_motion_generator_velocity_limits_violation joint_motion_generator_velocity_discontinuity
-    joint_motion_generator_acceleration_discontinuity cartesian_position_motion_generator_start_pose_invalid
-    cartesian_motion_generator_elbow_limit_violation cartesian_motion_generator_velocity_limits_violation
-    cartesian_motion_generator_velocity_discontinuity cartesian_motion_generator_acceleration_discontinuity
-    cartesian_motion_generator_elbow_sign_inconsistent cartesian_motion_generator_start_elbow_invalid
-    cartesian_motion_generator_joint_position_limits_violation
-    cartesian_motion_generator_joint_velocity_limits_violation cartesian_motion_generator_joint_velocity_discontinuity
-    cartesian_motion_generator_joint_acceleration_discontinuity cartesian_position_motion_generator_invalid_frame
-    force_controller_desired_force_tolerance_violation controller_torque_discontinuity start_elbow_sign_inconsistent
-    communication_constraints_violation power_limit_violation joint_p2p_insufficient_torque_for_planning
-    tau_j_range_violation instability_detected joint_move_in_wrong_direction
-    cartesian_spline_motion_generator_violation joint_via_motion_generator_planning_joint_limit_violation
-    base_acceleration_initialization_timeout base_acceleration_invalid_reading"""),)
-
-
-def _msg_text(fields) -> str:
-    """The ``.msg`` text of (type, space-separated names) groups: one ``type name`` line per name."""
-    return "".join(f"{kind} {name}\n" for kind, names in fields for name in names.split())
-
-
 @dataclass(frozen=True)
 class BagLog:
     """Our columns (module docstring; read-only arrays (rows,)) from one topic of a bag. ``where`` names the bag and
@@ -131,18 +88,6 @@ def is_bag(path) -> bool:
     """Whether ``path`` is read as a bag: a ``.bag`` or ``.mcap`` file, or a folder holding ``metadata.yaml``."""
     path = Path(path)
     return os.path.lexists(path / METADATA) if path.is_dir() else path.suffix in BAG_SUFFIXES
-
-
-@lru_cache(maxsize=2)
-def typestore(ros1: bool):
-    """The message types of ROS1 Noetic (``ros1``) or ROS2 Humble, with franka_msgs' FrankaState and Errors."""
-    # rosbags is imported where it is used: it takes 0.1 s, which every other command would pay at start-up.
-    from rosbags.typesys import Stores, get_types_from_msg, get_typestore
-
-    store = get_typestore(Stores.ROS1_NOETIC if ros1 else Stores.ROS2_HUMBLE)
-    store.register({**get_types_from_msg(_msg_text(FRANKA_ERRORS_FIELDS), FRANKA_ERRORS),
-                    **get_types_from_msg(_msg_text(FRANKA_STATE_FIELDS), FRANKA_STATE)})
-    return store
 
 
 def _one_line(text: str) -> str:  # text with every control character (a line break, ESC, a direction mark) escaped
@@ -238,7 +183,8 @@ def read_bag(path, joints: tuple[str, ...], topic: str | None = None) -> BagLog:
     ``joints``: the model's joint names (Θ's order). ``topic``: when None, ``/joint_states`` if the bag has it, else
     the bag's only JointState or FrankaState topic. The messages are read as a stream into growing buffers, never
     held whole; the memory the columns need in use (:data:`BYTES_PER_VALUE` per value) is checked against the budget
-    from the bag's message count before reading, and again while reading.
+    from the bag's message count before reading, and against the messages counted while reading. What rosbags
+    decompresses is bounded by what it measures (:func:`~course_dynamics.tools.decompression.bounded`).
 
     Usage (not run here: it needs a bag)::
 
@@ -252,10 +198,11 @@ def read_bag(path, joints: tuple[str, ...], topic: str | None = None) -> BagLog:
         or a damaged bag, a ROS2 bag folder holding a named pipe (or device, socket) or metadata rosbags cannot read;
         a missing topic (listing the bag's topics and types) or several candidates; a message lacking a joint others
         have (one holding none is skipped), with names and values of different lengths, or with a non-finite value;
-        stamps that repeat or go back.
+        stamps that repeat or go back; a chunk (storage file, message) decompressing past its bound.
     """
     try:
-        log = _read_bag(Path(path), tuple(joints), topic)
+        with bounded(path):
+            log = _read_bag(Path(path), tuple(joints), topic)
     except InputError as exc:  # names from the bag (topics, types, joints) and rosbags' texts made safe to print
         raise InputError(_one_line(str(exc))) from None
     return BagLog(log.columns, _one_line(log.where), log.rows, tuple(map(_one_line, log.notes)))
@@ -273,6 +220,8 @@ def _read_bag(path: Path, joints: tuple[str, ...], topic: str | None) -> BagLog:
         reader.open()
         topics = reader.topics
     except Exception as exc:
+        if isinstance(exc, InputError):  # ours: a decompression refused
+            raise
         if path.is_dir() and _reason(exc).startswith(METADATA_ERRORS):  # what _check_folder does not check
             raise InputError(f"{path}: {METADATA} is not a ROS2 bag's metadata ({_reason(exc)})") from None
         raise InputError(f"{path}: not a bag, or a damaged one ({_reason(exc)})") from None
@@ -325,13 +274,15 @@ def _messages(reader, connections, where: str, limit: int):
         try:
             item = next(raw_messages, None)
             message = None if item is None else reader.deserialize(item[2], item[0].msgtype)
+        except InputError:  # ours: a decompression refused
+            raise
         except Exception as exc:  # rosbags' own (read_bag)
             raise InputError(f"{where}: message {index} cannot be read ({_reason(exc)})") from None
         if item is None:
             return
         if index > limit:  # the bag's own count was wrong: still bounded
-            raise InputError(f"{where}: more than {limit} messages: using them would need more than "
-                             f"{format_bytes(memory_budget())} of memory, half of this machine's")
+            raise InputError(f"{where}: more than {limit} messages: using them would need more memory than "
+                             f"{budget_text(memory_budget())}")
         yield message
 
 
