@@ -1,7 +1,7 @@
 """course_dynamics/tools/differentiation.py: the noise estimate, the windows chosen from it, the edges, and the torques.
 
 The motion is the multi-sine of ``logmakers.multisine`` (exact Θ, Θ̇, Θ̈); the noise is added by
-``logmakers.noisy`` with the amounts stated here. The issue's log: a UR5 at 500 Hz with 2e-5 rad of
+``logmakers.noisy`` with the amounts stated here. The benchmark log: a UR5 at 500 Hz with 2e-5 rad of
 position noise and 2e-3 rad/s of rate noise.
 """
 from __future__ import annotations
@@ -19,9 +19,9 @@ RATE = 500.0                 # Hz
 STEP = 1 / RATE              # s
 SIGMA_Q = 2e-5               # rad
 SIGMA_QD = 2e-3              # rad/s
-# The window logs.joint_log chose before this module: the odd count nearest 20 ms of samples, at least 7.
-OLD_WINDOW = 11
-PEAK_TOLERANCE = 0.05        # the issue's bar: each joint's peak |τ| within 5 % of the exact motion's
+# A fixed window as one would pick it by hand: the odd count of samples nearest 20 ms, at least 7.
+FIXED_WINDOW = 11
+PEAK_TOLERANCE = 0.05        # the bar a torque log must meet: each joint's peak |τ| within 5 % of the exact motion's
 SEEDS = range(30)            # noise draws for the statistics of qdd's error
 
 
@@ -31,8 +31,8 @@ def ur5():
 
 
 @pytest.fixture(scope="module")
-def issue_log(ur5):
-    """4 s of the motion (seed 1) with the issue's noise (seeds 1 and 2), and the exact peak |τ| per joint."""
+def noisy_ur5_log(ur5):
+    """4 s of the motion (seed 1) with the benchmark log's noise (seeds 1 and 2), and the exact peak |τ| per joint."""
     motion = multisine(ur5, duration=4.0, rate=RATE, seed=1)
     peak = np.abs(inverse_dynamics(ur5, motion.q, motion.qd, motion.qdd)).max(axis=0)
     return motion, noisy(motion.q, SIGMA_Q, seed=1), noisy(motion.qd, SIGMA_QD, seed=2), peak
@@ -45,15 +45,15 @@ def peak_errors(model, q, result, peak):
 
 
 @pytest.mark.parametrize("logged", ["positions and rates", "positions only"])
-def test_peak_torques_of_the_issues_log_are_within_5_percent(ur5, issue_log, logged):
-    _, q, qd, peak = issue_log
+def test_peak_torques_of_a_noisy_500_hz_log_are_within_5_percent(ur5, noisy_ur5_log, logged):
+    _, q, qd, peak = noisy_ur5_log
     rates = qd if logged == "positions and rates" else None
     chosen = derivatives(STEP, q, rates)
     assert np.all(np.abs(peak_errors(ur5, q, chosen, peak)) < PEAK_TOLERANCE), peak_errors(ur5, q, chosen, peak)
     # Measured: at most 0.12 % (rates logged) and 0.4 % (positions only); today's 11 samples: 5.2 % and 9.6 % here,
     # 4.9–8.6 % and 6.5–13 % over twelve other draws of the noise.
-    old = derivatives(STEP, q, rates, window=OLD_WINDOW)
-    assert np.abs(peak_errors(ur5, q, old, peak)).max() > PEAK_TOLERANCE
+    fixed = derivatives(STEP, q, rates, window=FIXED_WINDOW)
+    assert np.abs(peak_errors(ur5, q, fixed, peak)).max() > PEAK_TOLERANCE
 
 
 @pytest.mark.parametrize("rate", [125.0, 500.0, 1000.0])
@@ -73,12 +73,12 @@ def draws(ur5):
     """qdd's error (vs exact) and its reported σ over SEEDS noise draws on 2 s of the motion: {case: (error, sigma)}."""
     motion = multisine(ur5, duration=2.0, rate=RATE, seed=7)
     found = {}
-    for case in ("positions and rates", "positions only", "old window, positions only"):
+    for case in ("positions and rates", "positions only", "fixed window, positions only"):
         errors, sigmas = [], []
         for seed in SEEDS:
             q = noisy(motion.q, SIGMA_Q, seed=100 + seed)
             qd = noisy(motion.qd, SIGMA_QD, seed=200 + seed) if case == "positions and rates" else None
-            result = derivatives(STEP, q, qd, window=OLD_WINDOW if case.startswith("old") else None)
+            result = derivatives(STEP, q, qd, window=FIXED_WINDOW if case.startswith("fixed") else None)
             errors.append(result.qdd - motion.qdd)
             sigmas.append(result.sigma_qdd)
         found[case] = np.array(errors), np.array(sigmas)
@@ -122,11 +122,11 @@ def test_edge_rows_are_no_artefact(draws, case, bound):
     assert np.all(rms[np.r_[0:5, -5:0]] < 3.5 * positions)
 
 
-def test_the_old_window_had_the_edge_artefact(draws):
-    old = np.sqrt(np.mean(draws["old window, positions only"][0] ** 2, axis=0))
+def test_a_fixed_window_has_the_edge_artefact(draws):
+    fixed = np.sqrt(np.mean(draws["fixed window, positions only"][0] ** 2, axis=0))
     new = np.sqrt(np.mean(draws["positions only"][0] ** 2, axis=0))
-    assert np.all(np.maximum(old[0], old[-1]) > 3.5 * old[INTERIOR].mean(axis=0))    # measured: 4.2 to 7.1
-    assert np.all(np.maximum(new[0], new[-1]) < np.maximum(old[0], old[-1]) / 2)
+    assert np.all(np.maximum(fixed[0], fixed[-1]) > 3.5 * fixed[INTERIOR].mean(axis=0))    # measured: 4.2 to 7.1
+    assert np.all(np.maximum(new[0], new[-1]) < np.maximum(fixed[0], fixed[-1]) / 2)
 
 
 def test_noise_free_data_keep_the_shortest_window_and_polynomials_stay_exact():
@@ -150,13 +150,13 @@ def test_noise_free_motion_is_not_smoothed(ur5):
     motion = multisine(ur5, duration=2.0, rate=RATE, seed=7)
     result = derivatives(STEP, motion.q, None)
     assert np.all(result.window == MIN_WINDOW)
-    old = derivatives(STEP, motion.q, None, window=OLD_WINDOW)
-    assert np.abs(result.qdd - motion.qdd).max() < np.abs(old.qdd - motion.qdd).max() / 4
+    fixed = derivatives(STEP, motion.q, None, window=FIXED_WINDOW)
+    assert np.abs(result.qdd - motion.qdd).max() < np.abs(fixed.qdd - motion.qdd).max() / 4
 
 
-@pytest.mark.parametrize("window", [5, OLD_WINDOW, 51])
-def test_an_explicit_window_is_scipys_savgol_filter(issue_log, window):
-    _, q, qd, _ = issue_log
+@pytest.mark.parametrize("window", [5, FIXED_WINDOW, 51])
+def test_an_explicit_window_is_scipys_savgol_filter(noisy_ur5_log, window):
+    _, q, qd, _ = noisy_ur5_log
 
     def savgol(y, deriv):
         return savgol_filter(y, window, 3, deriv=deriv, delta=STEP, axis=0, mode="interp")
@@ -172,8 +172,8 @@ def test_an_explicit_window_is_scipys_savgol_filter(issue_log, window):
     assert rates.notes == (f"qdd: first {how} of qd",)
 
 
-def test_the_notes_say_what_was_chosen(issue_log):
-    _, q, qd, _ = issue_log
+def test_the_notes_say_what_was_chosen(noisy_ur5_log):
+    _, q, qd, _ = noisy_ur5_log
     positions, rates = derivatives(STEP, q, None), derivatives(STEP, q, qd)
     assert [n.split(":")[0] for n in positions.notes] == ["qd", "qdd", "edges"]
     assert "chosen from the position noise" in positions.notes[1] and "rad (or m) estimated" in positions.notes[1]
