@@ -439,17 +439,74 @@ def test_bad_grade_arguments(tmp_path, monkeypatch, capsys, argv, message):
 
 
 def test_grading_from_a_python_installed_under_tmp(tmp_path):
-    """A venv in /tmp (as CI makes one) stays visible in the sandbox, whose own /tmp is private."""
+    """A venv in /tmp (as CI makes one) stays visible in the sandbox, whose own /tmp is private.
+
+    The venv sees this environment's packages through a .pth file: ``--system-site-packages`` would give it the
+    base's, without those of a venv the tests run in."""
+    import os
     import subprocess
     import sys
 
     venv = tmp_path / "venv"
-    subprocess.run([sys.executable, "-m", "venv", "--system-site-packages", str(venv)], check=True)
+    subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(venv)], check=True)
+    purelib = subprocess.run([venv / "bin" / "python", "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"],
+                             capture_output=True, text=True, check=True).stdout.strip()
+    outer = [p for p in sys.path if p.endswith(("site-packages", "dist-packages")) and os.path.isdir(p)]
+    (Path(purelib) / "outer-environment.pth").write_text(f"import site; list(map(site.addsitedir, {outer!r}))\n")
     paths = write_class(tmp_path, {"closed_forms": SCORING["closed_forms"][0]})
     result = subprocess.run([venv / "bin" / "python", "-m", "course_dynamics.cli", "grade", str(tmp_path / "assignment.toml"),
                              *map(str, paths), "--out", str(tmp_path / "out"), "--json"], capture_output=True, text=True)
     assert result.returncode == 0, result.stderr
     assert json.loads(result.stdout)["students"][0]["total"] == 100.0
+
+
+def test_the_sandbox_shows_the_standard_library_without_what_is_installed_beside_it(tmp_path):
+    """This Python (pyenv) keeps site-packages inside its standard library's folder: a submission that removes the
+    guard and goes looking there can neither list it, open a file in it nor import from it; without the sandbox,
+    its path is the standard library's and numpy's alone."""
+    from probes import NAMES, found, nothing_found, probe
+
+    from course_dynamics.grading.environment import describe, base_interpreter
+    from course_dynamics.grading.grade import grade_class
+
+    paths = write_class(tmp_path, {"hunt": probe(), "trusting": probe(hunt=False)})
+    assignment = load_assignment(tmp_path / "assignment.toml")
+    hunt, trusting = grade_class(assignment, paths, sandbox=True)
+    assert hunt.status == "ok" and nothing_found(found(hunt.stdout)) == [], hunt.stdout
+    import os
+
+    stdlib = os.path.dirname(os.__file__)
+    assert found(hunt.stdout)["listed"][os.path.join(stdlib, "site-packages")] == "PermissionError"
+    _, trusting = grade_class(assignment, paths, sandbox=False)
+    report = found(trusting.stdout)
+    assert trusting.status == "ok" and nothing_found(report) == []
+    assert [p for p in report["path"][1:] if os.path.exists(p)] == describe(base_interpreter())["path"]
+    assert set(report["imported"]) == set(NAMES)
+
+
+def test_a_grader_reaching_its_packages_through_a_link_still_hides_those_of_the_standard_library(tmp_path):
+    """The course in a venv over a Python with other packages in its base (conda-forge's Pinocchio): the base's
+    site-packages is not on the grader's path under its own name, and is hidden all the same."""
+    import os
+    import subprocess
+    import sys
+
+    from probes import found, nothing_found, probe
+
+    site = Path(np.__file__).resolve().parent.parent  # where this Python's packages are: inside its stdlib
+    (tmp_path / "packages").symlink_to(site)
+    paths = write_class(tmp_path, {"hunt": probe(folders=[site])})
+    script = ("import json, site, sys\n"
+              "sys.path[:] = [p for p in sys.path if not p.endswith('-packages')]\n"
+              f"site.addsitedir({str(tmp_path / 'packages')!r})\n"
+              "from course_dynamics.grading import grade_class, load_assignment\n"
+              f"grade, = grade_class(load_assignment({str(tmp_path / 'assignment.toml')!r}), [{str(paths[0])!r}])\n"
+              "print(json.dumps([grade.status, grade.stdout]))\n")
+    result = subprocess.run([sys.executable, "-S", "-c", script], capture_output=True, text=True,
+                            env={k: v for k, v in os.environ.items() if not k.startswith("PYTHON")})
+    assert result.returncode == 0, result.stderr
+    status, stdout = json.loads(result.stdout.splitlines()[-1])
+    assert status == "ok" and nothing_found(found(stdout)) == [], stdout
 
 
 @pytest.mark.parametrize("name, message", [

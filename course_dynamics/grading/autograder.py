@@ -196,7 +196,7 @@ def prepare(where: Path | None = None) -> list[str]:
         private.chmod(0o700)
     if os.geteuid() == 0:
         environment = submission_environment(assignment.allowed_imports, site=site)
-        closed = _closed_to_others([environment.interpreter, environment.stdlib, site, where])
+        closed = _closed_to_others([environment.interpreter, environment.stdlib, *environment.libraries, site, where])
         if closed:
             raise InputError(f"{closed}: not readable by other users, so a submission run as an unprivileged user "
                              "(where bubblewrap cannot start) could not start Python; make it and the folders above "

