@@ -10,6 +10,7 @@ module          job
 ``render``      tables, Markdown, LaTeX and strict JSON as text
 ``page``        every HTML page: one template, one stylesheet, LaTeX as MathML
 ``urdf_writer``  the identified URDF: the input's text with inertials and dynamics replaced
+``xml_spans``   where each element and attribute of a URDF's text is, from the XML parser's own positions
 ``identification_report``  the identification's report folder
 ``plotting``    figures of simulations and torques (matplotlib)
 ``viewer``      meshcat scenes, animations and offline HTML
