@@ -19,8 +19,11 @@ floats, work that pays     the compiled model: loaded from the cache (or compile
 
 The compiled model runs as C where a compiler exists (:mod:`~course_dynamics.core.compiled.native`):
 built when the work reaches :data:`NATIVE_SECONDS` (a long simulation; building takes seconds, once, as the
-library is cached), and used at once wherever the cache already holds it. A call whose arguments are one
-finite float64 state each goes straight to the native code, with no other check.
+library is cached), and used at once wherever the cache already holds it. The build runs in the background
+(:mod:`~course_dynamics.core.compiled.building`: bounded, and never tried again once it failed): this call
+and the ones after it take the Python programs until a later choice finds the library built, never in the
+middle of a call; ``compiled=True`` asks for the compiled model and waits for its build. A call whose
+arguments are one finite float64 state each goes straight to the native code, with no other check.
 
 "Work that pays" is an estimate in seconds of what the interpreted recursions would take —
 :data:`CALL_SECONDS` a call plus :data:`STATE_SECONDS` a state of a batch — summed over the calls on one
@@ -106,6 +109,8 @@ def implementation(model: Model, calls: int = 1, states: int = 1, compiled: bool
     if compiled is False:
         return None
     record = _record(model)
+    if record.compiled is not None and record.compiled.native_build is not None:
+        record.compiled = record.compiled.collected()  # a new CompiledModel once its library is built
     if record.compiled is not None and (record.native_tried or record.compiled.native):
         return record.compiled
     if compiled is None:
@@ -118,7 +123,7 @@ def implementation(model: Model, calls: int = 1, states: int = 1, compiled: bool
     if record.compiled is not None and not build:
         return record.compiled
     try:
-        record.compiled = compile_model(model, native_code=True if build else None)
+        record.compiled = compile_model(model, native_code=(True if compiled else "background") if build else None)
         record.native_tried = build
     except ProgramTooLargeError as error:
         if compiled:

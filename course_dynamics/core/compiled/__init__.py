@@ -79,7 +79,7 @@ from ..forward_dynamics import SINGULAR_PIVOT_RATIO, accelerations
 from ..model import Model
 from ..newton_euler import inverse_dynamics
 from ..state import as_state, batch_shape
-from . import codegen, native, tracing
+from . import building, codegen, native, tracing
 from .cache import CACHE_OFF, Cache, CacheWarning, cache_folder
 from .codegen import module_source, program_source
 from .tracing import (
@@ -189,6 +189,13 @@ class CompiledModel:
     native: dict = field(repr=False, default_factory=dict)  # the same programs as C (native.py), where built
     native_source: str = ""
     native_seconds: float = 0.0  # building (or loading) the native library
+    native_reason: str = ""      # why there is no native code (yet): over the bound, failed before, building, …
+    native_build: building.Build | None = field(repr=False, default=None)  # a build running in the background
+
+    def collected(self, wait: float = 0.0) -> CompiledModel:
+        """This model with its background build's library once the build has ended (a new CompiledModel; the
+        same one while it runs), waiting at most ``wait`` s for it."""
+        return building.collect(self, _agrees_with_the_recursion, wait)
 
     def _run(self, name: str, *arrays) -> np.ndarray:
         function = self.native.get(name)
@@ -359,31 +366,14 @@ def _agrees_with_the_recursion(model: Model, functions: dict, native_out: bool =
     return True
 
 
-def _native_functions(model: Model, programs, key: str, store: Cache, build: bool) -> tuple[dict, str, float]:
-    """The native functions (native.py) from the cache, or built when ``build``: ({} where there are none)."""
-    if not native.enabled():
-        return {}, "", 0.0
-    start = time.perf_counter()
-    name = f"{key}.native"
-    data = store.load_bytes(name)
-    source = ""
-    if data is None and build and native.compiler() is not None:
-        programs = programs or trace_programs(model)
-        source = native.c_source(programs, model.n, key, model.name)
-        data = native.build(source, key)
-        if data is not None:
-            store.store_bytes(name, data)
-    functions = native.load(data, key) if data is not None else None
-    if not functions or not _agrees_with_the_recursion(model, functions, native_out=True):
-        return {}, "", 0.0
-    return functions, source, time.perf_counter() - start
-
-
 def compile_model(model: Model, cache: bool = True, native_code: bool | None = True) -> CompiledModel:
     """Trace (or load from the cache) and compile the programs of ``model`` (module docstring).
 
-    ``native_code``: True also builds the C version (native.py) where a compiler exists, None uses one only
-    if the cache holds it, False never. Raises :class:`ProgramTooLargeError` for a robot too large to compile.
+    ``native_code``: True also builds the C version (native.py) where a compiler exists, waiting for it (a
+    build is bounded and a failed one remembered: building.py), "background" builds it in a child process
+    (:attr:`CompiledModel.native_build`; the evaluator takes it up), None uses one only if the cache holds it,
+    False never; :attr:`CompiledModel.native_reason` says why there is none. Raises :class:`ProgramTooLargeError`
+    for a robot too large to compile.
 
     >>> from course_dynamics import load_robot
     >>> ur5 = compile_model(load_robot("ur5"))
@@ -412,6 +402,5 @@ def compile_model(model: Model, cache: bool = True, native_code: bool | None = T
             stored = store.store(key, source, code)
             compiled = CompiledModel(model, source, time.perf_counter() - start, False, stored, functions)
         if native_code is not False:
-            compiled.native, compiled.native_source, compiled.native_seconds = _native_functions(
-                model, programs, key, store, build=bool(native_code))
+            building.attach(compiled, programs, key, store, native_code, _agrees_with_the_recursion)
     return compiled

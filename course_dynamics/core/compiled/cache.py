@@ -43,12 +43,20 @@ def cache_folder() -> Path | None:
 _warned_folders: set[str] = set()
 
 
-def _only_ours(st, what: str, sticky_ok: bool) -> str | None:
-    """Why a folder with stat ``st`` could be changed by another user, or None."""
+def _only_ours(st, path, above: bool) -> str | None:
+    """Why a folder with stat ``st`` could be changed by another user, or None.
+
+    A folder ``above`` the cache may be writable by its group (``~/.cache`` under ``umask 002``) and by anyone
+    if sticky (``/tmp``): the cache folder itself is checked through its own descriptor, so whatever its
+    parent's group does to the path, what is opened is a private folder of this user or nothing.
+    """
+    what = f"the folder {path} above it" if above else "it"
     if st.st_uid not in (os.getuid(), 0):
         return f"{what} belongs to another user (uid {st.st_uid})"
-    if st.st_mode & 0o022 and not (sticky_ok and st.st_mode & stat.S_ISVTX):
-        return f"other users can write to {what} (mode {stat.S_IMODE(st.st_mode):o})"
+    writable = st.st_mode & (0o002 if above else 0o022)
+    if writable and not (above and st.st_mode & stat.S_ISVTX):
+        fix = f"chmod o-w {path}" if above else f"chmod 700 {path}"
+        return f"other users can write to {what} (mode {stat.S_IMODE(st.st_mode):o}; {fix})"
     return None
 
 
@@ -67,11 +75,11 @@ def _distrust(folder: Path) -> str | None:
                     return f"the link {path} on its way belongs to another user (uid {st.st_uid})"
                 continue
             if path != folder:
-                reason = _only_ours(st, f"the folder {path} above it", sticky_ok=True)
+                reason = _only_ours(st, path, above=True)
                 if reason:
                     return reason
         for path in folder.resolve().parents:
-            reason = _only_ours(os.stat(path), f"the folder {path} above it", sticky_ok=True)
+            reason = _only_ours(os.stat(path), path, above=True)
             if reason:
                 return reason
     except OSError as exc:
@@ -94,11 +102,31 @@ def _open_folder(folder: Path) -> tuple[int | None, str | None]:
         return None, f"it cannot be opened ({exc.strerror})"
     st = os.fstat(fd)
     reason = "it belongs to another user" if st.st_uid != os.getuid() else \
-        _only_ours(st, "it", sticky_ok=False)
+        _only_ours(st, folder, above=False)
     if reason:
         os.close(fd)
         return None, reason
     return fd, None
+
+
+def _make_private(folder: Path) -> None:
+    """Make ``folder`` and every missing folder above it, each mode 0700 whatever the umask (a new folder is
+    set by its descriptor, never followed through a link); folders that exist are left as they are."""
+    missing, path = [], Path(os.path.abspath(folder))
+    while not os.path.lexists(path):
+        missing.append(path)
+        path = path.parent
+    for path in reversed(missing):
+        try:
+            os.mkdir(path, 0o700)
+        except FileExistsError:  # made meanwhile: checked below like any other
+            continue
+        fd = os.open(path, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW | getattr(os, "O_CLOEXEC", 0))
+        try:
+            if os.fstat(fd).st_uid == os.getuid():
+                os.fchmod(fd, 0o700)
+        finally:
+            os.close(fd)
 
 
 def _read_private(folder_fd: int, name: str, private_mode: int, limit: int) -> bytes | None:
@@ -134,6 +162,7 @@ def _write_private(folder_fd: int, name: str, data: bytes) -> bool:
     except OSError:
         return False
     try:
+        os.fchmod(fd, 0o600)  # whatever the umask
         with os.fdopen(fd, "wb") as handle:
             handle.write(data)
         os.replace(temporary, name, src_dir_fd=folder_fd, dst_dir_fd=folder_fd)  # a rename never follows a link
@@ -166,6 +195,7 @@ def _secret(folder_fd: int) -> bytes | None:
     except OSError:
         return None
     with os.fdopen(fd, "wb") as handle:
+        os.fchmod(fd, 0o600)  # whatever the umask
         handle.write(os.urandom(SECRET_BYTES))
     secret = _read_private(folder_fd, "secret", 0o077, SECRET_BYTES)
     return secret if secret is not None and len(secret) == SECRET_BYTES else None
@@ -188,7 +218,7 @@ class Cache:
         if folder is None:
             return
         try:
-            folder.mkdir(mode=0o700, parents=True, exist_ok=True)
+            _make_private(folder)
         except OSError:
             self.folder = None  # cannot be made: no cache, as documented
             return
@@ -203,7 +233,7 @@ class Cache:
             if str(folder) not in _warned_folders:
                 _warned_folders.add(str(folder))
                 warnings.warn(f"the compiled-model cache {folder} is not used: {reason}; compiling in memory "
-                              f"(make it a private folder of yours, or set COURSE_DYNAMICS_CACHE={CACHE_OFF})",
+                              f"(or set COURSE_DYNAMICS_CACHE={CACHE_OFF})",
                               CacheWarning, stacklevel=3)
 
     def __enter__(self):
@@ -249,6 +279,14 @@ class Cache:
         if self.folder is None:
             return None
         return self.folder / name if _write_private(self.fd, name, self._mac(name, body) + body) else None
+
+    def remove(self, name: str) -> None:
+        """Remove the file ``name`` from the folder, if there (never through a link: it is the link that goes)."""
+        if self.folder is not None:
+            try:
+                os.unlink(name, dir_fd=self.fd)
+            except OSError:
+                pass
 
     def store(self, key: str, source: str, code) -> Path | None:
         if self.folder is None:

@@ -34,7 +34,10 @@ import importlib.util
 import math
 import os
 import shutil
+import signal
+import stat
 import subprocess
+import sys
 import sysconfig
 import tempfile
 from pathlib import Path
@@ -42,7 +45,10 @@ from pathlib import Path
 from .tracing import Program
 
 NATIVE_OFF = "off"  # COURSE_DYNAMICS_NATIVE=off
-BUILD_SECONDS = 300  # a build taking longer is abandoned (the Python programs run)
+BUILD_SECONDS = 60            # a build taking longer is stopped (the Python programs run), and remembered
+BUILD_MEMORY = 2**30          # address space of the compiler (the 20-joint chain's build peaks at 0.3 GB)
+BUILD_FILE_BYTES = 256 * 2**20  # any file the compiler writes (the 20-joint chain's library is 0.8 MB)
+PART_OPERATIONS = 1000  # operations in one C function at most: gcc then takes time linear in the program (below)
 OPERATIONS = {"add": "{} + {}", "sub": "{} - {}", "mul": "{} * {}", "div": "{} / {}", "neg": "-{}", "cos": "cos({})",
               "sin": "sin({})"}
 
@@ -79,23 +85,66 @@ def _argument(a, nodes, inputs: dict[str, str]) -> str:
     return repr(value) if value >= 0 else f"({value!r})"
 
 
-def _function(program: Program, n: int) -> str:
-    """``static void <name>_one(const double *q, …, double *out)``: one line per operation."""
+def _parts(program: Program) -> tuple[list[list[int]], dict[int, int]]:
+    """The program's operations cut into parts of at most :data:`PART_OPERATIONS` (one C function each), and
+    the values a later part uses (an output counts as used by the last part), each with its slot in the
+    scratch array that carries them from part to part."""
+    nodes = program.nodes
+    steps = [i for i, (op, *_) in enumerate(nodes) if op != "input"]
+    parts = [steps[k:k + PART_OPERATIONS] for k in range(0, len(steps), PART_OPERATIONS)] or [[]]
+    part_of = {i: p for p, part in enumerate(parts) for i in part}
+    carried: dict[int, int] = {}
+    uses = [(part_of[i], a) for i in steps for a in nodes[i][1:]]
+    for p, (kind, value) in uses + [(len(parts) - 1, o) for o in program.outputs]:
+        if kind == "t" and value in part_of and part_of[value] < p:
+            carried.setdefault(value, len(carried))
+    return parts, carried
+
+
+def _function(program: Program, n: int) -> tuple[str, int]:
+    """``static void <name>_one(const double *q, …, double *scratch, double *out)``: one line per operation, in
+    parts of bounded size (gcc's time grows faster than the size of a function); and the scratch size."""
     inputs = {f"{name}{j}": f"{name}[{j}]" for name in program.inputs for j in range(n)}
     parameters = ", ".join(f"const double *restrict {name}" for name in program.inputs)
-    lines = [f"static void {program.name}_one({parameters}, double *restrict out)", "{"]
-    for i, (op, *arguments) in enumerate(program.nodes):
-        if op != "input":
-            lines.append(f"    const double t{i} = {OPERATIONS[op].format(*(_argument(a, program.nodes, inputs) for a in arguments))};")
-    if program.name == "mass_matrix":  # the packed upper triangle, written out as the whole symmetric matrix
-        places = [(i, j) for i in range(n) for j in range(i, n)]
-        for (i, j), output in zip(places, program.outputs):
-            value = _argument(output, program.nodes, inputs)
-            lines += [f"    out[{i * n + j}] = {value};"] + ([f"    out[{j * n + i}] = {value};"] if i != j else [])
-    else:
-        for k, output in enumerate(program.outputs):
-            lines.append(f"    out[{k}] = {_argument(output, program.nodes, inputs)};")
-    return "\n".join(lines + ["}"])
+    arguments = ", ".join(program.inputs)
+    parts, carried = _parts(program)
+    text = []
+    for p, part in enumerate(parts):
+        own = set(part)
+
+        def value(a):
+            if a[0] == "t" and a[1] not in own and a[1] in carried:
+                return f"scratch[{carried[a[1]]}]"
+            return _argument(a, program.nodes, inputs)
+
+        name = f"PART void {program.name}_part{p}" if len(parts) > 1 else f"void {program.name}_one"
+        lines = [f"static {name}({parameters}, double *restrict scratch, double *restrict out)", "{"]
+        for i in part:
+            op, *operands = program.nodes[i]
+            lines.append(f"    const double t{i} = {OPERATIONS[op].format(*(value(a) for a in operands))};")
+            if i in carried:
+                lines.append(f"    scratch[{carried[i]}] = t{i};")
+        if p == len(parts) - 1:
+            lines += _outputs(program, n, value)
+        text.append("\n".join(lines + ["}"]))
+    if len(parts) == 1:
+        return text[0], len(carried)
+    calls = [f"    {program.name}_part{p}({arguments}, scratch, out);" for p in range(len(parts))]
+    text.append("\n".join([f"static void {program.name}_one({parameters}, double *restrict scratch, "
+                            "double *restrict out)", "{", *calls, "}"]))
+    return "\n\n".join(text), len(carried)
+
+
+def _outputs(program: Program, n: int, value) -> list[str]:
+    if program.name != "mass_matrix":
+        return [f"    out[{k}] = {value(output)};" for k, output in enumerate(program.outputs)]
+    lines = []  # the packed upper triangle, written out as the whole symmetric matrix
+    places = [(i, j) for i in range(n) for j in range(i, n)]
+    for (i, j), output in zip(places, program.outputs):
+        lines.append(f"    out[{i * n + j}] = {value(output)};")
+        if i != j:
+            lines.append(f"    out[{j * n + i}] = {value(output)};")
+    return lines
 
 
 @functools.cache
@@ -115,6 +164,7 @@ static PyObject *{name}(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
     Py_buffer views[{count}];
     Py_ssize_t got = 0, states = 0;
     PyObject *result = NULL;
+    double *scratch = NULL;
     if (nargs != {count}) {{
         PyErr_SetString(PyExc_TypeError, "{name} takes {inputs} input arrays and one output array");
         return NULL;
@@ -146,13 +196,18 @@ static PyObject *{name}(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
             }}
         }}
     }}
+    if ({carried} > 0 && (scratch = malloc(sizeof(double) * {carried})) == NULL) {{
+        PyErr_NoMemory();
+        goto done;
+    }}
     Py_BEGIN_ALLOW_THREADS
     for (Py_ssize_t k = 0; k < states; k++)
-        {name}_one({pointers}, (double *)views[{inputs}].buf + k * {width});
+        {name}_one({pointers}, scratch, (double *)views[{inputs}].buf + k * {width});
     Py_END_ALLOW_THREADS
     Py_INCREF(Py_None);
     result = Py_None;
 done:
+    free(scratch);
     for (Py_ssize_t i = 0; i < got; i++)
         PyBuffer_Release(&views[i]);
     return result;
@@ -168,19 +223,23 @@ def c_source(programs: dict[str, Program], n: int, key: str, robot: str) -> str:
     >>> pendulum = load_robot("pendulum")
     >>> source = c_source(trace_programs(pendulum), 1, "k1", pendulum.name)
     >>> [line for line in source.splitlines() if line.startswith("static void")][:2]
-    ['static void tau_one(const double *restrict q, const double *restrict qd, const double *restrict qdd, double *restrict out)', 'static void mass_matrix_one(const double *restrict q, double *restrict out)']
+    ['static void tau_one(const double *restrict q, const double *restrict qd, const double *restrict qdd, double *restrict scratch, double *restrict out)', 'static void mass_matrix_one(const double *restrict q, double *restrict scratch, double *restrict out)']
     """
     # The robot's name appears only inside a comment, with anything that could end it taken out.
     safe = "".join(c if c.isalnum() or c in " _-." else "?" for c in robot)[:80]
     parts = [f"/* course-dynamics compiled model {key}, robot {safe}, {n} joints: generated C, one line per",
              "   operation of the library's recursions (course_dynamics.core.compiled.native). */",
-             "#define PY_SSIZE_T_CLEAN", "#include <Python.h>", "#include <math.h>", "#include <string.h>", ""]
+             "#define PY_SSIZE_T_CLEAN", "#include <Python.h>", "#include <math.h>", "#include <stdlib.h>", "#include <string.h>", "",
+             "#if defined(__GNUC__)  /* a part stays its own function, so no function gcc sees grows past a part */",
+             "#define PART __attribute__((noinline))", "#else", "#define PART", "#endif", ""]
     methods = []
     for program in programs.values():
-        parts.append(_function(program, n))
+        function, carried = _function(program, n)
+        parts.append(function)
         pointers = ", ".join(f"(const double *)views[{i}].buf + k * {n}" for i in range(len(program.inputs)))
         parts.append(WRAPPER.format(name=program.name, count=len(program.inputs) + 1, inputs=len(program.inputs),
-                                    width=width(program.name, n), n=n, pointers=pointers))
+                                    width=width(program.name, n), n=n, pointers=pointers,
+                                    carried=carried))
         methods.append(f'    {{"{program.name}", (PyCFunction)(void (*)(void)){program.name}, METH_FASTCALL, NULL}},')
     name = module_name(key)
     parts += ["static PyMethodDef methods[] = {", *methods, "    {NULL, NULL, 0, NULL}", "};", "",
@@ -201,27 +260,126 @@ def compiler() -> str | None:
     return found if found and include.is_file() else None
 
 
-def build(source: str, key: str) -> bytes | None:
-    """The shared library built from ``source`` (its bytes), or None when it cannot be built here.
+# Run before the compiler, in a Python of its own (-I -S: nothing of the user's imported): the limits below, then
+# exec of the compiler, whose own children (cc1, as, ld) inherit them.
+LIMITED = """import os, resource, sys
+seconds, memory, size = map(int, sys.argv[1:4])
+for limit, value in ((resource.RLIMIT_CPU, seconds), (resource.RLIMIT_AS, memory), (resource.RLIMIT_FSIZE, size),
+                     (resource.RLIMIT_CORE, 0)):
+    hard = resource.getrlimit(limit)[1]
+    value = value if hard == resource.RLIM_INFINITY else min(value, hard)
+    resource.setrlimit(limit, (value, value))
+os.execv(sys.argv[4], sys.argv[4:])
+"""
 
-    >>> build("this is not C", "k3") is None          # a failed build is None, never an exception
+
+def compile_library(folder: str, name: str, cc: str, seconds: float, memory: int, size: int) -> str | None:
+    """Build ``<name>.so`` from ``<name>.c`` in the private ``folder``; None when built, else why not.
+
+    The compiler runs in a session of its own, with at most ``seconds`` of wall and CPU time (then its whole
+    process group is killed), ``memory`` bytes of address space and files of ``size`` bytes, its temporary
+    files in ``folder`` (TMPDIR) and what it prints in ``folder``/compiler.log.
+
+    >>> import shutil, tempfile
+    >>> folder = tempfile.mkdtemp()
+    >>> with open(os.path.join(folder, "tiny.c"), "w") as c:
+    ...     _ = c.write("int one(void) { return 1; }")
+    >>> cc = compiler()
+    >>> cc is None or compile_library(folder, "tiny", cc, 30, BUILD_MEMORY, 2**20) is None   # None: built
+    True
+    >>> cc is None or compile_library(folder, "tiny", cc, 0.001, BUILD_MEMORY, 2**20)
+    'the C compiler took longer than 0.001 s and was stopped'
+    >>> shutil.rmtree(folder)
+    """
+    command = [sys.executable, "-I", "-S", "-c", LIMITED, str(math.ceil(seconds)), str(memory), str(size), cc,
+               "-O1", "-fPIC", "-shared", "-fno-math-errno", "-ffp-contract=off",
+               "-I", sysconfig.get_paths()["include"],
+               f"{name}.c", "-o", f"{name}.so", "-lm"]
+    environment = dict(os.environ, TMPDIR=folder, LC_ALL="C")
+    try:
+        log = os.open(os.path.join(folder, "compiler.log"), os.O_WRONLY | os.O_CREAT | os.O_TRUNC | os.O_NOFOLLOW,
+                      0o600)
+        try:
+            process = subprocess.Popen(command, cwd=folder, env=environment, stdin=subprocess.DEVNULL, stdout=log,
+                                       stderr=log, start_new_session=True)
+        finally:
+            os.close(log)
+    except OSError as exc:
+        return f"the C compiler could not be started ({exc.strerror})"
+    try:
+        code = process.wait(timeout=seconds)
+    except subprocess.TimeoutExpired:
+        code = None
+    finally:
+        if process.returncode is None:  # too long, or interrupted: its whole group, cc1, as and ld included
+            try:
+                os.killpg(process.pid, signal.SIGKILL)
+            except OSError:
+                pass
+            process.wait()
+    if code is None:
+        return f"the C compiler took longer than {seconds:g} s and was stopped"
+    if code < 0:
+        return f"the C compiler was stopped by signal {-code} (over its CPU time, memory or file-size limit)"
+    if code != 0:
+        return f"the C compiler failed (exit {code}): {_last_line(os.path.join(folder, 'compiler.log'))}"
+    return None
+
+
+def _last_line(path: str) -> str:
+    try:
+        with open(path, "rb") as handle:
+            handle.seek(max(0, os.fstat(handle.fileno()).st_size - 400))
+            lines = handle.read().decode("utf-8", "replace").strip().splitlines()
+    except OSError:
+        return ""
+    return lines[-1][-200:] if lines else "no message"
+
+
+def read_library(folder: str, name: str, limit: int) -> bytes | None:
+    """The bytes of the built ``<name>.so`` in the private ``folder``: a regular file of ours, no link, ≤ limit.
+
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     os.symlink("/etc/passwd", os.path.join(folder, "planted.so"))
+    ...     print(read_library(folder, "planted", 2**20))
+    None
+    """
+    try:
+        fd = os.open(os.path.join(folder, f"{name}.so"), os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK)
+    except OSError:
+        return None
+    with os.fdopen(fd, "rb") as handle:
+        st = os.fstat(handle.fileno())
+        if not stat.S_ISREG(st.st_mode) or st.st_uid != os.getuid() or st.st_size > limit:
+            return None
+        return handle.read(limit + 1)
+
+
+def build(source: str, key: str, seconds: float = BUILD_SECONDS,
+          memory: int = BUILD_MEMORY) -> tuple[bytes | None, str]:
+    """The shared library built from ``source`` here and now, in a new private folder: (its bytes, "") or
+    (None, why not), never an exception.
+
+    >>> build("this is not C", "k3")[0] is None
     True
     """
     cc = compiler()
     if cc is None:
-        return None
-    with tempfile.TemporaryDirectory(prefix="course-dynamics-native-") as folder:
-        c_file, library = Path(folder) / f"{module_name(key)}.c", Path(folder) / f"{module_name(key)}.so"
-        c_file.write_text(source)
-        command = [cc, "-O1", "-fPIC", "-shared", "-fno-math-errno", "-ffp-contract=off", "-I", sysconfig.get_paths()["include"],
-                   str(c_file), "-o", str(library), "-lm"]
-        try:
-            done = subprocess.run(command, capture_output=True, timeout=BUILD_SECONDS)
-        except (OSError, subprocess.TimeoutExpired):
-            return None
-        if done.returncode != 0 or not library.is_file():
-            return None
-        return library.read_bytes()
+        return None, "no C compiler with Python's headers here"
+    folder = tempfile.mkdtemp(prefix="course-dynamics-build-")  # 0700, a name no one can guess
+    try:
+        name = module_name(key)
+        fd = os.open(os.path.join(folder, f"{name}.c"), os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o600)
+        with os.fdopen(fd, "w", encoding="utf-8") as handle:
+            handle.write(source)
+        reason = compile_library(folder, name, cc, seconds, memory, BUILD_FILE_BYTES)
+        if reason:
+            return None, reason
+        data = read_library(folder, name, BUILD_FILE_BYTES)
+        return (data, "") if data else (None, "the C compiler wrote no library")
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
 
 
 def load(data: bytes, key: str) -> dict | None:
@@ -231,7 +389,7 @@ def load(data: bytes, key: str) -> dict | None:
     >>> from course_dynamics import load_robot
     >>> from course_dynamics.core.compiled.tracing import trace_programs
     >>> pendulum = load_robot("pendulum")
-    >>> data = build(c_source(trace_programs(pendulum), 1, "k2", pendulum.name), "k2")   # None without a compiler
+    >>> data, _ = build(c_source(trace_programs(pendulum), 1, "k2", pendulum.name), "k2")   # None without a compiler
     >>> functions = load(data, "k2") if data else None
     >>> out = np.empty(1)
     >>> functions is None or functions["tau"](np.array([0.3]), np.zeros(1), np.zeros(1), out) is None
