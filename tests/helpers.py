@@ -113,6 +113,8 @@ BAD_URDFS = {
     "undefined link": (arm_urdf(extra=JOINT.format(name="j3", type="fixed", parent="link2", child="ghost", axis="1 0 0")),
                        "joint 'j3': child link 'ghost' is not defined"),
     "nothing moves": ('<robot name="x"><link name="a"/></robot>', "nothing moves"),
+    "default namespace": (arm_urdf().replace('<axis xyz="0 0 1"/>', '<axis xmlns="urn:x" xyz="1 0 0"/>', 1),
+                          "joint 'joint1': <axis> is in the default XML namespace 'urn:x'"),
 }
 
 

@@ -192,6 +192,16 @@ def _check_numbers(root, where: str) -> None:
                                          f"{token!r} is too small for a double and would be read as 0")
 
 
+def _check_namespaces(root, where: str) -> None:
+    """No element in a default XML namespace: lxml (and so yourdfpy) would skip it, urdfdom reads it by its bare name."""
+    for element in root.iter():
+        if isinstance(element.tag, str) and element.tag.startswith("{") and element.prefix is None:
+            namespace, name = element.tag[1:].split("}", 1)
+            raise ModelError(f"{where}: {_owner(element)}: <{name}> is in the default XML namespace {namespace[:80]!r} "
+                             "(an xmlns=\"...\" attribute): URDF readers disagree on whether it is a URDF element; "
+                             "remove the xmlns")
+
+
 def xml_parser():
     """lxml configured for files nobody vouches for.
 
@@ -261,6 +271,7 @@ def read_description(path):
     if root.getroottree().docinfo.internalDTD is not None or b"<!ENTITY" in raw:
         raise ModelError(f"{path}: declares a DTD (<!DOCTYPE ... [...]>); URDF files have none, and XML entities "
                          "are refused")
+    _check_namespaces(root, str(path))
     _check_numbers(root, str(path))
     logging.getLogger("yourdfpy").setLevel(logging.CRITICAL)
     try:
