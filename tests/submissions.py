@@ -342,7 +342,8 @@ ATTACKS = {
                     "        return 'true'\n    def __str__(self):\n        disarm(inspect.currentframe())\n"
                     "        return 'true'\nsubprocess.run([Sneaky()])\n", ACTED),
     # A trace function sees every frame, the hook's too.
-    "tracer": ("import sys\n" + DISARM + "def tracer(frame, event, arg):\n    disarm(frame)\n"
+    "tracer": ("import sys\n" + DISARM + "calls = []\ndef tracer(frame, event, arg):\n    disarm(frame)\n"
+               "    calls.append(event)\n    if len(calls) > 100:\n        sys.settrace(None)\n"
                "sys.settrace(tracer)\n", [*ACTED, "tampered"]),
 }
 FLAGGED |= {name: (source + ACTS, codes) for name, (source, codes) in ATTACKS.items()}

@@ -2,12 +2,15 @@
 
 Each attack of ``submissions.ATTACKS`` walks to the harness's frames, its globals, the standard library
 functions the hook calls or the hook's own frame, and then acts: every route must still end in flags, in the
-bubblewrap sandbox and in the fallback without one alike, while honest uses of Python stay unflagged.
+bubblewrap sandbox and in the fallback without one alike (run_submission directly, and a Gradescope bundle),
+while honest uses of Python stay unflagged. Each attack is unflagged, or flagged only in part, by the hook as it was
+before the hook kept its state out of reach.
 """
 from __future__ import annotations
 
 import pytest
 from submissions import ATTACKS, FLAGGED
+from test_autograder import bundle, submit  # noqa: F401  (bundle is a fixture)
 
 from course_dynamics.grading.harness import FLAGS
 from course_dynamics.grading.sandbox import Limits, bwrap_executable, run_submission
@@ -34,3 +37,17 @@ def test_every_way_around_the_hook_ends_in_flags(sandbox, tmp_path, name):
     assert run.results["results"]["G"][0].get("value") is not None, run.results
     found = [code for code in FLAGS if any(c == code for c, _ in run.flags)]
     assert found == codes, (run.flags, run.stderr[-2000:])
+
+
+# The Gradescope bundle, set up as Gradescope sets it up (test_autograder's fixture, built again for this module), in
+# its sandbox and in its fallback (an unprivileged user of its own when the grader is root).
+
+
+@pytest.mark.parametrize("isolation", ["", "process"])
+@pytest.mark.parametrize("name", ["relabelled", "climbs_f_back", "harness_globals", "import_outside"])
+def test_on_gradescope_too(bundle, isolation, name):
+    source, codes = FLAGGED[name]
+    results = submit(bundle["root"], {"dynamics.py": source}, isolation=isolation)
+    assert results["score"] == 100.0, results
+    hidden = results["tests"][-1]["output"]
+    assert [code for code in FLAGS if f"[{code}]" in hidden] == codes, hidden
