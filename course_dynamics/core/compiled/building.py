@@ -231,7 +231,7 @@ def attach(compiled, programs: dict[str, Program] | None, key: str, store: Cache
             programs = programs or trace_programs(model)
             seconds = estimated_seconds(programs)
             if seconds > MAX_BUILD_SECONDS:
-                reason = (f"its C would take about {seconds:.0f} s to build, over the bound of {MAX_BUILD_SECONDS:g} s")
+                reason = f"its C would take about {seconds:.1f} s to build, over the bound of {MAX_BUILD_SECONDS:g} s"
                 _remember(store, key, None, reason)
         if reason is not None:
             compiled.native_reason = reason

@@ -356,8 +356,7 @@ def read_library(folder: str, name: str, limit: int) -> bytes | None:
         return handle.read(limit + 1)
 
 
-def build(source: str, key: str, seconds: float = BUILD_SECONDS,
-          memory: int = BUILD_MEMORY) -> tuple[bytes | None, str]:
+def build(source: str, key: str) -> tuple[bytes | None, str]:
     """The shared library built from ``source`` here and now, in a new private folder: (its bytes, "") or
     (None, why not), never an exception.
 
@@ -373,7 +372,7 @@ def build(source: str, key: str, seconds: float = BUILD_SECONDS,
         fd = os.open(os.path.join(folder, f"{name}.c"), os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o600)
         with os.fdopen(fd, "w", encoding="utf-8") as handle:
             handle.write(source)
-        reason = compile_library(folder, name, cc, seconds, memory, BUILD_FILE_BYTES)
+        reason = compile_library(folder, name, cc, BUILD_SECONDS, BUILD_MEMORY, BUILD_FILE_BYTES)
         if reason:
             return None, reason
         data = read_library(folder, name, BUILD_FILE_BYTES)
