@@ -116,6 +116,15 @@ def _zeros(kind: str) -> bytes:  # ZERO_UNITS[kind] zeros compressed: bz2 stream
     return {"bz2": bz2.compress, "zstd": zstd.compress}[kind](bytes(ZERO_UNITS[kind]))
 
 
+def sparse_noise(size: int, every: int = 100, seed: int = 0) -> bytes:
+    """``size`` zero bytes but one random byte in about ``every``: it compresses some 20-50 times, as no real log
+    does but well within the ratio refused as a bomb."""
+    rng = np.random.default_rng(seed)
+    data = np.zeros(size, dtype=np.uint8)
+    data[rng.integers(0, size, size // every)] = rng.integers(1, 256, size // every)
+    return data.tobytes()
+
+
 def compressed(kind: str, data: bytes, zeros: int = 0) -> bytes:
     """``data`` followed by at least ``zeros`` zero bytes, compressed as ``kind`` (bz2, zstd, lz4), as fast as can be.
 
@@ -132,13 +141,14 @@ def compressed(kind: str, data: bytes, zeros: int = 0) -> bytes:
     return own + _zeros(kind) * -(-zeros // ZERO_UNITS[kind])
 
 
-def write_bag(path, fmt: str, topics: dict, compression: str | None = None, zeros: int = 0) -> Path:
+def write_bag(path, fmt: str, topics: dict, compression: str | None = None, zeros: int = 0, noise: int = 0) -> Path:
     """A bag at ``path`` (plus the format's suffix) holding ``topics`` {topic: (msgtype, [message dicts])}.
 
     Messages of all topics are written in the order they reach the recorder: LATENCY_NS after their stamp,
     and never before the one written last (so a message stamped earlier than the previous one stays after it).
     ``compression``: the chunks' (bz2 or lz4 for ROS1, zstd or lz4 for MCAP), or ``message`` (ROS2: each message
-    compressed with zstd); ``zeros``: that many zero bytes compressed after each chunk's data (module docstring).
+    compressed with zstd); ``zeros``: that many zero bytes compressed after each chunk's data (module docstring);
+    ``noise``: that many bytes of :func:`sparse_noise` after each chunk's data (before the zeros).
     """
     path = Path(str(path) + SUFFIXES[fmt])
     ros1 = fmt == "ros1"
@@ -163,8 +173,9 @@ def write_bag(path, fmt: str, topics: dict, compression: str | None = None, zero
     with writer:
         if compression and compression != "message":  # rosbags' own compressor, made ours
             storage = writer if ros1 else writer.storage
-            storage.compression = compression
-            storage.compressor = lambda data: compressed(compression, data, zeros)
+            if not ros1:  # an MCAP chunk names its compression (a ROS1 chunk's is set_compression's)
+                storage.compression = compression
+            storage.compressor = lambda data: compressed(compression, data + sparse_noise(noise), zeros)
         connections = {topic: writer.add_connection(topic, msgtype, typestore=store)
                        for topic, (msgtype, _) in topics.items()}
         for received, topic, msgtype, seq, values in sorted(pending, key=lambda item: item[0]):
@@ -188,10 +199,10 @@ def without_definitions(folder) -> Path:
 
 
 def write_joint_states(path, fmt: str, joints, t, q, qd=None, tau=None, topic="/joint_states", compression=None,
-                       zeros: int = 0, **options) -> Path:
+                       zeros: int = 0, noise: int = 0, **options) -> Path:
     """A bag of one JointState topic (:func:`joint_states` with ``options``; :func:`write_bag`'s compression)."""
     return write_bag(path, fmt, {topic: (JOINT_STATE, joint_states(joints, t, q, qd, tau, **options))}, compression,
-                     zeros)
+                     zeros, noise)
 
 
 def write_franka(path, fmt: str, joints, t, q, qd, tau) -> Path:

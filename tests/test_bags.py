@@ -80,6 +80,24 @@ def test_the_formats_give_identical_columns(tmp_path, ur5):
             assert np.array_equal(log.columns[name], values), name
 
 
+# Each way a bag is compressed: (format, compression); "file" compresses a ROS2 bag's storage files.
+COMPRESSIONS = [("ros1", "bz2"), ("ros1", "lz4"), ("mcap", "zstd"), ("mcap", "lz4"), ("ros2-mcap", "zstd"),
+                ("ros2-sqlite3", "message"), ("ros2-sqlite3", "file"), ("ros2-mcap", "file")]
+
+
+@pytest.mark.parametrize("fmt, compression", COMPRESSIONS, ids=lambda x: x)
+def test_compressed_bags_read_back_what_was_written(tmp_path, ur5, fmt, compression):
+    """Through the bounded decompression (tools.decompression), as the uncompressed bag of the format reads."""
+    model, motion, tau = ur5
+    write = lambda name, compression=None: bagmakers.write_joint_states(  # noqa: E731
+        tmp_path / name, fmt, model.joint_names, motion.t, motion.q, motion.qd, tau, compression=compression)
+    path = bagmakers.file_compressed(write("file")) if compression == "file" else write("packed", compression)
+    log, plain = read_bag(path, model.joint_names), read_bag(write("plain"), model.joint_names)
+    assert list(log.columns) == list(plain.columns) and log.notes == plain.notes
+    for name, values in plain.columns.items():
+        assert np.array_equal(log.columns[name], values), name
+
+
 def test_joints_are_matched_by_name_whatever_their_order_in_each_message(tmp_path, ur5):
     model, motion, tau = ur5
     messages = bagmakers.joint_states(model.joint_names, motion.t, motion.q, motion.qd, tau, shuffle_seed=1)
