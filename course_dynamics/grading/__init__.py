@@ -4,18 +4,28 @@ It may import base, core, tools and output; teaching uses its scorer, and only t
 line and teaching sit above it. ``harness`` and ``launcher`` import nothing of ours at all:
 they run beside student code.
 
-==============  ================================================================
-module          job
-==============  ================================================================
-``assignment``  the assignment TOML file: robot, states, tolerance, limits, points
-``plan``        the calls a submission is asked, our answers, and its answers as terms
-``harness``     the only code of ours next to student code: imports it, calls it
-``sandbox``     a separate process with limits, in bubblewrap, killed cleanly
-``diagnosis``   the named mistakes: small checks over one answer, each with its advice
-``score``       the one scorer of a term, used by the grader and the notebooks
-``grade``       a whole class: inspect, run, score
-``feedback``    gradebook.csv, per-student Markdown/HTML/Gradescope JSON, summary.html
-==============  ================================================================
+===============  ================================================================
+module           job
+===============  ================================================================
+``assignment``   the assignment TOML file: robot, states, tolerance, limits, points
+``plan``         the calls a submission is asked, our answers, and its answers as terms
+``harness``      the only code of ours next to student code: imports it, calls it, watches it
+``launcher``     starts the sandbox with limits, as a fresh standard-library process
+``environment``  the Python a submission runs in: the standard library and the allowed packages
+``view``         what of the disk a submission sees in the sandbox, from the Python build's layout
+``libraries``    the shared libraries that Python and its packages load, found as the loader finds them
+``sandbox``      a separate process with limits, in bubblewrap, killed cleanly
+``containment``  cgroups, a seccomp filter and the subreaper beside the sandbox
+``results``      the results document a submission's process sends back, read as hostile
+``records``      the records of scoring: an answer, a finding, a diagnosis
+``mistakes``     the mistakes students make, each made on purpose by our own code
+``diagnosis``    the named mistakes: small checks over one answer, each with its advice
+``score``        the one scorer of a term, used by the grader and the notebooks
+``similarity``   near-identical submissions, compared without running them
+``grade``        a whole class: inspect, run, score
+``feedback``     gradebook.csv, per-student Markdown/HTML/Gradescope JSON, summary.html
+``autograder``   Gradescope's bundle and what runs in it
+===============  ================================================================
 
 >>> from course_dynamics.grading import EXAMPLE
 >>> "[points]" in EXAMPLE
