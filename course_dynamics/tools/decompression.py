@@ -151,7 +151,8 @@ class _BoundedStream:
 
     def __init__(self, stream, file, reading: _Reading):
         self.stream, self.name, self.reading, self.produced = stream, getattr(file, "name", "storage file"), reading, 0
-        self.limit, self.past = bound(os.fstat(file.fileno()).st_size, reading.stored, disk=True)
+        size = os.fstat(file.fileno()).st_size if hasattr(file, "fileno") else os.stat(file).st_size
+        self.limit, self.past = bound(size, reading.stored, disk=True)
 
     def read(self, size: int = -1) -> bytes:
         room = self.limit + 1 - self.produced
