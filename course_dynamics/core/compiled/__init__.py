@@ -30,7 +30,8 @@ Tracing takes milliseconds; compiling the Python takes most of the time (UR5
 about 0.2 s, Panda 0.5 s). So the compiled module is cached on disk, one file
 ``<key>.entry`` (its source and its bytecode), in ``$COURSE_DYNAMICS_CACHE``,
 else ``$XDG_CACHE_HOME/course-dynamics``, else ``~/.cache/course-dynamics``
-(made private to the user); ``COURSE_DYNAMICS_CACHE=off`` turns the cache off.
+(made private to the user: mode 0700, with any folder above it that is missing, and
+its files 0600, whatever the umask); ``COURSE_DYNAMICS_CACHE=off`` turns the cache off.
 The key is a hash of the model's numbers, the Python and library versions and
 the source of every traced module, so any change makes a new entry.
 
@@ -38,7 +39,9 @@ A cached entry is code we are about to run, so nothing in it is trusted until
 checked, and checked *before* anything is executed:
 
 * the folder must be owned by the current user and writable by no one else,
-  and no folder above it writable by another user (unless sticky, as /tmp);
+  and no folder above it writable by everyone (unless sticky, as /tmp); one its
+  group can write (``~/.cache`` under ``umask 002``) is fine, as the folder itself
+  is checked through the descriptor everything in it is then opened by;
 * the entry must be a regular file (never followed through a link) owned by
   the current user and writable by no one else;
 * its content must carry a keyed hash (HMAC-SHA256) made with a secret of 32
@@ -57,6 +60,11 @@ of about 20 joints; the Coriolis program grows as n³) is not compiled:
 :class:`ProgramTooLargeError`, which the evaluator
 (:mod:`~course_dynamics.core.evaluator`, the one place that chooses whether to compile) answers by
 running the interpreted recursions.
+
+The native library (:mod:`~course_dynamics.core.compiled.native`, ``<key>.native``) is
+built under a bound and limits, in the background for the evaluator, and a build that
+failed or timed out is remembered (``<key>.native-failed``) and not tried again:
+:mod:`~course_dynamics.core.compiled.building`.
 """
 from __future__ import annotations
 

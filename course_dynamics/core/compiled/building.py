@@ -2,7 +2,8 @@
 
 gcc's time grows faster than the size of one function, so :mod:`~course_dynamics.core.compiled.native`
 cuts every program into C functions of at most :data:`~course_dynamics.core.compiled.native.PART_OPERATIONS`
-operations; gcc's time is then about linear in the operations. Measured here (gcc 12, -O1, 2 cores):
+operations; gcc's time is then about linear in the operations. Measured here (gcc 12, -O1, on 2 cores
+shared with other work, so ±30 %; UR5 and Panda run as fast either way, to the same bits):
 
 ============  ==========  ==========================  =========================
 robot         operations  one function per program    parts of 1000 operations
@@ -12,7 +13,7 @@ Panda         19 400      4.9 s, 179 MB               2.3 s, 101 MB
 chain of 10   20 400      5.7 s, 238 MB               2.7 s, 111 MB
 chain of 14   37 800      24 s, 588 MB                4.0 s, 165 MB
 chain of 17   54 500      34 s, 946 MB                5.1 s, 221 MB
-chain of 20   74 100      (see the module below)      7.8 s, 292 MB
+chain of 20   74 100      129 s, 1.6 GB               7.8 s, 292 MB
 ============  ==========  ==========================  =========================
 
 So a build is estimated before it starts (:func:`estimated_seconds`: :data:`START_SECONDS` plus
@@ -101,8 +102,9 @@ class _Build:
     def outcome(self) -> tuple[bytes | None, str]:
         """(library, "") or (None, why not) of a finished build; its folder is removed."""
         try:
-            with open(os.path.join(self.folder, "outcome.json"), encoding="utf-8") as handle:
-                reason = json.load(handle)["reason"]
+            fd = os.open(os.path.join(self.folder, "outcome.json"), os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK)
+            with os.fdopen(fd, encoding="utf-8") as handle:
+                reason = str(json.loads(handle.read(4096))["reason"])
             data = native.read_library(self.folder, native.module_name(self.key), native.BUILD_FILE_BYTES) \
                 if not reason else None
             if not reason and not data:
@@ -173,12 +175,20 @@ def _start(source: str, key: str, store: Cache) -> _Build:
     if store.folder is not None:
         store.store_bytes(f"{key}.native-building", repr(time.time()).encode())
     job = {"folder": folder, "key": key, "cache": None if store.folder is None else str(store.folder),
-           "compiler": native.compiler(), "seconds": native.BUILD_SECONDS, "memory": native.BUILD_MEMORY}
-    code = "import sys; sys.path.insert(0, sys.argv[1]); from course_dynamics.core.compiled.building import _child; " \
+           "compiler": native.compiler(), "seconds": native.BUILD_SECONDS, "memory": native.BUILD_MEMORY,
+           "parent": os.getpid()}
+    # The child's first folder on sys.path is its own private folder (cwd); ours goes last, so that nothing
+    # else beside an uninstalled course_dynamics/ can stand in for a module of the standard library.
+    code = "import sys; sys.path.append(sys.argv[1]); from course_dynamics.core.compiled.building import _child; " \
            "_child(sys.argv[2])"
-    process = subprocess.Popen([sys.executable, "-c", code, str(PACKAGE_ROOT), json.dumps(job)], cwd=folder,
-                               stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                               start_new_session=True)
+    try:
+        process = subprocess.Popen([sys.executable, "-c", code, str(PACKAGE_ROOT), json.dumps(job)], cwd=folder,
+                                   stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                                   start_new_session=True)
+    except OSError:
+        shutil.rmtree(folder, ignore_errors=True)
+        store.remove(f"{key}.native-building")
+        raise
     build = _Build(key, source, folder, store.folder, process)
     _RUNNING[key] = build
     return build
@@ -195,12 +205,16 @@ def _child(job_text: str) -> None:
     data = None if reason else native.read_library(folder, name, native.BUILD_FILE_BYTES)
     if not reason and not data:
         reason = "the C compiler wrote no library"
-    with Cache(Path(job["cache"]) if job["cache"] else None) as store:
+    with Cache(Path(job["cache"]) if job["cache"] else None, make=False) as store:  # deleted meanwhile: gone
         if store.folder is not None:
             _remember(store, key, data, reason)
             shutil.rmtree(folder, ignore_errors=True)
             return
-    with open(os.path.join(folder, "outcome.json"), "w", encoding="utf-8") as handle:
+    if os.getppid() != job["parent"]:  # the process that started it has ended: no one will read the folder
+        shutil.rmtree(folder, ignore_errors=True)
+        return
+    fd = os.open(os.path.join(folder, "outcome.json"), os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o600)
+    with os.fdopen(fd, "w", encoding="utf-8") as handle:
         json.dump({"reason": reason}, handle)
 
 

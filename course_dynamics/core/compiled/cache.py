@@ -213,12 +213,15 @@ class Cache:
     key.entry x = 1 None
     """
 
-    def __init__(self, folder: Path | None):
+    def __init__(self, folder: Path | None, make: bool = True):
         self.folder, self.fd, self.secret = folder, None, None
         if folder is None:
             return
         try:
-            _make_private(folder)
+            if make:
+                _make_private(folder)
+            elif not folder.is_dir():  # gone (deleted meanwhile): not made again
+                raise FileNotFoundError(folder)
         except OSError:
             self.folder = None  # cannot be made: no cache, as documented
             return
