@@ -9,6 +9,8 @@ module          job
 ``simulation``  forward dynamics in time (6.115)–(6.117): integrators, ensembles
 ``tables``      reading delimited tables as robots and people write them (``cells``: their numbers)
 ``bags``        ROS 1/ROS 2 bags and MCAP: joint states and Franka's state, without ROS
+``bagtypes``    the message definitions bags are read with (Franka's state, the typestores)
+``decompression``  every decompression a bag needs, streamed and stopped at a bound
 ``sources``     any log (table, UR RTDE recording, bag) read into one shape, with its format's map
 ``columns``     which of a log's columns give t, Θ, Θ̇, Θ̈ and the measured torques: one plan
 ``resampling``  an even clock: dropped samples filled, resampling, long gaps split
@@ -20,5 +22,6 @@ module          job
 ``loads``       payloads and external wrenches
 ``limits``      effort and velocity limits: peaks, shares, violations
 ``trace``       the Newton–Euler iterations link by link, for teaching
+``variants``    each student's own variant of a course robot, and their states
 ==============  ================================================================
 """

@@ -169,7 +169,7 @@ def _row_limit(path, size: int, encoding: str, width: int, sample) -> _RowLimit:
     budget = resources.memory_budget()
     limit = int(budget // (width * BYTES_PER_VALUE))
     return _RowLimit(limit, f"{path}: more than {limit} rows of {width} values: reading and using them would need more "
-                            f"than {format_bytes(budget)} of memory, half of this machine's {format_bytes(2 * budget)}")
+                            f"than {format_bytes(budget)} of memory, {resources.budget_text(budget)}")
 
 
 def _rows(lines, cut, numbers: array, limit: _RowLimit):
