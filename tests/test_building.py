@@ -34,13 +34,13 @@ def forget_failures(monkeypatch):
 
 def fake_compiler(tmp_path, monkeypatch, script: str) -> Path:
     """A fake ``cc``/``gcc`` first on PATH running ``script`` (sh), and the one ``native.compiler`` picks in this
-    process; returns its log (one line per run: the mode of its folder, the folder, its TMPDIR)."""
+    process; returns its log (one line per run: the mode of its folder, the folder, its TMPDIR, its pid)."""
     folder = tmp_path / "bin"
     folder.mkdir()
     log = tmp_path / "compiler.log"
     for name in {"cc", "gcc", os.path.basename(native.compiler() or "cc")}:
         path = folder / name
-        path.write_text(f'#!/bin/sh\necho "$(stat -c %a .) $PWD $TMPDIR" >> {log}\n{script}\n')
+        path.write_text(f'#!/bin/sh\necho "$(stat -c %a .) $PWD $TMPDIR $$" >> {log}\n{script}\n')
         path.chmod(0o755)
     monkeypatch.setenv("PATH", f"{folder}{os.pathsep}{os.environ['PATH']}")
     monkeypatch.setattr(native, "compiler", lambda: str(folder / "cc"))
@@ -86,7 +86,7 @@ def test_a_build_that_times_out_is_stopped_and_never_tried_again(tmp_path, monke
     c = compile_model(load_robot("pendulum"))  # native_code=True: this call waits, for its time bound at most
     assert time.perf_counter() - start < 10 and c.native == {} and runs(log) == 1
     assert c.native_reason == "the C compiler took longer than 1 s and was stopped"
-    mode, cwd, tmpdir = log.read_text().split()
+    mode, cwd, tmpdir, _ = log.read_text().split()
     assert mode == "700" and cwd == tmpdir and not Path(cwd).exists()  # its own private folder, gone after
     monkeypatch.setattr(building, "_FAILED", {})  # a new process: the marker in the cache remembers
     again = compile_model(load_robot("pendulum"))
@@ -123,12 +123,17 @@ def test_the_evaluator_builds_in_the_background_and_takes_the_library_up_between
 
 
 SIMULATE = """
-import sys
+import os, sys, time
 from course_dynamics.core.compiled import native
 native.BUILD_SECONDS = 2  # the background build's time bound, as the child process is told it
 from course_dynamics.cli import main
-sys.exit(main(["simulate", "pendulum", "--q0", "0.5", "--duration", "1", "--dt", "0.001", "--integrator", "rk4",
-               "--out", sys.argv[1], "--quiet"]))
+code = main(["simulate", "pendulum", "--q0", "0.5", "--duration", "1", "--dt", "0.001", "--integrator", "rk4",
+             "--out", sys.argv[1], "--quiet"])
+if len(sys.argv) > 2:  # wait for the compiler to have started, so that it runs when this process ends
+    deadline = time.monotonic() + 5
+    while not os.path.exists(sys.argv[2]) and time.monotonic() < deadline:
+        time.sleep(0.05)
+sys.exit(code)
 """
 
 
@@ -160,3 +165,20 @@ def test_a_command_never_waits_for_a_background_build_and_the_next_run_does_not_
     simulate()
     time.sleep(2)  # what a second build would need to start its compiler
     assert runs(log) == 1 and not list(cache.glob("*.native"))
+
+
+def test_without_a_cache_a_command_stops_its_build_when_it_ends(tmp_path, monkeypatch):
+    """No cache to fill: the build would be lost, so the command's end stops it (its compiler too), at once."""
+    log = fake_compiler(tmp_path, monkeypatch, "sleep 30")
+    environment = dict(os.environ, COURSE_DYNAMICS_CACHE="off")
+    start = time.perf_counter()
+    done = subprocess.run([sys.executable, "-c", SIMULATE, str(tmp_path / "out.csv"), str(log)], env=environment,
+                          capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0 and time.perf_counter() - start < 10, done.stderr
+    if not HAS_HEADERS:
+        assert runs(log) == 0
+        return
+    _, folder, _, pid = log.read_text().split()
+    with pytest.raises(ProcessLookupError):  # the fake compiler (and its sleep) was killed with the command
+        os.kill(int(pid), 0)
+    assert not Path(folder).exists()
