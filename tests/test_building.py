@@ -147,8 +147,9 @@ def test_a_command_never_waits_for_a_background_build_and_the_next_run_does_not_
         start = time.perf_counter()
         done = subprocess.run([sys.executable, "-c", SIMULATE, str(tmp_path / "out.csv")], env=environment,
                               capture_output=True, text=True, timeout=60)
-        assert done.returncode == 0, done.stderr
-        assert time.perf_counter() - start < 10 and "Traceback" not in done.stderr
+        seconds = time.perf_counter() - start
+        assert done.returncode == 0 and "Traceback" not in done.stderr, done.stderr
+        assert seconds < 15, f"{seconds:.1f} s: the run waited for its build (which would take 30 s)"
         return done
 
     simulate()
@@ -174,7 +175,9 @@ def test_without_a_cache_a_command_stops_its_build_when_it_ends(tmp_path, monkey
     start = time.perf_counter()
     done = subprocess.run([sys.executable, "-c", SIMULATE, str(tmp_path / "out.csv"), str(log)], env=environment,
                           capture_output=True, text=True, timeout=60)
-    assert done.returncode == 0 and time.perf_counter() - start < 10, done.stderr
+    seconds = time.perf_counter() - start
+    assert done.returncode == 0, done.stderr
+    assert seconds < 20, f"{seconds:.1f} s (up to 5 s of it waiting for the compiler to start): it waited for it"
     if not HAS_HEADERS:
         assert runs(log) == 0
         return

@@ -100,25 +100,28 @@ class _Build:
         return self.process.poll() is not None
 
     def outcome(self) -> tuple[bytes | None, str]:
-        """(library, "") or (None, why not) of a finished build; its folder is removed."""
-        try:
+        """(library, "") or (None, why not) of a finished build, kept (:func:`_remember`); its folder is removed."""
+        try:  # in the folder where the child could not fill the cache
             fd = os.open(os.path.join(self.folder, "outcome.json"), os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK)
             with os.fdopen(fd, encoding="utf-8") as handle:
                 reason = str(json.loads(handle.read(4096))["reason"])
-            data = native.read_library(self.folder, native.module_name(self.key), native.BUILD_FILE_BYTES) \
-                if not reason else None
-            if not reason and not data:
-                reason = "the C compiler wrote no library"
-        except (OSError, ValueError, KeyError):  # no outcome in the folder: the child kept it in the cache
-            data, reason = None, f"the build process ended with exit code {self.process.returncode}"
-            with Cache(self.cache) as store:
-                stored = store.load_bytes(f"{self.key}.native")
+            data = None if reason else native.read_library(self.folder, native.module_name(self.key),
+                                                            native.BUILD_FILE_BYTES)
+            reason = reason or ("" if data else "the C compiler wrote no library")
+        except (OSError, ValueError, KeyError):
+            data, reason = None, None
+        with Cache(self.cache) as store:
+            if reason is not None:
+                _remember(store, self.key, data, reason)
+            else:  # the child kept its outcome in the cache, unless it ended before
+                data = store.load_bytes(f"{self.key}.native")
                 failed = store.load_bytes(f"{self.key}.native-failed")
-                if stored is not None:
-                    data, reason = stored, ""
+                if data is not None:
+                    reason = ""
                 elif failed is not None:
-                    reason = failed.decode("utf-8", "replace")
+                    reason = _FAILED[self.key] = failed.decode("utf-8", "replace")
                 else:
+                    reason = f"the build process ended with exit code {self.process.returncode}"
                     _remember(store, self.key, None, reason)
         shutil.rmtree(self.folder, ignore_errors=True)
         _RUNNING.pop(self.key, None)
