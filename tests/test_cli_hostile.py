@@ -190,7 +190,7 @@ def test_huge_log_values_are_refused(capsys, tmp_path):
 def test_symbolic_paths_refuse_names_that_are_not_identifiers(capsys, tmp_path, name):
     urdf = tmp_path / "robot.urdf"
     urdf.write_text(arm_urdf().replace('name="joint2"', f'name="{name}"'))
-    for argv in (["derive", str(urdf), "--format", "json"], ["trace", str(urdf), "--symbolic"]):
+    for argv in (["derive", str(urdf), "--json"], ["trace", str(urdf), "--symbolic"]):
         code, out, err = run(capsys, *argv)
         assert_one_line_error(code, err, "must be ASCII identifiers")
         assert out == ""
@@ -386,7 +386,7 @@ def test_full_devices_and_unusable_paths_are_one_line(capsys, tmp_path):
      "dt = 1e+09 s is longer than the duration"),
     (["simulate", "two_link", "--q0", "0,0", "--qd0", "1e10,0", "--duration", "1", "--dt", "0.01", "--integrator",
       "adaptive", "--out", "x.csv", "--quiet"], "the adaptive integrator needed more than"),
-    (["trace", "two_link", "--symbolic", "--decimal", "0"], "decimals must be a whole number of digits from 1 to 30"),
+    (["trace", "two_link", "--symbolic", "--digits", "0"], "decimals must be a whole number of digits from 1 to 30"),
     (["terms", "two_link", "--q", "0,0", "--gravity", "1e308,0,0"], "--gravity components must be at most"),
 ])
 def test_out_of_range_options(capsys, tmp_path, monkeypatch, argv, fragment):

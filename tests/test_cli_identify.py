@@ -41,28 +41,50 @@ def residuals(capsys, urdf, log, *extra) -> list[float]:
 
 def test_identified_urdf_gives_torques_closer_to_the_robot(capsys, tmp_path, logs):
     train, other = logs
-    urdf, report = tmp_path / "identified.urdf", tmp_path / "report"
-    code, out, err = run(capsys, "identify", "ur5", "--log", str(train), "--out", str(urdf), "--report", str(report))
+    report = tmp_path / "report"
+    urdf = report / "identified.urdf"
+    code, out, err = run(capsys, "identify", "ur5", "--log", str(train), "--out", str(report))
     assert code == 0, err
     assert "RMS held out, identified" in out and "solver clarabel" in out
     assert f"wrote the identified URDF to {urdf}" in err
     before = residuals(capsys, "ur5", other)
     after = residuals(capsys, urdf, other, "--friction", "urdf")
     assert all(a < b / 5 for a, b in zip(after, before)), (after, before)   # measured: 10–100× smaller
-    assert sorted(p.name for p in report.iterdir()) == [".course-dynamics-files.json", "held_out.svg", "report.html",
-                                                         "report.json", "report.md"]
+    assert sorted(p.name for p in report.iterdir()) == [".course-dynamics-files.json", "held_out.svg", "identified.urdf",
+                                                         "report.html", "report.json", "report.md"]
     document = json.loads((report / "report.json").read_text())
     assert document["urdf"] == "ur5" and document["friction_model"] == "both" and len(document["parameters"]) == 72
     html = (report / "report.html").read_text()
     assert "<svg" in html and "shoulder_pan_joint" in html and "Base parameters" in html
     assert "shoulder\\_pan\\_joint" in (report / "report.md").read_text()    # names escaped for Markdown
-    code, _, err = run(capsys, "identify", "ur5", "--log", str(train), "--out", str(urdf), "--report", str(report))
-    assert code == 0, err   # a report identify wrote is replaced
+    code, _, err = run(capsys, "identify", "ur5", "--log", str(train), "--out", str(report))
+    assert code == 0, err   # a report identify wrote is replaced, and its URDF with it
+    urdf.write_text(urdf.read_text() + "<!-- mine -->")
+    code, _, err = run(capsys, "identify", "ur5", "--log", str(train), "--out", str(report))
+    assert_one_line_error(code, err, "identified.urdf", "changed since")   # but not one changed since
+    assert urdf.read_text().endswith("<!-- mine -->")
+
+
+def test_the_old_report_option_still_writes_the_report_beside_the_urdf(capsys, tmp_path, logs):
+    urdf, report = tmp_path / "identified.urdf", tmp_path / "report"
+    code, _, err = run(capsys, "identify", "ur5", "--log", str(logs[0]), "--out", str(urdf), "--report", str(report),
+                       "--friction", "viscous", "--quiet")
+    assert code == 0, err
+    assert [line for line in err.splitlines() if line.startswith("warning: --")] == [
+        "warning: --report is now --out DIR (the folder then holds the identified URDF too); the old spelling goes in "
+        "the next release",
+        "warning: --friction is now --friction-fit; the old spelling goes in the next release"]
+    assert json.loads((report / "report.json").read_text())["friction_model"] == "viscous" and urdf.is_file()
+    code, _, err = run(capsys, "identify", "ur5", "--log", str(logs[0]), "--out", str(tmp_path / "folder"), "--report",
+                       str(report))
+    warning, error = err.splitlines()
+    assert code == 2 and warning.startswith("warning: --report is now --out DIR")
+    assert error.startswith("error: --out ") and "is a folder" in error and "--report is not needed" in error
 
 
 def test_json_and_friction_choice(capsys, tmp_path, logs):
     urdf = tmp_path / "viscous.urdf"
-    code, out, _ = run(capsys, "identify", "ur5", "--log", str(logs[0]), "--out", str(urdf), "--friction", "viscous",
+    code, out, _ = run(capsys, "identify", "ur5", "--log", str(logs[0]), "--out", str(urdf), "--friction-fit", "viscous",
                        "--holdout", "0.3", "--json", "--quiet")
     assert code == 0
     document = json.loads(out)
@@ -86,7 +108,7 @@ MAP = ROOT / "examples" / "ur5_log_columns.toml"
     (["--log", str(LOG), "--map", str(MAP)], ["holds no measured torques", "tau_meas_shoulder_pan_joint",
                                              "current_<joint>"]),
     (["--log", "TRAIN", "--holdout", "1.5"], ["--holdout must be at least 0 and less than 1"]),
-    (["--log", "TRAIN", "--friction", "dry"], ["invalid choice: 'dry'"]),
+    (["--log", "TRAIN", "--friction-fit", "dry"], ["invalid choice: 'dry'"]),
     (["--log", "TRAIN", "--torque-constant", "1,2"], ["--torque-constant has 2 values"]),
     (["--log", "TRAIN", "--map", "q_elbow_joint=nothing"], ["no column 'nothing'"]),
 ])
@@ -109,10 +131,9 @@ def test_outputs_are_checked_before_the_work(capsys, tmp_path, logs):
     report = tmp_path / "report"
     report.mkdir()
     (report / "report.html").write_text("mine")
-    out = tmp_path / "identified.urdf"
-    code, _, err = run(capsys, "identify", "ur5", "--log", train, "--out", str(out), "--report", str(report))
+    code, _, err = run(capsys, "identify", "ur5", "--log", train, "--out", str(report))
     assert_one_line_error(code, err, "report.html: exists and was not written by course-dynamics")
-    assert not out.exists() and (report / "report.html").read_text() == "mine"
+    assert sorted(p.name for p in report.iterdir()) == ["report.html"] and (report / "report.html").read_text() == "mine"
 
 
 def test_without_cvxpy_it_says_what_to_install(capsys, tmp_path, logs, monkeypatch):
@@ -128,7 +149,7 @@ def test_help_explains(capsys):
         main(["identify", "--help"])
     text = re.sub(r"(\w)- (\w)", r"\1-\2", " ".join(capsys.readouterr().out.split()))   # argparse's line breaks undone
     assert exit_info.value.code == 0
-    for words in ("--log LOG", "tau_meas_<joint>", "pseudo-inertia", "--holdout", "--report DIR", "--torque-constant",
+    for words in ("--log LOG", "tau_meas_<joint>", "pseudo-inertia", "--holdout", "--out DIR", "--torque-constant",
                   "--split-gaps", "course-dynamics[identify]", "read back before it is written"):
         assert words in text, words
     with pytest.raises(SystemExit):
@@ -137,10 +158,10 @@ def test_help_explains(capsys):
 
 
 def test_the_commands_friction_choices_are_the_librarys():
-    from course_dynamics.cli.commands import identify as command
+    from course_dynamics.cli import flags
     from course_dynamics.tools import identification
 
-    assert command.FRICTION_MODELS == identification.FRICTION_MODELS
+    assert flags.FRICTION_MODELS == identification.FRICTION_MODELS
 
 
 def hostile_ur5(folder, replacements) -> Path:
@@ -185,9 +206,8 @@ def test_a_urdf_readers_disagree_on_is_refused_in_one_line_and_nothing_is_writte
     """A <dynamics> put in a namespace by a default xmlns: our loader skips it, urdfdom (Pinocchio) reads it."""
     urdf = hostile_ur5(tmp_path, {'<dynamics damping="0.0" friction="0.0"/>':
                                   '<dynamics xmlns="urn:x" damping="0.0" friction="0.0"/>'})
-    out, report = tmp_path / "identified.urdf", tmp_path / "report"
-    code, _, err = run(capsys, "identify", str(urdf), "--log", str(logs[0]), "--out", str(out), "--report",
-                       str(report), "--quiet")
+    report = tmp_path / "report"
+    code, _, err = run(capsys, "identify", str(urdf), "--log", str(logs[0]), "--out", str(report), "--quiet")
     assert_one_line_error(code, err, str(urdf), "joint 'shoulder_pan_joint'", "default xmlns")
-    assert not out.exists() and not report.exists()
+    assert not report.exists()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["ur5_hostile.urdf"]

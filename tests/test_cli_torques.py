@@ -142,7 +142,7 @@ def test_a_log_without_times_takes_dt_and_with_state_writes_the_state(capsys, tm
     (("--smooth", "8"), "odd number of samples"),
     (("--map", "q_elbow=joint3_pos"), "'q_elbow' is none of our columns"),
     (("--map", "q_elbow_joint"), "must be ours=theirs"),
-    (("--dt", "0.002"), "has a time column; dt (--dt) is only for logs without one"),
+    (("--log-dt", "0.002"), "has a time column; dt (--log-dt) is only for logs without one"),
     (("--gravity", "0,0"), "--gravity needs three finite numbers"),
     (("--out", "-", "--json"), "--out - and --json both want standard output"),
 ])

@@ -177,7 +177,7 @@ def test_a_result_beyond_a_limit_on_the_fine_grid_is_refused(monkeypatch):
 
 # ---------------------------------------------------------------------------------------------- the command
 
-ARGS = ["--harmonics", "3", "--samples", "12", "--max-iterations", "15", "--quiet"]
+ARGS = ["--harmonics", "3", "--instants", "12", "--max-iterations", "15", "--quiet"]
 
 
 def test_excite_writes_a_log_that_torques_and_simulate_read(capsys, tmp_path):
@@ -193,7 +193,7 @@ def test_excite_writes_a_log_that_torques_and_simulate_read(capsys, tmp_path):
     computed = np.genfromtxt(tmp_path / "tau.csv", delimiter=",", names=True)
     np.testing.assert_allclose(computed["tau_theta1"], written["tau_theta1"], rtol=1e-9, atol=1e-9)
     code, _, err = run(capsys, "simulate", "two_link", "--q0", "0,0", "--duration", "0.5", "--dt", "0.01",
-                       "--torque-csv", str(out), "--out", str(tmp_path / "sim.csv"), "--quiet")
+                       "--torque-log", str(out), "--out", str(tmp_path / "sim.csv"), "--quiet")
     assert code == 0, err
     simulated = np.genfromtxt(tmp_path / "sim.csv", delimiter=",", names=True)
     # simulate integrates the written torques (RK4 at 10 ms, τ interpolated linearly between samples): over the first
@@ -226,7 +226,7 @@ def test_excite_help_explains(capsys):
         run(capsys, "excite", "--help")
     out = capsys.readouterr().out
     assert exit_info.value.code == 0
-    for fragment in ("Fourier", "condition", "--harmonics", "--max-iterations", "--samples", "--seed", "velocity"):
+    for fragment in ("Fourier", "condition", "--harmonics", "--max-iterations", "--instants", "--seed", "velocity"):
         assert fragment in out
 
 

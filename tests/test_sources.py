@@ -74,11 +74,11 @@ def test_the_same_motion_as_rtde_and_as_a_plain_csv_gives_the_same_torques(capsy
 
 
 def test_an_rtde_recording_of_another_arm_or_no_recording_is_refused(capsys, rtde, tmp_path):
-    code, _, err = run(capsys, "torques", "panda", "--log", str(rtde), "--format", "ur-rtde")
+    code, _, err = run(capsys, "torques", "panda", "--log", str(rtde), "--log-format", "ur-rtde")
     assert_one_line_error(code, err, "the recording has 6 joints (actual_q_0 … actual_q_5), robot 'panda' has 9")
     plain = tmp_path / "plain.csv"
     write_csv(plain, ["t", "a"], [MOTION.t, MOTION.q[:, 0]])
-    code, _, err = run(capsys, "torques", "ur5", "--log", str(plain), "--format", "ur-rtde")
+    code, _, err = run(capsys, "torques", "ur5", "--log", str(plain), "--log-format", "ur-rtde")
     assert_one_line_error(code, err, "not an RTDE recording (it needs the columns timestamp and actual_q_0")
     code, _, err = run(capsys, "torques", "ur5", "--log", str(plain), "--topic", "/joint_states")
     assert_one_line_error(code, err, "--topic is for bags")

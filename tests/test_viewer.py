@@ -519,4 +519,4 @@ def test_torques_need_data(capsys, tmp_path):
     trajectory = tmp_path / "traj.csv"
     trajectory.write_text("t,q_theta1,q_theta2\n0,0,0\n1,0.5,0.2\n")
     code, err = run_cli(capsys, "animate", "two_link", "--trajectory", str(trajectory), "--html", str(tmp_path / "o.html"), "--torques")
-    assert code == 2 and "--torques needs tau_<joint> columns" in err
+    assert code == 2 and "--torques: " in err and "has no tau_<joint> columns" in err and "too few" in err

@@ -4,19 +4,12 @@ from __future__ import annotations
 import sys
 import warnings
 
-from ..output.viewer import GEOMETRIES
+from .flags import add, add_all
 
 
 def add_animation_options(parser, html_required: bool) -> None:
-    parser.add_argument("--html", required=html_required, help="write a self-contained HTML animation (opens offline)")
-    parser.add_argument("--geometry", choices=GEOMETRIES, default="auto",
-                        help="what to draw: URDF visual or collision meshes, or a stick model; auto picks the lightest "
-                             "faithful one (default)")
-    parser.add_argument("--torques", action="store_true", help="draw joint torques as bars along the joint axes")
-    parser.add_argument("--path", dest="draw_path", action="store_true", help="draw the end-effector path")
-    parser.add_argument("--allow-any-mesh-path", action="store_true",
-                        help="read mesh files outside the URDF's folder and its packages (by default they are not "
-                             "read, and the stick model is drawn: the HTML file would carry them to whoever opens it)")
+    add(parser, "--html", required=html_required)
+    add_all(parser, "--geometry", "--torques", "--path", "--allow-any-mesh-path")
 
 
 def animation_document(model, urdf, t, q, tau, args) -> str:

@@ -1,7 +1,7 @@
-"""What every command shares: option parsing, robot loading, JSON and progress output.
+"""What every command shares: option parsing, robot loading, reading a log, JSON and progress output.
 
-Commands declare their own arguments with the helpers here and call the
-library; nothing here computes dynamics.
+Every flag is defined once, in :mod:`course_dynamics.cli.flags` (the command line's grammar); commands add
+them with :func:`add` and the groups here, and call the library; nothing here computes dynamics.
 """
 from __future__ import annotations
 
@@ -13,11 +13,13 @@ import numpy as np
 from ..base.errors import InputError
 from ..core.robots import load, robot_names
 from ..output import render
+from .flags import FRICTION_SOURCES, add, add_all, add_renamed
+
+__all__ = ["FRICTION_SOURCES", "add", "add_all", "add_renamed"]  # the grammar, as commands use it
 
 # Options whose values are comma-separated numbers that may start with a minus sign.
 VALUE_OPTIONS = ("--q", "--qd", "--qdd", "--gravity", "--q0", "--qd0", "--torque", "--viscous", "--coulomb",
                  "--payload-size")
-FRICTION_SOURCES = ("none", "urdf")
 MAX_SAMPLES = 100_000  # random states per robot in a comparison: more adds nothing but memory
 MAX_GRAVITY = 1e6      # m/s^2 per component (1e5 g): beyond it no result is meaningful
 
@@ -48,11 +50,8 @@ def add_robot_argument(parser, nargs=None, help: str = "URDF file or shipped rob
     """The URDF argument, ``--allow-nonphysical-inertia`` and (for commands that compute dynamics) ``--gravity``."""
     parser.add_argument("urdf", nargs=nargs, help=help)
     if gravity:
-        parser.add_argument("--gravity", metavar="GX,GY,GZ",
-                            help="gravitational acceleration in the base frame, m/s^2 (default 0,0,-9.81)")
-    parser.add_argument("--allow-nonphysical-inertia", action="store_true",
-                        help="load links whose inertia breaks the triangle inequality or is not positive "
-                             "semi-definite (e.g. only izz given), with one warning per link, instead of refusing")
+        add(parser, "--gravity")
+    add(parser, "--allow-nonphysical-inertia")
 
 
 def numbers(text: str, option: str) -> np.ndarray:
@@ -116,11 +115,8 @@ def load_robot_argument(args, target: str | None = None):
 
 def add_friction_arguments(parser) -> None:
     """Joint friction F(qd) of (6.110)-(6.112): from the URDF, per joint, or none."""
-    parser.add_argument("--friction", choices=FRICTION_SOURCES, default="none",
-                        help="joint friction: none, or viscous = URDF damping and Coulomb = URDF friction (default none)")
-    parser.add_argument("--viscous", help="viscous coefficients v1,v2,... (N m s/rad), overriding --friction")
-    parser.add_argument("--coulomb", help="Coulomb coefficients c1,c2,... (N m), overriding --friction")
-    parser.add_argument("--smoothing", type=float, default=0.0, help="Coulomb sgn(qd) -> tanh(qd/smoothing) if > 0")
+    add_all(parser, "--friction", "--viscous", "--coulomb", "--friction-width")
+    add_renamed(parser, "--smoothing", "--friction-width")
 
 
 def friction(args, model):
@@ -131,7 +127,8 @@ def friction(args, model):
         return None
     base = Friction.from_urdf(model) if args.friction == "urdf" else Friction.none(model)
     return Friction(viscous=joint_values(args.viscous, "--viscous", model, base.viscous),
-                    coulomb=joint_values(args.coulomb, "--coulomb", model, base.coulomb), smoothing=args.smoothing)
+                    coulomb=joint_values(args.coulomb, "--coulomb", model, base.coulomb),
+                    smoothing=args.friction_width)
 
 
 def warn_if_gravity_free(model) -> None:
@@ -171,9 +168,8 @@ def check_output_names(args) -> None:
 
 def add_sampling_arguments(parser, tolerance: float) -> None:
     """--samples, --seed, --tolerance: the seeded random states of a comparison with Pinocchio."""
-    parser.add_argument("--samples", type=int, default=200, help="random states per robot (default 200)")
-    parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
-    parser.add_argument("--tolerance", type=float, default=tolerance, help=f"relative tolerance (default {tolerance:g})")
+    add_all(parser, "--samples", "--seed")
+    add(parser, "--tolerance", default=tolerance)
 
 
 def check_sampling(args) -> None:
@@ -190,11 +186,19 @@ def print_json(document) -> None:
     sys.stdout.write(render.json_text(document) + "\n")
 
 
-def progress_bar(total: int, enabled: bool, delay: float = 0.0, unit: str = "step"):
-    """A tqdm bar on stderr; with ``delay`` it appears only for work that lasts longer."""
+def progress_bar(args, total: int | None, unit: str = "step", delay: float = 1.0):
+    """A tqdm bar on stderr, only on a terminal and without ``--quiet``; it appears after ``delay`` seconds."""
     from tqdm import tqdm
 
+    enabled = not getattr(args, "quiet", False) and sys.stderr.isatty()
     return tqdm(total=total, unit=unit, disable=not enabled, file=sys.stderr, leave=False, delay=delay, mininterval=0.5)
+
+
+def progress_callback(bar):
+    """``progress(done, total)`` for the library, moving ``bar`` to ``done``."""
+    def progress(done, total):
+        bar.update(done - bar.n)
+    return progress
 
 
 def symbol_names(text) -> tuple[str, ...]:
@@ -206,3 +210,78 @@ def robots_epilog() -> str:
     return (f"URDF arguments take a file path or the name of a shipped robot: {', '.join(robot_names())}. "
             "Joint values are comma-separated, in the joint order 'info' prints "
             "(rad, rad/s, rad/s^2 for revolute joints; m, m/s, m/s^2 for prismatic).")
+
+
+def add_log_arguments(parser, log: str | None = "--log", required: bool = True) -> None:
+    """How to read a log: shared by every command that reads motion (torques, identify, animate, simulate).
+
+    ``log``: the flag that names the log (``--log``, or simulate's ``--torque-log``), or None when the command
+    adds it itself.
+    """
+    if log is not None:
+        add(parser, log, required=required)
+    add_all(parser, "--log-format", "--topic", "--map", "--set", "--decimal", "--log-dt", "--time-unit")
+
+
+def add_differentiation_arguments(parser) -> None:
+    """How a log's rates are found and what its currents mean: commands that differentiate (torques, identify)."""
+    add_all(parser, "--resample", "--split-gaps", "--smooth", "--torque-constant")
+    add_renamed(parser, "--format", "--log-format")
+    add_renamed(parser, "--dt", "--log-dt")
+
+
+def column_map(args) -> dict[str, str]:
+    """``--map`` (repeatable): our column names → the log's."""
+    from ..tools.columns import parse_column_map
+
+    mapping = {}
+    for text in args.map or ():
+        for ours, theirs in parse_column_map(text).items():
+            if ours in mapping:
+                raise UsageError(f"--map: '{ours}' is mapped twice")
+            mapping[ours] = theirs
+    return mapping
+
+
+def constants(args) -> dict[str, float]:
+    """``--set`` (repeatable): a constant value for each named signal the log lacks."""
+    values = {}
+    for text in args.set or ():
+        for item in filter(None, (part.strip() for part in text.split(","))):
+            name, sep, value = item.partition("=")
+            try:
+                number = float(value)
+            except ValueError:
+                number = None
+            if not sep or number is None:
+                raise UsageError(f"--set entries must be OURS=VALUE, e.g. q_panda_finger_joint1=0.04; got '{item}'")
+            if name.strip() in values:
+                raise UsageError(f"--set: '{name.strip()}' is set twice")
+            values[name.strip()] = number
+    return values
+
+
+def map_files(args) -> list[str]:
+    """The ``--map`` values that are files: inputs, which no output may replace."""
+    return [text for text in args.map or () if "=" not in text]
+
+
+def open_log_argument(args, model, path):
+    """The log at ``path`` as ``--log-format``, ``--topic`` and ``--decimal`` say (a LogSource)."""
+    from ..tools.sources import open_log
+
+    return open_log(path, model, format=args.log_format, topic=args.topic, decimal=args.decimal)
+
+
+def read_motion_argument(args, model, path, positions: bool = True, torques: bool = False):
+    """Times, Θ and/or the applied τ of the log at ``path``, read as every command reads a log."""
+    from ..tools.motion import read_motion
+
+    return read_motion(model, open_log_argument(args, model, path), columns=column_map(args), constants=constants(args),
+                       dt=args.log_dt, time_unit=args.time_unit, positions=positions, torques=torques)
+
+
+def notebook_numbers(args) -> tuple[str, ...] | None:
+    """``--only`` (repeatable, each value possibly comma-separated) as notebook numbers; None for all."""
+    numbers = tuple(part.strip() for text in args.only or () for part in text.split(",") if part.strip())
+    return numbers or None

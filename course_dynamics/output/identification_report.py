@@ -169,11 +169,12 @@ def report_files(result: Identification, urdf: str, log: str) -> dict[str, str |
             "report.json": render.json_text(document) + "\n", "held_out.svg": svg}
 
 
-def check_report_folder(folder) -> None:
-    """Fail before long work unless the report can be written into ``folder``."""
-    folders.check_folder(folder, REPORT_FILES, OWNER)
+def check_report_folder(folder, also=()) -> None:
+    """Fail before long work unless the report (and the files named ``also``) can be written into ``folder``."""
+    folders.check_folder(folder, REPORT_FILES + tuple(also), OWNER)
 
 
-def write_report(folder, result: Identification, urdf: str, log: str):
-    """Write the report folder (module docstring); returns the paths written."""
-    return folders.write_folder(folder, report_files(result, urdf, log), OWNER)
+def write_report(folder, result: Identification, urdf: str, log: str, also=None):
+    """Write the report folder (module docstring) and the files ``also`` (name → bytes, e.g. the identified
+    URDF); returns the paths written."""
+    return folders.write_folder(folder, {**dict(also or {}), **report_files(result, urdf, log)}, OWNER)

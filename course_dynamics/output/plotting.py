@@ -16,6 +16,7 @@ from ..tools.simulation import Trajectory
 from . import io, page
 
 PLOT_FORMATS = ("png", "svg")
+FIGURE_FORMATS = PLOT_FORMATS + ("html",)   # what every --plot takes: html is a page with the figure inline
 
 
 def plot_format(path, formats=PLOT_FORMATS) -> str:
@@ -27,13 +28,27 @@ def plot_format(path, formats=PLOT_FORMATS) -> str:
 
 
 def figure_bytes(figure, fmt: str) -> bytes:
-    """The figure drawn as ``fmt`` (png or svg); the figure is closed."""
+    """The figure drawn as ``fmt`` (png or svg); the figure is closed.
+
+    The same figure gives the same bytes on every run: an SVG carries no date, and its element ids come from a
+    fixed salt rather than a random one.
+    """
+    import matplotlib
     import matplotlib.pyplot as plt
 
     buffer = BytesIO()
-    figure.savefig(buffer, format=fmt, dpi=110)
+    with matplotlib.rc_context({"svg.hashsalt": "course-dynamics"}):
+        figure.savefig(buffer, format=fmt, dpi=110, metadata={"Date": None} if fmt == "svg" else None)
     plt.close(figure)
     return buffer.getvalue()
+
+
+def figure_file(figure, fmt: str, title: str = "") -> bytes:
+    """The figure as the bytes of a ``fmt`` file (:data:`FIGURE_FORMATS`): png, svg, or a page holding the SVG."""
+    if fmt != "html":
+        return figure_bytes(figure, fmt)
+    drawing = figure_bytes(figure, "svg").decode("utf-8")
+    return page.page(title or "figure", [page.heading(title or "figure"), page.figure(page.svg(drawing))]).encode("utf-8")
 
 
 def _save(figure, path) -> None:
@@ -195,7 +210,7 @@ def torques_page(result, title: str = "") -> str:
 
 def plot_torques(result, path, title: str = "") -> None:
     """Draw τ(t) against the effort limits to ``path``: PNG, SVG, or HTML (figure and limits table)."""
-    fmt = plot_format(path, PLOT_FORMATS + ("html",))
+    fmt = plot_format(path, FIGURE_FORMATS)
     if fmt == "html":
         io.write_text(path, torques_page(result, title))
         return

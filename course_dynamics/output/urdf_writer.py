@@ -270,21 +270,29 @@ def check_reads_back(text: bytes, identified: Model, friction: Friction | None, 
                     refuse(f"joint '{body.joint}': {what}", _shown(value), _shown(expected))
 
 
-def write_identified_urdf(path, identified: Model, friction: Friction | None = None, source=None) -> None:
-    """Write the identified URDF to ``path`` (whole or not at all; ``-`` is standard output).
+def checked_identified_urdf(identified: Model, friction: Friction | None = None, source=None,
+                            target: str = "the URDF") -> bytes:
+    """The identified URDF's text, read back by our loader (:func:`check_reads_back`) for ``target``.
 
     ``source``: the URDF the model was loaded from (default ``identified.source``), read as text
-    (a regular file of at most :data:`MAX_URDF_BYTES`). The text is read back by our loader before
-    anything is written (:func:`check_reads_back`).
+    (a regular file of at most :data:`MAX_URDF_BYTES`).
     """
     source = identified.source if source is None else source
     if not source:
         raise InputError(f"robot '{identified.name}': the URDF it was loaded from is not known; give source")
     raw = read_small(source, MAX_URDF_BYTES, "URDF file")
     text = identified_urdf(raw, identified, friction, where=str(source))
-    check_reads_back(text, identified, friction, "standard output" if str(path) == io.STDOUT else str(path),
-                     str(source))
-    io.write_bytes(path, text)
+    check_reads_back(text, identified, friction, target, str(source))
+    return text
+
+
+def write_identified_urdf(path, identified: Model, friction: Friction | None = None, source=None) -> None:
+    """Write the identified URDF to ``path`` (whole or not at all; ``-`` is standard output).
+
+    The text is :func:`checked_identified_urdf`'s: read back by our loader before anything is written.
+    """
+    target = "standard output" if str(path) == io.STDOUT else str(path)
+    io.write_bytes(path, checked_identified_urdf(identified, friction, source, target))
 
 
 def model_urdf(model: Model, comment: str = "") -> bytes:

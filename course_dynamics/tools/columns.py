@@ -41,6 +41,7 @@ from .tables import joint_columns
 MAX_MAP_BYTES = 2**20         # a column map of a thousand joints is under 100 kB
 KINDS = ("q", "qd", "qdd")
 MEASURED = ("tau_meas", "current")   # optional: read when the log has them, never derived
+APPLIED = ("tau",)                    # applied torques: read only for a reader that asks (simulate's torques)
 
 
 @dataclass(frozen=True)
@@ -116,7 +117,8 @@ def merged_map(implied: Mapping[str, str], columns: Mapping[str, str] | None) ->
 
 
 def plan_columns(model: Model, theirs: Iterable[str], *, columns: Mapping[str, str] | None = None,
-                 constants: Mapping[str, float] | None = None, where: str = "the table") -> ColumnPlan:
+                 constants: Mapping[str, float] | None = None, where: str = "the table",
+                 applied: bool = False) -> ColumnPlan:
     """The column plan for a log whose header is ``theirs`` (module docstring).
 
     Parameters
@@ -126,6 +128,7 @@ def plan_columns(model: Model, theirs: Iterable[str], *, columns: Mapping[str, s
     columns : our column name → the log's (a map; unmapped ones of ours are looked up by name)
     constants : our column name → a value for every row
     where : the log's name in messages
+    applied : also read ``tau_<joint>``, applied torques (otherwise such columns are ignored like any other)
 
     Raises
     ------
@@ -136,11 +139,12 @@ def plan_columns(model: Model, theirs: Iterable[str], *, columns: Mapping[str, s
     theirs = tuple(theirs)
     available = set(theirs)
     columns, constants = dict(columns or {}), dict(constants or {})
-    ours = ["t"] + joint_columns(KINDS + MEASURED, model.joint_names)
+    ours = ["t"] + joint_columns(KINDS + MEASURED + (APPLIED if applied else ()), model.joint_names)
     for name in list(columns) + list(constants):
         if name not in ours:
             raise InputError(f"column map: '{name}' is none of our columns (t, q_<joint>, qd_<joint>, qdd_<joint>, "
-                             f"tau_meas_<joint>, current_<joint> for joints {', '.join(model.joint_names)})")
+                             f"{'tau_<joint>, ' if applied else ''}tau_meas_<joint>, current_<joint> for joints "
+                             f"{', '.join(model.joint_names)})")
     for name in constants:
         if name.startswith(MEASURED):
             raise InputError(f"{name} is something the robot measured: it can be read from the log, not set")

@@ -55,10 +55,11 @@ from ..core.friction import Friction
 from ..core.model import Model
 from ..core.dynamics import mass_matrix
 from ..core.newton_euler import inverse_dynamics
-from .columns import KINDS, merged_map, plan_columns
+from .columns import KINDS
 from .differentiation import derivatives
 from .limits import LimitsReport, limits_report
 from .loads import with_payload, wrench_torques
+from .motion import TIME_UNITS, check_time_unit, check_values, log_times, planned_columns
 from .resampling import even_clock
 from .residuals import ResidualReport, residual_report
 from .sources import as_source
@@ -67,7 +68,6 @@ from .tables import joint_columns, stack_joint_columns
 # τ is computed this many rows at a time: the recursion's temporaries (for the UR5 about 1.6 kB a row
 # interpreted, 0.5 kB compiled, measured with tracemalloc) then stay under 60 MB however long the log.
 ROWS_AT_A_TIME = 2**15
-TIME_UNITS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9}
 MAX_MEASURED = 1e7          # N m: the largest industrial joints take about 1e5
 RATE_UNITS_RATIO = 3.0      # a logged Θ̇ this many times larger or smaller than dΘ/dt is in other units
 
@@ -192,52 +192,15 @@ def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[
         ``dt``, time unit or window.
     """
     source = as_source(table)
-    data, where, line = source.columns, source.where, source.line
-    if time_unit not in TIME_UNITS:
-        raise InputError(f"unknown time unit '{time_unit}' (choose from {', '.join(TIME_UNITS)})")
-    if time_unit != "s" and source.format in ("bag", "ur-rtde"):
-        raise InputError(f"{where}: a {source.format} log's times are in seconds; --time-unit is for tables")
-    plan = plan_columns(model, list(data) + list(source.text), columns=merged_map(source.implied, columns),
-                        constants=constants, where=where)
-    for name, theirs in plan.read.items():
-        if theirs in source.text:
-            raise source.not_numbers(theirs, name)
-    renamed = {name: data[theirs] for name, theirs in plan.read.items()}
-    lengths = {len(v) for v in renamed.values()}
-    if len(lengths) > 1:
-        raise InputError(f"{where}: columns have different lengths {sorted(lengths)}")
-    samples = lengths.pop() if lengths else 0
-    for name, value in plan.constants.items():
-        renamed[name] = np.full(samples, float(value))
-    for name in plan.held:  # a joint held still: its rates are zero
-        renamed[name] = np.zeros(samples)
+    where, line = source.where, source.line
+    check_time_unit(source, time_unit)
+    planned = planned_columns(model, source, columns=columns, constants=constants)
+    plan, renamed, samples = planned.plan, planned.values, planned.samples
     plan.require_positions(where)
-    if samples == 0:
-        raise InputError(f"{where}: no data rows")
-    for name, values in renamed.items():
-        bad = np.flatnonzero(~np.isfinite(values))
-        if len(bad):
-            raise InputError(f"{where}: {line(bad[0])}, column '{plan.read.get(name, name)}': value is {values[bad[0]]} "
-                             f"(must be finite)")
-
-    if plan.has_time:
-        if dt is not None:
-            raise InputError(f"{where} has a time column; dt (--dt) is only for logs without one")
-        t = renamed.pop("t") * TIME_UNITS[time_unit]
-        steps = np.diff(t)
-        if np.any(steps <= 0):
-            row = int(np.flatnonzero(steps <= 0)[0]) + 1
-            raise InputError(f"{where}: {line(row)}: t = {t[row]:.9g} s does not come after {t[row - 1]:.9g} s "
-                             f"(t must increase)")
-    else:
-        if dt is None:
-            raise InputError(f"{where}: no column 't' (map one, or give the sample step dt (--dt) for a log without "
-                             f"times)")
-        if not (np.isfinite(dt) and dt > 0):
-            raise InputError(f"dt must be a positive number of seconds, got {dt}")
-        t = np.arange(samples) * float(dt)
-        if resample is not None or split_gaps:
-            raise InputError("resampling and splitting at gaps need the log's own times (a t column)")
+    check_values(planned)
+    t = log_times(planned, dt, time_unit)
+    if not plan.has_time and (resample is not None or split_gaps):
+        raise InputError("resampling and splitting at gaps need the log's own times (a t column)")
 
     notes = list(source.notes)
     segments = ((0, samples),)
@@ -330,7 +293,7 @@ def torques_from_log(model: Model, table, *, dt: float | None = None, columns: M
                      window: int | None = None, constants: Mapping[str, float] | None = None, time_unit: str = "s",
                      friction: Friction | None = None, payload=None, wrench=None,
                      compiled: bool | None = None, resample: float | None = None, split_gaps: bool = False,
-                     torque_constants=None) -> TorqueLog:
+                     torque_constants=None, progress=None) -> TorqueLog:
     """The joint torques a logged motion needs, whether they and its rates stay within the URDF's limits,
     and, when the log holds what the robot measured, how far those are from ours.
 
@@ -340,7 +303,9 @@ def torques_from_log(model: Model, table, *, dt: float | None = None, columns: M
     or a list of them; ``wrench``: a :class:`~course_dynamics.tools.loads.Wrench` or a list.
     ``compiled``: None lets the evaluator (:mod:`course_dynamics.core.evaluator`) choose by the log's
     length (a compiled model from about 20 000 rows, or sooner once this process has done that much work
-    on the model); True/False force it. Other parameters as :func:`joint_log`.
+    on the model); True/False force it. ``progress(done, total)``, if given, is called as the work goes: the
+    state read and differentiated counts K of the 3 K steps of a K-row log, the torques and their uncertainty
+    K each. Other parameters as :func:`joint_log`.
 
     Returns a :class:`TorqueLog`: ``tau`` (N, n); ``log`` with ``t``, ``q``, ``qd``, ``qdd`` as
     used; ``report`` (:class:`~course_dynamics.tools.limits.LimitsReport`); ``residuals``
@@ -350,6 +315,8 @@ def torques_from_log(model: Model, table, *, dt: float | None = None, columns: M
         model = with_payload(model, load)
     log = joint_log(model, table, dt=dt, columns=columns, window=window, constants=constants, time_unit=time_unit,
                     resample=resample, split_gaps=split_gaps, torque_constants=torque_constants)
+    if progress is not None:
+        progress(len(log.t), 3 * len(log.t))
     fast = implementation(model, calls=-(-len(log.t) // ROWS_AT_A_TIME), states=min(len(log.t), ROWS_AT_A_TIME),
                           compiled=compiled)
 
@@ -366,6 +333,8 @@ def torques_from_log(model: Model, table, *, dt: float | None = None, columns: M
         for push in pushes:
             block = block + wrench_torques(model, q, push)          # τ = Jᵀ F (chapter 5)
         tau[rows] = block
+        if progress is not None:
+            progress(len(log.t) + min(start + ROWS_AT_A_TIME, len(log.t)), 3 * len(log.t))
     if not np.all(np.isfinite(tau)):
         row = int(np.flatnonzero(~np.all(np.isfinite(tau), axis=1))[0])
         source = as_source(table)
@@ -374,12 +343,14 @@ def torques_from_log(model: Model, table, *, dt: float | None = None, columns: M
                          f"large to give finite torques")
     residuals = None if log.measured is None else residual_report(model.joint_names, log.t, tau, log.measured,
                                                                   log.measured_from)
-    sigma = _torque_sigma(model, log, fast)
+    sigma = _torque_sigma(model, log, fast, progress)
+    if progress is not None:
+        progress(3 * len(log.t), 3 * len(log.t))
     return TorqueLog(log=log, tau=tau, report=limits_report(model, log.t, log.qd, tau, sigma), model=model,
                      residuals=residuals, tau_sigma=sigma)
 
 
-def _torque_sigma(model: Model, log: JointLog, fast) -> np.ndarray | None:
+def _torque_sigma(model: Model, log: JointLog, fast, progress=None) -> np.ndarray | None:
     """σ_τ (K, n): what the noise left in a differentiated Θ̈ leaves in τ = M Θ̈ + …, σ_τᵢ = √Σⱼ (Mᵢⱼ σ_Θ̈ⱼ)².
 
     The noise a differentiated Θ̇ carries into V is left out: at the rates robots move, M Θ̈ is where it shows.
@@ -392,4 +363,6 @@ def _torque_sigma(model: Model, log: JointLog, fast) -> np.ndarray | None:
         rows = slice(start, start + ROWS_AT_A_TIME)
         M = fast.mass_matrix(log.q[rows]) if fast is not None else mass_matrix(model, log.q[rows])
         sigma[rows] = np.sqrt(np.einsum("kij,kj->ki", M**2, log.sigma_qdd[rows] ** 2))
+        if progress is not None:
+            progress(2 * len(log.t) + min(start + ROWS_AT_A_TIME, len(log.t)), 3 * len(log.t))
     return sigma

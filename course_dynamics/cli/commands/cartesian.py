@@ -3,10 +3,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...core.cartesian import EXPRESSED_IN, MAX_CONDITION, ROW_NAMES, cartesian_dynamics
+from ...core.cartesian import cartesian_dynamics
 from ...output import render
 from ..options import (
     UsageError,
+    add,
+    add_all,
     add_robot_argument,
     check_finite,
     joint_values,
@@ -16,22 +18,15 @@ from ..options import (
 
 HELP = "Cartesian-space dynamics Mx, Vx, Gx (6.99) of a frame"
 DESCRIPTION = ("Jacobian J, its time derivative, and F = Mx Xdd + Vx + Gx (6.91) for a URDF link or frame. "
-               "The selected task rows must make J square (as many rows as joints).")
+               "The selected task rows must make J square (as many rows as joints). --json prints keys joints, frame, "
+               "rows, J, J_dot, Mx, Vx, Gx, condition.")
 
 
 def add_arguments(parser) -> None:
     add_robot_argument(parser)
-    parser.add_argument("--frame", required=True, help="URDF link name of the task frame")
-    parser.add_argument("--q", required=True, help="joint positions")
-    parser.add_argument("--qd", help="joint velocities (default 0)")
-    parser.add_argument("--rows", help=f"task rows among {','.join(ROW_NAMES)} (default all six)")
-    parser.add_argument("--expressed-in", choices=EXPRESSED_IN, default="base",
-                        help="coordinates of J and the task: the base frame, or the task frame itself as Craig's 3J "
-                             "(default base)")
-    parser.add_argument("--max-condition", type=float, default=MAX_CONDITION,
-                        help=f"cond(J) above which J counts as singular (default {MAX_CONDITION:g})")
-    parser.add_argument("--json", action="store_true",
-                        help="print JSON with keys joints, frame, rows, J, J_dot, Mx, Vx, Gx, condition")
+    add(parser, "--frame", required=True)
+    add(parser, "--q", required=True)
+    add_all(parser, "--qd", "--rows", "--expressed-in", "--max-condition", "--json")
 
 
 def run(args) -> int:

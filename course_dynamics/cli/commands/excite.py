@@ -6,7 +6,17 @@ import time
 
 from ...output import io
 from ...output.render import one_line
-from ..options import UsageError, add_robot_argument, load_robot_argument, print_json, progress_bar
+from ..options import (
+    UsageError,
+    add,
+    add_all,
+    add_renamed,
+    add_robot_argument,
+    load_robot_argument,
+    print_json,
+    progress_bar,
+    progress_callback,
+)
 
 HELP = "an excitation trajectory for identification (periodic Fourier motion, well-conditioned regressor)"
 DESCRIPTION = (
@@ -19,27 +29,19 @@ DESCRIPTION = (
     "our inverse dynamics, without friction); the result is checked on a fine time grid and refused if it "
     "exceeds a limit. A joint without position limits is bounded by its velocity limit alone; a joint with "
     "neither is refused. Writes t, q_<joint>, qd_<joint>, qdd_<joint> and tau_<joint> (the torques the "
-    "motion needs), which 'torques' reads as a log and 'simulate --torque-csv' as applied torques. Prints the "
-    "condition number, the largest share of each limit used and the run time.")
+    "motion needs), which 'torques --log' reads as a log, 'simulate --torque-log' as applied torques and "
+    "'animate --log' as a motion. --instants are the instants of the period the condition number is optimised "
+    "on. Prints the condition number, the largest share of each limit used and the run time; --json prints them "
+    "as one document (condition, limits, iterations, seconds, ...).")
 
 
 def add_arguments(parser) -> None:
     add_robot_argument(parser)
-    parser.add_argument("--duration", type=float, required=True,
-                        help="the period of the motion, s (one period is written)")
-    parser.add_argument("--out", required=True,
-                        help="output CSV, or - for standard output (written whole or not at all)")
-    parser.add_argument("--dt", type=float, default=0.01, help="time between written samples, s (default 0.01)")
-    parser.add_argument("--harmonics", type=int, default=5, help="harmonics per joint, at least 2 (default 5)")
-    parser.add_argument("--samples", type=int, default=40,
-                        help="instants of the period the condition number is optimised on (default 40)")
-    parser.add_argument("--max-iterations", type=int, default=100,
-                        help="of the optimisation (default 100: under a minute for a UR5; 0 keeps the random start)")
-    parser.add_argument("--margin", type=float, default=0.05,
-                        help="share of every limit the optimisation keeps clear of (default 0.05)")
-    parser.add_argument("--seed", type=int, default=0, help="seed of the random start (default 0)")
-    parser.add_argument("--json", action="store_true", help="print a JSON summary")
-    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    add(parser, "--duration", required=True)
+    add(parser, "--out", required=True)
+    add(parser, "--dt", default=0.01)
+    add_all(parser, "--harmonics", "--instants", "--max-iterations", "--margin", "--seed", "--json", "--quiet")
+    add_renamed(parser, "--samples", "--instants")
 
 
 def run(args) -> int:
@@ -52,14 +54,11 @@ def run(args) -> int:
     model = load_robot_argument(args)
     io.check_writable(args.out)
     started = time.monotonic()
-    bar = progress_bar(total=args.max_iterations, enabled=not args.quiet, delay=1.0, unit="iteration")
-
-    def progress(done, total):
-        bar.update(done - bar.n)
-
+    bar = progress_bar(args, total=args.max_iterations, unit="iteration")
     try:
-        found = excitation(model, args.duration, harmonics=args.harmonics, samples=args.samples, seed=args.seed,
-                           max_iterations=args.max_iterations, margin=args.margin, dt=args.dt, progress=progress)
+        found = excitation(model, args.duration, harmonics=args.harmonics, samples=args.instants, seed=args.seed,
+                           max_iterations=args.max_iterations, margin=args.margin, dt=args.dt,
+                           progress=progress_callback(bar))
     finally:
         bar.close()
     seconds = time.monotonic() - started
@@ -70,7 +69,7 @@ def run(args) -> int:
         print(f"warning: {one_line(note)}", file=sys.stderr)
     if args.json:
         print_json(dict(robot=model.name, out=str(args.out), seconds=round(seconds, 3), seed=args.seed,
-                        samples=args.samples, margin=args.margin, **found.record()))
+                        instants=args.instants, margin=args.margin, **found.record()))
         return 0
     print(f"excitation of {one_line(model.name)}: {args.duration:g} s, {found.coefficients.harmonics} harmonics, "
           f"{found.iterations} iterations in {seconds:.1f} s (optimisation {found.ended})", file=report)

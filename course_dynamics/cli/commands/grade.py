@@ -4,7 +4,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from ..options import UsageError, print_json, progress_bar
+from ..options import UsageError, add_all, print_json, progress_bar
 
 HELP = "grade students' dynamics code (sandboxed) against the library, with feedback"
 DESCRIPTION = ("Run each SUBMISSION.py in its own sandboxed process (bubblewrap: no network, read-only system, "
@@ -12,32 +12,15 @@ DESCRIPTION = ("Run each SUBMISSION.py in its own sandboxed process (bubblewrap:
                "score every term against course_dynamics and explain each mistake. Writes gradebook.csv, "
                "<student>.md/.html/.json (Gradescope results.json) and summary.html to --out. An existing --out folder "
                "keeps a manifest (.course-dynamics-files.json): only files an earlier grade wrote there are "
-               "replaced; any other file in the way is an error before anything runs.")
+               "replaced; any other file in the way is an error before anything runs. --json prints a summary (per "
+               "student: total, status, flags, terms).")
 
 
 def add_arguments(parser) -> None:
     parser.add_argument("assignment", nargs="?", help="assignment TOML file (see --example-assignment)")
     parser.add_argument("submissions", nargs="*", help="student files, one Python file per student")
-    parser.add_argument("--out", help="folder for the gradebook and feedback (made if missing)")
-    parser.add_argument("--example-assignment", action="store_true", help="print a commented assignment file and exit")
-    parser.add_argument("--gradescope", metavar="ZIP", help="write a Gradescope autograder bundle for the assignment "
-                        "(setup.sh, run_autograder, the assignment, this course-dynamics as a wheel) to ZIP and exit; "
-                        "upload it as the assignment's autograder (Ubuntu 24.04 base image)")
-    parser.add_argument("--handout", metavar="ID", help="print the numbers of student ID's robot (an assignment with "
-                        "variant = \"per-student\") and, with --out DIR, write its URDF there; grades nothing")
-    parser.add_argument("--similarity", action="store_true",
-                        help="add the near-identical pairs of submissions to the summary, each with a side-by-side "
-                        "page: compared on the syntax tree (names, comments, formatting set aside). A lead, not a "
-                        "verdict")
-    parser.add_argument("--similarity-threshold", type=float, metavar="SCORE", help="list pairs from SCORE, the "
-                        "share of the smaller submission the other holds (default 0.8; implies --similarity)")
-    parser.add_argument("--starter", metavar="FILE", help="the starter code every student was given: removed before "
-                        "--similarity compares (implies --similarity)")
-    parser.add_argument("--no-sandbox", action="store_true",
-                        help="grade without bubblewrap (separate processes and limits only); the gradebook says so")
-    parser.add_argument("--jobs", type=int, help="submissions graded at once (default: the number of CPUs)")
-    parser.add_argument("--json", action="store_true", help="print a JSON summary (per student: total, status)")
-    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_all(parser, "--out", "--example-assignment", "--gradescope", "--handout", "--similarity",
+            "--similarity-threshold", "--starter", "--no-sandbox", "--jobs", "--json", "--quiet")
 
 
 def run(args) -> int:
@@ -79,8 +62,7 @@ def run(args) -> int:
     check_folder(out, output_names(student_names(args.submissions), comparison), OWNER)  # before any student code runs
     if not args.no_sandbox:
         check_sandbox()  # before any output: no sandbox is an error, not a quiet downgrade
-    progress = progress_bar(total=len(args.submissions), enabled=not (args.quiet or args.json) and sys.stderr.isatty(),
-                            unit="submission")
+    progress = progress_bar(args, total=len(args.submissions), unit="submission", delay=0.0)
     grades = grade_class(assignment, args.submissions, sandbox=not args.no_sandbox, jobs=args.jobs,
                          progress=progress.update)
     progress.close()

@@ -2,93 +2,123 @@
 from __future__ import annotations
 
 import sys
+from pathlib import Path
 
-from .. import options
-from ..options import UsageError, add_robot_argument, joint_values, load_robot_argument, print_json
-from . import torques
+from ..options import (
+    UsageError,
+    add,
+    add_all,
+    add_differentiation_arguments,
+    add_log_arguments,
+    add_renamed,
+    add_robot_argument,
+    column_map,
+    constants,
+    joint_values,
+    load_robot_argument,
+    open_log_argument,
+    print_json,
+    progress_bar,
+    progress_callback,
+)
 
 HELP = "identify the inertial and friction parameters from a log with measured torques; write them as a URDF"
 DESCRIPTION = (
-    "Read a log of the robot moving (as 'torques' reads it: a table, a UR RTDE recording or a ROS bag) that holds "
-    "what the robot measured - tau_meas_<joint> columns, a bag's effort, Franka's tau_J, or current_<joint> with "
-    "--torque-constant - and find the masses, centres of mass, inertias and joint friction (viscous, Coulomb) that "
-    "explain it: weighted least squares on the base parameters (the combinations the torques can tell apart), then "
-    "a physically consistent estimate (every body's pseudo-inertia positive semi-definite, masses positive, friction "
-    "non-negative; cvxpy with Clarabel) that keeps what the log does not excite at the URDF's values. The last "
-    "--holdout share of the log is kept out of the fit and predicted by both models. Writes --out, the input URDF "
-    "with each moving link's <inertial> and each joint's <dynamics damping friction> identified (links merged into a "
-    "moving body by fixed joints lose their <inertial>; everything else is kept as it was; the text is read back before "
-    "it is written, and one that would read back otherwise than identified is refused), and with --report DIR "
-    "report.html, report.md, report.json and held_out.svg. Needs course-dynamics[identify]. Exit 0, 2 on bad input.")
+    "Read a log of the robot moving (--log, as 'torques' reads it: a table, a UR RTDE recording or a ROS bag) that "
+    "holds what the robot measured - tau_meas_<joint> columns, a bag's effort, Franka's tau_J, or current_<joint> "
+    "with --torque-constant - and find the masses, centres of mass, inertias and joint friction (viscous, Coulomb; "
+    "--friction-fit) that explain it: weighted least squares on the base parameters (the combinations the torques "
+    "can tell apart), then a physically consistent estimate (every body's pseudo-inertia positive semi-definite, "
+    "masses positive, friction non-negative; cvxpy with Clarabel) that keeps what the log does not excite at the "
+    "URDF's values. The last --holdout share of the log is kept out of the fit and predicted by both models. The "
+    "identified URDF is the input URDF with each moving link's <inertial> and each joint's <dynamics damping "
+    "friction> identified (links merged into a moving body by fixed joints lose their <inertial>; everything else "
+    "is kept as it was; the text is read back before it is written, and one that would read back otherwise than "
+    "identified is refused). --out FILE.urdf (or -, or a file that exists) writes it alone; --out DIR writes DIR/identified.urdf with the "
+    "report: report.html, report.md, report.json and held_out.svg. --json prints the identification (parameters, "
+    "held_out_rms, samples, friction_model, ...). Needs course-dynamics[identify]. Exit 0, 2 on bad input.")
 
 SHOWN = 5  # hardly excited combinations printed; the report and --json list all
-FRICTION_MODELS = ("both", "viscous", "coulomb", "none")  # as tools.identification (not imported at start-up)
+URDF_SUFFIXES = (".urdf", ".xml")   # an --out with one of these (or a file already) is the URDF alone; else a folder
+IDENTIFIED = "identified.urdf"      # the URDF's name in an --out folder
 
 
 def add_arguments(parser) -> None:
     add_robot_argument(parser)
-    torques.add_log_arguments(parser, "the robot's log with its measured torques (tau_meas_<joint>, a bag's effort, "
-                                      "Franka's tau_J, or current_<joint> with --torque-constant)")
-    parser.add_argument("--out", required=True, metavar="URDF",
-                        help="the identified URDF to write (whole or not at all), or - for standard output")
-    parser.add_argument("--report", metavar="DIR",
-                        help="also write DIR/report.html, report.md, report.json and held_out.svg (DIR may hold "
-                             "other files; only files an earlier 'identify' wrote there are replaced)")
-    parser.add_argument("--friction", choices=FRICTION_MODELS, default="both",
-                        help="which joint friction to identify: viscous F_v qd, Coulomb F_c sgn(qd), both (default) "
-                             "or none; what is not identified stays as the URDF's <dynamics>")
-    parser.add_argument("--holdout", type=float, default=0.2, metavar="FRACTION",
-                        help="the share of the log's time, at its end, kept out of the fit to judge it (default 0.2; "
-                             "0 fits everything)")
-    parser.add_argument("--prior-weight", type=float, metavar="LAMBDA",
-                        help="the weight of the URDF's values against the log's, as a share of what the log says "
-                             "(default 1e-6): larger keeps poorly excited parameters nearer the URDF")
-    parser.add_argument("--json", action="store_true", help="print the identification as one JSON document")
-    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_log_arguments(parser)
+    add_differentiation_arguments(parser)
+    add(parser, "--out", required=True)
+    add_all(parser, "--friction-fit", "--holdout", "--prior-weight", "--json", "--quiet")
+    add_renamed(parser, "--friction", "--friction-fit")
+    add_renamed(parser, "--report", "--out DIR (the folder then holds the identified URDF too)",
+                dest="report_folder", metavar="DIR")
+
+
+def outputs(args) -> tuple[str, str | None]:
+    """Where the URDF goes and which folder the report goes to (None: no report)."""
+    from ...output import io
+
+    old = getattr(args, "report_folder", None)
+    out = Path(args.out)
+    if args.out == io.STDOUT or str(args.out).lower().endswith(URDF_SUFFIXES) or (out.exists() and not out.is_dir()):
+        if old is not None and not str(old).strip():
+            raise UsageError("--report names an empty folder; name one")
+        return args.out, old
+    if old is not None:
+        raise UsageError(f"--out {args.out} is a folder (its name does not end in .urdf): it holds the report, so "
+                         "--report is not needed")
+    return f"{args.out}/{IDENTIFIED}", args.out
 
 
 def run(args) -> int:
     from ...output import io
     from ...output.identification_report import REPORT_FILES, check_report_folder
     from ...tools.logs import joint_log
-    from ...tools.sources import open_log
 
     model = load_robot_argument(args)
-    mapping, fixed = torques.column_map(args), torques.constants(args)
+    mapping, fixed = column_map(args), constants(args)
     if not 0 <= args.holdout < 1:
         raise UsageError(f"--holdout must be at least 0 and less than 1, got {args.holdout:g}")
     if args.out == io.STDOUT and args.json:
         raise UsageError("--out - and --json both want standard output; write the URDF to a file")
-    reports = [] if args.report is None else [f"{args.report}/{name}" for name in REPORT_FILES]
-    io.check_distinct([model.source, args.trajectory], [args.out] + reports)
-    io.check_writable(args.out)
-    if args.report is not None:
-        if not str(args.report).strip():
-            raise UsageError("--report names an empty folder; name one")
-        check_report_folder(args.report)  # a file in the way fails before the work
+    urdf_out, folder = outputs(args)
+    in_folder = folder is not None and urdf_out == f"{folder}/{IDENTIFIED}"
+    reports = [] if folder is None else [f"{folder}/{name}" for name in REPORT_FILES]
+    io.check_distinct([model.source, args.log], [urdf_out] + reports)
+    if folder is not None:
+        check_report_folder(folder, (IDENTIFIED,) if in_folder else ())  # a file in the way fails before the work
+    if not in_folder:
+        io.check_writable(urdf_out)
     constants_k = None if args.torque_constant is None else joint_values(args.torque_constant, "--torque-constant", model)
-    source = open_log(args.trajectory, model, format=args.format, topic=args.topic, decimal=args.decimal)
-    log = joint_log(model, source, dt=args.dt, columns=mapping, window=args.smooth, constants=fixed,
+    source = open_log_argument(args, model, args.log)
+    log = joint_log(model, source, dt=args.log_dt, columns=mapping, window=args.smooth, constants=fixed,
                     time_unit=args.time_unit, resample=args.resample, split_gaps=args.split_gaps,
                     torque_constants=constants_k)
     result = _identify(args, model, log, source.where)
 
-    from ...output.urdf_writer import write_identified_urdf
+    from ...output.urdf_writer import checked_identified_urdf, write_identified_urdf
 
-    write_identified_urdf(args.out, result.model, None if args.friction == "none" else result.friction, model.source)
-    if args.report is not None:
+    friction = None if args.friction_fit == "none" else result.friction
+    if in_folder:
         from ...output.identification_report import write_report
 
-        write_report(args.report, result, str(args.urdf), str(args.trajectory))
+        text = checked_identified_urdf(result.model, friction, model.source, urdf_out)
+        write_report(folder, result, str(args.urdf), str(args.log), also={IDENTIFIED: text})
+    else:
+        write_identified_urdf(urdf_out, result.model, friction, model.source)
+        if folder is not None:
+            from ...output.identification_report import write_report
+
+            write_report(folder, result, str(args.urdf), str(args.log))
     if args.json:
-        print_json(dict(urdf=str(args.urdf), log=str(args.trajectory), out=args.out, report=args.report,
+        print_json(dict(urdf=str(args.urdf), log=str(args.log), out=urdf_out, report=folder,
                         log_notes=list(log.notes), **result.record()))
         return 0
     _print_summary(result, log, sys.stderr if args.out == io.STDOUT else sys.stdout)
-    if args.out != io.STDOUT:
-        print(f"wrote the identified URDF to {args.out}", file=sys.stderr)
-    if args.report is not None:
-        print(f"wrote {args.report}/report.html, report.md, report.json and held_out.svg", file=sys.stderr)
+    if urdf_out != io.STDOUT:
+        print(f"wrote the identified URDF to {urdf_out}", file=sys.stderr)
+    if folder is not None:
+        print(f"wrote {folder}/report.html, report.md, report.json and held_out.svg", file=sys.stderr)
     return 0
 
 
@@ -96,11 +126,10 @@ def _identify(args, model, log, where):
     from ...tools.identification import PRIOR_WEIGHT, identify
 
     prior = PRIOR_WEIGHT if args.prior_weight is None else args.prior_weight
-    bar = options.progress_bar(total=int(len(log.t) * (1 - args.holdout)) + 1, enabled=not args.quiet
-                               and sys.stderr.isatty(), delay=1.0, unit="sample")
+    bar = progress_bar(args, total=int(len(log.t) * (1 - args.holdout)) + 1, unit="sample")
     try:
-        return identify(model, log, friction=args.friction, holdout=args.holdout, prior_weight=prior, where=where,
-                        progress=lambda done, total: bar.update(done - bar.n))
+        return identify(model, log, friction=args.friction_fit, holdout=args.holdout, prior_weight=prior, where=where,
+                        progress=progress_callback(bar))
     finally:
         bar.close()
 
@@ -123,8 +152,8 @@ def _print_summary(result, log, stream) -> None:
         print(f"warning: hardly excited by the log (singular value {share:.2g} of the largest): {combination}; "
               "it stays near the URDF's values", file=stream)
     if len(result.unexcited) > SHOWN:
-        print(f"warning: and {len(result.unexcited) - SHOWN} more combinations hardly excited (--report or --json "
-              "lists them)", file=stream)
+        print(f"warning: and {len(result.unexcited) - SHOWN} more combinations hardly excited (the report in an "
+              "--out folder, or --json, lists them)", file=stream)
     worse = [j for j, b, a in zip(result.model.joint_names, result.rms_before, result.rms_after) if a > b]
     if worse:
         print(f"warning: on the held-out part the identified model does worse than the URDF for {', '.join(worse)}: "

@@ -4,14 +4,15 @@ from __future__ import annotations
 import numpy as np
 
 from ...output import render
-from ..options import add_robot_argument, load_robot_argument, print_json
+from ..options import add, add_robot_argument, load_robot_argument, print_json
 
 HELP = "joints (order, type, axis, limits, parent) and moving bodies (mass, COM)"
+DESCRIPTION = (HELP + "; --json prints them as one document (robot, urdf, base_link, n, gravity, joints, bodies).")
 
 
 def add_arguments(parser) -> None:
     add_robot_argument(parser, gravity=False)
-    parser.add_argument("--json", action="store_true", help="print one JSON document")
+    add(parser, "--json")
 
 
 def run(args) -> int:

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import sys
 
-from ..options import progress_bar
+from ..options import add_all, notebook_numbers, print_json, progress_bar
 
 HELP = "run every notebook and render the course to static HTML pages (with an index) for a course site"
 DESCRIPTION = ("Execute the ten notebooks in fresh kernels and render each to OUTDIR/<notebook>.html (mathematics as MathML, readable offline), "
@@ -16,18 +16,18 @@ DESCRIPTION = ("Execute the ten notebooks in fresh kernels and render each to OU
 
 def add_arguments(parser) -> None:
     parser.add_argument("out", metavar="OUTDIR", help="folder for the pages (made if missing)")
-    parser.add_argument("--solutions", action="store_true", help="publish with the solutions")
-    parser.add_argument("--only", help="comma-separated notebook numbers to publish, e.g. 01,03 (default: all)")
-    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_all(parser, "--solutions", "--only", "--json", "--quiet")
 
 
 def run(args) -> int:
     from ...teaching.course import notebook_paths, publish
 
-    only = tuple(x.strip() for x in args.only.split(",")) if args.only else None
+    only = notebook_numbers(args)
     count = len([p for p in notebook_paths() if only is None or p.name[:2] in only])
-    progress = progress_bar(total=count, enabled=not args.quiet and sys.stderr.isatty(), unit="notebook")
+    progress = progress_bar(args, total=count, unit="notebook", delay=0.0)
     written = publish(args.out, solutions=args.solutions, only=only, progress=progress.update)
     progress.close()
+    if args.json:
+        print_json(dict(out=str(args.out), solutions=args.solutions, pages=[str(p) for p in written]))
     print(f"wrote {len(written) - 1} pages and {args.out}/index.html", file=sys.stderr)
     return 0

@@ -15,61 +15,62 @@ from ...tools.simulation import (
     simulate,
     time_grid,
 )
-from ...tools.tables import joint_columns, read_columns, stack_joint_columns
+from ...output.render import one_line
 from ..animation import add_animation_options, animation_document
 from ..options import (
     UsageError,
+    add,
+    add_all,
     add_friction_arguments,
+    add_log_arguments,
+    add_renamed,
     add_robot_argument,
     friction,
     joint_values,
     load_robot_argument,
+    map_files,
     print_json,
     progress_bar,
+    read_motion_argument,
 )
 
 HELP = "forward dynamics in time (6.115)-(6.117), written as CSV"
-DESCRIPTION = ("Integrate qdd = M^-1 (tau - V - G - F) from q0, qd0. The output CSV has t, q_<joint>, qd_<joint>, "
-               "qdd_<joint>, tau_<joint> and energy (kinetic + potential, J), and can be fed back to 'torques'.")
+DESCRIPTION = ("Integrate qdd = M^-1 (tau - V - G - F) from q0, qd0, under constant torques (--torque) or the torques "
+               "of a log (--torque-log: any log torques --log reads that holds tau_<joint> or measured torques, such "
+               "as what torques --out, simulate --out and excite --out write; the --log-... options say how to read "
+               "it). The output CSV has t, q_<joint>, qd_<joint>, qdd_<joint>, tau_<joint> and energy (kinetic + "
+               "potential, J), and can be fed back to 'torques' and 'animate'. --plot draws q(t), qd(t) and "
+               "energy(t); --json prints a summary (samples, energy_start, energy_end, events, ...).")
 
 
 def add_arguments(parser) -> None:
     add_robot_argument(parser)
-    parser.add_argument("--q0", required=True, help="initial joint positions")
-    parser.add_argument("--qd0", help="initial joint velocities (default 0)")
-    parser.add_argument("--duration", type=float, required=True, help="simulated time, s")
-    parser.add_argument("--dt", type=float, required=True, help="time step, s")
-    parser.add_argument("--integrator", choices=INTEGRATORS, default="rk4",
-                        help="euler is the notes' (6.116)-(6.117); default rk4")
+    add(parser, "--q0", required=True)
+    add(parser, "--qd0")
+    add(parser, "--duration", required=True)
+    add(parser, "--dt", required=True)
+    add(parser, "--integrator")
     torque = parser.add_mutually_exclusive_group()
-    torque.add_argument("--torque", help="constant applied torques tau1,tau2,... (default 0)")
-    torque.add_argument("--torque-csv", help="CSV with t and tau_<joint> columns, interpolated linearly in time")
+    add(torque, "--torque")
+    add(torque, "--torque-log")
+    add_renamed(torque, "--torque-csv", "--torque-log")
+    add_log_arguments(parser, log=None)
     add_friction_arguments(parser)
-    parser.add_argument("--limits", choices=LIMIT_MODES, default="report",
-                        help="at a joint limit: report it and go on, or stop the joint there (default report)")
-    parser.add_argument("--out", required=True, help="output CSV (written whole or not at all)")
-    parser.add_argument("--plot", help="also draw q(t), qd(t) and energy(t) to this PNG file")
+    add(parser, "--limits")
+    add(parser, "--out", required=True)
+    add(parser, "--plot")
     add_animation_options(parser, html_required=False)
-    parser.add_argument("--ensemble", type=int, metavar="K",
-                        help="integrate K copies at once: member 0 starts at --q0, the others at --q0 plus a seeded "
-                             "normal perturbation (the CSV gets a member column; --plot draws their divergence)")
-    parser.add_argument("--perturbation", type=float, default=1e-6,
-                        help="standard deviation of the ensemble's perturbation of q0, rad or m (default 1e-6)")
-    parser.add_argument("--seed", type=int, default=0, help="seed of the ensemble's perturbation (default 0)")
-    parser.add_argument("--no-compile", action="store_true",
-                        help="use the interpreted recursions, not a compiled model (see README: compiled models)")
-    parser.add_argument("--json", action="store_true", help="print a JSON summary")
-    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_all(parser, "--ensemble", "--perturbation", "--seed", "--no-compile", "--json", "--quiet")
 
 
 def _torque(args, model):
     if args.torque is not None:
         return joint_values(args.torque, "--torque", model)
-    if args.torque_csv is not None:
-        joints = model.joint_names
-        columns = read_columns(args.torque_csv, ["t"] + joint_columns(("tau",), joints),
-                                  joint_columns(("q", "qd", "qdd"), joints) + ["energy"])
-        return TorqueTable(columns["t"], stack_joint_columns(columns, "tau", joints))
+    if args.torque_log is not None:
+        motion = read_motion_argument(args, model, args.torque_log, positions=False, torques=True)
+        for note in motion.notes:
+            print(f"note: {one_line(note)}", file=sys.stderr)
+        return TorqueTable(motion.t, motion.tau)
     return None
 
 
@@ -91,16 +92,16 @@ def run(args) -> int:
         q0 = q0 + noise
     torque, joint_friction = _torque(args, model), friction(args, model)
     if args.plot:
-        from ...output.plotting import plot_format
+        from ...output.plotting import FIGURE_FORMATS, plot_format
 
-        plot_format(args.plot)
-    io.check_distinct([args.torque_csv], [args.out, args.plot, args.html])
+        plot_format(args.plot, FIGURE_FORMATS)
+    io.check_distinct([args.torque_log, *map_files(args)], [args.out, args.plot, args.html])
     for target in (args.out, args.plot, args.html):
         if target:
             io.check_writable(target)
     members = args.ensemble or 1
     steps = len(time_grid(args.duration, args.dt, values_per_sample=members * (4 * model.n + 1) + 1)) - 1
-    progress = progress_bar(total=steps, enabled=not args.quiet, delay=1.0)
+    progress = progress_bar(args, total=steps, unit="step")
     trajectory = simulate(model, q0, qd0, args.duration, args.dt, integrator=args.integrator, torque=torque,
                           friction=joint_friction, limits=args.limits, progress=progress.update,
                           compiled=False if args.no_compile else None)
@@ -113,16 +114,17 @@ def run(args) -> int:
     picture = document = None
     if args.plot:
         from ...output.plotting import (
+            FIGURE_FORMATS,
             ensemble_figure,
-            figure_bytes,
+            figure_file,
             plot_format,
             trajectory_figure,
         )
 
         draw = trajectory_figure if trajectory.members is None else ensemble_figure
-        picture = figure_bytes(draw(trajectory, title=f"{model.name}: {args.integrator}, dt = {args.dt:g} s"
-                                    + (f", {trajectory.members} members, perturbation {args.perturbation:g}"
-                                       if trajectory.members else "")), plot_format(args.plot))
+        title = (f"{model.name}: {args.integrator}, dt = {args.dt:g} s"
+                 + (f", {trajectory.members} members, perturbation {args.perturbation:g}" if trajectory.members else ""))
+        picture = figure_file(draw(trajectory, title=title), plot_format(args.plot, FIGURE_FORMATS), title)
     if args.html:
         document = animation_document(model, resolve(args.urdf), trajectory.t, trajectory.q, trajectory.tau, args)
     io.write_csv(args.out, header, data)

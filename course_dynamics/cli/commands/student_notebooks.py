@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import sys
 
-from ..options import UsageError
+from ..options import UsageError, add, add_all, notebook_numbers, print_json, progress_bar
 
 HELP = "write the notebook course as .ipynb for students (solutions removed) or instructors (--solutions)"
 DESCRIPTION = ("Write the ten notebooks of the course (one per section of Craig's chapter 6, and identification) to OUTDIR as .ipynb. "
@@ -18,14 +18,10 @@ DESCRIPTION = ("Write the ten notebooks of the course (one per section of Craig'
 
 def add_arguments(parser) -> None:
     parser.add_argument("out", metavar="OUTDIR", help="folder for the notebooks (made if missing)")
-    parser.add_argument("--solutions", action="store_true", help="keep the solutions (the instructor's copy)")
+    add(parser, "--solutions")
     who = parser.add_mutually_exclusive_group()
-    who.add_argument("--student", metavar="ID", help="a student's id (a login or an e-mail's local part): the "
-                     "exercises use their own robot and numbers")
-    who.add_argument("--roster", metavar="FILE", help="a CSV file with an 'id' column: one subfolder per student")
-    parser.add_argument("--only", metavar="NN", action="append", help="only the notebook numbered NN (repeatable)")
-    parser.add_argument("--force", action="store_true",
-                        help="replace notebooks already in OUTDIR, keeping each as NN_topic.ipynb.bak-YYYYmmdd-HHMMSS")
+    add_all(who, "--student", "--roster")
+    add_all(parser, "--only", "--force", "--json", "--quiet")
 
 
 def run(args) -> int:
@@ -34,21 +30,40 @@ def run(args) -> int:
     from ...teaching.course import write_notebooks
     from ...tools.variants import check_student_id, read_roster
 
+    only = notebook_numbers(args)
+
     if args.roster:
         students = read_roster(args.roster)  # every id checked before anything is written
         for student in students:  # and every folder: a roster is written whole or not at all
             folder = Path(args.out) / student
             if folder.exists() and not folder.is_dir() or folder.is_symlink():
                 raise UsageError(f"{folder}: exists and is not a folder; nothing was written")
-        for student in students:
-            _report(write_notebooks(Path(args.out) / student, args.solutions, args.force, student, args.only),
-                    args, Path(args.out) / student, f" for {student}")
+        results = {}
+        bar = progress_bar(args, total=len(students), unit="student")
+        try:
+            for student in students:
+                results[student] = write_notebooks(Path(args.out) / student, args.solutions, args.force, student, only)
+                bar.update(1)
+        finally:
+            bar.close()
+        for student, result in results.items():
+            _report(result, args, Path(args.out) / student, f" for {student}")
+        if args.json:
+            print_json(dict(out=str(args.out), solutions=args.solutions,
+                            students={s: _record(r) for s, r in results.items()}))
         print(f"wrote the notebooks of {len(students)} students to {args.out}/<id>/", file=sys.stderr)
         return 0
     student = check_student_id(args.student) if args.student else None
-    _report(write_notebooks(args.out, args.solutions, args.force, student, args.only), args, args.out,
-            f" for {student}" if student else "")
+    result = write_notebooks(args.out, args.solutions, args.force, student, only)
+    _report(result, args, args.out, f" for {student}" if student else "")
+    if args.json:
+        print_json(dict(out=str(args.out), solutions=args.solutions, student=student, **_record(result)))
     return 0
+
+
+def _record(result) -> dict:
+    return dict(written=[str(p) for p in result.written], kept=[dict(path=str(p), why=why) for p, why in result.kept],
+                backups=[str(p) for p in result.backups])
 
 
 def _report(result, args, out, whose: str) -> None:

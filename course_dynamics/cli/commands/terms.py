@@ -9,6 +9,8 @@ from ...core.dynamics import dynamics_terms
 from ...output import render
 from ..options import (
     UsageError,
+    add,
+    add_all,
     add_robot_argument,
     check_finite,
     load_robot_argument,
@@ -20,15 +22,14 @@ from ..options import (
 
 HELP = "tau, M, C, V, G at one state"
 TERMS_BYTES_PER_SQUARED_JOINT = 200  # n x n matrices of floats, about 25 of them alive at once at the peak
-DESCRIPTION = "Evaluate tau = M(q) qdd + V(q, qd) + G(q) and the Coriolis matrix C (C qd = V)."
+DESCRIPTION = ("Evaluate tau = M(q) qdd + V(q, qd) + G(q) and the Coriolis matrix C (C qd = V); --json prints them "
+               "with keys joints, tau, M, C, V, G.")
 
 
 def add_arguments(parser) -> None:
     add_robot_argument(parser)
-    parser.add_argument("--q", required=True, help="joint positions q1,q2,... (rad or m)")
-    parser.add_argument("--qd", help="joint velocities (default 0)")
-    parser.add_argument("--qdd", help="joint accelerations (default 0)")
-    parser.add_argument("--json", action="store_true", help="print JSON with keys joints, tau, M, C, V, G")
+    add(parser, "--q", required=True)
+    add_all(parser, "--qd", "--qdd", "--json", "--quiet")
 
 
 def run(args) -> int:
@@ -42,7 +43,7 @@ def run(args) -> int:
     q = numbers(args.q, "--q")
     qd = numbers(args.qd, "--qd") if args.qd is not None else np.zeros(model.n)
     qdd = numbers(args.qdd, "--qdd") if args.qdd is not None else np.zeros(model.n)
-    bar = progress_bar(total=5, enabled=sys.stderr.isatty(), delay=1.0, unit="term")
+    bar = progress_bar(args, total=5, unit="term")
     terms = dynamics_terms(model, q, qd, qdd, progress=lambda name: bar.update(1))
     bar.close()
     check_finite("the result", terms.tau, terms.M, terms.C, terms.V, terms.G)

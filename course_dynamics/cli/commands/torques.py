@@ -8,18 +8,25 @@ import numpy as np
 from ...output import io, render
 from ...tools.limits import seconds
 from ...tools.loads import Payload, Wrench, payload_link
-from ...tools.columns import merged_map, parse_column_map, plan_columns
-from ...tools.logs import TIME_UNITS, torques_from_log
-from ...tools.sources import FORMATS, open_log
-from ...tools.tables import DECIMALS
+from ...tools.columns import merged_map, plan_columns
+from ...tools.logs import torques_from_log
 from ..options import (
     UsageError,
+    add_all,
+    add_differentiation_arguments,
     add_friction_arguments,
+    add_log_arguments,
     add_robot_argument,
+    column_map,
+    constants,
     friction,
     joint_values,
     load_robot_argument,
+    map_files,
     numbers,
+    open_log_argument,
+    progress_bar,
+    progress_callback,
 )
 
 HELP = "joint torques along a trajectory log, and a limits report"
@@ -32,65 +39,18 @@ DESCRIPTION = (
     "rates are differentiated from q (Savitzky-Golay); dropped samples are filled and the fill is reported. Prints "
     "each joint's peak and RMS torque, peak rate and the share of the URDF's effort and velocity limits used, and, "
     "when the log holds measured torques (or currents and --torque-constant), the residual of our model against "
-    "them. Exit 0 within the limits, 1 when a limit is exceeded, 2 on bad input.")
+    "them. --out writes the torques as CSV (- for standard output), which animate --log and simulate --torque-log "
+    "read; --plot draws them; --json prints the report (exceeded, joints, violations, uncertain, notes, "
+    "residuals). Exit 0 within the limits, 1 when a limit is exceeded, 2 on bad input.")
 
 
 def add_arguments(parser) -> None:
     add_robot_argument(parser)
-    add_log_arguments(parser, "the trajectory log (a CSV as 'simulate' writes, or a robot's own log)")
-    parser.add_argument("--out", help="output CSV, or - for standard output (written whole or not at all)")
-    parser.add_argument("--columns", action="store_true",
-                        help="list the log's columns and which of them would be used, then stop")
-    parser.add_argument("--with-state", action="store_true", help="also write q_, qd_, qdd_ columns (as used)")
+    add_log_arguments(parser)
+    add_differentiation_arguments(parser)
+    add_all(parser, "--out", "--columns", "--with-state")
     add_friction_arguments(parser)
-    parser.add_argument("--payload", metavar="MASS[@LINK][,CX,CY,CZ]", action="append",
-                        help="a payload of MASS kg fixed to LINK (default: the tip, the last link on the last moving "
-                             "body, e.g. ur5's tool0), its centre of mass at CX,CY,CZ m in the link's frame "
-                             "(may be repeated)")
-    parser.add_argument("--payload-size", metavar="A,B,C",
-                        help="make the (single) payload a uniform box with these edges (m) along the link's axes "
-                             "(default: a point mass)")
-    parser.add_argument("--wrench", metavar="LINK:FX,FY,FZ[,NX,NY,NZ]", action="append",
-                        help="force (N) and moment (N m, about the link's origin) the robot exerts on its "
-                             "surroundings at LINK, in base coordinates; adds J^T F, the static-force relation of chapter 5 (may be repeated)")
-    parser.add_argument("--plot", metavar="FILE", help="draw tau(t) per joint with the effort limits: .png, .svg or .html")
-    parser.add_argument("--json", action="store_true", help="print the limits report as JSON")
-    parser.add_argument("--no-compile", action="store_true",
-                        help="use the interpreted recursion even for a log long enough to compile the model for "
-                             "(about 20 000 rows)")
-
-
-def add_log_arguments(parser, log_help: str) -> None:
-    """The options that say how to read a log: shared by every command that reads one (torques, identify)."""
-    parser.add_argument("--trajectory", "--log", dest="trajectory", required=True, metavar="LOG", help=log_help)
-    parser.add_argument("--format", choices=FORMATS, default="auto",
-                        help="how to read the log: a table, a UR RTDE recording (timestamp, actual_q_i, actual_qd_i, "
-                             "actual_current_i; joint i is the URDF's i-th), a ROS bag/MCAP; default auto: a bag by "
-                             "its file, an RTDE recording by its header, else a table")
-    parser.add_argument("--topic", help="a bag's topic (default /joint_states, else its one joint-state topic)")
-    parser.add_argument("--resample", type=float, metavar="HZ",
-                        help="put the log on an even clock at HZ (cubic splines) before differentiating")
-    parser.add_argument("--split-gaps", action="store_true",
-                        help="treat the pieces between gaps longer than 5 sample periods as separate segments "
-                             "(each differentiated on its own) instead of refusing the log")
-    parser.add_argument("--torque-constant", metavar="K1,K2,...",
-                        help="motor torque constants, N m/A, one per joint: logged currents times these are the "
-                             "measured torques")
-    parser.add_argument("--map", metavar="OURS=THEIRS,...|FILE.toml", action="append",
-                        help="our column names for the log's, e.g. q_shoulder_pan_joint=joint1_pos, or a TOML file "
-                             "of such lines (may be repeated)")
-    parser.add_argument("--set", metavar="OURS=VALUE,...", action="append",
-                        help="a constant for a signal the log lacks, e.g. q_panda_finger_joint1=0.04 (a constant q "
-                             "has zero rates; may be repeated)")
-    parser.add_argument("--decimal", choices=DECIMALS,
-                        help="the log's decimal separator, when it cannot tell (default: read from the log; a log "
-                             "that could be read two ways is refused)")
-    parser.add_argument("--dt", type=float, help="sample step, s, for a log without a t column")
-    parser.add_argument("--time-unit", choices=tuple(TIME_UNITS), default="s",
-                        help="the unit of the log's t column (default s)")
-    parser.add_argument("--smooth", type=int, metavar="W",
-                        help="one Savitzky-Golay window in samples (odd, >= 5) for differentiated rates (default: "
-                             "chosen per joint from the log's own noise)")
+    add_all(parser, "--payload", "--payload-size", "--wrench", "--plot", "--json", "--quiet", "--no-compile")
 
 
 def payload_arguments(args) -> list[Payload]:
@@ -127,33 +87,6 @@ def wrench_arguments(args) -> list[Wrench]:
         wrenches.append(Wrench(link=link.strip(), force=tuple(F[:3]),
                                moment=tuple(F[3:]) if len(F) == 6 else (0.0, 0.0, 0.0)))
     return wrenches
-
-
-def column_map(args) -> dict[str, str]:
-    mapping = {}
-    for text in args.map or ():
-        for ours, theirs in parse_column_map(text).items():
-            if ours in mapping:
-                raise UsageError(f"--map: '{ours}' is mapped twice")
-            mapping[ours] = theirs
-    return mapping
-
-
-def constants(args) -> dict[str, float]:
-    values = {}
-    for text in args.set or ():
-        for item in filter(None, (part.strip() for part in text.split(","))):
-            name, sep, value = item.partition("=")
-            try:
-                number = float(value)
-            except ValueError:
-                number = None
-            if not sep or number is None:
-                raise UsageError(f"--set entries must be OURS=VALUE, e.g. q_panda_finger_joint1=0.04; got '{item}'")
-            if name.strip() in values:
-                raise UsageError(f"--set: '{name.strip()}' is set twice")
-            values[name.strip()] = number
-    return values
 
 
 def settings(args, model, payloads, wrenches, joint_friction) -> list[str]:
@@ -208,31 +141,43 @@ def run(args) -> int:
     if args.out == io.STDOUT and args.json:
         raise UsageError("--out - and --json both want standard output; write the CSV to a file")
     if args.plot:
-        from ...output.plotting import PLOT_FORMATS, plot_format
+        from ...output.plotting import FIGURE_FORMATS, plot_format
 
-        plot_format(args.plot, PLOT_FORMATS + ("html",))
-    maps = [text for text in args.map or () if "=" not in text]  # map files are inputs too
-    io.check_distinct([args.trajectory, model.source or None, *maps], [args.out, args.plot])
+        plot_format(args.plot, FIGURE_FORMATS)
+    io.check_distinct([args.log, model.source or None, *map_files(args)], [args.out, args.plot])
     for target in (args.out, args.plot):  # fail before reading a long log
         if target:
             io.check_writable(target)
     constants_k = None if args.torque_constant is None else joint_values(args.torque_constant, "--torque-constant", model)
-    source = open_log(args.trajectory, model, format=args.format, topic=args.topic, decimal=args.decimal)
-    if args.columns:
-        return _list_columns(source, model, mapping, fixed)
-    result = torques_from_log(model, source, dt=args.dt, columns=mapping, window=args.smooth, constants=fixed,
-                              time_unit=args.time_unit, friction=joint_friction, payload=payloads, wrench=wrenches,
-                              compiled=False if args.no_compile else None, resample=args.resample,
-                              split_gaps=args.split_gaps, torque_constants=constants_k)
+    bar = progress_bar(args, total=None, unit="step")
+    try:
+        bar.set_description("reading the log")
+        source = open_log_argument(args, model, args.log)
+        if args.columns:
+            return _list_columns(source, model, mapping, fixed)
+        bar.set_description("differentiating")
+        rows = progress_callback(bar)
+
+        def progress(done, total):
+            bar.total = total
+            bar.set_description("joint torques" if done >= total // 3 else "differentiating")
+            rows(done, total)
+
+        result = torques_from_log(model, source, dt=args.log_dt, columns=mapping, window=args.smooth, constants=fixed,
+                                  time_unit=args.time_unit, friction=joint_friction, payload=payloads, wrench=wrenches,
+                                  compiled=False if args.no_compile else None, resample=args.resample,
+                                  split_gaps=args.split_gaps, torque_constants=constants_k, progress=progress)
+    finally:
+        bar.close()
     header, data = result.table(with_state=args.with_state)
     # What was derived and which options changed the torques are said at the top of the file
     # ('#' lines, which read_table and pandas' comment='#' skip); a plain run writes a plain CSV.
     extra = [render.one_line(line) for line in list(result.notes) + settings(args, result.model, payloads, wrenches,
                                                                             joint_friction)]
-    comments = [f"course-dynamics torques {model.name} from {args.trajectory}"] + extra if extra else []
+    comments = [f"course-dynamics torques {model.name} from {args.log}"] + extra if extra else []
     report = result.report
     # strict JSON of every figure: a result beyond floating-point range is an error before any file is written
-    document = render.json_text(dict(robot=model.name, log=str(args.trajectory), rows=len(result.t), out=args.out,
+    document = render.json_text(dict(robot=model.name, log=str(args.log), rows=len(result.t), out=args.out,
                                      plot=args.plot, notes=list(result.notes), **report.record(),
                                      residuals=None if result.residuals is None else result.residuals.record()))
     step = float(np.median(np.diff(result.t))) if len(result.t) > 1 else 0.0

@@ -6,6 +6,7 @@ import sys
 from course_dynamics_reference import TERMS, TOLERANCE
 
 from ..options import (
+    add_all,
     add_robot_argument,
     add_sampling_arguments,
     check_oracle_memory,
@@ -19,13 +20,14 @@ from ..options import (
 
 HELP = "compare every term with Pinocchio on random states"
 DESCRIPTION = ("Evaluate tau, M, C, V, G with course_dynamics and with Pinocchio on seeded random states within joint "
-               "limits. Exit 0 when every term agrees to the tolerance (relative), 1 when one does not, 2 on bad input.")
+               "limits. --json prints the report (ok, tolerance, robots). Exit 0 when every term agrees to the tolerance "
+               "(relative), 1 when one does not, 2 on bad input.")
 
 
 def add_arguments(parser) -> None:
     add_robot_argument(parser, nargs="*", help="URDF files or robot names (default: every shipped robot)")
     add_sampling_arguments(parser, TOLERANCE)
-    parser.add_argument("--json", action="store_true", help="print the report as JSON")
+    add_all(parser, "--json", "--quiet")
 
 
 def run(args) -> int:
@@ -42,8 +44,7 @@ def run(args) -> int:
         model = load_robot_argument(args, target)
         check_oracle_memory(model)
         warn_if_gravity_free(model)
-    progress = progress_bar(total=len(targets) * args.samples, enabled=not args.json and sys.stderr.isatty(),
-                            unit="state")
+    progress = progress_bar(args, total=len(targets) * args.samples, unit="state", delay=0.0)
     reports = [validate(target, samples=args.samples, seed=args.seed, tolerance=args.tolerance, progress=progress.update,
                         gravity=gravity(args), allow_nonphysical_inertia=args.allow_nonphysical_inertia)
                for target in targets]

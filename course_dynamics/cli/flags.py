@@ -1,0 +1,259 @@
+"""The command line's grammar: every flag of every command, defined once.
+
+A flag name has one meaning wherever it appears — one destination, type, choices, action and help
+text (``tests/test_cli_grammar.py`` reads every parser and holds this). A command adds a flag with
+:func:`add`, which may set only whether the flag is required and its default; what the flag does in
+that command is the command's description. Outputs: ``--out`` is where the command's output goes,
+``--plot`` a figure of it, ``--html`` an animation; ``--json`` prints the result as one JSON document and
+``--quiet`` hides the progress bar. A log is read by ``--log`` and described by the ``--log-…`` flags.
+
+An old spelling (:data:`RENAMES`) is still read for one release: :func:`add_renamed` adds it hidden,
+and using it prints one ``warning: --old is now --new; …`` line through the warnings path.
+"""
+from __future__ import annotations
+
+import argparse
+import warnings
+
+from ..core.cartesian import EXPRESSED_IN, MAX_CONDITION, ROW_NAMES
+from ..core.symbolic import METHODS
+from ..output.viewer import GEOMETRIES
+from ..tools.motion import TIME_UNITS
+from ..tools.simulation import INTEGRATORS, LIMIT_MODES
+from ..tools.sources import FORMATS
+from ..tools.tables import DECIMALS
+
+FRICTION_SOURCES = ("none", "urdf")
+FRICTION_MODELS = ("both", "viscous", "coulomb", "none")  # as tools.identification (not imported at start-up)
+LOG = ("the motion's log: a table (comma, semicolon, tab or whitespace separated; t, q_<joint>, and what else it "
+       "has), a UR RTDE recording, a ROS 1/ROS 2 bag or an MCAP file - and so also what torques, simulate and "
+       "excite write with --out")
+
+
+def _flag(help, **kwargs) -> dict:
+    return dict(help=help, **kwargs)
+
+
+FLAGS: dict[str, dict] = {
+    # The robot and its world
+    "--gravity": _flag("gravitational acceleration in the base frame, m/s^2 (default 0,0,-9.81)", metavar="GX,GY,GZ"),
+    "--allow-nonphysical-inertia": _flag(
+        "load links whose inertia breaks the triangle inequality or is not positive semi-definite (e.g. only izz "
+        "given), with one warning per link, instead of refusing", action="store_true"),
+    # What every command prints or writes
+    "--json": _flag("print the result as one JSON document on standard output (its keys: see the description)",
+                    action="store_true"),
+    "--quiet": _flag("no progress bar (one is drawn on standard error, on a terminal only, for a step that lasts "
+                     "over a second)", action="store_true"),
+    "--out": _flag("where to write the output: a file (- for standard output, where the output is one file) or, "
+                   "for output of several files, a folder (made if missing; it may hold other files: only files "
+                   "the same command wrote there are replaced); written whole or not at all", metavar="PATH"),
+    "--plot": _flag("also draw the result to FILE: .png, .svg or .html (a page with the figure), by its suffix",
+                    metavar="FILE"),
+    "--html": _flag("write a self-contained HTML animation (opens offline)", metavar="FILE"),
+    "--geometry": _flag("what to draw: URDF visual or collision meshes, or a stick model; auto picks the lightest "
+                        "faithful one (default)", choices=GEOMETRIES, default="auto"),
+    "--torques": _flag("draw joint torques as bars along the joint axes (a log's tau_<joint>, or computed from its "
+                       "motion)", action="store_true"),
+    "--path": _flag("draw the end-effector path", action="store_true", dest="draw_path"),
+    "--allow-any-mesh-path": _flag(
+        "read mesh files outside the URDF's folder and its packages (by default they are not read, and the stick "
+        "model is drawn: the HTML file would carry them to whoever opens it)", action="store_true"),
+    # States
+    "--q": _flag("joint positions q1,q2,... (rad or m)"),
+    "--qd": _flag("joint velocities (default 0)"),
+    "--qdd": _flag("joint accelerations (default 0)"),
+    "--q0": _flag("initial joint positions"),
+    "--qd0": _flag("initial joint velocities (default 0)"),
+    "--duration": _flag("the length of the motion, s", type=float),
+    "--dt": _flag("time between the samples of the motion written, s (simulate: also the integration step; excite: "
+                  "default 0.01)", type=float),
+    "--seed": _flag("random seed (default 0)", type=int, default=0),
+    "--samples": _flag("random states per robot (default 200)", type=int, default=200),
+    "--tolerance": _flag("relative tolerance (default %(default)g)", type=float),
+    "--no-compile": _flag("use the interpreted recursions, never a compiled model (see README: Compiled models)",
+                          action="store_true"),
+    # Friction (6.110)-(6.112)
+    "--friction": _flag("joint friction to apply: none, or viscous = URDF damping and Coulomb = URDF friction "
+                        "(default none)", choices=FRICTION_SOURCES, default="none"),
+    "--viscous": _flag("viscous coefficients v1,v2,... (N m s/rad), overriding --friction"),
+    "--coulomb": _flag("Coulomb coefficients c1,c2,... (N m), overriding --friction"),
+    "--friction-width": _flag("Coulomb sgn(qd) -> tanh(qd/WIDTH) if > 0, rad/s (default 0)", type=float,
+                              default=0.0, metavar="WIDTH"),
+    # Reading a log
+    "--log": _flag(LOG, metavar="LOG"),
+    "--log-format": _flag("how to read the log: a table, a UR RTDE recording (timestamp, actual_q_i, actual_qd_i, "
+                          "actual_current_i; joint i is the URDF's i-th), a ROS bag/MCAP; default auto: a bag by its "
+                          "file, an RTDE recording by its header, else a table", choices=FORMATS, default="auto"),
+    "--topic": _flag("a bag's topic (default /joint_states, else its one joint-state topic)"),
+    "--map": _flag("our column names for the log's, e.g. q_shoulder_pan_joint=joint1_pos, or a TOML file of such "
+                   "lines (may be repeated)", metavar="OURS=THEIRS,...|FILE.toml", action="append"),
+    "--set": _flag("a constant for a signal the log lacks, e.g. q_panda_finger_joint1=0.04 (a constant q has zero "
+                   "rates; may be repeated)", metavar="OURS=VALUE,...", action="append"),
+    "--decimal": _flag("the log's decimal separator, when it cannot tell (default: read from the log; a log that "
+                       "could be read two ways is refused)", choices=DECIMALS),
+    "--log-dt": _flag("the sample step of a log without a t column, s", type=float, metavar="STEP"),
+    "--time-unit": _flag("the unit of the log's t column (default s)", choices=tuple(TIME_UNITS), default="s"),
+    "--resample": _flag("put the log on an even clock at HZ (cubic splines) before differentiating", type=float,
+                        metavar="HZ"),
+    "--split-gaps": _flag("treat the pieces between gaps longer than 5 sample periods as separate segments (each "
+                          "differentiated on its own) instead of refusing the log", action="store_true"),
+    "--smooth": _flag("one Savitzky-Golay window in samples (odd, >= 5) for differentiated rates (default: chosen per "
+                      "joint from the log's own noise)", type=int, metavar="W"),
+    "--torque-constant": _flag("motor torque constants, N m/A, one per joint: logged currents times these are the "
+                               "measured torques", metavar="K1,K2,..."),
+    # torques
+    "--columns": _flag("list the log's columns and which of them would be used, then stop", action="store_true"),
+    "--with-state": _flag("also write q_, qd_, qdd_ columns (as used)", action="store_true"),
+    "--payload": _flag("a payload of MASS kg fixed to LINK (default: the tip, the last link on the last moving body, "
+                       "e.g. ur5's tool0), its centre of mass at CX,CY,CZ m in the link's frame (may be repeated)",
+                       metavar="MASS[@LINK][,CX,CY,CZ]", action="append"),
+    "--payload-size": _flag("make the (single) payload a uniform box with these edges (m) along the link's axes "
+                            "(default: a point mass)", metavar="A,B,C"),
+    "--wrench": _flag("force (N) and moment (N m, about the link's origin) the robot exerts on its surroundings at "
+                      "LINK, in base coordinates; adds J^T F, the static-force relation of chapter 5 (may be "
+                      "repeated)", metavar="LINK:FX,FY,FZ[,NX,NY,NZ]", action="append"),
+    # excite
+    "--harmonics": _flag("harmonics per joint, at least 2 (default 5)", type=int, default=5),
+    "--instants": _flag("instants of the period the condition number is optimised on (default 40)", type=int,
+                        default=40),
+    "--max-iterations": _flag("of the optimisation (default 100: under a minute for a UR5; 0 keeps the random "
+                              "start)", type=int, default=100),
+    "--margin": _flag("share of every limit the optimisation keeps clear of (default 0.05)", type=float,
+                      default=0.05),
+    # identify
+    "--friction-fit": _flag("which joint friction to identify: viscous F_v qd, Coulomb F_c sgn(qd), both (default) "
+                            "or none; what is not identified stays as the URDF's <dynamics>", choices=FRICTION_MODELS,
+                            default="both"),
+    "--holdout": _flag("the share of the log's time, at its end, kept out of the fit to judge it (default 0.2; 0 "
+                       "fits everything)", type=float, default=0.2, metavar="FRACTION"),
+    "--prior-weight": _flag("the weight of the URDF's values against the log's, as a share of what the log says "
+                            "(default 1e-6): larger keeps poorly excited parameters nearer the URDF", type=float,
+                            metavar="LAMBDA"),
+    # cartesian
+    "--frame": _flag("URDF link name of the task frame"),
+    "--rows": _flag(f"task rows among {','.join(ROW_NAMES)} (default all six)"),
+    "--expressed-in": _flag("coordinates of J and the task: the base frame, or the task frame itself as Craig's 3J "
+                            "(default base)", choices=EXPRESSED_IN, default="base"),
+    "--max-condition": _flag(f"cond(J) above which J counts as singular (default {MAX_CONDITION:g})", type=float,
+                             default=MAX_CONDITION),
+    # simulate
+    "--integrator": _flag("euler is the notes' (6.116)-(6.117); default rk4", choices=INTEGRATORS, default="rk4"),
+    "--torque": _flag("constant applied torques tau1,tau2,... (default 0)"),
+    "--torque-log": _flag("a log of the torques to apply, interpolated linearly in time: t and tau_<joint> (or the "
+                          "measured tau_meas_<joint>, a bag's effort), in any form --log takes", metavar="LOG"),
+    "--limits": _flag("at a joint limit: report it and go on, or stop the joint there (default report)",
+                      choices=LIMIT_MODES, default="report"),
+    "--ensemble": _flag("integrate K copies at once: member 0 starts at --q0, the others at --q0 plus a seeded "
+                        "normal perturbation (the CSV gets a member column; --plot draws their divergence)", type=int,
+                        metavar="K"),
+    "--perturbation": _flag("standard deviation of the ensemble's perturbation of q0, rad or m (default 1e-6)",
+                            type=float, default=1e-6),
+    # trace, derive
+    "--symbolic": _flag("symbolic trace in q_<joint>, qd_<joint>, qdd_<joint>", action="store_true"),
+    "--symbols": _flag("parameters kept symbolic: m<i>, l<i> (link length), lc<i> (distance to the link's centre of "
+                       "mass), I<xx|yy|zz|xy|xz|yz><i>, g (a one-joint robot also takes m, l, lc)"),
+    "--method": _flag("newton-euler (default) or lagrange", choices=METHODS, default="newton-euler"),
+    "--digits": _flag("symbolic output: the URDF's numbers as N-digit decimals instead of exact fractions (real "
+                      "robots)", type=int, metavar="N"),
+    "--latex": _flag("print LaTeX instead of text", action="store_true"),
+    # grade
+    "--example-assignment": _flag("print a commented assignment file and exit", action="store_true"),
+    "--gradescope": _flag("write a Gradescope autograder bundle for the assignment (setup.sh, run_autograder, the "
+                          "assignment, this course-dynamics as a wheel) to ZIP and exit; upload it as the "
+                          "assignment's autograder (Ubuntu 24.04 base image)", metavar="ZIP"),
+    "--handout": _flag("print the numbers of student ID's robot (an assignment with variant = \"per-student\") and, "
+                       "with --out DIR, write its URDF there; grades nothing", metavar="ID"),
+    "--similarity": _flag("add the near-identical pairs of submissions to the summary, each with a side-by-side page: "
+                          "compared on the syntax tree (names, comments, formatting set aside). A lead, not a "
+                          "verdict", action="store_true"),
+    "--similarity-threshold": _flag("list pairs from SCORE, the share of the smaller submission the other holds "
+                                    "(default 0.8; implies --similarity)", type=float, metavar="SCORE"),
+    "--starter": _flag("the starter code every student was given: removed before --similarity compares (implies "
+                       "--similarity)", metavar="FILE"),
+    "--no-sandbox": _flag("grade without bubblewrap (separate processes and limits only); the gradebook says so",
+                          action="store_true"),
+    "--jobs": _flag("submissions graded at once (default: the number of CPUs)", type=int),
+    # the notebooks
+    "--solutions": _flag("with the worked solutions (the instructor's version)", action="store_true"),
+    "--student": _flag("a student's id (a login or an e-mail's local part): the exercises use their own robot and "
+                       "numbers", metavar="ID"),
+    "--roster": _flag("a CSV file with an 'id' column: one subfolder per student", metavar="FILE"),
+    "--only": _flag("only the notebook numbered NN (repeatable, or comma-separated: 01,03; default all)",
+                    metavar="NN", action="append"),
+    "--force": _flag("replace notebooks already in OUTDIR, keeping each as NN_topic.ipynb.bak-YYYYmmdd-HHMMSS",
+                     action="store_true"),
+}
+ALIASES = {"--log": ("--trajectory",)}   # spellings of one flag, equally current
+OVERRIDABLE = {"required", "default"}
+
+
+def add(parser, name: str, **overrides):
+    """Add flag ``name`` as :data:`FLAGS` defines it; ``overrides`` may set only ``required`` and ``default``."""
+    wrong = set(overrides) - OVERRIDABLE
+    if wrong:
+        raise TypeError(f"{name}: a command may set only {', '.join(sorted(OVERRIDABLE))}, not {', '.join(wrong)}")
+    return parser.add_argument(name, *ALIASES.get(name, ()), **{**FLAGS[name], **overrides})
+
+
+def add_all(parser, *names: str) -> None:
+    for name in names:
+        add(parser, name)
+
+
+class RenamedOption(FutureWarning):
+    """An option used by its old spelling (still read for one release)."""
+
+
+class Renamed(argparse.Action):
+    """A hidden old spelling: stores into the new flag's destination (or lets ``apply`` do it) and warns once."""
+
+    def __init__(self, option_strings, dest, new: str = "", apply=None, **kwargs):
+        self.new, self.apply = new, apply
+        super().__init__(option_strings, dest, **kwargs)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        new = self.new
+        if self.apply is not None:
+            new = self.apply(namespace, values)
+        else:
+            setattr(namespace, self.dest, values)
+        warnings.warn(f"{option_string} is now {new}; the old spelling goes in the next release", RenamedOption,
+                      stacklevel=2)
+
+
+def add_renamed(parser, old: str, new: str, *, dest: str | None = None, apply=None, **kwargs) -> None:
+    """Read ``old`` as flag ``new`` (hidden from --help), with one warning line when it is used.
+
+    By default the old spelling parses as the new flag does; ``apply(namespace, value)`` returns the text that
+    names the new spelling after doing what it says (for an old flag that became several).
+    """
+    definition = FLAGS.get(new, {})
+    parsing = {k: definition[k] for k in ("type", "choices", "metavar", "nargs") if k in definition}
+    target = dest or definition.get("dest") or new.lstrip("-").replace("-", "_")
+    parser.add_argument(old, action=Renamed, dest=target, new=new, apply=apply, default=argparse.SUPPRESS,
+                        help=argparse.SUPPRESS, **{**parsing, **kwargs})
+
+
+def output_format(formats):
+    """The old ``--format X`` of trace and derive: json is now --json, latex --latex, the text the default."""
+    def apply(namespace, value):
+        if value in ("json", "latex"):
+            setattr(namespace, value, True)
+            return f"--{value}"
+        return "the default (no option)"
+    return dict(apply=apply, choices=formats, dest=argparse.SUPPRESS)
+
+
+# (command, old spelling, new spelling): what the README's table of renamed flags lists.
+RENAMES = (
+    ("torques, identify", "--format", "--log-format"),
+    ("torques, identify", "--dt", "--log-dt"),
+    ("torques, simulate", "--smoothing", "--friction-width"),
+    ("simulate", "--torque-csv", "--torque-log"),
+    ("trace, derive", "--decimal N", "--digits N"),
+    ("trace, derive", "--format json | latex", "--json | --latex"),
+    ("identify", "--friction", "--friction-fit"),
+    ("identify", "--report DIR", "--out DIR"),
+    ("excite", "--samples", "--instants"),
+)
