@@ -22,7 +22,7 @@ from course_dynamics import inverse_dynamics, load_robot, newton_euler_links, ro
 from course_dynamics.core import lagrange
 from course_dynamics.core.cartesian import cartesian_dynamics, jacobian
 from course_dynamics.core.kinematics import joint_transforms
-from course_dynamics.core.newton_euler import Slip
+from course_dynamics.grading.slips import Slip
 from course_dynamics.core.state import entries
 
 from .pinocchio_oracle import PinocchioOracle
@@ -52,7 +52,7 @@ class Check:
 
 def printed_outward_rotation(model, q, qd, qdd) -> np.ndarray:
     """τ with (6.45)–(6.47) as printed: ⁱR^{i+1} (frame i+1 in i) where ⁱ⁺¹ᵢR belongs — our recursion with that
-    slip made (the slip a student makes, :class:`~course_dynamics.core.newton_euler.Slip`)."""
+    slip made (the slip a student makes, :class:`~course_dynamics.grading.slips.Slip`)."""
     return np.asarray(newton_euler_links(model, q, qd, qdd, Slip("rotation-transposed", ("6.45", "6.46", "6.47"))).tau)
 
 

@@ -363,7 +363,7 @@ def test_the_verdict_says_whose_numbers_it_checked():
 
 
 def test_a_value_from_the_recursion_names_the_slip():
-    from course_dynamics.core.newton_euler import Slip
+    from course_dynamics.grading.slips import Slip
     from course_dynamics.teaching.catalogue import _v_dot_c1
 
     verdict = check("v_dot_c1", _v_dot_c1(Slip("centripetal-missing", ("6.48",))))

@@ -1,4 +1,4 @@
-"""course_dynamics/grading/mistakes.py, with the recursion's slips (core/newton_euler.py): every mistake a student
+"""course_dynamics/grading/mistakes.py, with the recursion's slips (grading/slips.py): every mistake a student
 makes, made by a student's own code, is named by its code through ``grade`` and through the notebook check.
 
 The wrong answers are students' programs (tests/submissions.py): a Newton–Euler recursion for the spatial arm
@@ -14,7 +14,8 @@ import numpy as np
 import pytest
 from submissions import CLOSED_FORMS, SPATIAL_SLIPS, spatial_newton_euler
 
-from course_dynamics.core.newton_euler import EXACT, SLIP_EQUATIONS, Slip, newton_euler_links, slips
+from course_dynamics.core.newton_euler import EXACT, newton_euler_links
+from course_dynamics.grading.slips import SLIP_EQUATIONS, Slip, slips
 from course_dynamics.core.robots import load_robot
 from course_dynamics.core.sampling import relative_error
 from course_dynamics.grading.assignment import Assignment

@@ -27,23 +27,13 @@ indices; the lines below are the corrected forms (reference/errata.md).
 The same functions run on one state (floats), a batch (arrays of shape (N,)
 per joint) and sympy symbols: see :mod:`course_dynamics.core.algebra`.
 
-A :class:`Slip` makes one of the mistakes students make, on purpose, in the
-equations it names: the grader and the notebooks compare a wrong answer with
-this recursion run with each slip (:func:`slips`), so that a mistake is named
-by the one implementation with that one mistake made, not by a second copy.
-
-========================  =============================  ================================
-code                      the mistake                    equations it can be made in
-========================  =============================  ================================
-``rotation-transposed``   ᵖᵢR where ⁱₚR belongs          (6.45) (6.46) (6.47) (6.51) (6.52)
-``cross-reversed``        b × a for a × b                (6.46) (6.47) (6.48) (6.50) (6.52)
-``centripetal-missing``   ω × (ω × P) left out           (6.47) (6.48)
-``gyroscopic-missing``    ω × ᶜI ω left out              (6.50)
-``inertia-about-origin``  ⁱIᵢ about the frame origin,    (6.50)
-                          not ᶜⁱIᵢ about the COM
-``moment-arm-missing``    ⁱPᵢ₊₁ × ⁱfᵢ₊₁ left out          (6.52)
-``gravity-sign``          ⁰v̇₀ = +g, not −g               ⁰v̇₀
-========================  =============================  ================================
+The iterations are written against a few named operations (:class:`Operations`),
+one for each place in (6.45)–(6.53) where the equations could be written
+otherwise: the rotation into a child's frame and into a parent's, the cross
+product, the acceleration of a point, the gyroscopic and moment-arm terms, the
+inertia about the centre of mass, and the base acceleration. :data:`EXACT`, the
+default, is the chapter's; every other use of the recursion (compiled
+programs, batches, symbols, the regressor) runs the exact set.
 """
 from __future__ import annotations
 
@@ -52,110 +42,57 @@ from dataclasses import dataclass
 import numpy as np
 
 from .algebra import Mat3, Vec3, cross, dot, point_acceleration
-from .inertia import parallel_axis
 from .kinematics import JointTransforms, joint_transforms
-from .model import Model
+from .model import Body, Model
 from .state import as_state, entries, layout_of
 
 
-SLIP_EQUATIONS = {
-    "rotation-transposed": ("6.45", "6.46", "6.47", "6.51", "6.52"),
-    "cross-reversed": ("6.46", "6.47", "6.48", "6.50", "6.52"),
-    "centripetal-missing": ("6.47", "6.48"),
-    "gyroscopic-missing": ("6.50",),
-    "inertia-about-origin": ("6.50",),
-    "moment-arm-missing": ("6.52",),
-    "gravity-sign": ("base",),
-}
-OUTWARD, INWARD = ("6.45", "6.46", "6.47", "6.48", "6.49", "6.50"), ("6.51", "6.52", "6.53")
+class Operations:
+    """The operations the iterations are written against, exactly as the chapter has them.
 
-
-@dataclass(frozen=True)
-class Slip:
-    """One mistake made on purpose: ``code`` (a key of :data:`SLIP_EQUATIONS`) in ``equations`` (numbers such as
-    "6.47", or "base" for ⁰v̇₀). The empty slip :data:`EXACT` makes none.
+    Each takes the number of the equation that asks for it (such as "6.47"), so that
+    another set of operations may differ in one equation and not in another.
 
     >>> from course_dynamics import load_robot
     >>> arm = load_robot("pendulum")
-    >>> round(float(newton_euler_links(arm, [0.5], [0.0], [0.0], Slip("gravity-sign", ("base",))).tau[0]), 4)
-    -4.7032
+    >>> round(float(newton_euler_links(arm, [0.5], [0.0], [0.0], EXACT).tau[0]), 4)
+    4.7032
     """
 
-    code: str = ""
-    equations: tuple[str, ...] = ()
+    def into_child(self, X: JointTransforms, i: int, equation: str):
+        """ⁱₚR, the rotation from the parent's frame into frame i."""
+        return X.R_T[i]
 
-    def __post_init__(self):
-        if self.code and (self.code not in SLIP_EQUATIONS or not set(self.equations) <= set(SLIP_EQUATIONS[self.code])):
-            raise ValueError(f"no slip '{self.code}' in {self.equations} (slips: {SLIP_EQUATIONS})")
+    def into_parent(self, X: JointTransforms, c: int, equation: str):
+        """ⁱ_cR, the rotation from child c's frame into its parent's."""
+        return X.R[c]
 
-    def made(self, code: str, equation: str) -> bool:
-        """Whether this slip makes mistake ``code`` in ``equation``."""
-        return code == self.code and equation in self.equations
+    def cross(self, a: Vec3, b: Vec3, equation: str) -> Vec3:
+        """a × b."""
+        return cross(a, b)
 
-    @property
-    def where(self) -> str:
-        """The equations in words: "(6.47) and (6.48)", "the outward iteration", …"""
-        every = SLIP_EQUATIONS[self.code]
-        if self.equations == ("base",):
-            return "the base acceleration ⁰v̇₀"
-        if len(every) > 1 and set(self.equations) == set(every):
-            return "every equation where it appears, " + _listed(self.equations)
-        return _listed(self.equations)
+    def point_acceleration(self, v_dot: Vec3, omega_dot: Vec3, omega: Vec3, P: Vec3, equation: str) -> Vec3:
+        """v̇ + ω̇ × P + ω × (ω × P), the acceleration of a point P of a moving frame (as in (6.47), (6.48))."""
+        return point_acceleration(v_dot, omega_dot, omega, P)
 
+    def gyroscopic(self, omega: Vec3, I: Mat3, equation: str) -> Vec3:
+        """ω × ᶜI ω, the gyroscopic term of (6.50)."""
+        return self.cross(omega, I @ omega, equation)
 
-def _listed(equations) -> str:
-    named = [f"({e})" for e in equations]
-    return named[0] if len(named) == 1 else ", ".join(named[:-1]) + " and " + named[-1]
+    def moment_arm(self, P: Vec3, f: Vec3, equation: str) -> Vec3:
+        """ⁱPᵢ₊₁ × ⁱfᵢ₊₁, the moment of a child's force about frame i's origin in (6.52)."""
+        return self.cross(P, f, equation)
 
+    def inertia(self, body: Body) -> Mat3:
+        """ᶜI, the inertia tensor about the centre of mass, in the body's frame (kg·m²)."""
+        return body.I_com_m
 
-EXACT = Slip()
-
-
-def slips() -> tuple[Slip, ...]:
-    """Every slip the diagnosis tries: each mistake everywhere it can be made, in the outward or the inward
-    iteration only, and in each equation alone.
-
-    >>> [s.equations for s in slips() if s.code == "centripetal-missing"]
-    [('6.47', '6.48'), ('6.47',), ('6.48',)]
-    """
-    made = []
-    for code, every in SLIP_EQUATIONS.items():
-        groups = [every] + [tuple(e for e in every if e in part) for part in (OUTWARD, INWARD)] + [(e,) for e in every]
-        for group in groups:
-            if group and Slip(code, group) not in made:
-                made.append(Slip(code, group))
-    return tuple(made)
+    def base_acceleration(self, gravity: Vec3) -> Vec3:
+        """⁰v̇₀ = −g: gravity enters once, as an upward acceleration of the base."""
+        return -gravity
 
 
-def _rotation(X: JointTransforms, i: int, slip: Slip, equation: str):
-    """ⁱₚR, the rotation from the parent's frame into frame i; its transpose ᵖᵢR where the slip says so."""
-    return X.R[i] if slip.made("rotation-transposed", equation) else X.R_T[i]
-
-
-def _into_parent(X: JointTransforms, c: int, slip: Slip, equation: str):
-    """ⁱ_cR, the rotation from child c's frame into its parent's; its transpose where the slip says so."""
-    return X.R_T[c] if slip.made("rotation-transposed", equation) else X.R[c]
-
-
-def _cross(a: Vec3, b: Vec3, slip: Slip, equation: str) -> Vec3:
-    """a × b; b × a where the slip reverses it."""
-    return cross(b, a) if slip.made("cross-reversed", equation) else cross(a, b)
-
-
-def _point(v_dot: Vec3, omega_dot: Vec3, omega: Vec3, P: Vec3, slip: Slip, equation: str) -> Vec3:
-    """(6.12), v̇ + ω̇ × P + ω × (ω × P), with the slip's reversed cross products or missing centripetal term."""
-    if slip.made("centripetal-missing", equation):
-        return v_dot + cross(omega_dot, P)
-    if slip.made("cross-reversed", equation):
-        return v_dot + cross(P, omega_dot) + cross(cross(P, omega), omega)
-    return point_acceleration(v_dot, omega_dot, omega, P)
-
-
-def _inertia(body, slip: Slip):
-    """ᶜI, the inertia about the centre of mass; about the frame origin (parallel axis) where the slip says so."""
-    if slip.made("inertia-about-origin", "6.50"):
-        return Mat3.of(parallel_axis(body.I_com, body.mass, body.p_com))
-    return body.I_com_m
+EXACT = Operations()
 
 
 @dataclass(frozen=True)
@@ -198,8 +135,8 @@ class InwardPass:
 
 
 def outward_iteration(model: Model, X: JointTransforms, theta_dot: list, theta_ddot: list, gravity: Vec3,
-                      slip: Slip = EXACT) -> OutwardPass:
-    """Link velocities, accelerations and inertial loads, base to tips (with ``slip``'s mistake, if any).
+                      ops: Operations = EXACT) -> OutwardPass:
+    """Link velocities, accelerations and inertial loads, base to tips.
 
     >>> from course_dynamics import load_robot
     >>> from course_dynamics.core.kinematics import joint_transforms
@@ -210,38 +147,36 @@ def outward_iteration(model: Model, X: JointTransforms, theta_dot: list, theta_d
     [0.0, 9.81, 0.0]
     """
     zero = Vec3(0, 0, 0)
-    base_v_dot = gravity if slip.made("gravity-sign", "base") else -gravity  # ⁰v̇₀ = −g: gravity lifts the base
     omega, omega_dot, v_dot, v_dot_c, F, N = [], [], [], [], [], []
     for i, body in enumerate(model.bodies):
-        p = body.parent
-        omega_p, omega_dot_p, v_dot_p = (zero, zero, base_v_dot) if p < 0 else (omega[p], omega_dot[p], v_dot[p])
-        P_i, z = X.P[i], body.axis_v
-        qd, qdd = theta_dot[i], theta_ddot[i]
-        R_45, R_46, R_47 = (_rotation(X, i, slip, e) for e in ("6.45", "6.46", "6.47"))  # ⁱₚR
-        v_dot_i = R_47 @ _point(v_dot_p, omega_dot_p, omega_p, P_i, slip, "6.47")  # (6.47)
-        omega_in_i = R_45 @ omega_p  # ⁱₚR ᵖωₚ
-        omega_in_46 = omega_in_i if R_46 is R_45 else R_46 @ omega_p
-        if body.is_prismatic:
-            w = omega_in_i  # a prismatic joint adds no rotation (unnumbered in the notes; (6.33) in Craig)
-            w_dot = R_46 @ omega_dot_p
-            v_dot_i = v_dot_i + cross(2 * w, qd * z) + qdd * z  # (6.35)
+        p, z, qd, qdd = body.parent, body.axis_v, theta_dot[i], theta_ddot[i]
+        if p < 0:
+            omega_p, omega_dot_p, v_dot_p = zero, zero, ops.base_acceleration(gravity)
         else:
-            w = omega_in_i + qd * z  # (6.45)
-            w_dot = R_46 @ omega_dot_p + _cross(omega_in_46, qd * z, slip, "6.46") + qdd * z  # (6.46)
-        v_dot_com = _point(v_dot_i, w_dot, w, body.p_com_v, slip, "6.48")  # (6.48)
-        I = _inertia(body, slip)
+            omega_p, omega_dot_p, v_dot_p = omega[p], omega_dot[p], v_dot[p]
+        R = ops.into_child(X, i, "6.46")
+        if body.is_prismatic:  # a prismatic joint adds no rotation ((6.33) in Craig, unnumbered in the notes)
+            w = ops.into_child(X, i, "6.45") @ omega_p
+            w_dot = R @ omega_dot_p
+        else:
+            w = ops.into_child(X, i, "6.45") @ omega_p + qd * z  # (6.45)
+            w_dot = R @ omega_dot_p + ops.cross(R @ omega_p, qd * z, "6.46") + qdd * z  # (6.46)
+        v = ops.into_child(X, i, "6.47") @ ops.point_acceleration(v_dot_p, omega_dot_p, omega_p, X.P[i], "6.47")  # (6.47)
+        if body.is_prismatic:
+            v = v + cross(2 * w, qd * z) + qdd * z  # (6.35)
+        v_c = ops.point_acceleration(v, w_dot, w, body.p_com_v, "6.48")  # (6.48)
+        I = ops.inertia(body)
         omega.append(w)
         omega_dot.append(w_dot)
-        v_dot.append(v_dot_i)
-        v_dot_c.append(v_dot_com)
-        F.append(body.mass_s * v_dot_com)  # (6.49)
-        gyroscopic = zero if slip.made("gyroscopic-missing", "6.50") else _cross(w, I @ w, slip, "6.50")
-        N.append(I @ w_dot + gyroscopic)  # (6.50)
+        v_dot.append(v)
+        v_dot_c.append(v_c)
+        F.append(body.mass_s * v_c)  # (6.49)
+        N.append(I @ w_dot + ops.gyroscopic(w, I, "6.50"))  # (6.50)
     return OutwardPass(omega, omega_dot, v_dot, v_dot_c, F, N)
 
 
-def inward_iteration(model: Model, X: JointTransforms, out: OutwardPass, slip: Slip = EXACT) -> InwardPass:
-    """Joint forces, moments and torques, tips to base (with ``slip``'s mistake, if any).
+def inward_iteration(model: Model, X: JointTransforms, out: OutwardPass, ops: Operations = EXACT) -> InwardPass:
+    """Joint forces, moments and torques, tips to base.
 
     >>> from course_dynamics import load_robot
     >>> from course_dynamics.core.kinematics import joint_transforms
@@ -251,19 +186,15 @@ def inward_iteration(model: Model, X: JointTransforms, out: OutwardPass, slip: S
     >>> [round(t, 6) for t in back.tau], len(back.f)                # τᵢ = ⁱnᵢᵀ ⁱẐᵢ (6.53)
     ([18.158634, 3.539519], 2)
     """
-    n_bodies, zero = model.n, Vec3(0, 0, 0)
-    f, n, tau = [None] * n_bodies, [None] * n_bodies, [None] * n_bodies
-    for i in reversed(range(n_bodies)):
+    f, n, tau = [None] * model.n, [None] * model.n, [None] * model.n
+    for i in reversed(range(model.n)):
         body = model.bodies[i]
         f_i = out.F[i]  # (6.51), children added below
-        n_i = out.N[i] + _cross(body.p_com_v, out.F[i], slip, "6.52")  # (6.52), children added below
+        n_i = out.N[i] + ops.cross(body.p_com_v, out.F[i], "6.52")  # (6.52), children added below
         for c in model.children[i]:
-            R_51, R_52 = _into_parent(X, c, slip, "6.51"), _into_parent(X, c, slip, "6.52")  # ⁱ_cR
-            f_c = R_51 @ f[c]  # ⁱ_cR ᶜf_c
-            f_i = f_i + f_c  # (6.51)
-            f_c = f_c if R_52 is R_51 else R_52 @ f[c]
-            arm = zero if slip.made("moment-arm-missing", "6.52") else _cross(X.P[c], f_c, slip, "6.52")
-            n_i = n_i + R_52 @ n[c] + arm  # (6.52)
+            f_i = f_i + ops.into_parent(X, c, "6.51") @ f[c]  # (6.51)
+            R = ops.into_parent(X, c, "6.52")
+            n_i = n_i + R @ n[c] + ops.moment_arm(X.P[c], R @ f[c], "6.52")  # (6.52)
         f[i], n[i] = f_i, n_i
         tau[i] = dot(f_i, body.axis_v) if body.is_prismatic else dot(n_i, body.axis_v)  # (6.44) / (6.53)
     return InwardPass(f, n, tau)
@@ -338,8 +269,8 @@ class LinkQuantities:
     tau: np.ndarray
 
 
-def newton_euler_links(model: Model, q, qd, qdd, slip: Slip = EXACT) -> LinkQuantities:
-    """The outward and inward iterations with every per-link quantity kept (with ``slip``'s mistake, if any).
+def newton_euler_links(model: Model, q, qd, qdd, ops: Operations = EXACT) -> LinkQuantities:
+    """The outward and inward iterations with every per-link quantity kept, run with the operations ``ops``.
 
     >>> from course_dynamics import load_robot
     >>> links = newton_euler_links(load_robot("two_link"), [0.0, 0.5], [1.0, 0.0], [0.0, 0.0])
@@ -349,8 +280,8 @@ def newton_euler_links(model: Model, q, qd, qdd, slip: Slip = EXACT) -> LinkQuan
     q, qd, qdd = as_state(model, q, "q"), as_state(model, qd, "qd"), as_state(model, qdd, "qdd")
     layout = layout_of(q, qd, qdd)
     X = joint_transforms(model, entries(q))
-    out = outward_iteration(model, X, entries(qd), entries(qdd), model.gravity_v, slip)
-    back = inward_iteration(model, X, out, slip)
+    out = outward_iteration(model, X, entries(qd), entries(qdd), model.gravity_v, ops)
+    back = inward_iteration(model, X, out, ops)
 
     def per_link(vectors):
         return layout.assemble([tuple(v) for v in vectors], (model.n, 3))

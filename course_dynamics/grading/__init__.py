@@ -18,6 +18,7 @@ module           job
 ``containment``  cgroups, a seccomp filter and the subreaper beside the sandbox
 ``results``      the results document a submission's process sends back, read as hostile
 ``records``      the records of scoring: an answer, a finding, a diagnosis
+``slips``        the recursion's operations with one slip a student makes, in the equations it names
 ``mistakes``     the mistakes students make, each made on purpose by our own code
 ``diagnosis``    the named mistakes: small checks over one answer, each with its advice
 ``score``        the one scorer of a term, used by the grader and the notebooks

@@ -9,11 +9,11 @@ grading states, in every variant a student makes it:
 made by                  mistakes
 =======================  ==============================================================
 the recursion with one   ``rotation-transposed``, ``cross-reversed``, ``centripetal-missing``,
-:class:`~course_dynamics.core.newton_euler.Slip`
+:class:`~course_dynamics.grading.slips.Slip`
                          ``gyroscopic-missing``, ``inertia-about-origin``,
                          ``moment-arm-missing``, ``gravity-sign``; each wherever the
                          expression appears, in one iteration, or in one equation alone
-                         (:func:`~course_dynamics.core.newton_euler.slips`)
+                         (:func:`~course_dynamics.grading.slips.slips`)
 the closed form          ``sin-cos-swapped`` (every sin read as cos and back),
 with one substitution    ``c1-c12-swapped`` (cos θᵢ exchanged with the cosine of a sum such as
                          cos(θ₁ + θ₂)): for robots of up to :data:`CLOSED_FORM_JOINTS` joints,
@@ -38,10 +38,11 @@ import numpy as np
 
 from ..core.joints import kind_of
 from ..core.model import Model
-from ..core.newton_euler import EXACT, Slip, newton_euler_links, slips
+from ..core.newton_euler import EXACT, Operations, newton_euler_links
 from ..core.sampling import relative_error
 from ..core.symbolic import derive, numeric_functions
 from .records import Answer, Finding
+from .slips import slips
 
 CLOSED_FORM_JOINTS = 2  # closed forms are derived (about 0.7 s) for robots this small, as students derive them
 
@@ -110,10 +111,10 @@ def _unit(j: int, shape) -> np.ndarray:
     return e
 
 
-def _terms_by_recursion(model: Model, q, qd, qdd, slip: Slip) -> dict[str, np.ndarray]:
-    """τ, G, V and M of the recursion run with ``slip``, by differences as the library derives them."""
+def _terms_by_recursion(model: Model, q, qd, qdd, ops: Operations) -> dict[str, np.ndarray]:
+    """τ, G, V and M of the recursion run with the operations ``ops``, by differences as the library derives them."""
     def tau(qd_, qdd_):
-        return np.asarray(newton_euler_links(model, q, qd_, qdd_, slip).tau, dtype=float)
+        return np.asarray(newton_euler_links(model, q, qd_, qdd_, ops).tau, dtype=float)
 
     zero = np.zeros_like(q)
     G = tau(zero, zero)

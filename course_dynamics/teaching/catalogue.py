@@ -27,7 +27,7 @@ from ..core import inertia
 from ..core.algebra import Vec3, point_acceleration
 from ..core.cartesian import cartesian_dynamics
 from ..core.friction import Friction
-from ..core.newton_euler import EXACT, Slip, inverse_dynamics, newton_euler_links
+from ..core.newton_euler import EXACT, Operations, inverse_dynamics, newton_euler_links
 from ..core.regressor import base_parameters, parameter_names, regressor
 from ..core.robots import load_robot
 from ..core.symbolic import derive
@@ -132,9 +132,9 @@ def _I_corner():
     return inertia.parallel_axis(inertia.box(m, w, l, h), m, (w / 2, l / 2, h / 2))
 
 
-def _v_dot_c1(slip: Slip = EXACT):
+def _v_dot_c1(ops: Operations = EXACT):
     d = given("v_dot_c1")
-    return newton_euler_links(_robot("two_link"), d["q"], d["qd"], d["qdd"], slip).v_dot_c[0]
+    return newton_euler_links(_robot("two_link"), d["q"], d["qd"], d["qdd"], ops).v_dot_c[0]
 
 
 def _pendulum(kind: str):
@@ -222,7 +222,7 @@ class Exercise:
     hints: tuple[str, ...] = ()
     mistakes: tuple[tuple[str, Callable, str], ...] = ()  # (code, the reference with that mistake, its words)
     time_functions: tuple[str, ...] = ()  # a formula may be written in these as functions of t (θ(t) for theta)
-    slipped: Callable | None = None  # a value's answer made by the recursion with a Slip (the slip named if it fits)
+    slipped: Callable | None = None  # a value's answer made by the recursion with other operations (a slip, named if it fits)
 
 
 def _random_vectors(count: int):

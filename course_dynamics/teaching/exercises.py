@@ -34,13 +34,14 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core.newton_euler import newton_euler_links, slips
+from ..core.newton_euler import newton_euler_links
 from ..grading.assignment import Assignment
 from ..grading.diagnosis import Answer
 from ..grading.harness import FUNCTIONS, evaluate
 from ..grading.mistakes import MISTAKES
 from ..grading.plan import expected_terms, make_plan
 from ..grading.score import score, score_outcome
+from ..grading.slips import slips
 from ..output.render import markdown_escape
 from ..tools.variants import COURSE_STUDENT, rng_for
 from .catalogue import RP_PARAMETERS, EXERCISES, Exercise, given, my_robot, rp_arm_equations, student, symbols, use_student
