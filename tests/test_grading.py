@@ -295,6 +295,16 @@ def test_summary_shows_the_class(graded):
     assert "timeout" in summary and "forbidden import" in summary
 
 
+def test_the_summary_lists_mistakes_the_same_way_every_run(graded):
+    # Most common first, ties by name: a set's order (which changes from run to run) never shows.
+    import re
+
+    summary = (graded["out"] / "summary.html").read_text()
+    table = summary.split("Most common mistakes", 1)[1].split("</table>", 1)[0]
+    rows = [(name, int(count)) for name, count in re.findall(r"<tr><td>(.*?)</td><td>(\d+)</td></tr>", table)]
+    assert len(rows) > 3 and rows == sorted(rows, key=lambda row: (-row[1], row[0]))
+
+
 def test_without_a_sandbox_it_refuses_unless_asked(tmp_path, monkeypatch, capsys):
     import course_dynamics.grading.sandbox as sandbox
 

@@ -243,3 +243,18 @@ def test_a_published_page_typesets_its_mathml_offline(notebook_pages, tmp_path, 
     assert len(boxes) >= 15 and all(b["ns"] == "http://www.w3.org/1998/Math/MathML" for b in boxes)
     assert all(b["width"] > 0 and b["height"] > 0 for b in boxes), boxes
     assert all(url.startswith(("file:", "data:")) for url in requests), requests
+
+
+def test_a_figure_gives_the_same_bytes_every_time():
+    # An SVG page published twice must not differ: no date in it, and element ids from a fixed salt.
+    from course_dynamics.output import plotting
+
+    def drawn(fmt):
+        figure, axis = plotting.pyplot().subplots()
+        axis.plot([0, 1, 2], [1, 0, 1])
+        axis.set_title("τ(t)")
+        return plotting.figure_bytes(figure, fmt)
+
+    first = drawn("svg")
+    assert first == drawn("svg") and b"<dc:date>" not in first
+    assert drawn("png") == drawn("png")

@@ -41,7 +41,7 @@ from urllib.parse import quote
 
 from markupsafe import Markup
 
-from ..output import page, render
+from ..output import page, plotting, render
 from ..output.folders import write_folder, written_by
 from .assignment import Assignment
 from .grade import SubmissionGrade
@@ -142,24 +142,14 @@ def _bounded(text: str) -> str:
 
 
 def _histogram_svg(totals: list[float], maximum: float) -> str:
-    import matplotlib
     import matplotlib.ticker
 
-    matplotlib.use("Agg")
-    matplotlib.rcParams["text.parse_math"] = False  # students' names are text, not TeX
-    import matplotlib.pyplot as plt
-
-    figure, axis = plt.subplots(figsize=(6.4, 3.2), constrained_layout=True)
+    figure, axis = plotting.pyplot().subplots(figsize=(6.4, 3.2), constrained_layout=True)
     axis.hist(totals, bins=min(20, max(5, len(totals))), range=(0, maximum or 1), color="#4a6fa5", edgecolor="white")
     axis.set_xlabel("total points")
     axis.set_ylabel("students")
     axis.yaxis.set_major_locator(matplotlib.ticker.MaxNLocator(integer=True))  # students come whole
-    axis.set_title("Score distribution")
-    buffer = text_io.StringIO()
-    figure.savefig(buffer, format="svg")
-    plt.close(figure)
-    svg = buffer.getvalue()
-    return svg[svg.index("<svg"):]
+    return plotting.figure_bytes(figure, "svg").decode("utf-8")
 
 
 def similar_name(index: int) -> str:
@@ -231,19 +221,21 @@ def summary_html(grades: list[SubmissionGrade], assignment: Assignment, comparis
         correct = sum(1 for g in grades for d in g.diagnoses if d.term == term and d.correct)
         mean = sum(g.points(term) for g in grades) / max(len(grades), 1)
         rows.append((term, f"{correct} of {len(grades)}", f"{mean:.3g} / {assignment.points[term]:g}"))
-    # Each student counts once per mistake, whichever terms show it (one slip in τ shows in M, V, G too).
+    # Each student counts once per mistake, whichever terms show it (one slip in τ shows in M, V, G too). Every
+    # mistake is listed (their codes are a short catalogue), most common first and ties by name, never in a set's order.
     mistakes = Counter(tag for g in grades for tag in {tag for d in g.diagnoses for tag in d.tags})
     statuses = Counter(g.status for g in grades)
     body = [
         page.heading(f"{assignment.source.name}: class summary"),
         page.paragraph(f"{len(grades)} submissions; robot {assignment.robot.name}; mean "
                        f"{sum(totals) / max(len(totals), 1):.3g} of {assignment.total_points:g} points."),
-        page.figure(page.svg(_histogram_svg(totals, assignment.total_points))),
+        page.figure(page.svg(_histogram_svg(totals, assignment.total_points)), "Score distribution"),
         page.heading("Per term", 2), page.table(rows, header=("term", "fully correct", "mean points")),
         page.heading("Most common mistakes", 2),
-        page.table(mistakes.most_common(15), header=("mistake", "students")) if mistakes
+        page.table(sorted(mistakes.items(), key=lambda item: (-item[1], item[0])), header=("mistake", "students"))
+        if mistakes
         else page.paragraph("None: every graded term was right."),
-        page.heading("Statuses", 2), page.table(statuses.most_common(), header=("status", "students")),
+        page.heading("Statuses", 2), page.table(sorted(statuses.items(), key=lambda item: (-item[1], item[0])), header=("status", "students")),
         *_flags_section(grades),
         *_similar_section(comparison),
         page.heading("Students", 2),
