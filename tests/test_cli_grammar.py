@@ -8,7 +8,9 @@ from __future__ import annotations
 
 import argparse
 import ast
+import io
 import json
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -150,3 +152,31 @@ def test_simulate_plot_takes_every_figure_format(capsys, tmp_path):
     assert b"<svg" in (tmp_path / "sim.html").read_bytes()
     written = np.genfromtxt(tmp_path / "sim.csv", delimiter=",", names=True)
     assert written.dtype.names[:2] == ("t", "q_theta") and len(written) == 21
+
+
+class Terminal(io.StringIO):
+    def isatty(self):
+        return True
+
+
+def test_the_progress_bar_is_drawn_on_a_terminal_only_and_quiet_hides_it(monkeypatch):
+    from course_dynamics.cli import options
+
+    for stream, quiet, drawn in ((Terminal(), False, True), (Terminal(), True, False), (io.StringIO(), False, False)):
+        monkeypatch.setattr(sys, "stderr", stream)
+        assert (not options.progress_bar(argparse.Namespace(quiet=quiet), total=3).disable) == drawn
+
+
+@pytest.mark.parametrize("quiet", [False, True])
+def test_torques_shows_its_progress_on_a_long_log(monkeypatch, quiet):
+    from course_dynamics.cli import main, options
+    from course_dynamics.cli.commands import torques
+
+    terminal = Terminal()
+    monkeypatch.setattr(sys, "stderr", terminal)
+    monkeypatch.setattr(torques, "progress_bar", lambda args, total, unit: options.progress_bar(args, total, unit, 0.0))
+    argv = ["torques", "ur5", "--log", str(ROOT / "examples" / "ur5_log.csv"), "--map",
+            str(ROOT / "examples" / "ur5_log_columns.toml"), "--json"] + (["--quiet"] if quiet else [])
+    assert main(argv) == 0
+    drawn = terminal.getvalue()
+    assert ("joint torques" in drawn and "6003/6003" in drawn) != quiet, drawn[-300:]

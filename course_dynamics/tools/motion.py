@@ -60,6 +60,7 @@ class Motion:
     where: str
     tau_from: str = ""
     notes: tuple[str, ...] = ()
+    format: str = "table"   # the source's: table, ur-rtde or bag (whose clocks are the recorder's wall clock)
 
 
 def check_time_unit(source: LogSource, time_unit: str) -> None:
@@ -163,4 +164,4 @@ def read_motion(model: Model, log, *, columns: Mapping[str, str] | None = None,
     notes = list(source.notes)
     if tau_from == "tau_meas":
         notes.append("the applied torques are the ones the robot measured (tau_meas, a bag's effort)")
-    return Motion(t=t, q=q, tau=tau, where=source.where, tau_from=tau_from, notes=tuple(notes))
+    return Motion(t=t, q=q, tau=tau, where=source.where, tau_from=tau_from, notes=tuple(notes), format=source.format)

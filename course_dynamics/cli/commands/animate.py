@@ -6,6 +6,7 @@ from pathlib import Path
 
 from ...core.robots import resolve
 from ...output import io
+from ...output.render import one_line
 from ..animation import add_animation_options, export_animation
 from ..options import (
     UsageError,
@@ -44,7 +45,7 @@ def run(args) -> int:
     source = open_log_argument(args, model, args.log)
     reading = dict(columns=column_map(args), constants=constants(args), dt=args.log_dt, time_unit=args.time_unit)
     motion = read_motion(model, source, **reading)
-    t, q, tau = motion.t, motion.q, motion.tau
+    t, q, tau, notes = motion.t, motion.q, motion.tau, motion.notes
     if args.torques and tau is None:  # the torques the motion needs, read and differentiated as 'torques' does
         from ...base.errors import InputError
         from ...tools.logs import torques_from_log
@@ -54,7 +55,9 @@ def run(args) -> int:
         except InputError as exc:
             raise UsageError(f"--torques: {args.log} has no tau_<joint> columns, and the torques its motion needs "
                              f"cannot be computed: {exc}") from None
-        t, q, tau = needed.t, needed.log.q, needed.tau
+        t, q, tau, notes = needed.t, needed.log.q, needed.tau, needed.notes
+    for note in notes:
+        print(f"note: {one_line(note)}", file=sys.stderr)
     export_animation(args.html, model, resolve(args.urdf), t, q, tau, args)
     size = Path(args.html).stat().st_size
     if args.json:

@@ -68,9 +68,14 @@ def _torque(args, model):
         return joint_values(args.torque, "--torque", model)
     if args.torque_log is not None:
         motion = read_motion_argument(args, model, args.torque_log, positions=False, torques=True)
-        for note in motion.notes:
+        notes, t = list(motion.notes), motion.t
+        if motion.format != "table" and t[0] != 0:  # a recorder's wall clock: the log's motion starts with the run's
+            notes.append(f"the torque log's times start at {t[0]:.9g} s (the recorder's clock): they are counted from "
+                         "its first sample")
+            t = t - t[0]
+        for note in notes:
             print(f"note: {one_line(note)}", file=sys.stderr)
-        return TorqueTable(motion.t, motion.tau)
+        return TorqueTable(t, motion.tau)
     return None
 
 
