@@ -2,8 +2,10 @@
 
 Every command reads a URDF (or the name of a shipped robot), calls
 course_dynamics, and prints a table or, with ``--json``, one JSON document.
-Each lives in its own module in :mod:`course_dynamics.cli.commands`; shared
-option handling is in :mod:`course_dynamics.cli.options`.
+Each lives in its own module in :mod:`course_dynamics.cli.commands`; every flag
+is defined once in :mod:`course_dynamics.cli.flags` (one meaning per name; old
+spellings read for one release with a warning line), and shared option handling
+is in :mod:`course_dynamics.cli.options`.
 
 Bad input of any kind (a :class:`~course_dynamics.base.errors.CourseDynamicsError`)
 ends with one line ``error: …`` on stderr and exit code 2; Ctrl-C ends with
