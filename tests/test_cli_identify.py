@@ -208,6 +208,6 @@ def test_a_urdf_readers_disagree_on_is_refused_in_one_line_and_nothing_is_writte
                                   '<dynamics xmlns="urn:x" damping="0.0" friction="0.0"/>'})
     report = tmp_path / "report"
     code, _, err = run(capsys, "identify", str(urdf), "--log", str(logs[0]), "--out", str(report), "--quiet")
-    assert_one_line_error(code, err, str(urdf), "joint 'shoulder_pan_joint'", "default xmlns")
+    assert_one_line_error(code, err, str(urdf), "joint 'shoulder_pan_joint'", "default XML namespace")
     assert not report.exists()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["ur5_hostile.urdf"]

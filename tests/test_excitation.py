@@ -131,7 +131,7 @@ def test_no_iterations_keeps_the_random_start():
     (dict(duration=0.0), "duration must be a positive number"),
     (dict(duration=float("nan")), "duration must be a positive number"),
     (dict(harmonics=1), "at least 2"),
-    (dict(samples=2), "the samples must be an integer from 3"),
+    (dict(samples=2), "the instants the condition is optimised at must be a whole number from 3"),
     (dict(margin=1.0), "margin must be at least 0 and less than 1"),
     (dict(max_iterations=-1), "non-negative integer"),
     (dict(dt=0.0), "dt must be a positive number"),

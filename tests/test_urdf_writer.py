@@ -175,8 +175,19 @@ def test_only_the_loaders_dynamics_is_edited_never_text_that_looks_like_one(tmp_
     assert """<dynamics note=' damping="7" friction="7"' damping="2.5" friction="0.125"/>""" in text
 
 
+def test_a_default_namespace_that_appeared_after_loading_is_refused_and_nothing_is_written(tmp_path):
+    # The loader refuses a default xmlns on any element; the writer keeps its own check for a text changed since.
+    source = hostile_copy(tmp_path, {})
+    model, out = load_urdf(source), tmp_path / "identified.urdf"
+    hostile_copy(tmp_path, {"    <axis": '    <dynamics xmlns="urn:x" damping="3"/>\n    <axis'})
+    with pytest.raises(InputError) as error:
+        write_identified_urdf(out, model, FRICTION)
+    assert str(error.value).startswith(str(source)) and "\n" not in str(error.value)
+    assert "joint 'theta1'" in str(error.value) and "default xmlns" in str(error.value)
+    assert not out.exists()
+
+
 @pytest.mark.parametrize("replacements, fragments", [
-    ({"    <axis": '    <dynamics xmlns="urn:x" damping="3"/>\n    <axis'}, ["joint 'theta1'", "default xmlns"]),
     ({"    <axis": '    <dynamics damping="3"/><dynamics damping="4"/>\n    <axis'}, ["joint 'theta1'", "2 <dynamics>"]),
     ({"    </inertial>": '    </inertial>\n    <inertial><mass value="5"/></inertial>'}, ["link 'link1'", "2 <inertial>"]),
 ])

@@ -12,6 +12,7 @@ module          job
 ``bagtypes``    the message definitions bags are read with (Franka's state, the typestores)
 ``decompression``  every decompression a bag needs, streamed and stopped at a bound
 ``sources``     any log (table, UR RTDE recording, bag) read into one shape, with its format's map
+``motion``      one reader of motion (t, Θ, applied τ) for every command that reads one
 ``columns``     which of a log's columns give t, Θ, Θ̇, Θ̈ and the measured torques: one plan
 ``resampling``  an even clock: dropped samples filled, resampling, long gaps split
 ``differentiation``  Θ̇ and Θ̈ from noisy samples, the window chosen from the noise

@@ -407,8 +407,9 @@ def excitation(model: Model, duration: float, harmonics: int = HARMONICS, sample
     t = time_grid(duration, dt, values_per_sample=5 * model.n + 1)
     base = base_parameters(model)
     if not (_is_integer(samples) and samples * model.n >= base.rank and samples <= 10_000):
-        raise ExcitationError(f"the samples must be an integer from {-(-base.rank // model.n)} (samples × {model.n} "
-                              f"joints ≥ the {base.rank} base parameters) to 10000, got {samples}")
+        raise ExcitationError(f"the instants the condition is optimised at must be a whole number from "
+                              f"{-(-base.rank // model.n)} (instants × {model.n} joints ≥ the {base.rank} base "
+                              f"parameters) to 10000, got {samples}")
     bounds = _bounds(model, 2 * np.pi / duration)
     problem = _Problem(model, base, bounds, duration, harmonics, np.arange(samples) * duration / samples,
                        np.linspace(0, duration, CONSTRAINT_POINTS * harmonics, endpoint=False), margin)
