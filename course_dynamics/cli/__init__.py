@@ -24,7 +24,7 @@ import warnings
 import numpy as np
 
 from ..base.errors import CourseDynamicsError
-from ..output.render import one_line
+from ..base.text import one_line
 from .commands import COMMANDS
 from .interrupts import Interrupts, interruptible
 from .options import Parser, check_output_names, join_value_options, robots_epilog

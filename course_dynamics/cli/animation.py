@@ -4,6 +4,7 @@ from __future__ import annotations
 import sys
 import warnings
 
+from ..base.text import one_line
 from .flags import add, add_all
 
 
@@ -20,8 +21,6 @@ def animation_document(model, urdf, t, q, tau, args) -> str:
         warnings.simplefilter("always", MeshWarning)
         document, _ = scene_document(model, urdf, args.geometry, t, q, tau if args.torques else None,
                                      args.draw_path, args.allow_any_mesh_path)
-    from ..output.render import one_line
-
     for warning in caught:
         if issubclass(warning.category, MeshWarning):
             print(f"warning: {one_line(warning.message)}", file=sys.stderr)

@@ -11,6 +11,7 @@ import sys
 import numpy as np
 
 from ..base.errors import InputError
+from ..base.text import one_line
 from ..core.robots import load, robot_names
 from ..output import render
 from .flags import FRICTION_SOURCES, add, add_all, add_renamed
@@ -107,7 +108,7 @@ def load_robot_argument(args, target: str | None = None):
                      **({} if g is None else {"gravity": g}))
     for warning in caught:
         if issubclass(warning.category, InertiaWarning):
-            print(f"warning: {render.one_line(warning.message)}", file=sys.stderr)
+            print(f"warning: {one_line(warning.message)}", file=sys.stderr)
         else:
             warnings.warn_explicit(warning.message, warning.category, warning.filename, warning.lineno)
     return model
@@ -136,7 +137,7 @@ def warn_if_gravity_free(model) -> None:
     from ..core.sampling import gravity_free
 
     if gravity_free(model):
-        print(f"warning: robot '{render.one_line(model.name)}': G(q) = 0 at every sampled state (gravity {model.gravity.tolist()} m/s^2 "
+        print(f"warning: robot '{one_line(model.name)}': G(q) = 0 at every sampled state (gravity {model.gravity.tolist()} m/s^2 "
               "cannot act on its joints), so gravity is not tested here", file=sys.stderr)
 
 

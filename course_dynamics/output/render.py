@@ -119,11 +119,6 @@ def json_text(document) -> str:
                          "arithmetic") from None
 
 
-def one_line(text) -> str:
-    """``text`` with every control character (line breaks, escape sequences) written as an escape: one safe line."""
-    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(text))
-
-
 # ---------------------------------------------------------------------------- the Newton–Euler trace
 
 

@@ -46,6 +46,7 @@ import numpy as np
 from ..base.errors import InputError
 from ..base.files import kind_of_file, read_small
 from ..base.resources import budget_text, check_memory, memory_budget
+from ..base.text import one_line
 from .bagtypes import FRANKA_STATE, JOINT_STATE, typestore
 from .decompression import bounded
 
@@ -88,10 +89,6 @@ def is_bag(path) -> bool:
     """Whether ``path`` is read as a bag: a ``.bag`` or ``.mcap`` file, or a folder holding ``metadata.yaml``."""
     path = Path(path)
     return os.path.lexists(path / METADATA) if path.is_dir() else path.suffix in BAG_SUFFIXES
-
-
-def _one_line(text: str) -> str:  # text with every control character (a line break, ESC, a direction mark) escaped
-    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
 
 
 def _reason(exc: Exception) -> str:
@@ -204,8 +201,8 @@ def read_bag(path, joints: tuple[str, ...], topic: str | None = None) -> BagLog:
         with bounded(path):
             log = _read_bag(Path(path), tuple(joints), topic)
     except InputError as exc:  # names from the bag (topics, types, joints) and rosbags' texts made safe to print
-        raise InputError(_one_line(str(exc))) from None
-    return BagLog(log.columns, _one_line(log.where), log.rows, tuple(map(_one_line, log.notes)))
+        raise InputError(one_line(str(exc))) from None
+    return BagLog(log.columns, one_line(log.where), log.rows, tuple(map(one_line, log.notes)))
 
 
 def _read_bag(path: Path, joints: tuple[str, ...], topic: str | None) -> BagLog:

@@ -4,9 +4,9 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from ...base.text import one_line
 from ...core.robots import resolve
 from ...output import io
-from ...output.render import one_line
 from ..animation import add_animation_options, export_animation
 from ..options import (
     UsageError,

@@ -4,8 +4,8 @@ from __future__ import annotations
 import sys
 import time
 
+from ...base.text import one_line
 from ...output import io
-from ...output.render import one_line
 from ..options import (
     UsageError,
     add,

@@ -5,6 +5,7 @@ import sys
 
 import numpy as np
 
+from ...base.text import one_line
 from ...core.robots import resolve
 from ...output import io
 from ...tools.simulation import (
@@ -15,7 +16,6 @@ from ...tools.simulation import (
     simulate,
     time_grid,
 )
-from ...output.render import one_line
 from ..animation import add_animation_options, animation_document
 from ..options import (
     UsageError,

@@ -5,6 +5,7 @@ import sys
 
 import numpy as np
 
+from ...base.text import one_line
 from ...output import io, render
 from ...tools.limits import seconds
 from ...tools.loads import Payload, Wrench, payload_link
@@ -112,7 +113,7 @@ def _list_columns(source, model, mapping, fixed) -> int:
                         constants=fixed,
                         where=source.where)
     used = plan.used_as
-    rows = [["log column", "used as"]] + [[render.one_line(c), used.get(c, "(words: ignored)" if c in source.text
+    rows = [["log column", "used as"]] + [[one_line(c), used.get(c, "(words: ignored)" if c in source.text
                                                                          else "(ignored)")] for c in plan.theirs]
     length = len(next(iter(source.columns.values()))) if source.columns else 0
     print(f"{source.where}: {length} rows, {len(plan.theirs)} columns" + (f" ({source.format})" if source.format !=
@@ -172,7 +173,7 @@ def run(args) -> int:
     header, data = result.table(with_state=args.with_state)
     # What was derived and which options changed the torques are said at the top of the file
     # ('#' lines, which read_table and pandas' comment='#' skip); a plain run writes a plain CSV.
-    extra = [render.one_line(line) for line in list(result.notes) + settings(args, result.model, payloads, wrenches,
+    extra = [one_line(line) for line in list(result.notes) + settings(args, result.model, payloads, wrenches,
                                                                             joint_friction)]
     comments = [f"course-dynamics torques {model.name} from {args.log}"] + extra if extra else []
     report = result.report
@@ -204,7 +205,7 @@ def run(args) -> int:
 def _print_report(result, stream) -> None:
     report, model = result.report, result.model
     for note in result.notes:
-        print(f"note: {render.one_line(note)}", file=stream)
+        print(f"note: {one_line(note)}", file=stream)
     rows = [["joint", "peak |tau|", "rms tau", "effort limit", "used", "peak |qd|", "velocity limit", "used"]]
     for r in report.rows():
         band = "" if not r["peak_tau_band"] else f" ±{r['peak_tau_band']:.2g}"
