@@ -2,15 +2,19 @@
 
 A device (``/dev/zero``), a named pipe (which would block), a socket or a
 folder given where a file is expected is refused, with what it is, before
-anything is read; :func:`read_small` also caps the size.
+anything is read; :func:`read_small` also caps the size. This is the one place
+that opens a file it was given: a caller that words its refusals its own way
+(the grader's "not a regular file", the viewer's "mesh file …") passes a
+:class:`Refusals`.
 """
 from __future__ import annotations
 
 import os
 import stat
+from dataclasses import dataclass
 from pathlib import Path
 
-from .errors import InputError
+from .errors import CourseDynamicsError, InputError
 from .resources import format_bytes
 
 KINDS_OF_FILE = ((stat.S_ISFIFO, "a named pipe"), (stat.S_ISCHR, "a character device"),
@@ -25,13 +29,40 @@ def kind_of_file(mode: int) -> str:
     return next((name for test, name in KINDS_OF_FILE if test(mode)), "a special file")
 
 
-def _not_regular(path, mode: int, what: str) -> InputError:
-    if stat.S_ISDIR(mode) or stat.S_ISLNK(mode):
-        return InputError(f"{path}: is {kind_of_file(mode)}, not a {what}")
-    return InputError(f"{path}: not a regular file ({kind_of_file(mode)}), not a {what}")
+@dataclass(frozen=True)
+class Refusals:
+    """How :func:`open_regular` and :func:`read_small` word a refusal, and the error they raise.
+
+    Each is a format string over ``path``, ``what`` (the kind of file expected), ``kind`` (what the path is
+    instead: :func:`kind_of_file`), ``reason`` (the system's), ``size`` and ``limit`` (for people:
+    :func:`~course_dynamics.base.resources.format_bytes`) and ``size_bytes`` and ``limit_bytes``.
+    """
+
+    error: type[CourseDynamicsError] = InputError
+    unreadable: str = "{path}: cannot read: {reason}"
+    not_a_file: str = "{path}: is {kind}, not a {what}"                       # a directory or a symbolic link
+    not_regular: str = "{path}: not a regular file ({kind}), not a {what}"    # a device, a pipe, a socket
+    too_large: str = "{path}: {size} is more than a {what} may be ({limit})"
+    grew: str = "{path}: more than a {what} may be ({limit})"                 # larger by the time it was read
+
+    def refused(self, wording: str, path, what: str, mode: int = 0, reason: str = "", size: int = 0,
+                limit: int = 0) -> CourseDynamicsError:
+        return self.error(wording.format(path=path, what=what, kind=kind_of_file(mode) if mode else "", reason=reason,
+                                         size=format_bytes(size), limit=format_bytes(limit), size_bytes=size,
+                                         limit_bytes=limit))
+
+    def not_regular_file(self, path, what: str, mode: int) -> CourseDynamicsError:
+        wording = self.not_a_file if stat.S_ISDIR(mode) or stat.S_ISLNK(mode) else self.not_regular
+        return self.refused(wording, path, what, mode)
+
+    def cannot_read(self, path, what: str, exc: Exception) -> CourseDynamicsError:
+        return self.refused(self.unreadable, path, what, reason=getattr(exc, "strerror", None) or str(exc))
 
 
-def open_regular(path, what: str = "file", follow: bool = True):
+REFUSALS = Refusals()
+
+
+def open_regular(path, what: str = "file", follow: bool = True, refusals: Refusals = REFUSALS):
     """``(binary handle, size in bytes)`` of ``path``, which must be a regular file.
 
     A directory, device, named pipe or socket is refused before it is opened, and the opened file
@@ -41,37 +72,44 @@ def open_regular(path, what: str = "file", follow: bool = True):
     Raises
     ------
     InputError
-        Naming the file: missing, unreadable, or not a regular file (saying what it is).
+        Naming the file: missing, unreadable, or not a regular file (saying what it is); ``refusals``
+        may word it otherwise and raise another error.
     """
     path = Path(path)
     try:
         mode = (os.stat if follow else os.lstat)(path).st_mode
-    except OSError as exc:
-        raise InputError(f"{path}: cannot read: {exc.strerror}") from None
+    except (OSError, ValueError) as exc:  # ValueError: a NUL byte in the name
+        raise refusals.cannot_read(path, what, exc) from None
     if not stat.S_ISREG(mode):
-        raise _not_regular(path, mode, what)
+        raise refusals.not_regular_file(path, what, mode)
     try:
         fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | os.O_CLOEXEC | (0 if follow else os.O_NOFOLLOW))
     except OSError as exc:
-        raise InputError(f"{path}: cannot read: {exc.strerror}") from None
+        raise refusals.cannot_read(path, what, exc) from None
     st = os.fstat(fd)
     if not stat.S_ISREG(st.st_mode):
         os.close(fd)
-        raise _not_regular(path, st.st_mode, what)
+        raise refusals.not_regular_file(path, what, st.st_mode)
     os.set_blocking(fd, True)
     return os.fdopen(fd, "rb"), st.st_size
 
 
-def read_small(path, limit: int, what: str = "file", follow: bool = True) -> bytes:
-    """The bytes of the regular file ``path`` (:func:`open_regular`), refused when larger than ``limit``."""
-    handle, size = open_regular(path, what, follow)
+def read_small(path, limit: int, what: str = "file", follow: bool = True, refusals: Refusals = REFUSALS) -> bytes:
+    """The bytes of the regular file ``path`` (:func:`open_regular`), refused when larger than ``limit``.
+
+    >>> read_small("/dev/zero", 10, "table")
+    Traceback (most recent call last):
+    ...
+    course_dynamics.base.errors.InputError: /dev/zero: not a regular file (a character device), not a table
+    """
+    handle, size = open_regular(path, what, follow, refusals)
     with handle:
         if size > limit:
-            raise InputError(f"{path}: {format_bytes(size)} is more than a {what} may be ({format_bytes(limit)})")
+            raise refusals.refused(refusals.too_large, path, what, size=size, limit=limit)
         try:
             data = handle.read(limit + 1)
         except OSError as exc:
-            raise InputError(f"{path}: cannot read: {exc.strerror}") from None
+            raise refusals.cannot_read(path, what, exc) from None
     if len(data) > limit:  # it grew while being read
-        raise InputError(f"{path}: more than a {what} may be ({format_bytes(limit)})")
+        raise refusals.refused(refusals.grew, path, what, size=len(data), limit=limit)
     return data

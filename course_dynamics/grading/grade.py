@@ -37,7 +37,6 @@ import ast
 import os
 import re
 import signal
-import stat
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -45,6 +44,7 @@ from pathlib import Path
 import numpy as np
 
 from ..base.errors import InputError
+from ..base.files import Refusals, read_small
 from .assignment import TERMS, Assignment
 from .diagnosis import Diagnosis
 from .environment import submission_environment
@@ -111,25 +111,20 @@ def _forbidden_in_source(tree: ast.AST, forbidden) -> tuple[str, int] | None:
     return None
 
 
+# What a submission's feedback says of a file it cannot be (the file is named elsewhere in the feedback).
+SOURCE_REFUSALS = Refusals(unreadable="cannot read the file: {reason}", not_a_file="not a regular file",
+                           not_regular="not a regular file",
+                           too_large="the file has {size_bytes} bytes; a submission may have at most {limit_bytes}",
+                           grew="the file has more than {limit_bytes} bytes; a submission may have at most that")
+
+
 def read_source(path: Path) -> tuple[str | None, str]:
-    """(source, "") for a readable UTF-8 file of at most MAX_SOURCE_BYTES, read without blocking on a FIFO;
-    (None, why not) otherwise."""
+    """(source, "") for a readable UTF-8 file of at most MAX_SOURCE_BYTES, read without blocking on a FIFO
+    (:func:`~course_dynamics.base.files.read_small`); (None, why not) otherwise."""
     try:
-        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)  # a FIFO planted as a submission must not block us
-        try:
-            st = os.fstat(fd)
-            if not stat.S_ISREG(st.st_mode):
-                return None, "not a regular file"
-            if st.st_size > MAX_SOURCE_BYTES:
-                return None, f"the file has {st.st_size} bytes; a submission may have at most {MAX_SOURCE_BYTES}"
-            with os.fdopen(os.dup(fd), "rb") as handle:
-                data = handle.read(MAX_SOURCE_BYTES + 1)
-        finally:
-            os.close(fd)
-    except OSError as exc:
-        return None, f"cannot read the file: {exc.strerror}"
-    if len(data) > MAX_SOURCE_BYTES:
-        return None, f"the file has more than {MAX_SOURCE_BYTES} bytes; a submission may have at most that"
+        data = read_small(path, MAX_SOURCE_BYTES, "submission", refusals=SOURCE_REFUSALS)
+    except InputError as exc:
+        return None, str(exc)
     try:
         return data.decode("utf-8"), ""
     except UnicodeDecodeError:

@@ -27,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from ...base.errors import CourseDynamicsError
+from ...base.resources import format_bytes
 from ...core.model import Model
 from ...core.robots import example_robot_data_share
 from ...core.urdf import read_description
@@ -333,8 +334,8 @@ def _reference_problem(shapes: dict, meshes: list, where: str, mesh_anywhere: bo
         return f"mesh file {missing[0]} not found ({where})"
     huge = [path for _, path, _ in meshes if path.stat().st_size > MAX_MESH_BYTES]
     if huge:
-        return (f"mesh file {huge[0]} is {huge[0].stat().st_size / 2**20:.0f} MiB, more than "
-                f"{MAX_MESH_BYTES // 2**20} MiB ({where})")
+        return (f"mesh file {huge[0]} is {format_bytes(huge[0].stat().st_size)}, more than "
+                f"{format_bytes(MAX_MESH_BYTES)} ({where})")
     return None
 
 

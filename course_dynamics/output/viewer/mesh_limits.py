@@ -26,13 +26,12 @@ counting, so that a scene graph of exponential size stays cheap to count.
 """
 from __future__ import annotations
 
-import os
 import re
-import stat
 from dataclasses import dataclass
 from pathlib import Path
 
 from ...base.errors import CourseDynamicsError
+from ...base.files import Refusals, read_small
 from ...core.urdf import xml_parser
 
 MAX_MESH_BYTES = 200 * 2**20  # any geometry: a mesh file larger than this is not drawn (stick model instead)
@@ -70,23 +69,16 @@ class MeshCount:
         return MeshCount(min(self.triangles + other.triangles, CAP), min(self.instances + other.instances, CAP))
 
 
+MESH_REFUSALS = Refusals(error=MeshLimitError, unreadable="mesh file {path}: cannot open: {reason}",
+                         not_a_file="mesh file {path}: not a regular file",
+                         not_regular="mesh file {path}: not a regular file",
+                         too_large="mesh file {path} is {size}, more than {limit}",
+                         grew="mesh file {path}: more than {limit}")
+
+
 def read_mesh_bytes(path: Path) -> bytes:
     """The bytes of a regular mesh file of at most :data:`MAX_MESH_BYTES` (a FIFO or device is refused, unread)."""
-    try:
-        descriptor = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
-    except (OSError, ValueError) as exc:
-        raise MeshLimitError(f"mesh file {path}: cannot open: {getattr(exc, 'strerror', None) or exc}") from None
-    with os.fdopen(descriptor, "rb") as file:
-        info = os.fstat(file.fileno())
-        if not stat.S_ISREG(info.st_mode):
-            raise MeshLimitError(f"mesh file {path}: not a regular file")
-        if info.st_size > MAX_MESH_BYTES:
-            raise MeshLimitError(f"mesh file {path} is {info.st_size / 2**20:.0f} MiB, more than "
-                                 f"{MAX_MESH_BYTES // 2**20} MiB")
-        data = file.read(MAX_MESH_BYTES + 1)
-    if len(data) > MAX_MESH_BYTES:  # it grew while being read
-        raise MeshLimitError(f"mesh file {path}: more than {MAX_MESH_BYTES // 2**20} MiB")
-    return data
+    return read_small(path, MAX_MESH_BYTES, "mesh file", refusals=MESH_REFUSALS)
 
 
 def count_mesh(path: Path, data: bytes) -> MeshCount:
