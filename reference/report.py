@@ -22,8 +22,6 @@ Markdown, and matplotlib draws every label as paths, never as SVG text.
 from __future__ import annotations
 
 import datetime
-import io as text_io
-import json
 import platform
 from dataclasses import dataclass, field
 from importlib import metadata, resources
@@ -40,7 +38,7 @@ from course_dynamics.core.sampling import (
     smooth_trajectory,
     term_scales,
 )
-from course_dynamics.output import page, render
+from course_dynamics.output import page, plotting, render
 from course_dynamics.output.folders import write_folder
 
 from . import TERMS, TOLERANCE, textbook
@@ -67,19 +65,8 @@ class RobotSection:
 
 
 def _figure_svg(draw) -> str:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    matplotlib.rcParams["svg.fonttype"] = "path"  # labels as paths: no text from a URDF reaches the SVG
-    matplotlib.rcParams["text.parse_math"] = False  # a '$' in a joint name is a dollar sign, not TeX
-    figure = draw(plt)
-    buffer = text_io.StringIO()
-    figure.savefig(buffer, format="svg")
-    plt.close(figure)
-    svg = buffer.getvalue()
-    return svg[svg.index("<svg"):]
+    """The figure ``draw(plt)`` makes, as SVG text drawn as the library draws every figure (labels as paths)."""
+    return plotting.figure_bytes(draw(plotting.pyplot()), "svg").decode("utf-8")
 
 
 def _error_histograms(relative: dict[str, np.ndarray], tolerance: float):
@@ -289,7 +276,7 @@ def write_report(out: Path, report: Report) -> list[Path]:
     did not write, a ``figures`` that is a link) before writing any, and deletes nothing.
     """
     documents = {"index.html": report_html(report), "report.md": report_markdown(report),
-                 "report.json": json.dumps(report.as_dict(), indent=2, allow_nan=False) + "\n"}
+                 "report.json": render.json_text(report.as_dict()) + "\n"}
     for index, r in enumerate(report.robots):
         for key in FIGURES:
             documents[f"figures/robot{index}_{key}.svg"] = r.figures[key]

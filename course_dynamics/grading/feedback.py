@@ -266,8 +266,6 @@ def write_outputs(out: Path, grades: list[SubmissionGrade], assignment: Assignme
     """Every output file in ``out`` (made if missing), through the folder's manifest (:func:`write_folder`):
     only files an earlier ``grade`` wrote there are replaced, and nothing else in the folder is touched.
     ``comparison`` (similarity's, or None when not asked for) adds the summary's table and one page per pair."""
-    import json
-
     documents = {"gradebook.csv": gradebook_csv(grades, assignment),
                  "summary.html": summary_html(grades, assignment, comparison)}
     for k, pair in enumerate(comparison.pairs if comparison is not None else ()):
@@ -275,5 +273,5 @@ def write_outputs(out: Path, grades: list[SubmissionGrade], assignment: Assignme
     for g in grades:
         documents[f"{g.student}.md"] = feedback_markdown(g, assignment)
         documents[f"{g.student}.html"] = feedback_html(g, assignment)
-        documents[f"{g.student}.json"] = json.dumps(results_json(g, assignment), indent=2, allow_nan=False) + "\n"
+        documents[f"{g.student}.json"] = render.json_text(results_json(g, assignment)) + "\n"
     return write_folder(out, documents, OWNER)
