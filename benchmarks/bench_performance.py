@@ -1,21 +1,30 @@
 """Speed of course_dynamics against Pinocchio, both sides written as a user writes them, measured in one run.
 
 Run:  python benchmarks/bench_performance.py [--batch 4000] [--repeat 5] [--duration 2] [--members 1000]
-                                             [--chains 6,30,100,300]
+                                             [--calls 20000] [--chains 6,30,100,300]
 
-Every figure is the best of --repeat runs of the same work; every ratio is ours / Pinocchio's and is printed
-beside its target. It prints, for UR5 unless said otherwise:
+Every figure is the best of the same number of rounds on both sides (--repeat, or 3 for the seconds-long
+runs); every ratio is ours / Pinocchio's, printed with the threads each side ran on ("ours 1 thread / pin 1
+thread") and beside its target. Our side is chosen explicitly, never left to the default API's evaluator: a
+compiled model (``compile_model``, its native code where a compiler exists) or the interpreted recursion
+(``course_dynamics.core.newton_euler`` …); our native batches are held to one thread for the rows that say one
+(``course_dynamics.core.compiled.THREADS``: see measure.py). Pinocchio's side is its own numpy arrays in its
+own layout, made before timing, passed straight to its functions: ``pin.rnea`` & co. called from Python once a
+state, ``rneaInParallel``/``abaInParallel`` with the thread count shown. It prints, for UR5 unless said otherwise:
 
-1. one state: the compiled model's own methods (``compile_model(model).inverse_dynamics(q, qd, qdd)``, its
-   native code where a compiler exists) against ``pin.rnea``, ``pin.crba`` and ``pin.aba`` called from
-   Python; the default API (``inverse_dynamics(model, q, qd, qdd)``, warm) and the interpreted recursion;
-2. a batch of --batch states, per sample, through the default API (warm: the evaluator has chosen) against
-   Pinocchio's fastest single-thread path: ``rneaInParallel``/``abaInParallel`` with one thread, Python loops
-   over ``pin.crba`` and ``pin.computeCoriolisMatrix``;
-3. the same τ batch on 2 threads against ``rneaInParallel`` with 2;
-4. ``simulate(ur5, q0, 0, duration, 1e-3)`` as a user calls it (RK4), against a bare RK4 loop on ``pin.aba``;
-5. --members double pendulums for 0.5 s as one ensemble, against the same RK4 loop calling ``pin.aba`` for
-   every member;
+1. one state: the compiled model's own methods against ``pin.rnea``, ``pin.crba`` and ``pin.aba`` called from
+   Python; the default API (``inverse_dynamics(model, q, qd, qdd)`` in a loop, on whatever path its evaluator
+   takes) and the interpreted recursion; then Pinocchio's cost of one call from Python beside an estimate of
+   its C++ cost: the same call on an empty model (the binding's own cost) subtracted, and, for rnea and aba,
+   the per-state time of its batch call on one thread;
+2. a batch of --batch states, per sample, our compiled model on 1 thread against Pinocchio's fastest
+   single-thread path: ``rneaInParallel``/``abaInParallel`` with one thread, Python loops over ``pin.crba``
+   and ``pin.computeCoriolisMatrix`` (with a second ratio against their C++ estimate from 1.);
+3. the same τ batch with our threads set to 2 against ``rneaInParallel`` with 2;
+4. ``simulate(ur5, q0, 0, duration, 1e-3, compiled=True)`` (RK4), against a bare RK4 loop on ``pin.aba``;
+5. --members double pendulums (continuous joints) for 0.5 s as one ensemble, against the RK4 a Pinocchio user
+   writes: vectorised over the members with ``abaInParallel`` on one thread, and a loop over the members of
+   the bare RK4 loop (``pin.aba``, ``pin.integrate``);
 6. compiling, first and from the cache: the Python programs, then the native library;
 7. start-up: ``course-dynamics info ur5`` against importing numpy and pinocchio;
 8. chains of --chains joints: the cost per joint of τ, M, C and forward dynamics, interpreted and compiled
@@ -28,7 +37,6 @@ import os
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
@@ -36,59 +44,30 @@ import pinocchio as pin
 from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
 from course_dynamics_reference.validate import random_states
 
-from course_dynamics import (
-    coriolis_matrix,
-    forward_dynamics,
-    inverse_dynamics,
-    load_robot,
-    load_urdf,
-    mass_matrix,
-    robot_path,
-)
+from course_dynamics import inverse_dynamics, load_robot, load_urdf, robot_path
 from course_dynamics.core import compiled as compiled_module
 from course_dynamics.core import dynamics, newton_euler
 from course_dynamics.core import forward_dynamics as interpreted_forward
 from course_dynamics.core.compiled import ProgramTooLargeError, compile_model
 from course_dynamics.tools.simulation import simulate
 
+from measure import best, our_threads, print_conditions, print_load, threads, threads_used  # this folder is on the path
+
 TARGETS = {"one τ": 2.0, "one M": 2.0, "one FD": 2.0, "τ batch": 1.0, "M batch": 1.0, "C batch": 1.0,
            "FD batch": 1.0, "2 threads": 1.0, "simulate": 3.0, "ensemble": 0.1}
+ONE = threads(1, 1)
 
 
-def best(function, repeat: int, number: int = 1) -> float:
-    """Best wall time of one call (s) over ``repeat`` rounds of ``number`` calls."""
-    times = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        for _ in range(number):
-            function()
-        times.append((time.perf_counter() - start) / number)
-    return min(times)
-
-
-def line(label: str, ours: float, theirs: float, unit: str, target: str | None = None) -> None:
+def line(label: str, ours: float, theirs: float, unit: str, ran: str, target: str | None = None) -> None:
     ratio = ours / theirs
     scale = 1e6 if unit == "µs" else 1.0
     verdict = "" if target is None else f"  target ≤ {TARGETS[target]:g}: {'met' if ratio <= TARGETS[target] else 'NOT met'}"
-    print(f"  {label:<58} {ours * scale:>10.3g} {theirs * scale:>10.3g} {unit:<3} {ratio:>7.2f}{verdict}")
-
-
-def pinocchio_dynamics(oracle: PinocchioOracle):
-    """(q, qd, tau) → Θ̈ by pin.aba for arrays (..., n) in our joint order, member by member."""
-    model, data = oracle.model, oracle.data
-
-    def aba(q, qd, tau):
-        if q.ndim == 1:
-            return oracle._ours(pin.aba(model, data, oracle.configuration(q), oracle.velocity(qd), oracle.velocity(tau)))
-        rows = [aba(a, b, c) for a, b, c in zip(q.reshape(-1, q.shape[-1]), qd.reshape(-1, q.shape[-1]),
-                                                 tau.reshape(-1, q.shape[-1]))]
-        return np.reshape(rows, q.shape)
-
-    return aba
+    print(f"  {label:<66} {ours * scale:>9.3g} {theirs * scale:>9.3g} {unit:<2} {ratio:>7.2f}  {ran}{verdict}")
 
 
 def bare_rk4(model, data, q, v, duration: float, dt: float) -> np.ndarray:
-    """The 20-line RK4 loop a Pinocchio user writes: zero torque, pin.aba four times a step."""
+    """The 20-line RK4 loop a Pinocchio user writes for joints whose configuration is their angle: zero
+    torque, pin.aba four times a step."""
     tau = np.zeros(model.nv)
     for _ in range(int(round(duration / dt))):
         a1 = pin.aba(model, data, q, v, tau)
@@ -100,6 +79,48 @@ def bare_rk4(model, data, q, v, duration: float, dt: float) -> np.ndarray:
         a4 = pin.aba(model, data, q4, v4, tau)
         q, v = q + dt / 6 * (v + 2 * v2 + 2 * v3 + v4), v + dt / 6 * (a1 + 2 * a2 + 2 * a3 + a4)
     return q
+
+
+def bare_rk4_integrate(model, data, q, v, duration: float, dt: float) -> np.ndarray:
+    """The same loop where the configuration is not a vector of angles (continuous joints: cos θ, sin θ):
+    positions advanced by pin.integrate."""
+    tau = np.zeros(model.nv)
+    for _ in range(int(round(duration / dt))):
+        a1 = pin.aba(model, data, q, v, tau)
+        q2, v2 = pin.integrate(model, q, 0.5 * dt * v), v + 0.5 * dt * a1
+        a2 = pin.aba(model, data, q2, v2, tau)
+        q3, v3 = pin.integrate(model, q, 0.5 * dt * v2), v + 0.5 * dt * a2
+        a3 = pin.aba(model, data, q3, v3, tau)
+        q4, v4 = pin.integrate(model, q, dt * v3), v + dt * a3
+        a4 = pin.aba(model, data, q4, v4, tau)
+        q, v = pin.integrate(model, q, dt / 6 * (v + 2 * v2 + 2 * v3 + v4)), v + dt / 6 * (a1 + 2 * a2 + 2 * a3 + a4)
+    return q
+
+
+def batched_rk4(model, pool, theta, v, duration: float, dt: float, num_threads: int) -> np.ndarray:
+    """RK4 for K members at once, each column one member (Pinocchio's layout, (nv, K)), abaInParallel four times a
+    step; the angles θ of continuous joints kept, their configuration (cos θ, sin θ) formed for each call."""
+    assert model.nq == 2 * model.nv  # every joint continuous: q = (cos θ₁, sin θ₁, cos θ₂, …)
+    members = theta.shape[1]
+    Q = np.empty((model.nq, members), order="F")
+    tau = np.zeros((model.nv, members), order="F")
+    out = np.empty((model.nv, members), order="F")
+
+    def aba(angles, velocities):
+        Q[0::2], Q[1::2] = np.cos(angles), np.sin(angles)
+        pin.abaInParallel(num_threads, pool, Q, np.asfortranarray(velocities), tau, out)
+        return out.copy(order="F")
+
+    for _ in range(int(round(duration / dt))):
+        a1 = aba(theta, v)
+        q2, v2 = theta + 0.5 * dt * v, v + 0.5 * dt * a1
+        a2 = aba(q2, v2)
+        q3, v3 = theta + 0.5 * dt * v2, v + 0.5 * dt * a2
+        a3 = aba(q3, v3)
+        q4, v4 = theta + dt * v3, v + dt * a3
+        a4 = aba(q4, v4)
+        theta, v = theta + dt / 6 * (v + 2 * v2 + 2 * v3 + v4), v + dt / 6 * (a1 + 2 * a2 + 2 * a3 + a4)
+    return theta
 
 
 def chain_urdf(n: int) -> str:
@@ -117,96 +138,147 @@ def chain_urdf(n: int) -> str:
     return f'<robot name="chain{n}">' + "".join(links + joints) + "</robot>"
 
 
-def one_state(model, oracle, compiled, x, xd, xdd, r) -> None:
+def one_state(model, oracle, compiled, x, xd, xdd, batch, r, number: int) -> dict:
+    """Section 1; returns Pinocchio's estimated C++ cost of one call (s) by function name."""
     native = "native code" if compiled.native else "pure Python: no C compiler here"
-    print(f"1. one state (the compiled model's {native}; µs)")
-    qp, vp, ap = oracle.configuration(x), oracle.velocity(xd), oracle.velocity(xdd)
+    print(f"1. one state (the compiled model's {native}), µs; columns: ours, Pinocchio's, unit, ratio, threads")
+    qp, vp, ap = oracle.configuration(x), oracle.velocity(xd), oracle.velocity(xdd)  # Pinocchio's arrays, made once
     pm, pd = oracle.model, oracle.data
-    rnea = best(lambda: pin.rnea(pm, pd, qp, vp, ap), r, 20000)
-    line("τ: compile_model(ur5).inverse_dynamics / pin.rnea", best(lambda: compiled.inverse_dynamics(x, xd, xdd), r, 20000),
-         rnea, "µs", "one τ")
-    line("M: compile_model(ur5).mass_matrix / pin.crba", best(lambda: compiled.mass_matrix(x), r, 20000),
-         best(lambda: pin.crba(pm, pd, qp), r, 20000), "µs", "one M")
-    line("FD: compile_model(ur5).forward_dynamics / pin.aba", best(lambda: compiled.forward_dynamics(x, xd, xdd), r, 20000),
-         best(lambda: pin.aba(pm, pd, qp, vp, ap), r, 20000), "µs", "one FD")
-    for _ in range(200):  # the default API's evaluator has chosen by now
+    calls = {"rnea": lambda: pin.rnea(pm, pd, qp, vp, ap), "crba": lambda: pin.crba(pm, pd, qp),
+             "computeCoriolisMatrix": lambda: pin.computeCoriolisMatrix(pm, pd, qp, vp),
+             "aba": lambda: pin.aba(pm, pd, qp, vp, ap)}
+    python = {name: best(call, r, number) for name, call in calls.items()}
+    line("τ: compile_model(ur5).inverse_dynamics / pin.rnea", best(lambda: compiled.inverse_dynamics(x, xd, xdd), r, number),
+         python["rnea"], "µs", ONE, "one τ")
+    line("M: compile_model(ur5).mass_matrix / pin.crba", best(lambda: compiled.mass_matrix(x), r, number),
+         python["crba"], "µs", ONE, "one M")
+    line("FD: compile_model(ur5).forward_dynamics / pin.aba", best(lambda: compiled.forward_dynamics(x, xd, xdd), r, number),
+         python["aba"], "µs", ONE, "one FD")
+    for _ in range(200):  # a user's loop: the evaluator takes whatever path it takes (core/evaluator.py)
         inverse_dynamics(model, x, xd, xdd)
-    line("τ: default API inverse_dynamics(ur5, q, qd, qdd) / pin.rnea", best(lambda: inverse_dynamics(model, x, xd, xdd),
-                                                                            r, 20000), rnea, "µs")
-    line("τ: the interpreted recursion / pin.rnea", best(lambda: newton_euler.inverse_dynamics(model, x, xd, xdd), r, 500),
-         rnea, "µs")
+    line("τ: default API inverse_dynamics(ur5, …) in a loop / pin.rnea", best(lambda: inverse_dynamics(model, x, xd, xdd),
+                                                                          r, number), python["rnea"], "µs", ONE)
+    line("τ: interpreted newton_euler.inverse_dynamics / pin.rnea",
+         best(lambda: newton_euler.inverse_dynamics(model, x, xd, xdd), r, max(1, number // 40)), python["rnea"], "µs", ONE)
+
+    empty = pin.Model()  # no joints: a call on it costs the binding, not the algorithm
+    ed, z = empty.createData(), np.zeros(0)
+    bare = {"rnea": lambda: pin.rnea(empty, ed, z, z, z), "crba": lambda: pin.crba(empty, ed, z),
+            "computeCoriolisMatrix": lambda: pin.computeCoriolisMatrix(empty, ed, z, z),
+            "aba": lambda: pin.aba(empty, ed, z, z, z)}
+    QT, VT, AT, pool = batch
+    out = np.zeros((pm.nv, QT.shape[1]), order="F")
+    batched = {"rnea": best(lambda: pin.rneaInParallel(1, pool, QT, VT, AT, out), r) / QT.shape[1],
+               "aba": best(lambda: pin.abaInParallel(1, pool, QT, VT, AT, out), r) / QT.shape[1]}
+    print("  Pinocchio's cost of one UR5 call (µs, 1 thread): called from Python; the same call on an empty model "
+          "(the binding's\n  own cost); their difference, an estimate of the C++ cost; and its batch call's time per "
+          f"state ({QT.shape[1]} states, 1 thread)")
+    cpp = {}
+    for name, call in calls.items():
+        overhead = best(bare[name], r, number)
+        cpp[name] = python[name] - overhead
+        also = (f"{'rneaInParallel' if name == 'rnea' else 'abaInParallel'} {batched[name] * 1e6:6.3g}"
+                if name in batched else "(no batch call)")
+        print(f"    pin.{name:<23} from Python {python[name] * 1e6:6.3g}   empty model {overhead * 1e6:6.3g}   "
+              f"≈ C++ {cpp[name] * 1e6:6.3g}   {also}")
+    cpp.update({f"{name} batch": seconds for name, seconds in batched.items()})
+    return cpp
 
 
-def batches(model, oracle, q, qd, qdd, r) -> None:
+def batches(compiled, pm, q, qd, qdd, batch, cpp, r) -> None:
     N = len(q)
-    print(f"2. a batch of {N} states through the default API (warm), per sample (µs)")
-    Q = np.array([oracle.configuration(s) for s in q])
-    V = np.array([oracle.velocity(s) for s in qd])
-    A = np.array([oracle.velocity(s) for s in qdd])
-    QT, VT, AT = (np.asfortranarray(a.T) for a in (Q, V, A))
-    pool = pin.ModelPool(oracle.model, 2)
-    out = np.zeros((oracle.model.nv, N), order="F")
-    pm, pd = oracle.model, oracle.data
-    for _ in range(3):  # warm: the evaluator compiles after a few calls, as it would in a user's loop
-        inverse_dynamics(model, q, qd, qdd), mass_matrix(model, q), coriolis_matrix(model, q, qd)
-        forward_dynamics(model, q, qd, qdd)
-    rnea_1 = best(lambda: pin.rneaInParallel(1, pool, QT, VT, AT, out), r) / N
-    line("τ / rneaInParallel(1 thread)", best(lambda: inverse_dynamics(model, q, qd, qdd), r) / N, rnea_1, "µs",
-         "τ batch")
-    line("M / a pin.crba loop", best(lambda: mass_matrix(model, q), r) / N,
-         best(lambda: [pin.crba(pm, pd, a) for a in Q], r) / N, "µs", "M batch")
-    line("C / a pin.computeCoriolisMatrix loop", best(lambda: coriolis_matrix(model, q, qd), r) / N,
-         best(lambda: [pin.computeCoriolisMatrix(pm, pd, a, b) for a, b in zip(Q, V)], r) / N, "µs", "C batch")
-    line("forward dynamics / abaInParallel(1 thread)", best(lambda: forward_dynamics(model, q, qd, qdd), r) / N,
-         best(lambda: pin.abaInParallel(1, pool, QT, VT, AT, out), r) / N, "µs", "FD batch")
-    used = min(2, N // compiled_module.THREAD_STATES) if compiled_module.native.compiler() else 1
-    print(f"3. the τ batch on 2 threads, per sample (µs; this machine has {os.cpu_count()} cores; ours shares a "
-          f"batch from {compiled_module.THREAD_STATES} states a thread, so {max(used, 1)} here)")
-    threads = compiled_module.THREADS
-    compiled_module.THREADS = 2
-    ours_2 = best(lambda: inverse_dynamics(model, q, qd, qdd), r) / N
-    compiled_module.THREADS = 1
-    ours_1 = best(lambda: inverse_dynamics(model, q, qd, qdd), r) / N
-    compiled_module.THREADS = threads
-    theirs_2 = best(lambda: pin.rneaInParallel(2, pool, QT, VT, AT, out), r) / N
-    line(f"τ on {max(used, 1)} thread(s) / rneaInParallel(2 threads)", ours_2, theirs_2, "µs", "2 threads")
-    print(f"  ours: {ours_1 / ours_2:.2f}× the throughput of one thread; Pinocchio's 2 threads: "
-          f"{rnea_1 / theirs_2:.2f}× its one" + ("  (slower than one: the machine was busy, measure again)"
-                                                   if theirs_2 > rnea_1 else ""))
+    QT, VT, AT, pool = batch
+    Q, V = QT.T, VT.T  # a Pinocchio user's states one a row, for the loops
+    pd = pm.createData()
+    out = np.zeros((pm.nv, N), order="F")
+    print(f"2. a batch of {N} states, per sample (µs): our compiled model on 1 thread, Pinocchio's single-thread path")
+    with our_threads(1):
+        used = {m: threads_used(compiled, m, *a) for m, a in (("inverse_dynamics", (q, qd, qdd)), ("mass_matrix", (q,)),
+                                                             ("coriolis_matrix", (q, qd)),
+                                                             ("forward_dynamics", (q, qd, qdd)))}
+        line("τ: compile_model(ur5).inverse_dynamics / rneaInParallel(1)", best(lambda: compiled.inverse_dynamics(q, qd, qdd), r) / N,
+             best(lambda: pin.rneaInParallel(1, pool, QT, VT, AT, out), r) / N, "µs",
+             threads(used["inverse_dynamics"], 1), "τ batch")
+        ours_M = best(lambda: compiled.mass_matrix(q), r) / N
+        line("M: .mass_matrix / a Python loop over pin.crba", ours_M, best(lambda: [pin.crba(pm, pd, a) for a in Q], r) / N,
+             "µs", threads(used["mass_matrix"], 1), "M batch")
+        print(f"    against pin.crba's C++ ≈ {cpp['crba'] * 1e6:.3g} µs a call (1.): {ours_M / cpp['crba']:.2f}")
+        ours_C = best(lambda: compiled.coriolis_matrix(q, qd), r) / N
+        line("C: .coriolis_matrix / a Python loop over pin.computeCoriolisMatrix", ours_C,
+             best(lambda: [pin.computeCoriolisMatrix(pm, pd, a, b) for a, b in zip(Q, V)], r) / N, "µs",
+             threads(used["coriolis_matrix"], 1), "C batch")
+        print(f"    against pin.computeCoriolisMatrix's C++ ≈ {cpp['computeCoriolisMatrix'] * 1e6:.3g} µs a call (1.): "
+              f"{ours_C / cpp['computeCoriolisMatrix']:.2f}")
+        line("FD: .forward_dynamics / abaInParallel(1)", best(lambda: compiled.forward_dynamics(q, qd, qdd), r) / N,
+             best(lambda: pin.abaInParallel(1, pool, QT, VT, AT, out), r) / N, "µs",
+             threads(used["forward_dynamics"], 1), "FD batch")
+        ours_1 = best(lambda: compiled.inverse_dynamics(q, qd, qdd), r) / N
+        rnea_1 = best(lambda: pin.rneaInParallel(1, pool, QT, VT, AT, out), r) / N
+    with our_threads(2):
+        used_2 = threads_used(compiled, "inverse_dynamics", q, qd, qdd)
+        print(f"3. the τ batch with threads set to 2 on both sides, per sample (µs; ours shares a batch only when each "
+              f"thread gets\n  {compiled_module.THREAD_STATES} states or more, so it ran on {used_2} here)")
+        ours_2 = best(lambda: compiled.inverse_dynamics(q, qd, qdd), r) / N
+        theirs_2 = best(lambda: pin.rneaInParallel(2, pool, QT, VT, AT, out), r) / N
+    line("τ: .inverse_dynamics / rneaInParallel(2)", ours_2, theirs_2, "µs", threads(used_2, 2), "2 threads")
+    print(f"  throughput against one thread (both measured again just before): ours {ours_1 / ours_2:.2f}×, "
+          f"Pinocchio's {rnea_1 / theirs_2:.2f}×" + ("  (Pinocchio's 2 slower than its 1: the machine was busy)"
+                                                     if theirs_2 > rnea_1 else ""))
 
 
 def simulation(model, oracle, duration: float, r) -> None:
-    print(f"4. simulate {duration:g} s of UR5, RK4 at 1 ms, as a user calls it (s)")
+    rounds = min(r, 3)
+    print(f"4. simulate {duration:g} s of UR5, RK4 at 1 ms, best of {rounds} (s)")
     q0, qd0 = np.array([0.0, -1.2, 1.0, -0.5, 0.5, 0.0]), np.zeros(6)
-    simulate(model, q0, qd0, duration, 1e-3)  # warm: a first run may build the native code (see 6)
+    qp, vp = oracle.configuration(q0), oracle.velocity(qd0)  # Pinocchio's arrays, made once
+    simulate(model, q0, qd0, duration, 1e-3, compiled=True)  # warm: a first run may build the native code (see 6)
     runs = {}
 
     def ours():
-        runs["ours"] = simulate(model, q0, qd0, duration, 1e-3, integrator="rk4")
+        runs["ours"] = simulate(model, q0, qd0, duration, 1e-3, integrator="rk4", compiled=True)
 
     def theirs():
-        runs["pin"] = bare_rk4(oracle.model, oracle.data, oracle.configuration(q0), oracle.velocity(qd0), duration, 1e-3)
+        runs["pin"] = bare_rk4(oracle.model, oracle.data, qp, vp, duration, 1e-3)
 
-    line("simulate(ur5, q0, 0, …) / a bare RK4 loop on pin.aba", best(ours, min(r, 3)), best(theirs, min(r, 3)), "s",
-         "simulate")
+    line("simulate(ur5, q0, 0, …, compiled=True) / a bare RK4 loop on pin.aba", best(ours, rounds), best(theirs, rounds),
+         "s", ONE, "simulate")
     print(f"  final states differ by {np.abs(runs['ours'].q[-1] - oracle._ours(runs['pin'])).max():.1e} rad")
 
 
 def ensemble(members: int, r) -> None:
-    print(f"5. {members} double pendulums, 0.5 s of RK4 at 1 ms (s)")
+    rounds = min(r, 3)
+    print(f"5. {members} double pendulums (continuous joints), 0.5 s of RK4 at 1 ms, best of {rounds} (s)")
     pendulum = load_robot("double_pendulum_continuous")
-    pendulum_aba = pinocchio_dynamics(PinocchioOracle(robot_path("double_pendulum_continuous"), pendulum.joint_names))
+    fast = compile_model(pendulum)
+    pm = pin.buildModelFromUrdf(str(robot_path("double_pendulum_continuous")))  # as a Pinocchio user loads it
+    assert [pm.names[i] for i in range(1, pm.njoints)] == list(pendulum.joint_names)
+    pd, pool = pm.createData(), pin.ModelPool(pm, 1)
     start = np.array([2.0, 0.0]) + 1e-3 * np.random.default_rng(1).standard_normal((members, 2))
+    theta0, v0 = np.asfortranarray(start.T), np.zeros((pm.nv, members), order="F")  # Pinocchio's layout: (nv, K)
+    configurations = [np.ravel(np.column_stack([np.cos(s), np.sin(s)])) for s in start]  # q = (cos θ₁, sin θ₁, …)
+    zero = np.zeros(pm.nv)
     runs = {}
 
     def ours():
-        runs["ours"] = simulate(pendulum, start, np.zeros(2), 0.5, 1e-3)
+        runs["ours"] = simulate(pendulum, start, np.zeros(2), 0.5, 1e-3, compiled=True)
 
-    def theirs():
-        runs["pin"] = simulate(pendulum, start, np.zeros(2), 0.5, 1e-3, dynamics=pendulum_aba)
+    def vectorised():
+        runs["batched"] = batched_rk4(pm, pool, theta0, v0, 0.5, 1e-3, 1)
 
-    line("one ensemble, compiled / aba for every member", best(ours, min(r, 3)), best(theirs, 1), "s", "ensemble")
-    print(f"  final states differ by {np.abs(runs['ours'].q[-1] - runs['pin'].q[-1]).max():.1e} rad (required: 1e-6)")
+    def loop():
+        runs["loop"] = [bare_rk4_integrate(pm, pd, q, zero, 0.5, 1e-3) for q in configurations]
+
+    with our_threads(1):
+        used = threads_used(fast, "forward_dynamics", start, np.zeros_like(start), np.zeros_like(start))
+        ours_seconds = best(ours, rounds)
+    line("one ensemble, compiled / RK4 over the members with abaInParallel(1)", ours_seconds, best(vectorised, rounds),
+         "s", threads(used, 1))
+    line("one ensemble, compiled / a loop of RK4 on pin.aba for every member", ours_seconds, best(loop, rounds), "s",
+         threads(used, 1), "ensemble")
+    final = runs["ours"].q[-1]
+    looped = np.array([[np.arctan2(q[2 * j + 1], q[2 * j]) for j in range(pm.nv)] for q in runs["loop"]])
+    print(f"  final states differ by {np.abs(final - runs['batched'].T).max():.1e} rad (vectorised), "
+          f"{np.abs(np.angle(np.exp(1j * (final - looped)))).max():.1e} rad (loop); required: 1e-6")
 
 
 def compiling() -> None:
@@ -224,16 +296,18 @@ def compiling() -> None:
 
 
 def start_up(r) -> None:
-    print("7. start-up (s)")
+    rounds = min(r, 3)
+    print(f"7. start-up, best of {rounds} (s)")
     command = [sys.executable, "-m", "course_dynamics.cli", "info", "ur5"]
-    ours = best(lambda: subprocess.run(command, capture_output=True, check=True), min(r, 3))
+    ours = best(lambda: subprocess.run(command, capture_output=True, check=True), rounds)
     imports = best(lambda: subprocess.run([sys.executable, "-c", "import numpy, pinocchio"], capture_output=True,
-                                          check=True), min(r, 3))
-    line("course-dynamics info ur5 / python -c 'import numpy, pinocchio'", ours, imports, "s")
+                                          check=True), rounds)
+    line("course-dynamics info ur5 / python -c 'import numpy, pinocchio'", ours, imports, "s", "one process each")
 
 
 def chains(sizes, r) -> None:
-    print("8. chains: cost per joint of one state, µs (interpreted; compiled, or 'over bound')")
+    print("8. chains: cost per joint of one state, µs, ours on 1 thread (interpreted, numpy's BLAS as above; compiled, "
+          "or 'over bound')")
     print(f"  {'joints':>6} {'τ':>9} {'M':>9} {'C':>9} {'FD':>9} | {'τ':>9} {'M':>9} {'C':>9} {'FD':>9}")
     with tempfile.TemporaryDirectory() as folder:
         for n in sizes:
@@ -264,21 +338,27 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--duration", type=float, default=2.0, help="simulated seconds of UR5 (default 2)")
     parser.add_argument("--members", type=int, default=1000, help="double pendulums in the ensemble (default 1000)")
+    parser.add_argument("--calls", type=int, default=20000, help="calls a round for one state (default 20000)")
     parser.add_argument("--chains", default="6,30,100,300", help="chain lengths for the cost per joint")
     args = parser.parse_args()
     model = load_robot("ur5")
     oracle = PinocchioOracle(robot_path("ur5"), model.joint_names)
-    compiled = compile_model(model)
+    compiled = compile_model(model)  # with its native code where a compiler exists (waits for the build)
     q, qd, qdd = random_states(model, args.batch, seed=0)
+    # Pinocchio's arrays, made once before any timing: one state a column, its own joint layout
+    QT, VT, AT = (np.asfortranarray(np.array([convert(s) for s in states]).T)
+                  for convert, states in ((oracle.configuration, q), (oracle.velocity, qd), (oracle.velocity, qdd)))
+    batch = (QT, VT, AT, pin.ModelPool(oracle.model, 2))
     r = args.repeat
-    print(f"UR5 ({model.n} joints), best of {r}; columns: ours, Pinocchio's, unit, ratio (ours / Pinocchio's)")
-    one_state(model, oracle, compiled, q[0], qd[0], qdd[0], r)
-    batches(model, oracle, q, qd, qdd, r)
+    print_conditions(f"UR5 ({model.n} joints), best of {r} rounds on both sides unless said; ratio = ours / Pinocchio's")
+    cpp = one_state(model, oracle, compiled, q[0], qd[0], qdd[0], batch, r, args.calls)
+    batches(compiled, oracle.model, q, qd, qdd, batch, cpp, r)
     simulation(model, oracle, args.duration, r)
     ensemble(args.members, r)
     compiling()
     start_up(r)
     chains([int(n) for n in args.chains.split(",")], r)
+    print_load()
 
 
 if __name__ == "__main__":
