@@ -1,48 +1,130 @@
-"""course_dynamics/core/evaluator.py: one place chooses the implementation, and both agree with Pinocchio."""
+"""course_dynamics/core/evaluator.py: one rule chooses the implementation, the same for the same call whatever
+ran before, and every path agrees with Pinocchio."""
 from __future__ import annotations
 
-import math
+import json
+import os
+import subprocess
+import sys
 import warnings
 
 import numpy as np
 import pytest
 import sympy as sp
-from helpers import SAMPLES, assert_agrees, chain_urdf, urdf_of
+from helpers import ROOT, SAMPLES, assert_agrees, chain_urdf, urdf_of
 
 import course_dynamics
 from course_dynamics import load_robot, load_urdf
 from course_dynamics.core import evaluator
-from course_dynamics.core.compiled import CompiledModel, CompileWarning, ProgramTooLargeError
-from course_dynamics.core.evaluator import COMPILE_SECONDS, implementation, interpreted_seconds
+from course_dynamics.core.compiled import CompiledModel, CompileWarning, ProgramTooLargeError, compile_model
+from course_dynamics.core.evaluator import COMPILE_SECONDS, Interpreted, choice, implementation, interpreted_seconds
 
 API = ("inverse_dynamics", "mass_matrix", "coriolis_matrix", "gravity_torques", "forward_dynamics")
 
 
-def compiled_now(model):
-    """The evaluator's compiled model for ``model`` if it has one, without counting any work."""
-    return implementation(model, calls=0, states=0)
+@pytest.fixture
+def cold_cache(tmp_path, monkeypatch):
+    """A cache folder that holds nothing yet, for this test alone."""
+    monkeypatch.setenv("COURSE_DYNAMICS_CACHE", str(tmp_path / "cache"))
+    return tmp_path / "cache"
 
 
 def test_the_package_functions_are_the_evaluators():
     assert all(getattr(course_dynamics, name) is getattr(evaluator, name) for name in API)
 
 
-def test_little_work_stays_interpreted_and_a_loop_of_calls_switches_once():
+def test_the_rule_reads_the_call_and_the_cache(cold_cache):
     arm = load_robot("two_link")
-    assert implementation(arm, calls=1000, states=1, compiled=False) is None
-    assert implementation(arm, calls=1, states=10) is None and compiled_now(arm) is None
-    calls = math.ceil((COMPILE_SECONDS - interpreted_seconds(1, 10)) / interpreted_seconds(1, 100))  # then it pays
-    chosen = [implementation(arm, calls=1, states=100) for _ in range(calls)]
-    assert all(c is None for c in chosen[:-1]) and isinstance(chosen[-1], CompiledModel)
-    assert compiled_now(arm) is chosen[-1] and implementation(arm, compiled=False) is None
-    other = load_robot("two_link")                                   # the same numbers, another model object
-    assert compiled_now(other) is None and implementation(other, compiled=True) is not None
+    assert choice(arm, calls=1000, compiled=False) == evaluator.Choice("interpreted", evaluator.ASKED, None)
+    assert choice(arm, floats=False).reason == evaluator.NOT_FLOATS
+    little = choice(arm, calls=1, states=10)
+    assert (little.path, little.reason, type(little.run)) == ("interpreted", evaluator.LITTLE, Interpreted)
+    batch = int(np.ceil((COMPILE_SECONDS - interpreted_seconds(1, 0)) / evaluator.STATE_SECONDS))
+    assert choice(arm, calls=1, states=batch - 1).reason == evaluator.LITTLE
+    pays = choice(arm, calls=1, states=batch)                       # about 20 000 states: this call pays
+    assert (pays.path, pays.reason) == ("compiled", evaluator.PAYS) and isinstance(pays.run, CompiledModel)
+    assert list(cold_cache.glob("*.entry"))                         # ... and was kept in the cache
+    again = choice(arm, calls=1, states=10)
+    assert (again.path, again.reason) == ("compiled", evaluator.CACHED) and again.run is pays.run
+    other = load_robot("two_link")                                  # the same numbers, another model object
+    assert choice(other).reason == evaluator.CACHED and choice(other).run is pays.run  # loaded once
+    assert choice(arm, floats=False).path == choice(arm, compiled=False).path == "interpreted"
 
 
-def test_one_long_run_compiles_at_its_start():
+def test_without_a_cache_the_call_alone_decides(monkeypatch):
+    monkeypatch.setenv("COURSE_DYNAMICS_CACHE", "off")
     arm = load_robot("two_link")
-    assert isinstance(implementation(arm, calls=100, states=1), CompiledModel)      # 100 Euler steps of simulate
-    assert implementation(load_robot("two_link"), calls=1, states=20_000) is not None  # a 20 000-row log
+    assert choice(arm, calls=1000).path == "compiled"               # compiled in memory ...
+    assert choice(arm, calls=1, states=10).path == "interpreted"    # ... which no cache holds
+
+
+SAME_CALL = """
+import json, sys
+import numpy as np
+import course_dynamics
+from course_dynamics import load_robot
+from course_dynamics.core import evaluator
+from course_dynamics.core.compiled import CompiledModel
+
+ran = []
+def spy(cls, name, path):
+    original = getattr(cls, name)
+    setattr(cls, name, lambda self, *a: (ran.append(path), original(self, *a))[1])
+spy(evaluator.Interpreted, "inverse_dynamics", "interpreted")
+spy(CompiledModel, "inverse_dynamics", "compiled")
+spy(CompiledModel, "native_call", "compiled")           # the one-state shortcut to C
+
+arm = load_robot("two_link").with_gravity([0, 0, -9.8])
+rng = np.random.default_rng(0)
+if sys.argv[1] == "loop":                               # what the evaluator once counted until it switched
+    for _ in range(3000):
+        course_dynamics.inverse_dynamics(arm, *rng.uniform(-1, 1, (3, 2)))
+    for _ in range(100):
+        course_dynamics.mass_matrix(arm, rng.uniform(-1, 1, (500, 2)))
+elif sys.argv[1] == "batch":                           # a batch whose own work pays for compiling
+    course_dynamics.inverse_dynamics(arm, *rng.uniform(-1, 1, (3, 40_000, 2)))
+ran.clear()
+q, qd, qdd = rng.uniform(-1, 1, (3, 2))
+course_dynamics.inverse_dynamics(arm, q, qd, qdd)
+chosen = evaluator.choice(arm, calls=1, states=1)
+print(json.dumps({"ran": ran[0], "path": chosen.path, "reason": chosen.reason}))
+"""
+
+
+def one_state_call_after(before: str, cache: str) -> dict:
+    """What ran a one-state τ in a fresh process after ``before`` ("nothing", "loop", "batch")."""
+    environment = dict(os.environ, COURSE_DYNAMICS_CACHE=cache, PYTHONPATH=str(ROOT))
+    done = subprocess.run([sys.executable, "-c", SAME_CALL, before], capture_output=True, text=True, timeout=120,
+                          env=environment, check=True)
+    return json.loads(done.stdout.splitlines()[-1])
+
+
+def test_the_same_call_runs_the_same_implementation_whatever_ran_before(tmp_path, monkeypatch):
+    """Fresh processes: a one-state call alone, after thousands of calls and batches, and after a batch that
+    compiles; the same path as long as the cache holds the same, and the choice names what ran."""
+    arm = load_robot("two_link").with_gravity([0, 0, -9.8])
+    warm = tmp_path / "warm"
+    with monkeypatch.context() as patched:
+        patched.setenv("COURSE_DYNAMICS_CACHE", str(warm))
+        compile_model(arm)                                            # the cache holds it, C where a compiler is
+    seen = {}
+    for cache in ("off", str(tmp_path / "cold"), str(warm)):
+        for before in ("nothing", "loop", "batch"):
+            if cache.endswith("cold") and before == "batch":
+                continue                                              # that batch fills the cache: below
+            seen[cache, before] = one_state_call_after(before, cache)
+            assert seen[cache, before]["ran"] == seen[cache, before]["path"], seen[cache, before]
+    for cache, path in (("off", "interpreted"), (str(tmp_path / "cold"), "interpreted"), (str(warm), "compiled")):
+        assert {seen[cache, before]["path"] for before in ("nothing", "loop", "batch") if (cache, before) in seen} \
+               == {path}, seen
+    assert seen[str(warm), "nothing"]["reason"] == evaluator.CACHED  # from the first call of the process
+    filled = one_state_call_after("batch", str(tmp_path / "filled"))   # the batch put it in the cache: it says so
+    assert (filled["ran"], filled["reason"]) == ("compiled", evaluator.CACHED)
+
+
+def test_one_long_run_compiles_at_its_start(cold_cache):
+    assert choice(load_robot("two_link"), calls=100, states=1).reason == evaluator.PAYS   # 100 Euler steps
+    assert choice(load_robot("rrr_arm"), calls=1, states=20_000).reason == evaluator.PAYS   # a 20 000-row log
 
 
 def test_a_robot_too_large_to_compile_warns_once_and_runs_interpreted(tmp_path):
@@ -53,33 +135,38 @@ def test_a_robot_too_large_to_compile_warns_once_and_runs_interpreted(tmp_path):
         implementation(chain, compiled=True)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        assert implementation(chain, calls=10_000) is None and implementation(chain, calls=10_000) is None
+        assert isinstance(implementation(chain, calls=10_000), Interpreted)
+        assert choice(chain, calls=10_000).path == "interpreted" and "too large" in choice(chain, calls=10_000).reason
         q = np.random.default_rng(1).uniform(-1, 1, (3, 50, chain.n))
         tau = course_dynamics.inverse_dynamics(chain, *q)
     assert [w.category for w in caught] == [CompileWarning]
     np.testing.assert_array_equal(tau, course_dynamics.core.newton_euler.inverse_dynamics(chain, *q))
 
 
-def test_symbols_and_duals_take_the_recursion_even_when_compiled():
+def test_symbols_and_duals_take_the_recursion_even_when_cached():
     arm = load_robot("two_link")
-    implementation(arm, compiled=True)
+    compile_model(arm)
+    assert choice(arm).reason == evaluator.CACHED
     t1, t2 = sp.symbols("theta1 theta2")
     G = course_dynamics.gravity_torques(arm, np.array([t1, t2], dtype=object))
     assert all(isinstance(g, sp.Expr) for g in G) and G[1].has(t1)
 
 
 @pytest.mark.parametrize("path", ["interpreted", "compiled"])
-def test_the_package_functions_agree_with_pinocchio_on_either_path(robot, path):
+def test_the_package_functions_agree_with_pinocchio_on_either_path(robot, path, tmp_path, monkeypatch):
     name, _, oracle, (q, qd, qdd) = robot
     model = load_urdf(urdf_of(name))                                  # a model of this test's own
     if path == "compiled":
-        implementation(model, compiled=True)
+        compile_model(model)                                          # into the session's cache
+    else:
+        monkeypatch.setenv("COURSE_DYNAMICS_CACHE", str(tmp_path / "cold"))   # a cache that holds nothing
+    assert choice(model, calls=1, states=SAMPLES).path == path        # 200 states: too little to compile
     tau = course_dynamics.inverse_dynamics(model, q, qd, qdd)
     M = course_dynamics.mass_matrix(model, q)
     C = course_dynamics.coriolis_matrix(model, q, qd)
     G = course_dynamics.gravity_torques(model, q)
     qdd_back = course_dynamics.forward_dynamics(model, q, qd, tau)
-    assert (compiled_now(model) is not None) == (path == "compiled")  # 200 states, 5 calls: too little to switch
+    assert choice(model, calls=1, states=SAMPLES).path == path        # and still, after five calls
     for i in range(SAMPLES):
         scale = np.abs(oracle.tau(q[i], qd[i], qdd[i])).max()
         assert_agrees(tau[i], oracle.tau(q[i], qd[i], qdd[i]), what=f"{name} tau {i}")
@@ -93,21 +180,41 @@ def test_the_package_functions_agree_with_pinocchio_on_either_path(robot, path):
         assert_agrees(course_dynamics.mass_matrix(model, q[i]), oracle.M(q[i]), what=f"{name} one-state M {i}")
         assert_agrees(course_dynamics.forward_dynamics(model, q[i], qd[i], tau[i]), oracle.aba(q[i], qd[i], tau[i]),
                       scale=np.abs(qdd[i]).max(), what=f"{name} one-state qdd {i}")
+    assert choice(model, calls=1, states=1).path == path
     with pytest.raises(course_dynamics.StateError, match="is nan"):
         course_dynamics.inverse_dynamics(model, np.full(model.n, np.nan), qd[0], qdd[0])
 
 
-def test_a_batch_of_one_keeps_its_shape_on_every_path():
+def test_the_tools_take_the_evaluators_choice(cold_cache):
+    """simulate and the torques of a log run what the evaluator chose for their whole work, nothing else."""
+    from course_dynamics.tools.logs import torques_from_log
+    from course_dynamics.tools.simulation import simulate
+
+    arm = load_robot("pendulum")
+    short = simulate(arm, [0.5], [0.0], 0.01, 0.001, integrator="euler")        # 10 steps, a cold cache
+    assert choice(arm, calls=10).path == "interpreted"
+    long = simulate(arm, [0.5], [0.0], 0.2, 0.001, integrator="euler")         # 200 steps pay
+    assert choice(arm, calls=10).reason == evaluator.CACHED
+    np.testing.assert_allclose(long.q[:len(short.q)], short.q, rtol=1e-12, atol=1e-15)
+    t = np.linspace(0, 1, 200)
+    table = {"t": t, "q_theta": np.sin(t), "qd_theta": np.cos(t), "qdd_theta": -np.sin(t)}
+    ours = torques_from_log(arm, table).tau
+    forced = torques_from_log(arm, table, compiled=False).tau
+    np.testing.assert_allclose(ours, forced, rtol=1e-12, atol=1e-12)
+
+
+def test_a_batch_of_one_keeps_its_shape_on_every_path(tmp_path, monkeypatch):
     """A (1, n) batch is a batch, whether the interpreted, the compiled or the native code answers."""
-    model = load_robot("rrr_arm")
-    z = np.zeros((1, model.n))
+    z = np.zeros((1, 3))
     shapes = []
-    for compiled in (False, True):
-        if compiled:
-            implementation(model, compiled=True)
-        shapes.append((course_dynamics.inverse_dynamics(model, z, z, z).shape, course_dynamics.mass_matrix(model, z).shape,
-                       course_dynamics.forward_dynamics(model, z, z, z).shape))
-    assert shapes[0] == shapes[1] == ((1, 3), (1, 3, 3), (1, 3))
+    for cache in (str(tmp_path / "cold"), str(tmp_path / "warm")):
+        monkeypatch.setenv("COURSE_DYNAMICS_CACHE", cache)
+        model = load_robot("rrr_arm")
+        if cache.endswith("warm"):
+            compile_model(model)
+        shapes.append((choice(model).path, course_dynamics.inverse_dynamics(model, z, z, z).shape,
+                       course_dynamics.mass_matrix(model, z).shape, course_dynamics.forward_dynamics(model, z, z, z).shape))
+    assert shapes == [("interpreted", (1, 3), (1, 3, 3), (1, 3)), ("compiled", (1, 3), (1, 3, 3), (1, 3))]
 
 
 def test_batches_of_different_lengths_are_one_clear_error():

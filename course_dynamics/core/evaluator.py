@@ -1,59 +1,72 @@
-"""The one evaluator: for a model and a workload, the fastest implementation that gives the same numbers.
+"""The one evaluator: for a model and a call, the implementation that runs it, chosen by one rule.
 
 Two implementations compute every term: the recursions as written (:mod:`~course_dynamics.core.newton_euler`,
 :mod:`~course_dynamics.core.crba`, …, the text a student reads; they take one state, a batch, sympy
 symbols, dual or complex numbers) and the compiled programs traced from them
 (:mod:`~course_dynamics.core.compiled`; float states only, agreeing to 1e-12). Which one runs is chosen
-here and nowhere else: by the package's own functions (``course_dynamics.inverse_dynamics``,
-``mass_matrix``, ``coriolis_matrix``, ``gravity_torques``, ``forward_dynamics``), by ``simulate`` and by
-the torques of a log.
+here and nowhere else, by :func:`choice`: for the package's own functions (``course_dynamics.inverse_dynamics``,
+``mass_matrix``, ``coriolis_matrix``, ``gravity_torques``, ``forward_dynamics``), for ``simulate``, the
+torques of a log, an excitation and an identification.
 
-=========================  ===================================================================
-workload                   implementation
-=========================  ===================================================================
-symbols, duals, complex    the recursions as written (the compiled programs take floats only)
-floats, little work        the recursions as written, vectorised over a batch
-floats, work that pays     the compiled model: loaded from the cache (or compiled) once per
-                           process and model, then used for every later call on that model
-=========================  ===================================================================
+The rule depends on the call (the kind of its numbers and the work it asks), on the model and on what the
+compiled-model cache holds; never on how many calls came before:
 
-The compiled model runs as C where a compiler exists (:mod:`~course_dynamics.core.compiled.native`):
-built when the work reaches :data:`NATIVE_SECONDS` (a long simulation; building takes seconds, once, as the
-library is cached), and used at once wherever the cache already holds it. The build runs in the background
-(:mod:`~course_dynamics.core.compiled.building`: bounded, and never tried again once it failed): this call
-and the ones after it take the Python programs until a later choice finds the library built, never in the
-middle of a call; ``compiled=True`` asks for the compiled model and waits for its build. A call whose
-arguments are one finite float64 state each goes straight to the native code, with no other check.
+====================================================  =========================================================
+the call                                              runs
+====================================================  =========================================================
+``compiled=False`` (``--no-compile``)                 the recursions as written
+symbols, duals, complex numbers                       the recursions as written (the programs take floats only)
+a robot too large to compile                          the recursions as written (one :class:`CompileWarning`)
+``compiled=True``                                     the compiled model, waiting for its native build
+floats, and the cache holds the compiled model        the compiled model, loaded from the cache
+floats, work of :data:`COMPILE_SECONDS` or more       the compiled model, compiled now (and kept in the cache)
+floats, less work, the cache does not hold it         the recursions as written, vectorised over a batch
+====================================================  =========================================================
 
-"Work that pays" is an estimate in seconds of what the interpreted recursions would take —
-:data:`CALL_SECONDS` a call plus :data:`STATE_SECONDS` a state of a batch — summed over the calls on one
-model in this process; when it reaches :data:`COMPILE_SECONDS`, about what loading a compiled model from a
-warm cache costs, the model is compiled. So a one-off call stays interpreted, a loop of calls or a
-long simulation switches after a few milliseconds, and ``simulate`` (whose work is known in advance)
-decides at its start. A robot too large to compile (:class:`~course_dynamics.core.compiled.ProgramTooLargeError`)
-stays interpreted, with one :class:`~course_dynamics.core.compiled.CompileWarning`.
+"Work" is an estimate of what the interpreted recursions would take for this call alone —
+:data:`CALL_SECONDS` a call plus :data:`STATE_SECONDS` a state of a batch (:func:`interpreted_seconds`); a
+tool whose calls are known in advance (a simulation's steps, a log's blocks) asks once for all of them.
+:data:`COMPILE_SECONDS` is about what loading a compiled model from a warm cache costs: a batch of about
+20 000 states, 100 Euler steps. "The cache holds it": ``<key>.entry`` is in the cache folder
+(:func:`~course_dynamics.core.compiled.cache_folder`; with ``COURSE_DYNAMICS_CACHE=off`` it never does), or
+this process loaded it from there or stored it there. So the same call on the same model runs the same code
+whatever ran before, as long as the cache holds the same; a loop of one-state calls is fast from its first
+call once the model was compiled once, by ``compile_model(model)`` or by a call of work that pays, in this
+process or an earlier one. Built objects are kept in this process by the model's content
+(:func:`~course_dynamics.core.compiled.model_key`) and cache folder, so that one is loaded once.
+
+The compiled model runs as C where a compiler exists (:mod:`~course_dynamics.core.compiled.native`) and the
+cache holds its library; a call of work :data:`NATIVE_SECONDS` or more (a long simulation) starts its build in
+the background (:mod:`~course_dynamics.core.compiled.building`: bounded, never tried again once it failed),
+and the Python programs answer until a later choice finds the library built, never in the middle of a call.
+A one-state call of finite float64 values on a model whose choice has been "compiled" with native code goes
+straight to the native code, with no other check (the same choice, remembered for the model object).
 
 >>> import numpy as np
 >>> from course_dynamics import load_robot
->>> arm = load_robot("two_link")
->>> implementation(arm, calls=1, states=10, compiled=None) is None          # a little work: interpreted
+>>> g = -9.81 - np.random.default_rng().uniform(0, 1e-3)             # numbers no cache holds yet
+>>> arm = load_robot("two_link").with_gravity([0, 0, g])
+>>> choice(arm, calls=1, states=10).path, choice(arm, calls=1000).path   # a little work; a simulation's worth
+('interpreted', 'compiled')
+>>> choice(arm, calls=1, states=10).reason                           # and from now on: the cache holds it
+'the cache holds its compiled model'
+>>> q = np.array([0.1, 0.2])
+>>> np.allclose(implementation(arm).inverse_dynamics(q, q, q), newton_euler.inverse_dynamics(arm, q, q, q), rtol=1e-12)
 True
->>> fast = implementation(arm, calls=1000, states=1, compiled=None)         # a simulation's worth: compiled
->>> np.round(fast.inverse_dynamics([0.1, 0.2], [0, 0], [0, 0]), 6)
-array([18.390227,  3.74874 ])
 """
 from __future__ import annotations
 
+import os
 import warnings
 import weakref
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from . import dynamics
 from . import forward_dynamics as interpreted_forward
 from . import newton_euler
-from .compiled import CompiledModel, CompileWarning, ProgramTooLargeError, compile_model
+from .compiled import CompiledModel, CompileWarning, ProgramTooLargeError, cache_folder, compile_model, model_key
 from .friction import Friction
 from .model import Model
 from .state import as_state, batch_shape
@@ -63,27 +76,95 @@ STATE_SECONDS = 1.5e-6  # and of one more state in a vectorised batch (UR5: 13 m
 COMPILE_SECONDS = 0.03  # a compiled model loaded from a warm cache (two-link 10 ms, UR5 25 ms, Panda 50 ms)
 NATIVE_SECONDS = 1.0    # work that pays for building the C version once (UR5 about 3 s, then cached)
 
+ASKED = "asked for"
+NOT_FLOATS = "symbols, duals or complex numbers: the compiled programs take float64 only"
+CACHED = "the cache holds its compiled model"
+PAYS = "this call's work pays for compiling it"
+LITTLE = "little work, and the cache does not hold its compiled model"
+
+
+@dataclass(frozen=True)
+class Interpreted:
+    """The recursions as written, behind a compiled model's methods: what a choice of "interpreted" runs.
+
+    >>> from course_dynamics import load_robot
+    >>> np.round(Interpreted(load_robot("two_link")).gravity_torques([0.0, 0.0]), 6)
+    array([18.639,  3.924])
+    """
+
+    model: Model
+    native: dict = field(default_factory=dict, repr=False)  # none: as a compiled model without C
+
+    def inverse_dynamics(self, q, qd, qdd) -> np.ndarray:
+        return newton_euler.inverse_dynamics(self.model, q, qd, qdd)
+
+    def mass_matrix(self, q) -> np.ndarray:
+        return dynamics.mass_matrix(self.model, q)
+
+    def coriolis_matrix(self, q, qd) -> np.ndarray:
+        return dynamics.coriolis_matrix(self.model, q, qd)
+
+    def gravity_torques(self, q) -> np.ndarray:
+        return dynamics.gravity_torques(self.model, q)
+
+    def bias(self, q, qd) -> np.ndarray:
+        qd = as_state(self.model, qd, "qd")
+        return newton_euler.inverse_dynamics(self.model, q, qd, np.zeros_like(qd))
+
+    def forward_dynamics(self, q, qd, tau, friction: Friction | None = None) -> np.ndarray:
+        return interpreted_forward.forward_dynamics(self.model, q, qd, tau, friction)
+
+    def accelerations(self, q: np.ndarray, qd: np.ndarray, tau: np.ndarray) -> np.ndarray:
+        return interpreted_forward.accelerations(self.model, q, qd, tau)
+
+
+@dataclass(frozen=True)
+class Choice:
+    """What :func:`choice` chose: ``path`` "interpreted" or "compiled", ``reason`` (the row of the module
+    docstring's table), and ``run``, the :class:`Interpreted` recursions or the
+    :class:`~course_dynamics.core.compiled.CompiledModel` that runs the call.
+
+    >>> from course_dynamics import load_robot
+    >>> chosen = choice(load_robot("two_link"), floats=False)
+    >>> chosen.path, type(chosen.run).__name__, chosen.native
+    ('interpreted', 'Interpreted', False)
+    """
+
+    path: str
+    reason: str
+    run: Interpreted | CompiledModel = field(repr=False, compare=False)
+
+    @property
+    def native(self) -> bool:
+        """Whether the compiled model runs as C."""
+        return bool(self.run.native)
+
 
 @dataclass
-class _Record:
-    """What this process knows of one model: the interpreted work done so far, and its compiled model."""
+class _Compiled:
+    """One model content's compiled model in this process, or why there is none."""
 
-    model: weakref.ref
-    seconds: float = 0.0
     compiled: CompiledModel | None = None
-    too_large: bool = False
-    native_tried: bool = False
+    too_large: str = ""
+    native_tried: bool = False  # a native build was asked for (the cache holds no library, or it is building)
 
 
-_RECORDS: dict[int, _Record] = {}
+_KEYS: dict[int, tuple[weakref.ref, str]] = {}                  # id(model) -> its model_key
+_COMPILED: dict[tuple[str, str], _Compiled] = {}                # (cache folder, model_key) -> what was built
+_FAST: dict[int, tuple[weakref.ref, tuple, CompiledModel]] = {}  # id(model) -> a "compiled" choice with C
+_FOLDERS: dict[tuple, object] = {}                              # the environment -> its cache folder
 
 
-def _record(model: Model) -> _Record:
-    record = _RECORDS.get(id(model))
-    if record is None or record.model() is not model:
-        record = _Record(weakref.ref(model, lambda _, key=id(model): _RECORDS.pop(key, None)))
-        _RECORDS[id(model)] = record
-    return record
+def _environment() -> tuple:
+    return tuple(os.environ.get(name) for name in ("COURSE_DYNAMICS_CACHE", "XDG_CACHE_HOME", "HOME"))
+
+
+def _key(model: Model) -> str:
+    known = _KEYS.get(id(model))
+    if known is None or known[0]() is not model:
+        known = (weakref.ref(model, lambda _, i=id(model): (_KEYS.pop(i, None), _FAST.pop(i, None))), model_key(model))
+        _KEYS[id(model)] = known
+    return known[1]
 
 
 def interpreted_seconds(calls: int, states: int) -> float:
@@ -95,64 +176,88 @@ def interpreted_seconds(calls: int, states: int) -> float:
     return calls * (CALL_SECONDS + states * STATE_SECONDS)
 
 
-def implementation(model: Model, calls: int = 1, states: int = 1, compiled: bool | None = None) -> CompiledModel | None:
-    """The compiled model to run ``calls`` calls of ``states`` float states each, or None for the recursions.
-
-    ``compiled`` True compiles (a robot too large raises :class:`~course_dynamics.core.compiled.ProgramTooLargeError`),
-    False never does, None decides by the work (module docstring), counting this work toward the model's total.
+def choice(model: Model, calls: int = 1, states: int = 1, floats: bool = True, compiled: bool | None = None) -> Choice:
+    """The implementation of ``calls`` calls on ``states`` states each (float64 unless ``floats`` is False), by
+    the rule of the module docstring; ``compiled`` True or False overrides it (True raises
+    :class:`~course_dynamics.core.compiled.ProgramTooLargeError` for a robot too large to compile).
 
     >>> from course_dynamics import load_robot
     >>> arm = load_robot("two_link")
-    >>> implementation(arm, calls=1, states=10) is None, implementation(arm, compiled=False) is None
-    (True, True)
+    >>> choice(arm, compiled=False)
+    Choice(path='interpreted', reason='asked for')
+    >>> choice(arm, floats=False).reason
+    'symbols, duals or complex numbers: the compiled programs take float64 only'
     """
-    if compiled is False:
-        return None
-    record = _record(model)
-    if record.compiled is not None and record.compiled.native_build is not None:
-        record.compiled = record.compiled.collected()  # a new CompiledModel once its library is built
-    if record.compiled is not None and (record.native_tried or record.compiled.native):
-        return record.compiled
-    if compiled is None:
-        if record.too_large:
-            return None
-        record.seconds += interpreted_seconds(calls, states)
-        if record.seconds < COMPILE_SECONDS:
-            return None
-    build = bool(compiled) or record.seconds >= NATIVE_SECONDS
-    if record.compiled is not None and not build:
-        return record.compiled
-    try:
-        record.compiled = compile_model(model, native_code=(True if compiled else "background") if build else None)
-        record.native_tried = build
-    except ProgramTooLargeError as error:
-        if compiled:
-            raise
-        record.too_large = True
-        warnings.warn(str(ProgramTooLargeError(error.what, "; running the interpreted recursions")), CompileWarning,
-                      stacklevel=3)
-        return None
-    return record.compiled
+    if compiled is False or not floats:
+        return Choice("interpreted", ASKED if compiled is False else NOT_FLOATS, Interpreted(model))
+    environment = _environment()
+    folder = _FOLDERS.get(environment)
+    if folder is None:
+        folder = _FOLDERS[environment] = str(cache_folder() or "")
+    key = _key(model)
+    known = _COMPILED.setdefault((folder, key), _Compiled())
+    if known.too_large and not compiled:
+        return Choice("interpreted", known.too_large, Interpreted(model))
+    work = interpreted_seconds(calls, states)
+    if compiled:
+        reason = ASKED
+    elif folder and ((known.compiled is not None and known.compiled.path is not None)
+                     or os.path.exists(os.path.join(folder, f"{key}.entry"))):
+        reason = CACHED
+    elif work >= COMPILE_SECONDS:
+        reason = PAYS
+    else:
+        return Choice("interpreted", LITTLE, Interpreted(model))
+    native = True if compiled else ("background" if work >= NATIVE_SECONDS else None)
+    if known.compiled is not None and known.compiled.native_build is not None:
+        known.compiled = known.compiled.collected()  # a new CompiledModel once its library is built
+    if known.compiled is None or (native and not known.native_tried and not known.compiled.native):
+        try:
+            known.compiled = compile_model(model, native_code=native)
+        except ProgramTooLargeError as error:
+            if compiled:
+                raise
+            known.too_large = str(ProgramTooLargeError(error.what, ""))
+            warnings.warn(str(ProgramTooLargeError(error.what, "; running the interpreted recursions")),
+                          CompileWarning, stacklevel=4)
+            return Choice("interpreted", known.too_large, Interpreted(model))
+        known.native_tried = known.native_tried or bool(native)
+    run = known.compiled
+    if run.native and reason == CACHED:
+        _FAST[id(model)] = (weakref.ref(model), environment, run)
+    return Choice("compiled", reason, run)
+
+
+def implementation(model: Model, calls: int = 1, states: int = 1, compiled: bool | None = None):
+    """What runs ``calls`` calls of ``states`` float states each: ``choice(...).run``, a
+    :class:`~course_dynamics.core.compiled.CompiledModel` or the :class:`Interpreted` recursions, with the same
+    methods (``inverse_dynamics``, ``mass_matrix``, ``bias``, ``forward_dynamics``, ``accelerations``, …).
+
+    >>> from course_dynamics import load_robot
+    >>> type(implementation(load_robot("two_link"), compiled=False)).__name__
+    'Interpreted'
+    """
+    return choice(model, calls, states, compiled=compiled).run
 
 
 def _native(model: Model, name: str, *arguments) -> np.ndarray | None:
-    """The model's native result for one finite float64 state as given, or None (CompiledModel.native_call)."""
-    record = _RECORDS.get(id(model))
-    if record is None or record.compiled is None or not record.compiled.native or record.model() is not model:
+    """The native result for one finite float64 state as given, where the model's choice is a compiled model
+    with C in this environment (CompiledModel.native_call), else None."""
+    fast = _FAST.get(id(model))
+    if fast is None or fast[0]() is not model or fast[1] != _environment():
         return None
-    return record.compiled.native_call(name, *arguments)
+    return fast[2].native_call(name, *arguments)
 
 
-def _float_work(model: Model, *arrays: np.ndarray) -> CompiledModel | None:
-    """The implementation for one call on these checked states: compiled only for float arrays."""
-    if not all(a.dtype == np.float64 for a in arrays):
-        return None
-    states = int(np.prod(batch_shape(*arrays), dtype=np.int64))
-    return implementation(model, 1, states)
+def _run(model: Model, *arrays: np.ndarray):
+    """What runs one call on these checked states (:func:`choice`)."""
+    floats = all(a.dtype == np.float64 for a in arrays)
+    states = int(np.prod(batch_shape(*arrays), dtype=np.int64)) if floats else 1
+    return choice(model, 1, states, floats).run
 
 
 def inverse_dynamics(model: Model, q, qd, qdd) -> np.ndarray:
-    """τ (6.45)–(6.53), shape (n,) or (..., n), N·m or N, by the fastest path (module docstring).
+    """τ (6.45)–(6.53), shape (n,) or (..., n), N·m or N, by the chosen implementation (module docstring).
 
     As :func:`course_dynamics.core.newton_euler.inverse_dynamics`, which it calls for symbols and little work.
 
@@ -164,12 +269,12 @@ def inverse_dynamics(model: Model, q, qd, qdd) -> np.ndarray:
     if out is not None:
         return out
     q, qd, qdd = as_state(model, q, "q"), as_state(model, qd, "qd"), as_state(model, qdd, "qdd")
-    fast = _float_work(model, q, qd, qdd)
-    return fast.inverse_dynamics(q, qd, qdd) if fast is not None else newton_euler.inverse_dynamics(model, q, qd, qdd)
+    return _run(model, q, qd, qdd).inverse_dynamics(q, qd, qdd)
 
 
 def mass_matrix(model: Model, q) -> np.ndarray:
-    """M(Θ), shape (n, n) or (..., n, n), by the fastest path; as :func:`course_dynamics.core.dynamics.mass_matrix`.
+    """M(Θ), shape (n, n) or (..., n, n), by the chosen implementation; as
+    :func:`course_dynamics.core.dynamics.mass_matrix`.
 
     >>> from course_dynamics import load_robot
     >>> np.round(mass_matrix(load_robot("two_link"), [0.0, 0.5]), 6)
@@ -180,12 +285,12 @@ def mass_matrix(model: Model, q) -> np.ndarray:
     if out is not None:
         return out
     q = as_state(model, q, "q")
-    fast = _float_work(model, q)
-    return fast.mass_matrix(q) if fast is not None else dynamics.mass_matrix(model, q)
+    return _run(model, q).mass_matrix(q)
 
 
 def coriolis_matrix(model: Model, q, qd) -> np.ndarray:
-    """C(Θ, Θ̇), shape (n, n) or (..., n, n), by the fastest path; as :func:`course_dynamics.core.dynamics.coriolis_matrix`.
+    """C(Θ, Θ̇), shape (n, n) or (..., n, n), by the chosen implementation; as
+    :func:`course_dynamics.core.dynamics.coriolis_matrix`.
 
     >>> from course_dynamics import load_robot
     >>> np.round(coriolis_matrix(load_robot("two_link"), [0.0, 0.5], [1.0, 0.0]), 6)
@@ -193,24 +298,23 @@ def coriolis_matrix(model: Model, q, qd) -> np.ndarray:
            [ 0.095885,  0.      ]])
     """
     q, qd = as_state(model, q, "q"), as_state(model, qd, "qd")
-    fast = _float_work(model, q, qd)
-    return fast.coriolis_matrix(q, qd) if fast is not None else dynamics.coriolis_matrix(model, q, qd)
+    return _run(model, q, qd).coriolis_matrix(q, qd)
 
 
 def gravity_torques(model: Model, q) -> np.ndarray:
-    """G(Θ), shape (n,) or (..., n), by the fastest path; as :func:`course_dynamics.core.dynamics.gravity_torques`.
+    """G(Θ), shape (n,) or (..., n), by the chosen implementation; as
+    :func:`course_dynamics.core.dynamics.gravity_torques`.
 
     >>> from course_dynamics import load_robot
     >>> np.round(gravity_torques(load_robot("two_link"), [0.0, 0.0]), 6)
     array([18.639,  3.924])
     """
     q = as_state(model, q, "q")
-    fast = _float_work(model, q)
-    return fast.bias(q, np.zeros_like(q)) if fast is not None else dynamics.gravity_torques(model, q)
+    return _run(model, q).gravity_torques(q)
 
 
 def forward_dynamics(model: Model, q, qd, tau, friction: Friction | None = None) -> np.ndarray:
-    """Θ̈ (6.115), shape (n,) or (..., n), by the fastest path; as
+    """Θ̈ (6.115), shape (n,) or (..., n), by the chosen implementation; as
     :func:`course_dynamics.core.forward_dynamics.forward_dynamics`.
 
     >>> from course_dynamics import load_robot
@@ -221,7 +325,4 @@ def forward_dynamics(model: Model, q, qd, tau, friction: Friction | None = None)
     if out is not None:
         return out
     q, qd, tau = as_state(model, q, "q"), as_state(model, qd, "qd"), as_state(model, tau, "tau")
-    fast = _float_work(model, q, qd, tau)
-    if fast is not None:
-        return fast.forward_dynamics(q, qd, tau, friction)
-    return interpreted_forward.forward_dynamics(model, q, qd, tau, friction)
+    return _run(model, q, qd, tau).forward_dynamics(q, qd, tau, friction)

@@ -280,6 +280,11 @@ class CompiledModel:
         """V(Θ, Θ̇) + G(Θ), shape (n,) or (N, n)."""
         return self._run("bias", as_state(self.model, q, "q"), as_state(self.model, qd, "qd"))
 
+    def gravity_torques(self, q) -> np.ndarray:
+        """G(Θ) = V + G at Θ̇ = 0, shape (n,) or (N, n)."""
+        q = as_state(self.model, q, "q")
+        return self._run("bias", q, np.zeros_like(q))
+
     def coriolis_matrix(self, q, qd) -> np.ndarray:
         """C(Θ, Θ̇), shape (n, n) or (N, n, n)."""
         C = self._run("coriolis", as_state(self.model, q, "q"), as_state(self.model, qd, "qd"))
