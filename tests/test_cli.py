@@ -406,3 +406,36 @@ def test_nonphysical_inertia_is_refused_with_a_hint_or_loaded_with_a_warning(cap
     assert code == 0 and json.loads(out)["tau"]
     assert [line for line in err.splitlines() if line.startswith("warning:")] == [
         f"warning: {urdf}: link 'link2': inertia {err.split('inertia ', 1)[1].split('; loaded anyway')[0]}; loaded anyway"]
+
+
+def test_every_warning_line_comes_through_the_warnings_path(capsys, monkeypatch):
+    """A warning of ours is a ``warnings.warn`` with a course_dynamics class, printed by the entry point's one warning
+    line (control characters escaped, every time it comes); no module prints ``warning:`` on stderr itself."""
+    import ast
+    import warnings
+    from pathlib import Path
+
+    import course_dynamics
+    from course_dynamics.base.errors import CourseDynamicsWarning
+    from course_dynamics.cli.commands import info
+
+    printed = []
+    package = Path(course_dynamics.__file__).parent
+    for path in package.rglob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if (isinstance(node, ast.Call) and getattr(node.func, "id", "") == "print" and node.args
+                    and "warning:" in ast.unparse(node.args[0])[:12]
+                    and any(k.arg == "file" and ast.unparse(k.value) == "sys.stderr" for k in node.keywords)):
+                printed.append((path.relative_to(package).as_posix(), node.lineno))
+    assert [name for name, _ in printed] == ["cli/__init__.py"], printed  # its warning_line alone
+
+    shown = info.run
+
+    def run(args):
+        for _ in range(2):
+            warnings.warn("robot 'x'\nerror: forged", CourseDynamicsWarning)
+        return shown(args)
+
+    monkeypatch.setattr(info, "run", run)
+    assert main(["info", "two_link"]) == 0
+    assert capsys.readouterr().err.splitlines() == ["warning: robot 'x'\\nerror: forged"] * 2

@@ -19,6 +19,10 @@ Modules add their own where a caller may want to tell them apart:
 ``cartesian.SingularityError``, ``forward_dynamics.SingularMassMatrixError``,
 ``simulation.SimulationError``, ``parameters.SymbolError``,
 ``viewer.ViewerError``.
+
+What we can do but the user should know is a :class:`CourseDynamicsWarning`
+(or a subclass: ``urdf.InertiaWarning``, ``viewer.MeshWarning``), given to
+``warnings.warn``; the command line prints each as one ``warning: …`` line.
 """
 from __future__ import annotations
 
@@ -44,3 +48,7 @@ class StateError(CourseDynamicsError):
 
 class InputError(CourseDynamicsError):
     """A file, table or option value that cannot be used (named in the message)."""
+
+
+class CourseDynamicsWarning(UserWarning):
+    """Something done as asked that the user should know of; the command line prints it as ``warning: …``."""

@@ -12,6 +12,16 @@ ends with one line ``error: …`` on stderr and exit code 2; Ctrl-C ends with
 exit code 130, even where a library we call catches the interrupt
 (:mod:`course_dynamics.cli.interrupts`). No output file is left behind
 half-written.
+
+==============  ================================================================
+module          job
+==============  ================================================================
+``commands``    one module per command (``course-dynamics --help`` lists them)
+``flags``       the grammar: every flag of every command, defined once
+``options``     what commands share: parsing, loading a robot, JSON and progress output
+``animation``   the animation options of ``animate`` and ``simulate``, and the HTML export
+``interrupts``  Ctrl-C that ends a command, even inside a library that catches it
+==============  ================================================================
 """
 from __future__ import annotations
 
@@ -23,7 +33,7 @@ import warnings
 
 import numpy as np
 
-from ..base.errors import CourseDynamicsError
+from ..base.errors import CourseDynamicsError, CourseDynamicsWarning
 from ..base.text import one_line
 from .commands import COMMANDS
 from .interrupts import Interrupts, interruptible
@@ -60,6 +70,8 @@ def main(argv=None) -> int:
                 shown(message, category, filename, lineno, file, line)
 
         warnings.showwarning = warning_line
+        # Every warning of ours is a line, however often it comes (a user's own -W filter still decides first).
+        warnings.filterwarnings("always", category=CourseDynamicsWarning, append=True)
         with interruptible() as interrupts:
             return _main(argv, interrupts)
 

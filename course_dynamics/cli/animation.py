@@ -1,10 +1,6 @@
 """The animation options that ``animate`` and ``simulate`` share, and the HTML export behind them."""
 from __future__ import annotations
 
-import sys
-import warnings
-
-from ..base.text import one_line
 from .flags import add, add_all
 
 
@@ -14,18 +10,11 @@ def add_animation_options(parser, html_required: bool) -> None:
 
 
 def animation_document(model, urdf, t, q, tau, args) -> str:
-    """The HTML animation as text (nothing written); mesh warnings become ``warning: …`` lines on stderr."""
-    from ..output.viewer import MeshWarning, scene_document
+    """The HTML animation as text (nothing written); a mesh not drawn is a ``MeshWarning`` (a ``warning: …`` line)."""
+    from ..output.viewer import scene_document
 
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", MeshWarning)
-        document, _ = scene_document(model, urdf, args.geometry, t, q, tau if args.torques else None,
-                                     args.draw_path, args.allow_any_mesh_path)
-    for warning in caught:
-        if issubclass(warning.category, MeshWarning):
-            print(f"warning: {one_line(warning.message)}", file=sys.stderr)
-        else:  # a library's own warning (pyzmq's deprecations on import): as Python would show it
-            warnings.warn_explicit(warning.message, warning.category, warning.filename, warning.lineno)
+    document, _ = scene_document(model, urdf, args.geometry, t, q, tau if args.torques else None,
+                                 args.draw_path, args.allow_any_mesh_path)
     return document
 
 

@@ -7,11 +7,11 @@ from __future__ import annotations
 
 import argparse
 import sys
+import warnings
 
 import numpy as np
 
-from ..base.errors import InputError
-from ..base.text import one_line
+from ..base.errors import CourseDynamicsWarning, InputError
 from ..core.robots import load, robot_names
 from ..output import render
 from .flags import FRICTION_SOURCES, add, add_all, add_renamed
@@ -94,24 +94,13 @@ def gravity(args):
 def load_robot_argument(args, target: str | None = None):
     """The model of ``target`` (default ``args.urdf``) under the command's ``--gravity`` and inertia options.
 
-    A link loaded despite a non-physical inertia prints one ``warning:`` line on stderr.
+    A link loaded despite a non-physical inertia is an :class:`~course_dynamics.core.urdf.InertiaWarning`: one
+    ``warning:`` line on stderr.
     """
-    import warnings
-
-    from ..core.urdf import InertiaWarning
-
     target = args.urdf if target is None else target
     g = gravity(args)
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", InertiaWarning)
-        model = load(target, allow_nonphysical_inertia=getattr(args, "allow_nonphysical_inertia", False),
-                     **({} if g is None else {"gravity": g}))
-    for warning in caught:
-        if issubclass(warning.category, InertiaWarning):
-            print(f"warning: {one_line(warning.message)}", file=sys.stderr)
-        else:
-            warnings.warn_explicit(warning.message, warning.category, warning.filename, warning.lineno)
-    return model
+    return load(target, allow_nonphysical_inertia=getattr(args, "allow_nonphysical_inertia", False),
+                **({} if g is None else {"gravity": g}))
 
 
 def add_friction_arguments(parser) -> None:
@@ -137,8 +126,8 @@ def warn_if_gravity_free(model) -> None:
     from ..core.sampling import gravity_free
 
     if gravity_free(model):
-        print(f"warning: robot '{one_line(model.name)}': G(q) = 0 at every sampled state (gravity {model.gravity.tolist()} m/s^2 "
-              "cannot act on its joints), so gravity is not tested here", file=sys.stderr)
+        warnings.warn(f"robot '{model.name}': G(q) = 0 at every sampled state (gravity {model.gravity.tolist()} m/s^2 "
+                      "cannot act on its joints), so gravity is not tested here", CourseDynamicsWarning)
 
 
 def check_finite(what: str, *arrays) -> None:

@@ -27,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..base.errors import InputError, ModelError
+from ..base.errors import CourseDynamicsWarning, InputError, ModelError
 from ..base.files import read_small
 from .inertia import physical_problems
 from .joints import KINDS
@@ -38,7 +38,7 @@ SUPPORTED_TYPES = (*KINDS, "fixed")  # the moving kinds of course_dynamics.core.
 INERTIA_TOLERANCE = 1e-12
 
 
-class InertiaWarning(UserWarning):
+class InertiaWarning(CourseDynamicsWarning):
     """A link's inertia is not physical, loaded anyway because the caller allowed it."""
 
 

@@ -3,7 +3,9 @@ from __future__ import annotations
 
 import sys
 import time
+import warnings
 
+from ...base.errors import CourseDynamicsWarning
 from ...base.text import one_line
 from ...output import io
 from ..options import (
@@ -66,7 +68,7 @@ def run(args) -> int:
     io.write_csv(args.out, header, data)
     report = sys.stderr if args.out == io.STDOUT else sys.stdout
     for note in found.notes:
-        print(f"warning: {one_line(note)}", file=sys.stderr)
+        warnings.warn(note, CourseDynamicsWarning)
     if args.json:
         print_json(dict(robot=model.name, out=str(args.out), seconds=round(seconds, 3), seed=args.seed,
                         instants=args.instants, margin=args.margin, **found.record()))

@@ -2,8 +2,10 @@
 from __future__ import annotations
 
 import sys
+import warnings
 from pathlib import Path
 
+from ...base.errors import CourseDynamicsWarning
 from ..options import UsageError, add_all, print_json, progress_bar
 
 HELP = "grade students' dynamics code (sandboxed) against the library, with feedback"
@@ -87,7 +89,7 @@ def run(args) -> int:
             count = len(comparison.pairs)
             print(f"{count} near-identical pair{'s' if count != 1 else ''} of submissions: see the summary")
         if args.no_sandbox:
-            print("warning: graded without a sandbox (--no-sandbox)", file=sys.stderr)
+            warnings.warn("graded without a sandbox (--no-sandbox)", CourseDynamicsWarning)
     if earlier:
         shown = ", ".join(earlier[:5]) + (f" and {len(earlier) - 5} more" if len(earlier) > 5 else "")
         print(f"note: {out} still holds the feedback an earlier grade wrote for {len(earlier)} student"

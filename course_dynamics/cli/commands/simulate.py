@@ -2,9 +2,11 @@
 from __future__ import annotations
 
 import sys
+import warnings
 
 import numpy as np
 
+from ...base.errors import CourseDynamicsWarning
 from ...base.text import one_line
 from ...core.robots import resolve
 from ...output import io
@@ -138,7 +140,7 @@ def run(args) -> int:
     if document is not None:
         io.write_text(args.html, document)
     for event in trajectory.events:
-        print(f"warning: {event}", file=sys.stderr)
+        warnings.warn(event, CourseDynamicsWarning)
     summary = dict(robot=model.name, joints=list(model.joint_names), integrator=args.integrator, dt=args.dt,
                    duration=args.duration, samples=len(trajectory.t), energy_start=float(np.mean(trajectory.energy[0])),
                    energy_end=float(np.mean(trajectory.energy[-1])), events=list(trajectory.events), out=str(args.out),

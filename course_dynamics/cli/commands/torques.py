@@ -2,9 +2,11 @@
 from __future__ import annotations
 
 import sys
+import warnings
 
 import numpy as np
 
+from ...base.errors import CourseDynamicsWarning
 from ...base.text import one_line
 from ...output import io, render
 from ...tools.limits import seconds
@@ -183,7 +185,7 @@ def run(args) -> int:
                                      residuals=None if result.residuals is None else result.residuals.record()))
     step = float(np.median(np.diff(result.t))) if len(result.t) > 1 else 0.0
     if step > SLOW_SAMPLES:
-        print(f"warning: the samples are {step:g} s apart; if t is not in seconds, give --time-unit", file=sys.stderr)
+        warnings.warn(f"the samples are {step:g} s apart; if t is not in seconds, give --time-unit", CourseDynamicsWarning)
     if args.out == io.STDOUT and not args.json:
         _print_report(result, sys.stderr)  # before the CSV: a reader that stops early (| head) still sees it
     if args.plot:

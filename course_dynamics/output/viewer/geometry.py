@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ...base.errors import CourseDynamicsError
+from ...base.errors import CourseDynamicsError, CourseDynamicsWarning
 from ...base.resources import format_bytes
 from ...core.model import Model
 from ...core.robots import example_robot_data_share
@@ -57,7 +57,7 @@ class ViewerError(CourseDynamicsError):
     """A trajectory that does not fit the robot, or an output that cannot be written."""
 
 
-class MeshWarning(UserWarning):
+class MeshWarning(CourseDynamicsWarning):
     """A mesh file of the URDF is not found, not allowed, or too big; the stick model is used instead."""
 
 
