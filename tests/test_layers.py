@@ -131,3 +131,22 @@ def test_every_subpackage_is_installed():
     listed = set(tomllib.loads((PACKAGE.parent / "pyproject.toml").read_text())["tool"]["setuptools"]["packages"])
     found = {".".join(p.parent.relative_to(PACKAGE.parent).parts) for p in PACKAGE.rglob("__init__.py")}
     assert found <= listed, found - listed
+
+
+def _table_names(package: Path) -> set[str]:
+    """The names a package's docstring table lists: each row starts with ````name````."""
+    import re
+
+    doc = ast.get_docstring(ast.parse((package / "__init__.py").read_text())) or ""
+    return set(re.findall(r"^``([\w.]+)``\s", doc, re.MULTILINE))
+
+
+@pytest.mark.parametrize("package", sorted(p.parent for p in PACKAGE.rglob("__init__.py") if p.parent != PACKAGE),
+                         ids=lambda p: str(p.relative_to(PACKAGE)))
+def test_every_module_has_a_row_in_its_packages_table(package):
+    """A newcomer finds every module, and subpackage, in its package's table (or, as ``sub.module``, its parent's)."""
+    names = {p.stem for p in package.glob("*.py") if p.stem not in ("__init__", "__main__")}
+    names |= {p.parent.name for p in package.glob("*/__init__.py")}
+    parent = _table_names(package.parent) if package.parent != PACKAGE else set()
+    missing = {n for n in names if n not in _table_names(package) and f"{package.name}.{n}" not in parent}
+    assert not missing, sorted(missing)

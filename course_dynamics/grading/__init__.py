@@ -10,6 +10,7 @@ module           job
 ``assignment``   the assignment TOML file: robot, states, tolerance, limits, points
 ``plan``         the calls a submission is asked, our answers, and its answers as terms
 ``harness``      the only code of ours next to student code: imports it, calls it, watches it
+``integrity``    the audit hook in the submission's interpreter and its signed channel: what it tries
 ``launcher``     starts the sandbox with limits, as a fresh standard-library process
 ``environment``  the Python a submission runs in: the standard library and the allowed packages
 ``view``         what of the disk a submission sees in the sandbox, from the Python build's layout

@@ -7,7 +7,8 @@ output, grading, teaching or the command line.
 module          job
 ==============  ================================================================
 ``simulation``  forward dynamics in time (6.115)–(6.117): integrators, ensembles
-``tables``      reading delimited tables as robots and people write them (``cells``: their numbers)
+``tables``      reading delimited tables as robots and people write them
+``cells``       a table's cells read as numbers one way only, and split at a delimiter
 ``bags``        ROS 1/ROS 2 bags and MCAP: joint states and Franka's state, without ROS
 ``bagtypes``    the message definitions bags are read with (Franka's state, the typestores)
 ``decompression``  every decompression a bag needs, streamed and stopped at a bound

@@ -2,7 +2,28 @@
 ``add_arguments(parser)`` and ``run(args) -> exit code``, and calls the library.
 
 A command imports the library inside ``run``: ``course-dynamics --help`` and every other command then load
-only what they use (numpy, not sympy, matplotlib, yourdfpy or nbconvert), which keeps start-up short."""
+only what they use (numpy, not sympy, matplotlib, yourdfpy or nbconvert), which keeps start-up short.
+
+=====================  ==========================================================
+module                 ``course-dynamics …``
+=====================  ==========================================================
+``info``               the joints and moving bodies of a robot
+``terms``              τ, M, C, V and G at one state
+``torques``            the joint torques a logged trajectory needs, and a limits report
+``excite``             an excitation trajectory for identification
+``identify``           the inertial and friction parameters a log shows, as a URDF
+``cartesian``          operational-space dynamics Mx, Vx, Gx (6.99) of a frame
+``simulate``           forward dynamics in time (6.115)–(6.117)
+``trace``              the Newton–Euler iterations link by link
+``derive``             closed-form τ, M, V, G and Craig's B, C
+``animate``            a motion as a self-contained HTML animation
+``validate``           every term against Pinocchio on seeded random states
+``report``             a comparison report against Pinocchio
+``grade``              students' dynamics code graded in a sandbox, with feedback
+``student_notebooks``  the course's notebooks without solutions
+``publish_notebooks``  the course run and rendered as static HTML pages
+=====================  ==========================================================
+"""
 
 # In the order ``course-dynamics --help`` lists them.
 COMMANDS = ("info", "terms", "torques", "excite", "identify", "cartesian", "simulate", "trace", "derive", "animate", "validate", "report", "grade", "student_notebooks", "publish_notebooks")

@@ -8,6 +8,7 @@ module             job
 ``export``         one self-contained offline HTML page (:func:`export_html`)
 ``live``           a live meshcat server on 127.0.0.1 tied to this process (:func:`show`)
 ``meshcat_server`` meshcat's server with its web page pinned to the loopback interface
+``mesh_limits``    how much geometry a mesh file expands to, counted before trimesh reads it
 =================  ===============================================================
 """
 from .export import RecordingWindow, export_html, html_document, scene_document
