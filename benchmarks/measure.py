@@ -3,7 +3,8 @@
 Our compiled models share a native batch over threads (``course_dynamics.core.compiled.THREADS`` threads, each
 given at least ``THREAD_STATES`` states; there is no environment variable for it): :func:`our_threads` sets that
 count for a block, and :func:`threads_used` runs a call once, untimed, on a copy of the compiled model whose
-native functions note the thread they run on, so a label says how many threads our side really used.
+native functions count their calls (one a piece of the batch, each piece given to a thread of the pool), so a
+label says how many threads our side shared its batch over.
 Pinocchio's thread count is the ``num_threads`` its ``…InParallel`` functions are given; its other functions run
 on the calling thread. numpy's BLAS threads are reported by threadpoolctl where installed, else by asking
 numpy's bundled OpenBLAS directly.
@@ -46,21 +47,22 @@ def our_threads(count: int):
 
 
 def threads_used(compiled, method: str, *arguments) -> int:
-    """How many threads ``compiled.<method>(*arguments)`` runs our native code on now (1 for the Python
-    programs), found by one untimed call on a copy whose native functions record their thread."""
-    seen: set[int] = set()
+    """How many threads ``compiled.<method>(*arguments)`` shares our native code over now (1 for the Python
+    programs): the pieces its batch is cut into, one a thread of the pool, counted in one untimed call on a copy
+    whose native functions count their calls."""
+    pieces = []
     lock = threading.Lock()
 
-    def noting(function):
+    def counting(function):
         def call(*args):
             with lock:
-                seen.add(threading.get_ident())
+                pieces.append(1)
             return function(*args)
         return call
 
-    probe = dataclasses.replace(compiled, native={name: noting(f) for name, f in compiled.native.items()})
+    probe = dataclasses.replace(compiled, native={name: counting(f) for name, f in compiled.native.items()})
     getattr(probe, method)(*arguments)
-    return max(1, len(seen))
+    return max(1, len(pieces))
 
 
 def threads(ours: int | str, theirs: int | str) -> str:
