@@ -42,8 +42,8 @@ from typing import NamedTuple
 import numpy as np
 
 from ..base.errors import InputError
+from ..core.evaluator import inverse_dynamics  # the evaluator chooses the implementation of each call
 from ..core.model import Model
-from ..core.newton_euler import inverse_dynamics
 from ..core.regressor import BaseParameters, base_parameters, regressor
 from .simulation import time_grid
 

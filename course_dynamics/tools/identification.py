@@ -59,10 +59,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..base.errors import InputError
+from ..core.evaluator import inverse_dynamics  # the evaluator chooses the implementation of each call
 from ..core.friction import Friction
 from ..core.inertia import physical_problems
 from ..core.model import Model
-from ..core.newton_euler import inverse_dynamics
 from ..core.regressor import (TENSOR, BaseParameters, base_parameters, parameter_names, parameters, regressor,
                                with_parameters)
 from .logs import JointLog

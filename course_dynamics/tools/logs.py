@@ -53,8 +53,6 @@ from ..base.errors import InputError
 from ..core.evaluator import implementation
 from ..core.friction import Friction
 from ..core.model import Model
-from ..core.dynamics import mass_matrix
-from ..core.newton_euler import inverse_dynamics
 from .columns import KINDS
 from .differentiation import derivatives
 from .limits import LimitsReport, limits_report
@@ -301,9 +299,8 @@ def torques_from_log(model: Model, table, *, dt: float | None = None, columns: M
     + Σ Jᵀ F_ext (wrenches at frames, chapter 5's static forces), on the model (under its gravity:
     ``model.with_gravity(g)`` to change it) with every ``payload`` lumped in. ``payload``: a :class:`~course_dynamics.tools.loads.Payload`
     or a list of them; ``wrench``: a :class:`~course_dynamics.tools.loads.Wrench` or a list.
-    ``compiled``: None lets the evaluator (:mod:`course_dynamics.core.evaluator`) choose by the log's
-    length (a compiled model from about 20 000 rows, or sooner once this process has done that much work
-    on the model); True/False force it. ``progress(done, total)``, if given, is called as the work goes: the
+    ``compiled``: None lets the evaluator (:mod:`course_dynamics.core.evaluator`) choose once for the log
+    (a compiled model where the cache holds it or from about 20 000 rows); True/False force it. ``progress(done, total)``, if given, is called as the work goes: the
     state read and differentiated counts K of the 3 K steps of a K-row log, the torques and their uncertainty
     K each. Other parameters as :func:`joint_log`.
 
@@ -317,17 +314,14 @@ def torques_from_log(model: Model, table, *, dt: float | None = None, columns: M
                     resample=resample, split_gaps=split_gaps, torque_constants=torque_constants)
     if progress is not None:
         progress(len(log.t), 3 * len(log.t))
-    fast = implementation(model, calls=-(-len(log.t) // ROWS_AT_A_TIME), states=min(len(log.t), ROWS_AT_A_TIME),
-                          compiled=compiled)
-
-    def dynamics(q, qd, qdd):
-        return fast.inverse_dynamics(q, qd, qdd) if fast is not None else inverse_dynamics(model, q, qd, qdd)
+    run = implementation(model, calls=-(-len(log.t) // ROWS_AT_A_TIME), states=min(len(log.t), ROWS_AT_A_TIME),
+                         compiled=compiled)  # chosen once for the whole log, its blocks all alike
     pushes = _as_list(wrench)
     tau = np.empty_like(log.q)
     for start in range(0, len(log.t), ROWS_AT_A_TIME):
         rows = slice(start, start + ROWS_AT_A_TIME)
         q, qd = log.q[rows], log.qd[rows]
-        block = dynamics(q, qd, log.qdd[rows])
+        block = run.inverse_dynamics(q, qd, log.qdd[rows])
         if friction is not None:
             block = block + friction.torques(qd)                     # (6.114)
         for push in pushes:
@@ -343,25 +337,25 @@ def torques_from_log(model: Model, table, *, dt: float | None = None, columns: M
                          f"large to give finite torques")
     residuals = None if log.measured is None else residual_report(model.joint_names, log.t, tau, log.measured,
                                                                   log.measured_from)
-    sigma = _torque_sigma(model, log, fast, progress)
+    sigma = _torque_sigma(log, run, progress)
     if progress is not None:
         progress(3 * len(log.t), 3 * len(log.t))
     return TorqueLog(log=log, tau=tau, report=limits_report(model, log.t, log.qd, tau, sigma), model=model,
                      residuals=residuals, tau_sigma=sigma)
 
 
-def _torque_sigma(model: Model, log: JointLog, fast, progress=None) -> np.ndarray | None:
+def _torque_sigma(log: JointLog, run, progress=None) -> np.ndarray | None:
     """σ_τ (K, n): what the noise left in a differentiated Θ̈ leaves in τ = M Θ̈ + …, σ_τᵢ = √Σⱼ (Mᵢⱼ σ_Θ̈ⱼ)².
 
     The noise a differentiated Θ̇ carries into V is left out: at the rates robots move, M Θ̈ is where it shows.
-    None when nothing was differentiated.
+    None when nothing was differentiated. ``run``: the implementation the evaluator chose for the log.
     """
     if log.sigma_qdd is None or not np.any(log.sigma_qdd):
         return None
     sigma = np.empty_like(log.q)
     for start in range(0, len(log.t), ROWS_AT_A_TIME):
         rows = slice(start, start + ROWS_AT_A_TIME)
-        M = fast.mass_matrix(log.q[rows]) if fast is not None else mass_matrix(model, log.q[rows])
+        M = run.mass_matrix(log.q[rows])
         sigma[rows] = np.sqrt(np.einsum("kij,kj->ki", M**2, log.sigma_qdd[rows] ** 2))
         if progress is not None:
             progress(2 * len(log.t) + min(start + ROWS_AT_A_TIME, len(log.t)), 3 * len(log.t))

@@ -13,10 +13,10 @@ integrator          one step of size Δt from (Θ, Θ̇), with Θ̈ = f(t, Θ, �
 
 Dynamics: ``dynamics=None`` uses our forward dynamics, M by composite rigid
 bodies and V + G by Newton–Euler, compiled into straight-line code
-(:mod:`course_dynamics.core.compiled`) when the run is long enough for that to pay
-off, as the evaluator (:mod:`course_dynamics.core.evaluator`) decides from the run's
-calls (:data:`CALLS_PER_STEP` a step) and ensemble size — about 100 Euler steps or 25 RK4
-steps of one robot; ``compiled=True``/``False`` forces the choice. Any :data:`~course_dynamics.core.forward_dynamics.AccelerationFunction`
+(:mod:`course_dynamics.core.compiled`) where the cache holds it or the run is long enough
+for that to pay off, as the evaluator (:mod:`course_dynamics.core.evaluator`) decides once,
+at the start, from the whole run's calls (:data:`CALLS_PER_STEP` a step) and ensemble size —
+about 100 Euler steps or 25 RK4 steps of one robot; ``compiled=True``/``False`` forces the choice. Any :data:`~course_dynamics.core.forward_dynamics.AccelerationFunction`
 (q, qd, τ) → Θ̈ can take its place — Pinocchio's ``aba`` in a benchmark.
 Friction, if given, is subtracted from τ before the call (6.114).
 
@@ -48,7 +48,7 @@ from ..base.errors import CourseDynamicsError, StateError
 from ..base.resources import check_memory
 from ..core.evaluator import implementation
 from ..core.dynamics import kinetic_energy
-from ..core.forward_dynamics import AccelerationFunction, newton_euler_dynamics
+from ..core.forward_dynamics import AccelerationFunction
 from ..core.friction import Friction
 from ..core.kinematics import potential_energy
 from ..core.model import Model
@@ -168,7 +168,7 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
     Returns the :class:`Trajectory` at the samples of :func:`time_grid`.
     ``progress``, if given, is called with the number of steps just completed.
     ``dynamics`` replaces our forward dynamics; ``compiled`` chooses whether ours is compiled
-    (default: when the run pays for it, as the evaluator decides; module docstring).
+    (default: as the evaluator chooses for the whole run; module docstring).
     """
     q0, qd0 = as_state(model, q0, "q0"), as_state(model, qd0, "qd0")
     if q0.ndim > 2 or qd0.ndim > 2 or (qd0.ndim == 2 and qd0.shape != q0.shape):
@@ -185,9 +185,8 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
         raise SimulationError("limits='stop' needs a fixed-step integrator (euler, semi-implicit or rk4)")
     tau_of = torque_function(model, torque)
     if dynamics is None:
-        fast = implementation(model, calls=(len(times) - 1) * CALLS_PER_STEP[integrator], states=members,
-                              compiled=compiled)
-        dynamics = fast.accelerations if fast is not None else newton_euler_dynamics(model)
+        dynamics = implementation(model, calls=(len(times) - 1) * CALLS_PER_STEP[integrator], states=members,
+                                  compiled=compiled).accelerations
     solve_accelerations = dynamics
 
     constant = None if callable(torque) else tau_of(0.0, q0, qd0)  # checked once: None or an array (n,)
