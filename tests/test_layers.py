@@ -69,10 +69,26 @@ def test_imports_go_down_the_layers(path):
     assert not wrong, wrong
 
 
-def test_the_top_of_the_package_imports_only_the_core():
-    """``import course_dynamics`` gives the chapter's API and loads nothing of the tools, output or grading."""
-    names = {layer_of_name(name) for _, name in imported(PACKAGE / "__init__.py")} - {None}
-    assert names <= {"base", "core"}, names
+def test_import_course_dynamics_loads_only_base_and_core():
+    """``import course_dynamics`` gives the chapter's API and loads nothing of the tools, output or grading; the tools
+    it names (simulate, torques_from_log, …) load when first asked for, each the very object its module defines."""
+    import importlib
+    import subprocess
+    import sys
+
+    code = "import course_dynamics, sys; print(sorted(m for m in sys.modules if m.startswith('course_dynamics')))"
+    loaded = ast.literal_eval(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                                             check=True).stdout)
+    assert "course_dynamics.core.model" in loaded
+    assert {layer_of_name(name) for name in loaded} - {None} == {"base", "core"}, loaded
+
+    import course_dynamics
+
+    assert set(course_dynamics.LAZY) <= set(course_dynamics.__all__) <= set(dir(course_dynamics))
+    for name, module in course_dynamics.LAZY.items():
+        assert getattr(course_dynamics, name) is getattr(importlib.import_module(module), name), name
+    with pytest.raises(AttributeError, match="has no attribute 'inverse_dynamic'"):
+        course_dynamics.inverse_dynamic  # noqa: B018
 
 
 def test_every_layer_is_a_package_with_its_rule():
