@@ -276,7 +276,20 @@ FLAGGED = {
     "thread_work": ("import os, threading\nt = threading.Thread(target=os.system, args=('true',))\nt.start()\nt.join()\n",
                     ["process"]),
     "import_side_effect": ("import os\nos.environ['BROWSER'] = 'true'\nimport antigravity\n", ["process"]),
-    # What a dynamics answer may do: its own folder, its working folder, warnings, numpy's and the library's files.
+        # Lines forged on the flags' channel: refused (untagged), and the channel says it was written to.
+    "forges_a_flag": ("import os, sys\nos.write(int(sys.argv[2]), b'\\nprocess\\tforged by the submission\\n')\n",
+                      ["channel-closed"]),
+    # An answer whose finalizers are C callables alone, freed inside the harness: only the harness's frames show.
+    "c_finalizers": ("import ctypes, functools, os, socket, numpy as np\n"
+                     "class Shell(np.ndarray):\n    __del__ = functools.partial(os.system, 'true')\n"
+                     "class Native(np.ndarray):\n    __del__ = functools.partial(ctypes.CDLL, None)\n"
+                     "class Network(np.ndarray):\n    __del__ = functools.partial(socket.socket)\n"
+                     "class Listing(np.ndarray):\n    __del__ = functools.partial(os.listdir, '/')\n"
+                     "class Reading(np.ndarray):\n    __del__ = functools.partial(open, '/dev/zero', 'rb')\n"
+                     "def quiet(value):\n    for kind in (Shell, Native, Network, Listing, Reading):\n"
+                     "        value = value.view(kind)  # each view holds the one before: all freed at once\n"
+                     "    return value\n", ["file-read", "list-folder", "process", "socket", "ctypes"]),
+# What a dynamics answer may do: its own folder, its working folder, warnings, numpy's and the library's files.
     "honest_files": ("import os, warnings, json, numpy as np\nfrom collections import namedtuple\n"
                      "open('notes.txt', 'w').write('scratch')\nParameters = namedtuple('Parameters', 'm1 m2')\n"
                      "os.listdir('.')\nopen(__file__).read()\nwarnings.warn('a student warning')\n"
@@ -331,7 +344,7 @@ ATTACKS = {
                    "    frame = frame.f_back\n", ACTED),
     # The standard library's path functions rewritten, so that every path looks like one of Python's files.
     "code_swap": ("import os\nos.path.realpath.__code__ = (lambda path, *, strict=False: os.__file__).__code__\n",
-                  [*ACTED, "tampered"]),
+                  [*ACTED, "tampered", "channel-closed"]),
     "patched_library": ("import os, posixpath\nposixpath._joinrealpath = lambda *args: (os.__file__, True)\n", ACTED),
     # The harness's own globals: its os, whose write keeps only the closing line.
     "harness_globals": ("import os, sys, types\nharness = sys.modules['__main__']\nreal = os.write\n"
@@ -344,7 +357,77 @@ ATTACKS = {
     # A trace function sees every frame, the hook's too.
     "tracer": ("import sys\n" + DISARM + "calls = []\ndef tracer(frame, event, arg):\n    disarm(frame)\n"
                "    calls.append(event)\n    if len(calls) > 100:\n        sys.settrace(None)\n"
-               "sys.settrace(tracer)\n", [*ACTED, "tampered"]),
+               "sys.settrace(tracer)\n", [*ACTED, "tampered", "channel-closed"]),
+}
+# Raw memory through numpy's __array_interface__ (an address of its own making), walked through gc's links to the
+# hook's closure: id() gives the addresses.
+RAW_MEMORY = """
+import gc, types
+import numpy as np
+FLAGGED_CODES = ("file-read", "list-folder", "process", "socket", "ctypes", "introspection", "tampered")
+class Raw:
+    def __init__(self, address, n=1):
+        self.__array_interface__ = {"shape": (n,), "typestr": "<u8", "data": (address, False), "version": 3}
+def peek(address):
+    return int(np.asarray(Raw(address))[0])
+slot = [None]
+def as_object(address):
+    view = np.asarray(Raw(peek(id(slot) + 24)))
+    none = int(view[0])
+    view[0] = address
+    found = slot[0]
+    view[0] = none
+    return found
+gc.collect()
+anchor = [0]
+gc.collect()
+gc.disable()
+function_type, start = id(types.FunctionType), id(anchor) - 16
+head, steps = peek(start), 0
+while head != start and steps < 2_000_000:
+    steps += 1
+    if peek(head + 24) == function_type:
+        f = as_object(head + 16)
+        if f.__name__ == "hook" and f.__closure__:
+            for cell in f.__closure__:
+                value = cell.cell_contents
+                if type(value) is types.FunctionType and value.__name__ == "write":
+                    for inner in value.__closure__:
+                        if type(inner.cell_contents) is dict:
+                            inner.cell_contents.update(dict.fromkeys(FLAGGED_CODES, 10**9))
+            break
+    head = peek(head)
+gc.enable()
+"""
+# Reaching the hook without an audit event: a signal handler, a gc callback, raw memory through numpy (the red
+# team's reproducers: each looks for the hook's closure, its counters and its nonce, to fill the counters).
+BLIND = """
+def blind(frame):
+    while frame is not None:
+        found = frame.f_locals
+        if 'nonce' in found or 'write' in found:
+            for cell in getattr(found.get('write'), '__closure__', None) or ():
+                if type(cell.cell_contents) is dict:
+                    cell.cell_contents.update(dict.fromkeys(FLAG_CODES, 10**9))
+            hit.append(found.get('nonce'))
+            return
+        frame = frame.f_back
+FLAG_CODES = ("file-read", "file-write", "list-folder", "process", "socket", "ctypes", "introspection", "tampered",
+              "import-outside", "channel-closed")
+hit = []
+"""
+ATTACKS |= {
+    "signal_handler": ("import signal, time\n" + BLIND + "signal.signal(signal.SIGALRM, lambda n, frame: blind(frame))\n"
+                       "signal.setitimer(signal.ITIMER_REAL, 0.0003, 0.0003)\ndeadline = time.time() + 0.3\n"
+                       "while not hit and time.time() < deadline:\n    compile('1', 'x', 'eval')\n"
+                       "signal.setitimer(signal.ITIMER_REAL, 0)\nsignal.signal(signal.SIGALRM, signal.SIG_DFL)\n",
+                       [*ACTED, "tampered", "channel-closed"]),
+    "gc_callback": ("import gc, inspect\n" + BLIND + "def callback(phase, info):\n"
+                    "    if not hit and phase == 'start':\n        blind(inspect.currentframe())\n"
+                    "gc.callbacks.append(callback)\ngc.set_threshold(1)\nfor _ in range(2000):\n"
+                    "    compile('1', 'x', 'eval')\n    if hit:\n        break\n"
+                    "gc.callbacks.remove(callback)\ngc.set_threshold(700)\n", [*ACTED, "tampered", "channel-closed"]),
+    "raw_memory": (RAW_MEMORY, ["list-folder", "process", "socket", "ctypes", "introspection"]),
 }
 FLAGGED |= {name: (source + ACTS, codes) for name, (source, codes) in ATTACKS.items()}
 # Imports from a folder it put on the path itself, outside the interpreter's path as the harness set it.
@@ -384,8 +467,43 @@ try:
 except ZeroDivisionError:
     trace = traceback.format_exc()
 state = State(*np.zeros((2, 2)))
+class Workspace:
+    def __del__(self):
+        self.closed = True
+Workspace()
+norm = functools.partial(np.linalg.norm, axis=0)
+rotate = functools.partial(np.dot, np.eye(2))
+parameters = [p.name for p in inspect.signature(scaled).parameters.values()]
+total += float(norm(rotate(np.ones((2, 2))))[0])
 ''', [])
 FLAGGED = {name: (source + CLOSED_FORMS, codes) for name, (source, codes) in FLAGGED.items()}
+FLAGGED["c_finalizers"] = (FLAGGED["c_finalizers"][0] + "\n_G = G\n\ndef G(q):\n    return quiet(_G(q))\n",
+                           FLAGGED["c_finalizers"][1])
+
+# With the import guard taken out and the grader's own installation put on the path (the fallback without a
+# sandbox has it on the disk), the reference imported and its modules then dropped from sys.modules: the hook saw
+# the package load.
+HIDDEN_IMPORT = """import sys
+sys.path[:0] = {folders!r}
+sys.meta_path[:] = [f for f in sys.meta_path if type(f).__name__ != "ImportGuard"]
+try:
+    _cd = __import__("course_" + "dynamics")
+    _arm = _cd.load_robot("two_link")
+except ImportError:
+    _cd = None
+""" + CLOSED_FORMS + """
+if _cd is not None:
+    def G(q):
+        return _cd.gravity_torques(_arm, q)
+for _name in [m for m in sys.modules if m.split(".")[0] == "course_dynamics"]:
+    del sys.modules[_name]
+"""
+
+# An honest answer but for one term: G returns far more values than a term of two joints has. G alone loses its
+# points; M and V are still graded.
+OVERSIZED_G = closed_forms("\ndef G(q):\n    return np.ones(10000)\n", remove=("tau",)) + \
+    "\ndef tau(q, qd, qdd):\n    return M(q) @ qdd + V(q, qd) + np.array([m2 * l2 * g * np.cos(q[0] + q[1]) + " \
+    "(m1 + m2) * l1 * g * np.cos(q[0]), m2 * l2 * g * np.cos(q[0] + q[1])])\n"
 
 # A student whose file name and error message carry HTML: both must reach the feedback escaped.
 INJECTION_NAME = "mallory<img src=x onerror=alert(1)>"

@@ -266,16 +266,69 @@ def test_flags_reach_the_student_only_when_the_assignment_says_so(tmp_path):
     assert "/root/.bashrc" in json.loads((out / "reads_home.json").read_text())["output"]
 
 
+def tagged(nonce: str, *bodies: bytes, start: int = 0) -> bytes:
+    """Lines as the integrity hook writes them: each tagged under the next key from ``nonce``."""
+    from course_dynamics.grading.integrity import first_key, next_key, tag
+
+    key, out = first_key(nonce), b""
+    for _ in range(start):
+        key = next_key(key)
+    for body in bodies:
+        out, key = out + b"\n" + body + b"\t" + tag(key, body) + b"\n", next_key(key)
+    return out
+
+
 def test_the_flag_channel_is_read_as_hostile():
+    import hashlib
+
     from course_dynamics.grading.results import FLAGS_BYTES, read_flags
 
-    assert read_flags(b"file-read\t/etc/x\nend\tN\n", "N", ended=True) == [("file-read", "/etc/x")]
-    assert read_flags(b"file-read\t/etc/x\n", "N", ended=True) == [("file-read", "/etc/x"), ("channel-closed", "")]
-    assert read_flags(b"", "N", ended=False) == []  # no results: the status says what happened
-    forged = b"made-up\tx\n=HYPERLINK()\tx\nchannel-closed\tfake\nend\twrong\n" + b"socket\t" + b"x" * FLAGS_BYTES
-    flags = read_flags(forged, "N", ended=True)
-    assert flags[0][0] == "socket" and len(flags[0][1]) <= 200 and flags[-1] == ("channel-closed", "")
-    assert read_flags(b"end\t\n", "", ended=True) == [("channel-closed", "")]  # an empty nonce never closes
+    results = b'{"status": "ok"}'
+    end = b"end\t" + hashlib.sha256(results).hexdigest().encode()
+    assert read_flags(tagged("N", b"file-read\t/etc/x", end), "N", results) == [("file-read", "/etc/x")]
+    assert read_flags(tagged("N", b"file-read\t/etc/x"), "N", results) == [("file-read", "/etc/x"),
+                                                                            ("channel-closed", "")]
+    assert read_flags(b"", "N", None) == []  # no results: the status says what happened
+    forged = tagged("N", b"made-up\tx", b"=HYPERLINK()\tx", b"channel-closed\tfake", b"end\twrong") + \
+        tagged("N", b"socket\t" + b"x" * FLAGS_BYTES, start=4)
+    flags = read_flags(forged, "N", results)
+    assert flags == [("channel-closed", "")]  # the flood is cut off before its tag: no line of it is a flag
+    assert read_flags(tagged("", end), "", results) == [("channel-closed", "")]  # an empty nonce never closes
+
+
+def test_lines_the_submission_writes_on_the_flag_channel_are_not_flags():
+    """Only lines tagged under the run's keys count: an untagged line, one tagged under another run's nonce, a line
+    replayed, or anything after the closing line makes the channel ``channel-closed`` and is never a flag."""
+    import hashlib
+
+    from course_dynamics.grading.results import read_flags
+
+    results = b'{"status": "ok"}'
+    end = b"end\t" + hashlib.sha256(results).hexdigest().encode()
+    honest = tagged("N", b"file-read\t/etc/x", end)
+    written = [b"\nprocess\t<script>alert(2)</script>\n", tagged("other", b"process\tx"),
+               tagged("N", b"file-read\t/etc/x")]  # untagged, another run's key, a replay of the first line
+    for line in written:
+        assert read_flags(honest[:-1] + line, "N", results) == [("file-read", "/etc/x"),
+                                                                ("channel-closed", "written to by the submission")]
+    early = tagged("N", end, b"process\tos.system true")  # a closing line that came before the end
+    assert read_flags(early, "N", results) == [("channel-closed", "written to by the submission")]
+    assert read_flags(tagged("N", b"end\t" + b"0" * 64), "N", results) == [("channel-closed", "")]  # other results
+
+
+def test_one_oversized_term_costs_that_term_alone(tmp_path):
+    """G returns 10 000 values (the harness would send them all back, more than the results document may hold):
+    G alone is wrong, and M, V and tau (written without G) are still graded."""
+    from submissions import OVERSIZED_G
+
+    paths = write_class(tmp_path, {"oversized": OVERSIZED_G})
+    out = tmp_path / "out"
+    assert main(["grade", str(tmp_path / "assignment.toml"), *map(str, paths), "--out", str(out), "--quiet"]) == 0
+    with open(out / "gradebook.csv", newline="") as handle:
+        row = next(csv.DictReader(handle))
+    assert row["status"] == "ok", row
+    assert float(row["G"]) == 0 and float(row["M"]) == 20 and float(row["V"]) == 20 and float(row["tau"]) == 40, row
+    assert "returned 10000 values" in (out / "oversized.md").read_text().replace("\\", "")
 
 
 def test_student_text_is_escaped(graded):

@@ -9,14 +9,14 @@ before the hook kept its state out of reach.
 from __future__ import annotations
 
 import pytest
-from submissions import ATTACKS, FLAGGED
+from submissions import ATTACKS, FLAGGED, HIDDEN_IMPORT
 from test_autograder import bundle, submit  # noqa: F401  (bundle is a fixture)
 
 from course_dynamics.grading.harness import FLAGS
 from course_dynamics.grading.sandbox import Limits, bwrap_executable, run_submission
 
 CHECKED = [*ATTACKS, "import_outside", "honest_python", "honest_files", "borrowed_name", "own_module", "frames",
-           "traceback_frames", "thread_work", "spoofed_frozen"]
+           "traceback_frames", "thread_work", "spoofed_frozen", "forges_a_flag", "c_finalizers"]
 PLAN = {"functions": {"G": [[[0.1, 0.2]]]}, "forbidden": ["pinocchio"]}
 
 
@@ -51,3 +51,22 @@ def test_on_gradescope_too(bundle, isolation, name):
     assert results["score"] == 100.0, results
     hidden = results["tests"][-1]["output"]
     assert [code for code in FLAGS if f"[{code}]" in hidden] == codes, hidden
+
+
+def test_an_import_hidden_afterwards_is_still_forbidden(tmp_path):
+    """Without the sandbox: the guard removed, the grader's installation put on the path, the modules dropped from
+    sys.modules after: the hook saw the package load, so the status says so whatever sys.modules says at the end (in
+    the sandbox the package is not there to load)."""
+    import sysconfig
+    from pathlib import Path
+
+    import course_dynamics
+
+    folders = [str(Path(course_dynamics.__file__).resolve().parents[1]), sysconfig.get_paths()["purelib"]]
+    path = tmp_path / "hidden.py"
+    path.write_text(HIDDEN_IMPORT.format(folders=folders))
+    run = run_submission(path, dict(PLAN, forbidden=["pinocchio", "course_dynamics"]), Limits(time_limit=10), None)
+    assert run.results is not None, run.stderr[-2000:]
+    assert run.results["status"] == "forbidden import", (run.results, run.stderr[-2000:])
+    assert "course_dynamics" in run.results["message"] and "course_dynamics" in run.results["forbidden_attempts"]
+    assert run.results["results"]["G"][0].get("value") is not None, run.results

@@ -17,19 +17,24 @@ Shape (as :mod:`~course_dynamics.grading.harness` writes it)::
 """
 from __future__ import annotations
 
+import hashlib
+import hmac
 import json
 
 import numpy as np
 
 from ..base.errors import CourseDynamicsError
-from .harness import FLAGS, FUNCTIONS, MAX_DIMENSIONS, MAX_FLAG_DETAIL, MAX_FLAG_LINES, MAX_VALUES, STATUSES
+from .harness import FUNCTIONS, MAX_DIMENSIONS, MAX_VALUES, STATUSES
+from .integrity import FLAGS, MAX_FLAG_DETAIL, MAX_FLAG_LINES, first_key, next_key, tag
 
 MAX_TEXT = 2000            # characters of a message or an error
 MAX_NAMES = 100            # forbidden import attempts listed
 MAX_DIGITS = 18            # an integer in the document (a shape, a returned int) has at most this many digits
 BYTES_PER_VALUE = 32       # a float's repr with its separator
 BYTES_PER_RECORD = 2 * MAX_TEXT + 256
-FLAGS_BYTES = (len(FLAGS) * MAX_FLAG_LINES + 2) * (4 * MAX_FLAG_DETAIL + 32)  # the integrity channel, read at most
+FLAGS_BYTES = (len(FLAGS) * MAX_FLAG_LINES + 2) * (4 * MAX_FLAG_DETAIL + 64)  # the integrity channel, read at most
+KEY_WINDOW = 8  # a tagged line may come this many keys ahead (a line lost, two threads' lines crossed)
+MAX_FOREIGN = 1000  # lines that are not the hook's, checked at most (one is enough to say so)
 
 
 class InvalidResults(CourseDynamicsError):
@@ -142,29 +147,46 @@ def read_results(data: bytes, plan: dict) -> dict:
     return checked
 
 
-def read_flags(data: bytes, nonce: str, ended: bool) -> list[tuple[str, str]]:
-    """The integrity flags from the channel's raw bytes (harness.integrity_hook), as ``(code, detail)`` once each.
+def read_flags(data: bytes, nonce: str, results: bytes | None) -> list[tuple[str, str]]:
+    """The integrity flags from the channel's raw bytes (integrity.integrity_hook), as ``(code, detail)`` once each.
 
-    The channel is hostile input like the results: lines that are not ``code<TAB>detail`` with a known code are
-    dropped, and at most MAX_FLAG_LINES are kept per code. ``ended`` says the results came back; a channel without the
-    harness's closing line (``end<TAB>nonce``) is then the flag ``channel-closed``.
+    The channel is hostile input like the results: a line counts only when its tag is the HMAC of its text under one
+    of the next keys from the nonce (integrity.first_key, each key used once), so a line the submission wrote is
+    never a flag but the flag ``channel-closed``, as are unknown codes and anything after the closing line. At most
+    MAX_FLAG_LINES are kept per code. ``results`` are the results document's bytes (None: none came back, and the
+    status says what happened); a channel whose closing line (``end<TAB>digest``) does not hold their SHA-256 is
+    ``channel-closed`` too: the hook withheld it (it saw tampering), or was switched off, or the line was forged early.
     """
-    flags, closed, counts, foreign = [], False, dict.fromkeys(FLAGS, 0), False
-    for line in data[:FLAGS_BYTES].decode("utf-8", "replace").split("\n"):
-        code, tab, detail = line.partition("\t")
+    flags, closed, counts, foreign = [], False, dict.fromkeys(FLAGS, 0), 0
+    keys, used = [first_key(nonce)] if nonce else [], set()
+    digest = hashlib.sha256(results).hexdigest() if results is not None else None
+    for line in data[:FLAGS_BYTES].split(b"\n"):
         if not line:
             continue  # the hook starts every line on a line of its own
-        if code == "end" and detail == nonce and nonce:
-            closed = True
-        elif tab and code in FLAGS and code != "channel-closed":
+        body, tab, mark = line.rpartition(b"\t")
+        index = None
+        if not closed and tab and len(mark) == len(tag(b"", b"")) and foreign < MAX_FOREIGN:
+            while keys and len(keys) < (max(used) + 1 if used else 0) + KEY_WINDOW:
+                keys.append(next_key(keys[-1]))
+            index = next((i for i, key in enumerate(keys) if i not in used and hmac.compare_digest(tag(key, body), mark)),
+                         None)
+        if index is None:
+            foreign += 1  # nothing the hook wrote: the submission wrote on the channel
+            continue
+        used.add(index)
+        code, _, detail = body.decode("utf-8", "replace").partition("\t")
+        if code == "end":
+            closed = detail == digest
+            foreign += not closed
+        elif code in FLAGS and code != "channel-closed":
             if counts[code] < MAX_FLAG_LINES:
                 counts[code] += 1
                 detail = "".join(c if c.isprintable() else f"\\x{ord(c):02x}" for c in " ".join(detail.split()))
                 flags.append((code, detail[:MAX_FLAG_DETAIL]))
         else:
-            foreign = True  # nothing the hook writes: the submission wrote on the channel
-    if ended and not closed:
+            foreign += 1
+    if results is not None and not closed:
         flags.append(("channel-closed", ""))
-    elif ended and (foreign or len(data) > FLAGS_BYTES):
+    elif results is not None and (foreign or len(data) > FLAGS_BYTES):
         flags.append(("channel-closed", "written to by the submission"))
     return list(dict.fromkeys(flags))

@@ -77,6 +77,7 @@ from .view import bwrap_arguments, view
 
 HERE = Path(__file__).resolve().parent
 HARNESS = HERE / "harness.py"
+INTEGRITY = HERE / "integrity.py"  # the harness loads it from beside itself
 LAUNCHER = HERE / "launcher.py"
 SCRATCH_BYTES = 64 * 2**20  # each writable mount at most; a quarter of the memory limit when that is less
 FILE_SIZE_BYTES = 16 * 2**20
@@ -170,7 +171,8 @@ def _sandbox_command(bwrap: str, submission: Path, results_fd: int, flags_fd: in
                      limits: Limits) -> list[str]:
     return [bwrap, *_namespaces(environment), *_file_system(environment, limits),
             "--ro-bind", str(submission), f"/submission/{submission.name}",
-            "--ro-bind", str(HARNESS), "/harness/harness.py", "--chdir", "/scratch", "--remount-ro", "/",
+            "--ro-bind", str(HARNESS), "/harness/harness.py", "--ro-bind", str(INTEGRITY), "/harness/integrity.py",
+            "--chdir", "/scratch", "--remount-ro", "/",
             "--", *harness_arguments(environment), "/harness/harness.py", str(results_fd), str(flags_fd)]
 
 
@@ -178,13 +180,14 @@ def _sandbox_command(bwrap: str, submission: Path, results_fd: int, flags_fd: in
 
 
 def _hand_over(submission: Path, given: Path, scratch: Path, user: tuple[int, int]) -> tuple[Path, Path]:
-    """Copies of the submission and the harness in ``given``, a folder of the grader's that ``user`` can read but
-    not change (the grader's own files may be closed to that user); the working folder ``scratch`` becomes
-    ``user``'s."""
+    """Copies of the submission and the harness (with the integrity hook's module beside it) in ``given``, a folder
+    of the grader's that ``user`` can read but not change (the grader's own files may be closed to that user); the
+    working folder ``scratch`` becomes ``user``'s."""
     given.chmod(0o755)
-    copies = [given / "submission" / submission.name, given / "harness" / HARNESS.name]
-    for copy, source in zip(copies, (submission, HARNESS)):
-        copy.parent.mkdir(mode=0o755)
+    copies = [given / "submission" / submission.name, given / "harness" / HARNESS.name,
+              given / "harness" / INTEGRITY.name]
+    for copy, source in zip(copies, (submission, HARNESS, INTEGRITY)):
+        copy.parent.mkdir(mode=0o755, exist_ok=True)
         shutil.copyfile(source, copy)
         copy.chmod(0o644)
     for path in [scratch, *scratch.rglob("*")]:
@@ -305,7 +308,8 @@ def run_submission(submission: Path, plan: dict, limits: Limits, bwrap: str | No
                 results = results_document.read_results(bytes(results_reader.data), plan)
             except InvalidResults as exc:
                 invalid = str(exc)
-        flags = results_document.read_flags(bytes(flags_reader.data), nonce, ended=results is not None)
+        flags = results_document.read_flags(bytes(flags_reader.data), nonce,
+                                            bytes(results_reader.data) if results is not None else None)
         return Run(
             results=results,
             stdout=bytes(out_reader.data).decode("utf-8", "replace"),
