@@ -322,6 +322,7 @@ def test_one_oversized_term_costs_that_term_alone(tmp_path):
     from submissions import OVERSIZED_G
 
     paths = write_class(tmp_path, {"oversized": OVERSIZED_G})
+    (tmp_path / "assignment.toml").write_text(ASSIGNMENT.replace("samples = 12", "samples = 40").replace("C = 10\n", ""))
     out = tmp_path / "out"
     assert main(["grade", str(tmp_path / "assignment.toml"), *map(str, paths), "--out", str(out), "--quiet"]) == 0
     with open(out / "gradebook.csv", newline="") as handle:
