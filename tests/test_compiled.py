@@ -74,6 +74,32 @@ def test_the_source_is_readable_python():
     assert c.generation_seconds > 0
 
 
+def test_the_key_covers_every_module_an_import_reaches():
+    """traced_sources scans with a pattern (fast: the evaluator asks on a process's first call); the files are
+    the ones Python's own parser finds through every relative import, lazy ones included."""
+    import ast
+    from pathlib import Path
+
+    from course_dynamics.core import compiled as package
+    from course_dynamics.core.compiled import codegen, tracing
+
+    pending = [Path(m.__file__).resolve() for m in (package, tracing, codegen)]
+    found: set[Path] = set()
+    while pending:
+        path = pending.pop()
+        if path in found:
+            continue
+        found.add(path)
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.ImportFrom) and node.level:
+                base = path.parents[node.level - 1]
+                target = base.joinpath(*(node.module.split(".") if node.module else []))
+                candidates = [target.with_suffix(".py"), target / "__init__.py"] + [target / f"{a.name}.py"
+                                                                                 for a in node.names]
+                pending += [c.resolve() for c in candidates if c.is_file() and c.resolve().is_relative_to(package.PACKAGE)]
+    assert set(package.traced_sources()) == found and len(found) > 10
+
+
 def test_second_compile_comes_from_the_cache(tmp_path, monkeypatch):
     monkeypatch.setenv("COURSE_DYNAMICS_CACHE", str(tmp_path / "cache"))
     model = load_robot("rp_arm")

@@ -155,8 +155,19 @@ _FAST: dict[int, tuple[weakref.ref, tuple, CompiledModel]] = {}  # id(model) -> 
 _FOLDERS: dict[tuple, object] = {}                              # the environment -> its cache folder
 
 
+_NAMES = ("COURSE_DYNAMICS_CACHE", "XDG_CACHE_HOME", "HOME")  # what cache_folder() reads
+try:  # CPython's dict behind os.environ, read without decoding: the one-state shortcut asks on every call
+    _RAW, _RAW_NAMES = os.environ._data, tuple(map(os.environ.encodekey, _NAMES))
+except AttributeError:
+    _RAW = None
+
+
 def _environment() -> tuple:
-    return tuple(os.environ.get(name) for name in ("COURSE_DYNAMICS_CACHE", "XDG_CACHE_HOME", "HOME"))
+    """What the cache folder is chosen from, as it is now."""
+    if _RAW is None:
+        return tuple(map(os.environ.get, _NAMES))
+    raw = _RAW.get
+    return raw(_RAW_NAMES[0]), raw(_RAW_NAMES[1]), raw(_RAW_NAMES[2])
 
 
 def _key(model: Model) -> str:
@@ -194,11 +205,13 @@ def choice(model: Model, calls: int = 1, states: int = 1, floats: bool = True, c
     folder = _FOLDERS.get(environment)
     if folder is None:
         folder = _FOLDERS[environment] = str(cache_folder() or "")
+    work = interpreted_seconds(calls, states)
+    if not (folder or compiled or work >= COMPILE_SECONDS):
+        return Choice("interpreted", LITTLE, Interpreted(model))  # no cache to hold it: no key needed
     key = _key(model)
     known = _COMPILED.setdefault((folder, key), _Compiled())
     if known.too_large and not compiled:
         return Choice("interpreted", known.too_large, Interpreted(model))
-    work = interpreted_seconds(calls, states)
     if compiled:
         reason = ASKED
     elif folder and ((known.compiled is not None and known.compiled.path is not None)
