@@ -300,9 +300,10 @@ def torques_from_log(model: Model, table, *, dt: float | None = None, columns: M
     ``model.with_gravity(g)`` to change it) with every ``payload`` lumped in. ``payload``: a :class:`~course_dynamics.tools.loads.Payload`
     or a list of them; ``wrench``: a :class:`~course_dynamics.tools.loads.Wrench` or a list.
     ``compiled``: None lets the evaluator (:mod:`course_dynamics.core.evaluator`) choose once for the log
-    (a compiled model where the cache holds it or from about 20 000 rows); True/False force it. ``progress(done, total)``, if given, is called as the work goes: the
-    state read and differentiated counts K of the 3 K steps of a K-row log, the torques and their uncertainty
-    K each. Other parameters as :func:`joint_log`.
+    (a compiled model where the cache holds it or from about 20 000 rows); True/False force it.
+    ``progress(done, total)``, if given, is called as the work goes: the state read and differentiated counts
+    K of the 3 K steps of a K-row log, the torques and their uncertainty K each. Other parameters as
+    :func:`joint_log`.
 
     Returns a :class:`TorqueLog`: ``tau`` (N, n); ``log`` with ``t``, ``q``, ``qd``, ``qdd`` as
     used; ``report`` (:class:`~course_dynamics.tools.limits.LimitsReport`); ``residuals``
