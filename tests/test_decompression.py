@@ -208,8 +208,20 @@ def run_limited(tmp_path, *argv, env=None):
     return result, int(peak.read_text()) if peak.exists() else None, temp
 
 
+@pytest.fixture(scope="module")
+def plain_peak(tmp_path_factory):
+    """The peak resident bytes of the same command on a plain bag of the same samples, in this environment."""
+    folder = tmp_path_factory.mktemp("plain")
+    t, q = samples()
+    qd = 0.1 * np.arange(1, 7) * np.cos(np.outer(t - t[0], np.arange(1, 7)))   # Θ̇ of samples()' Θ, so it reads
+    plain = bagmakers.write_joint_states(folder / "plain", "ros1", UR5, t, q, qd, q)
+    result, peak, _ = run_limited(folder, "torques", "ur5", "--log", str(plain), "--out", str(folder / "tau.csv"))
+    assert result.returncode == 0, result.stderr[-2000:]
+    return peak
+
+
 @pytest.mark.parametrize("name", BOMBS)
-def test_a_bomb_is_one_error_line_in_bounded_memory_and_disk_with_nothing_written(tmp_path, bombs, name):
+def test_a_bomb_is_one_error_line_in_bounded_memory_and_disk_with_nothing_written(tmp_path, bombs, plain_peak, name):
     bomb, named = bombs[name]
     out = tmp_path / "tau.csv"
     result, peak, temp = run_limited(tmp_path, "torques", "ur5", "--log", str(bomb), "--out", str(out))
@@ -218,7 +230,8 @@ def test_a_bomb_is_one_error_line_in_bounded_memory_and_disk_with_nothing_writte
                           "refused as a decompression bomb")
     assert not out.exists() and not list(temp.iterdir())
     size = sum(file.stat().st_size for file in ([bomb] if bomb.is_file() else bomb.iterdir()))
-    assert peak < 300 * MiB + 1.5 * RATIO * size, (peak, size)  # the CLI's own 160 MiB, and the ratio's bound
+    # What a plain bag takes here (about 160 MiB; more in some environments), and the ratio's bound on top.
+    assert peak < plain_peak + 64 * MiB + 1.5 * RATIO * size, (peak, plain_peak, size)
 
 
 def test_under_a_small_memory_budget_a_chunk_within_the_ratio_is_refused(capsys, tmp_path, monkeypatch):
