@@ -107,15 +107,18 @@ def test_the_derived_terms_are_the_librarys_terms(setting):
 
 def test_every_call_is_read_back_by_its_key(setting):
     _, plan, _ = setting
-    echo = {"tau": lambda q, qd, qdd: np.concatenate([q, qd, qdd]), "V": lambda q, qd: np.concatenate([q, qd])}
+    # Each answer echoes its arguments within the n × n values a term may have: Θ, then Θ̇ + 2 Θ̈ (or Θ̇).
+    echo = {"tau": lambda q, qd, qdd: np.concatenate([q, qd + 2 * qdd]), "V": lambda q, qd: np.concatenate([q, qd])}
     answers = Answers.read(evaluate(echo, plan.harness_functions()), plan)
     unasked = plan.calls_of("M") + plan.calls_of("G") + plan.calls_of("C")
     assert len(answers.records) == len(plan.arguments) - len(unasked)
     for call, arguments in plan.arguments.items():
         if call.function in echo:
-            assert answers.value(call).tolist() == np.concatenate(arguments).tolist(), call
+            q, *rates = (np.asarray(a) for a in arguments)
+            expected = np.concatenate([q, rates[0] + 2 * rates[1] if len(rates) == 2 else rates[0]])
+            assert answers.value(call).tolist() == expected.tolist(), call
     column = answers.value(Call("tau", "mass", 3, (1,)))  # τ(Θ₄, 0, e₂)
-    assert column[:2].tolist() == plan.q[3].tolist() and column[4:].tolist() == [0.0, 1.0]
+    assert column[:2].tolist() == plan.q[3].tolist() and column[2:].tolist() == [0.0, 2.0]
 
 
 # ---------------------------------------------------------------------------------------- screens
