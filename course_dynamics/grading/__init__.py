@@ -1,7 +1,7 @@
 """Layer 4, grading students' dynamics code: safely, and with feedback that teaches.
 
 It may import base, core, tools and output; teaching uses its scorer, and only the command
-line and teaching sit above it. ``harness`` and ``launcher`` import nothing of ours at all:
+line and teaching sit above it. ``harness``, ``integrity`` and ``launcher`` import nothing of ours at all:
 they run beside student code.
 
 ===============  ================================================================

@@ -82,6 +82,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ...base.errors import CourseDynamicsWarning
 from ..dynamics import coriolis_matrix, mass_matrix_and_bias
 from ..forward_dynamics import SINGULAR_PIVOT_RATIO, accelerations
 from ..model import Model
@@ -104,7 +105,7 @@ __all__ = ["CACHE_OFF", "MAX_OPERATIONS", "CacheWarning", "CompileWarning", "Com
            "program_source", "trace_programs"]
 
 
-class CompileWarning(UserWarning):
+class CompileWarning(CourseDynamicsWarning):
     """A model that was run interpreted because it is too large to compile (the message says so).
 
     >>> issubclass(CompileWarning, UserWarning)          # warnings.simplefilter("error", CompileWarning) makes it fatal

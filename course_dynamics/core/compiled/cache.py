@@ -14,11 +14,13 @@ import stat
 import warnings
 from pathlib import Path
 
+from ...base.errors import CourseDynamicsWarning
+
 CACHE_OFF = "off"            # COURSE_DYNAMICS_CACHE=off: no cache
 MAX_ENTRY_BYTES = 64 * 2**20  # a cached entry larger than this is not read (it is far above MAX_OPERATIONS' size)
 
 
-class CacheWarning(UserWarning):
+class CacheWarning(CourseDynamicsWarning):
     """The cache folder cannot be trusted with code (the message says why): compiled in memory instead."""
 
 
