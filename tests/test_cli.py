@@ -439,3 +439,19 @@ def test_every_warning_line_comes_through_the_warnings_path(capsys, monkeypatch)
     monkeypatch.setattr(info, "run", run)
     assert main(["info", "two_link"]) == 0
     assert capsys.readouterr().err.splitlines() == ["warning: robot 'x'\\nerror: forged"] * 2
+
+
+def test_running_out_of_memory_is_one_error_line_and_no_output(capsys, monkeypatch, tmp_path):
+    """The safety net under the size checks: a MemoryError nobody foresaw ends in one line, exit 2, no file."""
+    from course_dynamics.cli.commands import simulate
+
+    out = tmp_path / "run.csv"
+
+    def run_out_of_memory(args):
+        raise MemoryError("Unable to allocate 2.68 GiB for an array with shape (100000, 60, 60)")
+
+    monkeypatch.setattr(simulate, "run", run_out_of_memory)
+    code, _, err = run(capsys, "simulate", "pendulum", "--q0", "0", "--duration", "1", "--dt", "0.1", "--out", str(out))
+    assert_one_line_error(code, err, "error: ran out of memory (Unable to allocate 2.68 GiB", "--samples",
+                          "COURSE_DYNAMICS_MEMORY_BUDGET")
+    assert not out.exists()

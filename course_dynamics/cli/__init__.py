@@ -11,7 +11,8 @@ Bad input of any kind (a :class:`~course_dynamics.base.errors.CourseDynamicsErro
 ends with one line ``error: …`` on stderr and exit code 2; Ctrl-C ends with
 exit code 130, even where a library we call catches the interrupt
 (:mod:`course_dynamics.cli.interrupts`). No output file is left behind
-half-written.
+half-written. Running out of memory (which the size checks should have refused
+first) ends with one ``error: ran out of memory …`` line and exit code 2.
 
 ==============  ================================================================
 module          job
@@ -96,6 +97,13 @@ def _main(argv: list, interrupts: Interrupts | None) -> int:
         logging.getLogger("asyncio").disabled = True
         print("error: interrupted", file=sys.stderr)
         return 130
+    except MemoryError as exc:
+        # A safety net only: every size a small input sets is checked against the budget before the work starts;
+        # this is for what no estimate foresaw. Outputs are written whole at the end, so none is left half-written.
+        print(f"error: ran out of memory ({one_line(exc) or 'MemoryError'}): lower what was asked (--samples, "
+              "--ensemble, --duration, the log's length, the robot's joints), or set COURSE_DYNAMICS_MEMORY_BUDGET "
+              "so that the size checks refuse it before it starts", file=sys.stderr)
+        return 2
     except BrokenPipeError:
         return 0
     except OSError as exc:  # a path the system refuses (too long, not a folder, a full device)
