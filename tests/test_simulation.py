@@ -193,3 +193,15 @@ def test_ensemble_matches_pinocchio_aba_members():
     ours = simulate(model, q0, np.zeros(2), duration=0.1, dt=1e-3)
     theirs = simulate(model, q0, np.zeros(2), duration=0.1, dt=1e-3, dynamics=aba)
     np.testing.assert_allclose(ours.q[-1], theirs.q[-1], rtol=0, atol=1e-12)
+
+
+def test_a_too_large_ensemble_is_refused_before_its_perturbations_are_drawn(capsys, tmp_path, monkeypatch):
+    """K members are checked against the budget first (no (K, n) array is made), and the advice names --ensemble."""
+    from helpers import assert_one_line_error, run
+
+    monkeypatch.setattr(np.random, "default_rng", lambda *a, **k: pytest.fail("drew the perturbations before checking"))
+    out = tmp_path / "x.csv"
+    code, _, err = run(capsys, "simulate", "ur5", "--q0", "0,0,0,0,0,0", "--duration", "1", "--dt", "0.01",
+                       "--out", str(out), "--ensemble", "100000000")
+    assert_one_line_error(code, err, "of memory", "fewer --ensemble members (100000000 asked)", "larger dt")
+    assert not out.exists()

@@ -139,11 +139,13 @@ def torque_function(model: Model, torque) -> Callable:
     return lambda t, q, qd: constant
 
 
-def time_grid(duration: float, dt: float, values_per_sample: int = 1) -> np.ndarray:
+def time_grid(duration: float, dt: float, values_per_sample: int = 1,
+              advice: str = ": take a larger dt or a shorter duration") -> np.ndarray:
     """t = 0, dt, 2 dt, …, duration (s): the samples of a run; the last step is shortened to end at ``duration``.
 
     Raises SimulationError for a dt or duration that is not a positive finite number, and for a
-    grid whose samples (``values_per_sample`` floats each) would not fit in :func:`memory_budget`.
+    grid whose samples (``values_per_sample`` floats each) would not fit in :func:`memory_budget`
+    (the message ends with ``advice``: an ensemble's caller names its size too).
     """
     for name, value in (("dt", dt), ("duration", duration)):
         if not (np.isfinite(value) and value > 0):
@@ -153,7 +155,7 @@ def time_grid(duration: float, dt: float, values_per_sample: int = 1) -> np.ndar
     steps = duration / dt
     check_memory((steps + 1) * 8.0 * max(values_per_sample, 1),
                  f"{duration:g} s in steps of {dt:g} s is {steps:.3g} steps; keeping them",
-                 ": take a larger dt or a shorter duration", SimulationError)
+                 advice, SimulationError)
     times = np.arange(int(np.ceil(steps - 1e-9)) + 1) * dt
     times[-1] = duration
     return times

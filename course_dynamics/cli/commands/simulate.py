@@ -94,6 +94,12 @@ def run(args) -> int:
             raise UsageError(f"--perturbation must be a non-negative number, got {args.perturbation}")
         if args.html:
             raise UsageError("--html animates one run; it cannot be combined with --ensemble")
+    # The run's size is checked before anything of that size is made (the ensemble's perturbations included).
+    members = args.ensemble or 1
+    advice = (f": take fewer --ensemble members ({members} asked), a larger dt or a shorter duration" if args.ensemble
+              else ": take a larger dt or a shorter duration")
+    steps = len(time_grid(args.duration, args.dt, values_per_sample=members * (4 * model.n + 1) + 1, advice=advice)) - 1
+    if args.ensemble is not None:
         noise = np.random.default_rng(args.seed).standard_normal((args.ensemble, model.n)) * args.perturbation
         noise[0] = 0.0
         q0 = q0 + noise
@@ -106,8 +112,6 @@ def run(args) -> int:
     for target in (args.out, args.plot, args.html):
         if target:
             io.check_writable(target)
-    members = args.ensemble or 1
-    steps = len(time_grid(args.duration, args.dt, values_per_sample=members * (4 * model.n + 1) + 1)) - 1
     progress = progress_bar(args, total=steps, unit="step")
     trajectory = simulate(model, q0, qd0, args.duration, args.dt, integrator=args.integrator, torque=torque,
                           friction=joint_friction, limits=args.limits, progress=progress.update,
