@@ -48,8 +48,8 @@ def parse_budget(text: str) -> int:
     match = BUDGET_TEXT.fullmatch(text)
     budget = float(match[1]) * UNITS[match[2].upper()] if match else 0.0
     if not 1 <= budget < 2**63:  # a budget of a byte refuses everything; more than 8 EiB is a typing slip
-        raise InputError(f"{BUDGET_VARIABLE}={text[:40]!r}: not a memory budget; give bytes, or a number with K, M, G or "
-                         "T (powers of 1024), such as 512M")
+        raise InputError(f"{BUDGET_VARIABLE}={text[:40]!r}: not a memory budget; give bytes, "
+                         "or a number with K, M, G or T (powers of 1024), such as 512M")
     return int(budget)
 
 

@@ -84,7 +84,8 @@ def unit_acceleration_entries(model: Model, theta: list, X=None) -> list:
     """
     X = joint_transforms(model, theta) if X is None else X
     zero = [0] * model.n
-    cols = [torque_entries(model, X, zero, [1 if k == j else 0 for k in range(model.n)], NO_GRAVITY) for j in range(model.n)]
+    cols = [torque_entries(model, X, zero, [1 if k == j else 0 for k in range(model.n)], NO_GRAVITY)
+            for j in range(model.n)]
     return [[cols[j][i] for j in range(model.n)] for i in range(model.n)]
 
 
@@ -114,7 +115,8 @@ def mass_matrix_by_unit_accelerations(model: Model, q) -> np.ndarray:
 
 
 def coriolis_matrix(model: Model, q, qd) -> np.ndarray:
-    """C(Θ, Θ̇), shape (n, n) or (N, n, n), in Christoffel form, by the O(n²) recursion of :mod:`~course_dynamics.core.coriolis`.
+    """C(Θ, Θ̇), shape (n, n) or (N, n, n), in Christoffel form, by the O(n²) recursion of
+    :mod:`~course_dynamics.core.coriolis`.
 
     >>> from course_dynamics import load_robot
     >>> arm = load_robot("two_link")
@@ -157,7 +159,8 @@ def kinetic_energy(model: Model, q, qd) -> np.ndarray:
     >>> from course_dynamics import load_robot
     >>> arm = load_robot("two_link")
     >>> qd = np.array([1.0, 0.0])
-    >>> float(np.round(kinetic_energy(arm, [0.0, 0.5], qd), 6)), float(np.round(qd @ mass_matrix(arm, [0.0, 0.5]) @ qd / 2, 6))
+    >>> (float(np.round(kinetic_energy(arm, [0.0, 0.5], qd), 6)),
+    ...  float(np.round(qd @ mass_matrix(arm, [0.0, 0.5]) @ qd / 2, 6)))
     (0.630517, 0.630517)
     """
     q, qd = as_state(model, q, "q"), as_state(model, qd, "qd")

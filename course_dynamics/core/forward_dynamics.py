@@ -38,10 +38,13 @@ class SingularMassMatrixError(CourseDynamicsError):
     >>> _ = urdf.write_text('''<robot name="massless"><link name="base"/><link name="tip"/>
     ...   <joint name="j" type="revolute"><parent link="base"/><child link="tip"/><axis xyz="0 0 1"/>
     ...   <limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>''')
-    >>> forward_dynamics(load_urdf(urdf), [0.0], [0.0], [1.0])
-    Traceback (most recent call last):
-    ...
-    course_dynamics.core.forward_dynamics.SingularMassMatrixError: the mass matrix of robot 'massless' is singular at q = [0.0] (smallest eigenvalue 0): joint 'j' moves no mass (a massless chain?)
+    >>> import textwrap
+    >>> try:
+    ...     forward_dynamics(load_urdf(urdf), [0.0], [0.0], [1.0])
+    ... except SingularMassMatrixError as error:
+    ...     print(textwrap.fill(str(error), 100))
+    the mass matrix of robot 'massless' is singular at q = [0.0] (smallest eigenvalue 0): joint 'j'
+    moves no mass (a massless chain?)
     """
 
 
@@ -117,7 +120,8 @@ def _check_positive_definite(model: Model, M: np.ndarray, q: np.ndarray) -> None
         pass
     eigenvalues = np.linalg.eigvalsh(M)
     q = np.broadcast_to(q, M.shape[:-1])
-    k = np.unravel_index(np.argmin(eigenvalues[..., 0] / np.maximum(eigenvalues[..., -1], 1e-300)), eigenvalues.shape[:-1])
+    k = np.unravel_index(np.argmin(eigenvalues[..., 0] / np.maximum(eigenvalues[..., -1], 1e-300)),
+                         eigenvalues.shape[:-1])
     weakest = np.linalg.eigh(M[k])[1][:, 0]
     joint = model.joint_names[int(np.argmax(np.abs(weakest)))]
     raise SingularMassMatrixError(

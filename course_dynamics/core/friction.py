@@ -53,7 +53,8 @@ class Friction:
     @classmethod
     def from_urdf(cls, model: Model, smoothing: float = 0.0) -> "Friction":
         """Viscous = URDF damping, Coulomb = URDF friction, joint by joint."""
-        return cls(viscous=[b.damping for b in model.bodies], coulomb=[b.friction for b in model.bodies], smoothing=smoothing)
+        return cls(viscous=[b.damping for b in model.bodies], coulomb=[b.friction for b in model.bodies],
+                   smoothing=smoothing)
 
     @classmethod
     def none(cls, model: Model) -> "Friction":

@@ -42,7 +42,8 @@ TOLERANCE = 1e-12  # kg·m²: round-off allowed in the physical checks
 
 
 def _is_symbolic(*values) -> bool:
-    return any(not isinstance(v, (int, float, np.integer, np.floating)) for v in np.ravel(np.array(values, dtype=object)))
+    return any(not isinstance(v, (int, float, np.integer, np.floating))
+               for v in np.ravel(np.array(values, dtype=object)))
 
 
 def _tensor(rows) -> np.ndarray:
@@ -170,7 +171,8 @@ def physical_problems(I, tolerance: float = TOLERANCE) -> list[str]:
     scale = max(float(np.abs(moments).max()), 1.0) * tolerance
     problems = []
     if moments[0] < -scale:
-        problems.append(f"tensor is not positive semi-definite (principal moments {', '.join(f'{x:g}' for x in moments)})")
+        problems.append("tensor is not positive semi-definite "
+                        f"(principal moments {', '.join(f'{x:g}' for x in moments)})")
     a, b, c = moments
     if a + b < c - scale:
         problems.append(f"breaks the triangle inequality (principal moments {a:g} + {b:g} < {c:g})")

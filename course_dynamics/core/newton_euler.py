@@ -161,7 +161,8 @@ def outward_iteration(model: Model, X: JointTransforms, theta_dot: list, theta_d
         else:
             w = ops.into_child(X, i, "6.45") @ omega_p + qd * z  # (6.45)
             w_dot = R @ omega_dot_p + ops.cross(R @ omega_p, qd * z, "6.46") + qdd * z  # (6.46)
-        v = ops.into_child(X, i, "6.47") @ ops.point_acceleration(v_dot_p, omega_dot_p, omega_p, X.P[i], "6.47")  # (6.47)
+        # (6.47)
+        v = ops.into_child(X, i, "6.47") @ ops.point_acceleration(v_dot_p, omega_dot_p, omega_p, X.P[i], "6.47")
         if body.is_prismatic:
             v = v + cross(2 * w, qd * z) + qdd * z  # (6.35)
         v_c = ops.point_acceleration(v, w_dot, w, body.p_com_v, "6.48")  # (6.48)

@@ -252,7 +252,8 @@ def joint_symbols(model: Model) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     for name in model.joint_names:
         if not SYMBOL_NAME.fullmatch(name):
             raise SymbolError(f"joint '{name}': symbolic results name symbols q_<joint>, so joint names must be ASCII "
-                              "identifiers (letters, digits, _, not starting with a digit); rename the joint in the URDF")
+                              "identifiers (letters, digits, _, not starting with a digit); "
+                              "rename the joint in the URDF")
 
     def symbols(prefix):
         return np.array([sympy.Symbol(f"{prefix}_{name}", real=True) for name in model.joint_names], dtype=object)

@@ -70,7 +70,8 @@ def as_state(model, values, name: str = "q") -> np.ndarray:
     if array.dtype != object and not np.all(np.isfinite(array)):
         bad = np.argwhere(~np.isfinite(array))[0]
         row = f" at row {bad[0]}" if array.ndim == 2 else ""
-        raise StateError(f"{name} for joint '{model.joint_names[bad[-1]]}' is {array[tuple(bad)]}{row} (must be finite)")
+        raise StateError(f"{name} for joint '{model.joint_names[bad[-1]]}' is {array[tuple(bad)]}{row} "
+                         "(must be finite)")
     return array
 
 

@@ -128,7 +128,8 @@ def decimal(expression, digits: int | None):
         return expression
     sympy = _sympy()
     expression = sympy.sympify(expression)
-    return expression.xreplace({r: sympy.Float(r, digits) for r in expression.atoms(sympy.Rational) if not r.is_Integer})
+    return expression.xreplace({r: sympy.Float(r, digits)
+                                for r in expression.atoms(sympy.Rational) if not r.is_Integer})
 
 
 def check_decimals(decimals) -> None:
@@ -184,7 +185,8 @@ def derive(model: Model, symbols=(), method: str = "newton-euler", simplify: boo
     B = [[form(sympy.expand(v).coeff(qd[j], 1).coeff(qd[k], 1)) for j, k in pairs] for v in V]
     C = [[form(sympy.expand(v).coeff(qd[j], 2)) for j in range(n)] for v in V]
     return Derivation(
-        joints=model.joint_names, prismatic=tuple(b.is_prismatic for b in model.bodies), method=method, q=tuple(q), qd=tuple(qd), qdd=tuple(qdd), parameters=parameters,
+        joints=model.joint_names, prismatic=tuple(b.is_prismatic for b in model.bodies), method=method,
+        q=tuple(q), qd=tuple(qd), qdd=tuple(qdd), parameters=parameters,
         tau=[form(t) for t in tau], M=[[form(x) for x in row] for row in M], V=[form(v) for v in V],
         G=[form(x) for x in G], B=B, C=C, pairs=pairs,
     )
@@ -277,7 +279,8 @@ def derive_cartesian(model: Model, frame: str, rows=None, expressed_in: str = "b
                           f"(6.99) needs a square Jacobian; choose {model.n} rows")
     J = sympy.Matrix(jacobian(exact, q, frame, expressed_in, indices))
     J_dot = sympy.Matrix(jacobian_dot(exact, q, qd, frame, expressed_in, indices))
-    M, V, G = sympy.Matrix(mass_matrix(exact, q)), sympy.Matrix(velocity_torques(exact, q, qd)), sympy.Matrix(gravity_torques(exact, q))
+    M, V, G = (sympy.Matrix(mass_matrix(exact, q)), sympy.Matrix(velocity_torques(exact, q, qd)),
+               sympy.Matrix(gravity_torques(exact, q)))
     Mx, Vx, Gx = operational_space_terms(J.inv(), J_dot, M, V, G, sympy.Matrix(qd))
 
     def clean(matrix):

@@ -118,7 +118,8 @@ def load_urdf(path, gravity=STANDARD_GRAVITY, allow_nonphysical_inertia: bool = 
 
     unreachable = sorted(set(links) - _descendants(roots[0], children))
     if unreachable:
-        raise ModelError(f"{where}: kinematic loop: links {', '.join(unreachable)} are not reachable from root '{roots[0]}'")
+        raise ModelError(f"{where}: kinematic loop: links {', '.join(unreachable)} "
+                         f"are not reachable from root '{roots[0]}'")
 
     # Depth-first from the root: each link hangs from a body (−1: the fixed base)
     # through a constant 4×4 transform; a moving joint starts a new body.
@@ -142,7 +143,8 @@ def load_urdf(path, gravity=STANDARD_GRAVITY, allow_nonphysical_inertia: bool = 
     if not specs:
         raise ModelError(f"{where}: no revolute, continuous or prismatic joint: nothing moves")
     bodies = [_body(where, spec, lump) for spec, lump in zip(specs, lumps)]
-    return Model(name=robot.name, bodies=tuple(bodies), gravity=gravity, source=where, base_link=roots[0], frames=tuple(frames))
+    return Model(name=robot.name, bodies=tuple(bodies), gravity=gravity, source=where, base_link=roots[0],
+                 frames=tuple(frames))
 
 
 MAX_URDF_BYTES = 64 * 2**20  # a 1 000-joint chain is under 1 MiB; anything far larger is not a robot description
@@ -193,7 +195,8 @@ def _check_numbers(root, where: str) -> None:
 
 
 def _check_namespaces(root, where: str) -> None:
-    """No element in a default XML namespace: lxml (and so yourdfpy) would skip it, urdfdom reads it by its bare name."""
+    """No element in a default XML namespace: lxml (and so yourdfpy) would skip it, urdfdom reads it by its
+    bare name."""
     for element in root.iter():
         if isinstance(element.tag, str) and element.tag.startswith("{") and element.prefix is None:
             namespace, name = element.tag[1:].split("}", 1)
@@ -215,7 +218,8 @@ def xml_parser():
     """
     from lxml import etree
 
-    return etree.XMLParser(resolve_entities=False, load_dtd=False, no_network=True, dtd_validation=False, huge_tree=False)
+    return etree.XMLParser(resolve_entities=False, load_dtd=False, no_network=True, dtd_validation=False,
+                           huge_tree=False)
 
 
 def _xml_problem(raw: bytes, exc: Exception) -> str:
@@ -350,7 +354,8 @@ def _body(where: str, spec: dict, lump: list) -> Body:
             lower = -math.inf if joint.limit.lower is None else float(joint.limit.lower)
             upper = math.inf if joint.limit.upper is None else float(joint.limit.upper)
             if math.isnan(lower) or math.isnan(upper) or lower > upper:
-                raise ModelError(f"{where}: joint '{joint.name}': limits lower={lower} upper={upper} are not an interval")
+                raise ModelError(f"{where}: joint '{joint.name}': limits lower={lower} upper={upper} "
+                                 "are not an interval")
         for name, value in (("effort", joint.limit.effort), ("velocity", joint.limit.velocity)):
             if value is not None and not (float(value) >= 0):
                 raise ModelError(f"{where}: joint '{joint.name}': {name} limit {value} must be a non-negative number")

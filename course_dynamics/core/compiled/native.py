@@ -222,14 +222,19 @@ def c_source(programs: dict[str, Program], n: int, key: str, robot: str) -> str:
     >>> from course_dynamics.core.compiled.tracing import trace_programs
     >>> pendulum = load_robot("pendulum")
     >>> source = c_source(trace_programs(pendulum), 1, "k1", pendulum.name)
-    >>> [line for line in source.splitlines() if line.startswith("static void")][:2]
-    ['static void tau_one(const double *restrict q, const double *restrict qd, const double *restrict qdd, double *restrict scratch, double *restrict out)', 'static void mass_matrix_one(const double *restrict q, double *restrict scratch, double *restrict out)']
+    >>> import textwrap
+    >>> for line in [line for line in source.splitlines() if line.startswith("static void")][:2]:
+    ...     print(textwrap.fill(line, 100, subsequent_indent="    "))
+    static void tau_one(const double *restrict q, const double *restrict qd, const double *restrict qdd,
+        double *restrict scratch, double *restrict out)
+    static void mass_matrix_one(const double *restrict q, double *restrict scratch, double *restrict out)
     """
     # The robot's name appears only inside a comment, with anything that could end it taken out.
     safe = "".join(c if c.isalnum() or c in " _-." else "?" for c in robot)[:80]
     parts = [f"/* course-dynamics compiled model {key}, robot {safe}, {n} joints: generated C, one line per",
              "   operation of the library's recursions (course_dynamics.core.compiled.native). */",
-             "#define PY_SSIZE_T_CLEAN", "#include <Python.h>", "#include <math.h>", "#include <stdlib.h>", "#include <string.h>", "",
+             "#define PY_SSIZE_T_CLEAN", "#include <Python.h>", "#include <math.h>", "#include <stdlib.h>",
+             "#include <string.h>", "",
              "#if defined(__GNUC__)  /* a part stays its own function, so no function gcc sees grows past a part */",
              "#define PART __attribute__((noinline))", "#else", "#define PART", "#endif", ""]
     methods = []
