@@ -15,8 +15,9 @@ a file declares are never used. Past the bound the read stops with one line nami
 
     run.bag: chunk 3 (at byte 8201) decompresses past 100x its 512 bytes: refused as a decompression bomb
 
-How: rosbags' own decompressors (``rosbags.rosbag1.reader.decompressors``, ``rosbags.rosbag2.storage_mcap.DECOMPRESSORS``
-and ``rosbags.rosbag2.reader.zstd``) are replaced by ours once, when :func:`bounded` is first entered. Outside it ours
+How: rosbags' own decompressors (``rosbags.rosbag1.reader.decompressors``,
+``rosbags.rosbag2.storage_mcap.DECOMPRESSORS`` and ``rosbags.rosbag2.reader.zstd``) are replaced by ours once, when
+:func:`bounded` is first entered. Outside it ours
 hand the call straight to rosbags' own, so nothing changes for other users of rosbags in the process; a kind of
 compression that rosbags reads and we cannot bound is refused inside it (:data:`STREAMS`). A thread's or task's
 :func:`bounded` is its own (a context variable), so reads in parallel do not meet.

@@ -85,7 +85,8 @@ class LimitsReport:
 
     @property
     def velocity_used(self) -> np.ndarray:
-        return np.where(np.isfinite(self.velocity), self.peak_qd / np.where(self.velocity > 0, self.velocity, np.inf), 0.0)
+        return np.where(np.isfinite(self.velocity),
+                        self.peak_qd / np.where(self.velocity > 0, self.velocity, np.inf), 0.0)
 
     @property
     def exceeded(self) -> bool:

@@ -120,7 +120,8 @@ class Wrench:
 
 
 def wrench_torques(model: Model, q, wrench: Wrench) -> np.ndarray:
-    """τ = Jᵀ F (chapter 5's static-force relation): the joint torques that apply ``wrench``; shape like ``q``, (n,) or (N, n)."""
+    """τ = Jᵀ F (chapter 5's static-force relation): the joint torques that apply ``wrench``; shape like ``q``,
+    (n,) or (N, n)."""
 
     model.frame(wrench.link)  # a clear error for an unknown frame
     J = jacobian(model, q, wrench.link, expressed_in="base")     # (6, n) or (N, 6, n)

@@ -249,14 +249,16 @@ def _check_rate_units(model, plan, q, qd, step, where) -> None:
             continue
         ratio = rate / moving
         if not 1 / RATE_UNITS_RATIO < ratio < RATE_UNITS_RATIO:
-            raise InputError(f"{where}: the logged qd_{j} is {ratio:.3g} times the rate of q_{j} (RMS {rate:.3g} against "
+            raise InputError(f"{where}: the logged qd_{j} is {ratio:.3g} times the rate of q_{j} "
+                             f"(RMS {rate:.3g} against "
                              f"{moving:.3g} per s): are they in the same units (rad and rad/s; 57.3 is degrees), "
                              f"and t in seconds (--time-unit)?")
 
 
 def _differentiate(model, plan, q, qd, qdd, segments, step, window, where) -> tuple[np.ndarray, list[str]]:
-    """Fill the derived columns of ``qd`` and ``qdd`` in place, segment by segment (:mod:`~course_dynamics.tools.differentiation`):
-    σ_Θ̈ (K, n) that the noise leaves (0 where Θ̈ was read), and the notes saying how."""
+    """Fill the derived columns of ``qd`` and ``qdd`` in place, segment by segment
+    (:mod:`~course_dynamics.tools.differentiation`): σ_Θ̈ (K, n) that the noise leaves (0 where Θ̈ was read), and the
+    notes saying how."""
     names = model.joint_names
     sigma = np.zeros_like(q)
     groups = [(plan.derived_kind("qd"), None), (plan.derived_kind("qdd", "qd"), "qd")]
@@ -297,8 +299,9 @@ def torques_from_log(model: Model, table, *, dt: float | None = None, columns: M
 
     τ = M(Θ)Θ̈ + V(Θ,Θ̇) + G(Θ) (Newton–Euler, (6.45)–(6.53)) + F(Θ̇) (friction, (6.114))
     + Σ Jᵀ F_ext (wrenches at frames, chapter 5's static forces), on the model (under its gravity:
-    ``model.with_gravity(g)`` to change it) with every ``payload`` lumped in. ``payload``: a :class:`~course_dynamics.tools.loads.Payload`
-    or a list of them; ``wrench``: a :class:`~course_dynamics.tools.loads.Wrench` or a list.
+    ``model.with_gravity(g)`` to change it) with every ``payload`` lumped in. ``payload``: a
+    :class:`~course_dynamics.tools.loads.Payload` or a list of them; ``wrench``: a
+    :class:`~course_dynamics.tools.loads.Wrench` or a list.
     ``compiled``: None lets the evaluator (:mod:`course_dynamics.core.evaluator`) choose once for the log
     (a compiled model where the cache holds it or from about 20 000 rows); True/False force it.
     ``progress(done, total)``, if given, is called as the work goes: the state read and differentiated counts

@@ -154,7 +154,8 @@ def read_motion(model: Model, log, *, columns: Mapping[str, str] | None = None,
         tau_from = "tau_meas"
         if not all(f"tau_meas_{j}" in values for j in joints):
             missing = [f"tau_{j}" for j in joints if f"tau_{j}" not in values]
-            raise InputError(f"{source.where}: missing columns: {', '.join(missing)} (the torques to apply: tau_<joint> "
+            raise InputError(f"{source.where}: missing columns: {', '.join(missing)} "
+                             "(the torques to apply: tau_<joint> "
                              "as 'torques --out', 'simulate --out' and 'excite --out' write them, or the torques a "
                              "robot measured: tau_meas_<joint>, a bag's effort)")
     check_values(planned)

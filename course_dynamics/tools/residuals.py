@@ -59,7 +59,8 @@ class ResidualReport:
 
 
 def residual_report(joints, t, predicted, measured, source: str) -> ResidualReport:
-    """Per joint, ``measured`` (K, n; NaN columns for joints not measured) against ``predicted`` (K, n) (module docstring)."""
+    """Per joint, ``measured`` (K, n; NaN columns for joints not measured) against ``predicted`` (K, n)
+    (module docstring)."""
     rows = []
     for i, joint in enumerate(joints):
         tau_meas = measured[:, i]

@@ -127,8 +127,8 @@ def _words(table: Table) -> dict:
 
 
 def as_source(log) -> LogSource:
-    """Any log as a :class:`LogSource`: one already (from :func:`open_log`), a :class:`~course_dynamics.tools.tables.Table`,
-    a pandas DataFrame, a dict of arrays or a numpy structured array."""
+    """Any log as a :class:`LogSource`: one already (from :func:`open_log`), a
+    :class:`~course_dynamics.tools.tables.Table`, a pandas DataFrame, a dict of arrays or a numpy structured array."""
     if isinstance(log, LogSource):
         return log
     if isinstance(log, Table):

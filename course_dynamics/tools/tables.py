@@ -349,7 +349,8 @@ def _read_table(path, handle, size: int, encoding: str, comment: str, decimal: s
             readers[-1].detach()  # the handle stays open for a second pass; its owner closes it
 
 
-def read_columns(path, required: list[str], optional: list[str] = (), decimal: str | None = None) -> dict[str, np.ndarray]:
+def read_columns(path, required: list[str], optional: list[str] = (),
+                 decimal: str | None = None) -> dict[str, np.ndarray]:
     """The named columns of a table file (:func:`read_table`), checked: every required one present, none of them
     text, and no column that is neither required nor optional (logs with more signals go through
     :mod:`course_dynamics.logs`)."""

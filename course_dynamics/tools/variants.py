@@ -99,7 +99,8 @@ class Variant:
             lines += [f"link {i + 1}, joint {body.joint} ({body.joint_type}, about {_vector(body.axis)} of its own "
                       f"frame): frame {i + 1} in the frame of {parent} at {body.joint} = 0 has its origin at "
                       f"{_vector(body.P)} m and rotation rows {'; '.join(_vector(row) for row in body.R0)}",
-                      f"    m = {float(body.mass):g} kg, centre of mass P_C = {_vector(body.p_com)} m, inertia about it "
+                      f"    m = {float(body.mass):g} kg, centre of mass P_C = {_vector(body.p_com)} m, "
+                      "inertia about it "
                       f"I_C = rows {'; '.join(_vector(row) for row in body.I_com)} kg·m² (frame {i + 1}'s axes)"]
         for frame in model.frames:
             if frame.body >= 0 and frame.name not in {b.name for b in model.bodies} and frame.P.any():
