@@ -64,7 +64,8 @@ def _read_manifest(folder: Path) -> dict[str, dict]:
     except (UnicodeDecodeError, ValueError, RecursionError):
         raise _manifest_refused(path, "is not JSON") from None
     files = document.get("files") if isinstance(document, dict) else None
-    if not isinstance(document, dict) or document.get("course-dynamics") != MANIFEST_FORMAT or not isinstance(files, dict):
+    if (not isinstance(document, dict) or document.get("course-dynamics") != MANIFEST_FORMAT
+            or not isinstance(files, dict)):
         raise _manifest_refused(path, "does not have the manifest's shape")
     for name, entry in files.items():
         try:
@@ -81,7 +82,8 @@ def _read_manifest(folder: Path) -> dict[str, dict]:
 
 
 def _digest(path: Path, size_wanted: set[int]) -> str | None:
-    """sha256 of the regular file ``path`` (not followed if a link), or None when its size is none of ``size_wanted``."""
+    """sha256 of the regular file ``path`` (not followed if a link), or None when its size is none of
+    ``size_wanted``."""
     handle, size = open_regular(path, "file", follow=False)
     with handle:
         if size not in size_wanted:
@@ -137,7 +139,8 @@ def _plan_folder(folder: Path, names, owner: str) -> tuple[dict[str, dict], dict
             continue
         entry = manifest.get(name)
         if not stat.S_ISREG(mode):
-            refusals.append(f"{path}: is {kind_of_file(mode)}, not a file course-dynamics wrote; refusing to replace it")
+            refusals.append(f"{path}: is {kind_of_file(mode)}, not a file course-dynamics wrote; "
+                            "refusing to replace it")
         elif entry is None:
             refusals.append(f"{path}: exists and was not written by course-dynamics")
         elif entry["command"] != owner:
@@ -226,7 +229,8 @@ def write_folder(folder, files: Mapping[str, str | bytes], owner: str) -> list[P
     folder = Path(folder)
     contents = {name: data.encode("utf-8") if isinstance(data, str) else bytes(data) for name, data in files.items()}
     manifest, replacing = _plan_folder(folder, list(contents), owner)
-    versions = {name: {"bytes": len(data), "sha256": hashlib.sha256(data).hexdigest()} for name, data in contents.items()}
+    versions = {name: {"bytes": len(data), "sha256": hashlib.sha256(data).hexdigest()}
+                for name, data in contents.items()}
     try:
         folder.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
@@ -235,7 +239,8 @@ def write_folder(folder, files: Mapping[str, str | bytes], owner: str) -> list[P
             if name not in contents and os.path.lexists(folder.joinpath(*name.split("/")))}
     pending = dict(kept)
     for name in contents:
-        pending[name] = {"command": owner, "versions": [versions[name]] + ([replacing[name]] if name in replacing else [])}
+        pending[name] = {"command": owner,
+                         "versions": [versions[name]] + ([replacing[name]] if name in replacing else [])}
     _write_manifest(folder, pending)
     written = []
     for name, data in contents.items():

@@ -81,7 +81,8 @@ BODY_HEADER = ("body (link)", "mass (kg)", "centre of mass in frame i (m)", "pri
 def friction_rows(result: Identification) -> list[list[str]]:
     old, new = result.original_friction, result.friction
     return [[joint, f"{_number(old.viscous[j])} → {_number(new.viscous[j])}",
-             f"{_number(old.coulomb[j])} → {_number(new.coulomb[j])}"] for j, joint in enumerate(result.model.joint_names)]
+             f"{_number(old.coulomb[j])} → {_number(new.coulomb[j])}"]
+            for j, joint in enumerate(result.model.joint_names)]
 
 
 FRICTION_HEADER = ("joint", "viscous F_v (N m s/rad)", "Coulomb F_c (N m)")

@@ -187,7 +187,8 @@ def whole_file(path: Path, binary: bool, replace: bool = True, mode: int | None 
         raise InputError(f"{path}: cannot write: {exc.strerror}") from None
     try:
         os.fchmod(fd, _new_file_mode(path) if mode is None else mode)
-        with os.fdopen(fd, "wb" if binary else "w", **({} if binary else {"newline": "", "encoding": "utf-8"})) as handle:
+        with os.fdopen(fd, "wb" if binary else "w",
+                       **({} if binary else {"newline": "", "encoding": "utf-8"})) as handle:
             yield handle
         if replace:
             os.replace(temporary, path)

@@ -110,7 +110,8 @@ def _template():
     return environment.from_string(PAGE_TEMPLATE)
 
 
-def page(title, body, *, head_extra: Markup | None = None, scripts: Iterable[str] = (), body_class: str | None = None) -> str:
+def page(title, body, *, head_extra: Markup | None = None, scripts: Iterable[str] = (),
+         body_class: str | None = None) -> str:
     """One whole HTML page: ``title`` (text), ``body`` (text, Markup or a list of them), the one stylesheet.
 
     ``scripts`` are inlined, in order, at the end of the body (ours only: the meshcat viewer); a
@@ -133,7 +134,8 @@ def page(title, body, *, head_extra: Markup | None = None, scripts: Iterable[str
 
 
 def fragment(*parts) -> Markup:
-    """The parts as one piece of HTML, one line each: a ``str`` is escaped, Markup kept, lists flattened, None dropped."""
+    """The parts as one piece of HTML, one line each: a ``str`` is escaped, Markup kept, lists flattened,
+    None dropped."""
     pieces = []
     for part in parts:
         if part is None:

@@ -66,7 +66,8 @@ def text_table(rows: list[list[str]], align: str | None = None, gap: int = 2) ->
 def matrix_lines(labels, matrix, width: int = 12) -> list[str]:
     """One line per row: its label, then the entries to 6 significant digits in columns of ``width``."""
     label_width = max(len(label) for label in labels)
-    return [f"{label:<{label_width}}  " + " ".join(f"{x:>{width}.6g}" for x in row) for label, row in zip(labels, matrix)]
+    return [f"{label:<{label_width}}  " + " ".join(f"{x:>{width}.6g}" for x in row)
+            for label, row in zip(labels, matrix)]
 
 
 URL_LIKE = re.compile(r"(?:[A-Za-z][A-Za-z0-9+.-]*://|www\.)\S+|[\w.+-]+@[\w-]+(?:\.[\w-]+)+")
@@ -156,7 +157,8 @@ def latex_names(joints, prismatic, parameters=None) -> dict:
     for i, (joint, is_prismatic) in enumerate(zip(joints, prismatic), start=1):
         letter = "d" if is_prismatic else r"\theta"
         for prefix, accent in (("q", ""), ("qd", r"\dot"), ("qdd", r"\ddot")):
-            names[sympy.Symbol(f"{prefix}_{joint}", real=True)] = f"{accent}{{{letter}}}_{{{i}}}" if accent else f"{letter}_{{{i}}}"
+            names[sympy.Symbol(f"{prefix}_{joint}", real=True)] = (
+                f"{accent}{{{letter}}}_{{{i}}}" if accent else f"{letter}_{{{i}}}")
     return names
 
 

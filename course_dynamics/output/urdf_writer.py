@@ -313,8 +313,8 @@ def model_urdf(model: Model, comment: str = "") -> bytes:
         return " ".join(_number(x) for x in v)
 
     def rpy(R):
-        return xyz(Rotation.from_matrix(np.asarray(R, dtype=float)).as_euler("xyz")) if not np.allclose(R, np.eye(3), 0, 0) \
-            else "0 0 0"
+        return xyz(Rotation.from_matrix(np.asarray(R, dtype=float)).as_euler("xyz")) \
+            if not np.allclose(R, np.eye(3), 0, 0) else "0 0 0"
 
     base = model.base_link or "base"
     lines = ['<?xml version="1.0"?>'] + ([f"<!-- {comment.replace('--', '-')} -->"] if comment else [])

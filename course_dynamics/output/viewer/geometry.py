@@ -87,7 +87,8 @@ class RobotGeometry:
 
 
 def resolve_mesh_path(filename: str, urdf) -> Path:
-    """Where a URDF mesh reference is read from, symlinks resolved: ``package://``, ``file://``, absolute or relative."""
+    """Where a URDF mesh reference is read from, symlinks resolved: ``package://``, ``file://``, absolute
+    or relative."""
     return mesh_location(filename, Path(urdf))[0]
 
 
@@ -211,7 +212,8 @@ def _urdf_shapes(model: Model, urdf: Path, which: str):
             if geometry.box is not None:
                 shape = Shape("box", T, tuple(geometry.box.size), colour=colour, opacity=opacity)
             elif geometry.cylinder is not None:
-                shape = Shape("cylinder", T, (geometry.cylinder.radius, geometry.cylinder.length), colour=colour, opacity=opacity)
+                shape = Shape("cylinder", T, (geometry.cylinder.radius, geometry.cylinder.length),
+                              colour=colour, opacity=opacity)
             elif geometry.sphere is not None:
                 shape = Shape("sphere", T, (geometry.sphere.radius,), colour=colour, opacity=opacity)
             elif geometry.mesh is not None:
@@ -228,7 +230,8 @@ def _urdf_shapes(model: Model, urdf: Path, which: str):
 def stick_shapes(model: Model) -> dict:
     """The stick model: links as cylinders, joint axes as bars, COM spheres sized by mass."""
     masses = np.array([float(b.mass) for b in model.bodies])
-    reach = max([float(np.linalg.norm(b.P)) for b in model.bodies] + [float(np.linalg.norm(b.p_com)) for b in model.bodies] + [0.1])
+    reach = max([float(np.linalg.norm(b.P)) for b in model.bodies]
+                + [float(np.linalg.norm(b.p_com)) for b in model.bodies] + [0.1])
     radius = 0.04 * reach
     heaviest = max(masses.max(), 1e-9)
     shapes = {}

@@ -87,7 +87,8 @@ def show(model: Model, urdf, geometry: str = "auto", t=None, q=None, tau=None, d
         import html
 
         document, _ = scene_document(model, urdf, geometry, t, q, tau, draw_path, mesh_anywhere)
-        return _StaticHTML(f'<iframe srcdoc="{html.escape(document)}" style="width: 100%; height: 420px; border: none"></iframe>')
+        return _StaticHTML(f'<iframe srcdoc="{html.escape(document)}" '
+                           'style="width: 100%; height: 420px; border: none"></iframe>')
     viewer = start_server()
     build_scene(viewer.vis, model, urdf, geometry, t, q, tau, draw_path)
     return viewer

@@ -104,7 +104,8 @@ def check_count(path: Path, count: MeshCount, total: MeshCount | None = None) ->
                                     ("nodes and instances", MAX_INSTANCES, count.instances, total.instances)):
         if all_ > limit:
             robot = "" if all_ == mine else f" ({all_:,} for the robot so far)"
-            raise MeshLimitError(f"mesh file {path} expands to {mine:,} {what}{robot}, more than the limit of {limit:,}")
+            raise MeshLimitError(f"mesh file {path} expands to {mine:,} {what}{robot}, "
+                                 f"more than the limit of {limit:,}")
 
 
 def check_loaded(path: Path, count: MeshCount, triangles: int) -> None:
@@ -174,7 +175,8 @@ def count_dae(data: bytes) -> MeshCount:
     edges = [[position[child] for child in _children(node, "node")]
              + [by_id[url] for url in _targets(node, "instance_node") if url in by_id] for node in nodes]
     expanded, depth = [MeshCount(0, 0)] * len(nodes), [0] * len(nodes)
-    for i in post_order(edges, lambda i: f"<instance_node> references form a cycle through node '{nodes[i].get('id')}'"):
+    for i in post_order(edges,
+                        lambda i: f"<instance_node> references form a cycle through node '{nodes[i].get('id')}'"):
         expanded[i] = sum((expanded[j] for j in edges[i]), _own_count(nodes[i], triangles))
         depth[i] = 1 + max((depth[j] for j in edges[i]), default=0)
         if depth[i] > MAX_NODE_DEPTH:

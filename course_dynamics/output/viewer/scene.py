@@ -90,17 +90,21 @@ def animate(vis, model: Model, t: np.ndarray, q: np.ndarray, tau: np.ndarray | N
         tau = np.asarray(tau, float)[samples]
         scale = 0.25 * reach / max(float(np.abs(tau).max()), 1e-9)
         for i, body in enumerate(model.bodies):
-            vis["torques"][body.joint].set_object(g.Mesh(g.Cylinder(1.0, 0.012 * reach), g.MeshLambertMaterial(color=TORQUE_COLOUR)))
+            vis["torques"][body.joint].set_object(g.Mesh(g.Cylinder(1.0, 0.012 * reach),
+                                                         g.MeshLambertMaterial(color=TORQUE_COLOUR)))
     for k, frame in enumerate(frames):
         with animation.at_frame(vis, int(frame)) as frame_vis:
             for i, body in enumerate(model.bodies):
                 frame_vis["robot"][body.name].set_transform(T[k, i])
                 if tau is not None:
-                    frame_vis["torques"][body.joint].set_transform(_torque_bar(T[k, i], np.asarray(body.axis, float), tau[k, i] * scale))
+                    frame_vis["torques"][body.joint].set_transform(
+                        _torque_bar(T[k, i], np.asarray(body.axis, float), tau[k, i] * scale))
     if path_frame is not None:
         frame = model.frame(path_frame)
-        points = T[:, frame.body, :3, :3] @ frame.P + T[:, frame.body, :3, 3] if frame.body >= 0 else np.tile(frame.P, (len(T), 1))
-        vis["path"].set_object(g.Line(g.PointsGeometry(points.T.astype(np.float32)), g.LineBasicMaterial(color=PATH_COLOUR)))
+        points = (T[:, frame.body, :3, :3] @ frame.P + T[:, frame.body, :3, 3] if frame.body >= 0
+                  else np.tile(frame.P, (len(T), 1)))
+        vis["path"].set_object(g.Line(g.PointsGeometry(points.T.astype(np.float32)),
+                                      g.LineBasicMaterial(color=PATH_COLOUR)))
     vis.set_animation(animation, play=True, repetitions=0)
 
 
@@ -131,7 +135,9 @@ def _place_camera(vis, model: Model, q) -> None:
     """Look at the robot, as it starts, from the front right, a little above."""
     start = np.zeros((1, model.n)) if q is None else np.asarray(q, float)[:1]
     placements = body_placements(model, start)[0]
-    points = np.concatenate([placements[:, :3, 3], (placements[:, :3, :3] @ np.array([b.p_com for b in model.bodies])[..., None])[..., 0] + placements[:, :3, 3]])
+    points = np.concatenate([
+        placements[:, :3, 3],
+        (placements[:, :3, :3] @ np.array([b.p_com for b in model.bodies])[..., None])[..., 0] + placements[:, :3, 3]])
     reach = max(float(np.linalg.norm(points, axis=1).max()), 0.3)
     x, y, z = 1.6 * reach, -2.0 * reach, 1.2 * reach  # world, z up
     vis["/Cameras/default/rotated/<object>"].set_property("position", [x, z, -y])  # three.js is y up
