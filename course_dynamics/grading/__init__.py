@@ -40,5 +40,5 @@ from .feedback import write_outputs
 from .grade import SubmissionGrade, grade_class, grade_submission
 from .sandbox import SandboxError, check_sandbox
 
-__all__ = ["EXAMPLE", "TERMS", "Assignment", "Diagnosis", "SandboxError", "SubmissionGrade", "check_sandbox", "diagnose",
-           "grade_class", "grade_submission", "load_assignment", "score", "write_outputs"]
+__all__ = ["EXAMPLE", "TERMS", "Assignment", "Diagnosis", "SandboxError", "SubmissionGrade", "check_sandbox",
+           "diagnose", "grade_class", "grade_submission", "load_assignment", "score", "write_outputs"]

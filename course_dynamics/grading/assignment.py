@@ -158,10 +158,12 @@ def load_assignment(path) -> Assignment:
 
     def number(key, default, kind=float, positive=True):
         value = data.get(key, default)
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or (kind is int and not isinstance(value, int)):
+        if (isinstance(value, bool) or not isinstance(value, (int, float))
+                or (kind is int and not isinstance(value, int))):
             raise InputError(f"{path}: {key} must be a{'n integer' if kind is int else ' number'}, got {value!r}")
         if not math.isfinite(value) or (positive and value <= 0) or value < 0:
-            raise InputError(f"{path}: {key} must be {'positive' if positive else 'non-negative'} and finite, got {value!r}")
+            raise InputError(f"{path}: {key} must be {'positive' if positive else 'non-negative'} and finite, "
+                             f"got {value!r}")
         return kind(value)
 
     robot_argument = data.get("robot")
@@ -222,9 +224,11 @@ def load_assignment(path) -> Assignment:
     if samples > MAX_SAMPLES:
         raise InputError(f"{path}: samples must be at most {MAX_SAMPLES}, got {samples}")
     if memory < MIN_MEMORY:
-        raise InputError(f"{path}: memory_limit must be at least {MIN_MEMORY} MiB (Python and numpy need it), got {memory}")
+        raise InputError(f"{path}: memory_limit must be at least {MIN_MEMORY} MiB (Python and numpy need it), "
+                         f"got {memory}")
     return Assignment(
-        source=path, robot_argument=robot_argument, robot=model, points={t: float(points[t]) for t in TERMS if t in points},
+        source=path, robot_argument=robot_argument, robot=model,
+        points={t: float(points[t]) for t in TERMS if t in points},
         samples=samples, seed=number("seed", 0, int, positive=False),
         tolerance=number("tolerance", 1e-6), time_limit=number("time_limit", 20.0),
         memory_limit=memory, output_limit=number("output_limit", 1_000_000, int),

@@ -86,7 +86,9 @@ if ! recent && [ -z "${COURSE_DYNAMICS_OFFLINE:-}" ] && command -v apt-get >/dev
     apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq python3 python3-venv >/dev/null
 fi
 if ! recent; then
-    echo "error: course-dynamics needs Python 3.11 or newer with venv; this image has $("$PYTHON" --version 2>&1 || echo no python3): choose the Ubuntu 24.04 base image in the autograder's settings" >&2
+    echo "error: course-dynamics needs Python 3.11 or newer with venv;" \
+        "this image has $("$PYTHON" --version 2>&1 || echo no python3):" \
+        "choose the Ubuntu 24.04 base image in the autograder's settings" >&2
     exit 2
 fi
 "$PYTHON" -m venv "$AUTOGRADER/grader-env"
@@ -94,7 +96,8 @@ GRADER="$AUTOGRADER/grader-env/bin/python"
 if [ -n "${COURSE_DYNAMICS_DEPENDENCIES:-}" ]; then
     # An offline build: the dependencies come from a folder that already holds them.
     purelib="$("$GRADER" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')"
-    echo "import site; site.addsitedir('$COURSE_DYNAMICS_DEPENDENCIES')" > "$purelib/zz-course-dynamics-dependencies.pth"
+    echo "import site; site.addsitedir('$COURSE_DYNAMICS_DEPENDENCIES')" \
+        > "$purelib/zz-course-dynamics-dependencies.pth"
     "$GRADER" -m pip install -q --no-deps --no-index "$SOURCE"/course_dynamics-*.whl
 else
     "$GRADER" -m pip install -q "$SOURCE"/course_dynamics-*.whl
@@ -134,7 +137,8 @@ def wheel() -> tuple[str, bytes]:
                 files[f"{package}/{relative.as_posix()}"] = path.read_bytes()
     metadata = distribution.read_text("METADATA") or distribution.read_text("PKG-INFO") or ""
     files[f"{info}/METADATA"] = metadata.encode()
-    files[f"{info}/WHEEL"] = b"Wheel-Version: 1.0\nGenerator: course-dynamics\nRoot-Is-Purelib: true\nTag: py3-none-any\n"
+    files[f"{info}/WHEEL"] = (b"Wheel-Version: 1.0\nGenerator: course-dynamics\nRoot-Is-Purelib: true\n"
+                              b"Tag: py3-none-any\n")
     files[f"{info}/entry_points.txt"] = (distribution.read_text("entry_points.txt") or "").encode()
     record = "".join(f"{name},{_record_hash(data)},{len(data)}\n" for name, data in files.items())
     files[f"{info}/RECORD"] = (record + f"{info}/RECORD,,\n").encode()
@@ -248,7 +252,8 @@ def student_id(metadata_path: Path, field: str) -> str:
             data = handle.read(MAX_METADATA_BYTES + 1)
         metadata = json.loads(data) if len(data) <= MAX_METADATA_BYTES else None
     except FileNotFoundError:
-        raise InputError(f"{metadata_path}: no submission metadata (Gradescope writes it beside the submission)") from None
+        raise InputError(f"{metadata_path}: no submission metadata "
+                         "(Gradescope writes it beside the submission)") from None
     except (OSError, ValueError, RecursionError) as exc:
         raise InputError(f"{metadata_path}: not readable JSON ({type(exc).__name__})") from None
     users = metadata.get("users") if isinstance(metadata, dict) else None

@@ -110,13 +110,15 @@ SIGN_ADVICE = {"tau": "check the direction of gravity, of the joint axes, and su
 
 
 def opposite_sign(answer: Answer) -> Finding | None:
-    """−ours everywhere; where a named mistake gives the same answer (a negated G is gravity's sign), it is named too."""
+    """−ours everywhere; where a named mistake gives the same answer (a negated G is gravity's sign), it is
+    named too."""
     if not answer.agrees_with(-answer.expected):
         return None
     advice = SIGN_ADVICE.get(answer.term, "check the joint axes and subtractions done the wrong way round")
     returned = f"{answer.name} returned" if answer.name else "yours"
     found = matching_mistakes(answer)
-    also = ("; the same answer comes from " + " or from ".join(f"[{c}] {MISTAKES[c].words}" for c in found)) if found else ""
+    also = ("; the same answer comes from " + " or from ".join(f"[{c}] {MISTAKES[c].words}" for c in found)
+            if found else "")
     return Finding(f"has the opposite sign everywhere ({returned} = −1 × the right value): {advice}{also}",
                    ("opposite sign", *found), conclusive=True)
 
@@ -138,7 +140,8 @@ def constant_factor(answer: Answer) -> Finding | None:
         return None
     if abs(factor - 1) < 0.02:  # 9.8 for 9.81, a length rounded: not a missing ½ or 2
         return Finding(f"is the right answer times {factor:.6g}, within 2 % of it everywhere: a constant rounded or "
-                       "typed differently (g = 9.8 for 9.81? a length or a mass)?", ("constant factor",), conclusive=True)
+                       "typed differently (g = 9.8 for 9.81? a length or a mass)?",
+                       ("constant factor",), conclusive=True)
     return Finding(f"is the right answer times a constant factor {factor:.6g}: a missing or extra factor such as ½, 2, "
                    "a mass or a length squared?", ("constant factor",), conclusive=True)
 
@@ -166,7 +169,8 @@ def joints_swapped(answer: Answer) -> Finding | None:
         moved = [ours[:, p]] if ours.ndim == 2 else [ours[:, p][:, :, p], ours[:, p]]
         if any(answer.agrees_with(m) for m in moved):
             names, joints = ", ".join(answer.joints[j] for j in p), ", ".join(answer.joints)
-            return Finding(f"[joints-swapped] has its joints in the wrong order ({names} appear as {joints}): entries must follow the "
+            return Finding(f"[joints-swapped] has its joints in the wrong order ({names} appear as {joints}): "
+                           "entries must follow the "
                            f"joint order {joints} that `course-dynamics info` prints", ("joints-swapped",), True)
     return None
 
@@ -230,7 +234,8 @@ def wrong_coefficients(answer: Answer) -> Finding | None:
         return None
     label = answer.label or answer.name
     if not _quadratic(answer):
-        return Finding(f"{label} is not quadratic in Θ̇: V(Θ, 2Θ̇) should be 4 V(Θ, Θ̇), because every velocity term is "
+        return Finding(f"{label} is not quadratic in Θ̇: V(Θ, 2Θ̇) should be 4 V(Θ, Θ̇), "
+                       "because every velocity term is "
                        "a product of two joint rates (θ̇ⱼθ̇ₖ or θ̇ⱼ²)", ("V not quadratic",))
     wrong = {}
     for c in answer.coefficients.coefficients:
@@ -257,7 +262,8 @@ def coriolis_without_factor_2(answer: Answer) -> Finding | None:
     if not any(abs(c.expected) > answer.tolerance * c.scale for c in coriolis) or not all(
             c.right(answer.tolerance, 0.5 if c.kind == "Coriolis" else 1.0) for c in found):
         return None
-    return Finding(f"[coriolis-half] in {answer.label or answer.name}, every Coriolis term θ̇ⱼθ̇ₖ (j ≠ k) has half its coefficient: "
+    return Finding(f"[coriolis-half] in {answer.label or answer.name}, "
+                   "every Coriolis term θ̇ⱼθ̇ₖ (j ≠ k) has half its coefficient: "
                    "Σⱼₖ Γᵢⱼₖ θ̇ⱼθ̇ₖ holds each product twice, so Craig's B is 2Γᵢⱼₖ (6.63), as in the "
                    "two-link arm's −2 m₂l₁l₂s₂ θ̇₁θ̇₂ (6.61)", ("coriolis-half",))
 

@@ -98,7 +98,8 @@ def _package_files(name: str) -> list[tuple[str, Path]]:
         return found
     if spec.origin and spec.origin not in ("built-in", "frozen") and Path(spec.origin).is_file():
         origin = Path(spec.origin).resolve()
-        if origin.is_relative_to(Path(sys.base_prefix).resolve()) and not any(p in origin.parts for p in PACKAGE_FOLDERS):
+        if (origin.is_relative_to(Path(sys.base_prefix).resolve())
+                and not any(p in origin.parts for p in PACKAGE_FOLDERS)):
             return []  # part of the standard library: there already
         return [(origin.name, origin)]
     return []  # built into the interpreter
@@ -187,7 +188,8 @@ def copy_packages(allowed, site: Path) -> list[str]:
         for site_name, source in _package_files(name):
             target = site / site_name
             if source.is_dir():
-                shutil.copytree(source, target, ignore=shutil.ignore_patterns("__pycache__", "tests"), dirs_exist_ok=True)
+                shutil.copytree(source, target, ignore=shutil.ignore_patterns("__pycache__", "tests"),
+                                dirs_exist_ok=True)
             else:
                 shutil.copy2(source, target)
             copied.append(site_name)

@@ -124,7 +124,8 @@ def feedback_markdown(grade: SubmissionGrade, assignment: Assignment) -> str:
 
 
 def feedback_html(grade: SubmissionGrade, assignment: Assignment) -> str:
-    body = [page.heading(f"Feedback for {grade.student}")] + [page.paragraph(line) for line in _header(grade, assignment)]
+    body = ([page.heading(f"Feedback for {grade.student}")]
+            + [page.paragraph(line) for line in _header(grade, assignment)])
     for d in grade.diagnoses:
         first, *rest = d.text().splitlines()
         body.append(page.heading(first, 2, css="ok" if d.correct else "bad"))
@@ -235,7 +236,8 @@ def summary_html(grades: list[SubmissionGrade], assignment: Assignment, comparis
         page.table(sorted(mistakes.items(), key=lambda item: (-item[1], item[0])), header=("mistake", "students"))
         if mistakes
         else page.paragraph("None: every graded term was right."),
-        page.heading("Statuses", 2), page.table(sorted(statuses.items(), key=lambda item: (-item[1], item[0])), header=("status", "students")),
+        page.heading("Statuses", 2),
+        page.table(sorted(statuses.items(), key=lambda item: (-item[1], item[0])), header=("status", "students")),
         *_flags_section(grades),
         *_similar_section(comparison),
         page.heading("Students", 2),
@@ -251,7 +253,8 @@ OWNER = "grade"  # the command named in the output folder's manifest
 def output_names(students, comparison: Comparison | None = None) -> list[str]:
     """The files :func:`write_outputs` writes for these students (what ``grade`` checks before grading)."""
     pairs = comparison.pairs if comparison is not None else ()
-    return (["gradebook.csv", "summary.html"] + [f"{s}{suffix}" for s in students for suffix in (".md", ".html", ".json")]
+    return (["gradebook.csv", "summary.html"]
+            + [f"{s}{suffix}" for s in students for suffix in (".md", ".html", ".json")]
             + [similar_name(k) for k in range(len(pairs))])
 
 

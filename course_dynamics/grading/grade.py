@@ -102,7 +102,8 @@ def _forbidden_in_source(tree: ast.AST, forbidden) -> tuple[str, int] | None:
         elif isinstance(node, ast.Call) and node.args and isinstance(node.args[0], ast.Constant) \
                 and isinstance(node.args[0].value, str):
             function = node.func
-            called = function.id if isinstance(function, ast.Name) else function.attr if isinstance(function, ast.Attribute) else ""
+            called = (function.id if isinstance(function, ast.Name)
+                      else function.attr if isinstance(function, ast.Attribute) else "")
             if called in ("__import__", "import_module"):
                 names = [node.args[0].value]
         for name in names:

@@ -20,9 +20,10 @@ cannot be removed once added) records what it tries that a dynamics answer never
 tagged and written at once on the channel FLAGS_FD, before the attempt itself proceeds. The hook ends the channel
 when the harness raises END_EVENT with the digest of the results it is about to write, and tells the harness, when
 asked with IMPORTS_EVENT, the forbidden modules it saw loaded (an import the submission hid afterwards, its guard
-taken out and its modules dropped from ``sys.modules``, still makes the status ``forbidden import``). After arming, the harness opens no file but the submission's and writes the
-results with ``os.write``. Flags are leads for the instructor, never a score: a submission can hide a flag by going
-below Python, and the sandbox, not the hook, is what keeps it in.
+taken out and its modules dropped from ``sys.modules``, still makes the status ``forbidden import``). After arming,
+the harness opens no file but the submission's and writes the results with ``os.write``. Flags are leads for the
+instructor, never a score: a submission can hide a flag by going below Python, and the sandbox, not the hook, is what
+keeps it in.
 
 Plan: ``{"module": path, "path": [folders], "forbidden": [names], "nonce": text,
 "functions": {name: [[arg, …], …]}}``

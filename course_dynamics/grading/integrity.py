@@ -29,9 +29,9 @@ FLAGS = {
     "ctypes": "loaded or called native code through ctypes",
     "introspection": "read the interpreter's frames, object lists or addresses (sys._getframe, a traceback's frames, "
                      "gc, id), where the harness's state is",
-    "tampered": "reached for the integrity hook: replaced a function's code, made a function of Python's code, added an "
-                "audit hook, a trace function, a signal handler or a gc callback, ran code inside the hook or raised "
-                "its closing event",
+    "tampered": "reached for the integrity hook: replaced a function's code, made a function of Python's code, "
+                "added an audit hook, a trace function, a signal handler or a gc callback, ran code inside the hook "
+                "or raised its closing event",
     "import-outside": "imported a module from a folder outside the interpreter's path as the harness set it up",
     "channel-closed": "the integrity channel was closed, redirected or written to by the submission",
 }
@@ -189,7 +189,8 @@ def _integrity_hook(fd, own, library, writable, forbidden, harness_files, closer
         elif event in LISTINGS:
             found = path_flag("." if first is None else first, "list-folder")
         elif event in FILE_CHANGES:
-            found = next(filter(None, (path_flag(p, "file-write") for p in args[:2] if p is not None and type(p) is not int)),
+            found = next(filter(None, (path_flag(p, "file-write") for p in args[:2]
+                                       if p is not None and type(p) is not int)),
                          None)
         elif event in PROCESS_EVENTS:
             return "process", f"{event} {text(first)}", "always"  # the harness starts none
@@ -258,7 +259,8 @@ def _integrity_hook(fd, own, library, writable, forbidden, harness_files, closer
             keys[:] = [sha256(b"next\0" + key).digest()]
 
     def write(code, detail):
-        detail = "".join(c if c.isprintable() else f"\\x{ord(c):02x}" for c in " ".join(detail.split()))[:MAX_FLAG_DETAIL]
+        detail = "".join(c if c.isprintable() else f"\\x{ord(c):02x}"
+                         for c in " ".join(detail.split()))[:MAX_FLAG_DETAIL]
         state = _STATE
         if code == "tampered":
             state["seen"].append(detail)  # the closing line is withheld: no counter silences this
@@ -325,8 +327,9 @@ def _integrity_hook(fd, own, library, writable, forbidden, harness_files, closer
                 who = whose(raiser) if rule == "stack" else ""
                 if code == "list-folder" and who == "import" and not join(realpath(detail), "").startswith(importable):
                     write("import-outside", f"searched {detail}")
-                if rule == "always" or (rule == "direct" and raiser.f_code not in known) or who in ("theirs", "thread") \
-                        or (who == "" and code in ("file-read", "file-write", "list-folder")):
+                if (rule == "always" or (rule == "direct" and raiser.f_code not in known)
+                        or who in ("theirs", "thread")
+                        or (who == "" and code in ("file-read", "file-write", "list-folder"))):
                     write(code, detail)  # under the harness's frames alone: not the harness's (docstring), so a flag
             finally:
                 busy.discard(me)

@@ -99,7 +99,8 @@ def shared_libraries(objects, search=(), shown=()) -> tuple[Path, ...]:
             continue
         needed, run_path = section
         origin = str(obj.parent)
-        folders = [f.replace("${ORIGIN}", origin).replace("$ORIGIN", origin) for f in run_path] + [str(s) for s in search]
+        folders = ([f.replace("${ORIGIN}", origin).replace("$ORIGIN", origin) for f in run_path]
+                   + [str(s) for s in search])
         for name in needed:
             candidates = [Path(name)] if "/" in name else [Path(folder) / name for folder in folders]
             library = next((Path(os.path.normpath(c)) for c in candidates if c.is_file()), None)

@@ -191,7 +191,8 @@ def mistaken_terms(model: Model, q, qd, qdd) -> dict[str, dict[tuple[str, str], 
     for variant, factor in (("read as degrees", np.pi / 180), ("turned into degrees", 180 / np.pi)):
         scale = np.where(revolute, factor, 1.0)
         for rates, (q_, qd_, qdd_) in (("positions", (q * scale, qd, qdd)),
-                                       ("positions, velocities and accelerations", (q * scale, qd * scale, qdd * scale))):
+                                       ("positions, velocities and accelerations",
+                                        (q * scale, qd * scale, qdd * scale))):
             for term, value in _terms_by_recursion(model, q_, qd_, qdd_, EXACT).items():
                 made[term]["degrees", f"({rates} {variant})"] = value
     if model.n <= CLOSED_FORM_JOINTS and revolute.any():
@@ -216,7 +217,8 @@ def described(found: dict[str, list[str]]) -> str:
     """"[a] [b] … made with A in …; or, equally, with B in …": the mistakes found, in words."""
     said = [MISTAKES[c].words + "".join(f" {v}" for v in variants[:1] if v) + "".join(f", or {v}" for v in variants[1:])
             for c, variants in found.items()]
-    return " ".join(f"[{c}]" for c in found) + " matches the right answer computed with this slip: " + "; or, equally, with this one: ".join(said)
+    return (" ".join(f"[{c}]" for c in found) + " matches the right answer computed with this slip: "
+            + "; or, equally, with this one: ".join(said))
 
 
 def named_mistake(answer: Answer) -> Finding | None:

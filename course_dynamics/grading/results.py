@@ -168,7 +168,8 @@ def read_flags(data: bytes, nonce: str, results: bytes | None) -> list[tuple[str
         if not closed and tab and len(mark) == len(tag(b"", b"")) and foreign < MAX_FOREIGN:
             while keys and len(keys) < (max(used) + 1 if used else 0) + KEY_WINDOW:
                 keys.append(next_key(keys[-1]))
-            index = next((i for i, key in enumerate(keys) if i not in used and hmac.compare_digest(tag(key, body), mark)),
+            index = next((i for i, key in enumerate(keys)
+                          if i not in used and hmac.compare_digest(tag(key, body), mark)),
                          None)
         if index is None:
             foreign += 1  # nothing the hook wrote: the submission wrote on the channel

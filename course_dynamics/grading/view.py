@@ -99,7 +99,8 @@ def view(environment: Environment, roots: tuple[str, ...] | None = None) -> tupl
             mounts.append(Mount("bind", str(path), str(path)))
             bound.append(Path(path))
     mounts += [Mount("bind", path, path, optional=True) for path in ETC_FILES]
-    mounts += [Mount("hidden", str(folder)) for folder in site_folders(p for p in bound if p.is_dir())]  # no installed package is seen ...
+    # no installed package is seen ...
+    mounts += [Mount("hidden", str(folder)) for folder in site_folders(p for p in bound if p.is_dir())]
     mounts += [Mount("bind", f"{SITE}/{name}", str(source)) for name, source in environment.packages]  # ... but these
     return tuple(mounts)
 
