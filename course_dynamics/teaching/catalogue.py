@@ -97,7 +97,8 @@ GIVEN = {
     "tau_with_friction": lambda rng: {**_state(rng), "viscous": rng.uniform(0.05, 0.5, 2).round(2),
                                       "coulomb": rng.uniform(0.1, 0.8, 2).round(2)},
     "I_xy_corner": lambda rng: {"m": round(float(rng.uniform(1, 4)), 1), "w": round(float(rng.uniform(0.1, 0.5)), 2),
-                                "l": round(float(rng.uniform(0.2, 0.8)), 2), "h": round(float(rng.uniform(0.05, 0.2)), 2)},
+                                "l": round(float(rng.uniform(0.2, 0.8)), 2),
+                                "h": round(float(rng.uniform(0.05, 0.2)), 2)},
     "Y_mcx2": _state,
     "links_spatial_arm": lambda rng: _state(rng, 3, -2.0, 2.0),
 }
@@ -207,8 +208,9 @@ def _semi_implicit(q, qd, qdd, dt):
 class Exercise:
     """How to check one exercise: ``kind`` is "term" (a robot function graded like the grader does),
     "links" (every quantity of both iterations, link by link, at the exercise's given state), "equations"
-    (equations of motion derived by hand in θ(t), term by term: :mod:`~course_dynamics.teaching.derivations`), "function"
-    (compared on random inputs with ``reference``), "value" or "formula"; ``hints`` in tiers, the formula last."""
+    (equations of motion derived by hand in θ(t), term by term: :mod:`~course_dynamics.teaching.derivations`),
+    "function" (compared on random inputs with ``reference``), "value" or "formula"; ``hints`` in tiers, the
+    formula last."""
 
     kind: str
     answer: Callable | None = None
@@ -222,7 +224,8 @@ class Exercise:
     hints: tuple[str, ...] = ()
     mistakes: tuple[tuple[str, Callable, str], ...] = ()  # (code, the reference with that mistake, its words)
     time_functions: tuple[str, ...] = ()  # a formula may be written in these as functions of t (θ(t) for theta)
-    slipped: Callable | None = None  # a value's answer made by the recursion with other operations (a slip, named if it fits)
+    # a value's answer made by the recursion with other operations (a slip, named if it fits)
+    slipped: Callable | None = None
 
 
 def _random_vectors(count: int):
@@ -240,7 +243,8 @@ NEWTON_EULER_HINTS = (
 
 EXERCISES: dict[str, Exercise] = {
     "point_acceleration": Exercise(
-        "function", reference=lambda v, wd, w, p: np.array(tuple(point_acceleration(*(Vec3.of(x) for x in (v, wd, w, p))))),
+        "function",
+        reference=lambda v, wd, w, p: np.array(tuple(point_acceleration(*(Vec3.of(x) for x in (v, wd, w, p))))),
         inputs=_random_vectors(4), hints=(
             "three parts: the frame's own acceleration, one from ω̇ and one from ω",
             "(6.12): a point fixed in a moving frame",
@@ -326,11 +330,13 @@ EXERCISES: dict[str, Exercise] = {
         "the rigid-body torque plus what the joints' friction needs",
         "friction added to (6.59), as the notes' section on friction says (Craig's (6.114))",
         "τ = M Θ̈ + V + G + F(Θ̇)")),
-    "euler_step": Exercise("function", reference=_euler, inputs=lambda rng: [*rng.standard_normal((3, 2)), float(rng.uniform(0.001, 0.05))],
+    "euler_step": Exercise("function", reference=_euler,
+                           inputs=lambda rng: [*rng.standard_normal((3, 2)), float(rng.uniform(0.001, 0.05))],
                            hints=("one step of Taylor series in Δt", "(6.116) for Θ̇, (6.117) for Θ",
                                   "Θ̇ + Θ̈Δt and Θ + Θ̇Δt + ½Θ̈Δt², both with the old Θ̇ and Θ̈")),
     "semi_implicit_step": Exercise("function", reference=_semi_implicit,
-                                   inputs=lambda rng: [*rng.standard_normal((3, 2)), float(rng.uniform(0.001, 0.05))], hints=(
+                                   inputs=lambda rng: [*rng.standard_normal((3, 2)), float(rng.uniform(0.001, 0.05))],
+                                   hints=(
         "the same two updates in the other order", "the new Θ̇ first, then Θ with the new Θ̇",
         "Θ̇' = Θ̇ + Θ̈Δt, Θ' = Θ + Θ̇'Δt")),
     "omega_dot_propagation": Exercise(
@@ -338,7 +344,8 @@ EXERCISES: dict[str, Exercise] = {
             "differentiate (6.45) in time: the rotation turns with link i, the joint axis with link i+1",
             "(6.15) for two frames, with the rotation of (5.45) carrying ⁱω̇ᵢ into frame i+1",
             "ⁱ⁺¹ω̇ᵢ₊₁ = ⁱ⁺¹ᵢR ⁱω̇ᵢ + ⁱ⁺¹ᵢR ⁱωᵢ × θ̇ᵢ₊₁ ⁱ⁺¹Ẑᵢ₊₁ + θ̈ᵢ₊₁ ⁱ⁺¹Ẑᵢ₊₁ (6.32)"),
-        mistakes=(("angular-acceleration-in-cross", lambda R, w, wd, qd, qdd: R @ wd + np.cross(R @ wd, qd * Z) + qdd * Z,
+        mistakes=(("angular-acceleration-in-cross",
+                   lambda R, w, wd, qd, qdd: R @ wd + np.cross(R @ wd, qd * Z) + qdd * Z,
                    "ω̇ in the cross product where ω belongs: the notes' line 'from (5.45)' prints it that way"),
                   ("rotation-transposed", lambda R, w, wd, qd, qdd: omega_dot_next(R.T, w, wd, qd, qdd),
                    "the rotation used the wrong way: R is ⁱ⁺¹ᵢR, from frame i into frame i+1"),
@@ -402,7 +409,8 @@ EXERCISES: dict[str, Exercise] = {
         "ᴬI_xy = ᶜI_xy + m x_c y_c (the notes print −)")),
     "inward_force": Exercise(
         "function", reference=lambda R, f_next, F: R @ f_next + F,
-        inputs=lambda rng: [np.linalg.qr(rng.standard_normal((3, 3)))[0], rng.standard_normal(3), rng.standard_normal(3)],
+        inputs=lambda rng: [np.linalg.qr(rng.standard_normal((3, 3)))[0], rng.standard_normal(3),
+                            rng.standard_normal(3)],
         hints=("link i carries its own inertial force and what link i+1 pushes back with",
                "(6.51), in frame i", "ⁱfᵢ = ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁ + ⁱFᵢ")),
     "Y_mcx2": Exercise("value", _Y_mcx2, hints=(

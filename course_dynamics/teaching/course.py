@@ -62,7 +62,8 @@ def notebook_paths(only=None) -> list[Path]:
     if only is not None:
         unknown = sorted(set(only) - {p.name[:2] for p in paths})
         if unknown:
-            raise InputError(f"no notebook numbered {', '.join(unknown)} (the course has {', '.join(p.name[:2] for p in paths)})")
+            raise InputError(f"no notebook numbered {', '.join(unknown)} "
+                             f"(the course has {', '.join(p.name[:2] for p in paths)})")
         paths = [p for p in paths if p.name[:2] in only]
     return paths
 

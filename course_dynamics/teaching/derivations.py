@@ -171,7 +171,8 @@ def equation_problems(rows, expected, joints: dict, parameters, g) -> list[str]:
             lines.append(f"τ{i} uses {', '.join(stray + leftover)}: write it with time_functions(…) of the joints "
                          f"and the parameter symbols {', '.join(map(str, parameters))} only")
         elif theirs.atoms(sympy.Float):
-            lines.append(f"τ{i} holds decimal numbers ({', '.join(sorted({str(x) for x in theirs.atoms(sympy.Float)})[:3])}): "
+            lines.append(f"τ{i} holds decimal numbers "
+                         f"({', '.join(sorted({str(x) for x in theirs.atoms(sympy.Float)})[:3])}): "
                          "write every parameter as its symbol (g, not 9.81)")
         made.append(theirs)
     if lines:

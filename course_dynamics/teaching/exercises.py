@@ -44,7 +44,8 @@ from ..grading.score import score, score_outcome
 from ..grading.slips import slips
 from ..output.render import markdown_escape
 from ..tools.variants import COURSE_STUDENT, rng_for
-from .catalogue import RP_PARAMETERS, EXERCISES, Exercise, given, my_robot, rp_arm_equations, student, symbols, use_student
+from .catalogue import (RP_PARAMETERS, EXERCISES, Exercise, given, my_robot, rp_arm_equations, student, symbols,
+                        use_student)
 from .limits import CheckTimeout, time_limit
 from .derivations import equation_problems, in_joint_symbols, time_functions
 
@@ -137,7 +138,8 @@ def check(name: str, answer=MISSING) -> Verdict:
         answer = inspect.currentframe().f_back.f_globals.get(name, MISSING)
     exercise = EXERCISES[name]
     if _not_done(answer):
-        verdict = Verdict(name, "not done", [f"write your answer as `{name}` in the cell above, then run this cell again"])
+        verdict = Verdict(name, "not done",
+                          [f"write your answer as `{name}` in the cell above, then run this cell again"])
     else:
         kind = {"term": _check_term, "links": _check_links, "equations": _check_equations, "function": _check_function,
                 "value": _check_value, "formula": _check_formula}[exercise.kind]
@@ -291,7 +293,8 @@ def _value_problems(expected, value, tolerance: float) -> list[str]:
     """What is wrong with a value, as :func:`~course_dynamics.grading.score.score` finds it; [] when it is right."""
     if any(x is Ellipsis for x in np.ravel(np.asarray(value, dtype=object))):
         return ["still holds ... (the placeholder): put your numbers in its place"]
-    if np.iscomplexobj(np.asarray(value)) or any(isinstance(x, complex) for x in np.ravel(np.asarray(value, dtype=object))):
+    if (np.iscomplexobj(np.asarray(value))
+            or any(isinstance(x, complex) for x in np.ravel(np.asarray(value, dtype=object)))):
         return ["holds complex numbers: every quantity here is real (a square root of a negative number?)"]
     try:
         theirs = np.asarray(value).astype(float)
@@ -327,7 +330,8 @@ def _check_function(name: str, exercise: Exercise, function) -> Verdict:
     rng = rng_for(student(), name)
     for trial in range(20):
         arguments = exercise.inputs(rng)
-        expected = exercise.reference(*copy.deepcopy(arguments))  # before, and on copies: an answer may change its inputs
+        # before, and on copies: an answer may change its inputs
+        expected = exercise.reference(*copy.deepcopy(arguments))
         value, problem = _try(function, *copy.deepcopy(arguments))
         if problem == "not done":
             return Verdict(name, "not done", [f"`{name}` does not return anything yet: write its body"])
@@ -335,7 +339,8 @@ def _check_function(name: str, exercise: Exercise, function) -> Verdict:
             return Verdict(name, "wrong", [f"raised {problem}"])
         if isinstance(expected, tuple):
             if not isinstance(value, (tuple, list)) or len(value) != len(expected):
-                return Verdict(name, "wrong", [f"should return {len(expected)} values, returned {type(value).__name__}"])
+                return Verdict(name, "wrong",
+                               [f"should return {len(expected)} values, returned {type(value).__name__}"])
             problems = [f"value {k + 1}: {p}" for k, (e, v) in enumerate(zip(expected, value))
                         for p in _value_problems(e, v, exercise.tolerance)]
         else:
@@ -368,10 +373,12 @@ def _check_formula(name: str, exercise: Exercise, answer) -> Verdict:
     except (sympy.SympifyError, TypeError, ValueError):
         return Verdict(name, "wrong", [f"expected a sympy expression, got {type(answer).__name__}"])
     if isinstance(expected, sympy.MatrixBase) != isinstance(answer, sympy.MatrixBase):
-        return Verdict(name, "wrong", [f"should be a {'matrix' if isinstance(expected, sympy.MatrixBase) else 'single expression'}"
-                                       f", of shape {getattr(expected, 'shape', '()')}"])
+        return Verdict(name, "wrong", [
+            f"should be a {'matrix' if isinstance(expected, sympy.MatrixBase) else 'single expression'}"
+            f", of shape {getattr(expected, 'shape', '()')}"])
     if isinstance(expected, sympy.MatrixBase) and expected.shape != getattr(answer, "shape", None):
-        return Verdict(name, "wrong", [f"has shape {getattr(answer, 'shape', 'none')}, the answer has {expected.shape}"])
+        return Verdict(name, "wrong",
+                       [f"has shape {getattr(answer, 'shape', 'none')}, the answer has {expected.shape}"])
     if exercise.time_functions:  # θ(t), θ̇(t), θ̈(t) written by the chain rule: the symbols θ, θ_dot, θ_ddot
         answer = in_joint_symbols(answer, {f: symbols(f, f + "_dot", f + "_ddot") for f in exercise.time_functions})
     variables = symbols(*exercise.variables)
@@ -381,14 +388,16 @@ def _check_formula(name: str, exercise: Exercise, answer) -> Verdict:
     stray = sorted(str(s) for s in answer.free_symbols if s not in set(variables))
     if stray:
         return Verdict(name, "wrong", [f"uses symbols {', '.join(stray)}; use the ones given: "
-                                       f"{', '.join(map(str, variables))} (from course_dynamics.teaching.exercises.symbols)"])
+                                       f"{', '.join(map(str, variables))} "
+                                       "(from course_dynamics.teaching.exercises.symbols)"])
     difference = answer - expected
     if exercise.constant_in:
         difference = sympy.Matrix([difference]) if not isinstance(difference, sympy.MatrixBase) else difference
         difference = difference.jacobian(symbols(*exercise.constant_in) if len(exercise.constant_in) > 1
                                          else [symbols(*exercise.constant_in)])
     if sympy.simplify(difference) == (sympy.zeros(*difference.shape) if hasattr(difference, "shape") else 0):
-        return Verdict(name, "right", ["equals the closed form" + (" (up to a constant)" if exercise.constant_in else "")])
+        return Verdict(name, "right",
+                       ["equals the closed form" + (" (up to a constant)" if exercise.constant_in else "")])
     for code, made, words in exercise.mistakes:
         if sympy.simplify(answer - made()) == (sympy.zeros(*expected.shape) if hasattr(expected, "shape") else 0):
             return Verdict(name, "wrong", [f"[{code}] it matches {words}"])

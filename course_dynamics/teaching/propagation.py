@@ -56,7 +56,8 @@ def moving_point(Vd_org, R, Omega, Omega_dot, Q, V_Q, Vd_Q, coriolis=2.0):  # (6
 def random_inputs(*kinds):
     """Random inputs: "R" a rotation, "v" a 3-vector, "s" a number."""
     def draw(rng):
-        return [random_rotation(rng) if k == "R" else rng.standard_normal(3) if k == "v" else float(rng.standard_normal())
+        return [random_rotation(rng) if k == "R" else rng.standard_normal(3) if k == "v"
+                else float(rng.standard_normal())
                 for k in kinds]
 
     return draw

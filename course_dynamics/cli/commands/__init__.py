@@ -26,4 +26,5 @@ module                 ``course-dynamics …``
 """
 
 # In the order ``course-dynamics --help`` lists them.
-COMMANDS = ("info", "terms", "torques", "excite", "identify", "cartesian", "simulate", "trace", "derive", "animate", "validate", "report", "grade", "student_notebooks", "publish_notebooks")
+COMMANDS = ("info", "terms", "torques", "excite", "identify", "cartesian", "simulate", "trace", "derive", "animate",
+            "validate", "report", "grade", "student_notebooks", "publish_notebooks")

@@ -9,9 +9,10 @@ from ..options import add_all, add_renamed, add_robot_argument, load_robot_argum
 HELP = "closed-form tau, M, V, G and Craig's B, C (symbolic)"
 DESCRIPTION = ("Derive the equations of motion symbolically by Newton-Euler or by Lagrange: "
                "tau = M(q) qdd + B(q)[qd qd] + C(q)[qd^2] + G(q) (6.63). Joint variables are q_<joint>, qd_<joint>, "
-               "qdd_<joint>; parameters not named in --symbols are the URDF's numbers, made exact (or, with --digits N, "
-               "N-digit decimals). Markdown with LaTeX math, --latex, or --json: keys joints, tau, M, V, G, B, C, each "
-               "entry an expression string in q_<joint>, qd_<joint>, qdd_<joint> and the parameters.")
+               "qdd_<joint>; parameters not named in --symbols are the URDF's numbers, made exact "
+               "(or, with --digits N, N-digit decimals). Markdown with LaTeX math, --latex, or --json: keys joints, "
+               "tau, M, V, G, B, C, each entry an expression string in q_<joint>, qd_<joint>, qdd_<joint> and the "
+               "parameters.")
 
 
 def add_arguments(parser) -> None:

@@ -74,13 +74,15 @@ def run(args) -> int:
         similar = None if comparison is None else [
             dict(students=[p.first.student, p.second.student], score=round(p.score, 3), page=similar_name(k))
             for k, p in enumerate(comparison.pairs)]
-        print_json(dict(assignment=str(args.assignment), out=str(out), max_total=assignment.total_points, similar=similar,
+        print_json(dict(assignment=str(args.assignment), out=str(out), max_total=assignment.total_points,
+                        similar=similar,
                         students=[dict(student=g.student, total=g.total, status=g.status, flags=g.flag_codes,
                                        terms={t: g.points(t) for t in assignment.terms}) for g in grades]))
     else:
         mean = sum(g.total for g in grades) / len(grades)
-        print(f"graded {len(grades)} submission{'s' if len(grades) != 1 else ''} against {assignment.robot.name}: mean {mean:.3g} of "
-              f"{assignment.total_points:g} points; wrote {out / 'gradebook.csv'}, feedback and {out / 'summary.html'}")
+        print(f"graded {len(grades)} submission{'s' if len(grades) != 1 else ''} against {assignment.robot.name}: "
+              f"mean {mean:.3g} of {assignment.total_points:g} points; "
+              f"wrote {out / 'gradebook.csv'}, feedback and {out / 'summary.html'}")
         flagged = sum(1 for g in grades if g.flags)
         if flagged:
             print(f"{flagged} submission{'s' if flagged != 1 else ''} with integrity flags (leads, not proof): see the "
@@ -103,7 +105,8 @@ def _gradescope(args, load_assignment) -> int:
     from ...grading.autograder import write_bundle
 
     if args.assignment is None or args.submissions or args.out is not None:
-        raise UsageError("grade --gradescope ZIP takes the assignment only: grade ASSIGNMENT.toml --gradescope autograder.zip")
+        raise UsageError("grade --gradescope ZIP takes the assignment only: "
+                         "grade ASSIGNMENT.toml --gradescope autograder.zip")
     target = write_bundle(load_assignment(args.assignment), args.gradescope)
     if args.json:
         print_json(dict(assignment=str(args.assignment), bundle=str(target)))
@@ -120,7 +123,8 @@ def _handout(args, load_assignment) -> int:
     from ...tools.variants import check_student_id, robot_variant
 
     if args.assignment is None or args.submissions:
-        raise UsageError("grade --handout ID takes the assignment and no submissions: grade ASSIGNMENT.toml --handout ID")
+        raise UsageError("grade --handout ID takes the assignment and no submissions: "
+                         "grade ASSIGNMENT.toml --handout ID")
     student = check_student_id(args.handout)
     assignment = load_assignment(args.assignment)
     if assignment.variant != "per-student":

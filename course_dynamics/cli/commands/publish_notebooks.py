@@ -6,12 +6,12 @@ import sys
 from ..options import add_all, notebook_numbers, print_json, progress_bar
 
 HELP = "run every notebook and render the course to static HTML pages (with an index) for a course site"
-DESCRIPTION = ("Execute the ten notebooks in fresh kernels and render each to OUTDIR/<notebook>.html (mathematics as MathML, readable offline), "
-               "plus OUTDIR/index.html listing them. Student versions by default (exercises unanswered, checks "
-               "saying 'not done yet'); --solutions publishes the worked answers. Animations are embedded and play "
-               "offline. OUTDIR may hold other files: a run replaces only the pages an earlier run wrote there and "
-               "nobody changed since (listed in OUTDIR/.course-dynamics-files.json), and refuses, before any notebook "
-               "runs, when another file is in the way.")
+DESCRIPTION = ("Execute the ten notebooks in fresh kernels and render each to OUTDIR/<notebook>.html (mathematics as "
+               "MathML, readable offline), plus OUTDIR/index.html listing them. Student versions by default "
+               "(exercises unanswered, checks saying 'not done yet'); --solutions publishes the worked answers. "
+               "Animations are embedded and play offline. OUTDIR may hold other files: a run replaces only the pages "
+               "an earlier run wrote there and nobody changed since (listed in OUTDIR/.course-dynamics-files.json), "
+               "and refuses, before any notebook runs, when another file is in the way.")
 
 
 def add_arguments(parser) -> None:

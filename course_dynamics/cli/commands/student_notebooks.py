@@ -6,14 +6,14 @@ import sys
 from ..options import UsageError, add, add_all, notebook_numbers, print_json, progress_bar
 
 HELP = "write the notebook course as .ipynb for students (solutions removed) or instructors (--solutions)"
-DESCRIPTION = ("Write the ten notebooks of the course (one per section of Craig's chapter 6, and identification) to OUTDIR as .ipynb. "
-               "Student versions have every solution replaced by a placeholder and no outputs; they run top to "
-               "bottom, and each exercise's check says 'not done yet' until it is answered. Both versions carry "
-               "nbgrader metadata. A notebook already in OUTDIR is kept as it is (it may hold a student's work), so "
-               "running again adds only what is missing; --force replaces it, keeping a copy beside it. "
-               "With --student ID the exercises use that student's own robot and numbers (derived from the id); "
-               "with --roster FILE (a CSV with an 'id' column) each student gets a subfolder OUTDIR/ID. The grader "
-               "uses the same robots (an assignment with variant = \"per-student\").")
+DESCRIPTION = ("Write the ten notebooks of the course (one per section of Craig's chapter 6, and identification) to "
+               "OUTDIR as .ipynb. Student versions have every solution replaced by a placeholder and no outputs; "
+               "they run top to bottom, and each exercise's check says 'not done yet' until it is answered. Both "
+               "versions carry nbgrader metadata. A notebook already in OUTDIR is kept as it is (it may hold a "
+               "student's work), so running again adds only what is missing; --force replaces it, keeping a copy "
+               "beside it. With --student ID the exercises use that student's own robot and numbers (derived from "
+               "the id); with --roster FILE (a CSV with an 'id' column) each student gets a subfolder OUTDIR/ID. The "
+               "grader uses the same robots (an assignment with variant = \"per-student\").")
 
 
 def add_arguments(parser) -> None:
@@ -69,7 +69,8 @@ def _record(result) -> dict:
 def _report(result, args, out, whose: str) -> None:
     for path, why in result.kept:
         if why == "exists":
-            print(f"note: {path} exists, kept (student-notebooks --force replaces it, keeping a backup)", file=sys.stderr)
+            print(f"note: {path} exists, kept (student-notebooks --force replaces it, keeping a backup)",
+                  file=sys.stderr)
         else:
             print(f"note: {path} {why}, left alone (nothing is written through it, even with --force)", file=sys.stderr)
     for backup in result.backups:
