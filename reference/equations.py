@@ -97,7 +97,8 @@ def kind_in(text: str, label: str) -> str:
 
 
 ERRATA, MISPRINTS = "tests/test_errata.py::", "tests/test_misprints.py::"
-MISPRINT, STEP = MISPRINTS + "test_printed_is_wrong_and_corrected_is_right", MISPRINTS + "test_step_agrees_with_its_truth"
+MISPRINT, STEP = (MISPRINTS + "test_printed_is_wrong_and_corrected_is_right",
+                  MISPRINTS + "test_step_agrees_with_its_truth")
 NB01, NB03, NB04 = "notebooks/01_acceleration.py", "notebooks/03_newton_euler.py", "notebooks/04_structure.py"
 NB05, NB06, NB08 = "notebooks/05_lagrange.py", "notebooks/06_cartesian.py", "notebooks/08_simulation.py"
 NB09 = "notebooks/09_errata.py"
@@ -124,7 +125,8 @@ EQUATIONS: tuple[Equation, ...] = (
     Equation("(6.15'')", EMPTY, (STEP + "[(6.15'')]",), NB09, "(6.15″)",
              "the second step: (6.15′) in the axes of frame i+1 (multiplied by ⁱ⁺¹₀R, which carries a cross product "
              "over), ⁱ⁺¹ω̇ᵢ₊₁ = ⁱ⁺¹ᵢR ⁱω̇ᵢ + θ̈ᵢ₊₁ ⁱ⁺¹Ẑᵢ₊₁ + ⁱ⁺¹ᵢR ⁱωᵢ × θ̇ᵢ₊₁ ⁱ⁺¹Ẑᵢ₊₁, which is (6.32)"),
-    Equation("(6.31)", RANGE, (STEP + "[(6.31)]", MISPRINT + "[the (5.45) line of (6.32)'s derivation]"), NB09, "(6.31)",
+    Equation("(6.31)", RANGE, (STEP + "[(6.31)]", MISPRINT + "[the (5.45) line of (6.32)'s derivation]"), NB09,
+             "(6.31)",
              "the first equation of the outward iteration the range (6.31)–(6.37) names, the angular velocity "
              "propagation (5.45), ⁱ⁺¹ωᵢ₊₁ = ⁱ⁺¹ᵢR ⁱωᵢ + θ̇ᵢ₊₁ ⁱ⁺¹Ẑᵢ₊₁: what the notes' \"from (5.45)\" line means, "
              "and what (6.45) restates"),
@@ -143,7 +145,8 @@ EQUATIONS: tuple[Equation, ...] = (
     Equation("(6.46)", PRINTED, (ERRATA + "test_6_45_to_6_47_rotation_is_inverted_in_print",), NB03, "&& (6.46)"),
     Equation("(6.47)", PRINTED, (ERRATA + "test_6_45_to_6_47_rotation_is_inverted_in_print",), NB03, "&& (6.47)"),
     Equation("(6.48)", PRINTED, (ERRATA + "test_6_48_com_acceleration",), NB03, "&& (6.48)"),
-    Equation("(6.49)", PRINTED, (LINKS, ERRATA + "test_worked_example_F1_uses_the_com_acceleration"), NB03, "&& (6.49)"),
+    Equation("(6.49)", PRINTED, (LINKS, ERRATA + "test_worked_example_F1_uses_the_com_acceleration"), NB03,
+             "&& (6.49)"),
     Equation("(6.50)", PRINTED, (ERRATA + "test_6_50_euler_uses_the_com_inertia_twice",), NB03, "&& (6.50)"),
     Equation("(6.51)", PRINTED, (ERRATA + "test_6_51_and_6_52_inward_iteration[6.51]",), NB03, "&& (6.51)"),
     Equation("(6.52)", PRINTED, (ERRATA + "test_6_51_and_6_52_inward_iteration[6.52]",), NB03, "&& (6.52)"),
@@ -156,11 +159,13 @@ EQUATIONS: tuple[Equation, ...] = (
     Equation("(6.62)", CITED, (CLOSED_FORM,), NB04, "(6.60)–(6.62)", "Craig's two-link G(Θ)"),
     Equation("(6.63)", PRINTED, ("tests/test_lagrange.py::test_configuration_space_split_reproduces_V",
                                  MISPRINT + "[(6.63) legend]", ERRATA + "test_two_link_split_shapes"), NB04, "(6.63)"),
-    Equation("(6.64)", PRINTED, ("tests/test_lagrange.py::test_configuration_space_split_reproduces_V",), NB04, "(6.64)"),
+    Equation("(6.64)", PRINTED, ("tests/test_lagrange.py::test_configuration_space_split_reproduces_V",), NB04,
+             "(6.64)"),
     Equation("(6.65)", PRINTED, (ERRATA + "test_6_65_centrifugal_vector",), NB04, "(6.65)"),
     Equation("(6.69)", PRINTED, ("tests/test_lagrange.py::test_kinetic_energy_is_the_quadratic_form",), NB05, "(6.69)"),
     Equation("(6.71)", PRINTED, ("tests/test_lagrange.py::test_kinetic_energy_is_the_quadratic_form",), NB05, "(6.71)"),
-    Equation("(6.73)", PRINTED, ("tests/test_kinematics.py::test_potential_energy_agrees_with_pinocchio",), NB05, "(6.73)"),
+    Equation("(6.73)", PRINTED, ("tests/test_kinematics.py::test_potential_energy_agrees_with_pinocchio",), NB05,
+             "(6.73)"),
     Equation("(6.75)", PRINTED, (ERRATA + "test_6_75_and_6_77_give_the_rp_arms_torques",), NB05, "(6.75)"),
     Equation("(6.77)", PRINTED, (ERRATA + "test_6_75_and_6_77_give_the_rp_arms_torques",
                                  "tests/test_lagrange.py::test_lagrangian_terms_agree_with_pinocchio"), NB05, "(6.77)"),
@@ -169,13 +174,16 @@ EQUATIONS: tuple[Equation, ...] = (
     Equation("(6.97)", PRINTED, (ERRATA + "test_6_105_applies_J_transpose_to_every_term",
                                  "tests/test_cartesian.py::test_two_link_is_craig_example_6_6"), NB06, "(6.97)"),
     Equation("(6.98)", PRINTED, (CARTESIAN,), NB06, "(6.98)"),
-    Equation("(6.99)", PRINTED, (CARTESIAN, "tests/test_cartesian.py::test_two_link_is_craig_example_6_6"), NB06, "(6.99)"),
+    Equation("(6.99)", PRINTED, (CARTESIAN, "tests/test_cartesian.py::test_two_link_is_craig_example_6_6"), NB06,
+             "(6.99)"),
     Equation("(6.104)", PRINTED, ("tests/test_cartesian.py::test_two_link_is_craig_example_6_6",), NB06, "(6.104)"),
     Equation("(6.105)", PRINTED, (ERRATA + "test_6_105_applies_J_transpose_to_every_term",), NB09, "(6.105)"),
     Equation("(6.115)", PRINTED, ("tests/test_forward_dynamics.py::test_forward_dynamics_agrees_with_aba",
-                                  ERRATA + "test_6_115_solves_the_joint_space_equation_with_friction"), NB08, "(6.115)"),
+                                  ERRATA + "test_6_115_solves_the_joint_space_equation_with_friction"), NB08,
+             "(6.115)"),
     Equation("(6.116)", UNLABELLED, ("tests/test_simulation.py::test_euler_step_is_exactly_6_116_and_6_117",), NB08,
              "(6.116)", "the velocity step printed without its number, Θ̇(t + Δt) = Θ̇(t) + Θ̈(Δt), Θ̈(Δt) a product"),
     Equation("(6.117)", PRINTED, (MISPRINT + "[(6.117)]",
-                                  "tests/test_simulation.py::test_euler_step_is_exactly_6_116_and_6_117"), NB08, "(6.117)"),
+                                  "tests/test_simulation.py::test_euler_step_is_exactly_6_116_and_6_117"), NB08,
+             "(6.117)"),
 )

@@ -179,7 +179,8 @@ def demonstrations() -> list[Misprint]:
                           _relative([-l1 * qd2[0] ** 2 + g * s1, l1 * qdd2[0] + g * s1, 0], ref2["v_dot_c"][0]),
                           _relative([-l1 * qd2[0] ** 2 + g * s1, l1 * qdd2[0] + g * c1, 0], ref2["v_dot_c"][0])))
     found.append(Misprint("worked example, ¹F₁", "two-link ¹F₁", "Pinocchio's RNEA data",
-                          _relative(2.0 * ref2["v_dot"][0], ref2["F"][0]), _relative(2.0 * ref2["v_dot_c"][0], ref2["F"][0])))
+                          _relative(2.0 * ref2["v_dot"][0], ref2["F"][0]),
+                          _relative(2.0 * ref2["v_dot_c"][0], ref2["F"][0])))
 
     pendulum = load_robot("pendulum")
     swing = PinocchioOracle(robot_path("pendulum"), pendulum.joint_names).aba([0.7], [0.0], [0.0])[0]
@@ -202,7 +203,8 @@ def demonstrations() -> list[Misprint]:
 
     m, w, l = 2.0, 0.3, 0.5  # example 6.1's product of inertia about the corner: m w l / 4 by the integral
     found.append(Misprint("parallel-axis theorem, products", "box ᴬI_xy about its corner", "the exact integral",
-                          _relative(0.0 - m * (w / 2) * (l / 2), m * w * l / 4), _relative(0.0 + m * (w / 2) * (l / 2), m * w * l / 4)))
+                          _relative(0.0 - m * (w / 2) * (l / 2), m * w * l / 4),
+                          _relative(0.0 + m * (w / 2) * (l / 2), m * w * l / 4)))
     found.extend(second_reading())
     return found
 

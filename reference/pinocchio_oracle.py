@@ -36,7 +36,8 @@ def _build_model(urdf):
             said = [line.strip() for line in captured.read().decode("utf-8", "replace").splitlines() if line.strip()]
             reason = said[0] if said else str(exc).splitlines()[0]
             raise InputError(f"{urdf}: Pinocchio cannot read this URDF ({reason}); our loader is more lenient "
-                             "(for example about joints without <limit>), so there is nothing to compare with") from None
+                             "(for example about joints without <limit>), "
+                             "so there is nothing to compare with") from None
         finally:
             os.dup2(saved, 2)
             os.close(saved)
@@ -59,7 +60,8 @@ class PinocchioOracle:
         self.data = self.model.createData()
         self.joint_names = tuple(joint_names)
         if self.model.nv != len(self.joint_names):
-            raise ValueError(f"Pinocchio has {self.model.nv} velocity coordinates, we have {len(self.joint_names)} joints")
+            raise ValueError(f"Pinocchio has {self.model.nv} velocity coordinates, "
+                             f"we have {len(self.joint_names)} joints")
         ids = [self.model.getJointId(name) for name in self.joint_names]
         self.idx_q = [self.model.joints[i].idx_q for i in ids]
         self.nq = [self.model.joints[i].nq for i in ids]
@@ -85,7 +87,8 @@ class PinocchioOracle:
         return A[np.ix_(self.idx_v, self.idx_v)]
 
     def tau(self, q, qd, qdd) -> np.ndarray:
-        return self._ours(pin.rnea(self.model, self.data, self.configuration(q), self.velocity(qd), self.velocity(qdd)).copy())
+        return self._ours(pin.rnea(self.model, self.data, self.configuration(q), self.velocity(qd),
+                                   self.velocity(qdd)).copy())
 
     def regressor(self, q, qd, qdd) -> np.ndarray:
         """``computeJointTorqueRegressor``, (n, 10 n): rows in our joint order, columns in Pinocchio's.
@@ -127,7 +130,8 @@ class PinocchioOracle:
         return self._ours_matrix(A)
 
     def C(self, q, qd) -> np.ndarray:
-        return self._ours_matrix(pin.computeCoriolisMatrix(self.model, self.data, self.configuration(q), self.velocity(qd)).copy())
+        return self._ours_matrix(pin.computeCoriolisMatrix(self.model, self.data, self.configuration(q),
+                                                           self.velocity(qd)).copy())
 
     def G(self, q) -> np.ndarray:
         return self._ours(pin.computeGeneralizedGravity(self.model, self.data, self.configuration(q)).copy())
@@ -164,7 +168,8 @@ class PinocchioOracle:
 
     def aba(self, q, qd, tau) -> np.ndarray:
         """Θ̈ by the articulated-body algorithm (no friction)."""
-        return self._ours(pin.aba(self.model, self.data, self.configuration(q), self.velocity(qd), self.velocity(tau)).copy())
+        return self._ours(pin.aba(self.model, self.data, self.configuration(q), self.velocity(qd),
+                                  self.velocity(tau)).copy())
 
     def _reference_frame(self, expressed_in: str):
         return {"base": pin.LOCAL_WORLD_ALIGNED, "frame": pin.LOCAL}[expressed_in]
@@ -172,7 +177,8 @@ class PinocchioOracle:
     def frame_jacobian(self, q, frame: str, expressed_in: str = "base") -> np.ndarray:
         """(6, n) Jacobian of a URDF link's frame, rows (v; ω), our joint order."""
         frame_id = self.model.getFrameId(frame)
-        J = pin.computeFrameJacobian(self.model, self.data, self.configuration(q), frame_id, self._reference_frame(expressed_in))
+        J = pin.computeFrameJacobian(self.model, self.data, self.configuration(q), frame_id,
+                                     self._reference_frame(expressed_in))
         return np.reshape(J, (6, self.model.nv))[:, self.idx_v].copy()  # eigenpy returns (6,) when nv = 1
 
     def frame_jacobian_dot(self, q, qd, frame: str, expressed_in: str = "base") -> np.ndarray:

@@ -63,7 +63,8 @@ def two_link_cartesian(q, qd, m1, m2, l1, l2, g):
     J = np.array([[l1 * s2, 0.0], [l1 * c2 + l2, l2]])
     Mx = np.array([[m2 + m1 / s2**2, 0.0], [0.0, m2]])
     Vx = np.array([
-        -(m2 * l1 * c2 + m2 * l2) * td1**2 - m2 * l2 * td2**2 - (2 * m2 * l2 + m2 * l1 * c2 + m1 * l1 * c2 / s2**2) * td1 * td2,
+        -(m2 * l1 * c2 + m2 * l2) * td1**2 - m2 * l2 * td2**2
+        - (2 * m2 * l2 + m2 * l1 * c2 + m1 * l1 * c2 / s2**2) * td1 * td2,
         m2 * l1 * s2 * td1**2 + l1 * m2 * s2 * td1 * td2,
     ])
     Gx = np.array([m1 * g * c1 / s2 + m2 * g * s12, m2 * g * c12])
