@@ -211,3 +211,36 @@ def test_a_urdf_readers_disagree_on_is_refused_in_one_line_and_nothing_is_writte
     assert_one_line_error(code, err, str(urdf), "joint 'shoulder_pan_joint'", "default XML namespace")
     assert not report.exists()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["ur5_hostile.urdf"]
+
+
+def test_an_identification_too_large_for_the_budget_is_refused_before_the_work(capsys, tmp_path, logs, monkeypatch):
+    """The factors R (m, r, P + 1), their QRs and a block's regressor are checked against the budget first."""
+    import course_dynamics.tools.identification as identification
+
+    monkeypatch.setenv("COURSE_DYNAMICS_MEMORY_BUDGET", "4M")
+    monkeypatch.setattr(identification, "_factors", lambda *a: pytest.fail("factored before checking"))
+    out = tmp_path / "x.urdf"
+    code, _, err = run(capsys, "identify", "ur5", "--log", str(logs[0]), "--out", str(out))
+    assert_one_line_error(code, err, str(logs[0]), "identifying robot 'ur5' (6 joints, 72 parameters)", "of memory",
+                          "the 4 MiB that COURSE_DYNAMICS_MEMORY_BUDGET allows", "--friction-fit")
+    assert not out.exists()
+
+
+def test_the_solvers_warnings_are_one_warning_line_of_ours(capsys, tmp_path, logs, monkeypatch):
+    """cvxpy's UserWarning ("Solution may be inaccurate") comes out as one ``warning:`` line, not Python's two."""
+    import warnings
+
+    import cvxpy
+
+    solve = cvxpy.Problem.solve
+
+    def inaccurate(self, *args, **kwargs):
+        warnings.warn("Solution may be inaccurate. Try another solver.", UserWarning)
+        return solve(self, *args, **kwargs)
+
+    monkeypatch.setattr(cvxpy.Problem, "solve", inaccurate)
+    code, _, err = run(capsys, "identify", "ur5", "--log", str(logs[0]), "--out", str(tmp_path / "x.urdf"))
+    assert code == 0, err
+    assert [line for line in err.splitlines() if "inaccurate" in line] == [
+        "warning: robot 'ur5', the physically consistent fit (clarabel): Solution may be inaccurate. Try another solver."]
+    assert "UserWarning" not in err and "warnings.warn" not in err

@@ -15,6 +15,7 @@ from __future__ import annotations
 import os
 import sys
 from dataclasses import replace
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -226,3 +227,23 @@ def test_a_joint_without_measured_torque_is_left_out():
     assert found.notes == ("joint 'wrist_3_joint' has no measured torque: its rows are left out",)
     assert np.isnan(found.sigma[5]) and np.isnan(found.rms_after[5]) and np.all(found.rms_after[:5] < found.rms_before[:5])
     assert "Fv_wrist_3_joint" not in found.names and found.friction.viscous[5] == 0.0     # the URDF's
+
+
+def test_a_short_log_keeps_factors_of_its_own_length_and_moves_the_bar_per_joint():
+    """R_j has as many rows as the samples (at most P + 1), so a short log on many joints costs what its samples do;
+    R_jᵀ R_j is still [Yⱼ | τⱼ]ᵀ [Yⱼ | τⱼ]."""
+    from course_dynamics.tools.identification import _design, _factors, memory_needed
+
+    model = load_robot("ur5")
+    rng = np.random.default_rng(3)
+    log = SimpleNamespace(q=rng.uniform(-1, 1, (30, 6)), qd=rng.uniform(-1, 1, (30, 6)), qdd=rng.uniform(-1, 1, (30, 6)))
+    target, rows, measured, columns = rng.standard_normal((30, 6)), np.arange(30), [0, 2, 5], [("viscous", 0)]
+    calls = []
+    R = _factors(model, log, rows, columns, target, measured, lambda done, total: calls.append((done, total)))
+    assert R.shape == (3, 30, 62)
+    assert calls == [(10, 30), (20, 30), (30, 30)]
+    A = _design(model, log, rows, columns)
+    for k, j in enumerate(measured):
+        stacked = np.column_stack([A[:, j], target[:, j]])
+        np.testing.assert_allclose(R[k].T @ R[k], stacked.T @ stacked, rtol=1e-12, atol=1e-12 * np.abs(stacked).max() ** 2)
+    assert memory_needed(200, 2400, 30, 200) < 2**31 < memory_needed(200, 2400, 3000, 200)   # the log's length counts

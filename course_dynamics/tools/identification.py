@@ -59,12 +59,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..base.errors import InputError
+from ..base.resources import check_memory
 from ..core.evaluator import inverse_dynamics  # the evaluator chooses the implementation of each call
 from ..core.friction import Friction
 from ..core.inertia import physical_problems
 from ..core.model import Model
 from ..core.regressor import (TENSOR, BaseParameters, base_parameters, parameter_names, parameters, regressor,
                                with_parameters)
+from .consistency import consistent_fit
 from .logs import JointLog
 
 FRICTION_MODELS = ("both", "viscous", "coulomb", "none")
@@ -179,23 +181,34 @@ def _design(model: Model, log: JointLog, rows, columns) -> np.ndarray:
 
 
 def _factors(model, log, rows, columns, target, measured, progress) -> np.ndarray:
-    """Per measured joint j, the triangular R_j (P + 1, P + 1) with R_jᵀ R_j = [Yⱼ | τⱼ]ᵀ [Yⱼ | τⱼ].
+    """Per measured joint j, the triangular R_j (r, P + 1) with R_jᵀ R_j = [Yⱼ | τⱼ]ᵀ [Yⱼ | τⱼ], r ≤ P + 1.
 
     Built a block of samples at a time (a QR of the factor so far stacked on the block), so any
     least-squares problem in Yⱼ and τⱼ keeps its size and its conditioning (no normal equations):
-    ‖Yⱼ θ − τⱼ‖ = ‖R_j[:, :P] θ − R_j[:, P]‖.
+    ‖Yⱼ θ − τⱼ‖ = ‖R_j[:, :P] θ − R_j[:, P]‖. R_j has as many rows as the samples so far, at most
+    P + 1: a short log costs what its samples do. ``progress`` moves after each joint's QR.
     """
     P = 10 * model.n + len(columns)
-    R = np.zeros((len(measured), P + 1, P + 1))
+    R = np.zeros((len(measured), 0, P + 1))
     for start in range(0, len(rows), ROWS_AT_A_TIME):
         block = rows[start:start + ROWS_AT_A_TIME]
         A = _design(model, log, block, columns)[:, measured, :]     # (K, m, P)
         b = target[block][:, measured]
+        old, grown = R, min(R.shape[1] + len(block), P + 1)
+        if grown != R.shape[1]:
+            R = np.empty((len(measured), grown, P + 1))
         for j in range(len(measured)):
-            R[j] = np.linalg.qr(np.vstack([R[j], np.column_stack([A[:, j], b[:, j]])]), mode="r")
-        if progress is not None:
-            progress(min(start + ROWS_AT_A_TIME, len(rows)), len(rows))
+            R[j] = np.linalg.qr(np.vstack([old[j], np.column_stack([A[:, j], b[:, j]])]), mode="r")
+            if progress is not None:
+                progress(start + len(block) * (j + 1) // len(measured), len(rows))
     return R
+
+
+def memory_needed(n: int, parameters: int, samples: int, measured: int) -> float:
+    """Bytes an identification of ``parameters`` from ``samples`` of ``measured`` joints of an n-joint robot keeps at its
+    peak: a few copies of the factors R (m, r, P + 1) (their QRs, the weighted fits) and a block's regressor."""
+    factors = 8.0 * measured * min(samples, parameters + 1) * (parameters + 1)
+    return 6 * factors + 4 * 8.0 * min(samples, ROWS_AT_A_TIME) * n * parameters
 
 
 def _solve(M: np.ndarray, r: np.ndarray) -> np.ndarray:
@@ -225,49 +238,6 @@ def _weighted_fit(R, counts, where):
     kept = S > 1e-10 * S[0]
     covariance = (Vt[kept].T / S[kept] ** 2) @ Vt[kept] / np.outer(d, d) * s2
     return sigma, theta, np.sqrt(np.maximum(np.diag(covariance), 0.0)), S / S[0], Vt
-
-
-def _consistent(model, R, sigma, theta_urdf, kinds, sizes, prior_weight, min_mass):
-    """The physically consistent θ (module docstring, step 3): (θ, solver)."""
-    try:
-        import cvxpy as cp
-    except ImportError:
-        raise InputError("identification needs cvxpy and clarabel: install course-dynamics[identify] "
-                         "(pip install 'course-dynamics[identify]')") from None
-    P, n_rigid = len(theta_urdf), 10 * model.n
-    weighted = (R / sigma[:, None, None]).reshape(-1, P + 1)
-    Rw = np.linalg.qr(weighted, mode="r")                  # ‖W (Y θ − τ)‖ = ‖Rw[:, :P] θ − Rw[:, P]‖
-    A, z = Rw[:P, :P], Rw[:P, P]
-    norms = np.sum(A**2, axis=0)
-    scale = np.ones(P)       # θ = θ_URDF + scale d: d is a change of the size a parameter of its kind has
-    for kind in set(kinds):
-        typical = np.sqrt(np.mean(np.asarray(sizes[kind]) ** 2))
-        scale[[k for k in range(P) if kinds[k] == kind]] = typical if typical > 0 else 1.0
-    prior = prior_weight * float(np.mean(norms * scale**2))   # what such a change typically does to the fit
-    residual = z - A @ theta_urdf
-    size = max(float(np.linalg.norm(residual)), 1e-300)  # the URDF's misfit: the objective starts at 1
-    d = cp.Variable(P)
-    theta = theta_urdf + cp.multiply(scale, d)
-    constraints = []
-    for i in range(model.n):
-        p = theta[10 * i:10 * i + 10]
-        J = cp.Variable((4, 4), PSD=True)
-        trace = p[4] + p[6] + p[9]
-        constraints += [J[a, b] == (0.5 * trace if a == b else 0) - p[TENSOR[a][b]] for a in range(3) for b in range(a, 3)]
-        constraints += [J[a, 3] == p[1 + a] for a in range(3)] + [J[3, 3] == p[0], p[0] >= min_mass[i]]
-    if P > n_rigid:
-        constraints.append(theta[n_rigid:] >= 0)
-    objective = cp.sum_squares((A * scale / size) @ d - residual / size) + prior / size**2 * cp.sum_squares(d)
-    problem = cp.Problem(cp.Minimize(objective), constraints)
-    for solver, options in (("CLARABEL", {}), ("SCS", {"eps": 1e-9, "max_iters": 200_000})):
-        try:
-            problem.solve(solver=solver, **options)
-        except (cp.error.SolverError, ValueError):
-            continue
-        if problem.status in ("optimal", "optimal_inaccurate") and d.value is not None:
-            return theta_urdf + scale * d.value, solver.lower() + ("" if problem.status == "optimal" else " (inaccurate)")
-    raise InputError(f"robot '{model.name}': the physically consistent fit found no solution (Clarabel and SCS: "
-                     f"{problem.status}); the log may not move the joints enough")
 
 
 def _typical(model, theta_urdf, theta_wls, kinds, where) -> dict:
@@ -358,18 +328,22 @@ def identify(model: Model, log: JointLog, friction: str = "both", holdout: float
     test = np.flatnonzero(t >= split) if holdout > 0 else np.arange(0)
     base = base_parameters(model)
     n_rigid = 10 * model.n
-    where = list(base.independent) + [n_rigid + k for k in range(len(columns))]
-    if len(train) * len(measured) < 2 * len(where):
+    fitted = list(base.independent) + [n_rigid + k for k in range(len(columns))]
+    if len(train) * len(measured) < 2 * len(fitted):
         raise InputError(f"{where}: the fitted part has {len(train)} samples of {len(measured)} measured joints, too "
-                         f"few for {len(where)} base parameters (at least twice as many values are needed)")
+                         f"few for {len(fitted)} base parameters (at least twice as many values are needed)")
+    check_memory(memory_needed(model.n, n_rigid + len(columns), len(train), len(measured)),
+                 f"{where}: identifying robot '{model.name}' ({model.n} joints, {n_rigid + len(columns)} parameters) "
+                 f"from {len(train)} samples of {len(measured)} measured joints",
+                 ": take a robot with fewer joints, or identify less friction (--friction-fit)")
     R = _factors(model, log, train, columns, target, measured, progress)
     counts = np.full(len(measured), float(len(train)))
-    sigma, theta_wls, error, shares, directions = _weighted_fit(R, counts, where)
+    sigma, theta_wls, error, shares, directions = _weighted_fit(R, counts, fitted)
     kinds = [_kind(k, n_rigid, columns) for k in range(n_rigid + len(columns))]
     theta_urdf = np.concatenate([parameters(model), [getattr(urdf_friction, kind)[j] for kind, j in columns]])
     masses = np.array([b.mass for b in model.bodies], dtype=float)
     min_mass = np.maximum(MIN_MASS_SHARE * masses, MIN_MASS) if min_mass is None else np.asarray(min_mass, float)
-    theta, solver = _consistent(model, R, sigma, theta_urdf, kinds, _typical(model, theta_urdf, theta_wls, kinds, where),
+    theta, solver = consistent_fit(model, R, sigma, theta_urdf, kinds, _typical(model, theta_urdf, theta_wls, kinds, fitted),
                                 prior_weight, min_mass)
     pi = _physical(theta[:n_rigid], model, min_mass)
     theta = np.concatenate([pi, np.maximum(theta[n_rigid:], 0.0)])
