@@ -22,6 +22,7 @@ module          job
 ``identification``  inertial and friction parameters from a log: least squares, then physically consistent
 ``consistency``  the physically consistent step of an identification (cvxpy), its solvers' warnings as ours
 ``excitation``  a trajectory within the limits that makes the parameters identifiable
+``excitationcost``  an excitation's memory and time estimated before it starts; its evaluations in batches
 ``loads``       payloads and external wrenches
 ``limits``      effort and velocity limits: peaks, shares, violations
 ``trace``       the Newton–Euler iterations link by link, for teaching

@@ -41,10 +41,11 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..base.errors import InputError
 from ..core.evaluator import inverse_dynamics  # the evaluator chooses the implementation of each call
 from ..core.model import Model
-from ..core.regressor import BaseParameters, base_parameters, regressor
+from ..core.regressor import BaseParameters, base_parameters
+from . import excitationcost as batches  # the cost estimated up front, evaluations in bounded batches
+from .excitationcost import ExcitationError
 from .simulation import time_grid
 
 HARMONICS = 5           # H
@@ -55,18 +56,10 @@ DT = 0.01               # s between written samples
 CONSTRAINT_POINTS = 24  # instants per period of the highest harmonic where the limits are imposed
 FINE_POINTS = 200       # instants per period of the highest harmonic where the result is checked
 STEP = 1e-6             # forward-difference step in x
-STATES_AT_A_TIME = 4096  # per regressor call: (4096, n, 10 n) floats and the recursion's work arrays
 START_SHARE = 0.5       # the random start uses half of the tightest position or velocity limit
 FEASIBLE = 1e-6         # slack (a share of a limit) within which an iterate counts as feasible
 KINDS = ("position", "velocity", "effort")
-
-
-class ExcitationError(InputError):
-    """An excitation that cannot be made or does not stay within the limits (the message says which)."""
-
-
-def _is_integer(value) -> bool:
-    return isinstance(value, (int, np.integer)) and not isinstance(value, bool)
+SMALLEST = 1e-6         # rad, m, rad/s or m/s: a joint whose half range or velocity limit is below it cannot move
 
 
 def _number(x) -> float | None:
@@ -155,10 +148,11 @@ class Excitation:
     notes: tuple[str, ...] = ()
     ended: str = ""
 
-    def table(self) -> tuple[list[str], np.ndarray]:
-        """(header, data): t, q_<joint>, qd_<joint>, qdd_<joint>, tau_<joint>, as ``torques`` and ``simulate`` read."""
+    def table(self, rows: slice = slice(None)) -> tuple[list[str], np.ndarray]:
+        """(header, data) of samples ``rows``: t, q_<joint>, qd_<joint>, qdd_<joint>, tau_<joint>, as ``torques`` and
+        ``simulate`` read."""
         header = ["t"] + [f"{kind}_{j}" for kind in ("q", "qd", "qdd", "tau") for j in self.joints]
-        return header, np.column_stack([self.t, self.q, self.qd, self.qdd, self.tau])
+        return header, np.column_stack([v[rows] for v in (self.t, self.q, self.qd, self.qdd, self.tau)])
 
     def record(self) -> dict:
         """A JSON-ready summary (no samples)."""
@@ -173,23 +167,6 @@ class Excitation:
                                       b=self.coefficients.b.tolist()), notes=list(self.notes), ended=self.ended)
 
 
-def _kappa(W: np.ndarray, gram: bool = False) -> np.ndarray:
-    """κ of each stacked regressor W (m, rows, r) with unit-norm columns; inf where a column vanishes.
-
-    ``gram``: κ² = λ_max/λ_min of WᵀW, several times faster than the SVD and good to 1e-16 κ² (relative).
-    """
-    norms = np.linalg.norm(W, axis=1, keepdims=True)
-    unit = W / np.where(norms > 0, norms, 1.0)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        if gram:
-            eigenvalues = np.linalg.eigvalsh(np.swapaxes(unit, 1, 2) @ unit)
-            kappa = np.sqrt(eigenvalues[:, -1] / np.where(eigenvalues[:, 0] > 0, eigenvalues[:, 0], 0.0))
-        else:
-            singular = np.linalg.svd(unit, compute_uv=False)
-            kappa = singular[:, 0] / singular[:, -1]
-    return np.where((norms.min(axis=(1, 2)) > 0) & np.isfinite(kappa), kappa, np.inf)
-
-
 def condition_number(model: Model, q, qd, qdd, base: BaseParameters | None = None) -> float:
     """κ: the condition number of the base regressor stacked over the samples (K, n), columns of unit norm.
 
@@ -200,8 +177,8 @@ def condition_number(model: Model, q, qd, qdd, base: BaseParameters | None = Non
     79.3
     """
     base = base_parameters(model) if base is None else base
-    W = base.regressor(regressor(model, q, qd, qdd)).reshape(1, -1, base.rank)
-    return float(_kappa(W)[0])
+    states = [np.asarray(v, dtype=float).reshape(1, -1, model.n) for v in (q, qd, qdd)]
+    return float(batches.kappa_of_gram(batches.gram(model, base, *states))[0])  # in batches: bounded memory
 
 
 class _Bounds(NamedTuple):
@@ -234,6 +211,11 @@ def _bounds(model: Model, omega: float) -> _Bounds:
         if ranged[j] and half[j] <= 0:
             raise ExcitationError(f"joint '{name}' of robot '{model.name}' cannot move: its limits are lower = upper = "
                                   f"{model.lower[j]:g} (exporters often write 0 for 'no limit': give it real ones)")
+        for what, value in (("half its range", half[j]), ("its velocity limit", velocity[j])):
+            if value < SMALLEST:  # its motion would vanish in rounding, and κ with it (inf)
+                raise ExcitationError(f"joint '{name}' of robot '{model.name}' can hardly move: {what} is {value:.3g}, "
+                                      f"below {SMALLEST:g} (rad, m or per s), so no motion within it excites its "
+                                      "parameters: give it real limits")
         if not ranged[j] and not np.isfinite(velocity[j]):
             raise ExcitationError(f"joint '{name}' of robot '{model.name}' has neither position limits nor a velocity "
                                   "limit in the URDF, so nothing bounds how far or fast it may move: give it "
@@ -257,11 +239,18 @@ def _coefficients(x: np.ndarray, bounds: _Bounds, period: float, harmonics: int)
 
 def _linear_maps(bounds: _Bounds, period: float, harmonics: int, t: np.ndarray) -> np.ndarray:
     """L (3, K, n, P): (q − q_mid, q̇, q̈) at times t is L @ x, the motion being linear in x."""
-    P = 2 * len(bounds.mid) * (harmonics - 1)
-    columns = [_coefficients(e, bounds, period, harmonics)(t) for e in np.eye(P)]
-    maps = np.array([[c[kind] for c in columns] for kind in range(3)])    # (3, P, K, n)
-    maps[0] -= bounds.mid
-    return np.moveaxis(maps, 1, -1)
+    n, k = len(bounds.mid), np.arange(2, harmonics + 1)
+    w1 = 2 * np.pi / period
+    wt = w1 * np.asarray(t, dtype=float)[:, None]                                 # ω_f t, (K, 1)
+    sin_k, cos_k, sin_1, cos_1 = np.sin(wt * k), np.cos(wt * k), np.sin(wt), np.cos(wt)
+    # per unit of a_jk (a_j1 = −a_jk) and of b_jk (b_j1 = −k b_jk, q0_j += b_jk (1/k − k)/ω_f), (3, 2, K, H−1)
+    unit = np.array([[sin_k / (k * w1) - sin_1 / w1, (1 / k - k) / w1 - cos_k / (k * w1) + k * cos_1 / w1],
+                     [cos_k - cos_1, sin_k - k * sin_1],
+                     [-k * w1 * sin_k + w1 * sin_1, k * w1 * cos_k - k * w1 * cos_1]])
+    maps = np.zeros((3, len(wt), n, 2, n, harmonics - 1))
+    for j in range(n):   # coefficient (s, j, k) moves joint j only
+        maps[:, :, j, :, j, :] = bounds.scale[j] * np.moveaxis(unit, 1, 2)
+    return maps.reshape(3, len(wt), n, -1)
 
 
 def _states(L: np.ndarray, X: np.ndarray, mid: np.ndarray):
@@ -284,16 +273,14 @@ class _Problem:
         A = np.concatenate([r.reshape(-1, self.P) for r in rows])     # shares of position and velocity, A x
         self.A = np.vstack([A, -A])
         self.strong = np.isfinite(bounds.effort)
+        self.tick = None  # called with the number of states just evaluated (progress within an iteration)
 
     def kappas(self, X: np.ndarray) -> np.ndarray:
-        """κ of each row of X, at most STATES_AT_A_TIME states per regressor call (its memory stays bounded)."""
-        step = max(1, STATES_AT_A_TIME // self.K.shape[1])
-        return np.concatenate([self._kappas(X[k:k + step]) for k in range(0, len(X), step)])
-
-    def _kappas(self, X: np.ndarray) -> np.ndarray:
-        q, qd, qdd = _states(self.K, X, self.bounds.mid)
-        Y = regressor(self.model, *(v.reshape(-1, v.shape[-1]) for v in (q, qd, qdd)))
-        return _kappa(self.base.regressor(Y).reshape(len(X), -1, self.base.rank), gram=True)
+        """κ of each row of X, a few rows at a time (the states of X are not all kept), regressor calls in batches."""
+        rows = max(1, 4096 // self.K.shape[1])
+        states = (_states(self.K, X[k:k + rows], self.bounds.mid) for k in range(0, len(X), rows))
+        return np.concatenate([batches.kappa_of_gram(batches.gram(self.model, self.base, *s, self.tick))
+                               for s in states])
 
     def objective(self, x: np.ndarray) -> float:
         """log κ at x (remembered: SLSQP and the callback ask for the same x again)."""
@@ -309,9 +296,12 @@ class _Problem:
 
     def torque_shares(self, X: np.ndarray) -> np.ndarray:
         """τ / effort limit at the limit instants, for the joints that have one: (m, K, n_limited)."""
-        q, qd, qdd = _states(self.C, X, self.bounds.mid)
-        tau = inverse_dynamics(self.model, *(v.reshape(-1, v.shape[-1]) for v in (q, qd, qdd))).reshape(q.shape)
-        return tau[..., self.strong] / self.bounds.effort[self.strong]
+        rows = max(1, 4096 // self.C.shape[1])
+        shares = []
+        for k in range(0, len(X), rows):
+            tau = batches.torques(self.model, *_states(self.C, X[k:k + rows], self.bounds.mid), self.tick)
+            shares.append(tau[..., self.strong] / self.bounds.effort[self.strong])
+        return np.concatenate(shares)
 
     def slack(self, x: np.ndarray) -> np.ndarray:
         """1 − margin − share for every constraint row: ≥ 0 is within the limits with the margin."""
@@ -395,30 +385,32 @@ def excitation(model: Model, duration: float, harmonics: int = HARMONICS, sample
     """
     import scipy.optimize  # lazily: slow to import, and nothing else here needs it
 
-    if not (np.isfinite(duration) and duration > 0):
-        raise ExcitationError(f"the duration must be a positive number of seconds, got {duration}")
-    if not (_is_integer(harmonics) and harmonics >= 2):
-        raise ExcitationError(f"the harmonics must be an integer of at least 2 (starting at rest fixes the first), "
-                              f"got {harmonics}")
-    if not (_is_integer(max_iterations) and max_iterations >= 0):
-        raise ExcitationError(f"the iterations must be a non-negative integer, got {max_iterations}")
-    if not (np.isfinite(margin) and 0 <= margin < 1):
-        raise ExcitationError(f"the margin must be at least 0 and less than 1, got {margin}")
-    t = time_grid(duration, dt, values_per_sample=5 * model.n + 1)
+    batches.check_options(duration, harmonics, samples, max_iterations, margin)
+    t = time_grid(duration, dt, values_per_sample=batches.SAMPLE_VALUES * model.n + 1)
+    bounds = _bounds(model, 2 * np.pi / duration)
+    batches.cost(model, harmonics, samples, len(t), max_iterations, CONSTRAINT_POINTS, FINE_POINTS)  # or refused
     base = base_parameters(model)
-    if not (_is_integer(samples) and samples * model.n >= base.rank and samples <= 10_000):
+    if not samples * model.n >= base.rank:
         raise ExcitationError(f"the instants the condition is optimised at must be a whole number from "
                               f"{-(-base.rank // model.n)} (instants × {model.n} joints ≥ the {base.rank} base "
-                              f"parameters) to 10000, got {samples}")
-    bounds = _bounds(model, 2 * np.pi / duration)
+                              f"parameters) to {batches.INSTANTS_MAX}, got {samples}")
     problem = _Problem(model, base, bounds, duration, harmonics, np.arange(samples) * duration / samples,
                        np.linspace(0, duration, CONSTRAINT_POINTS * harmonics, endpoint=False), margin)
     start = _start(problem, np.random.default_rng(seed))
     best, iterations, ended = [problem.objective(start), start], 0, "skipped (0 iterations)"
+    work = [0, (problem.P + 1) * (samples + CONSTRAINT_POINTS * harmonics * problem.strong.any())]  # an iteration's
+
+    def tick(states):  # the bar moves within an iteration, up to just short of its end
+        work[0] += states
+        if progress is not None and max_iterations:
+            progress(min(iterations + work[0] / work[1], iterations + 0.99), max_iterations)
+
+    problem.tick = tick
 
     def keep_best(x, count=True):
         nonlocal iterations
         iterations += count
+        work[0] = 0
         value = problem.objective(x)
         if value < best[0] and problem.slack(x).min() >= -FEASIBLE:
             best[:] = value, x.copy()
@@ -435,16 +427,22 @@ def excitation(model: Model, duration: float, harmonics: int = HARMONICS, sample
     coefficients = _coefficients(best[1], bounds, duration, harmonics)
     fine = np.linspace(0, duration, FINE_POINTS * harmonics, endpoint=False)
     q_fine, qd_fine, qdd_fine = coefficients(fine)
-    q, qd, qdd = coefficients(t)
-    tau_fine, tau = inverse_dynamics(model, q_fine, qd_fine, qdd_fine), inverse_dynamics(model, q, qd, qdd)
-    shares = limit_shares(model, np.vstack([q_fine, q]), np.vstack([qd_fine, qd]), np.vstack([tau_fine, tau]))
+    q, qd, qdd, tau = batches.motion_samples(model, coefficients, t)
+    shares = limit_shares(model, q_fine, qd_fine, batches.torques(model, q_fine, qd_fine, qdd_fine))
+    written = limit_shares(model, q, qd, tau)  # separately: the samples are not copied
+    shares = LimitShares(model.joint_names, *(np.fmax(getattr(shares, k), getattr(written, k)) for k in KINDS))
     for kind in KINDS:
         share, joint = shares.largest(kind)
         if share > 1:
             raise ExcitationError(f"robot '{model.name}': the optimised motion uses {share:.3g} of the {kind} limit of "
                                   f"joint '{joint}' on the fine grid; try a larger margin")
     condition_start = condition_number(model, *_coefficients(start, bounds, duration, harmonics)(fine), base=base)
+    condition = condition_number(model, q_fine, qd_fine, qdd_fine, base=base)
+    if not np.isfinite(condition):
+        raise ExcitationError(f"robot '{model.name}': the motion does not excite every base parameter within its "
+                              "limits (condition number inf); check that every joint's limits let it move")
     return Excitation(
         joints=model.joint_names, t=t, q=q, qd=qd, qdd=qdd, tau=tau, coefficients=coefficients,
-        condition=condition_number(model, q_fine, qd_fine, qdd_fine, base=base), condition_start=condition_start,
+        condition=condition, condition_start=condition_start,
         condition_samples=float(np.exp(best[0])), limits=shares, iterations=iterations, notes=bounds.notes, ended=ended)
+

@@ -1,6 +1,8 @@
 """``course-dynamics excite``: an excitation trajectory for identification, written as CSV."""
 from __future__ import annotations
 
+import csv
+import math
 import sys
 import time
 import warnings
@@ -46,6 +48,37 @@ def add_arguments(parser) -> None:
     add_renamed(parser, "--samples", "--instants")
 
 
+def _say_if_long(model, args) -> None:
+    """Refuse (one line) what would exceed the memory budget, and warn before a run estimated to be long."""
+    from ...tools import excitation as excitation_module
+    from ...tools import excitationcost
+
+    excitationcost.check_options(args.duration, args.harmonics, args.instants, args.max_iterations, args.margin)
+    if not (math.isfinite(args.dt) and 0 < args.dt <= args.duration):
+        return  # excitation() says why
+    samples = math.ceil(args.duration / args.dt - 1e-9) + 1
+    cost = excitationcost.cost(model, args.harmonics, args.instants, samples, args.max_iterations,
+                               excitation_module.CONSTRAINT_POINTS, excitation_module.FINE_POINTS)
+    if cost.seconds > excitationcost.LONG:
+        warnings.warn(f"this excitation is estimated to take {cost.describe()}; fewer --max-iterations, "
+                      "--harmonics or --instants make it shorter", CourseDynamicsWarning)
+
+
+def _write(args, found) -> None:
+    """The CSV as io.write_csv writes it (whole or not at all), a chunk of rows at a time (the table is not copied
+    whole), with a bar on a terminal for a long one."""
+    bar = progress_bar(args, total=len(found.t), unit="sample")
+    try:
+        with io.output(args.out) as handle:
+            csv.writer(handle, lineterminator="\n").writerow(found.table(slice(0))[0])
+            for start in range(0, len(found.t), io.CSV_CHUNK):
+                rows = found.table(slice(start, start + io.CSV_CHUNK))[1].tolist()  # repr: shortest exact form
+                handle.write("".join(",".join(map(repr, row)) + "\n" for row in rows))
+                bar.update(len(rows))
+    finally:
+        bar.close()
+
+
 def run(args) -> int:
     from ...tools.excitation import KINDS, excitation
 
@@ -55,6 +88,7 @@ def run(args) -> int:
         raise UsageError("--out - and --json both want standard output; write the CSV to a file")
     model = load_robot_argument(args)
     io.check_writable(args.out)
+    _say_if_long(model, args)
     started = time.monotonic()
     bar = progress_bar(args, total=args.max_iterations, unit="iteration")
     try:
@@ -64,8 +98,7 @@ def run(args) -> int:
     finally:
         bar.close()
     seconds = time.monotonic() - started
-    header, data = found.table()
-    io.write_csv(args.out, header, data)
+    _write(args, found)
     report = sys.stderr if args.out == io.STDOUT else sys.stdout
     for note in found.notes:
         warnings.warn(note, CourseDynamicsWarning)
