@@ -69,19 +69,24 @@ class RobotReport:
 def term_errors(model, oracle: PinocchioOracle, q, qd, qdd, progress=None) -> dict[str, tuple[np.ndarray, np.ndarray]]:
     """Per term, the absolute and the relative error of every state (arrays of shape (N,)), ours against Pinocchio.
 
-    ``progress``, if given, is called with the number of states just finished.
+    Ours are computed a block of :func:`block_states` states at a time, so the n × n terms held at once are the
+    block's, whatever N is; each state's figures are the same as in one batch. ``progress``, if given, is called with
+    the number of states just finished.
     """
-    ours = ours_batch(model, q, qd, qdd)
     absolute = {t: np.empty(len(q)) for t in TERMS}
     relative = {t: np.empty(len(q)) for t in TERMS}
-    for k in range(len(q)):
-        ref = oracle.terms(q[k], qd[k], qdd[k])
-        scales = term_scales(ref["M"], ref["G"], qd[k], qdd[k], model.gravity)
-        for term in TERMS:
-            absolute[term][k] = float(np.abs(ours[term][k] - ref[term]).max())
-            relative[term][k] = relative_error(ours[term][k], ref[term], scales[term])
-        if progress is not None:
-            progress(1)
+    step = block_states(model.n)
+    for start in range(0, len(q), step):
+        ours = ours_batch(model, q[start:start + step], qd[start:start + step], qdd[start:start + step])
+        for i in range(len(ours["tau"])):
+            k = start + i
+            ref = oracle.terms(q[k], qd[k], qdd[k])
+            scales = term_scales(ref["M"], ref["G"], qd[k], qdd[k], model.gravity)
+            for term in TERMS:
+                absolute[term][k] = float(np.abs(ours[term][i] - ref[term]).max())
+                relative[term][k] = relative_error(ours[term][i], ref[term], scales[term])
+            if progress is not None:
+                progress(1)
     return {t: (absolute[t], relative[t]) for t in TERMS}
 
 
@@ -105,11 +110,36 @@ def validate(name_or_path: str, samples: int = 200, seed: int = 0, tolerance: fl
 
 
 BYTES_PER_CUBED_JOINT = 70  # measured: a validate of an n-joint chain peaks near 70 n³ bytes (4.3 GB at n = 400)
+BYTES_PER_STATE_SQUARE = 32  # measured: ours for a batch of states peaks near 31 n² bytes a state (M, C, their work)
+BLOCK_BYTES = 128 * 2**20    # ours are computed for at most this much at a time
+BYTES_PER_STATE = 48         # a state's Θ, Θ̇, Θ̈ (8 n bytes each, times two while drawn) per joint, and
+BYTES_PER_STATE_ERRORS = 160  # its absolute and relative errors of the five terms
 
 
-def memory_estimate(n: int) -> float:
-    """Bytes a comparison of an n-joint robot needs at its peak (Pinocchio's data and ours), a measured fit."""
-    return 0.3 * 2**30 + BYTES_PER_CUBED_JOINT * float(n) ** 3
+def block_states(n: int) -> int:
+    """States whose terms (ours) are computed at once for an n-joint robot: :data:`BLOCK_BYTES` worth, at least one."""
+    return max(1, BLOCK_BYTES // (BYTES_PER_STATE_SQUARE * n * n))
+
+
+def memory_estimate(n: int, samples: int = 0) -> float:
+    """Bytes a comparison of an n-joint robot on ``samples`` states needs at its peak (Pinocchio's data and ours, a
+    measured fit; the states and their errors; one block of ours)."""
+    states = float(samples) * (BYTES_PER_STATE * n + BYTES_PER_STATE_ERRORS)
+    block = min(samples, block_states(n)) * BYTES_PER_STATE_SQUARE * float(n) ** 2
+    return 0.3 * 2**30 + BYTES_PER_CUBED_JOINT * float(n) ** 3 + states + block
+
+
+def check_comparison_memory(model, samples: int) -> None:
+    """InputError in one line, before any work, when comparing ``model`` on ``samples`` states would not fit in
+    memory: naming ``--samples`` and how many fit when the states are what is too many."""
+    from course_dynamics.base.resources import check_memory, memory_budget
+
+    what = f"robot '{model.name}' has {model.n} joints: comparing it with Pinocchio on --samples {samples} states"
+    spare = memory_budget() - memory_estimate(model.n, 1)
+    if spare >= 0:
+        fit = 1 + int(spare // (BYTES_PER_STATE * model.n + BYTES_PER_STATE_ERRORS))
+        check_memory(memory_estimate(model.n, samples), what, f": take fewer --samples (about {fit} fit)")
+    check_memory(memory_estimate(model.n, samples), what, " ('terms' computes one state of it with our library alone)")
 
 
 def bundled_targets() -> list[str]:
@@ -123,5 +153,5 @@ def display_name(name_or_path: str) -> str:
     return name_or_path if not Path(name_or_path).suffix else Path(name_or_path).name
 
 
-__all__ = ["RobotReport", "TermAgreement", "bundled_targets", "display_name", "ours_batch", "random_states",
-           "memory_estimate", "sampling_bounds", "term_errors", "validate"]
+__all__ = ["RobotReport", "TermAgreement", "block_states", "bundled_targets", "check_comparison_memory", "display_name",
+           "ours_batch", "random_states", "memory_estimate", "sampling_bounds", "term_errors", "validate"]

@@ -127,3 +127,15 @@ def test_a_report_refuses_an_index_it_did_not_write_before_computing(tmp_path, c
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "index.html: exists and was not written by course-dynamics" in err
     assert sorted(p.name for p in out.iterdir()) == ["index.html"]
+
+
+def test_a_report_whose_samples_do_not_fit_is_refused_before_computing(tmp_path, capsys, monkeypatch):
+    import course_dynamics_reference.report as report_module
+    from helpers import assert_one_line_error, run
+
+    monkeypatch.setenv("COURSE_DYNAMICS_MEMORY_BUDGET", "330M")
+    monkeypatch.setattr(report_module, "build_report", lambda *a, **k: pytest.fail("computed before checking"))
+    out = tmp_path / "site"
+    code, _, err = run(capsys, "report", "two_link", "--samples", "100000", "--out", str(out))
+    assert_one_line_error(code, err, "on --samples 100000 states", "take fewer --samples")
+    assert not out.exists()

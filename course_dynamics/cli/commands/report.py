@@ -12,7 +12,6 @@ from ..options import (
     add_all,
     add_robot_argument,
     add_sampling_arguments,
-    check_oracle_memory,
     check_sampling,
     gravity,
     load_robot_argument,
@@ -46,8 +45,10 @@ def run(args) -> int:
     if out.exists() and not out.is_dir():
         raise UsageError(f"{out}: exists and is not a directory")
     io.check_writable(out / "index.html") if out.is_dir() else io.check_writable(out)
-    for target in args.urdf:  # bad input fails before any long work
-        check_oracle_memory(load_robot_argument(args, target))
+    from course_dynamics_reference.validate import check_comparison_memory
+
+    for target in args.urdf:  # bad input fails before any long work: the robot's joints and the states asked
+        check_comparison_memory(load_robot_argument(args, target), args.samples)
     # The oracle is imported by this command only, so the library itself never loads Pinocchio.
     from course_dynamics_reference.report import (
         OWNER,

@@ -9,7 +9,6 @@ from ..options import (
     add_all,
     add_robot_argument,
     add_sampling_arguments,
-    check_oracle_memory,
     check_sampling,
     gravity,
     load_robot_argument,
@@ -35,6 +34,7 @@ def run(args) -> int:
     # The oracle is imported by this command only, so the library itself never loads Pinocchio.
     from course_dynamics_reference.validate import (
         bundled_targets,
+        check_comparison_memory,
         display_name,
         validate,
     )
@@ -42,7 +42,7 @@ def run(args) -> int:
     targets = args.urdf or bundled_targets()
     for target in targets:  # fail on bad input before any long work
         model = load_robot_argument(args, target)
-        check_oracle_memory(model)
+        check_comparison_memory(model, args.samples)  # the robot's joints and the states asked
         warn_if_gravity_free(model)
     progress = progress_bar(args, total=len(targets) * args.samples, unit="state", delay=0.0)
     reports = [validate(target, samples=args.samples, seed=args.seed, tolerance=args.tolerance, progress=progress.update,
