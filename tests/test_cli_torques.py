@@ -266,3 +266,22 @@ def test_an_ambiguous_decimal_separator_is_refused_unless_given(capsys, tmp_path
     table = np.loadtxt(out.splitlines(), delimiter=",", skiprows=next(i for i, line in enumerate(out.splitlines())
                                                                       if line.startswith("t,")) + 1)
     assert len(table) == 20
+
+
+@pytest.mark.parametrize("plot", ["tau.png", "tau.html"])
+def test_a_plot_of_more_joints_than_panels_is_refused_before_reading_the_log(capsys, tmp_path, plot):
+    """One panel per joint, at most 24: a 25-joint chain's --plot is refused in one line, and nothing is written."""
+    from helpers import chain_urdf
+
+    from course_dynamics.output.plotting import MAX_PANELS
+
+    urdf = tmp_path / "chain25.urdf"
+    urdf.write_text(chain_urdf(MAX_PANELS + 1))
+    log = tmp_path / "log.csv"
+    t = np.arange(0, 1, 0.01)
+    log.write_text("t," + ",".join(f"q_joint{i}" for i in range(1, 26)) + "\n"
+                   + "".join(f"{x:.2f}," + ",".join(f"{0.1 * np.sin(x + i):.6f}" for i in range(25)) + "\n" for x in t))
+    out, picture = tmp_path / "tau.csv", tmp_path / plot
+    code, _, err = run(capsys, "torques", str(urdf), "--log", str(log), "--out", str(out), "--plot", str(picture))
+    assert_one_line_error(code, err, "--plot draws one panel per joint, at most 24", "robot 'chain' has 25 joints")
+    assert not out.exists() and not picture.exists()

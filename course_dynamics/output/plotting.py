@@ -17,6 +17,18 @@ from . import io, page
 
 PLOT_FORMATS = ("png", "svg")
 FIGURE_FORMATS = PLOT_FORMATS + ("html",)   # what every --plot takes: html is a page with the figure inline
+MAX_PANELS = 24   # a torque figure draws one panel per joint: 24 already make a picture 37 inches tall
+
+
+def check_panels(model) -> None:
+    """InputError (naming --plot and the joints) when the torque figure would need more than :data:`MAX_PANELS` panels.
+
+    Refused rather than cut to the first 24: a figure of the limits that silently leaves out joints could hide the one
+    beyond its limit, and every joint is in the table and the JSON anyway.
+    """
+    if model.n > MAX_PANELS:
+        raise InputError(f"--plot draws one panel per joint, at most {MAX_PANELS}: robot '{model.name}' has {model.n} "
+                         "joints; leave out --plot (the table, the CSV and --json hold every joint)")
 
 
 def plot_format(path, formats=PLOT_FORMATS) -> str:
@@ -132,8 +144,9 @@ def torque_figure(result, title: str = ""):
     where the robot measured its torques, those in grey beneath ours, with the residual in the panel's title."""
     import numpy as np
 
-    plt = pyplot()
     model, report = result.model, result.report
+    check_panels(model)
+    plt = pyplot()
     n = model.n
     figure, axes = plt.subplots(n, 1, sharex=True, figsize=(8, 1.2 + 1.5 * n), constrained_layout=True, squeeze=False)
     residuals = {r.joint: r for r in result.residuals.joints} if result.residuals is not None else {}

@@ -144,9 +144,10 @@ def run(args) -> int:
     if args.out == io.STDOUT and args.json:
         raise UsageError("--out - and --json both want standard output; write the CSV to a file")
     if args.plot:
-        from ...output.plotting import FIGURE_FORMATS, plot_format
+        from ...output.plotting import FIGURE_FORMATS, check_panels, plot_format
 
         plot_format(args.plot, FIGURE_FORMATS)
+        check_panels(model)
     io.check_distinct([args.log, model.source or None, *map_files(args)], [args.out, args.plot])
     for target in (args.out, args.plot):  # fail before reading a long log
         if target:
