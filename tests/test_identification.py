@@ -246,4 +246,4 @@ def test_a_short_log_keeps_factors_of_its_own_length_and_moves_the_bar_per_joint
     for k, j in enumerate(measured):
         stacked = np.column_stack([A[:, j], target[:, j]])
         np.testing.assert_allclose(R[k].T @ R[k], stacked.T @ stacked, rtol=1e-12, atol=1e-12 * np.abs(stacked).max() ** 2)
-    assert memory_needed(200, 2400, 30, 200) < 2**31 < memory_needed(200, 2400, 3000, 200)   # the log's length counts
+    assert memory_needed(200, 2400, 3000, 200) > 10 * memory_needed(200, 2400, 30, 200)   # the log's length counts

@@ -206,9 +206,10 @@ def _factors(model, log, rows, columns, target, measured, progress) -> np.ndarra
 
 def memory_needed(n: int, parameters: int, samples: int, measured: int) -> float:
     """Bytes an identification of ``parameters`` from ``samples`` of ``measured`` joints of an n-joint robot keeps at its
-    peak: a few copies of the factors R (m, r, P + 1) (their QRs, the weighted fits) and a block's regressor."""
+    peak: a few copies of the factors R (m, r, P + 1) (their QRs, the weighted fits), a block's regressor, and the
+    consistent fit's problem (cvxpy's, measured near 400 (P + 1)² bytes: 0.99 GB in all at n = 100, 3.4 GB at 200)."""
     factors = 8.0 * measured * min(samples, parameters + 1) * (parameters + 1)
-    return 6 * factors + 4 * 8.0 * min(samples, ROWS_AT_A_TIME) * n * parameters
+    return 6 * factors + 4 * 8.0 * min(samples, ROWS_AT_A_TIME) * n * parameters + 400.0 * (parameters + 1) ** 2
 
 
 def _solve(M: np.ndarray, r: np.ndarray) -> np.ndarray:
