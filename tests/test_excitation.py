@@ -10,7 +10,7 @@ import json
 
 import numpy as np
 import pytest
-from helpers import arm_urdf, assert_one_line_error, run
+from helpers import arm_urdf, assert_one_line_error, chain_urdf, run
 
 from course_dynamics import inverse_dynamics, load_robot, load_urdf
 from course_dynamics.core.regressor import base_parameters, regressor
@@ -245,3 +245,128 @@ def test_excite_bad_input_is_one_error_line_and_writes_nothing(capsys, tmp_path,
     code, _, err = run(capsys, "excite", *argv, "--quiet")
     assert_one_line_error(code, err, *fragments)
     assert not out.exists()
+
+
+# ------------------------------------------------------------------------------- bounded in memory and time
+
+from course_dynamics.tools import excitationcost  # noqa: E402  (the tests of the bounds, kept together here)
+
+
+def test_the_linear_maps_are_the_motion_of_the_coefficients():
+    model = load_robot("ur5")
+    bounds = excitation_module._bounds(model, 2 * np.pi / 3.0)
+    t = np.linspace(0, 3.0, 17)
+    x = np.random.default_rng(1).standard_normal(2 * model.n * 3)
+    L = excitation_module._linear_maps(bounds, 3.0, 4, t)
+    motion = excitation_module._coefficients(x, bounds, 3.0, 4)(t)
+    for kind in range(3):
+        assert L[kind] @ x + (bounds.mid if kind == 0 else 0) == pytest.approx(motion[kind], abs=1e-12)
+
+
+def _peak(function, *args, **kwargs):
+    import tracemalloc
+
+    tracemalloc.start()
+    try:
+        value = function(*args, **kwargs)
+        return value, tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+
+
+def test_the_regressor_runs_in_batches_sized_by_the_joints(monkeypatch):
+    monkeypatch.setattr(excitationcost, "BATCH_BYTES", 4 * 2**20)
+    model = load_robot("ur5")          # 3000 states at once: 0.17 GB of dual-number work; batched: under 4 MiB
+    t = np.linspace(0, 2 * np.pi, 3000)[:, None]
+    q, qd, qdd = np.sin(t * [1, 2, 3, 4, 5, 6]), np.cos(t * [1, 2, 3, 4, 5, 6]), -np.sin(t * [1, 2, 3, 4, 5, 6])
+    base = base_parameters(model)
+    kappa, peak = _peak(condition_number, model, q, qd, qdd, base=base)
+    assert peak < 12 * 2**20
+    assert excitationcost.states_per_call(model.n) * excitationcost.REGRESSOR_WORK * 8 * 60 * 6 <= 4 * 2**20
+    assert kappa == pytest.approx(_unit_condition(model, q, qd, qdd), rel=1e-9)
+
+
+def test_the_written_samples_are_computed_in_blocks_within_the_estimate(monkeypatch):
+    monkeypatch.setattr(excitationcost, "BATCH_BYTES", 4 * 2**20)
+    model, samples = load_robot("two_link"), 200_001           # unblocked, the sines and the recursion: > 100 MB
+    found, peak = _peak(excitation, model, 20.0, dt=1e-4, **dict(TINY, max_iterations=0))
+    assert len(found.t) == samples
+    assert peak <= 8 * (excitationcost.SAMPLE_VALUES * model.n + 1) * samples + 3 * excitationcost.BATCH_BYTES
+    estimate = excitationcost.cost(model, 4, 12, samples, 0, excitation_module.CONSTRAINT_POINTS,
+                                   excitation_module.FINE_POINTS)
+    assert peak <= estimate.memory
+
+
+@pytest.mark.parametrize("harmonics", [51, 100_000, 10**9])
+def test_harmonics_beyond_fifty_are_refused_before_anything_is_built(harmonics):
+    with pytest.raises(ExcitationError, match="at most 50 .identification uses 3-10"):
+        excitation(load_robot("two_link"), 3.0, **dict(TINY, harmonics=harmonics, max_iterations=0))
+
+
+def test_what_would_exceed_the_memory_budget_is_refused_up_front(monkeypatch):
+    monkeypatch.setenv("COURSE_DYNAMICS_MEMORY_BUDGET", "300M")
+    # 50 harmonics and 10 000 instants on six joints: linear maps of 0.85 GB
+    with pytest.raises(ExcitationError, match=r"robot 'ur5' \(6 joints, 50 harmonics, 10000 instants.* would need "
+                                              r"about .* GiB of memory, more than the 300 MiB"):
+        excitation(load_robot("ur5"), 10.0, harmonics=50, samples=10_000, max_iterations=1)
+    excitation(load_robot("ur5"), 4.0, harmonics=3, samples=12, max_iterations=0)   # the same budget: a small one runs
+
+
+def test_the_estimate_grows_with_the_joints_harmonics_and_instants(tmp_path):
+    (tmp_path / "2.urdf").write_text(chain_urdf(2))
+    (tmp_path / "8.urdf").write_text(chain_urdf(8))
+    chain = {n: load_urdf(tmp_path / f"{n}.urdf") for n in (2, 8)}
+
+    def cost(n, harmonics=5, instants=40):
+        return excitationcost.cost(chain[n], harmonics, instants, 1001, 100, 24, 200)
+    assert cost(8).iteration > 10 * cost(2).iteration and cost(8).memory > cost(2).memory
+    assert cost(2, harmonics=50).iteration > 100 * cost(2).iteration
+    assert cost(2, instants=4000).iteration > 10 * cost(2).iteration
+    assert "an iteration × 100" in cost(8).describe()
+
+
+def test_progress_moves_within_an_iteration():
+    calls = []
+    excitation(load_robot("ur5"), 4.0, harmonics=3, samples=12, max_iterations=2, progress=lambda *a: calls.append(a))
+    assert any(0 < done < 1 for done, _ in calls) and all(total == 2 for _, total in calls)
+    assert [done for done, _ in calls] == sorted(done for done, _ in calls)
+
+
+def test_a_joint_that_can_hardly_move_is_refused_by_name(tmp_path):
+    for limits, what in (('lower="-1e-300" upper="1e-300" effort="1" velocity="1"', "half its range is 1e-300"),
+                         ('lower="-1" upper="1" effort="1" velocity="1e-300"', "its velocity limit is 1e-300")):
+        text = arm_urdf()
+        cut = text.rindex('lower="-1"')
+        path = tmp_path / "tiny.urdf"
+        path.write_text(text[:cut] + limits + text[text.index("/>", cut):])
+        with pytest.raises(ExcitationError, match=f"joint 'joint2' of robot 'probe' can hardly move: {what}"):
+            excitation(load_urdf(path), 3.0, **TINY)
+
+
+@pytest.mark.parametrize("argv, fragments", [
+    (["--harmonics", "100000"], ["at most 50"]),
+    (["--harmonics", "1000000000"], ["at most 50"]),
+    (["--instants", "10001"], ["whole number up to 10000"]),
+])
+def test_excite_refuses_what_is_too_large_in_one_line(capsys, tmp_path, argv, fragments):
+    out = tmp_path / "x.csv"
+    code, _, err = run(capsys, "excite", "two_link", "--duration", "3", "--out", str(out), *argv, "--quiet")
+    assert_one_line_error(code, err, *fragments)
+    assert not out.exists()
+
+
+def test_excite_refuses_beyond_the_memory_budget_in_one_line(capsys, tmp_path, monkeypatch):
+    monkeypatch.setenv("COURSE_DYNAMICS_MEMORY_BUDGET", "300M")
+    out = tmp_path / "x.csv"
+    code, _, err = run(capsys, "excite", "ur5", "--duration", "10", "--out", str(out), "--harmonics", "50",
+                       "--instants", "10000", "--quiet")
+    assert_one_line_error(code, err, "would need about", "300 MiB", "fewer harmonics or instants")
+    assert not out.exists()
+
+
+def test_excite_says_up_front_when_a_run_will_be_long(capsys, tmp_path, monkeypatch):
+    monkeypatch.setattr(excitationcost, "LONG", 0.0)
+    out = tmp_path / "x.csv"
+    code, _, err = run(capsys, "excite", "two_link", "--duration", "3", "--out", str(out), *ARGS)
+    assert code == 0 and "this excitation is estimated to take about" in err and "an iteration × 15" in err
+    assert out.exists()

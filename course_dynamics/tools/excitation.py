@@ -402,7 +402,7 @@ def excitation(model: Model, duration: float, harmonics: int = HARMONICS, sample
 
     def tick(states):  # the bar moves within an iteration, up to just short of its end
         work[0] += states
-        if progress is not None and max_iterations:
+        if progress is not None and iterations < max_iterations:
             progress(min(iterations + work[0] / work[1], iterations + 0.99), max_iterations)
 
     problem.tick = tick
@@ -411,11 +411,11 @@ def excitation(model: Model, duration: float, harmonics: int = HARMONICS, sample
         nonlocal iterations
         iterations += count
         work[0] = 0
+        if progress is not None and count:
+            progress(iterations, max_iterations)
         value = problem.objective(x)
         if value < best[0] and problem.slack(x).min() >= -FEASIBLE:
             best[:] = value, x.copy()
-        if progress is not None and count:
-            progress(iterations, max_iterations)
 
     if max_iterations > 0:
         result = scipy.optimize.minimize(

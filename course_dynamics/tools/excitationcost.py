@@ -47,7 +47,7 @@ JACOBIAN_COPIES = 6          # (m, P) arrays alive at once: A, the torque rows, 
 REGRESSOR_SECONDS = 1e-5     # per gradient state and n², an iteration's: measured 0.75e-5 to 1.1e-5 (a call 3e-6)
 INVERSE_DYNAMICS_SECONDS = 3e-6  # per Jacobian state and joint, an iteration's; a call measured 0.9e-6 to 1.2e-6
 SUBPROBLEM_SECONDS = 1.6e-8  # SLSQP, per iteration and m P²; measured 1.1e-8 to 1.6e-8 end to end
-WRITE_SECONDS = 1e-6         # per value written as CSV
+WRITE_SECONDS = 2e-6         # per value written as CSV: measured 1e-6 alone, 3.5e-6 with both cores busy
 SAMPLE_VALUES = 6            # floats per written sample and joint: q, q̇, q̈, τ kept, two temporaries of the checks
 LONG = 60.0                  # s: a run estimated to take longer is said before it starts
 
