@@ -327,16 +327,16 @@ def identify(model: Model, log: JointLog, friction: str = "both", holdout: float
     split = t[0] + (1 - holdout) * (t[-1] - t[0])
     train = np.flatnonzero(t < split) if holdout > 0 else np.arange(len(t))
     test = np.flatnonzero(t >= split) if holdout > 0 else np.arange(0)
-    base = base_parameters(model)
     n_rigid = 10 * model.n
-    fitted = list(base.independent) + [n_rigid + k for k in range(len(columns))]
-    if len(train) * len(measured) < 2 * len(fitted):
-        raise InputError(f"{where}: the fitted part has {len(train)} samples of {len(measured)} measured joints, too "
-                         f"few for {len(fitted)} base parameters (at least twice as many values are needed)")
     check_memory(memory_needed(model.n, n_rigid + len(columns), len(train), len(measured)),
                  f"{where}: identifying robot '{model.name}' ({model.n} joints, {n_rigid + len(columns)} parameters) "
                  f"from {len(train)} samples of {len(measured)} measured joints",
                  ": take a robot with fewer joints, or identify less friction (--friction-fit)")
+    base = base_parameters(model)
+    fitted = list(base.independent) + [n_rigid + k for k in range(len(columns))]
+    if len(train) * len(measured) < 2 * len(fitted):
+        raise InputError(f"{where}: the fitted part has {len(train)} samples of {len(measured)} measured joints, too "
+                         f"few for {len(fitted)} base parameters (at least twice as many values are needed)")
     R = _factors(model, log, train, columns, target, measured, progress)
     counts = np.full(len(measured), float(len(train)))
     sigma, theta_wls, error, shares, directions = _weighted_fit(R, counts, fitted)
