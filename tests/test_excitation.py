@@ -276,8 +276,8 @@ def _peak(function, *args, **kwargs):
 
 def test_the_regressor_runs_in_batches_sized_by_the_joints(monkeypatch):
     monkeypatch.setattr(excitationcost, "BATCH_BYTES", 4 * 2**20)
-    model = load_robot("ur5")          # 3000 states at once: 0.17 GB of dual-number work; batched: under 4 MiB
-    t = np.linspace(0, 2 * np.pi, 3000)[:, None]
+    model = load_robot("ur5")          # 1500 states at once: 85 MB of dual-number work; batched: under 4 MiB
+    t = np.linspace(0, 2 * np.pi, 1500)[:, None]
     q, qd, qdd = np.sin(t * [1, 2, 3, 4, 5, 6]), np.cos(t * [1, 2, 3, 4, 5, 6]), -np.sin(t * [1, 2, 3, 4, 5, 6])
     base = base_parameters(model)
     kappa, peak = _peak(condition_number, model, q, qd, qdd, base=base)
