@@ -114,7 +114,7 @@ FLAGS: dict[str, dict] = {
                       "LINK, in base coordinates; adds J^T F, the static-force relation of chapter 5 (may be "
                       "repeated)", metavar="LINK:FX,FY,FZ[,NX,NY,NZ]", action="append"),
     # excite
-    "--harmonics": _flag("harmonics per joint, at least 2 (default 5)", type=int, default=5),
+    "--harmonics": _flag("harmonics per joint, from 2 to 50 (default 5)", type=int, default=5),
     "--instants": _flag("instants of the period the condition number is optimised on (default 40)", type=int,
                         default=40),
     "--max-iterations": _flag("of the optimisation (default 100: under a minute for a UR5; 0 keeps the random "
