@@ -41,7 +41,8 @@ def consistent_fit(model, R, sigma, theta_urdf, kinds, sizes, prior_weight, min_
         p = theta[10 * i:10 * i + 10]
         J = cp.Variable((4, 4), PSD=True)
         trace = p[4] + p[6] + p[9]
-        constraints += [J[a, b] == (0.5 * trace if a == b else 0) - p[TENSOR[a][b]] for a in range(3) for b in range(a, 3)]
+        constraints += [J[a, b] == (0.5 * trace if a == b else 0) - p[TENSOR[a][b]]
+                        for a in range(3) for b in range(a, 3)]
         constraints += [J[a, 3] == p[1 + a] for a in range(3)] + [J[3, 3] == p[0], p[0] >= min_mass[i]]
     if P > n_rigid:
         constraints.append(theta[n_rigid:] >= 0)
@@ -59,7 +60,8 @@ def consistent_fit(model, R, sigma, theta_urdf, kinds, sizes, prior_weight, min_
                 warnings.warn(f"robot '{model.name}', the physically consistent fit ({solver.lower()}): "
                               f"{warning.message}", CourseDynamicsWarning)
         if problem.status in ("optimal", "optimal_inaccurate") and d.value is not None:
-            return theta_urdf + scale * d.value, solver.lower() + ("" if problem.status == "optimal" else " (inaccurate)")
+            accuracy = "" if problem.status == "optimal" else " (inaccurate)"
+            return theta_urdf + scale * d.value, solver.lower() + accuracy
     raise InputError(f"robot '{model.name}': the physically consistent fit found no solution (Clarabel and SCS: "
                      f"{problem.status}); the log may not move the joints enough")
 
