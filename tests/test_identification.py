@@ -236,7 +236,7 @@ def test_a_short_log_keeps_factors_of_its_own_length_and_moves_the_bar_per_joint
 
     model = load_robot("ur5")
     rng = np.random.default_rng(3)
-    log = SimpleNamespace(q=rng.uniform(-1, 1, (30, 6)), qd=rng.uniform(-1, 1, (30, 6)), qdd=rng.uniform(-1, 1, (30, 6)))
+    log = SimpleNamespace(**{name: rng.uniform(-1, 1, (30, 6)) for name in ("q", "qd", "qdd")})
     target, rows, measured, columns = rng.standard_normal((30, 6)), np.arange(30), [0, 2, 5], [("viscous", 0)]
     calls = []
     R = _factors(model, log, rows, columns, target, measured, lambda done, total: calls.append((done, total)))
@@ -245,5 +245,6 @@ def test_a_short_log_keeps_factors_of_its_own_length_and_moves_the_bar_per_joint
     A = _design(model, log, rows, columns)
     for k, j in enumerate(measured):
         stacked = np.column_stack([A[:, j], target[:, j]])
-        np.testing.assert_allclose(R[k].T @ R[k], stacked.T @ stacked, rtol=1e-12, atol=1e-12 * np.abs(stacked).max() ** 2)
+        np.testing.assert_allclose(R[k].T @ R[k], stacked.T @ stacked, rtol=1e-12,
+                                   atol=1e-12 * np.abs(stacked).max() ** 2)
     assert memory_needed(200, 2400, 3000, 200) > 10 * memory_needed(200, 2400, 30, 200)   # the log's length counts

@@ -42,7 +42,8 @@ def test_states_are_compared_a_block_at_a_time_with_the_same_figures(monkeypatch
     whole = validate("ur5", samples=40, seed=3)
     sizes, batch = [], module.ours_batch
     monkeypatch.setattr(module, "BLOCK_BYTES", 7 * module.BYTES_PER_STATE_SQUARE * 36)   # 7 states of a 6-joint arm
-    monkeypatch.setattr(module, "ours_batch", lambda model, q, qd, qdd: sizes.append(len(q)) or batch(model, q, qd, qdd))
+    monkeypatch.setattr(module, "ours_batch",
+                        lambda model, q, qd, qdd: sizes.append(len(q)) or batch(model, q, qd, qdd))
     blocked = validate("ur5", samples=40, seed=3)
     assert sizes == [7] * 5 + [5]
     assert blocked.as_dict() == whole.as_dict()
