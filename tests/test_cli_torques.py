@@ -285,3 +285,14 @@ def test_a_plot_of_more_joints_than_panels_is_refused_before_reading_the_log(cap
     code, _, err = run(capsys, "torques", str(urdf), "--log", str(log), "--out", str(out), "--plot", str(picture))
     assert_one_line_error(code, err, "--plot draws one panel per joint, at most 24", "robot 'chain' has 25 joints")
     assert not out.exists() and not picture.exists()
+
+
+def test_a_sample_step_at_the_ends_of_its_range_is_taken(capsys, tmp_path):
+    # The clock made from --log-dt 1e-9 is 9.99999999999996e-10 s by round-off: the message's own end is accepted.
+    log = tmp_path / "log.csv"
+    q = 1e-9 * np.sin(0.1 * np.outer(np.arange(50), np.arange(1, 3)))
+    np.savetxt(log, q, delimiter=",", header="q_theta1,q_theta2", comments="")
+    code, _, err = run(capsys, "torques", "two_link", "--log", str(log), "--log-dt", "1e-9")
+    assert code in (0, 1) and "outside 1e-9 s to 1e6 s" not in err, err
+    code, _, err = run(capsys, "torques", "two_link", "--log", str(log), "--log-dt", "0.99e-9")
+    assert_one_line_error(code, err, "the sample step 9.9e-10 s is outside 1e-9 s to 1e6 s")

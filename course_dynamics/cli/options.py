@@ -138,16 +138,6 @@ def check_finite(what: str, *arrays) -> None:
                              "arithmetic")
 
 
-def check_oracle_memory(model) -> None:
-    """Refuse, before any work, a robot whose comparison with Pinocchio would not fit in memory."""
-    from course_dynamics_reference.validate import memory_estimate
-
-    from ..base.resources import check_memory
-
-    check_memory(memory_estimate(model.n), f"robot '{model.name}' has {model.n} joints: comparing it with Pinocchio",
-                 " ('terms' computes one state of it with our library alone)")
-
-
 def check_output_names(args) -> None:
     """An empty output name ('') would mean the current folder: refuse it for every output option."""
     for option in ("out", "plot", "html"):

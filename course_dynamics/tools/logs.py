@@ -210,7 +210,7 @@ def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[
         t, renamed, segments, step = clock.t, clock.columns, clock.segments, clock.step
         notes += clock.notes
         samples = len(t)
-        if not 1e-9 <= step <= 1e6:
+        if not 1e-9 * (1 - 1e-9) <= step <= 1e6 * (1 + 1e-9):  # the ends themselves, within the clock's round-off
             raise InputError(f"{where}: the sample step {step:g} s is outside 1e-9 s to 1e6 s; is t in seconds "
                              f"(time_unit, --time-unit)?")
     q = stack_joint_columns(renamed, "q", model.joint_names)
