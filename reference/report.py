@@ -75,7 +75,8 @@ def _error_histograms(relative: dict[str, np.ndarray], tolerance: float):
         floor = 1e-18
         bins = np.linspace(-18, max(-8, np.log10(tolerance) + 1), 41)
         for term in TERMS:
-            axis.hist(np.log10(np.maximum(relative[term], floor)), bins=bins, histtype="step", linewidth=1.6, label=term)
+            axis.hist(np.log10(np.maximum(relative[term], floor)), bins=bins, histtype="step", linewidth=1.6,
+                      label=term)
         axis.axvline(np.log10(tolerance), color="black", linestyle="--", linewidth=1, label="tolerance")
         axis.set_xlabel("log10 relative error (ours vs Pinocchio; 0 exactly counted at -18)")
         axis.set_ylabel("states")
@@ -91,7 +92,8 @@ def _trajectory_plot(t, ours, theirs, joints):
         figure, axis = plt.subplots(figsize=(7.0, 3.6), constrained_layout=True)
         for j, name in enumerate(joints):
             line, = axis.plot(t, ours[:, j], linewidth=2.2, alpha=0.6, label=f"{name} (ours)")
-            axis.plot(t, theirs[:, j], linestyle="--", color=line.get_color(), linewidth=1.0, label=f"{name} (Pinocchio)")
+            axis.plot(t, theirs[:, j], linestyle="--", color=line.get_color(), linewidth=1.0,
+                      label=f"{name} (Pinocchio)")
         axis.set_xlabel("t (s)")
         axis.set_ylabel("τ (N·m, or N for prismatic joints)")
         axis.set_title("τ along a smooth trajectory: ours (solid) and Pinocchio (dashed)")
@@ -109,7 +111,8 @@ def robot_section(name_or_path: str, samples: int, seed: int, tolerance: float =
     closed forms hold for the course's own gravity only.
     """
     urdf = resolve(name_or_path)
-    model = load(urdf, allow_nonphysical_inertia=allow_nonphysical_inertia, **({} if gravity is None else {"gravity": gravity}))
+    given_gravity = {} if gravity is None else {"gravity": gravity}
+    model = load(urdf, allow_nonphysical_inertia=allow_nonphysical_inertia, **given_gravity)
     oracle = PinocchioOracle(urdf, model.joint_names, model.gravity)
     q, qd, qdd = random_states(model, samples, seed)
     errors = term_errors(model, oracle, q, qd, qdd, progress=progress)
@@ -182,15 +185,17 @@ class Report:
 
     def as_dict(self) -> dict:
         # the URDF by its file name: a report is published, and the folders of this machine are nobody's business
-        return {"robots": [{"name": r.name, "urdf": Path(r.urdf).name, "joints": r.joints, "bodies": r.bodies, "terms": r.terms,
-                            "trajectory": r.trajectory, "textbook": r.textbook} for r in self.robots],
+        return {"robots": [{"name": r.name, "urdf": Path(r.urdf).name, "joints": r.joints, "bodies": r.bodies,
+                            "terms": r.terms, "trajectory": r.trajectory, "textbook": r.textbook}
+                           for r in self.robots],
                 "tolerance": self.tolerance, "misprints_in_the_notes": self.misprints, "environment": self.environment}
 
 
 def build_report(targets, samples: int = 200, seed: int = 0, tolerance: float = TOLERANCE, progress=None,
                  gravity=None, allow_nonphysical_inertia: bool = False) -> Report:
     """Compute the report for every robot in ``targets`` (paths or shipped names); options as :func:`robot_section`."""
-    sections = [robot_section(t, samples, seed, tolerance, progress, gravity, allow_nonphysical_inertia) for t in targets]
+    sections = [robot_section(t, samples, seed, tolerance, progress, gravity, allow_nonphysical_inertia)
+                for t in targets]
     return Report(sections, environment(seed, samples), tolerance, errata_count())
 
 
@@ -201,26 +206,28 @@ def _number(x: float) -> str:
 def report_html(report: Report) -> str:
     env = report.environment
     parts = [page.heading("course-dynamics against Pinocchio"),
-             page.paragraph("Every term of ", page.math(r"\tau = M(\Theta)\ddot\Theta + V(\Theta, \dot\Theta) + G(\Theta)"),
+             page.paragraph("Every term of ",
+                            page.math(r"\tau = M(\Theta)\ddot\Theta + V(\Theta, \dot\Theta) + G(\Theta)"),
                             " and the Coriolis matrix ", page.math("C"), ", computed by course-dynamics' hand-written "
-                            f"Newton–Euler recursion and by Pinocchio on {env['samples']} seeded random states per robot "
-                            f"(seed {env['seed']}). Relative error: ",
+                            f"Newton–Euler recursion and by Pinocchio on {env['samples']} seeded random states per "
+                            f"robot (seed {env['seed']}). Relative error: ",
                             page.math(r"\lVert \text{ours} - \text{Pinocchio} \rVert_\infty / "
                                       r"\max(\lVert \text{Pinocchio} \rVert_\infty, s)"),
                             f", with s the term's scale; the project holds itself to {report.tolerance:g}.")]
     for r in report.robots:
         parts.append(page.heading(r.name, 2))
-        parts.append(page.paragraph(f"{len(r.joints)} joints: " + ", ".join(f"{j['name']} ({j['type']})" for j in r.joints)
-                                    + "; moving bodies: " + ", ".join(f"{b['link']} {b['mass']:.4g} kg" for b in r.bodies)
-                                    + "."))
+        joints = ", ".join(f"{j['name']} ({j['type']})" for j in r.joints)
+        bodies = ", ".join(f"{b['link']} {b['mass']:.4g} kg" for b in r.bodies)
+        parts.append(page.paragraph(f"{len(r.joints)} joints: {joints}; moving bodies: {bodies}."))
         rows = [(TERM_TITLES[t], _number(v["max"]), _number(v["median"]), _number(v["max_relative"]),
                  _number(v["median_relative"]), "yes" if v["agrees"] else "NO") for t, v in r.terms.items()]
         parts.append(page.table(rows, header=("term", "max abs", "median abs", "max rel", "median rel", "agrees"),
                                 css="numbers"))
         parts.append(page.figure(page.svg(r.figures["errors"]), "Relative error per state and term."))
         parts.append(page.figure(page.svg(r.figures["trajectory"]),
-                                 f"τ along a smooth {r.trajectory['duration']:g} s trajectory; the largest difference is "
-                                 f"{_number(r.trajectory['max_abs_difference'])} (τ up to {r.trajectory['max_abs_tau']:.3g})."))
+                                 f"τ along a smooth {r.trajectory['duration']:g} s trajectory; the largest "
+                                 f"difference is {_number(r.trajectory['max_abs_difference'])} "
+                                 f"(τ up to {r.trajectory['max_abs_tau']:.3g})."))
         if r.textbook is not None:
             parts.append(page.paragraph(f"Against the textbook ({CLOSED_FORMS[r.name]}): largest relative error of M "
                                         f"{_number(r.textbook['M'])}, V {_number(r.textbook['V'])}, "
@@ -236,15 +243,17 @@ def report_markdown(report: Report) -> str:
     e = render.markdown_escape
     env = report.environment
     lines = ["# course-dynamics against Pinocchio", "",
-             f"Every term computed by course-dynamics and by Pinocchio on {env['samples']} seeded random states per robot "
-             f"(seed {env['seed']}); relative error ‖ours − Pinocchio‖∞ / max(‖Pinocchio‖∞, the term's scale), "
-             f"tolerance {report.tolerance:g}.", ""]
+             f"Every term computed by course-dynamics and by Pinocchio on {env['samples']} seeded random states "
+             f"per robot (seed {env['seed']}); relative error ‖ours − Pinocchio‖∞ / max(‖Pinocchio‖∞, "
+             f"the term's scale), tolerance {report.tolerance:g}.", ""]
     for index, r in enumerate(report.robots):
         lines += [f"## {e(r.name)}", "",
-                  f"{len(r.joints)} joints: " + ", ".join(f"{e(j['name'])} ({e(j['type'])})" for j in r.joints) + ".", "",
+                  f"{len(r.joints)} joints: " + ", ".join(f"{e(j['name'])} ({e(j['type'])})" for j in r.joints) + ".",
+                  "",
                   "| term | max abs | median abs | max rel | median rel | agrees |", "|---|---|---|---|---|---|"]
-        lines += [f"| {e(TERM_TITLES[t])} | {_number(v['max'])} | {_number(v['median'])} | {_number(v['max_relative'])} | "
-                  f"{_number(v['median_relative'])} | {'yes' if v['agrees'] else 'NO'} |" for t, v in r.terms.items()]
+        lines += [f"| {e(TERM_TITLES[t])} | {_number(v['max'])} | {_number(v['median'])} | "
+                  f"{_number(v['max_relative'])} | {_number(v['median_relative'])} | "
+                  f"{'yes' if v['agrees'] else 'NO'} |" for t, v in r.terms.items()]
         lines += ["", f"![relative errors](figures/robot{index}_errors.svg)", "",
                   f"![tau along a trajectory](figures/robot{index}_trajectory.svg)", "",
                   f"Along a smooth {r.trajectory['duration']:g} s trajectory the largest difference in τ is "

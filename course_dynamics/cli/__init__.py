@@ -51,8 +51,8 @@ def build_parser() -> Parser:
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
     for name in COMMANDS:
         command = importlib.import_module(f"{__name__}.commands.{name}")
-        p = sub.add_parser(name.replace("_", "-"), help=command.HELP, description=getattr(command, "DESCRIPTION", command.HELP),
-                           epilog=robots_epilog())
+        p = sub.add_parser(name.replace("_", "-"), help=command.HELP,
+                           description=getattr(command, "DESCRIPTION", command.HELP), epilog=robots_epilog())
         command.add_arguments(p)
         p.set_defaults(run=command.run)
     return parser

@@ -60,7 +60,8 @@ def figure_file(figure, fmt: str, title: str = "") -> bytes:
     if fmt != "html":
         return figure_bytes(figure, fmt)
     drawing = figure_bytes(figure, "svg").decode("utf-8")
-    return page.page(title or "figure", [page.heading(title or "figure"), page.figure(page.svg(drawing))]).encode("utf-8")
+    name = title or "figure"
+    return page.page(name, [page.heading(name), page.figure(page.svg(drawing))]).encode("utf-8")
 
 
 def _save(figure, path) -> None:
@@ -122,8 +123,8 @@ def ensemble_figure(trajectory: Trajectory, title: str = ""):
     q, t = trajectory.q, trajectory.t
     distance = np.abs(q[:, 1:, :] - q[:, :1, :]).max(axis=-1)  # (T, K − 1)
     figure, axes = plt.subplots(2, 1, sharex=True, figsize=(8, 7), constrained_layout=True)
-    axes[0].semilogy(t, np.maximum(distance, 1e-17), color="tab:blue", alpha=max(0.05, min(0.5, 20 / distance.shape[1])),
-                     linewidth=0.8)
+    alpha = max(0.05, min(0.5, 20 / distance.shape[1]))   # many members: each fainter
+    axes[0].semilogy(t, np.maximum(distance, 1e-17), color="tab:blue", alpha=alpha, linewidth=0.8)
     axes[0].semilogy(t, np.maximum(np.median(distance, axis=1), 1e-17), color="black", linewidth=2, label="median")
     axes[0].set_ylabel("max_j |θ_j(t) − θ_j of member 0| (rad or m)")
     axes[0].legend(loc="lower right")
@@ -183,7 +184,8 @@ def torque_figure(result, title: str = ""):
         axis.grid(alpha=0.3)
     axes[-1, 0].set_xlabel("t (s)")
     figure.suptitle(title or f"{model.name}: joint torques (N m, or N for prismatic joints)\n"
-                             "red bands: the effort limit; shaded in time: red beyond it, orange beyond the velocity limit")
+                             "red bands: the effort limit; shaded in time: red beyond it, "
+                             "orange beyond the velocity limit")
     return figure
 
 

@@ -45,7 +45,8 @@ sign of a Coulomb term follows the measured rate.
 >>> qd = np.gradient(q, t, axis=0); qdd = np.gradient(qd, t, axis=0)
 >>> tau = inverse_dynamics(true, q, qd, qdd)
 >>> columns = {"t": t, "q_theta1": q[:, 0], "q_theta2": q[:, 1], "qd_theta1": qd[:, 0], "qd_theta2": qd[:, 1],
-...            "qdd_theta1": qdd[:, 0], "qdd_theta2": qdd[:, 1], "tau_meas_theta1": tau[:, 0], "tau_meas_theta2": tau[:, 1]}
+...            "qdd_theta1": qdd[:, 0], "qdd_theta2": qdd[:, 1],
+...            "tau_meas_theta1": tau[:, 0], "tau_meas_theta2": tau[:, 1]}
 >>> found = identify(arm, joint_log(arm, columns), friction="none")
 >>> bool(found.rms_after.max() < 1e-3 * found.rms_before.max())       # on the held-out last 20 %
 True
@@ -80,7 +81,8 @@ NOISE_FLOOR = 1e-9            # σⱼ at least this share of the RMS measured to
 
 
 def pseudo_inertia(p) -> np.ndarray:
-    """J of one body's ten parameters (m, h, I about the origin; :data:`~course_dynamics.core.regressor.PARAMETER_NAMES`).
+    """J of one body's ten parameters (m, h, I about the origin, as
+    :data:`~course_dynamics.core.regressor.PARAMETER_NAMES` orders them).
 
     J = [[Σ, h], [hᵀ, m]] with Σ = ∫ r rᵀ dm = ½ tr(I) 1 − I. J ⪰ 0 holds exactly for real bodies:
     it implies m ≥ 0, an inertia about the centre of mass that is positive semi-definite and
@@ -205,9 +207,10 @@ def _factors(model, log, rows, columns, target, measured, progress) -> np.ndarra
 
 
 def memory_needed(n: int, parameters: int, samples: int, measured: int) -> float:
-    """Bytes an identification of ``parameters`` from ``samples`` of ``measured`` joints of an n-joint robot keeps at its
-    peak: a few copies of the factors R (m, r, P + 1) (their QRs, the weighted fits), a block's regressor, and the
-    consistent fit's problem (cvxpy's, measured near 400 (P + 1)² bytes: 0.99 GB in all at n = 100, 3.4 GB at 200)."""
+    """Bytes an identification of ``parameters`` from ``samples`` of ``measured`` joints of an n-joint robot keeps
+    at its peak: a few copies of the factors R (m, r, P + 1) (their QRs, the weighted fits), a block's regressor,
+    and the consistent fit's problem (cvxpy's, measured near 400 (P + 1)² bytes: 0.99 GB in all at n = 100, 3.4 GB
+    at 200)."""
     factors = 8.0 * measured * min(samples, parameters + 1) * (parameters + 1)
     return 6 * factors + 4 * 8.0 * min(samples, ROWS_AT_A_TIME) * n * parameters + 400.0 * (parameters + 1) ** 2
 
@@ -263,7 +266,8 @@ def _physical(pi: np.ndarray, model: Model, min_mass) -> np.ndarray:
         J = (vectors * np.maximum(values, 1e-12 * max(values.max(), 0.0))) @ vectors.T
         mass = max(J[3, 3], min_mass[i] * (1 - 1e-9))
         inertia = np.trace(J[:3, :3]) * np.eye(3) - J[:3, :3]
-        pi[10 * i:10 * i + 10] = [mass, *J[:3, 3]] + [inertia[a, b] for a, b in ((0, 0), (0, 1), (1, 1), (0, 2), (1, 2), (2, 2))]
+        upper = ((0, 0), (0, 1), (1, 1), (0, 2), (1, 2), (2, 2))   # Ixx, Ixy, Iyy, Ixz, Iyz, Izz
+        pi[10 * i:10 * i + 10] = [mass, *J[:3, 3]] + [inertia[a, b] for a, b in upper]
         problems = physical_problems(with_parameters(model, pi).bodies[i].I_com)
         if problems:
             raise InputError(f"body '{body.name}': the identified inertia {problems[0]} (a solver failure)")
@@ -286,7 +290,8 @@ def _combination(vector, names) -> str:
 
 
 def identify(model: Model, log: JointLog, friction: str = "both", holdout: float = 0.2,
-             prior_weight: float = PRIOR_WEIGHT, min_mass=None, progress=None, where: str = "the log") -> Identification:
+             prior_weight: float = PRIOR_WEIGHT, min_mass=None, progress=None,
+             where: str = "the log") -> Identification:
     """The parameters ``log`` shows ``model`` really has (module docstring).
 
     Parameters
@@ -344,8 +349,8 @@ def identify(model: Model, log: JointLog, friction: str = "both", holdout: float
     theta_urdf = np.concatenate([parameters(model), [getattr(urdf_friction, kind)[j] for kind, j in columns]])
     masses = np.array([b.mass for b in model.bodies], dtype=float)
     min_mass = np.maximum(MIN_MASS_SHARE * masses, MIN_MASS) if min_mass is None else np.asarray(min_mass, float)
-    theta, solver = consistent_fit(model, R, sigma, theta_urdf, kinds, _typical(model, theta_urdf, theta_wls, kinds, fitted),
-                                prior_weight, min_mass)
+    typical = _typical(model, theta_urdf, theta_wls, kinds, fitted)
+    theta, solver = consistent_fit(model, R, sigma, theta_urdf, kinds, typical, prior_weight, min_mass)
     pi = _physical(theta[:n_rigid], model, min_mass)
     theta = np.concatenate([pi, np.maximum(theta[n_rigid:], 0.0)])
     found = with_parameters(model, pi)
@@ -373,7 +378,8 @@ def identify(model: Model, log: JointLog, friction: str = "both", holdout: float
         model=found, friction=found_friction, original=model, original_friction=urdf_friction, friction_model=friction,
         names=names, pi_urdf=theta_urdf, pi=theta, base=base, base_names=base_names, base_urdf=base_values(theta_urdf),
         base_wls=theta_wls, base_error=error, base_consistent=base_values(theta), condition_number=condition,
-        unexcited=unexcited, never_act=never_act, sigma=_per_joint(model, measured, sigma, packed=True), split_t=float(split),
+        unexcited=unexcited, never_act=never_act, sigma=_per_joint(model, measured, sigma, packed=True),
+        split_t=float(split),
         samples=(len(train), len(test)), held_out=(t[test], log.measured[test], before, after),
         rms_before=rms_before, rms_after=rms_after, solver=solver, notes=notes)
 

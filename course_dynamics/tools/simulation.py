@@ -16,8 +16,9 @@ bodies and V + G by Newton–Euler, compiled into straight-line code
 (:mod:`course_dynamics.core.compiled`) where the cache holds it or the run is long enough
 for that to pay off, as the evaluator (:mod:`course_dynamics.core.evaluator`) decides once,
 at the start, from the whole run's calls (:data:`CALLS_PER_STEP` a step) and ensemble size —
-about 100 Euler steps or 25 RK4 steps of one robot; ``compiled=True``/``False`` forces the choice. Any :data:`~course_dynamics.core.forward_dynamics.AccelerationFunction`
-(q, qd, τ) → Θ̈ can take its place — Pinocchio's ``aba`` in a benchmark.
+about 100 Euler steps or 25 RK4 steps of one robot; ``compiled=True``/``False`` forces the choice.
+Any :data:`~course_dynamics.core.forward_dynamics.AccelerationFunction` (q, qd, τ) → Θ̈ can take its
+place — Pinocchio's ``aba`` in a benchmark.
 Friction, if given, is subtracted from τ before the call (6.114).
 
 Ensembles: with ``q0`` (and ``qd0``) of shape (K, n), K systems are integrated
@@ -75,7 +76,8 @@ class TorqueTable:
     def __post_init__(self):
         t, tau = np.asarray(self.t, dtype=float), np.asarray(self.tau, dtype=float)
         if t.ndim != 1 or tau.ndim != 2 or len(t) != len(tau) or len(t) == 0:
-            raise SimulationError(f"a torque table needs t of shape (K,) and tau of shape (K, n), got {t.shape} and {tau.shape}")
+            raise SimulationError(f"a torque table needs t of shape (K,) and tau of shape (K, n), "
+                                  f"got {t.shape} and {tau.shape}")
         if np.any(np.diff(t) <= 0):
             raise SimulationError("torque table times must be strictly increasing")
         if not (np.all(np.isfinite(t)) and np.all(np.isfinite(tau))):

@@ -34,9 +34,10 @@ DESCRIPTION = (
     "identified URDF is the input URDF with each moving link's <inertial> and each joint's <dynamics damping "
     "friction> identified (links merged into a moving body by fixed joints lose their <inertial>; everything else "
     "is kept as it was; the text is read back before it is written, and one that would read back otherwise than "
-    "identified is refused). --out FILE.urdf (or -, or a file that exists) writes it alone; --out DIR writes DIR/identified.urdf with the "
-    "report: report.html, report.md, report.json and held_out.svg. --json prints the identification (parameters, "
-    "held_out_rms, samples, friction_model, ...). Needs course-dynamics[identify]. Exit 0, 2 on bad input.")
+    "identified is refused). --out FILE.urdf (or -, or a file that exists) writes it alone; --out DIR writes "
+    "DIR/identified.urdf with the report: report.html, report.md, report.json and held_out.svg. --json prints "
+    "the identification (parameters, held_out_rms, samples, friction_model, ...). Needs course-dynamics[identify]. "
+    "Exit 0, 2 on bad input.")
 
 SHOWN = 5  # hardly excited combinations printed; the report and --json list all
 URDF_SUFFIXES = (".urdf", ".xml")   # an --out with one of these (or a file already) is the URDF alone; else a folder
@@ -89,7 +90,8 @@ def run(args) -> int:
         check_report_folder(folder, (IDENTIFIED,) if in_folder else ())  # a file in the way fails before the work
     if not in_folder:
         io.check_writable(urdf_out)
-    constants_k = None if args.torque_constant is None else joint_values(args.torque_constant, "--torque-constant", model)
+    constants_k = (None if args.torque_constant is None
+                   else joint_values(args.torque_constant, "--torque-constant", model))
     source = open_log_argument(args, model, args.log)
     log = joint_log(model, source, dt=args.log_dt, columns=mapping, window=args.smooth, constants=fixed,
                     time_unit=args.time_unit, resample=args.resample, split_gaps=args.split_gaps,

@@ -133,8 +133,8 @@ def run(args) -> int:
         )
 
         draw = trajectory_figure if trajectory.members is None else ensemble_figure
-        title = (f"{model.name}: {args.integrator}, dt = {args.dt:g} s"
-                 + (f", {trajectory.members} members, perturbation {args.perturbation:g}" if trajectory.members else ""))
+        ensemble = f", {trajectory.members} members, perturbation {args.perturbation:g}" if trajectory.members else ""
+        title = f"{model.name}: {args.integrator}, dt = {args.dt:g} s{ensemble}"
         picture = figure_file(draw(trajectory, title=title), plot_format(args.plot, FIGURE_FORMATS), title)
     if args.html:
         document = animation_document(model, resolve(args.urdf), trajectory.t, trajectory.q, trajectory.tau, args)
@@ -157,8 +157,9 @@ def run(args) -> int:
     else:
         members = f"{trajectory.members} members, " if trajectory.members else ""
         energy = "mean energy" if trajectory.members else "energy"
-        print(f"simulated {model.name} for {args.duration:g} s ({members}{len(trajectory.t)} samples, {args.integrator}, "
-              f"dt = {args.dt:g} s); {energy} {summary['energy_start']:.6g} J -> {summary['energy_end']:.6g} J; "
+        print(f"simulated {model.name} for {args.duration:g} s ({members}{len(trajectory.t)} samples, "
+              f"{args.integrator}, dt = {args.dt:g} s); {energy} {summary['energy_start']:.6g} J -> "
+              f"{summary['energy_end']:.6g} J; "
               f"wrote {args.out}")
         if trajectory.members:
             print(f"largest distance from member 0 at the end: {summary['final_spread']:.3g} (rad or m)")

@@ -152,7 +152,8 @@ def run(args) -> int:
     for target in (args.out, args.plot):  # fail before reading a long log
         if target:
             io.check_writable(target)
-    constants_k = None if args.torque_constant is None else joint_values(args.torque_constant, "--torque-constant", model)
+    constants_k = (None if args.torque_constant is None
+                   else joint_values(args.torque_constant, "--torque-constant", model))
     bar = progress_bar(args, total=None, unit="step")
     try:
         bar.set_description("reading the log")
@@ -186,7 +187,8 @@ def run(args) -> int:
                                      residuals=None if result.residuals is None else result.residuals.record()))
     step = float(np.median(np.diff(result.t))) if len(result.t) > 1 else 0.0
     if step > SLOW_SAMPLES:
-        warnings.warn(f"the samples are {step:g} s apart; if t is not in seconds, give --time-unit", CourseDynamicsWarning)
+        warnings.warn(f"the samples are {step:g} s apart; if t is not in seconds, give --time-unit",
+                      CourseDynamicsWarning)
     if args.out == io.STDOUT and not args.json:
         _print_report(result, sys.stderr)  # before the CSV: a reader that stops early (| head) still sees it
     if args.plot:
@@ -213,7 +215,8 @@ def _print_report(result, stream) -> None:
     for r in report.rows():
         band = "" if not r["peak_tau_band"] else f" ±{r['peak_tau_band']:.2g}"
         rows.append([r["joint"], f"{r['peak_tau']:.4g}{band}", f"{r['rms_tau']:.4g}", _limit(r["effort_limit"]),
-                     _share(r["effort_used"]), f"{r['peak_qd']:.4g}", _limit(r["velocity_limit"]), _share(r["velocity_used"])])
+                     _share(r["effort_used"]), f"{r['peak_qd']:.4g}", _limit(r["velocity_limit"]),
+                     _share(r["velocity_used"])])
     print(f"robot {model.name}: {len(result.t)} samples over {result.t[-1] - result.t[0]:.6g} s "
           "(tau in N m or N; rates in rad/s or m/s)", file=stream)
     print(render.text_table(rows, align="<>>>>>>>"), file=stream)
@@ -230,7 +233,8 @@ def _print_report(result, stream) -> None:
               file=stream)
         print(render.text_table(rows, align="<>>>>>"), file=stream)
     if report.peak_band is not None and np.any(report.peak_band):
-        print("(± is 2 sigma of the torque at the peak: what differentiating the rates may have got wrong)", file=stream)
+        print("(± is 2 sigma of the torque at the peak: what differentiating the rates may have got wrong)",
+              file=stream)
     if report.exceeded:
         print("a limit is exceeded", file=stream)
     elif report.uncertain:

@@ -19,8 +19,8 @@ from ..options import (
 
 HELP = "compare every term with Pinocchio on random states"
 DESCRIPTION = ("Evaluate tau, M, C, V, G with course_dynamics and with Pinocchio on seeded random states within joint "
-               "limits. --json prints the report (ok, tolerance, robots). Exit 0 when every term agrees to the tolerance "
-               "(relative), 1 when one does not, 2 on bad input.")
+               "limits. --json prints the report (ok, tolerance, robots). Exit 0 when every term agrees to the "
+               "tolerance (relative), 1 when one does not, 2 on bad input.")
 
 
 def add_arguments(parser) -> None:
@@ -45,8 +45,9 @@ def run(args) -> int:
         check_comparison_memory(model, args.samples)  # the robot's joints and the states asked
         warn_if_gravity_free(model)
     progress = progress_bar(args, total=len(targets) * args.samples, unit="state", delay=0.0)
-    reports = [validate(target, samples=args.samples, seed=args.seed, tolerance=args.tolerance, progress=progress.update,
-                        gravity=gravity(args), allow_nonphysical_inertia=args.allow_nonphysical_inertia)
+    reports = [validate(target, samples=args.samples, seed=args.seed, tolerance=args.tolerance,
+                        progress=progress.update, gravity=gravity(args),
+                        allow_nonphysical_inertia=args.allow_nonphysical_inertia)
                for target in targets]
     progress.close()
     ok = all(r.ok for r in reports)
