@@ -134,3 +134,18 @@ def test_backups_take_a_free_name_and_are_copies(tmp_path, monkeypatch):
     assert (tmp_path / "01_x.ipynb.bak-20240101-120000").read_text() == "an older backup"
     io.write_text(work, "new")
     assert backup.read_text() == "the student's answers" and os.stat(backup).st_ino != os.stat(work).st_ino
+
+
+def test_an_interrupt_just_after_the_temporary_is_made_leaves_nothing(tmp_path, monkeypatch):
+    # Python acts on a signal as a C call returns: here, as the temporary file has just been made.
+    made = os.open
+
+    def made_then_interrupted(*args, **kwargs):
+        made(*args, **kwargs)
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(io.os, "open", made_then_interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        io.write_text(tmp_path / "out.txt", "whole or nothing")
+    monkeypatch.undo()
+    assert list(tmp_path.iterdir()) == []

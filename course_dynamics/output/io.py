@@ -2,8 +2,8 @@
 
 :func:`output` (and :func:`write_text`, :func:`write_bytes`, :func:`write_csv`
 on top of it) writes a whole file or nothing. The data goes to a temporary
-file made with ``mkstemp`` (O_EXCL, so a planted file or link is never
-followed) in the target's folder, given the mode the target would have had
+file of a random name, named before it is made and made with O_EXCL and
+O_NOFOLLOW (so a planted file or link is never followed), in the target's folder, given the mode the target would have had
 (the replaced file's, or the umask's), and renamed onto the target only when
 complete; on any exception, Ctrl-C included, it is removed. The rename never
 follows a link: a symbolic link at the target is replaced, not written
@@ -25,8 +25,8 @@ import errno
 import os
 import shutil
 import stat
+import secrets
 import sys
-import tempfile
 import time
 from contextlib import contextmanager
 from pathlib import Path
@@ -180,12 +180,18 @@ def whole_file(path: Path, binary: bool, replace: bool = True, mode: int | None 
     (default: the replaced file's, or the umask's).
     """
     check_writable(path)
+    # The name is chosen before the file is made, so that a Ctrl-C landing just after the file exists (Python
+    # acts on a signal as a C call returns, inside tempfile.mkstemp too) still finds it to remove.
+    temporary = str(path.parent / f".{path.name}.{os.getpid()}.{secrets.token_hex(8)}{TEMP_SUFFIX}")
     try:
-        _remove_stale_temporaries(path)
-        fd, temporary = tempfile.mkstemp(prefix=f".{path.name}.{os.getpid()}.", suffix=TEMP_SUFFIX, dir=path.parent)
-    except OSError as exc:
-        raise InputError(f"{path}: cannot write: {exc.strerror}") from None
-    try:
+        try:
+            _remove_stale_temporaries(path)
+            fd = os.open(temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | os.O_CLOEXEC, 0o600)
+        except FileExistsError:  # not ours (a name of 64 random bits taken): leave it, and say so
+            temporary = None
+            raise InputError(f"{path}: cannot write: a temporary name beside it is taken") from None
+        except OSError as exc:
+            raise InputError(f"{path}: cannot write: {exc.strerror}") from None
         os.fchmod(fd, _new_file_mode(path) if mode is None else mode)
         with os.fdopen(fd, "wb" if binary else "w",
                        **({} if binary else {"newline": "", "encoding": "utf-8"})) as handle:
@@ -195,7 +201,8 @@ def whole_file(path: Path, binary: bool, replace: bool = True, mode: int | None 
         else:
             _link_new(temporary, path)
     except BaseException as exc:
-        Path(temporary).unlink(missing_ok=True)
+        if temporary is not None:
+            Path(temporary).unlink(missing_ok=True)
         if isinstance(exc, FileExistsError) and not replace:
             raise _Exists(str(path)) from None
         if isinstance(exc, OSError):
