@@ -5,10 +5,11 @@ on top of it) writes a whole file or nothing. The data goes to a temporary
 file of a random name, named before it is made and made with O_EXCL and
 O_NOFOLLOW (so a planted file or link is never followed), in the target's
 folder, given the mode the target would have had (the replaced file's, or the
-umask's), and renamed onto the target only when complete; on any exception, Ctrl-C included, it is removed. The rename never
-follows a link: a symbolic link at the target is replaced, not written
-through. ``-`` means standard output, and a target that is not a regular file
-(a terminal, a pipe, ``/dev/stdout``) is streamed into, never replaced.
+umask's), and renamed onto the target only when complete; on any exception,
+Ctrl-C included, it is removed. The rename never follows a link: a symbolic
+link at the target is replaced, not written through. ``-`` means standard
+output, and a target that is not a regular file (a terminal, a pipe,
+``/dev/stdout``) is streamed into, never replaced.
 :func:`write_new` writes a file only where none exists (a student's notebook
 is never replaced), and :func:`keep_backup` keeps a copy of a file before it
 is replaced on request.
