@@ -55,7 +55,7 @@ from pathlib import Path
 
 from ..base.errors import CourseDynamicsError, InputError
 from ..core.robots import robot_names
-from ..output import io
+from ..output import io, render
 from ..tools.variants import check_student_id
 from .assignment import Assignment, load_assignment
 from .environment import copy_packages, submission_environment
@@ -319,7 +319,7 @@ def run(where: Path | None = None) -> dict:
         document = {"score": 0.0, "output": "the autograder failed (a fault of course-dynamics, not of the "
                     "submission); your instructor can see its log", "tests": []}
     document["execution_time"] = round(time.monotonic() - started, 1)
-    io.write_text(where / "results" / "results.json", json.dumps(document, indent=2, allow_nan=False) + "\n")
+    io.write_text(where / "results" / "results.json", render.json_text(document) + "\n")
     print(f"course-dynamics autograder: score {document['score']:g}; {document['output'].splitlines()[0]}"
           + (f"; {document['tests'][-1]['output'].splitlines()[0]}" if document["tests"] else ""))
     return document
