@@ -1,8 +1,11 @@
-"""The README stays true: its Python quick start runs, and every `course-dynamics` example command succeeds.
+"""The README and every page of the documentation site stay true: every Python block runs, every
+`course-dynamics` example command succeeds (or exits as its ``# exit N`` says), every output shown is what the
+command prints, and every ``error:`` line shown is the one the program prints.
 
 The commands run in this process (``course_dynamics.cli.main``), from a folder
 holding a copy of ``examples/``; the installed entry point itself is tested in
-test_cli.py.
+test_cli.py. A page's blocks are its fenced code: ```` ```sh ```` for commands,
+```` ```python ```` for Python, a plain ```` ``` ```` right after a ``sh`` block for its output.
 """
 from __future__ import annotations
 
@@ -17,6 +20,10 @@ from course_dynamics.cli import main
 
 ROOT = Path(__file__).resolve().parent.parent
 README = (ROOT / "README.md").read_text()
+# Every page: the README, then the site's Markdown pages (docs/, without the build folder).
+PAGES = {"README.md": README} | {str(p.relative_to(ROOT)): p.read_text() for p in sorted((ROOT / "docs").rglob("*.md"))
+                                 if "_build" not in p.parts}
+ALL = "\n\n".join(PAGES.values())
 PLACEHOLDERS = ("my_robot.urdf", "torques.csv")  # files a reader brings; shown for the syntax
 
 
@@ -30,7 +37,7 @@ def test_python_quick_start_runs():
 def example_blocks() -> list[list[tuple[str, int]]]:
     """Each ``sh`` block's commands as (command, expected exit status): 0, or the N of a trailing ``# exit N``."""
     blocks = []
-    for block in re.findall(r"```sh\n(.*?)```", README, re.S):
+    for block in re.findall(r"```sh\n(.*?)```", ALL, re.S):
         text = block.replace("\\\n", " ")
         commands = []
         for line in text.splitlines():
@@ -58,7 +65,7 @@ def test_cli_examples_run(commands, tmp_path, monkeypatch, capsys):
 
 
 def test_python_log_example_runs(tmp_path, monkeypatch):
-    block = next(b for b in re.findall(r"```python\n(.*?)```", README, re.S) if "torques_from_log(" in b)
+    block = next(b for b in re.findall(r"```python\n(.*?)```", ALL, re.S) if "torques_from_log(" in b)
     shutil.copytree(ROOT / "examples", tmp_path / "examples")
     monkeypatch.chdir(tmp_path)
     namespace: dict = {}
@@ -75,7 +82,7 @@ def test_error_examples_show_real_messages(capsys):
     def normal(text):
         return re.sub(r"condition number [0-9.e+-]+", "condition number …", text.strip())
 
-    pairs = re.findall(r"\$ (course-dynamics [^\n]*)\n(error: [^\n]*)", README)
+    pairs = re.findall(r"\$ (course-dynamics [^\n]*)\n(error: [^\n]*)", ALL)
     assert len(pairs) >= 3
     for command, message in pairs:
         code = main(shlex.split(command)[1:])
@@ -88,13 +95,15 @@ def command_output_pairs() -> list[tuple[str, str]]:
 
     The command is the first line of the sh block; outputs with elisions (… or ...) are left out.
     """
-    blocks = [(m.start(), m.end(), m.group(1), m.group(2)) for m in re.finditer(r"```(\w*)\n(.*?)```", README, re.S)]
     pairs = []
-    for (_, end, lang, code), (start, _, next_lang, shown) in zip(blocks, blocks[1:]):
-        if lang == "sh" and next_lang == "" and not README[end:start].strip() and "..." not in shown and "…" not in shown:
-            command = code.replace("\\\n", " ").splitlines()[0].split("  #")[0].strip()
-            if command.startswith("course-dynamics "):
-                pairs.append((command, shown))
+    for text in PAGES.values():
+        blocks = [(m.start(), m.end(), m.group(1), m.group(2)) for m in re.finditer(r"```(\w*)\n(.*?)```", text, re.S)]
+        for (_, end, lang, code), (start, _, next_lang, shown) in zip(blocks, blocks[1:]):
+            if lang == "sh" and next_lang == "" and not text[end:start].strip() and "..." not in shown \
+                    and "…" not in shown:
+                command = code.replace("\\\n", " ").splitlines()[0].split("  #")[0].strip()
+                if command.startswith("course-dynamics "):
+                    pairs.append((command, shown))
     return pairs
 
 
@@ -122,7 +131,7 @@ def test_outputs_are_shown_for_several_commands():
 
 
 def python_blocks() -> list[str]:
-    return re.findall(r"```python\n(.*?)```", README, re.S)
+    return re.findall(r"```python\n(.*?)```", ALL, re.S)
 
 
 @pytest.mark.parametrize("number", range(len(python_blocks())))
