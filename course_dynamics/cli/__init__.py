@@ -42,6 +42,18 @@ from .options import Parser, check_output_names, join_value_options, robots_epil
 
 
 def build_parser() -> Parser:
+    """The ``course-dynamics`` argument parser: one sub-command per module of :mod:`course_dynamics.cli.commands`.
+
+    Each sub-command's parser carries its help, description and flags, and the function that runs it as
+    ``run`` in the parsed namespace.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The parser of the whole command line. A bad command line makes its ``parse_args`` raise
+        :class:`~course_dynamics.base.errors.InputError` (which :func:`main` reports as one ``error: …`` line
+        and exit code 2) instead of exiting.
+    """
     parser = Parser(
         prog="course-dynamics",
         description="Manipulator dynamics in Craig's notation (Introduction to Robotics, ch. 6), "
@@ -59,6 +71,24 @@ def build_parser() -> Parser:
 
 
 def main(argv=None) -> int:
+    """Run one ``course-dynamics`` command, as the console script does.
+
+    Bad input ends with one ``error: …`` line on stderr rather than a traceback; warnings of
+    course_dynamics are printed as one ``warning: …`` line each (module docstring).
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The command line without the program name, e.g. ``["torques", "puma560", "--q", "0,0,0,0,0,0"]``;
+        ``None`` (the default) reads ``sys.argv[1:]``.
+
+    Returns
+    -------
+    int
+        The exit code: 0 on success, 2 for bad input (a
+        :class:`~course_dynamics.base.errors.CourseDynamicsError`, an unwritable path, running out of memory),
+        130 when interrupted with Ctrl-C; ``torques`` returns 1 when a torque exceeds one of the robot's limits.
+    """
     argv = sys.argv[1:] if argv is None else list(argv)
     with warnings.catch_warnings():
         shown = warnings.showwarning
