@@ -55,20 +55,41 @@ from ..core.kinematics import potential_energy
 from ..core.model import Model
 from ..core.state import as_state
 
+#: The integrators :func:`simulate` offers, by name (the table above).
 INTEGRATORS = ("euler", "semi-implicit", "rk4", "adaptive")
 ADAPTIVE_CALLS_PER_STEP = 1000  # right-hand-side evaluations per output sample before the adaptive integrator gives up
+#: What :func:`simulate` does at a joint limit: ``"report"`` it, or ``"stop"`` the joint there.
 LIMIT_MODES = ("report", "stop")
-# forward-dynamics calls per step (DOP853 takes 12 stages a step, and several steps a sample)
+#: Forward-dynamics calls per step of each integrator (DOP853 takes 12 stages a step, and several steps a sample).
 CALLS_PER_STEP = {"euler": 1, "semi-implicit": 1, "rk4": 4, "adaptive": 12}
 
 
 class SimulationError(CourseDynamicsError):
-    """Bad simulation input, or a simulation that cannot go on (non-finite torque or state)."""
+    """Bad simulation input, or a simulation that cannot go on (non-finite torque or state).
+
+    A :class:`~course_dynamics.base.errors.CourseDynamicsError`, so a ``ValueError`` too.
+    """
 
 
 @dataclass(frozen=True)
 class TorqueTable:
-    """Applied torques sampled in time: ``t`` (K,), increasing; ``tau`` (K, n)."""
+    """Applied torques sampled in time: ``t`` (K,), increasing; ``tau`` (K, n).
+
+    Called as ``table(t, q, qd)`` it gives τ at time ``t``, interpolated linearly in time and held at its first or
+    last row outside its range (``q`` and ``qd`` are ignored).
+
+    Parameters
+    ----------
+    t : numpy.ndarray, shape (K,)
+        Sample times, s, strictly increasing.
+    tau : numpy.ndarray, shape (K, n)
+        Applied joint torques τ at those times, N·m (N for a prismatic joint).
+
+    Raises
+    ------
+    SimulationError
+        If the shapes do not match, the times do not increase, or a value is not finite.
+    """
 
     t: np.ndarray
     tau: np.ndarray
@@ -96,6 +117,25 @@ class Trajectory:
     t (T,) s; q, qd, qdd, tau (T, n) in model joint order — (T, K, n) for an
     ensemble of K; energy (T,) or (T, K), J, kinetic (6.71) plus potential
     (6.73); events: limit crossings, in time order.
+
+    Parameters
+    ----------
+    joints : tuple of str
+        The joints' names, in the model's order.
+    t : numpy.ndarray, shape (T,)
+        Sample times, s.
+    q : numpy.ndarray, shape (T, n) or (T, K, n)
+        Joint positions Θ, rad (m for a prismatic joint).
+    qd : numpy.ndarray, shape (T, n) or (T, K, n)
+        Joint velocities Θ̇, rad/s (m/s).
+    qdd : numpy.ndarray, shape (T, n) or (T, K, n)
+        Joint accelerations Θ̈, rad/s² (m/s²).
+    tau : numpy.ndarray, shape (T, n) or (T, K, n)
+        Applied joint torques τ, N·m (N for a prismatic joint).
+    energy : numpy.ndarray, shape (T,) or (T, K)
+        Total energy, kinetic (6.71) plus potential (6.73), J.
+    events : tuple of str
+        The joint-limit crossings and stops, in time order, as sentences.
     """
 
     joints: tuple[str, ...]
@@ -109,11 +149,26 @@ class Trajectory:
 
     @property
     def members(self) -> int | None:
-        """K for an ensemble, None for a single run."""
+        """K for an ensemble, None for a single run.
+
+        Returns
+        -------
+        int or None
+            The number of members K, or None.
+        """
         return self.q.shape[1] if self.q.ndim == 3 else None
 
     def table(self) -> tuple[list[str], np.ndarray]:
-        """CSV header and rows: t, q_<j>, qd_<j>, qdd_<j>, tau_<j>, energy (and ``member`` after t for an ensemble)."""
+        """CSV header and rows: t, ``q_<j>``, ``qd_<j>``, ``qdd_<j>``, ``tau_<j>``, energy (and ``member`` after t for
+        an ensemble).
+
+        Returns
+        -------
+        header : list of str
+            The column names.
+        rows : numpy.ndarray, shape (T, 4 n + 2) or (T K, 4 n + 3)
+            One row per sample (per sample and member for an ensemble), in SI units.
+        """
         columns = [f"{kind}_{j}" for kind in ("q", "qd", "qdd", "tau") for j in self.joints] + ["energy"]
         if self.members is None:
             return ["t"] + columns, np.column_stack([self.t, self.q, self.qd, self.qdd, self.tau, self.energy])
@@ -124,7 +179,27 @@ class Trajectory:
 
 
 def total_energy(model: Model, q, qd) -> np.ndarray:
-    """k + u (6.71), (6.73), J; shape () or (N,)."""
+    """k + u (6.71), (6.73), J; shape () or (N,).
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : numpy.ndarray, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint).
+    qd : numpy.ndarray, shape (n,) or (N, n)
+        Joint velocities Θ̇, rad/s (m/s).
+
+    Returns
+    -------
+    numpy.ndarray, shape () or (N,)
+        Kinetic plus potential energy, J.
+
+    Raises
+    ------
+    StateError
+        If ``q`` or ``qd`` is not a finite array of shape (n,) or (N, n).
+    """
     return kinetic_energy(model, q, qd) + potential_energy(model, q)
 
 
@@ -146,8 +221,31 @@ def time_grid(duration: float, dt: float, values_per_sample: int = 1,
     """t = 0, dt, 2 dt, …, duration (s): the samples of a run; the last step is shortened to end at ``duration``.
 
     Raises SimulationError for a dt or duration that is not a positive finite number, and for a
-    grid whose samples (``values_per_sample`` floats each) would not fit in :func:`memory_budget`
+    grid whose samples (``values_per_sample`` floats each) would not fit in
+    :func:`~course_dynamics.base.resources.memory_budget`
     (the message ends with ``advice``: an ensemble's caller names its size too).
+
+    Parameters
+    ----------
+    duration : float
+        The run's length, s.
+    dt : float
+        The sample step, s.
+    values_per_sample : int
+        How many floats each sample will hold, for the memory check.
+    advice : str
+        What the memory refusal ends with.
+
+    Returns
+    -------
+    numpy.ndarray, shape (T,)
+        The sample times, s, from 0 to ``duration``.
+
+    Raises
+    ------
+    SimulationError
+        If ``dt`` or ``duration`` is not a positive finite number, ``dt`` exceeds ``duration``, or the samples
+        would not fit in the memory budget.
     """
     for name, value in (("dt", dt), ("duration", duration)):
         if not (np.isfinite(value) and value > 0):
@@ -173,6 +271,46 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
     ``progress``, if given, is called with the number of steps just completed.
     ``dynamics`` replaces our forward dynamics; ``compiled`` chooses whether ours is compiled
     (default: as the evaluator chooses for the whole run; module docstring).
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q0 : numpy.ndarray, shape (n,) or (K, n)
+        Initial joint positions Θ₀, rad (m for a prismatic joint); (K, n) for an ensemble of K.
+    qd0 : numpy.ndarray, shape (n,) or (K, n)
+        Initial joint velocities Θ̇₀, rad/s (m/s); shape (n,) is shared by every member.
+    duration : float
+        How long to simulate, s.
+    dt : float
+        The step, s (also the sample step of the result).
+    integrator : str
+        One of :data:`INTEGRATORS`.
+    torque : None, array_like of shape (n,), callable or TorqueTable
+        The applied torques τ, N·m (N for a prismatic joint): zero, constant, ``tau(t, q, qd)``, or sampled.
+    friction : Friction, optional
+        Joint friction, subtracted from τ before the dynamics (6.114).
+    limits : str
+        One of :data:`LIMIT_MODES`.
+    progress : callable, optional
+        Called with the number of steps just completed.
+    dynamics : callable, optional
+        An acceleration function (q, qd, τ) → Θ̈ to use instead of ours.
+    compiled : bool, optional
+        Whether our forward dynamics is compiled; None lets the evaluator choose.
+
+    Returns
+    -------
+    Trajectory
+        The motion at the samples of :func:`time_grid`.
+
+    Raises
+    ------
+    SimulationError
+        If an input is not accepted (shapes, integrator, limits mode, time grid, torque), or the motion cannot go
+        on (a non-finite torque or state, the adaptive integrator failing).
+    StateError
+        If ``q0`` or ``qd0`` is not a finite array of the model's joint count.
     """
     q0, qd0 = as_state(model, q0, "q0"), as_state(model, qd0, "qd0")
     if q0.ndim > 2 or qd0.ndim > 2 or (qd0.ndim == 2 and qd0.shape != q0.shape):
@@ -345,5 +483,5 @@ class _LimitGuard:
         return q, qd
 
 
-__all__ = ["INTEGRATORS", "LIMIT_MODES", "SimulationError", "StateError", "TorqueTable", "Trajectory", "simulate",
+__all__ = ["CALLS_PER_STEP", "INTEGRATORS", "LIMIT_MODES", "SimulationError", "StateError", "TorqueTable", "Trajectory", "simulate",
            "time_grid", "total_energy"]
