@@ -19,8 +19,10 @@ from ..base.errors import InputError
 from ..base.files import kind_of_file, open_regular, read_small
 from .io import whole_file
 
+#: The name of the manifest in an output folder: the files each command wrote there, with sizes and sha256.
 MANIFEST = ".course-dynamics-files.json"
 MANIFEST_FORMAT = 1
+#: The largest manifest read, bytes; a larger one is refused rather than trusted.
 MANIFEST_MAX_BYTES = 16 * 2**20  # some 100 000 entries: a class of thousands with three files each fits
 _HEX64 = re.compile(r"[0-9a-f]{64}")
 
@@ -187,6 +189,26 @@ def _write_manifest(folder: Path, files: dict[str, dict]) -> None:
 def written_by(folder, owner: str) -> list[str]:
     """The names of the files ``owner`` wrote in ``folder`` by its manifest (none for a missing folder).
 
+    Parameters
+    ----------
+    folder : str or pathlib.Path
+        The output folder.
+    owner : str
+        The command that wrote the files (``"report"``, ``"grade"``, …).
+
+    Returns
+    -------
+    list of str
+        The files' names relative to ``folder`` (``/`` between sub-folders), sorted.
+
+    Raises
+    ------
+    InputError
+        If the folder's manifest is not one course-dynamics wrote (a link, not JSON, another shape, too
+        large, or naming a file outside the folder).
+
+    Examples
+    --------
     >>> written_by("/no/such/folder", "grade")
     []
     """
@@ -198,7 +220,26 @@ def written_by(folder, owner: str) -> list[str]:
 
 def check_folder(folder, names, owner: str) -> None:
     """Fail before long work unless :func:`write_folder` could write ``names`` (relative file names) into
-    ``folder`` for the command ``owner`` now: InputError naming the first file in the way."""
+    ``folder`` for the command ``owner`` now: InputError naming the first file in the way.
+
+    Parameters
+    ----------
+    folder : str or pathlib.Path
+        The output folder (it need not exist yet).
+    names : iterable of str
+        The relative file names to be written (``/`` makes sub-folders).
+    owner : str
+        The command that will write them (``"report"``, ``"grade"``, …).
+
+    Raises
+    ------
+    InputError
+        If a file in the way was not written by ``owner`` or was changed since, a name is not a plain
+        relative file name, the folder cannot be made or written, or its manifest is not one
+        course-dynamics wrote.
+    ValueError
+        If ``owner`` is not the name of a command.
+    """
     _plan_folder(Path(folder), list(names), owner)
 
 
@@ -219,12 +260,33 @@ def write_folder(folder, files: Mapping[str, str | bytes], owner: str) -> list[P
     may have gained a meaning for someone since (linked from a page, picked up by a script), and a
     stale page costs less than a lost one.
 
-    Every file is written whole or not at all (:func:`output`). The manifest is written first, listing
+    Every file is written whole or not at all (:func:`~course_dynamics.output.io.output`). The manifest is written first, listing
     both the old and the new version of every file about to be replaced, and again at the end with
     the new ones only: a run interrupted half way leaves every file recognisable, so the next run can
     replace it. Sub-folders are made where missing and never followed if they are links.
 
-    Returns the paths written, in the order of ``files``.
+    Parameters
+    ----------
+    folder : str or pathlib.Path
+        The output folder, made (with its parents) if missing.
+    files : Mapping of str to str or bytes
+        Relative file name → contents (text is written as UTF-8).
+    owner : str
+        The command writing them (``"report"``, ``"grade"``, …).
+
+    Returns
+    -------
+    list of pathlib.Path
+        The paths written, in the order of ``files``.
+
+    Raises
+    ------
+    InputError
+        If anything is in the way (see above), a name is not a plain relative file name, or a file or
+        folder cannot be written; raised before anything is written, except for a failure of the file
+        system itself during the writing.
+    ValueError
+        If ``owner`` is not the name of a command.
     """
     folder = Path(folder)
     contents = {name: data.encode("utf-8") if isinstance(data, str) else bytes(data) for name, data in files.items()}
@@ -265,3 +327,4 @@ def write_folder(folder, files: Mapping[str, str | bytes], owner: str) -> list[P
     return written
 
 
+__all__ = ["MANIFEST", "MANIFEST_MAX_BYTES", "check_folder", "write_folder", "written_by"]

@@ -37,6 +37,7 @@ import numpy as np
 from ..base.errors import InputError
 from ..base.files import open_regular
 
+#: The file name that means standard output.
 STDOUT = "-"
 STREAMED_ROOTS = ("/dev/", "/proc/")  # special files and links to them: written in place
 
@@ -63,7 +64,21 @@ def _is_streamed(path: Path) -> bool:
 
 
 def check_distinct(inputs, outputs) -> None:
-    """InputError when an output would overwrite an input or another output (the same file by any name)."""
+    """InputError when an output would overwrite an input or another output (the same file by any name).
+
+    Parameters
+    ----------
+    inputs : iterable of str or pathlib.Path or None
+        The files (or folders, such as a ROS 2 bag) a command reads; ``None`` entries are skipped.
+    outputs : iterable of str or pathlib.Path or None
+        The files it writes; ``None``, ``-`` and special files (a terminal, a pipe) are skipped.
+
+    Raises
+    ------
+    InputError
+        If an output is an input or another output by any name (a link, a hard link, a relative path),
+        lies inside an input folder, or is reached through a loop of symbolic links.
+    """
     def resolved(path) -> Path:
         try:
             return Path(path).resolve()
@@ -98,7 +113,18 @@ def check_distinct(inputs, outputs) -> None:
 
 
 def check_writable(path) -> None:
-    """Fail before long work if ``path`` cannot be written (InputError naming it)."""
+    """Fail before long work if ``path`` cannot be written (InputError naming it).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file to be written; ``-`` and special files (a terminal, a pipe) always pass.
+
+    Raises
+    ------
+    InputError
+        If ``path`` is a directory, its directory does not exist or is not writable, or it cannot be examined.
+    """
     path = Path(path)
     if _is_streamed(path):
         return
@@ -213,7 +239,28 @@ def whole_file(path: Path, binary: bool, replace: bool = True, mode: int | None 
 
 @contextmanager
 def output(path, binary: bool = False):
-    """A handle to write ``path`` whole or not at all (module docstring); ``-`` is standard output."""
+    """A handle to write ``path`` whole or not at all (module docstring); ``-`` is standard output.
+
+    Used as ``with output(path) as handle: handle.write(text)``.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file to write, or ``-`` for standard output.
+    binary : bool, optional
+        Open for bytes rather than text (UTF-8, newlines written as given).
+
+    Yields
+    ------
+    file object
+        The handle to write to; the file takes the name ``path`` when the block ends without an exception.
+
+    Raises
+    ------
+    InputError
+        If ``path`` cannot be written (a directory, a folder that does not exist or is not writable, a full
+        device).
+    """
     path = Path(path) if str(path) != STDOUT else STDOUT
     if path == STDOUT:
         stream = sys.stdout.buffer if binary else sys.stdout
@@ -236,13 +283,39 @@ def output(path, binary: bool = False):
 
 
 def write_text(path, text: str) -> None:
-    """Write ``text`` (UTF-8) to ``path``, whole or not at all."""
+    """Write ``text`` (UTF-8) to ``path``, whole or not at all.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file to write, or ``-`` for standard output.
+    text : str
+        What to write.
+
+    Raises
+    ------
+    InputError
+        If ``path`` cannot be written.
+    """
     with output(path) as handle:
         handle.write(text)
 
 
 def write_bytes(path, data: bytes) -> None:
-    """Write ``data`` to ``path``, whole or not at all."""
+    """Write ``data`` to ``path``, whole or not at all.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file to write, or ``-`` for standard output.
+    data : bytes
+        What to write.
+
+    Raises
+    ------
+    InputError
+        If ``path`` cannot be written.
+    """
     with output(path, binary=True) as handle:
         handle.write(data)
 
@@ -252,6 +325,23 @@ def write_new(path, data: str | bytes) -> bool:
 
     Nothing that exists at ``path`` (a file, a link, a folder, a pipe) is replaced or written through,
     even if it appears while the data is being written.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file to write.
+    data : str or bytes
+        What to write (text as UTF-8).
+
+    Returns
+    -------
+    bool
+        True if the file was written, False if something already had the name.
+
+    Raises
+    ------
+    InputError
+        If ``path`` cannot be written (its folder is missing or not writable).
     """
     path = Path(path)
     if os.path.lexists(path):
@@ -269,7 +359,23 @@ def keep_backup(path) -> Path:
 
     An existing file is never replaced: the backup takes the first free name. The copy keeps the
     file's mode and times, and is a file of its own (not a second link to the same one), so whatever
-    is done to ``path`` afterwards cannot reach it. Returns the backup's path.
+    is done to ``path`` afterwards cannot reach it.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The regular file to back up (a symbolic link is not followed).
+
+    Returns
+    -------
+    pathlib.Path
+        The backup's path.
+
+    Raises
+    ------
+    InputError
+        If ``path`` is not a readable regular file, the backup cannot be written, or the 999 backup names of
+        this second are all taken.
     """
     path = Path(path)
     stamp = time.strftime("%Y%m%d-%H%M%S")
@@ -292,13 +398,31 @@ def keep_backup(path) -> Path:
     raise InputError(f"{path}: more than 999 backups named {path.name}.bak-{stamp}-N: remove some")
 
 
+#: Rows of a CSV file formatted at a time by :func:`write_csv`.
 CSV_CHUNK = 10_000  # rows formatted at a time: memory stays bounded for long tables
 
 
 def write_csv(path, header: list[str], data: np.ndarray, comments: list[str] = ()) -> None:
     """A header row and float rows (``repr``, so values read back exactly), whole or not at all.
 
-    ``comments`` become ``# …`` lines before the header (what :func:`read_table` skips).
+    ``comments`` become ``# …`` lines before the header (what
+    :func:`~course_dynamics.tools.tables.read_table` skips).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file to write, or ``-`` for standard output.
+    header : list of str
+        The column names.
+    data : numpy.ndarray, shape (N, len(header))
+        The rows, as floats.
+    comments : list of str, optional
+        Lines written before the header, each as one ``# …`` line.
+
+    Raises
+    ------
+    InputError
+        If ``path`` cannot be written.
     """
     data = np.asarray(data, dtype=float)
     with output(path) as handle:
@@ -310,3 +434,5 @@ def write_csv(path, header: list[str], data: np.ndarray, comments: list[str] = (
             handle.write("".join(",".join(map(repr, row)) + "\n" for row in rows))
 
 
+__all__ = ["CSV_CHUNK", "STDOUT", "check_distinct", "check_writable", "keep_backup", "output", "write_bytes",
+           "write_csv", "write_new", "write_text"]
