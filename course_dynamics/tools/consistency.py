@@ -16,7 +16,44 @@ from ..core.regressor import TENSOR
 
 
 def consistent_fit(model, R, sigma, theta_urdf, kinds, sizes, prior_weight, min_mass):
-    """The physically consistent θ (module docstring, step 3): (θ, solver)."""
+    """The physically consistent θ (module docstring, step 3): (θ, solver).
+
+    Parameters
+    ----------
+    model : Model
+        The robot whose bodies the first 10 n entries of θ describe.
+    R : numpy.ndarray, shape (m, r, P + 1)
+        Per measured joint, the triangular factor of [Yⱼ | τⱼ] (the fit's data, P parameters).
+    sigma : numpy.ndarray, shape (m,)
+        Each measured joint's torque noise σⱼ, N·m (N for a prismatic joint): the weights are 1/σⱼ.
+    theta_urdf : numpy.ndarray, shape (P,)
+        The URDF's θ: the prior and the starting point.
+    kinds : sequence of str
+        The kind of each entry of θ: ``"m"``, ``"h"``, ``"I"``, ``"viscous"`` or ``"coulomb"``.
+    sizes : dict
+        {kind: the values a parameter of that kind typically has}, the scale sₖ of its changes.
+    prior_weight : float
+        λ ≥ 0, the weight of the URDF's values as a share of what the data say.
+    min_mass : numpy.ndarray, shape (n,)
+        The least mass of each body, kg.
+
+    Returns
+    -------
+    theta : numpy.ndarray, shape (P,)
+        The consistent estimate: J(πᵢ) ⪰ 0, mᵢ ≥ m_min and friction coefficients ≥ 0.
+    solver : str
+        The solver that found it, ``"clarabel"`` or ``"scs"`` (``"scs (inaccurate)"`` if it said so).
+
+    Raises
+    ------
+    InputError
+        If cvxpy is not installed, or neither solver finds a solution.
+
+    Warns
+    -----
+    CourseDynamicsWarning
+        What the solvers warn, one line each.
+    """
     try:
         import cvxpy as cp
     except ImportError:
