@@ -70,11 +70,15 @@ from ..core.regressor import (TENSOR, BaseParameters, base_parameters, parameter
 from .consistency import consistent_fit
 from .logs import JointLog
 
+#: Which friction :func:`identify` can identify: both parts, the viscous or the Coulomb part only, or none.
 FRICTION_MODELS = ("both", "viscous", "coulomb", "none")
 SYMBOLS = {"viscous": "Fv", "coulomb": "Fc"}   # friction coefficients are named Fv_<joint>, Fc_<joint>
 ROWS_AT_A_TIME = 2048         # samples per regressor block: (2048, n, 10 n) floats, 6 MB for a UR5
+#: λ by default (step 3).
 PRIOR_WEIGHT = 1e-6           # λ: the URDF counts as a millionth of what the log says
+#: m_min by default: this share of the URDF's mass of each body (at least :data:`MIN_MASS`).
 MIN_MASS_SHARE = 0.01         # m_min: 1 % of the URDF's mass of the body (MIN_MASS for a massless one)
+#: The least m_min of a body, kg.
 MIN_MASS = 1e-6               # kg
 UNEXCITED = 1e-3              # a direction whose singular value is below this share of the largest
 NOISE_FLOOR = 1e-9            # σⱼ at least this share of the RMS measured torque (noise-free data)
@@ -87,6 +91,16 @@ def pseudo_inertia(p) -> np.ndarray:
     J = [[Σ, h], [hᵀ, m]] with Σ = ∫ r rᵀ dm = ½ tr(I) 1 − I. J ⪰ 0 holds exactly for real bodies:
     it implies m ≥ 0, an inertia about the centre of mass that is positive semi-definite and
     obeys the triangle inequality.
+
+    Parameters
+    ----------
+    p : array_like, shape (10,)
+        m (kg), h = m c (kg·m), then Ixx, Ixy, Iyy, Ixz, Iyz, Izz about the body's frame origin (kg·m²).
+
+    Returns
+    -------
+    numpy.ndarray, shape (4, 4)
+        The pseudo-inertia J, kg·m² (Σ), kg·m (h) and kg (m).
 
     >>> from course_dynamics import load_robot
     >>> from course_dynamics.core.regressor import parameters
@@ -114,6 +128,60 @@ class Identification:
     with its standard errors, and in the consistent estimate. ``unexcited``: the directions the log
     hardly excites, as (share of the largest singular value, combination); ``never_act``: parameters
     no motion can reveal. ``held_out``: (t, τ_meas, τ_URDF, τ_identified) on the held-out samples.
+
+    Parameters
+    ----------
+    model : Model
+        The identified robot.
+    friction : Friction
+        The identified friction (the URDF's where a part was not identified).
+    original : Model
+        The URDF's robot.
+    original_friction : Friction
+        The URDF's friction.
+    friction_model : str
+        What friction was identified, one of :data:`FRICTION_MODELS`.
+    names : tuple of str
+        The names of every parameter: π, then the identified friction coefficients.
+    pi_urdf : numpy.ndarray, shape (P,)
+        The URDF's values of ``names`` (SI: kg, kg·m, kg·m², N·m·s/rad, N·m).
+    pi : numpy.ndarray, shape (P,)
+        The identified values of ``names``.
+    base : BaseParameters
+        The base parameters π_b = β π.
+    base_names : tuple of str
+        The base parameters' names, then the friction coefficients'.
+    base_urdf : numpy.ndarray, shape (B,)
+        The URDF's values of ``base_names``.
+    base_wls : numpy.ndarray, shape (B,)
+        The weighted least-squares values of ``base_names``.
+    base_error : numpy.ndarray, shape (B,)
+        Their standard errors.
+    base_consistent : numpy.ndarray, shape (B,)
+        The physically consistent values of ``base_names``.
+    condition_number : float
+        The condition number of W Y_b with unit-norm columns.
+    unexcited : tuple of (float, str)
+        The directions the log hardly excites: (share of the largest singular value, combination).
+    never_act : tuple of str
+        The parameters no motion can reveal.
+    sigma : numpy.ndarray, shape (n,)
+        Each joint's torque noise σⱼ, N·m (N for a prismatic joint); NaN where not measured.
+    split_t : float
+        Where the held-out part starts, s.
+    samples : tuple of (int, int)
+        The samples fitted and held out.
+    held_out : tuple of numpy.ndarray
+        (t (H,) s, τ_meas, τ_URDF, τ_identified (H, n) N·m) on the held-out samples.
+    rms_before : numpy.ndarray, shape (n,)
+        The URDF's RMS residual on the held-out part, per joint, N·m.
+    rms_after : numpy.ndarray, shape (n,)
+        The identified model's RMS residual on the held-out part, per joint, N·m.
+    solver : str
+        The solver of the consistent fit, as
+        :func:`~course_dynamics.tools.consistency.consistent_fit` names it.
+    notes : tuple of str
+        What the reader should know (joints left out).
     """
 
     model: Model
@@ -143,7 +211,14 @@ class Identification:
     notes: tuple[str, ...] = ()
 
     def record(self) -> dict:
-        """A JSON-ready summary (no arrays of samples)."""
+        """A JSON-ready summary (no arrays of samples).
+
+        Returns
+        -------
+        dict
+            The robot, options, σ, held-out RMS residuals, every parameter and base parameter (URDF, fitted,
+            identified), and the notes; non-finite numbers as None.
+        """
         def listed(a):
             return [None if not np.isfinite(x) else float(x) for x in np.asarray(a, dtype=float)]
         joints = self.model.joint_names
@@ -296,20 +371,38 @@ def identify(model: Model, log: JointLog, friction: str = "both", holdout: float
 
     Parameters
     ----------
-    model : the URDF's robot: its parameters are the prior and the starting point
-    log : a :class:`~course_dynamics.tools.logs.JointLog` with measured torques (``log.measured``)
-    friction : which friction to identify: ``both``, ``viscous``, ``coulomb`` or ``none``
-    holdout : the share of the log's time, at its end, kept out of the fit to judge it (0 ≤ holdout < 1)
-    prior_weight : λ ≥ 0, the weight of the URDF's values (step 3)
-    min_mass : (n,) kg, the least mass of each body; default 1 % of the URDF's (at least 1e-6 kg)
-    progress : called as ``progress(done, total)`` (samples) while the regressor is computed
-    where : how messages name the log (its file)
+    model : Model
+        The URDF's robot: its parameters are the prior and the starting point.
+    log : JointLog
+        A :class:`~course_dynamics.tools.logs.JointLog` with measured torques (``log.measured``).
+    friction : str
+        Which friction to identify: ``both``, ``viscous``, ``coulomb`` or ``none``.
+    holdout : float
+        The share of the log's time, at its end, kept out of the fit to judge it (0 ≤ holdout < 1).
+    prior_weight : float
+        λ ≥ 0, the weight of the URDF's values (step 3).
+    min_mass : numpy.ndarray, shape (n,), optional
+        The least mass of each body, kg; default 1 % of the URDF's (at least 1e-6 kg).
+    progress : callable, optional
+        Called as ``progress(done, total)`` (samples) while the regressor is computed.
+    where : str
+        How messages name the log (its file).
+
+    Returns
+    -------
+    Identification
+        The identified robot and friction, the fits' values and errors, and the held-out comparison.
 
     Raises
     ------
     InputError
         No measured torques, a bad option, a fitted part too short for the parameters, or no
         consistent solution; cvxpy missing (install ``course-dynamics[identify]``).
+
+    Warns
+    -----
+    CourseDynamicsWarning
+        What the consistent fit's solvers warn (an inaccurate solution).
     """
     if friction not in FRICTION_MODELS:
         raise InputError(f"unknown friction model '{friction}' (choose from {', '.join(FRICTION_MODELS)})")
@@ -401,3 +494,7 @@ def _predict(model: Model, friction: Friction, log: JointLog, rows) -> np.ndarra
         rigid = inverse_dynamics(model, log.q[block], log.qd[block], log.qdd[block])
         tau[start:start + len(block)] = rigid + friction.torques(log.qd[block])      # (6.114)
     return tau
+
+
+__all__ = ["FRICTION_MODELS", "MIN_MASS", "MIN_MASS_SHARE", "PRIOR_WEIGHT", "Identification", "identify",
+           "pseudo_inertia"]
