@@ -41,6 +41,9 @@ LAZY = {
     "parse_column_map": "course_dynamics.tools.columns", "Payload": "course_dynamics.tools.loads",
     "compile_model": "course_dynamics.core.compiled",
 }
+#: The integrators :func:`~course_dynamics.tools.simulation.simulate` offers, loaded with it (declared here, bound
+#: on first use by ``__getattr__``).
+INTEGRATORS: tuple[str, ...]
 
 __all__ = [
     "Body", "CourseDynamicsError", "DynamicsTerms", "InputError", "LinkQuantities", "Model", "ModelError",

@@ -11,3 +11,5 @@ module          job
 ``text``        one safe line: a name or message with its control characters escaped
 ==============  ================================================================
 """
+
+__all__: list[str] = []  # a package of modules: it re-exports nothing

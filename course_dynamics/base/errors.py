@@ -52,3 +52,7 @@ class InputError(CourseDynamicsError):
 
 class CourseDynamicsWarning(UserWarning):
     """Something done as asked that the user should know of; the command line prints it as ``warning: …``."""
+
+
+__all__ = ["CourseDynamicsError", "CourseDynamicsWarning", "InputError", "ModelError", "StateError",
+           "UnknownRobotError"]

@@ -22,6 +22,25 @@ KINDS_OF_FILE = ((stat.S_ISFIFO, "a named pipe"), (stat.S_ISCHR, "a character de
 
 
 def kind_of_file(mode: int) -> str:
+    """What a file of ``mode`` is, for a message: "a directory", "a named pipe", "a character device", ….
+
+    Parameters
+    ----------
+    mode : int
+        The file's ``st_mode``, as ``os.stat`` or ``os.lstat`` gives it.
+
+    Returns
+    -------
+    str
+        Its kind with an article: "a directory", "a symbolic link", "a named pipe", "a character device",
+        "a block device", "a socket", or "a special file".
+
+    Examples
+    --------
+    >>> import os
+    >>> kind_of_file(os.stat("/").st_mode)
+    'a directory'
+    """
     if stat.S_ISDIR(mode):
         return "a directory"
     if stat.S_ISLNK(mode):
@@ -33,9 +52,25 @@ def kind_of_file(mode: int) -> str:
 class Refusals:
     """How :func:`open_regular` and :func:`read_small` word a refusal, and the error they raise.
 
-    Each is a format string over ``path``, ``what`` (the kind of file expected), ``kind`` (what the path is
+    Each wording is a format string over ``path``, ``what`` (the kind of file expected), ``kind`` (what the path is
     instead: :func:`kind_of_file`), ``reason`` (the system's), ``size`` and ``limit`` (for people:
     :func:`~course_dynamics.base.resources.format_bytes`) and ``size_bytes`` and ``limit_bytes``.
+
+    Parameters
+    ----------
+    error : type
+        The :class:`~course_dynamics.base.errors.CourseDynamicsError` subclass raised;
+        :class:`~course_dynamics.base.errors.InputError` by default.
+    unreadable : str
+        A file that is missing or that the system will not open or read.
+    not_a_file : str
+        A directory or a symbolic link.
+    not_regular : str
+        A device, a named pipe or a socket.
+    too_large : str
+        A regular file larger than the limit.
+    grew : str
+        A file that was larger by the time it was read than when its size was taken.
     """
 
     error: type[CourseDynamicsError] = InputError
@@ -47,15 +82,72 @@ class Refusals:
 
     def refused(self, wording: str, path, what: str, mode: int = 0, reason: str = "", size: int = 0,
                 limit: int = 0) -> CourseDynamicsError:
+        """The error (not raised) of one refusal, its message ``wording`` filled in.
+
+        Parameters
+        ----------
+        wording : str
+            One of the format strings (``self.too_large``, …).
+        path : str or pathlib.Path
+            The file refused.
+        what : str
+            The kind of file that was expected ("table", "URDF file").
+        mode : int, optional
+            The file's ``st_mode``, for ``kind``; 0 when it is not known.
+        reason : str, optional
+            The system's reason.
+        size : int, optional
+            The file's size, bytes.
+        limit : int, optional
+            The largest size taken, bytes.
+
+        Returns
+        -------
+        CourseDynamicsError
+            An instance of ``self.error``, for the caller to raise.
+        """
         return self.error(wording.format(path=path, what=what, kind=kind_of_file(mode) if mode else "", reason=reason,
                                          size=format_bytes(size), limit=format_bytes(limit), size_bytes=size,
                                          limit_bytes=limit))
 
     def not_regular_file(self, path, what: str, mode: int) -> CourseDynamicsError:
+        """The error (not raised) for ``path`` being of ``mode`` rather than a regular file.
+
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            The file refused.
+        what : str
+            The kind of file that was expected.
+        mode : int
+            Its ``st_mode``: a directory or a symbolic link is worded ``not_a_file``, anything else
+            ``not_regular``.
+
+        Returns
+        -------
+        CourseDynamicsError
+            An instance of ``self.error``, for the caller to raise.
+        """
         wording = self.not_a_file if stat.S_ISDIR(mode) or stat.S_ISLNK(mode) else self.not_regular
         return self.refused(wording, path, what, mode)
 
     def cannot_read(self, path, what: str, exc: Exception) -> CourseDynamicsError:
+        """The error (not raised) for ``path`` that the system would not open or read.
+
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            The file refused.
+        what : str
+            The kind of file that was expected.
+        exc : Exception
+            What the system raised; its ``strerror`` (or its message) is the reason.
+
+        Returns
+        -------
+        CourseDynamicsError
+            An instance of ``self.error``, for the caller to raise.
+        """
         return self.refused(self.unreadable, path, what, reason=getattr(exc, "strerror", None) or str(exc))
 
 
@@ -69,11 +161,33 @@ def open_regular(path, what: str = "file", follow: bool = True, refusals: Refusa
     is checked again (fstat): the open is non-blocking, so a pipe put in its place meanwhile is
     refused rather than waited on. ``follow=False`` refuses a symbolic link too.
 
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file.
+    what : str, optional
+        The kind of file expected, for the message ("table", "URDF file").
+    follow : bool, optional
+        Follow a symbolic link (the default); ``False`` refuses one.
+    refusals : Refusals, optional
+        How a refusal is worded and what it raises.
+
+    Returns
+    -------
+    tuple of (io.BufferedReader, int)
+        The open binary handle (the caller closes it) and the file's size, bytes.
+
     Raises
     ------
     InputError
         Naming the file: missing, unreadable, or not a regular file (saying what it is); ``refusals``
         may word it otherwise and raise another error.
+
+    Examples
+    --------
+    >>> handle, size = open_regular(__file__, "module")
+    >>> handle.close(); size > 0
+    True
     """
     path = Path(path)
     try:
@@ -97,6 +211,32 @@ def open_regular(path, what: str = "file", follow: bool = True, refusals: Refusa
 def read_small(path, limit: int, what: str = "file", follow: bool = True, refusals: Refusals = REFUSALS) -> bytes:
     """The bytes of the regular file ``path`` (:func:`open_regular`), refused when larger than ``limit``.
 
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file.
+    limit : int
+        The largest size taken, bytes.
+    what : str, optional
+        The kind of file expected, for the message ("table", "URDF file").
+    follow : bool, optional
+        Follow a symbolic link (the default); ``False`` refuses one.
+    refusals : Refusals, optional
+        How a refusal is worded and what it raises.
+
+    Returns
+    -------
+    bytes
+        The whole file.
+
+    Raises
+    ------
+    InputError
+        Naming the file: missing, unreadable, not a regular file, larger than ``limit`` (or larger by the time
+        it was read); ``refusals`` may word it otherwise and raise another error.
+
+    Examples
+    --------
     >>> read_small("/dev/zero", 10, "table")
     Traceback (most recent call last):
     ...
@@ -113,3 +253,6 @@ def read_small(path, limit: int, what: str = "file", follow: bool = True, refusa
     if len(data) > limit:  # it grew while being read
         raise refusals.refused(refusals.grew, path, what, size=len(data), limit=limit)
     return data
+
+
+__all__ = ["Refusals", "kind_of_file", "open_regular", "read_small"]

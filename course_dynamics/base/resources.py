@@ -13,6 +13,7 @@ import re
 
 from .errors import CourseDynamicsError, InputError
 
+#: The environment variable that sets the memory budget (:func:`memory_budget`).
 BUDGET_VARIABLE = "COURSE_DYNAMICS_MEMORY_BUDGET"
 UNITS = {"": 1, "K": 2**10, "M": 2**20, "G": 2**30, "T": 2**40}
 BUDGET_TEXT = re.compile(r"\s*(\d+(?:\.\d*)?)\s*([KMGT]?)(?:iB)?\s*", re.IGNORECASE)
@@ -24,6 +25,11 @@ def memory_budget() -> int:
     The variable gives bytes, or a number with K, M, G or T (powers of 1024, an ``iB`` after them allowed;
     :func:`parse_budget`): ``512M``, ``1.5G``. It lowers the budget (a test showing a refusal without using
     gigabytes, a shared machine) or raises it (a machine with swap); empty or unset means half the physical memory.
+
+    Returns
+    -------
+    int
+        The budget, bytes.
 
     Raises
     ------
@@ -42,6 +48,23 @@ def memory_budget() -> int:
 def parse_budget(text: str) -> int:
     """Bytes of a budget as :data:`BUDGET_VARIABLE` gives it; InputError naming the variable if it is none.
 
+    Parameters
+    ----------
+    text : str
+        Bytes, or a number with K, M, G or T (powers of 1024), an ``iB`` after them allowed: ``512M``, ``1.5G``.
+
+    Returns
+    -------
+    int
+        The budget, bytes.
+
+    Raises
+    ------
+    InputError
+        Naming the variable, when ``text`` is no such number, or is less than a byte or 8 EiB or more.
+
+    Examples
+    --------
     >>> parse_budget("1.5K"), parse_budget("512 MiB"), parse_budget("4096")
     (1536, 536870912, 4096)
     """
@@ -56,6 +79,18 @@ def parse_budget(text: str) -> int:
 def budget_text(budget: int) -> str:
     """What ``budget`` (:func:`memory_budget`'s) is, for a message: "half of this machine's 2 GiB", or the variable's.
 
+    Parameters
+    ----------
+    budget : int
+        The budget, bytes.
+
+    Returns
+    -------
+    str
+        "half of this machine's …", or "the … that COURSE_DYNAMICS_MEMORY_BUDGET allows" when the variable is set.
+
+    Examples
+    --------
     >>> budget_text(2**30) if BUDGET_VARIABLE not in os.environ else ''
     "half of this machine's 2 GiB"
     """
@@ -67,6 +102,18 @@ def budget_text(budget: int) -> str:
 def format_bytes(count: float) -> str:
     """A byte count for people: 23.5 GiB, 6.94e+283 EiB.
 
+    Parameters
+    ----------
+    count : float
+        Bytes.
+
+    Returns
+    -------
+    str
+        Three significant digits and the largest binary unit (MiB to EiB) it reaches, or whole bytes below 1 MiB.
+
+    Examples
+    --------
     >>> format_bytes(3 * 2**30)
     '3 GiB'
     """
@@ -77,8 +124,33 @@ def format_bytes(count: float) -> str:
 
 
 def check_memory(needed: float, what: str, advice: str = "", error: type[CourseDynamicsError] = InputError) -> None:
-    """``error`` ("{what} would need about … of memory, more than half of this machine's …{advice}") when it would."""
+    """``error`` ("{what} would need about … of memory, more than half of this machine's …{advice}") when it would.
+
+    Parameters
+    ----------
+    needed : float
+        The bytes the work would need.
+    what : str
+        The work, as the message begins ("a simulation of 10⁹ steps").
+    advice : str, optional
+        What to do instead, appended to the message as it is (begin it with ": " or "; ").
+    error : type, optional
+        The :class:`~course_dynamics.base.errors.CourseDynamicsError` subclass raised;
+        :class:`~course_dynamics.base.errors.InputError` by default.
+
+    Raises
+    ------
+    InputError
+        When ``needed`` is more than :func:`memory_budget` (or is NaN); ``error`` when that is given.
+
+    Examples
+    --------
+    >>> check_memory(1024, "a small table")
+    """
     budget = memory_budget()
     if not needed <= budget:
         raise error(f"{what} would need about {format_bytes(needed)} of memory, more than {budget_text(budget)}"
                     f"{advice}")
+
+
+__all__ = ["BUDGET_VARIABLE", "budget_text", "check_memory", "format_bytes", "memory_budget", "parse_budget"]

@@ -10,7 +10,22 @@ from __future__ import annotations
 def one_line(text) -> str:
     """``text`` with every control character (line breaks, escape sequences) written as an escape: one safe line.
 
+    Parameters
+    ----------
+    text : object
+        What to write; anything but a string is first made one with ``str``.
+
+    Returns
+    -------
+    str
+        ``text`` on one line, each character that is not printable written as its Python escape.
+
+    Examples
+    --------
     >>> print(one_line("joint\\nerror: forged \\x1b[2J\\u200e"))
     joint\\nerror: forged \\x1b[2J\\u200e
     """
     return "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(text))
+
+
+__all__ = ["one_line"]
