@@ -22,6 +22,22 @@ def program_source(program: Program, n: int, free: bool = False) -> str:
     With ``free`` every value is deleted after its last use, so that a batch keeps only the arrays it still
     needs (the one-state version keeps its floats: the readable form).
 
+    Parameters
+    ----------
+    program : Program
+        The traced program (:func:`~course_dynamics.core.compiled.tracing.trace_programs`).
+    n : int
+        The robot's number of joints: each input is unpacked into n names (``q0``, ``q1``, …).
+    free : bool, optional
+        Delete every value after its last use (the batch version).
+
+    Returns
+    -------
+    str
+        The function's source, ``def <name>(<inputs>):`` to its ``return`` of a tuple.
+
+    Examples
+    --------
     >>> from course_dynamics import load_robot
     >>> from course_dynamics.core.compiled.tracing import trace_programs
     >>> source = program_source(trace_programs(load_robot("pendulum"))["mass_matrix"], 1)
@@ -55,6 +71,22 @@ def program_source(program: Program, n: int, free: bool = False) -> str:
 def module_source(model: Model, programs: dict[str, Program], key: str) -> str:
     """One module with every program twice: ``<name>`` on floats (math) and ``<name>_batch`` on arrays (numpy).
 
+    Parameters
+    ----------
+    model : Model
+        The robot the programs were traced from (named, with its joint order, in the module's first comment).
+    programs : dict of str to Program
+        The programs, by name (:func:`~course_dynamics.core.compiled.tracing.trace_programs`).
+    key : str
+        The model's key (:func:`~course_dynamics.core.compiled.model_key`), written in the first line.
+
+    Returns
+    -------
+    str
+        The module's source: a header, then each program for one state and for a batch.
+
+    Examples
+    --------
     >>> from course_dynamics import load_robot
     >>> from course_dynamics.core.compiled.tracing import trace_programs
     >>> pendulum = load_robot("pendulum")
@@ -76,3 +108,6 @@ def module_source(model: Model, programs: dict[str, Program], key: str) -> str:
     batch = [program_source(p, n, free=True).replace(f"def {p.name}(", f"def {p.name}_batch(", 1)
              .replace("cos(", "numpy.cos(").replace("sin(", "numpy.sin(") for p in programs.values()]
     return header + "\n\n" + "\n\n\n".join(scalar + batch) + "\n"
+
+
+__all__ = ["module_source", "program_source"]

@@ -18,12 +18,24 @@ from ..newton_euler import torque_entries
 
 # Operations of all five programs together. Panda takes 19 000, a 20-joint chain 74 000 (2 s to compile, 5 MB of
 # source); a 30-joint chain would take 163 000 (7 s) and a 60-joint one several GB of memory.
+#: The most operations the five programs of one robot may take together (a chain of about 20 joints).
 MAX_OPERATIONS = 80_000
 
 
 class ProgramTooLargeError(CourseDynamicsError):
     """A robot whose compiled programs would take more than :data:`MAX_OPERATIONS` operations.
 
+    The evaluator answers it by running the interpreted recursions.
+
+    Parameters
+    ----------
+    what : str, optional
+        The robot, as the message names it (``robot 'chain' (60 joints)``).
+    remedy : str, optional
+        The rest of the message after the limit: what to do instead.
+
+    Examples
+    --------
     >>> print(ProgramTooLargeError("robot 'chain' (60 joints)"))
     robot 'chain' (60 joints) is too large to compile: its programs would take more than 80000 operations; use the
     interpreted recursions (--no-compile, compiled=False)
@@ -39,6 +51,21 @@ class ProgramTooLargeError(CourseDynamicsError):
 class Tape:
     """The program being recorded: nodes (op, argument, argument), each recorded once.
 
+    An argument is ``("t", index)`` for a recorded node or ``("c", value)`` for a constant.
+
+    Parameters
+    ----------
+    limit : int, optional
+        The most nodes the tape may hold.
+
+    Raises
+    ------
+    ProgramTooLargeError
+        From :meth:`~course_dynamics.core.compiled.tracing.Tape.record`, once the tape would hold more than
+        ``limit`` nodes.
+
+    Examples
+    --------
     >>> tape = Tape()
     >>> x = tape.input("q0")
     >>> y = 2.0 * x + x * 2.0   # x · 2 is recorded once
@@ -52,6 +79,25 @@ class Tape:
         self.limit = limit
 
     def record(self, op: str, *arguments) -> "Traced":
+        """The traced value of one operation, recorded unless the same one was recorded before.
+
+        Parameters
+        ----------
+        op : str
+            The operation: ``input``, ``add``, ``sub``, ``mul``, ``div``, ``neg``, ``cos`` or ``sin``.
+        *arguments : tuple
+            Its arguments, ``("t", index)`` or ``("c", value)`` (an input's name for ``input``).
+
+        Returns
+        -------
+        Traced
+            The value the operation computes.
+
+        Raises
+        ------
+        ProgramTooLargeError
+            If the tape already holds ``limit`` nodes.
+        """
         key = (op, *arguments)
         i = self.index.get(key)
         if i is None:
@@ -63,6 +109,23 @@ class Tape:
         return Traced(self, i)
 
     def input(self, name: str) -> "Traced":
+        """A named input of the program (``q0``, ``qd1``, …).
+
+        Parameters
+        ----------
+        name : str
+            The input's name in the generated code.
+
+        Returns
+        -------
+        Traced
+            The input as a traced value.
+
+        Raises
+        ------
+        ProgramTooLargeError
+            If the tape is full.
+        """
         return self.record("input", name)
 
 
@@ -74,6 +137,18 @@ def _ref(x):
 class Traced:
     """A scalar that records the arithmetic done on it (see the module docstring).
 
+    It takes part in ``+``, ``-``, ``*``, ``/`` and unary ``-`` with other traced values and with numbers; a
+    result known without arithmetic (``x * 1``, ``x - x``, ``0 * x``) is given at once and nothing is recorded.
+
+    Parameters
+    ----------
+    tape : Tape
+        The tape it is recorded on.
+    i : int
+        Its node's index on the tape.
+
+    Examples
+    --------
     >>> x = Tape().input("q0")
     >>> x * 1 is x, x - x, 0 * x   # done on the spot: nothing recorded
     (True, 0.0, 0.0)
@@ -149,6 +224,13 @@ class Traced:
     __hash__ = None
 
     def cos_sin(self):
+        """cos and sin of this value, each recorded once.
+
+        Returns
+        -------
+        tuple of Traced
+            (cos x, sin x).
+        """
         return self.tape.record("cos", _ref(self)), self.tape.record("sin", _ref(self))
 
 
@@ -156,6 +238,20 @@ class Traced:
 class Program:
     """A straight-line program: named inputs, nodes, and the outputs (node references or constants).
 
+    Parameters
+    ----------
+    name : str
+        The program: ``tau``, ``mass_matrix``, ``bias``, ``coriolis`` or ``forward_dynamics``.
+    inputs : list of str
+        Its arguments, each a vector of n values: ``q``, ``qd``, ``qdd`` or ``tau``.
+    nodes : list of list
+        Its operations in order, ``[op, argument, …]``, each argument ``["t", index]`` or ``["c", value]``
+        (``["input", "q0"]`` for an input).
+    outputs : list of list
+        What it returns, in order, each ``["t", index]`` or ``["c", value]``.
+
+    Examples
+    --------
     >>> from course_dynamics import load_robot
     >>> program = trace_programs(load_robot("pendulum"))["mass_matrix"]
     >>> program.inputs, len(program.nodes), program.outputs   # M = m l² (cos² θ + sin² θ): node 7
@@ -168,6 +264,13 @@ class Program:
     outputs: list
 
     def as_data(self) -> dict:
+        """The program as plain data (JSON can hold it).
+
+        Returns
+        -------
+        dict
+            ``name``, ``inputs``, ``nodes`` and ``outputs``, as the fields.
+        """
         return {"name": self.name, "inputs": self.inputs, "nodes": self.nodes, "outputs": self.outputs}
 
 
@@ -199,6 +302,25 @@ def trace_programs(model: Model) -> dict[str, Program]:
 
     Raises :class:`ProgramTooLargeError` as soon as the programs together pass :data:`MAX_OPERATIONS`.
 
+    Parameters
+    ----------
+    model : Model
+        The robot; its gravity is built into the programs.
+
+    Returns
+    -------
+    dict of str to Program
+        The five programs by name: ``tau`` τ(Θ, Θ̇, Θ̈), ``mass_matrix`` (the upper triangle of M(Θ), row by row),
+        ``bias`` V(Θ, Θ̇) + G(Θ), ``coriolis`` C(Θ, Θ̇) row by row and ``forward_dynamics`` (Θ̈ and the n pivots
+        of the LDLᵀ factorization of M).
+
+    Raises
+    ------
+    ProgramTooLargeError
+        If the programs together would take more than :data:`MAX_OPERATIONS` operations.
+
+    Examples
+    --------
     >>> from course_dynamics import load_robot
     >>> sorted(trace_programs(load_robot("two_link")))
     ['bias', 'coriolis', 'forward_dynamics', 'mass_matrix', 'tau']
@@ -258,3 +380,6 @@ def _ldl_solve(M: list, rhs: list) -> tuple[list, list]:
     for i in reversed(range(n)):
         x[i] = y[i] / D[i] - sum((L[k][i] * x[k] for k in range(i + 1, n)), 0)
     return x, D
+
+
+__all__ = ["MAX_OPERATIONS", "Program", "ProgramTooLargeError", "Tape", "Traced", "trace_programs"]
