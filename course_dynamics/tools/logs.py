@@ -28,7 +28,7 @@ samples, and at least 7. The samples must be on an even clock; dropped samples
 are filled, a log can be resampled and long gaps split (:mod:`~course_dynamics.tools.resampling`).
 What was differentiated, filled or resampled is said in :attr:`TorqueLog.notes`, and
 the CLI writes it at the top of its output. When the log holds measured torques (or
-currents and their torque constants), :attr:`TorqueLog.residuals` compares them with ours
+currents and their torque constants), the ``residuals`` of a :class:`TorqueLog` compare them with ours
 (:mod:`~course_dynamics.tools.residuals`).
 
 >>> import numpy as np
@@ -63,8 +63,8 @@ from .residuals import ResidualReport, residual_report
 from .sources import as_source
 from .tables import joint_columns, stack_joint_columns
 
-# τ is computed this many rows at a time: the recursion's temporaries (for the UR5 about 1.6 kB a row
-# interpreted, 0.5 kB compiled, measured with tracemalloc) then stay under 60 MB however long the log.
+#: τ is computed this many rows at a time: the recursion's temporaries (for the UR5 about 1.6 kB a row
+#: interpreted, 0.5 kB compiled, measured with tracemalloc) then stay under 60 MB however long the log.
 ROWS_AT_A_TIME = 2**15
 MAX_MEASURED = 1e7          # N m: the largest industrial joints take about 1e5
 RATE_UNITS_RATIO = 3.0      # a logged Θ̇ this many times larger or smaller than dΘ/dt is in other units
@@ -76,6 +76,27 @@ class JointLog:
 
     ``measured``: τ_meas (K, n), NaN for joints not measured, or None; ``measured_from`` says what it was
     (``tau_meas``, or currents times torque constants); ``segments``: (start, stop) rows differentiated apart.
+
+    Parameters
+    ----------
+    t : numpy.ndarray, shape (K,)
+        Sample times, s.
+    q : numpy.ndarray, shape (K, n)
+        Joint positions Θ, rad (m for a prismatic joint).
+    qd : numpy.ndarray, shape (K, n)
+        Joint velocities Θ̇, rad/s (m/s).
+    qdd : numpy.ndarray, shape (K, n)
+        Joint accelerations Θ̈, rad/s² (m/s²).
+    notes : tuple of str
+        What was computed (differentiated, filled, resampled) rather than read.
+    measured : numpy.ndarray, shape (K, n), optional
+        The measured torques τ_meas, N·m (N for a prismatic joint), NaN for joints not measured; None if none.
+    measured_from : str
+        What ``measured`` was made from.
+    segments : tuple of (int, int)
+        The (start, stop) rows differentiated apart.
+    sigma_qdd : numpy.ndarray, shape (K, n), optional
+        What the position or rate noise leaves in Θ̈, rad/s² (0 where Θ̈ was read).
     """
 
     t: np.ndarray
@@ -92,7 +113,23 @@ class JointLog:
 @dataclass(frozen=True)
 class TorqueLog:
     """The torques a log needs, the state they were computed from, the limits report and, when the robot
-    measured its torques, the residuals."""
+    measured its torques, the residuals.
+
+    Parameters
+    ----------
+    log : JointLog
+        The state the torques were computed from.
+    tau : numpy.ndarray, shape (K, n)
+        Joint torques τ, N·m (N for a prismatic joint).
+    report : LimitsReport
+        The torques and rates against the URDF's limits.
+    model : Model
+        The robot the torques are of (payloads lumped in).
+    residuals : ResidualReport, optional
+        The measured torques against ours; None when the log measured none.
+    tau_sigma : numpy.ndarray, shape (K, n), optional
+        σ_τ from the noise of differentiated rates, N·m; None when nothing was differentiated.
+    """
 
     log: JointLog
     tau: np.ndarray
@@ -103,14 +140,30 @@ class TorqueLog:
 
     @property
     def t(self) -> np.ndarray:
+        """The sample times (K,), s."""
         return self.log.t
 
     @property
     def notes(self) -> tuple[str, ...]:
+        """What was computed (differentiated, filled, resampled) rather than read."""
         return self.log.notes
 
     def table(self, with_state: bool = False) -> tuple[list[str], np.ndarray]:
-        """Header and rows: t, tau_<joint> (and q_, qd_, qdd_ with ``with_state``; tau_meas_ when measured)."""
+        """Header and rows: t, ``tau_<joint>`` (and ``q_``, ``qd_``, ``qdd_`` with ``with_state``; ``tau_meas_`` when
+        measured).
+
+        Parameters
+        ----------
+        with_state : bool
+            Whether the state's columns come before the torques.
+
+        Returns
+        -------
+        header : list of str
+            The column names.
+        rows : numpy.ndarray, shape (K, columns)
+            One row per sample, in SI units.
+        """
         kinds = (KINDS if with_state else ()) + ("tau",)
         header = ["t"] + joint_columns(kinds, self.model.joint_names)
         blocks = [getattr(self.log, k) for k in kinds[:-1]] + [self.tau]
@@ -170,17 +223,33 @@ def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[
 
     Parameters
     ----------
-    table : a log (a :class:`~course_dynamics.tools.sources.LogSource` or anything
-        :func:`~course_dynamics.tools.sources.as_source` takes)
-    dt : float, s — the sample step of a log without a ``t`` column
-    columns : our column name → the log's
-    window : odd int — Savitzky–Golay window in samples (default: about 20 ms)
-    constants : our column name → a value for every row, for signals the log lacks
-        (e.g. ``{"q_panda_finger_joint1": 0.04}``; a constant q has zero rates)
-    time_unit : the unit of the log's ``t`` column: s, ms, us or ns
-    resample : Hz — put the log on an even clock at this rate first
-    split_gaps : differentiate the pieces between long gaps apart instead of refusing them
-    torque_constants : (n,) N·m/A — turn logged motor currents into measured torques
+    model : Model
+        The robot.
+    table : LogSource or table
+        A log (a :class:`~course_dynamics.tools.sources.LogSource` or anything
+        :func:`~course_dynamics.tools.sources.as_source` takes).
+    dt : float, optional
+        The sample step of a log without a ``t`` column, s.
+    columns : mapping of str to str, optional
+        Our column name → the log's.
+    window : int, optional
+        The Savitzky–Golay window in samples, odd (default: about 20 ms).
+    constants : mapping of str to float, optional
+        Our column name → a value for every row, for signals the log lacks
+        (e.g. ``{"q_panda_finger_joint1": 0.04}``; a constant q has zero rates).
+    time_unit : str
+        The unit of the log's ``t`` column: s, ms, us or ns.
+    resample : float, optional
+        Put the log on an even clock at this rate first, Hz.
+    split_gaps : bool
+        Differentiate the pieces between long gaps apart instead of refusing them.
+    torque_constants : array_like, shape (n,), optional
+        Turn logged motor currents into measured torques, N·m/A.
+
+    Returns
+    -------
+    JointLog
+        Θ, Θ̇, Θ̈ on the log's samples (or its even clock), the measured torques, and the notes.
 
     Raises
     ------
@@ -311,6 +380,50 @@ def torques_from_log(model: Model, table, *, dt: float | None = None, columns: M
     Returns a :class:`TorqueLog`: ``tau`` (N, n); ``log`` with ``t``, ``q``, ``qd``, ``qdd`` as
     used; ``report`` (:class:`~course_dynamics.tools.limits.LimitsReport`); ``residuals``
     (:class:`~course_dynamics.tools.residuals.ResidualReport`, or None); ``notes``; ``table()``.
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    table : LogSource or table
+        A log, as :func:`joint_log` takes.
+    dt : float, optional
+        The sample step of a log without a ``t`` column, s.
+    columns : mapping of str to str, optional
+        Our column name → the log's.
+    window : int, optional
+        The Savitzky–Golay window in samples, odd (default: about 20 ms).
+    constants : mapping of str to float, optional
+        Our column name → a value for every row, for signals the log lacks.
+    time_unit : str
+        The unit of the log's ``t`` column: s, ms, us or ns.
+    friction : Friction, optional
+        Joint friction F(Θ̇) added to the torques (6.114).
+    payload : Payload or list of Payload, optional
+        Loads lumped into their links.
+    wrench : Wrench or list of Wrench, optional
+        External wrenches, whose Jᵀ F_ext is added.
+    compiled : bool, optional
+        Whether to use the compiled model; None lets the evaluator choose.
+    resample : float, optional
+        Put the log on an even clock at this rate first, Hz.
+    split_gaps : bool
+        Differentiate the pieces between long gaps apart instead of refusing them.
+    torque_constants : array_like, shape (n,), optional
+        Turn logged motor currents into measured torques, N·m/A.
+    progress : callable, optional
+        Called as ``progress(done, total)`` as the work goes.
+
+    Returns
+    -------
+    TorqueLog
+        The torques (K, n), the state they were computed from, the limits report and the residuals.
+
+    Raises
+    ------
+    InputError
+        Whatever :func:`joint_log` refuses, a payload or wrench that does not fit the robot, and torques that
+        overflow.
     """
     for load in _as_list(payload):
         model = with_payload(model, load)
@@ -364,3 +477,6 @@ def _torque_sigma(log: JointLog, run, progress=None) -> np.ndarray | None:
         if progress is not None:
             progress(2 * len(log.t) + min(start + ROWS_AT_A_TIME, len(log.t)), 3 * len(log.t))
     return sigma
+
+
+__all__ = ["ROWS_AT_A_TIME", "JointLog", "TorqueLog", "joint_log", "torques_from_log"]
