@@ -1,0 +1,166 @@
+"""Two directives that generate the site's references from the code itself, so neither can fall behind it.
+
+``.. layer-api:: core`` — the API reference of one layer: the package's own docstring (its table of modules),
+then one section per module with ``automodule`` over the names of its ``__all__`` that it defines (a name
+re-exported from elsewhere is a link to where it is defined, never a second description).
+
+``.. cli-reference::`` — one section per ``course-dynamics`` command, read from the parsers that the command
+line itself builds: the command's description, its ``--help`` text verbatim, and the example commands of the
+site's pages that use it (a command no page shows is a warning, and the build treats warnings as errors).
+"""
+from __future__ import annotations
+
+import ast
+import importlib
+import inspect
+import os
+import pkgutil
+import re
+from pathlib import Path
+
+from docutils import nodes
+from docutils.statemachine import StringList
+from sphinx.util import logging
+from sphinx.util.docutils import SphinxDirective
+from sphinx.util.nodes import nested_parse_with_titles
+
+LOG = logging.getLogger(__name__)
+HELP_COLUMNS = "100"  # the width the --help texts are shown at (argparse reads $COLUMNS)
+
+
+def defined_in_module(module) -> tuple[list[str], list[str]]:
+    """(names of ``__all__`` the module defines, in the order of its source; names it re-exports from elsewhere)."""
+    lines = {}
+    try:
+        for node in ast.parse(inspect.getsource(module)).body:
+            targets = node.targets if isinstance(node, ast.Assign) else [node.target] if isinstance(
+                node, ast.AnnAssign) else []
+            names = [t.id for t in targets if isinstance(t, ast.Name)] + [getattr(node, "name", "")]
+            lines |= {n: node.lineno for n in names if n and n not in lines}
+    except (OSError, TypeError):
+        pass
+    own, elsewhere = [], []
+    for name in getattr(module, "__all__", ()):
+        obj = getattr(module, name)
+        origin = getattr(obj, "__module__", None) if (inspect.isclass(obj) or inspect.isroutine(obj)) else None
+        if inspect.ismodule(obj):
+            continue
+        if origin == module.__name__ or (origin is None and name in lines):
+            own.append(name)
+        elif origin is not None:
+            elsewhere.append(name)
+    return sorted(own, key=lambda n: lines.get(n, 10 ** 9)), elsewhere
+
+
+def directive_of(obj) -> str:
+    if inspect.isclass(obj):
+        return "autoexception" if issubclass(obj, BaseException) else "autoclass"
+    return "autofunction" if inspect.isroutine(obj) else "autodata"
+
+
+def role_of(obj) -> str:
+    return {"autoexception": "exc", "autoclass": "class", "autofunction": "func"}.get(directive_of(obj), "data")
+
+
+def module_rst(name: str, underline: str, title: bool = True) -> list[str]:
+    """The reST of one module's reference: its docstring, then each name it defines (a class with its members)."""
+    module = importlib.import_module(name)
+    own, elsewhere = defined_in_module(module)
+    lines = [name, underline * len(name), ""] if title else []
+    lines += [f".. automodule:: {name}", ""]
+    for attribute in own:
+        obj = getattr(module, attribute)
+        lines += [f".. {directive_of(obj)}:: {name}.{attribute}"]
+        lines += ["   :members:", "   :show-inheritance:"] if inspect.isclass(obj) else []
+        lines += ["   :no-value:"] if directive_of(obj) == "autodata" else []
+        lines += [""]
+    if elsewhere:
+        links = ", ".join(f":{role_of(getattr(module, n))}:`~{getattr(module, n).__module__}."
+                          f"{getattr(module, n).__qualname__}`" for n in elsewhere)
+        lines += [f"Offered here too, documented where they are defined: {links}.", ""]
+    return lines
+
+
+def submodules(package: str) -> list[str]:
+    path = importlib.import_module(package).__path__
+    return sorted(n for _, n, _ in pkgutil.walk_packages(path, package + ".") if not n.endswith("__main__"))
+
+
+class LayerApi(SphinxDirective):
+    """``.. layer-api:: <layer>``: the package ``course_dynamics.<layer>`` and every module in it."""
+    required_arguments = 1
+
+    def run(self):
+        package = f"course_dynamics.{self.arguments[0]}" if self.arguments[0] != "course_dynamics" else "course_dynamics"
+        lines = module_rst(package, "-", title=False)
+        if package not in ("course_dynamics", "course_dynamics.cli"):  # the commands: see the CLI reference
+            for name in submodules(package):
+                lines += module_rst(name, "-")
+        node = nodes.section()
+        node.document = self.state.document
+        nested_parse_with_titles(self.state, StringList(lines, source=f"<layer-api {package}>"), node)
+        return node.children
+
+
+def page_examples(docs: Path) -> dict[str, list[tuple[str, str]]]:
+    """{command: [(page, example line)]} from every ``sh`` block of the site's pages."""
+    found: dict[str, list[tuple[str, str]]] = {}
+    for page in sorted(docs.rglob("*.md")):
+        if "_build" in page.parts:
+            continue
+        docname = page.relative_to(docs).with_suffix("").as_posix()
+        for block in re.findall(r"```sh\n(.*?)```", page.read_text(), re.S):
+            for line in block.replace("\\\n", " ").splitlines():
+                line = line.strip()
+                words = line.split()
+                if len(words) >= 2 and words[0] == "course-dynamics" and not words[1].startswith("-"):
+                    found.setdefault(words[1], []).append((docname, re.sub(r"\s+", " ", line)))
+    return found
+
+
+class CliReference(SphinxDirective):
+    """``.. cli-reference::``: every command of ``course-dynamics``, from ``course_dynamics.cli.build_parser``."""
+
+    def run(self):
+        from course_dynamics.cli import build_parser
+
+        before = os.environ.get("COLUMNS")
+        os.environ["COLUMNS"] = HELP_COLUMNS
+        try:
+            parser = build_parser()
+            commands = next(a for a in parser._actions if a.__class__.__name__ == "_SubParsersAction").choices
+            lines = [".. code-block:: text", ""] + ["   " + line for line in parser.format_help().splitlines()] + [""]
+            examples = page_examples(Path(self.env.srcdir))
+            for name, sub in commands.items():
+                title = f"course-dynamics {name}"
+                lines += [f".. _cli-{name}:", "", title, "-" * len(title), "", sub.description or "", "",
+                          ".. code-block:: text", ""]
+                lines += ["   " + line for line in sub.format_help().splitlines()] + [""]
+                shown = examples.get(name, [])
+                if not shown:
+                    LOG.warning(f"course-dynamics {name} has no example on any page of the site",
+                                location=self.get_location())
+                seen = []
+                for docname, line in shown:
+                    if line not in (s for _, s in seen) and len(seen) < 4:
+                        seen.append((docname, line))
+                if seen:
+                    lines += ["Examples (each runs in the tests):", "", ".. code-block:: sh", ""]
+                    lines += ["   " + line for _, line in seen] + [""]
+                    pages = sorted({d for d, _ in seen})
+                    lines += ["Shown with their context on " + ", ".join(f":doc:`/{d}`" for d in pages) + ".", ""]
+        finally:
+            if before is None:
+                os.environ.pop("COLUMNS", None)
+            else:
+                os.environ["COLUMNS"] = before
+        node = nodes.section()
+        node.document = self.state.document
+        nested_parse_with_titles(self.state, StringList(lines, source="<cli-reference>"), node)
+        return node.children
+
+
+def setup(app):
+    app.add_directive("layer-api", LayerApi)
+    app.add_directive("cli-reference", CliReference)
+    return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}
