@@ -483,5 +483,5 @@ class _LimitGuard:
         return q, qd
 
 
-__all__ = ["CALLS_PER_STEP", "INTEGRATORS", "LIMIT_MODES", "SimulationError", "StateError", "TorqueTable", "Trajectory", "simulate",
-           "time_grid", "total_energy"]
+__all__ = ["CALLS_PER_STEP", "INTEGRATORS", "LIMIT_MODES", "SimulationError", "StateError", "TorqueTable", "Trajectory",
+           "simulate", "time_grid", "total_energy"]
