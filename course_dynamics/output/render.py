@@ -32,7 +32,9 @@ import re
 from ..base.errors import InputError
 from ..tools.trace import INWARD_QUANTITIES, OUTWARD_QUANTITIES, Trace
 
+#: The formats of a Newton–Euler trace: :func:`trace_table`, :func:`trace_latex` and :func:`trace_record`.
 TRACE_FORMATS = ("table", "latex", "json")
+#: The formats of a closed-form derivation: :func:`derivation_text` (Markdown, LaTeX) and :func:`derivation_record`.
 DERIVATION_FORMATS = ("markdown", "latex", "json")
 
 # key: (plain-text label, LaTeX symbol, equation number)
@@ -53,6 +55,27 @@ def text_table(rows: list[list[str]], align: str | None = None, gap: int = 2) ->
     """Rows of strings as aligned columns; ``align`` has one ``<`` (left) or ``>`` (right) per column.
 
     By default the first column is left-aligned and the others right-aligned (labels, then numbers).
+
+    Parameters
+    ----------
+    rows : list of list of str
+        The cells, row by row; every row has the same number of cells, and there is at least one row.
+    align : str, optional
+        One ``<`` or ``>`` per column; ``None`` (the default) for ``"<>>…"``.
+    gap : int, optional
+        Spaces between columns.
+
+    Returns
+    -------
+    str
+        The table, one line per row (no trailing spaces, no final newline).
+
+    Examples
+    --------
+    >>> print(text_table([["joint", "tau"], ["theta1", "1.5"], ["theta2", "-0.25"]]))
+    joint     tau
+    theta1    1.5
+    theta2  -0.25
     """
     widths = [max(len(row[c]) for row in rows) for c in range(len(rows[0]))]
     align = align or "<" + ">" * (len(widths) - 1)
@@ -64,7 +87,22 @@ def text_table(rows: list[list[str]], align: str | None = None, gap: int = 2) ->
 
 
 def matrix_lines(labels, matrix, width: int = 12) -> list[str]:
-    """One line per row: its label, then the entries to 6 significant digits in columns of ``width``."""
+    """One line per row: its label, then the entries to 6 significant digits in columns of ``width``.
+
+    Parameters
+    ----------
+    labels : sequence of str
+        One label per row.
+    matrix : array_like, shape (n, m)
+        The numbers (M(Θ), a Jacobian, …).
+    width : int, optional
+        The width of each number's column, characters.
+
+    Returns
+    -------
+    list of str
+        One line per row.
+    """
     label_width = max(len(label) for label in labels)
     return [f"{label:<{label_width}}  " + " ".join(f"{x:>{width}.6g}" for x in row)
             for label, row in zip(labels, matrix)]
@@ -80,6 +118,18 @@ def markdown_escape(text) -> str:
     (as entities); without brackets no link or image can form, so parentheses may stay. What a renderer
     would turn into a link by itself (a bare URL, ``www.``…, an e-mail address) becomes inline code.
 
+    Parameters
+    ----------
+    text : object
+        The text (anything else is made a string first); its line breaks become spaces.
+
+    Returns
+    -------
+    str
+        The escaped text, on one line.
+
+    Examples
+    --------
     >>> markdown_escape("see http://evil.example/x_y or me@evil.example <b>")
     'see `http://evil.example/x_y` or `me@evil.example` &lt;b&gt;'
     """
@@ -104,14 +154,43 @@ def _code_span(text: str) -> str:
 
 
 def code_block(text, language: str = "text") -> str:
-    """A fenced code block whose fence is longer than any run of backticks in ``text``."""
+    """A fenced code block whose fence is longer than any run of backticks in ``text``.
+
+    Parameters
+    ----------
+    text : object
+        The block's contents (made a string).
+    language : str, optional
+        The fence's language tag.
+
+    Returns
+    -------
+    str
+        The block, fences included (no final newline).
+    """
     longest = max((len(run) for run in re.findall(r"`+", str(text))), default=0)
     fence = "`" * max(3, longest + 1)
     return f"{fence}{language}\n{text}\n{fence}"
 
 
 def json_text(document) -> str:
-    """Indented JSON; a NaN or inf is an InputError (its values were out of range), never invalid JSON."""
+    """Indented JSON; a NaN or inf is an InputError (its values were out of range), never invalid JSON.
+
+    Parameters
+    ----------
+    document : object
+        What :func:`json.dumps` takes: dicts, lists, strings, numbers, booleans, ``None``.
+
+    Returns
+    -------
+    str
+        The document, indented by 2 (no final newline).
+
+    Raises
+    ------
+    InputError
+        If a number in ``document`` is NaN or infinite.
+    """
 
     try:
         return json.dumps(document, indent=2, allow_nan=False)
@@ -124,7 +203,18 @@ def json_text(document) -> str:
 
 
 def trace_table(t: Trace) -> str:
-    """Plain text: outward iteration link by link, then inward iteration from the tip."""
+    """Plain text: outward iteration link by link, then inward iteration from the tip.
+
+    Parameters
+    ----------
+    t : Trace
+        The trace (:class:`~course_dynamics.tools.trace.Trace`), numeric or symbolic.
+
+    Returns
+    -------
+    str
+        Each link's ⁱωᵢ, ⁱω̇ᵢ, ⁱv̇ᵢ, ⁱv̇_Cᵢ, ⁱFᵢ, ⁱNᵢ, then ⁱfᵢ, ⁱnᵢ and τᵢ, labelled with Craig's equation numbers.
+    """
     lines = [f"robot {t.model_name}: Newton-Euler iterations (every vector in its own link's frame i)", "",
              "Outward iteration, i = 1 .. n: velocities, accelerations, inertial loads (6.45)-(6.50)"]
     for i, (link, joint) in enumerate(zip(t.links, t.joints)):
@@ -172,7 +262,18 @@ def latex_entry(x, names=None) -> str:
 
 
 def trace_latex(t: Trace) -> str:
-    """LaTeX: one ``align*`` block per iteration, one line per quantity, Craig's leading superscripts."""
+    """LaTeX: one ``align*`` block per iteration, one line per quantity, Craig's leading superscripts.
+
+    Parameters
+    ----------
+    t : Trace
+        The trace (:class:`~course_dynamics.tools.trace.Trace`), numeric or symbolic.
+
+    Returns
+    -------
+    str
+        Two ``align*`` blocks (outward, then inward), the joint symbols as θᵢ, θ̇ᵢ, θ̈ᵢ (dᵢ for a prismatic joint).
+    """
     names = latex_names(t.joints, t.prismatic)
 
     def vector(values):
@@ -196,7 +297,19 @@ def trace_latex(t: Trace) -> str:
 
 
 def trace_record(t: Trace) -> dict:
-    """JSON-ready: numbers stay numbers; symbolic entries become strings."""
+    """JSON-ready: numbers stay numbers; symbolic entries become strings.
+
+    Parameters
+    ----------
+    t : Trace
+        The trace (:class:`~course_dynamics.tools.trace.Trace`), numeric or symbolic.
+
+    Returns
+    -------
+    dict
+        ``{"robot", "joints", "symbolic", "links"}``; each link a dict of its ``link``, ``joint``, vectors
+        (``omega``, ``omega_dot``, ``v_dot``, ``v_dot_c``, ``F``, ``N``, ``f``, ``n``) and ``tau``.
+    """
     def entry(x):
         return x if isinstance(x, float) else str(x)
 
@@ -214,7 +327,19 @@ def trace_record(t: Trace) -> dict:
 
 
 def derivation_record(d) -> dict:
-    """A :class:`~course_dynamics.core.symbolic.Derivation` as JSON-ready strings (keys joints, tau, M, V, G, B, C)."""
+    """A :class:`~course_dynamics.core.symbolic.Derivation` as JSON-ready strings (keys joints, tau, M, V, G, B, C).
+
+    Parameters
+    ----------
+    d : Derivation
+        The closed forms (:class:`~course_dynamics.core.symbolic.Derivation`).
+
+    Returns
+    -------
+    dict
+        ``joints`` (list of str), ``tau``, ``V``, ``G`` (lists of str, n), ``M``, ``C`` (n × n) and ``B``
+        (n × n(n−1)/2) as nested lists of str.
+    """
     def s(x):
         return str(x)
 
@@ -226,7 +351,20 @@ def derivation_record(d) -> dict:
 
 
 def derivation_text(d, fmt: str) -> str:
-    """A derivation typeset as LaTeX (``fmt="latex"``) or Markdown with LaTeX math (``"markdown"``)."""
+    """A derivation typeset as LaTeX (``fmt="latex"``) or Markdown with LaTeX math (``"markdown"``).
+
+    Parameters
+    ----------
+    d : Derivation
+        The closed forms (:class:`~course_dynamics.core.symbolic.Derivation`).
+    fmt : str
+        ``"latex"``; anything else gives Markdown.
+
+    Returns
+    -------
+    str
+        τ, M(Θ), V(Θ, Θ̇), G(Θ), B(Θ) and C(Θ) of (6.63), in Craig's letters.
+    """
     import sympy
 
     n = len(d.joints)
@@ -248,3 +386,7 @@ def derivation_text(d, fmt: str) -> str:
     for name, value in blocks:
         lines += [f"$$ {name} = {sympy.latex(value, symbol_names=names)} $$", ""]
     return "\n".join(lines)
+
+
+__all__ = ["DERIVATION_FORMATS", "TRACE_FORMATS", "code_block", "derivation_record", "derivation_text", "json_text",
+           "markdown_escape", "matrix_lines", "text_table", "trace_latex", "trace_record", "trace_table"]
