@@ -38,7 +38,24 @@ from ..core.model import Model
 
 @dataclass(frozen=True)
 class Payload:
-    """A point or box mass fixed to link ``link`` (None: the tip, see :func:`payload_link`)."""
+    """A point or box mass fixed to link ``link`` (None: the tip, see :func:`payload_link`).
+
+    Parameters
+    ----------
+    mass : float
+        The payload's mass m, kg (0 < m ≤ 1e9).
+    link : str, optional
+        The URDF link it is fixed to; None for the tip.
+    com : tuple of float, shape (3,)
+        Its centre of mass ᴸP_C in the link's frame, m.
+    size : tuple of float, shape (3,), optional
+        The edges a, b, c of a uniform box along the link's axes, m; None for a point mass.
+
+    Raises
+    ------
+    InputError
+        If the mass, centre of mass or size is not a finite number in range.
+    """
 
     mass: float
     link: str | None = None
@@ -59,13 +76,32 @@ class Payload:
             object.__setattr__(self, "size", tuple(size.tolist()))
 
     def inertia(self) -> np.ndarray:
-        """ᶜI of the payload about its own centre, in the link's axes (3, 3), kg·m²."""
+        """ᶜI of the payload about its own centre, in the link's axes (3, 3), kg·m².
+
+        Returns
+        -------
+        numpy.ndarray, shape (3, 3)
+            The inertia tensor, kg·m² (zero for a point mass).
+        """
         return np.zeros((3, 3)) if self.size is None else box(self.mass, *self.size)
 
 
 def payload_link(model: Model, payload: Payload) -> str:
     """The link a payload is fixed to: the one it names, else the tip — the last URDF link carried
-    by the last moving body (a tool frame such as UR5's ``tool0`` where the URDF has one)."""
+    by the last moving body (a tool frame such as UR5's ``tool0`` where the URDF has one).
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    payload : Payload
+        The payload.
+
+    Returns
+    -------
+    str
+        The link's name.
+    """
     if payload.link is not None:
         return payload.link
     return [f.name for f in model.frames if f.body == model.n - 1][-1]
@@ -73,6 +109,18 @@ def payload_link(model: Model, payload: Payload) -> str:
 
 def with_payload(model: Model, payload: Payload) -> Model:
     """The same robot with ``payload`` lumped into the body of its link.
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    payload : Payload
+        The payload.
+
+    Returns
+    -------
+    Model
+        The robot with the payload's mass, centre of mass and inertia added to the link's body (6.25).
 
     Raises
     ------
@@ -99,7 +147,22 @@ def with_payload(model: Model, payload: Payload) -> Model:
 
 @dataclass(frozen=True)
 class Wrench:
-    """Force and moment the robot exerts on its surroundings at the origin of frame ``link`` (base coordinates)."""
+    """Force and moment the robot exerts on its surroundings at the origin of frame ``link`` (base coordinates).
+
+    Parameters
+    ----------
+    link : str
+        The frame at whose origin the wrench acts.
+    force : tuple of float, shape (3,)
+        The force f_{N+1} the robot exerts, base coordinates, N.
+    moment : tuple of float, shape (3,)
+        The moment n_{N+1} it exerts about the frame's origin, base coordinates, N·m.
+
+    Raises
+    ------
+    InputError
+        If the force or moment is not three finite numbers (at most 1e12 in size).
+    """
 
     link: str
     force: tuple[float, float, float]
@@ -121,8 +184,33 @@ class Wrench:
 
 def wrench_torques(model: Model, q, wrench: Wrench) -> np.ndarray:
     """τ = Jᵀ F (chapter 5's static-force relation): the joint torques that apply ``wrench``; shape like ``q``,
-    (n,) or (N, n)."""
+    (n,) or (N, n).
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : numpy.ndarray, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint).
+    wrench : Wrench
+        The wrench the robot exerts.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,) or (N, n)
+        Joint torques τ, N·m (N for a prismatic joint).
+
+    Raises
+    ------
+    ModelError
+        If the wrench's frame is not one of the robot's.
+    StateError
+        If ``q`` is not a finite array of shape (n,) or (N, n).
+    """
 
     model.frame(wrench.link)  # a clear error for an unknown frame
     J = jacobian(model, q, wrench.link, expressed_in="base")     # (6, n) or (N, 6, n)
     return np.einsum("...kj,k->...j", J, wrench.F)                # τ = Jᵀ F (chapter 5)
+
+
+__all__ = ["Payload", "Wrench", "payload_link", "with_payload", "wrench_torques"]
