@@ -47,3 +47,5 @@ module                   job
 ``compiled.cache``       the on-disk cache: a private folder, entries behind a keyed hash
 =======================  =============================================================
 """
+
+__all__: list[str] = []  # a package of modules: it re-exports nothing

@@ -31,6 +31,23 @@ from .model import Model
 class Friction:
     """Per-joint friction coefficients (arrays of shape (n,)).
 
+    Parameters
+    ----------
+    viscous : array_like, shape (n,)
+        v of (6.110) for each joint, N·m·s/rad (N·s/m for a prismatic joint); kept as a read-only float array.
+    coulomb : array_like, shape (n,)
+        c of (6.111) for each joint, N·m (N for a prismatic joint); kept as a read-only float array.
+    smoothing : float, optional
+        0 (the default) for sgn(θ̇); a velocity > 0 (rad/s, m/s) for tanh(θ̇ / smoothing).
+
+    Raises
+    ------
+    InputError
+        If a coefficient is negative or not finite, or ``smoothing`` is negative or NaN.
+
+    Examples
+    --------
+
     >>> friction = Friction(viscous=[0.5], coulomb=[0.2])   # N·m·s/rad, N·m
     >>> friction.torques([2.0]), friction.torques([0.0])     # (6.112); 0 at rest
     (array([1.2]), array([0.]))
@@ -52,16 +69,67 @@ class Friction:
 
     @classmethod
     def from_urdf(cls, model: Model, smoothing: float = 0.0) -> "Friction":
-        """Viscous = URDF damping, Coulomb = URDF friction, joint by joint."""
+        """Viscous = URDF damping, Coulomb = URDF friction, joint by joint.
+
+        Parameters
+        ----------
+        model : Model
+            The robot, read from a URDF (each body's ``damping`` and ``friction``).
+        smoothing : float, optional
+            As for :class:`Friction`.
+
+        Returns
+        -------
+        Friction
+            The URDF's coefficients.
+
+        Examples
+        --------
+        >>> from course_dynamics import load_robot
+        >>> Friction.from_urdf(load_robot("two_link")).viscous.shape
+        (2,)
+        """
         return cls(viscous=[b.damping for b in model.bodies], coulomb=[b.friction for b in model.bodies],
                    smoothing=smoothing)
 
     @classmethod
     def none(cls, model: Model) -> "Friction":
+        """No friction on any joint of ``model``: F(Θ̇) = 0.
+
+        Parameters
+        ----------
+        model : Model
+            The robot (its number of joints n).
+
+        Returns
+        -------
+        Friction
+            Zero coefficients, shape (n,).
+
+        Examples
+        --------
+        >>> from course_dynamics import load_robot
+        >>> Friction.none(load_robot("two_link")).torques([1.0, 2.0])
+        array([0., 0.])
+        """
         return cls(viscous=np.zeros(model.n), coulomb=np.zeros(model.n))
 
     def torques(self, qd) -> np.ndarray:
-        """F(Θ̇), shape like ``qd``: (n,) or (N, n); opposes the motion."""
+        """F(Θ̇), shape like ``qd``: (n,) or (N, n); opposes the motion.
+
+        Parameters
+        ----------
+        qd : array_like, shape (n,) or (N, n)
+            Joint velocities Θ̇, rad/s (m/s for a prismatic joint).
+
+        Returns
+        -------
+        numpy.ndarray, shape (n,) or (N, n)
+            Friction torques F(Θ̇) of (6.112), N·m (N for a prismatic joint).
+        """
         qd = np.asarray(qd, dtype=float)
         sign = np.tanh(qd / self.smoothing) if self.smoothing > 0 else np.sign(qd)
         return self.coulomb * sign + self.viscous * qd  # (6.112)
+
+
+__all__ = ["Friction"]
