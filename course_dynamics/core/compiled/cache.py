@@ -16,17 +16,31 @@ from pathlib import Path
 
 from ...base.errors import CourseDynamicsWarning
 
+#: The value of ``COURSE_DYNAMICS_CACHE`` that turns the compiled-model cache off.
 CACHE_OFF = "off"            # COURSE_DYNAMICS_CACHE=off: no cache
 MAX_ENTRY_BYTES = 64 * 2**20  # a cached entry larger than this is not read (it is far above MAX_OPERATIONS' size)
 
 
 class CacheWarning(CourseDynamicsWarning):
-    """The cache folder cannot be trusted with code (the message says why): compiled in memory instead."""
+    """The cache folder cannot be trusted with code (the message says why): compiled in memory instead.
+
+    Given once per folder and process; ``warnings.simplefilter("error", CacheWarning)`` makes it fatal.
+    """
 
 
 def cache_folder() -> Path | None:
     """The cache folder (module docstring); None when ``COURSE_DYNAMICS_CACHE=off``.
 
+    ``$COURSE_DYNAMICS_CACHE``, else ``$XDG_CACHE_HOME/course-dynamics``, else ``~/.cache/course-dynamics``;
+    nothing is made or checked here.
+
+    Returns
+    -------
+    pathlib.Path or None
+        The folder, or None when the cache is turned off.
+
+    Examples
+    --------
     >>> import os
     >>> from unittest import mock
     >>> with mock.patch.dict(os.environ, {"COURSE_DYNAMICS_CACHE": "off"}):
@@ -299,3 +313,6 @@ class Cache:
         text = source.encode("utf-8")
         body = len(text).to_bytes(8, "little") + text + marshal.dumps(code)
         return self.path(key) if _write_private(self.fd, f"{key}.entry", self._mac(key, body) + body) else None
+
+
+__all__ = ["CACHE_OFF", "CacheWarning", "cache_folder"]

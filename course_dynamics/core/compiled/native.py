@@ -44,10 +44,15 @@ from pathlib import Path
 
 from .tracing import Program
 
+#: The value of ``COURSE_DYNAMICS_NATIVE`` that turns native code off.
 NATIVE_OFF = "off"  # COURSE_DYNAMICS_NATIVE=off
+#: The most wall and CPU time a build may take, s: a build taking longer is stopped and remembered.
 BUILD_SECONDS = 60            # a build taking longer is stopped (the Python programs run), and remembered
+#: The compiler's address space, bytes.
 BUILD_MEMORY = 2**30          # address space of the compiler (the 20-joint chain's build peaks at 0.3 GB)
+#: The largest file the compiler may write, bytes (the library included).
 BUILD_FILE_BYTES = 256 * 2**20  # any file the compiler writes (the 20-joint chain's library is 0.8 MB)
+#: The most operations in one C function: a longer program is cut into parts of this size.
 PART_OPERATIONS = 1000  # operations in one C function at most: gcc then takes time linear in the program (below)
 OPERATIONS = {"add": "{} + {}", "sub": "{} - {}", "mul": "{} * {}", "div": "{} / {}", "neg": "-{}", "cos": "cos({})",
               "sin": "sin({})"}
@@ -56,6 +61,13 @@ OPERATIONS = {"add": "{} + {}", "sub": "{} - {}", "mul": "{} * {}", "div": "{} /
 def enabled() -> bool:
     """Whether native code may be built and loaded (``COURSE_DYNAMICS_NATIVE`` is not ``off``).
 
+    Returns
+    -------
+    bool
+        False when ``COURSE_DYNAMICS_NATIVE`` is ``off`` (in any case), else True.
+
+    Examples
+    --------
     >>> import os
     >>> from unittest import mock
     >>> with mock.patch.dict(os.environ, {"COURSE_DYNAMICS_NATIVE": "off"}):
@@ -218,6 +230,30 @@ done:
 def c_source(programs: dict[str, Program], n: int, key: str, robot: str) -> str:
     """The extension module's C source: every program as a C function and its batch wrapper.
 
+    Parameters
+    ----------
+    programs : dict of str to Program
+        The traced programs, by name (:func:`~course_dynamics.core.compiled.tracing.trace_programs`).
+    n : int
+        The robot's number of joints.
+    key : str
+        The model's key (:func:`~course_dynamics.core.compiled.model_key`): it names the module.
+    robot : str
+        The robot's name, for the first comment (anything that could end the comment is replaced by ``?``).
+
+    Returns
+    -------
+    str
+        The C source of the extension: one line per operation, in functions of at most
+        :data:`PART_OPERATIONS` operations.
+
+    Raises
+    ------
+    ValueError
+        If a program holds a constant that is not finite (it has no C literal).
+
+    Examples
+    --------
     >>> from course_dynamics import load_robot
     >>> from course_dynamics.core.compiled.tracing import trace_programs
     >>> pendulum = load_robot("pendulum")
@@ -256,6 +292,14 @@ def c_source(programs: dict[str, Program], n: int, key: str, robot: str) -> str:
 def compiler() -> str | None:
     """A C compiler with Python's headers beside it, or None.
 
+    Returns
+    -------
+    str or None
+        The compiler's path (Python's own ``CC``, else ``cc``, else ``gcc``), or None where there is none or
+        ``Python.h`` is missing.
+
+    Examples
+    --------
     >>> compiler() is None or Path(compiler()).is_file()
     True
     """
@@ -285,6 +329,29 @@ def compile_library(folder: str, name: str, cc: str, seconds: float, memory: int
     process group is killed), ``memory`` bytes of address space and files of ``size`` bytes, its temporary
     files in ``folder`` (TMPDIR) and what it prints in ``folder``/compiler.log.
 
+    Parameters
+    ----------
+    folder : str
+        A private folder (mode 0700) holding ``<name>.c``.
+    name : str
+        The module's name, ``course_dynamics_native_`` and the key's first 16 characters.
+    cc : str
+        The C compiler's path (:func:`compiler`).
+    seconds : float
+        The most wall and CPU time the compiler may take, s.
+    memory : int
+        The compiler's address space, bytes.
+    size : int
+        The largest file the compiler may write, bytes.
+
+    Returns
+    -------
+    str or None
+        None when ``<name>.so`` was built; otherwise why not (could not start, stopped after ``seconds``, stopped
+        by a limit, or the compiler's exit code and the last line it printed).
+
+    Examples
+    --------
     >>> import shutil, tempfile
     >>> folder = tempfile.mkdtemp()
     >>> with open(os.path.join(folder, "tiny.c"), "w") as c:
@@ -365,6 +432,24 @@ def build(source: str, key: str) -> tuple[bytes | None, str]:
     """The shared library built from ``source`` here and now, in a new private folder: (its bytes, "") or
     (None, why not), never an exception.
 
+    The build runs under :data:`BUILD_SECONDS`, :data:`BUILD_MEMORY` and :data:`BUILD_FILE_BYTES`
+    (:func:`compile_library`); the folder is removed afterwards.
+
+    Parameters
+    ----------
+    source : str
+        The extension's C source (:func:`c_source`).
+    key : str
+        The model's key, which names the module.
+
+    Returns
+    -------
+    tuple of (bytes or None, str)
+        The library's bytes and ``""``, or None and why there is none (no compiler, the compiler's error, a
+        limit).
+
+    Examples
+    --------
     >>> build("this is not C", "k3")[0] is None
     True
     """
@@ -389,6 +474,24 @@ def build(source: str, key: str) -> tuple[bytes | None, str]:
 def load(data: bytes, key: str) -> dict | None:
     """The extension's functions from checked library bytes, written to a new private file to be loaded.
 
+    Each function takes the program's input arrays and an output array, all C-contiguous float64 of whole
+    states, and fills the output; it raises TypeError, ValueError or BufferError for anything else (a
+    non-finite input among them).
+
+    Parameters
+    ----------
+    data : bytes
+        The shared library (:func:`build`), already checked: nothing else should be given.
+    key : str
+        The model's key it was built for, which names the module.
+
+    Returns
+    -------
+    dict of str to callable or None
+        The extension's functions by program name (``tau``, ``mass_matrix``, …), or None if it does not load.
+
+    Examples
+    --------
     >>> import numpy as np
     >>> from course_dynamics import load_robot
     >>> from course_dynamics.core.compiled.tracing import trace_programs
@@ -414,3 +517,7 @@ def load(data: bytes, key: str) -> dict | None:
     finally:
         shutil.rmtree(folder, ignore_errors=True)  # the mapping stays; the file is not needed once loaded
     return {name: getattr(module, name) for name in dir(module) if not name.startswith("_")}
+
+
+__all__ = ["BUILD_FILE_BYTES", "BUILD_MEMORY", "BUILD_SECONDS", "NATIVE_OFF", "PART_OPERATIONS", "build",
+           "c_source", "compile_library", "compiler", "enabled", "load"]
