@@ -86,6 +86,31 @@ def _neg(force):
 def coriolis_matrix(model: Model, q, qd) -> np.ndarray:
     """C(Θ, Θ̇), shape (n, n) or (N, n, n), in O(n²) (module docstring); equals the Christoffel form.
 
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : array_like, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint); a numpy object array of sympy expressions for a
+        closed form.
+    qd : array_like, shape (n,) or (N, n)
+        Joint velocities Θ̇, rad/s (m/s for a prismatic joint).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, n) or (N, n, n)
+        The Coriolis matrix C(Θ, Θ̇), with C(Θ, Θ̇) Θ̇ = V(Θ, Θ̇) and Ṁ − 2C skew-symmetric; kg·m²/s
+        between revolute joints.
+
+    Raises
+    ------
+    StateError
+        If ``q`` or ``qd`` is not numeric or not finite, its last axis is not the model's n joints, or their
+        batches differ in length.
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> coriolis_matrix(load_robot("two_link"), [0.0, np.pi / 2], [1.0, 0.0]).round(3)   # ∓m₂l₁l₂s₂θ̇₁ off the diagonal
     array([[ 0. , -0.2],
@@ -93,3 +118,6 @@ def coriolis_matrix(model: Model, q, qd) -> np.ndarray:
     """
     q, qd = as_state(model, q, "q"), as_state(model, qd, "qd")
     return layout_of(q, qd).assemble(coriolis_matrix_entries(model, entries(q), entries(qd)), (model.n, model.n))
+
+
+__all__ = ["coriolis_matrix"]

@@ -72,6 +72,28 @@ def mass_matrix_entries(model: Model, theta: list) -> list:
 def mass_matrix(model: Model, q) -> np.ndarray:
     """M(Θ), shape (n, n) or (N, n, n), kg·m² (kg for prismatic joints) by the composite-rigid-body algorithm.
 
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : array_like, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint); a numpy object array of sympy expressions for a
+        closed form.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, n) or (N, n, n)
+        The mass matrix M(Θ), symmetric: kg·m² between revolute joints, kg between prismatic ones, kg·m
+        between the two.
+
+    Raises
+    ------
+    StateError
+        If ``q`` is not numeric or not finite, or its last axis is not the model's n joints.
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> mass_matrix(load_robot("two_link"), [0.0, 0.0]).round(3)   # Craig (6.60) at θ₂ = 0, kg·m²
     array([[1.31, 0.36],
@@ -79,3 +101,6 @@ def mass_matrix(model: Model, q) -> np.ndarray:
     """
     q = as_state(model, q, "q")
     return layout_of(q).assemble(mass_matrix_entries(model, entries(q)), (model.n, model.n))
+
+
+__all__ = ["mass_matrix"]

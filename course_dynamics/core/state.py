@@ -46,12 +46,35 @@ class Layout:
 def as_state(model, values, name: str = "q") -> np.ndarray:
     """``values`` as a checked array of shape (..., n); numeric input becomes float.
 
+    A float array of the right shape whose values are finite is returned as it is (no copy): the one-state
+    path of the compiled models calls this for every argument.
+
+    Parameters
+    ----------
+    model : Model
+        The robot (its n joints, named in a refusal).
+    values : array_like, shape (n,) or (N, n)
+        A state Θ, Θ̇ or Θ̈ (rad, rad/s, rad/s²; m, m/s, m/s² for a prismatic joint), numbers, complex numbers
+        (for complex-step derivatives) or sympy expressions.
+    name : str, optional
+        The argument's name in a refusal: ``"q"``, ``"qd"``, ``"qdd"``, ….
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,) or (N, n)
+        The state: float for numbers, complex or object (sympy) as given.
+
+    Raises
+    ------
+    StateError
+        If ``values`` is not numeric, is a scalar, its last axis is not the model's n joints, or a value is
+        NaN or infinite (naming the joint and the row).
+
+    Examples
+    --------
     >>> from course_dynamics import load_robot
     >>> as_state(load_robot("two_link"), [0, 1])
     array([0., 1.])
-
-    A float array of the right shape whose values are finite is returned as it is (no copy): the one-state
-    path of the compiled models calls this for every argument.
     """
     if type(values) is np.ndarray and values.dtype == np.float64 and values.ndim and values.shape[-1] == model.n \
             and math.isfinite(sum(values.tolist()) if values.ndim == 1 else values.sum()):
@@ -77,6 +100,19 @@ def as_state(model, values, name: str = "q") -> np.ndarray:
 
 def entries(array: np.ndarray) -> list:
     """One scalar per joint: Python floats for one state, (N,) arrays for a batch.
+
+    Parameters
+    ----------
+    array : numpy.ndarray, shape (n,) or (N, n)
+        A state, as :func:`as_state` gives it.
+
+    Returns
+    -------
+    list
+        n entries: Python floats (or sympy expressions) for one state, arrays of shape (N,) for a batch.
+
+    Examples
+    --------
 
     >>> entries(np.array([0.5, 1.0]))
     [0.5, 1.0]
@@ -115,3 +151,6 @@ def layout_of(*arrays: np.ndarray) -> Layout:
     if any(a.dtype == object for a in arrays):
         dtype = object
     return Layout(batch=tuple(batch), dtype=dtype)
+
+
+__all__ = ["as_state", "entries"]
