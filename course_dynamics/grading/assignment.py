@@ -21,12 +21,16 @@ from ..core.robots import COURSE_ROBOTS, load, robot_names
 from ..core.urdf import InertiaWarning
 from ..tools.variants import check_student_id, rng_for, robot_variant
 
+#: The terms an assignment can grade, in the order they are graded and shown (τ, M(Θ), V(Θ, Θ̇), G(Θ),
+#: C(Θ, Θ̇)).
 TERMS = ("tau", "M", "V", "G", "C")
 PARTIAL_CREDIT = ("states", "none")
 DEFAULT_FORBIDDEN = ("pinocchio", "course_dynamics", "course_dynamics_reference")
 MAX_SAMPLES = 1000
 MIN_MEMORY = 256  # MiB: Python with numpy needs about this much address space
 
+#: The example assignment file, with every key explained in its comments (what
+#: ``course-dynamics grade --example-assignment`` prints).
 EXAMPLE = '''\
 # A course-dynamics assignment: `course-dynamics grade THIS_FILE submissions/*.py --out grades/`
 
@@ -82,7 +86,47 @@ G = 20
 
 @dataclass(frozen=True)
 class Assignment:
-    """A checked assignment file; ``robot`` is the loaded model, ``source`` the TOML path."""
+    """A checked assignment file; ``robot`` is the loaded model, ``source`` the TOML path.
+
+    Parameters
+    ----------
+    source : pathlib.Path
+        The assignment's TOML file.
+    robot_argument : str
+        Its ``robot`` key as written: a shipped robot's name or a URDF path.
+    robot : Model
+        The loaded robot, with the assignment's gravity.
+    points : dict of str to float
+        Points per graded term (keys among :data:`TERMS`), in the order of :data:`TERMS`.
+    samples : int
+        How many seeded random states each submission is graded on.
+    seed : int
+        The seed of those states.
+    tolerance : float
+        The relative error allowed per state and term.
+    time_limit : float
+        CPU seconds per submission, s.
+    memory_limit : int
+        Memory per submission, MiB.
+    output_limit : int
+        Bytes a submission may print.
+    forbidden_imports : tuple of str
+        Modules a submission may not import.
+    allowed_imports : tuple of str
+        Installed packages, by module name, added to a submission's Python.
+    partial_credit : str
+        ``"states"`` (points times the fraction of states that agree) or ``"none"`` (all or nothing).
+    notes : tuple of str
+        Notes shown with the grades.
+    variant : str
+        ``"same"``, or ``"per-student"``: each student on their own variant of the course robot and states.
+    flags_in_feedback : bool
+        Whether a student's own feedback lists its integrity flags.
+    gradescope_student : str
+        The user field of Gradescope's submission metadata that names the student.
+    states : str
+        ``"per-file"`` (states seeded by the seed and the file's text) or ``"shared"`` (the seed's states for all).
+    """
 
     source: Path
     robot_argument: str
@@ -106,7 +150,25 @@ class Assignment:
     def for_student(self, student: str, where: str = "") -> Assignment:
         """The assignment as ``student`` is graded: with ``variant = "per-student"``, on their own variant of the
         course robot and their own states (the notebooks' mechanism); otherwise unchanged. ``where`` names what
-        gave the id (a submission file) in an error."""
+        gave the id (a submission file) in an error.
+
+        Parameters
+        ----------
+        student : str
+            The student's id.
+        where : str
+            What gave the id, for an error; the assignment's file when empty.
+
+        Returns
+        -------
+        Assignment
+            The assignment for that student.
+
+        Raises
+        ------
+        InputError
+            If ``variant = "per-student"`` and ``student`` is not a valid student id.
+        """
         if self.variant != "per-student":
             return self
         chosen = robot_variant(self.robot_argument, check_student_id(student, f"{where or self.source}: student id"))
@@ -115,7 +177,27 @@ class Assignment:
 
     def for_submission(self, student: str, source: bytes, where: str = "") -> Assignment:
         """The assignment as this submission is graded: :meth:`for_student`, on states of its own, seeded by the
-        assignment's seed and the file's bytes (so a lookup table cannot be made for the states it will meet)."""
+        assignment's seed and the file's bytes (so a lookup table cannot be made for the states it will meet).
+
+        Parameters
+        ----------
+        student : str
+            The student's id.
+        source : bytes
+            The submission file's bytes.
+        where : str
+            What gave the id, for an error; the assignment's file when empty.
+
+        Returns
+        -------
+        Assignment
+            The assignment for that submission: with ``states = "shared"``, that of :meth:`for_student`.
+
+        Raises
+        ------
+        InputError
+            If ``variant = "per-student"`` and ``student`` is not a valid student id.
+        """
         graded = self.for_student(student, where)
         if self.states == "shared":
             return graded
@@ -124,6 +206,7 @@ class Assignment:
 
     @property
     def total_points(self) -> float:
+        """The points of all graded terms together."""
         return float(sum(self.points.values()))
 
     @property
@@ -140,7 +223,25 @@ VARIANTS = ("same", "per-student")
 
 
 def load_assignment(path) -> Assignment:
-    """Read and check an assignment TOML file (module docstring)."""
+    """Read and check an assignment TOML file (module docstring).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The assignment's TOML file; a URDF ``robot`` is found relative to it.
+
+    Returns
+    -------
+    Assignment
+        The checked assignment, its robot loaded.
+
+    Raises
+    ------
+    InputError
+        If the file cannot be read, is not TOML, or has an unknown key or a bad value (naming the file and the key).
+    ModelError
+        If the robot's URDF file does not describe a valid robot.
+    """
     path = Path(path)
     try:
         data = tomllib.loads(path.read_text(encoding="utf-8"))
@@ -235,3 +336,6 @@ def load_assignment(path) -> Assignment:
         forbidden_imports=tuple(forbidden), allowed_imports=tuple(allowed), partial_credit=partial, variant=variant,
         flags_in_feedback=show_flags, gradescope_student=field_name, states=states,
     )
+
+
+__all__ = ["EXAMPLE", "TERMS", "Assignment", "load_assignment"]

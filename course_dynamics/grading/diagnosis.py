@@ -1,37 +1,37 @@
 """What is wrong with an answer, in words that teach: a list of small checks over one record.
 
-An :class:`Answer` is one comparison: a student's values next to ours, state by
+An :class:`~course_dynamics.grading.records.Answer` is one comparison: a student's values next to ours, state by
 state (the grader's seeded states for τ, M, V, G or C; one "state" for a
 notebook exercise's value), with what else the checks may read: the states, our
 answers made with typical mistakes, V's (6.63) coefficients, τ's parts. Each
 check is a small function (or frozen dataclass) of the record that returns a
-:class:`Finding` (a named mistake in Craig's terms, with its advice) or None.
+:class:`~course_dynamics.grading.records.Finding` (a named mistake in Craig's terms, with its advice) or None.
 :func:`diagnose` runs :data:`SCREENS` always, then :data:`CHECKS` when some
 comparable state disagrees, in order; a *conclusive* finding (†) explains the
 whole answer and ends the list:
 
-============================  ====================================================
-check                         the answer …
-============================  ====================================================
-not_defined †                 does not exist: no function, no τ to derive it from
-raised_an_error, wrong_shape  is an exception, has the wrong shape,
-not_finite                    holds NaN or inf (on some states)
-returns_zeros †, opposite_sign †  returns zeros; agrees with −ours everywhere (and the mistakes that do too)
-named_mistake †               agrees with ours made with a mistake of ``mistakes``
-constant_factor †             ≈ k · ours for one k ≠ 1
-transposed †, joints_swapped  agrees with ours transposed, or joints permuted;
-closest_mistake               much nearer one mistaken answer than the right one
-tau_parts, InPart(…)          (τ) which of its parts G, M, V are right; a check on one
-wrong_entries                 which entries disagree
-not_symmetric                 (M) differs from its transpose
-not_christoffel               (C) satisfies C Θ̇ = V, but is not Christoffel's
-wrong_coefficients            (V) its (6.63) coefficients of θ̇ⱼθ̇ₖ (Coriolis, Craig's B)
-                              and θ̇ⱼ² (centrifugal, C); V(Θ, 2Θ̇) = 4 V(Θ, Θ̇)
-coriolis_without_factor_2     (V) every Coriolis coefficient is half of ours
-============================  ====================================================
+=================================  ====================================================
+check                              the answer …
+=================================  ====================================================
+not_defined †                      does not exist: no function, no τ to derive it from
+raised_an_error, wrong_shape       is an exception, has the wrong shape,
+not_finite                         holds NaN or inf (on some states)
+returns_zeros †, opposite_sign †   returns zeros; agrees with −ours everywhere (and the mistakes that do too)
+named_mistake †                    agrees with ours made with a mistake of ``mistakes``
+constant_factor †                  ≈ k · ours for one k ≠ 1
+transposed †, joints_swapped       agrees with ours transposed, or joints permuted;
+closest_mistake                    much nearer one mistaken answer than the right one
+tau_parts, InPart(…)               (τ) which of its parts G, M, V are right; a check on one
+wrong_entries                      which entries disagree
+not_symmetric                      (M) differs from its transpose
+not_christoffel                    (C) satisfies C Θ̇ = V, but is not Christoffel's
+wrong_coefficients                 (V) its (6.63) coefficients of θ̇ⱼθ̇ₖ (Coriolis, Craig's B)
+                                   and θ̇ⱼ² (centrifugal, C); V(Θ, 2Θ̇) = 4 V(Θ, Θ̇)
+coriolis_without_factor_2          (V) every Coriolis coefficient is half of ours
+=================================  ====================================================
 
 :func:`~course_dynamics.grading.score.score` turns a record and its findings
-into a :class:`Diagnosis`, for the grader and the notebooks alike.
+into a :class:`~course_dynamics.grading.records.Diagnosis`, for the grader and the notebooks alike.
 
 >>> answer = Answer.single([0.5, -2.0], [-1.0, 4.0], tolerance=1e-6)
 >>> [finding.tags for finding in diagnose(answer)]
@@ -49,8 +49,6 @@ import numpy as np
 from ..core.sampling import relative_error, term_scales
 from .mistakes import MISTAKES, closest_mistake, described, matching_mistakes, named_mistake
 from .records import TERM_NAMES, Answer, Diagnosis, Finding
-
-__all__ = ["CHECKS", "SCREENS", "Answer", "Diagnosis", "Finding", "diagnose"]
 
 SIGNATURES = {"tau": "tau(q, qd, qdd)", "M": "M(q)", "V": "V(q, qd)", "G": "G(q)", "C": "C(q, qd)"}
 LISTED = 8  # wrong entries named one by one
@@ -303,7 +301,10 @@ class InPart:
         return Finding(codes + self.prefix + text, finding.tags)
 
 
+#: The checks :func:`diagnose` always runs: what makes a state unusable (no function, an error, a wrong shape,
+#: NaN or inf).
 SCREENS = (not_defined, raised_an_error, wrong_shape, not_finite)
+#: The checks :func:`diagnose` runs by default when some comparable state disagrees, in order (module docstring).
 CHECKS = (
     returns_zeros, opposite_sign, named_mistake, constant_factor, transposed, joints_swapped, closest_mistake,
     tau_parts, InPart("G", named_mistake, "in τ's gravity part, "), InPart("M", wrong_entries, "in τ's inertia part, "),
@@ -315,7 +316,21 @@ CHECKS = (
 
 def diagnose(answer: Answer, checks=CHECKS) -> list[Finding]:
     """The findings of :data:`SCREENS`, then, when some comparable state disagrees, of ``checks``: in order, up to
-    the first conclusive one (module docstring)."""
+    the first conclusive one (module docstring).
+
+    Parameters
+    ----------
+    answer : Answer
+        The comparison to explain.
+    checks : iterable of callable
+        The checks run after :data:`SCREENS` when some state disagrees, each taking the answer and returning a
+        :class:`~course_dynamics.grading.records.Finding` or None.
+
+    Returns
+    -------
+    list of Finding
+        What the checks found, in order.
+    """
     found = []
     for check in SCREENS + (tuple(checks) if answer.wrong else ()):
         finding = check(answer)
@@ -324,3 +339,6 @@ def diagnose(answer: Answer, checks=CHECKS) -> list[Finding]:
             if finding.conclusive:
                 break
     return found
+
+
+__all__ = ["CHECKS", "SCREENS", "Answer", "Diagnosis", "Finding", "diagnose"]

@@ -5,21 +5,21 @@ the class summary), its words and its advice in Craig's terms (:data:`MISTAKES`)
 :func:`mistaken_terms` computes our τ, M, V and G made with each mistake, at the
 grading states, in every variant a student makes it:
 
-=======================  ==============================================================
-made by                  mistakes
-=======================  ==============================================================
-the recursion with one   ``rotation-transposed``, ``cross-reversed``, ``centripetal-missing``,
-:class:`~course_dynamics.grading.slips.Slip`
-                         ``gyroscopic-missing``, ``inertia-about-origin``,
-                         ``moment-arm-missing``, ``gravity-sign``; each wherever the
-                         expression appears, in one iteration, or in one equation alone
-                         (:func:`~course_dynamics.grading.slips.slips`)
-the closed form          ``sin-cos-swapped`` (every sin read as cos and back),
-with one substitution    ``c1-c12-swapped`` (cos θᵢ exchanged with the cosine of a sum such as
-                         cos(θ₁ + θ₂)): for robots of up to :data:`CLOSED_FORM_JOINTS` joints,
-                         whose closed forms students derive by hand
-the inputs               ``degrees``: the angles read as, or turned into, degrees
-=======================  ==============================================================
+=============================  ==============================================================
+made by                        mistakes
+=============================  ==============================================================
+the recursion with one slip    ``rotation-transposed``, ``cross-reversed``, ``centripetal-missing``,
+                               ``gyroscopic-missing``, ``inertia-about-origin``,
+                               ``moment-arm-missing``, ``gravity-sign``; each wherever the
+                               expression appears, in one iteration, or in one equation alone
+                               (a :class:`~course_dynamics.grading.slips.Slip` of
+                               :func:`~course_dynamics.grading.slips.slips`)
+closed form, one substitution  ``sin-cos-swapped`` (every sin read as cos and back),
+                               ``c1-c12-swapped`` (cos θᵢ exchanged with the cosine of a sum such as
+                               cos(θ₁ + θ₂)): for robots of up to :data:`CLOSED_FORM_JOINTS` joints,
+                               whose closed forms students derive by hand
+the inputs                     ``degrees``: the angles read as, or turned into, degrees
+=============================  ==============================================================
 
 Three more codes name findings of :mod:`~course_dynamics.grading.diagnosis`
 that need no answer of ours: ``coriolis-half`` (every Coriolis coefficient
@@ -44,17 +44,27 @@ from ..core.symbolic import derive, numeric_functions
 from .records import Answer, Finding
 from .slips import slips
 
+#: The most joints a robot may have for the closed-form mistakes to be made (their closed forms are derived).
 CLOSED_FORM_JOINTS = 2  # closed forms are derived (about 0.7 s) for robots this small, as students derive them
 
 
 @dataclass(frozen=True)
 class Mistake:
-    """A mistake's words (what was done) and advice (what is right, with the equation)."""
+    """A mistake's words (what was done) and advice (what is right, with the equation).
+
+    Parameters
+    ----------
+    words : str
+        What was done, as the feedback says it.
+    advice : str
+        What is right, with the equation.
+    """
 
     words: str
     advice: str
 
 
+#: Every mistake's code and its :class:`Mistake` (words and advice), as the feedback shows them.
 MISTAKES = {
     "rotation-transposed": Mistake(
         "the rotation used the wrong way round",
@@ -181,6 +191,23 @@ def mistaken_terms(model: Model, q, qd, qdd) -> dict[str, dict[tuple[str, str], 
     >>> made = mistaken_terms(arm, np.array([[0.5]]), np.array([[1.0]]), np.array([[0.0]]))
     >>> made["G"]["gravity-sign", "in the base acceleration ⁰v̇₀"].round(4).tolist()   # −m g l sin θ
     [[-4.7032]]
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : array_like, shape (N, n)
+        Joint positions Θ, rad (m for a prismatic joint).
+    qd : array_like, shape (N, n)
+        Joint velocities Θ̇, rad/s (m/s).
+    qdd : array_like, shape (N, n)
+        Joint accelerations Θ̈, rad/s² (m/s²).
+
+    Returns
+    -------
+    dict
+        Per term (``tau``, ``M``, ``V``, ``G``), a dict of (code, variant) to that term made with that mistake at
+        the states: shape (N, n), or (N, n, n) for M.
     """
     q, qd, qdd = (np.asarray(a, dtype=float) for a in (q, qd, qdd))
     made: dict[str, dict[tuple[str, str], np.ndarray]] = {t: {} for t in ("tau", "M", "V", "G")}
@@ -250,3 +277,6 @@ def closest_mistake(answer: Answer) -> Finding | None:
     return Finding(f"closest to [{code}] {MISTAKES[code].words}{' ' + variant if variant else ''} (relative error "
                    f"{nearest:.1g} from that, {right:.1g} from the right answer): that mistake and another?",
                    (f"closest to {code}",))
+
+
+__all__ = ["CLOSED_FORM_JOINTS", "MISTAKES", "Mistake", "mistaken_terms"]

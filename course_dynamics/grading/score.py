@@ -1,9 +1,9 @@
 """Scoring a student's answer against ours: one mechanism, one record, for the grader and the notebooks alike.
 
 :func:`score` is the one comparison. It takes an
-:class:`~course_dynamics.grading.diagnosis.Answer` (the student's values next to
+:class:`~course_dynamics.grading.records.Answer` (the student's values next to
 ours, state by state) and returns its
-:class:`~course_dynamics.grading.diagnosis.Diagnosis`: the points, the states
+:class:`~course_dynamics.grading.records.Diagnosis`: the points, the states
 that agree, the findings of :func:`~course_dynamics.grading.diagnosis.diagnose`
 and the worst state.
 
@@ -14,7 +14,7 @@ derived from the student's τ, with τ's parts and V's (6.63) coefficients),
 and each is scored. ``grade`` calls it on what came back from the sandbox, the
 notebooks' term exercises on what :func:`~course_dynamics.grading.harness.evaluate`
 returned in the student's kernel, and their value exercises call :func:`score`
-on one :meth:`~course_dynamics.grading.diagnosis.Answer.single`: the same
+on one :meth:`~course_dynamics.grading.records.Answer.single`: the same
 answer gets the same diagnosis everywhere.
 
 >>> graded = score(Answer.single([1.0, -2.0], [-1.0, 2.0], tolerance=1e-6), max_points=5)
@@ -39,6 +39,20 @@ def score(answer: Answer, max_points: float = 1.0, partial_credit: str = "states
     """``answer``'s points, agreeing states, findings and worst state (module docstring).
 
     ``partial_credit`` "states" gives ``max_points`` × the fraction of states that agree, "none" all or nothing.
+
+    Parameters
+    ----------
+    answer : Answer
+        The student's values next to ours.
+    max_points : float
+        The points the answer is worth.
+    partial_credit : str
+        ``"states"`` or ``"none"``.
+
+    Returns
+    -------
+    Diagnosis
+        The points (rounded to 0.01), the agreeing states, the findings and their tags, the worst state.
     """
     agreeing, N = answer.agreed, answer.count
     if partial_credit == "states":
@@ -108,7 +122,30 @@ def scales_at(plan: Plan, reference: Expected, term: str, gravity) -> tuple[floa
 def term_answer(term: str, answers: Answers, plan: Plan, reference: Expected, assignment: Assignment,
                 from_tau: bool = False, reveal: bool = True) -> Answer:
     """The student's ``term`` next to ours: from their function of that name, else (or with ``from_tau``) derived
-    from their τ; τ comes with its parts G, M, V (derived from it), V with its (6.63) coefficients."""
+    from their τ; τ comes with its parts G, M, V (derived from it), V with its (6.63) coefficients.
+
+    Parameters
+    ----------
+    term : str
+        The term: one of ``tau``, ``M``, ``V``, ``G``, ``C``.
+    answers : Answers
+        The submission's answers, by call.
+    plan : Plan
+        The calls asked, with their states.
+    reference : Expected
+        Our answers at those states.
+    assignment : Assignment
+        The assignment: the robot and the tolerance.
+    from_tau : bool
+        Derive the term from the student's τ even when they define a function of that name.
+    reveal : bool
+        Whether the feedback may show our values.
+
+    Returns
+    -------
+    Answer
+        The comparison (a C derived from τ held to a tolerance of at least 1e-7).
+    """
     returned = returned_terms(answers, plan, term, from_tau)
     tolerance = assignment.tolerance
     if returned.source == "derived from tau" and term == "C":
@@ -129,7 +166,30 @@ def score_outcome(outcome: dict, assignment: Assignment, plan: Plan, reference: 
                   reveal: bool = True) -> list[Diagnosis]:
     """Every graded term of ``outcome`` (the harness's ``defined`` and ``results``) scored, in the assignment's order:
     what ``grade`` and the notebooks' term exercises both call (``reveal`` False: the feedback shows none of our
-    values, as in a student's notebook)."""
+    values, as in a student's notebook).
+
+    Parameters
+    ----------
+    outcome : dict
+        The harness's outcome: ``defined`` (the functions the submission defines) and ``results`` (per function,
+        one record per call, in the order asked).
+    assignment : Assignment
+        The assignment: terms, points, tolerance, partial credit.
+    plan : Plan
+        The calls asked, with their states.
+    reference : Expected
+        Our answers at those states.
+    reveal : bool
+        Whether the feedback may show our values.
+
+    Returns
+    -------
+    list of Diagnosis
+        One per graded term, in the assignment's order.
+    """
     answers = Answers.read(outcome, plan)
     return [score(term_answer(term, answers, plan, reference, assignment, reveal=reveal), assignment.points[term],
                   assignment.partial_credit) for term in assignment.terms]
+
+
+__all__ = ["score", "score_outcome", "term_answer"]

@@ -28,6 +28,7 @@ from ..core.algebra import Mat3, Vec3, cross
 from ..core.inertia import parallel_axis
 from ..core.newton_euler import Operations
 
+#: Each slip's code and the equations of chapter 6 it can be made in (``"base"`` for ⁰v̇₀), as the table above.
 SLIP_EQUATIONS = {
     "rotation-transposed": ("6.45", "6.46", "6.47", "6.51", "6.52"),
     "cross-reversed": ("6.46", "6.47", "6.48", "6.50", "6.52"),
@@ -50,6 +51,18 @@ class Slip(Operations):
     >>> arm = load_robot("pendulum")
     >>> round(float(newton_euler_links(arm, [0.5], [0.0], [0.0], Slip("gravity-sign", ("base",))).tau[0]), 4)
     -4.7032
+
+    Parameters
+    ----------
+    code : str
+        The mistake, a key of :data:`SLIP_EQUATIONS`.
+    equations : tuple of str
+        The equations it is made in, among those :data:`SLIP_EQUATIONS` gives the code.
+
+    Raises
+    ------
+    ValueError
+        If ``code`` is no slip, or ``equations`` are not all equations it can be made in.
     """
 
     code: str
@@ -60,7 +73,20 @@ class Slip(Operations):
             raise ValueError(f"no slip '{self.code}' in {self.equations} (slips: {SLIP_EQUATIONS})")
 
     def made(self, code: str, equation: str) -> bool:
-        """Whether this slip makes mistake ``code`` in ``equation``."""
+        """Whether this slip makes mistake ``code`` in ``equation``.
+
+        Parameters
+        ----------
+        code : str
+            A slip's code.
+        equation : str
+            An equation's number, such as ``"6.47"``, or ``"base"``.
+
+        Returns
+        -------
+        bool
+            True when this is that slip and it is made in that equation.
+        """
         return code == self.code and equation in self.equations
 
     @property
@@ -76,15 +102,82 @@ class Slip(Operations):
     # The operations, each with this slip's mistake where it is made.
 
     def into_child(self, X, i, equation):
+        """ⁱₚR, the rotation from the parent's frame into frame i; with ``rotation-transposed``, ᵖᵢR.
+
+        Parameters
+        ----------
+        X : JointTransforms
+            The joints' transforms at Θ.
+        i : int
+            The frame.
+        equation : str
+            The equation the rotation is used in.
+
+        Returns
+        -------
+        Mat3
+            The rotation.
+        """
         return X.R[i] if self.made("rotation-transposed", equation) else X.R_T[i]
 
     def into_parent(self, X, c, equation):
+        """The rotation from child c's frame into its parent's; with ``rotation-transposed``, its transpose.
+
+        Parameters
+        ----------
+        X : JointTransforms
+            The joints' transforms at Θ.
+        c : int
+            The child's frame.
+        equation : str
+            The equation the rotation is used in.
+
+        Returns
+        -------
+        Mat3
+            The rotation.
+        """
         return X.R_T[c] if self.made("rotation-transposed", equation) else X.R[c]
 
     def cross(self, a: Vec3, b: Vec3, equation: str) -> Vec3:
+        """a × b; with ``cross-reversed``, b × a.
+
+        Parameters
+        ----------
+        a, b : Vec3
+            The factors.
+        equation : str
+            The equation the product is used in.
+
+        Returns
+        -------
+        Vec3
+            The product.
+        """
         return cross(b, a) if self.made("cross-reversed", equation) else cross(a, b)
 
     def point_acceleration(self, v_dot, omega_dot, omega, P, equation):
+        """v̇ + ω̇ × P + ω × (ω × P), the acceleration of a point P of a moving frame; with ``centripetal-missing``
+        without ω × (ω × P), with ``cross-reversed`` with its products reversed.
+
+        Parameters
+        ----------
+        v_dot : Vec3
+            The frame origin's acceleration v̇, m/s².
+        omega_dot : Vec3
+            The frame's angular acceleration ω̇, rad/s².
+        omega : Vec3
+            The frame's angular velocity ω, rad/s.
+        P : Vec3
+            The point, in the frame, m.
+        equation : str
+            The equation the acceleration is used in.
+
+        Returns
+        -------
+        Vec3
+            The point's acceleration, m/s².
+        """
         if self.made("centripetal-missing", equation):
             return v_dot + cross(omega_dot, P)
         if self.made("cross-reversed", equation):
@@ -92,21 +185,78 @@ class Slip(Operations):
         return super().point_acceleration(v_dot, omega_dot, omega, P, equation)
 
     def gyroscopic(self, omega, I, equation):
+        """ω × ᶜI ω, the gyroscopic term of (6.50); zero with ``gyroscopic-missing``.
+
+        Parameters
+        ----------
+        omega : Vec3
+            The link's angular velocity ω, rad/s.
+        I : Mat3
+            Its inertia tensor ᶜI, kg·m².
+        equation : str
+            The equation the term is used in.
+
+        Returns
+        -------
+        Vec3
+            The term, N·m.
+        """
         if self.made("gyroscopic-missing", equation):
             return Vec3(0, 0, 0)
         return super().gyroscopic(omega, I, equation)
 
     def moment_arm(self, P, f, equation):
+        """ⁱPᵢ₊₁ × ⁱfᵢ₊₁, the moment of a child's force about frame i's origin in (6.52); zero with
+        ``moment-arm-missing``.
+
+        Parameters
+        ----------
+        P : Vec3
+            The child's origin ⁱPᵢ₊₁, m.
+        f : Vec3
+            The child's force ⁱfᵢ₊₁, N.
+        equation : str
+            The equation the moment is used in.
+
+        Returns
+        -------
+        Vec3
+            The moment, N·m.
+        """
         if self.made("moment-arm-missing", equation):
             return Vec3(0, 0, 0)
         return super().moment_arm(P, f, equation)
 
     def inertia(self, body):
+        """ᶜI, the inertia tensor about the centre of mass; with ``inertia-about-origin``, ⁱI about the frame origin.
+
+        Parameters
+        ----------
+        body : Body
+            The link.
+
+        Returns
+        -------
+        Mat3
+            The inertia tensor in the body's frame, kg·m².
+        """
         if self.made("inertia-about-origin", "6.50"):
             return Mat3.of(parallel_axis(body.I_com, body.mass, body.p_com))
         return super().inertia(body)
 
     def base_acceleration(self, gravity):
+        """⁰v̇₀ = −g; with ``gravity-sign``, +g.
+
+        Parameters
+        ----------
+        gravity : Vec3
+            The gravity vector g in the base frame, m/s².
+
+        Returns
+        -------
+        Vec3
+            The base's acceleration ⁰v̇₀, m/s².
+        """
         return gravity if self.made("gravity-sign", "base") else super().base_acceleration(gravity)
 
 
@@ -121,6 +271,11 @@ def slips() -> tuple[Slip, ...]:
 
     >>> [s.equations for s in slips() if s.code == "centripetal-missing"]
     [('6.47', '6.48'), ('6.47',), ('6.48',)]
+
+    Returns
+    -------
+    tuple of Slip
+        The slips, each once.
     """
     made = []
     for code, every in SLIP_EQUATIONS.items():
@@ -129,3 +284,6 @@ def slips() -> tuple[Slip, ...]:
             if group and Slip(code, group) not in made:
                 made.append(Slip(code, group))
     return tuple(made)
+
+
+__all__ = ["SLIP_EQUATIONS", "Slip", "slips"]
