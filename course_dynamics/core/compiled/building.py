@@ -32,9 +32,9 @@ failed (too large, timed out, the compiler's error) as ``<key>.native-failed``, 
 is where the cache cannot be used. While a build runs, ``<key>.native-building`` says so to other processes.
 
 Who waits: ``compile_model(native_code=True)`` waits for its build (bounded as above). The evaluator asks for
-``native_code="background"``: the build runs in a detached child process (:func:`_start`) and the Python
+``native_code="background"``: the build runs in a detached child process (``_start``) and the Python
 programs answer at once; a later choice in this process takes the library up once it is there
-(:func:`collect`), never in the middle of a call. A command that ends first leaves its child to finish and
+(``collect``), never in the middle of a call. A command that ends first leaves its child to finish and
 fill the cache (with no cache to fill, the child is stopped).
 """
 from __future__ import annotations
@@ -55,8 +55,11 @@ from . import native
 from .cache import Cache
 from .tracing import Program, trace_programs
 
+#: The estimated build time per operation, s (gcc -O1 on parts of 1000 operations).
 SECONDS_PER_OPERATION = 1.1e-4  # gcc -O1 on parts of 1000 operations (table), a little above the measured 1.0e-4
+#: The estimated time of starting a build, s: the child's Python and the compiler's start.
 START_SECONDS = 0.5             # the child's Python and the compiler's start
+#: A build estimated to take longer than this, s, is not started (and that is remembered).
 MAX_BUILD_SECONDS = 15.0        # a build estimated longer is not started (the 20-joint chain: 8.7 s estimated)
 POLL_SECONDS = 0.25             # a running build is looked at no more often than this
 PACKAGE_ROOT = Path(__file__).resolve().parents[3]  # the folder that holds course_dynamics/
@@ -68,6 +71,20 @@ _RUNNING: dict[str, "_Build"] = {}  # key -> a build this process started and ha
 def estimated_seconds(programs: dict[str, Program]) -> float:
     """The estimated time of building ``programs`` natively on this machine, s (module docstring).
 
+    :data:`START_SECONDS` plus :data:`SECONDS_PER_OPERATION` for each operation of the programs.
+
+    Parameters
+    ----------
+    programs : dict of str to Program
+        The traced programs (:func:`~course_dynamics.core.compiled.tracing.trace_programs`).
+
+    Returns
+    -------
+    float
+        The estimate, s.
+
+    Examples
+    --------
     >>> from course_dynamics import load_robot
     >>> 1 < estimated_seconds(trace_programs(load_robot("ur5"))) < 2
     True
@@ -316,3 +333,6 @@ def _at_exit() -> None:
             build.outcome()
         except Exception:  # nothing at exit is worth a traceback; the folder goes in any case
             shutil.rmtree(build.folder, ignore_errors=True)
+
+
+__all__ = ["MAX_BUILD_SECONDS", "SECONDS_PER_OPERATION", "START_SECONDS", "estimated_seconds"]
