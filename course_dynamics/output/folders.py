@@ -262,8 +262,9 @@ def write_folder(folder, files: Mapping[str, str | bytes], owner: str) -> list[P
 
     Every file is written whole or not at all (:func:`~course_dynamics.output.io.output`). The
     manifest is written first, listing both the old and the new version of every file about to be
-    replaced, and again at the end with the new ones only: a run interrupted half way leaves every file recognisable, so the next run can
-    replace it. Sub-folders are made where missing and never followed if they are links.
+    replaced, and again at the end with the new ones only: a run interrupted half way leaves every
+    file recognisable, so the next run can replace it. Sub-folders are made where missing and never
+    followed if they are links.
 
     Parameters
     ----------
