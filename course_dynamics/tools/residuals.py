@@ -8,7 +8,7 @@ code                symbol         meaning (shape, unit)
                                    currents i times torque constants k, τ_meas = k i
 ``residual``        e              e = τ_meas − τ (K, n)
 ``rms``             —              √(mean e²) per joint
-``peak``            —              max |e| per joint, and the time it happens
+``peak``            —              max ``|e|`` per joint, and the time it happens
 ``r2``              R²             1 − Σ e² / Σ (τ_meas − mean τ_meas)²: the share of the
                                    measured torque's variation the model explains
 ==================  =============  ===================================================
@@ -33,7 +33,23 @@ import numpy as np
 
 @dataclass(frozen=True)
 class JointResidual:
-    """One joint's residual: RMS and peak of e = τ_meas − τ, when the peak happens, and R²."""
+    """One joint's residual: RMS and peak of e = τ_meas − τ, when the peak happens, and R².
+
+    Parameters
+    ----------
+    joint : str
+        The joint's name.
+    rms : float
+        √(mean e²), N·m (N for a prismatic joint).
+    peak : float
+        max ``|e|``, N·m (N).
+    peak_t : float
+        When the peak happens, s.
+    r2 : float or None
+        R², the share of the measured torque's variation the model explains; None if it does not vary.
+    rms_measured : float
+        √(mean τ_meas²), N·m (N): the size the residual is compared with.
+    """
 
     joint: str
     rms: float
@@ -43,24 +59,65 @@ class JointResidual:
     rms_measured: float
 
     def record(self) -> dict:
+        """The residual, JSON-ready.
+
+        Returns
+        -------
+        dict
+            The fields by name.
+        """
         return {"joint": self.joint, "rms": self.rms, "peak": self.peak, "peak_t": self.peak_t, "r2": self.r2,
                 "rms_measured": self.rms_measured}
 
 
 @dataclass(frozen=True)
 class ResidualReport:
-    """Every measured joint's residual, and what the measurement was (``tau_meas``, or currents × constants)."""
+    """Every measured joint's residual, and what the measurement was (``tau_meas``, or currents × constants).
+
+    Parameters
+    ----------
+    joints : tuple of JointResidual
+        One per measured joint, in the model's order.
+    source : str
+        What the measurement was.
+    """
 
     joints: tuple[JointResidual, ...]
     source: str
 
     def record(self) -> dict:
+        """The report, JSON-ready.
+
+        Returns
+        -------
+        dict
+            ``source`` and each joint's record.
+        """
         return {"source": self.source, "joints": [j.record() for j in self.joints]}
 
 
 def residual_report(joints, t, predicted, measured, source: str) -> ResidualReport:
     """Per joint, ``measured`` (K, n; NaN columns for joints not measured) against ``predicted`` (K, n)
-    (module docstring)."""
+    (module docstring).
+
+    Parameters
+    ----------
+    joints : sequence of str
+        The joints' names, in the columns' order.
+    t : numpy.ndarray, shape (K,)
+        Sample times, s.
+    predicted : numpy.ndarray, shape (K, n)
+        Our torques τ, N·m (N for a prismatic joint).
+    measured : numpy.ndarray, shape (K, n)
+        The measured torques τ_meas, N·m (N); a column with a NaN is a joint not measured.
+    source : str
+        What the measurement was (``tau_meas``, or currents times torque constants).
+
+    Returns
+    -------
+    ResidualReport
+        A row per measured joint.
+    """
     rows = []
     for i, joint in enumerate(joints):
         tau_meas = measured[:, i]
@@ -74,3 +131,6 @@ def residual_report(joints, t, predicted, measured, source: str) -> ResidualRepo
                                   float(t[worst]), 1.0 - float(np.sum(e**2)) / spread if spread > 0 else None,
                                   scale * float(np.sqrt(np.mean(measured_s**2)))))
     return ResidualReport(tuple(rows), source)
+
+
+__all__ = ["JointResidual", "ResidualReport", "residual_report"]
