@@ -36,6 +36,19 @@ def sampling_bounds(model: Model) -> tuple[np.ndarray, np.ndarray]:
     point of its range nearest 0: far beyond the robot's size every engine's
     round-off grows with Θ², and a comparison would only measure that.
 
+    Parameters
+    ----------
+    model : Model
+        The robot.
+
+    Returns
+    -------
+    tuple of (numpy.ndarray, numpy.ndarray), each of shape (n,)
+        The lower and upper bound of each joint, rad (m for a prismatic joint).
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> lower, upper = sampling_bounds(load_robot("pendulum"))   # a continuous joint: [−π, π]
     >>> lower.round(3), upper.round(3)
@@ -53,7 +66,20 @@ def sampling_bounds(model: Model) -> tuple[np.ndarray, np.ndarray]:
 
 
 def reach(model: Model) -> float:
-    """1 m plus every body's joint offset |ᵖPᵢ| and centre of mass |ⁱP_Cᵢ| (m): how far the robot's masses can be.
+    """1 m plus every body's joint offset ``|ᵖPᵢ|`` and centre of mass ``|ⁱP_Cᵢ|``: how far the robot's masses can be.
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+
+    Returns
+    -------
+    float
+        The reach, m.
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> round(reach(load_robot("two_link")), 3)   # 1 + (0 + 0.5) + (0.5 + 0.4)
@@ -64,6 +90,23 @@ def reach(model: Model) -> float:
 
 def random_states(model: Model, samples: int, seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Θ uniform within :func:`sampling_bounds`, Θ̇ and Θ̈ standard normal; each (samples, n).
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    samples : int
+        The number of states N.
+    seed : int
+        The seed of numpy's ``default_rng``: the same seed, the same states.
+
+    Returns
+    -------
+    tuple of (numpy.ndarray, numpy.ndarray, numpy.ndarray), each of shape (N, n)
+        Θ, rad (m); Θ̇, rad/s (m/s); Θ̈, rad/s² (m/s²).
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> q, qd, qdd = random_states(load_robot("two_link"), 5, seed=0)
@@ -83,7 +126,24 @@ def gravity_free(model: Model, samples: int = 16, seed: int = 0) -> bool:
 
     A planar arm whose joint axes are parallel to g is such a robot: a comparison of G
     with anything then tests nothing, and the CLI says so. "Vanishes" is relative to the
-    largest gravity torque the robot's masses could feel, Σ m |g| (1 m + |p|).
+    largest gravity torque the robot's masses could feel, Σ m ``|g|`` (1 m + ``|p|``).
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    samples : int, optional
+        The number of random states tried.
+    seed : int, optional
+        Their seed (:func:`random_states`).
+
+    Returns
+    -------
+    bool
+        True when G(Θ) is zero, to round-off, at every state tried (or gravity is zero).
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> arm = load_robot("two_link")   # its joint axes are along world −y
@@ -101,6 +161,27 @@ def gravity_free(model: Model, samples: int = 16, seed: int = 0) -> bool:
 def term_scales(M: np.ndarray, G: np.ndarray, qd, qdd, gravity) -> dict[str, float]:
     """The scale s of each term at one state (module docstring), from the reference M and G.
 
+    Parameters
+    ----------
+    M : numpy.ndarray, shape (n, n)
+        The reference mass matrix M(Θ), kg·m² (kg).
+    G : numpy.ndarray, shape (n,)
+        The reference gravity torques G(Θ), N·m (N).
+    qd : array_like, shape (n,)
+        Joint velocities Θ̇, rad/s (m/s).
+    qdd : array_like, shape (n,)
+        Joint accelerations Θ̈, rad/s² (m/s²).
+    gravity : array_like, shape (3,)
+        The gravity vector g, m/s².
+
+    Returns
+    -------
+    dict of str to float
+        The scale of ``"tau"``, ``"M"``, ``"C"``, ``"V"`` and ``"G"``, in each term's own units.
+
+    Examples
+    --------
+
     >>> term_scales(np.eye(2), np.array([1.0, 0.0]), [2.0, 0.0], [1.0, 0.0], [0.0, 0.0, -9.81])
     {'tau': 6.0, 'M': 1.0, 'C': 2.0, 'V': 4.0, 'G': 9.81}
     """
@@ -114,6 +195,23 @@ def term_scales(M: np.ndarray, G: np.ndarray, qd, qdd, gravity) -> dict[str, flo
 
 def relative_error(ours, reference, scale: float = 0.0) -> float:
     """‖ours − reference‖∞ / max(‖reference‖∞, scale), the measure of the module docstring.
+
+    Parameters
+    ----------
+    ours : array_like
+        The values compared.
+    reference : array_like
+        The values they should be, of the same shape (or broadcastable to it).
+    scale : float, optional
+        The smallest denominator, in the values' units (:func:`term_scales`); 0 by default.
+
+    Returns
+    -------
+    float
+        The relative error; 0 for empty arrays.
+
+    Examples
+    --------
 
     >>> round(relative_error([1.0, 2.002], [1.0, 2.0]), 6)
     0.001
@@ -132,6 +230,26 @@ def smooth_trajectory(model: Model, duration: float = 2.0, samples: int = 201, s
     :func:`sampling_bounds`, a a third of the half-range, ω between 1 and 3 rad/s
     and φ seeded, so the motion stays within limits.
 
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    duration : float, optional
+        The motion's length, s.
+    samples : int, optional
+        The number of instants K, the first at 0 and the last at ``duration``.
+    seed : int, optional
+        The seed of the phases and frequencies.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        t, shape (K,), s; Θ, Θ̇, Θ̈, each of shape (K, n): rad, rad/s, rad/s² (m, m/s, m/s² for a prismatic
+        joint).
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> t, q, qd, qdd = smooth_trajectory(load_robot("two_link"), duration=1.0, samples=11)
     >>> float(t[-1]), q.shape, bool(np.all(np.abs(q) <= np.pi / 3))   # a third of the half-range about 0
@@ -147,3 +265,6 @@ def smooth_trajectory(model: Model, duration: float = 2.0, samples: int = 201, s
     qd = amplitude * omega * np.cos(angle)
     qdd = -amplitude * omega**2 * np.sin(angle)
     return t, q, qd, qdd
+
+
+__all__ = ["gravity_free", "random_states", "reach", "relative_error", "sampling_bounds", "smooth_trajectory", "term_scales"]

@@ -36,6 +36,20 @@ from .model import Model
 class Inertia:
     """A rigid body's spatial inertia about the base origin: m, h = m c, Ī (rotational, about O).
 
+    Two inertias add (``a + b``): the inertia of the two bodies moving as one.
+
+    Parameters
+    ----------
+    m : float, numpy.ndarray of shape (N,) or sympy.Expr
+        The mass, kg.
+    h : Vec3
+        The first moment m ⁰P_C, base coordinates, kg·m.
+    I : Mat3
+        The rotational inertia Ī about the base origin O, base axes, kg·m².
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> from course_dynamics.core.kinematics import placement_entries
     >>> arm = load_robot("rrr_arm")
@@ -53,13 +67,39 @@ class Inertia:
         return Inertia(self.m + other.m, self.h + other.h, Mat3(rows))
 
     def times(self, motion: tuple[Vec3, Vec3]) -> tuple[Vec3, Vec3]:
-        """The force I (w, v) = (Ī w + h × v, m v − h × w), e.g. the momentum of a moving body."""
+        """The force I (w, v) = (Ī w + h × v, m v − h × w), e.g. the momentum of a moving body.
+
+        Parameters
+        ----------
+        motion : tuple of (Vec3, Vec3)
+            (w, v): an angular velocity, rad/s, and the velocity of the body point at O, m/s.
+
+        Returns
+        -------
+        tuple of (Vec3, Vec3)
+            (n, f): a moment about O, N·m·s (or N·m for an acceleration), and a force, N·s (or N).
+        """
         w, v = motion
         return self.I @ w + cross(self.h, v), self.m * v - cross(self.h, w)
 
 
 def motion_axes(model: Model, placements: BasePlacements) -> list[tuple[Vec3, Vec3]]:
     """s[j] for every joint: the body's motion for a unit joint rate, in base coordinates.
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    placements : BasePlacements
+        Every body's placement in the base frame, as ``kinematics.placement_entries`` gives it.
+
+    Returns
+    -------
+    list of tuple of (Vec3, Vec3)
+        n motions (angular, linear): revolute (⁰Ẑⱼ, ⁰Pⱼ × ⁰Ẑⱼ), prismatic (0, ⁰Ẑⱼ).
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> from course_dynamics.core.kinematics import placement_entries
@@ -76,6 +116,21 @@ def motion_axes(model: Model, placements: BasePlacements) -> list[tuple[Vec3, Ve
 
 def body_inertias(model: Model, placements: BasePlacements) -> list[Inertia]:
     """Every body's spatial inertia about the base origin, from its mass, ⁰P_C and ᶜI rotated to the base.
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    placements : BasePlacements
+        Every body's placement in the base frame, as ``kinematics.placement_entries`` gives it.
+
+    Returns
+    -------
+    list of Inertia
+        n spatial inertias, one per body.
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> from course_dynamics.core.kinematics import placement_entries
@@ -99,6 +154,21 @@ def body_inertias(model: Model, placements: BasePlacements) -> list[Inertia]:
 def cross_motion(a: tuple[Vec3, Vec3], b: tuple[Vec3, Vec3]) -> tuple[Vec3, Vec3]:
     """(w₁, v₁) × (w₂, v₂): how motion b changes when carried by motion a.
 
+    Parameters
+    ----------
+    a : tuple of (Vec3, Vec3)
+        The carrying motion (w₁, v₁), rad/s and m/s.
+    b : tuple of (Vec3, Vec3)
+        The carried motion (w₂, v₂).
+
+    Returns
+    -------
+    tuple of (Vec3, Vec3)
+        (w₁ × w₂, w₁ × v₂ + v₁ × w₂).
+
+    Examples
+    --------
+
     >>> from course_dynamics.core.algebra import Vec3
     >>> spin, slide = (Vec3(0, 0, 1), Vec3(0, 0, 0)), (Vec3(0, 0, 0), Vec3(1, 0, 0))
     >>> cross_motion(spin, slide)   # a slide along x, carried by a spin about z, turns towards y
@@ -109,7 +179,22 @@ def cross_motion(a: tuple[Vec3, Vec3], b: tuple[Vec3, Vec3]) -> tuple[Vec3, Vec3
 
 
 def cross_force(a: tuple[Vec3, Vec3], f: tuple[Vec3, Vec3]) -> tuple[Vec3, Vec3]:
-    """(w, v) ×* (n, f): how force f changes when carried by motion a.
+    """(w, v) ``×*`` (n, f): how force f changes when carried by motion a.
+
+    Parameters
+    ----------
+    a : tuple of (Vec3, Vec3)
+        The carrying motion (w, v), rad/s and m/s.
+    f : tuple of (Vec3, Vec3)
+        The force (n, f): a moment about O, N·m, and a force, N.
+
+    Returns
+    -------
+    tuple of (Vec3, Vec3)
+        (w × n + v × f, w × f).
+
+    Examples
+    --------
 
     >>> from course_dynamics.core.algebra import Vec3
     >>> spin, push = (Vec3(0, 0, 1), Vec3(0, 0, 0)), (Vec3(0, 0, 0), Vec3(1, 0, 0))
@@ -123,6 +208,21 @@ def cross_force(a: tuple[Vec3, Vec3], f: tuple[Vec3, Vec3]) -> tuple[Vec3, Vec3]
 def power(s: tuple[Vec3, Vec3], f: tuple[Vec3, Vec3]):
     """sᵀ f = w·n + v·f: the work rate of force f along motion s (a generalized force for a joint axis).
 
+    Parameters
+    ----------
+    s : tuple of (Vec3, Vec3)
+        A motion (w, v), rad/s and m/s (or a joint's unit motion).
+    f : tuple of (Vec3, Vec3)
+        A force (n, f), N·m and N.
+
+    Returns
+    -------
+    float, numpy.ndarray of shape (N,) or sympy.Expr
+        w·n + v·f: W (or, for a unit motion, the joint torque, N·m, or force, N).
+
+    Examples
+    --------
+
     >>> from course_dynamics.core.algebra import Vec3
     >>> power((Vec3(0, 0, 1), Vec3(0, 0, 0)), (Vec3(0, 0, 2.5), Vec3(1, 0, 0)))   # a moment of 2.5 N·m about z
     2.5
@@ -133,8 +233,26 @@ def power(s: tuple[Vec3, Vec3], f: tuple[Vec3, Vec3]):
 def add(a: tuple[Vec3, Vec3], b: tuple[Vec3, Vec3]) -> tuple[Vec3, Vec3]:
     """a + b, part by part: the sum of two motions or of two forces.
 
+    Parameters
+    ----------
+    a : tuple of (Vec3, Vec3)
+        A motion or a force.
+    b : tuple of (Vec3, Vec3)
+        Another of the same.
+
+    Returns
+    -------
+    tuple of (Vec3, Vec3)
+        (a₀ + b₀, a₁ + b₁).
+
+    Examples
+    --------
+
     >>> from course_dynamics.core.algebra import Vec3
     >>> add((Vec3(1, 0, 0), Vec3(0, 0, 0)), (Vec3(0, 1, 0), Vec3(0, 0, 2)))
     (Vec3(1, 1, 0), Vec3(0, 0, 2))
     """
     return a[0] + b[0], a[1] + b[1]
+
+
+__all__ = ["Inertia", "add", "body_inertias", "cross_force", "cross_motion", "motion_axes", "power"]
