@@ -42,12 +42,30 @@ from ..core.parameters import parameter_values
 from ..core.robots import COURSE_ROBOTS, load_robot
 
 STUDENT_ID = re.compile(r"[A-Za-z0-9][A-Za-z0-9._+-]{0,63}")
+#: The id of a notebook written without one: it gets a variant too.
 COURSE_STUDENT = "course"  # the id of a notebook written without one
 LENGTHS, MASSES = (0.75, 1.3), (0.6, 1.6)
 
 
 def check_student_id(student: str, where: str = "student id") -> str:
     """``student`` if it is an id a course uses and safe as a file name, else an InputError naming it.
+
+    Parameters
+    ----------
+    student : str
+        The id: letters, digits and ``. _ + -``, at most 64, starting with a letter or digit, not ending in a dot.
+    where : str
+        How the message names it.
+
+    Returns
+    -------
+    str
+        ``student``, unchanged.
+
+    Raises
+    ------
+    InputError
+        If ``student`` is not such an id.
 
     >>> check_student_id("ada.lovelace")
     'ada.lovelace'
@@ -60,6 +78,18 @@ def check_student_id(student: str, where: str = "student id") -> str:
 
 def rng_for(student: str, purpose: str) -> np.random.Generator:
     """The random numbers of ``purpose`` (an exercise's name, a robot's) for this student: the same every time.
+
+    Parameters
+    ----------
+    student : str
+        The student's id.
+    purpose : str
+        What the numbers are for.
+
+    Returns
+    -------
+    numpy.random.Generator
+        A generator seeded from SHA-256 of ``purpose`` and ``student``.
 
     >>> float(rng_for("ada", "v_dot_c1").uniform()) == float(rng_for("ada", "v_dot_c1").uniform())
     True
@@ -77,7 +107,21 @@ def _significant(x: np.ndarray, digits: int) -> np.ndarray:
 @dataclass(frozen=True)
 class Variant:
     """A student's robot: ``model`` (its numbers changed as the module table says), the factors drawn, and the
-    parameters a student reads (:func:`~course_dynamics.core.parameters.parameter_values`)."""
+    parameters a student reads (:func:`~course_dynamics.core.parameters.parameter_values`).
+
+    Parameters
+    ----------
+    robot : str
+        The course robot's name.
+    student : str
+        The student's id.
+    model : Model
+        The student's robot.
+    lengths : tuple of float
+        The length factors λᵢ drawn, one per link.
+    masses : tuple of float
+        The mass factors μᵢ drawn, one per link.
+    """
 
     robot: str
     student: str
@@ -87,11 +131,18 @@ class Variant:
 
     @property
     def parameters(self) -> dict[str, float]:
+        """{parameter name: value} of the student's robot, SI units."""
         return parameter_values(self.model)
 
     def describe(self) -> str:
         """The variant as a student reads it: gravity, then per link its joint (where frame i sits in its parent's
-        frame at θ = 0: origin and rotation, the axis Ẑ), its mass, centre of mass and inertia tensor."""
+        frame at θ = 0: origin and rotation, the axis Ẑ), its mass, centre of mass and inertia tensor.
+
+        Returns
+        -------
+        str
+            One line for gravity, two per link, one per extra frame; m, kg, kg·m², m/s².
+        """
         model = self.model
         lines = [f"{self.robot} for {self.student}: gravity g = {_vector(model.gravity)} m/s² in the base frame"]
         for i, body in enumerate(model.bodies):
@@ -115,7 +166,25 @@ def _vector(values) -> str:
 
 @lru_cache(maxsize=64)
 def robot_variant(robot: str, student: str) -> Variant:
-    """The variant of course robot ``robot`` for ``student`` (module docstring)."""
+    """The variant of course robot ``robot`` for ``student`` (module docstring).
+
+    Parameters
+    ----------
+    robot : str
+        A course robot's name.
+    student : str
+        The student's id.
+
+    Returns
+    -------
+    Variant
+        The student's robot and the factors drawn; the same for the same arguments.
+
+    Raises
+    ------
+    InputError
+        If ``student`` is not a valid id or ``robot`` is not a course robot.
+    """
     check_student_id(student)
     if robot not in COURSE_ROBOTS:
         raise InputError(f"robot '{robot}': only the course robots ({', '.join(COURSE_ROBOTS)}) have student variants")
@@ -140,6 +209,22 @@ def read_roster(path) -> list[str]:
     """The student ids of a roster: a CSV file with an ``id`` column (other columns are ignored), one student per row.
 
     Every id is checked (:func:`check_student_id`) and none may repeat; an error names the file and the row.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The roster's CSV file.
+
+    Returns
+    -------
+    list of str
+        The ids, in the file's order.
+
+    Raises
+    ------
+    InputError
+        If the file is too large, not UTF-8, has no single ``id`` column, an id that is not valid or repeats, or
+        no students.
     """
     raw = read_small(path, MAX_ROSTER_BYTES, "roster")
     try:
@@ -169,3 +254,6 @@ def read_roster(path) -> list[str]:
     if not ids:
         raise InputError(f"{path}: the roster lists no students")
     return ids
+
+
+__all__ = ["COURSE_STUDENT", "Variant", "check_student_id", "read_roster", "rng_for", "robot_variant"]
