@@ -37,6 +37,7 @@ from .columns import ColumnPlan, merged_map, plan_columns
 from .sources import LogSource, as_source
 from .tables import stack_joint_columns
 
+#: The units a log's ``t`` column may be in: {name: seconds per unit}.
 TIME_UNITS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9}
 
 
@@ -52,7 +53,25 @@ class Planned:
 
 @dataclass(frozen=True)
 class Motion:
-    """Times, positions (or None) and applied torques (or None) of a logged motion; ``tau_from`` names the columns."""
+    """Times, positions (or None) and applied torques (or None) of a logged motion; ``tau_from`` names the columns.
+
+    Parameters
+    ----------
+    t : numpy.ndarray, shape (K,)
+        Sample times, s.
+    q : numpy.ndarray, shape (K, n), optional
+        Joint positions Θ, rad (m for a prismatic joint); None when not read.
+    tau : numpy.ndarray, shape (K, n), optional
+        Applied joint torques τ, N·m (N for a prismatic joint); None when the log has none.
+    where : str
+        How messages name the log (its file).
+    tau_from : str
+        The columns τ came from: ``tau``, ``tau_meas``, or empty.
+    notes : tuple of str
+        What the reader should know of the log.
+    format : str
+        The source's format: ``table``, ``ur-rtde`` or ``bag`` (whose clocks are the recorder's wall clock).
+    """
 
     t: np.ndarray
     q: np.ndarray | None
@@ -138,6 +157,30 @@ def read_motion(model: Model, log, *, columns: Mapping[str, str] | None = None,
     differentiated, filled or resampled.
     ``columns``, ``constants``, ``dt``, ``time_unit`` as :func:`~course_dynamics.tools.logs.joint_log`.
 
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    log : LogSource or table
+        A log, anything :func:`~course_dynamics.tools.sources.as_source` takes.
+    columns : mapping of str to str, optional
+        Our column name → the log's.
+    constants : mapping of str to float, optional
+        Our column name → a value for every row, for signals the log lacks.
+    dt : float, optional
+        The sample step of a log without a ``t`` column, s.
+    time_unit : str
+        The unit of the log's ``t`` column, one of :data:`TIME_UNITS`.
+    positions : bool
+        Whether Θ is read (and needed).
+    torques : bool
+        Whether τ is needed (the measured torques stand in for applied ones).
+
+    Returns
+    -------
+    Motion
+        The times, Θ and τ, and the notes.
+
     Raises
     ------
     InputError
@@ -166,3 +209,6 @@ def read_motion(model: Model, log, *, columns: Mapping[str, str] | None = None,
     if tau_from == "tau_meas":
         notes.append("the applied torques are the ones the robot measured (tau_meas, a bag's effort)")
     return Motion(t=t, q=q, tau=tau, where=source.where, tau_from=tau_from, notes=tuple(notes), format=source.format)
+
+
+__all__ = ["TIME_UNITS", "Motion", "read_motion"]
