@@ -53,6 +53,7 @@ from ..core.sampling import random_states
 from .assignment import Assignment
 from .mistakes import mistaken_terms
 
+#: The central-difference step h of a C derived from the student's τ, rad (m for a prismatic joint).
 STEP = 1e-5  # rad or m: central-difference step for a C derived from tau
 DIAGNOSTIC_STATES = 3
 FUNCTION_ARGUMENTS = {"tau": ("q", "qd", "qdd"), "M": ("q",), "V": ("q", "qd"), "G": ("q",), "C": ("q", "qd")}
@@ -63,19 +64,30 @@ class Call:
     """The key of one call: ``function`` asked at state ``state`` for ``purpose``; ``detail`` tells apart the
     calls one purpose makes at one state.
 
-    ================  ============  ===============================================
-    purpose           detail        arguments (those of ``tau``; ``V`` drops Θ̈)
-    ================  ============  ===============================================
-    state             ()            the state itself (every function)
-    gravity           ()            (Θ, 0, 0)
-    velocity          ()            (Θ, Θ̇, 0)
-    mass              (j,)          (Θ, 0, eⱼ)
-    polar             (j, k), j ≤ k (Θ, eⱼ + eₖ, 0), or eⱼ alone when j = k
-    double            ()            (Θ, 2Θ̇, 0)
-    shift gravity     (i, sign)     (Θ ± h eᵢ, 0, 0)
-    shift momentum    (i, sign)     (Θ ± h eᵢ, 0, Θ̇)
-    shift mass        (i, sign, j)  (Θ ± h eᵢ, 0, eⱼ)
-    ================  ============  ===============================================
+    ================  ==============  ===============================================
+    purpose           detail          arguments (those of ``tau``; ``V`` drops Θ̈)
+    ================  ==============  ===============================================
+    state             ()              the state itself (every function)
+    gravity           ()              (Θ, 0, 0)
+    velocity          ()              (Θ, Θ̇, 0)
+    mass              (j,)            (Θ, 0, eⱼ)
+    polar             (j, k), j ≤ k   (Θ, eⱼ + eₖ, 0), or eⱼ alone when j = k
+    double            ()              (Θ, 2Θ̇, 0)
+    shift gravity     (i, sign)       (Θ ± h eᵢ, 0, 0)
+    shift momentum    (i, sign)       (Θ ± h eᵢ, 0, Θ̇)
+    shift mass        (i, sign, j)    (Θ ± h eᵢ, 0, eⱼ)
+    ================  ==============  ===============================================
+
+    Parameters
+    ----------
+    function : str
+        The student function called: ``tau``, ``M``, ``V``, ``G`` or ``C``.
+    purpose : str
+        What the call is for (the table).
+    state : int
+        The index of the state it is made at.
+    detail : tuple
+        What tells apart the calls one purpose makes at one state (the table).
     """
 
     function: str
@@ -86,7 +98,21 @@ class Call:
 
 @dataclass
 class Plan:
-    """States (N, n) each, and every call to make with its arguments, by key, in the order they are made."""
+    """States (N, n) each, and every call to make with its arguments, by key, in the order they are made.
+
+    Parameters
+    ----------
+    q : numpy.ndarray, shape (N, n)
+        Joint positions Θ of the N states, rad (m for a prismatic joint).
+    qd : numpy.ndarray, shape (N, n)
+        Joint velocities Θ̇, rad/s (m/s).
+    qdd : numpy.ndarray, shape (N, n)
+        Joint accelerations Θ̈, rad/s² (m/s²).
+    terms : tuple of str
+        The graded terms.
+    arguments : dict of Call to list
+        Every call's argument lists (plain lists of floats), in the order they are made.
+    """
 
     q: np.ndarray
     qd: np.ndarray
@@ -96,24 +122,64 @@ class Plan:
 
     @property
     def n(self) -> int:
+        """The robot's number of joints."""
         return self.q.shape[1]
 
     @property
     def diagnostic(self) -> range:
+        """The indices of the diagnostic states (the first few states)."""
         return range(min(DIAGNOSTIC_STATES, len(self.q)))
 
     def add(self, call: Call, arguments: list) -> None:
+        """Add a call and its arguments (made plain lists of floats, as the harness receives them).
+
+        Parameters
+        ----------
+        call : Call
+            The call's key.
+        arguments : list of array_like
+            Its arguments, in order.
+        """
         self.arguments[call] = [np.asarray(a, dtype=float).tolist() for a in arguments]
 
     def calls_of(self, function: str) -> list[Call]:
-        """The keys of ``function``'s calls, in the order the harness makes (and answers) them."""
+        """The keys of ``function``'s calls, in the order the harness makes (and answers) them.
+
+        Parameters
+        ----------
+        function : str
+            A student function's name.
+
+        Returns
+        -------
+        list of Call
+            Its calls' keys.
+        """
         return [call for call in self.arguments if call.function == function]
 
     def asks(self, function: str) -> bool:
+        """Whether the plan calls ``function`` at all.
+
+        Parameters
+        ----------
+        function : str
+            A student function's name.
+
+        Returns
+        -------
+        bool
+            True when some call is to that function.
+        """
         return any(call.function == function for call in self.arguments)
 
     def harness_functions(self) -> dict[str, list]:
-        """The ``functions`` part of the harness's plan: per function, its argument lists in order."""
+        """The ``functions`` part of the harness's plan: per function, its argument lists in order.
+
+        Returns
+        -------
+        dict of str to list
+            Per function, the argument lists of its calls, in the order of :meth:`calls_of`.
+        """
         functions: dict[str, list] = {}
         for call, arguments in self.arguments.items():
             functions.setdefault(call.function, []).append(arguments)
@@ -132,7 +198,18 @@ def _direction(n: int, j: int, k: int) -> np.ndarray:
 
 
 def make_plan(assignment: Assignment) -> Plan:
-    """The states and every call each student function may be asked (module docstring, :class:`Call`)."""
+    """The states and every call each student function may be asked (module docstring, :class:`Call`).
+
+    Parameters
+    ----------
+    assignment : Assignment
+        The assignment: its robot, samples, seed and graded terms.
+
+    Returns
+    -------
+    Plan
+        The seeded states and the calls (τ always, to derive the terms a student does not define).
+    """
     model = assignment.robot
     q, qd, qdd = random_states(model, assignment.samples, assignment.seed)
     plan = Plan(q, qd, qdd, assignment.terms)
@@ -176,7 +253,19 @@ def make_plan(assignment: Assignment) -> Plan:
 class Expected:
     """Our library's answers: every term (N, …), V's (6.63) coefficients at the diagnostic states, and
     the answers of typical mistakes: per term, (code, variant) → the answer made with that mistake
-    (:func:`~course_dynamics.grading.mistakes.mistaken_terms`)."""
+    (:func:`~course_dynamics.grading.mistakes.mistaken_terms`).
+
+    Parameters
+    ----------
+    terms : dict of str to numpy.ndarray
+        Our τ, M, V, G and C at the plan's N states: shape (N, n), or (N, n, n) for M and C.
+    B : numpy.ndarray, shape (D, n, n(n-1)/2)
+        Craig's B(Θ) of (6.63), the Coriolis coefficients, at the D diagnostic states.
+    C_centrifugal : numpy.ndarray, shape (D, n, n)
+        Craig's C(Θ) of (6.63), the centrifugal coefficients, at the diagnostic states.
+    mistakes : dict
+        Per term, a dict of (code, variant) to our answer made with that mistake, at the states.
+    """
 
     terms: dict[str, np.ndarray]
     B: np.ndarray
@@ -193,7 +282,20 @@ def _all_terms(model, q, qd, qdd) -> dict[str, np.ndarray]:
 
 
 def expected_terms(assignment: Assignment, plan: Plan) -> Expected:
-    """Every term by our library at the plan's states, with the answers of the mistakes the diagnosis names."""
+    """Every term by our library at the plan's states, with the answers of the mistakes the diagnosis names.
+
+    Parameters
+    ----------
+    assignment : Assignment
+        The assignment: its robot.
+    plan : Plan
+        The states.
+
+    Returns
+    -------
+    Expected
+        Our answers.
+    """
     model = assignment.robot
     terms = _all_terms(model, plan.q, plan.qd, plan.qdd)
     d = list(plan.diagnostic)
@@ -208,14 +310,35 @@ class Unanswered(Exception):
 
 @dataclass(frozen=True)
 class Answers:
-    """A submission's answers by :class:`Call` key: which functions it defines and the record of each call."""
+    """A submission's answers by :class:`Call` key: which functions it defines and the record of each call.
+
+    Parameters
+    ----------
+    defined : frozenset of str
+        The functions the submission defines.
+    records : dict
+        Per :class:`Call`, the harness's record of it: a dict with ``value`` or ``error``.
+    """
 
     defined: frozenset
     records: dict
 
     @classmethod
     def read(cls, outcome: dict, plan: Plan) -> Answers:
-        """The harness's outcome (``defined``, ``results``: per function one record per call, in the order asked)."""
+        """The harness's outcome (``defined``, ``results``: per function one record per call, in the order asked).
+
+        Parameters
+        ----------
+        outcome : dict
+            The harness's outcome; a list of records shorter than the calls leaves the rest unanswered.
+        plan : Plan
+            The calls the records answer.
+
+        Returns
+        -------
+        Answers
+            The records by call.
+        """
         results = outcome.get("results", {})
         records = {}
         for function in FUNCTION_ARGUMENTS:
@@ -225,7 +348,23 @@ class Answers:
         return cls(frozenset(outcome.get("defined", ())), records)
 
     def value(self, call: Call) -> np.ndarray:
-        """The array the student answered ``call`` with; :class:`Unanswered` when there is none."""
+        """The array the student answered ``call`` with; :class:`Unanswered` when there is none.
+
+        Parameters
+        ----------
+        call : Call
+            The call.
+
+        Returns
+        -------
+        numpy.ndarray
+            The value returned.
+
+        Raises
+        ------
+        Unanswered
+            If the call has no record, raised an error, or returned values that are not numbers.
+        """
         record = self.records.get(call)
         if not isinstance(record, dict):
             raise Unanswered("no answer")
@@ -239,7 +378,17 @@ class Answers:
 
 @dataclass
 class Returned:
-    """A student's answers for one term: per state a value (array) or an error message; how they were obtained."""
+    """A student's answers for one term: per state a value (array) or an error message; how they were obtained.
+
+    Parameters
+    ----------
+    values : list of (numpy.ndarray or None)
+        Per state, the value, None where there is none.
+    errors : list of (str or None)
+        Per state, why there is no value, None where there is one.
+    source : str
+        ``"direct"``, ``"derived from tau"`` or ``"missing"``.
+    """
 
     values: list
     errors: list
@@ -247,6 +396,7 @@ class Returned:
 
     @property
     def available(self) -> bool:
+        """Whether the term was had at all (directly or derived)."""
         return self.source != "missing"
 
 
@@ -299,6 +449,22 @@ def returned_terms(answers: Answers, plan: Plan, term: str, from_tau: bool = Fal
     only way to see the M, V, G (and C) inside a student's τ is to call τ with the inputs that isolate each
     (module docstring) and take differences, as :func:`~course_dynamics.core.dynamics.mass_matrix` and its
     siblings do with our own τ. It also lets a student who writes only τ be graded on every term.
+
+    Parameters
+    ----------
+    answers : Answers
+        The submission's answers.
+    plan : Plan
+        The calls asked.
+    term : str
+        The term: ``tau``, ``M``, ``V``, ``G`` or ``C``.
+    from_tau : bool
+        Derive the term from τ even when the student defines it.
+
+    Returns
+    -------
+    Returned
+        Per state a value or an error, and the source.
     """
     N, n = len(plan.q), plan.n
     if term in answers.defined and plan.asks(term) and not from_tau:
@@ -320,7 +486,25 @@ def returned_terms(answers: Answers, plan: Plan, term: str, from_tau: bool = Fal
 @dataclass(frozen=True)
 class Coefficient:
     """One coefficient of V = B(Θ)[Θ̇Θ̇] + C(Θ)[Θ̇²] (6.63) at diagnostic state ``state``: of θ̇ⱼθ̇ₖ (``kind``
-    "Coriolis", Craig's B) or θ̇ⱼ² ("centrifugal", Craig's C) in τᵢ; ours, the student's, and the size of ours."""
+    "Coriolis", Craig's B) or θ̇ⱼ² ("centrifugal", Craig's C) in τᵢ; ours, the student's, and the size of ours.
+
+    Parameters
+    ----------
+    kind : str
+        ``"Coriolis"`` or ``"centrifugal"``.
+    i : int
+        The joint whose torque τᵢ the coefficient is in.
+    j, k : int
+        The joints of the velocity product θ̇ⱼθ̇ₖ (j = k for a centrifugal one).
+    state : int
+        The diagnostic state's index.
+    expected : float
+        Our coefficient, kg·m² (kg·m for mixed, kg for prismatic joints).
+    returned : float
+        The student's, in the same unit.
+    scale : float
+        The size of our coefficients at that state, what the tolerance is relative to.
+    """
 
     kind: str
     i: int
@@ -332,14 +516,39 @@ class Coefficient:
     scale: float
 
     def right(self, tolerance: float, factor: float = 1.0) -> bool:
-        """Whether the student's is ``factor`` × ours."""
+        """Whether the student's is ``factor`` × ours.
+
+        Parameters
+        ----------
+        tolerance : float
+            The error allowed, relative to ``scale``.
+        factor : float
+            The multiple of ours it is compared with.
+
+        Returns
+        -------
+        bool
+            True when it agrees.
+        """
         return abs(self.returned - factor * self.expected) <= tolerance * self.scale
 
 
 @dataclass(frozen=True)
 class VelocityProbe:
     """The student's V read off at the diagnostic states: every (6.63) coefficient, and per state V at Θ̇
-    (``single``) and at 2Θ̇ (``doubled``) with the size of our coefficients there (``scales``)."""
+    (``single``) and at 2Θ̇ (``doubled``) with the size of our coefficients there (``scales``).
+
+    Parameters
+    ----------
+    coefficients : tuple of Coefficient
+        Every coefficient at every diagnostic state.
+    single : tuple of numpy.ndarray
+        Per diagnostic state, the student's V(Θ, Θ̇), shape (n,), N·m (N for a prismatic joint).
+    doubled : tuple of numpy.ndarray
+        Per diagnostic state, V(Θ, 2Θ̇), shape (n,).
+    scales : tuple of float
+        Per diagnostic state, the size of our coefficients.
+    """
 
     coefficients: tuple[Coefficient, ...]
     single: tuple[np.ndarray, ...]
@@ -352,7 +561,24 @@ def returned_coefficients(answers: Answers, plan: Plan, expected: Expected,
     """The student's V probed at the diagnostic states (module docstring): V at eⱼ gives the centrifugal
     coefficients of θ̇ⱼ², V at eⱼ + eₖ minus those the Coriolis coefficient of θ̇ⱼθ̇ₖ. From their V when they
     define it (and it is graded) unless ``from_tau``, else from their τ minus its G; None when any of these
-    calls has no answer of shape (n,)."""
+    calls has no answer of shape (n,).
+
+    Parameters
+    ----------
+    answers : Answers
+        The submission's answers.
+    plan : Plan
+        The calls asked.
+    expected : Expected
+        Our coefficients.
+    from_tau : bool
+        Probe τ minus its G even when the student defines V.
+
+    Returns
+    -------
+    VelocityProbe or None
+        The probe; None when the student defines neither V nor τ, or a call has no answer of shape (n,).
+    """
     direct = "V" in answers.defined and plan.asks("V") and not from_tau
     if not direct and "tau" not in answers.defined:
         return None
@@ -396,3 +622,7 @@ def _probe(answers: Answers, plan: Plan, d: int, direct: bool) -> tuple[dict, np
 def coefficient_names(n: int) -> tuple[list[tuple[int, int]], list[tuple[int, int]]]:
     """The (j, k) of the Coriolis terms θ̇ⱼθ̇ₖ (j < k, Craig's B) and the centrifugal θ̇ⱼ² (Craig's C)."""
     return velocity_pairs(n), [(j, j) for j in range(n)]
+
+
+__all__ = ["STEP", "Answers", "Call", "Coefficient", "Expected", "Plan", "Returned", "Unanswered", "VelocityProbe",
+           "expected_terms", "make_plan", "returned_coefficients", "returned_terms"]

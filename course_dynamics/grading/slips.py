@@ -91,7 +91,7 @@ class Slip(Operations):
 
     @property
     def where(self) -> str:
-        """The equations in words: "(6.47) and (6.48)", "the outward iteration", …"""
+        """The equations in words, such as "(6.47) and (6.48)" or "every equation where it appears, …"."""
         every = SLIP_EQUATIONS[self.code]
         if self.equations == ("base",):
             return "the base acceleration ⁰v̇₀"
