@@ -32,13 +32,34 @@ from ..core.model import Model
 from .bags import is_bag, read_bag
 from .tables import Table, read_table
 
+#: The log formats :func:`open_log` reads (the table above).
 FORMATS = ("auto", "table", "ur-rtde", "bag")
 RTDE_SIGNALS = {"q": "actual_q", "qd": "actual_qd", "current": "actual_current"}
 
 
 @dataclass(frozen=True)
 class LogSource:
-    """A log's columns by its own names, the map its format implies, and where each row came from."""
+    """A log's columns by its own names, the map its format implies, and where each row came from.
+
+    Parameters
+    ----------
+    columns : dict
+        {the log's column name: numpy.ndarray of shape (K,)}, in the log's units.
+    where : str
+        How messages name the log (its file).
+    format : str
+        ``table``, ``ur-rtde`` or ``bag``.
+    implied : dict
+        Our column names → the log's, as its format implies them.
+    lines : numpy.ndarray, shape (K,), optional
+        The file line of each row (tables); None otherwise.
+    text : tuple of str
+        The columns that hold words, not numbers (ignored unless used).
+    notes : tuple of str
+        What the reader should know of how the log was read.
+    words : dict
+        A text column → (line, its first cell), for messages.
+    """
 
     columns: dict
     where: str
@@ -50,14 +71,38 @@ class LogSource:
     words: dict = field(default_factory=dict)      # a text column → (line, its first cell), for messages
 
     def not_numbers(self, column: str, ours: str) -> InputError:
-        """The error for a text column read as one of ours."""
+        """The error for a text column read as one of ours.
+
+        Parameters
+        ----------
+        column : str
+            The log's column.
+        ours : str
+            Our name it was read as.
+
+        Returns
+        -------
+        InputError
+            The error to raise, naming the line and the cell.
+        """
         line, cell = self.words.get(column, (None, ""))
         at = f"line {line}, " if line is not None else ""
         return InputError(f"{self.where}: {at}column '{column}': '{cell}' is not a number (a column of words, read as "
                           f"{ours})")
 
     def line(self, row: int) -> str:
-        """Row ``row`` (from 0) as a reader finds it: a file's line, a bag's message."""
+        """Row ``row`` (from 0) as a reader finds it: a file's line, a bag's message.
+
+        Parameters
+        ----------
+        row : int
+            The row, from 0.
+
+        Returns
+        -------
+        str
+            ``line 12``, ``message 3`` or ``row 3``.
+        """
         if self.lines is not None:
             return f"line {int(self.lines[row])}"
         return f"message {row + 1}" if self.format == "bag" else f"row {row + 1}"
@@ -92,8 +137,32 @@ def open_log(path, model: Model, *, format: str = "auto", topic: str | None = No
     """Read the log at ``path`` in ``format`` (module docstring) for ``model``'s joints.
 
     ``topic``: a bag's topic (default ``/joint_states``, else its one joint-state topic); ``decimal``: a table's
-    decimal separator when it cannot tell. Raises :class:`InputError` for an unknown format, a topic given for a
+    decimal separator when it cannot tell. Raises
+    :class:`~course_dynamics.base.errors.InputError` for an unknown format, a topic given for a
     table, and whatever the readers refuse.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The log's file (or a ROS 2 bag's folder).
+    model : Model
+        The robot whose joints are read.
+    format : str
+        One of :data:`FORMATS`.
+    topic : str, optional
+        A bag's topic.
+    decimal : str, optional
+        A table's decimal separator, ``.`` or ``,``.
+
+    Returns
+    -------
+    LogSource
+        The log's columns, its format's map to ours, and its rows' lines.
+
+    Raises
+    ------
+    InputError
+        If the format or an option does not fit the file, or the reader refuses it.
     """
     if format not in FORMATS:
         raise InputError(f"unknown log format '{format}' (choose from {', '.join(FORMATS)})")
@@ -128,7 +197,23 @@ def _words(table: Table) -> dict:
 
 def as_source(log) -> LogSource:
     """Any log as a :class:`LogSource`: one already (from :func:`open_log`), a
-    :class:`~course_dynamics.tools.tables.Table`, a pandas DataFrame, a dict of arrays or a numpy structured array."""
+    :class:`~course_dynamics.tools.tables.Table`, a pandas DataFrame, a dict of arrays or a numpy structured array.
+
+    Parameters
+    ----------
+    log : LogSource, Table, pandas.DataFrame, dict or numpy.ndarray
+        The log.
+
+    Returns
+    -------
+    LogSource
+        The log's columns as float arrays.
+
+    Raises
+    ------
+    InputError
+        If ``log`` is none of these, or a column does not hold numbers.
+    """
     if isinstance(log, LogSource):
         return log
     if isinstance(log, Table):
@@ -145,3 +230,6 @@ def as_source(log) -> LogSource:
             raise InputError(f"the table's columns must be numbers: {exc}") from None
     raise InputError(f"a log must be a table with named columns (a DataFrame, a dict of arrays, a structured array), "
                      f"got {type(log).__name__}")
+
+
+__all__ = ["FORMATS", "LogSource", "as_source", "open_log"]
