@@ -58,6 +58,7 @@ from ..core.urdf import InertiaWarning, load_urdf
 from . import io
 from .xml_spans import Element, elements
 
+#: The largest URDF file edited, bytes: the loader's own limit, so a larger file was never loaded.
 MAX_URDF_BYTES = 64 * 2**20  # as the loader's limit: a URDF larger than this was never loaded
 MERGED_NOTE = b"<!-- inertial removed: lumped into the identified inertial of the moving link it is fixed to -->"
 HEADER_NOTE = b"<!-- inertial parameters and joint friction identified by course-dynamics identify -->\n"
@@ -191,8 +192,34 @@ def identified_urdf(raw: bytes, identified: Model, friction: Friction | None = N
     """The URDF text ``raw`` with ``identified``'s inertial parameters (and ``friction``) written in (module docstring).
 
     ``identified`` must come from this URDF (same moving links and joints): the model loaded from it,
-    with new masses, centres of mass and inertias. Raises :class:`InputError` when a body's link or
-    joint is not in the text, or the text is not XML we edit.
+    with new masses, centres of mass and inertias. Raises
+    :class:`~course_dynamics.base.errors.InputError` when a body's link or joint is not in the text, or
+    the text is not XML we edit.
+
+    Parameters
+    ----------
+    raw : bytes
+        The text of the URDF the model was loaded from.
+    identified : Model
+        The identified robot: mᵢ, ⁱP_Cᵢ and ᶜⁱIᵢ of every moving body, kg, m and kg·m².
+    friction : Friction, optional
+        The identified viscous v (N·m·s/rad) and Coulomb c (N·m) coefficients of (6.112), one per joint
+        (N·s/m and N for a prismatic joint), written as ``damping`` and ``friction``; without it every
+        ``<dynamics>`` stays as it was.
+    where : str, optional
+        The name of the text in messages (its file).
+
+    Returns
+    -------
+    bytes
+        The edited text, in the encoding of ``raw``.
+
+    Raises
+    ------
+    InputError
+        If a body's link or joint is not in the text, the text is not XML we edit (a DTD or entity, UTF-16,
+        a second ``<inertial>`` or ``<dynamics>``, a default ``xmlns``, two links or joints of one name),
+        or an identified value is not finite.
     """
     _check_encoding(raw, where)
     layout = _layout(raw, where)
@@ -239,7 +266,27 @@ def _shown(value) -> str:
 def check_reads_back(text: bytes, identified: Model, friction: Friction | None, target: str, source: str) -> None:
     """InputError unless our loader reads ``text`` as ``identified`` (every mass, centre of mass and inertia of a
     moving body) and ``friction`` (every damping and friction written): an edit of the wrong text is never left
-    behind. ``target`` (the file to be written) and ``source`` (the URDF edited) name the problem."""
+    behind. ``target`` (the file to be written) and ``source`` (the URDF edited) name the problem.
+
+    Parameters
+    ----------
+    text : bytes
+        The URDF text to check (from :func:`identified_urdf`).
+    identified : Model
+        The identified robot the text must read back as.
+    friction : Friction or None
+        The friction coefficients it must read back as; None checks none.
+    target : str
+        The file to be written, for messages.
+    source : str
+        The URDF that was edited, for messages.
+
+    Raises
+    ------
+    InputError
+        If the text does not load, or a joint, mass, centre of mass, inertia, damping or friction reads back
+        differently.
+    """
     with tempfile.TemporaryDirectory(prefix="course-dynamics-") as folder:
         copy = Path(folder) / "identified.urdf"
         io.write_bytes(copy, text)
@@ -276,6 +323,28 @@ def checked_identified_urdf(identified: Model, friction: Friction | None = None,
 
     ``source``: the URDF the model was loaded from (default ``identified.source``), read as text
     (a regular file of at most :data:`MAX_URDF_BYTES`).
+
+    Parameters
+    ----------
+    identified : Model
+        The identified robot (loaded from ``source``, with new inertial parameters).
+    friction : Friction, optional
+        The identified friction coefficients, written into each joint's ``<dynamics>``.
+    source : str or pathlib.Path, optional
+        The URDF file to edit; ``identified.source`` by default.
+    target : str, optional
+        The file to be written, for messages.
+
+    Returns
+    -------
+    bytes
+        The identified URDF's text.
+
+    Raises
+    ------
+    InputError
+        If the source is not known or cannot be read, is not a URDF we edit, or the text reads back
+        differently (:func:`identified_urdf`, :func:`check_reads_back`).
     """
     source = identified.source if source is None else source
     if not source:
@@ -290,6 +359,22 @@ def write_identified_urdf(path, identified: Model, friction: Friction | None = N
     """Write the identified URDF to ``path`` (whole or not at all; ``-`` is standard output).
 
     The text is :func:`checked_identified_urdf`'s: read back by our loader before anything is written.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file to write, or ``-`` for standard output.
+    identified : Model
+        The identified robot.
+    friction : Friction, optional
+        The identified friction coefficients.
+    source : str or pathlib.Path, optional
+        The URDF file to edit; ``identified.source`` by default.
+
+    Raises
+    ------
+    InputError
+        As :func:`checked_identified_urdf`, or if ``path`` cannot be written.
     """
     target = "standard output" if str(path) == io.STDOUT else str(path)
     io.write_bytes(path, checked_identified_urdf(identified, friction, source, target))
@@ -302,6 +387,25 @@ def model_urdf(model: Model, comment: str = "") -> bytes:
     For robots made in memory (a student's variant of a course robot): loading the text gives the same model,
     numbers and all (``repr`` digits); visuals, meshes and comments of any original file are not carried over.
 
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    comment : str, optional
+        A comment written after the XML declaration (``--`` becomes ``-``); none by default.
+
+    Returns
+    -------
+    bytes
+        The URDF, UTF-8.
+
+    Raises
+    ------
+    InputError
+        If a number of the model is not finite.
+
+    Examples
+    --------
     >>> from course_dynamics import load_robot
     >>> text = model_urdf(load_robot("pendulum")).decode()
     >>> '<joint name="theta" type="continuous">' in text and '<mass value="1.0"/>' in text
@@ -340,3 +444,7 @@ def model_urdf(model: Model, comment: str = "") -> bytes:
                   f'    <parent link="{parent}"/>', f'    <child link="{frame.name}"/>',
                   f'    <origin xyz="{xyz(frame.P)}" rpy="{rpy(frame.R)}"/>', "  </joint>"]
     return ("\n".join(lines + ["</robot>", ""])).encode()
+
+
+__all__ = ["MAX_URDF_BYTES", "check_reads_back", "checked_identified_urdf", "identified_urdf", "model_urdf",
+           "write_identified_urdf"]

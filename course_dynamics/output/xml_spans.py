@@ -42,7 +42,31 @@ NAMESPACE_SEPARATOR = " "
 
 @dataclass
 class Element:
-    """An element of the text; positions are byte offsets into it."""
+    """An element of the text; positions are byte offsets into it.
+
+    Parameters
+    ----------
+    name : str
+        ``"local"``, or ``"uri local"`` for an element in a namespace.
+    qualified : str
+        The name as written: ``"local"`` or ``"prefix:local"``.
+    start : int
+        The ``<`` of its start tag.
+    start_end : int
+        Just after its start tag's ``>``.
+    empty : bool
+        Written as ``<name .../>``.
+    attributes : dict
+        Name (unprefixed attributes only) → (start, end) of its value, quotes excluded.
+    values : dict
+        Name (unprefixed attributes only) → its value, as expat reads it.
+    end : int, optional
+        Just after its end tag (``start_end`` for an empty element); -1 until the end tag is read.
+    end_tag : int, optional
+        The ``<`` of its end tag (``start_end`` for an empty element); -1 until the end tag is read.
+    children : list of Element, optional
+        Its child elements, down to the depth asked of :func:`elements`.
+    """
 
     name: str                   # "local", or "uri local" for an element in a namespace
     qualified: str              # as written: "local" or "prefix:local"
@@ -100,8 +124,28 @@ def _start_tag(raw: bytes, start: int, encoding: str, reported: list, where: str
 def elements(raw: bytes, where: str, depth: int = 2) -> Element:
     """The root element of ``raw``, with its children, theirs, … down to ``depth`` (the root is depth 0).
 
-    Raises :class:`InputError` (naming ``where``) for text that is not well-formed XML, declares a
-    DTD or refers to an undeclared entity.
+    Raises :class:`~course_dynamics.base.errors.InputError` (naming ``where``) for text that is not
+    well-formed XML, declares a DTD or refers to an undeclared entity.
+
+    Parameters
+    ----------
+    raw : bytes
+        The XML text.
+    where : str
+        The name of the text in messages (its file).
+    depth : int, optional
+        How deep to go: 0 for the root alone, 2 for its children's children.
+
+    Returns
+    -------
+    Element
+        The root element.
+
+    Raises
+    ------
+    InputError
+        If the text is not well-formed XML, declares a DTD or an entity, refers to an undeclared entity,
+        has a start tag whose attributes cannot be read, or is in an encoding that cannot be edited in place.
     """
     parser = xml.parsers.expat.ParserCreate(None, NAMESPACE_SEPARATOR)
     parser.ordered_attributes = True
@@ -149,3 +193,6 @@ def elements(raw: bytes, where: str, depth: int = 2) -> Element:
             raise
         raise InputError(f"{where}: its encoding cannot be edited in place ({exc}); save it as UTF-8") from None
     return found[0]
+
+
+__all__ = ["Element", "elements"]
