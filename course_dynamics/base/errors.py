@@ -3,7 +3,7 @@
 Every one is a :class:`CourseDynamicsError` whose message is one line naming
 the file, joint, link, row or option at fault. The command line reports these,
 and only these, as ``error: …`` with exit code 2; any other exception is a bug
-and keeps its traceback. They are also ``ValueError``s, so code that expects
+and keeps its traceback. They are also each a ``ValueError``, so code that expects
 the standard exception for a bad value still catches them.
 
 =========================  ====================================================

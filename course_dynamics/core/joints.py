@@ -6,13 +6,13 @@ type themselves, so a new kind of joint is one class here and its tests. (The
 Newton–Euler recursion keeps its own visible revolute/prismatic branch: there
 it is Craig's text, (6.45)–(6.50) against (6.35), (6.53) against (6.44).)
 
-=============  =====  ==============================  ===================  ========================
-kind           q      ᵖᵢR(q), ᵖPᵢ(q)                  unit motion s        point Jacobian column
-=============  =====  ==============================  ===================  ========================
-``revolute``   θ rad  R₀ Rot(Ẑ, θ), P                 (Ẑ, Pⱼ × Ẑ)          (Ẑ × (p − Pⱼ), Ẑ)
-``continuous`` θ rad  as revolute, without limits     as revolute          as revolute
-``prismatic``  d m    R₀, P + d R₀Ẑ                   (0, Ẑ)               (Ẑ, 0)
-=============  =====  ==============================  ===================  ========================
+==============  =====  ==============================  ===================  ========================
+kind            q      ᵖᵢR(q), ᵖPᵢ(q)                  unit motion s        point Jacobian column
+==============  =====  ==============================  ===================  ========================
+``revolute``    θ rad  R₀ Rot(Ẑ, θ), P                 (Ẑ, Pⱼ × Ẑ)          (Ẑ × (p − Pⱼ), Ẑ)
+``continuous``  θ rad  as revolute, without limits     as revolute          as revolute
+``prismatic``   d m    R₀, P + d R₀Ẑ                   (0, Ẑ)               (Ẑ, 0)
+==============  =====  ==============================  ===================  ========================
 
 R₀ and P are the joint's fixed placement in its parent (the URDF ``<origin>``), Ẑ its
 unit axis; s is (angular, linear) in base coordinates about the base origin, Ẑ and
@@ -192,8 +192,8 @@ class Prismatic:
         return z, ZERO
 
 
-#: The kind of each URDF joint type the dynamics takes: ``revolute``, ``continuous`` (both :class:`Revolute`) and
-#: ``prismatic`` (:class:`Prismatic`).
+#: The kind of each URDF joint type the dynamics takes, by type name. ``revolute`` and ``continuous`` are
+#: :class:`Revolute`, ``prismatic`` is :class:`Prismatic`.
 KINDS: dict[str, type] = {"revolute": Revolute, "continuous": Revolute, "prismatic": Prismatic}
 
 
