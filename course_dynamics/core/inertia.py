@@ -73,7 +73,6 @@ def box(m, a, b, c) -> np.ndarray:
 
     Examples
     --------
-
     >>> box(12.0, 1.0, 2.0, 3.0).diagonal().tolist()   # kg·m²
     [13.0, 10.0, 5.0]
     """
@@ -99,7 +98,6 @@ def rod(m, length, axis: str = "x") -> np.ndarray:
 
     Examples
     --------
-
     >>> rod(3.0, 2.0, "z").diagonal().tolist()   # m l²/12 across, 0 along the rod
     [1.0, 1.0, 0.0]
     """
@@ -129,7 +127,6 @@ def cylinder(m, r, h, axis: str = "z") -> np.ndarray:
 
     Examples
     --------
-
     >>> cylinder(2.0, 1.0, 3.0).diagonal().tolist()   # axis z
     [2.0, 2.0, 1.0]
     """
@@ -155,7 +152,6 @@ def sphere(m, r) -> np.ndarray:
 
     Examples
     --------
-
     >>> sphere(5.0, 1.0).diagonal().tolist()
     [2.0, 2.0, 2.0]
     """
@@ -173,7 +169,6 @@ def point_mass() -> np.ndarray:
 
     Examples
     --------
-
     >>> parallel_axis(point_mass(), 2.0, [0.5, 0.0, 0.0]).diagonal().tolist()   # m₁ at l₁: m₁l₁² about y and z
     [0.0, 0.5, 0.5]
     """
@@ -199,7 +194,6 @@ def parallel_axis(I_c, m, p) -> np.ndarray:
 
     Examples
     --------
-
     >>> import sympy
     >>> m, l = sympy.symbols("m l", positive=True)
     >>> parallel_axis(rod(m, l), m, [l / 2, 0, 0])[2, 2]   # a rod about its end: m l²/12 + m l²/4
@@ -228,7 +222,6 @@ def rotate(I, R) -> np.ndarray:
 
     Examples
     --------
-
     >>> R = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])   # 90° about z
     >>> rotate(box(12.0, 1.0, 2.0, 3.0), R).diagonal().tolist()               # the x and y moments swap
     [10.0, 13.0, 5.0]
@@ -256,7 +249,6 @@ def products_of_inertia(I) -> tuple:
 
     Examples
     --------
-
     >>> I = parallel_axis(box(12.0, 1.0, 2.0, 3.0), 12.0, [0.5, 1.0, 1.5])
     >>> [float(x) for x in products_of_inertia(I)]   # m x_c y_c, m x_c z_c, m y_c z_c
     [6.0, 9.0, 18.0]
@@ -281,7 +273,6 @@ def principal_axes(I) -> tuple[np.ndarray, np.ndarray]:
 
     Examples
     --------
-
     >>> moments, axes = principal_axes(np.diag([3.0, 1.0, 2.0]))
     >>> moments.tolist(), np.abs(axes[:, 0]).tolist()   # the smallest moment is about y
     ([1.0, 2.0, 3.0], [0.0, 1.0, 0.0])
@@ -312,7 +303,6 @@ def physical_problems(I, tolerance: float = TOLERANCE) -> list[str]:
 
     Examples
     --------
-
     >>> physical_problems(box(12.0, 1.0, 2.0, 3.0))
     []
     >>> physical_problems(np.diag([1.0, 1.0, 3.0]))
