@@ -5,7 +5,7 @@ UTF-8 with or without BOM, UTF-16, Latin-1; CRLF; ``#`` comment lines) from a re
 of a size that fits in memory, refuses a number it could read two ways (by the rules of
 :mod:`course_dynamics.tools.cells`), and names the file, line and column of anything it
 cannot use. A column whose first cell is a word (a mode or state a controller logs) is a text
-column: listed in :attr:`Table.text`, never read as numbers. :func:`read_columns` picks and
+column: listed in ``Table.text``, never read as numbers. :func:`read_columns` picks and
 checks named columns from it.
 """
 from __future__ import annotations
@@ -28,6 +28,7 @@ from .cells import WHITESPACE, clean, count_error, is_word, parse_rows, split
 STDIN = "-"  # what a user may try for standard input: logs are read from files only
 DELIMITERS = (",", ";", "\t")
 DELIMITER_NAMES = {",": "commas", ";": "semicolons", "\t": "tabs", WHITESPACE: "whitespace"}
+#: The decimal separators :func:`read_table` can be told a table uses.
 DECIMALS = ("point", "comma")
 SAMPLE_ROWS = 10               # data rows read ahead to choose the delimiter and estimate the memory needed
 MAX_LINE_CHARS = 16 * 2**20    # longer is no table (a header of 10 000 joints' columns is under 1 MiB)
@@ -38,6 +39,7 @@ MAX_LINE_CHARS = 16 * 2**20    # longer is no table (a header of 10 000 joints' 
 # and tau computed in blocks it was 115 bytes per value (6.2 per byte: an 80 MiB log peaked at 657 MB),
 # and reading alone took 72 bytes per value where it now takes 11. Budgeted with a margin for a model
 # with more joints than the log has columns.
+#: Bytes of memory a table's value (cell) is budgeted at, read and in use: a table must fit in the budget.
 BYTES_PER_VALUE = 100
 
 
@@ -49,6 +51,21 @@ class Table:
     columns; ``lines``: the file line number of each data row (for messages); ``path``: the file;
     ``text``: the names of the text columns, in header order; ``first_words``: the cell of each
     in the first data row (see :meth:`first_word`).
+
+    Parameters
+    ----------
+    path : str
+        The file.
+    header : tuple of str
+        The column names, stripped.
+    data : numpy.ndarray, shape (rows, columns)
+        The values, in the file's units; NaN in the text columns.
+    lines : numpy.ndarray, shape (rows,)
+        The file line number of each data row.
+    text : tuple of str
+        The names of the text columns, in header order.
+    first_words : tuple of str
+        Each text column's cell in the first data row.
     """
 
     path: str
@@ -59,14 +76,53 @@ class Table:
     first_words: tuple[str, ...] = ()
 
     def column(self, name: str) -> np.ndarray:
+        """One column by name.
+
+        Parameters
+        ----------
+        name : str
+            A name of ``header``.
+
+        Returns
+        -------
+        numpy.ndarray, shape (rows,)
+            Its values (NaN for a text column).
+
+        Raises
+        ------
+        ValueError
+            If ``name`` is not in the header.
+        """
         return self.data[:, self.header.index(name)]
 
     def columns(self) -> dict[str, np.ndarray]:
-        """The numeric columns by name, in header order (the text columns are left out)."""
+        """The numeric columns by name, in header order (the text columns are left out).
+
+        Returns
+        -------
+        dict of str to numpy.ndarray
+            {name: values of shape (rows,)}.
+        """
         return {name: self.data[:, c] for c, name in enumerate(self.header) if name not in self.text}
 
     def first_word(self, name: str) -> tuple[int, str]:
-        """(line number, cell) of a text column's first data row, for messages: ``(2, 'RUNNING')``."""
+        """(line number, cell) of a text column's first data row, for messages: ``(2, 'RUNNING')``.
+
+        Parameters
+        ----------
+        name : str
+            A text column's name.
+
+        Returns
+        -------
+        tuple of (int, str)
+            The line number and the cell.
+
+        Raises
+        ------
+        KeyError
+            If ``name`` is not a text column.
+        """
         if name not in self.text:
             raise KeyError(f"{name!r} is not a text column of {self.path}")
         return int(self.lines[0]), self.first_words[self.text.index(name)]
@@ -222,8 +278,8 @@ def read_table(path, comment: str = "#", decimal: str | None = None) -> Table:
     optional sign, decimal separator and exponent (``-1.5e-3``).
 
     Text columns: a column whose cell in the first data row is a word (it starts with a letter,
-    quoted or not: ``RUNNING``, ``mode = auto``; :func:`course_dynamics.tools.cells.is_word`) holds
-    text, whatever its later cells; its name is in :attr:`Table.text`, its data NaN, and
+    quoted or not: ``RUNNING``, ``mode = auto``; ``course_dynamics.tools.cells.is_word``) holds
+    text, whatever its later cells; its name is in ``Table.text``, its data NaN, and
     :meth:`Table.columns` leaves it out. The first row decides, never a later one: a word in a
     numeric column is an error naming its line and column (a typo must not turn a signal to text).
 
@@ -235,10 +291,24 @@ def read_table(path, comment: str = "#", decimal: str | None = None) -> Table:
     file. Thousands separators, ``_`` between digits, other digits than 0-9 and hexadecimal are
     refused too.
 
-    The file must be a regular file (:func:`open_regular`: never a pipe or device, which could
+    The file must be a regular file (:func:`~course_dynamics.base.files.open_regular`: never a pipe or device, which could
     block or be endless), and the memory its rows would take in use (:data:`BYTES_PER_VALUE`
     per cell, estimated from its size before it is read, then counted while reading) must fit in
     half the machine's memory. Rows are read as a stream: the text is never held whole.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The table's file.
+    comment : str
+        What starts a comment, a whole line or after a row's last cell.
+    decimal : str, optional
+        ``"point"`` or ``"comma"``; None reads it from the file.
+
+    Returns
+    -------
+    Table
+        The header, the values, the line of each row and the text columns.
 
     Raises
     ------
@@ -353,7 +423,30 @@ def read_columns(path, required: list[str], optional: list[str] = (),
                  decimal: str | None = None) -> dict[str, np.ndarray]:
     """The named columns of a table file (:func:`read_table`), checked: every required one present, none of them
     text, and no column that is neither required nor optional (logs with more signals go through
-    :mod:`course_dynamics.logs`)."""
+    :mod:`course_dynamics.tools.logs`).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The table's file.
+    required : list of str
+        The columns it must have.
+    optional : list of str
+        The columns it may have besides.
+    decimal : str, optional
+        ``"point"`` or ``"comma"``; None reads it from the file.
+
+    Returns
+    -------
+    dict of str to numpy.ndarray
+        {name: values of shape (rows,)}.
+
+    Raises
+    ------
+    InputError
+        Whatever :func:`read_table` refuses, a required column missing, a column of words among those asked for,
+        or an unexpected column.
+    """
     table = read_table(path, decimal=decimal)
     missing = [c for c in required if c not in table.header]
     if missing:
@@ -376,3 +469,6 @@ def joint_columns(kinds, joints) -> list[str]:
 def stack_joint_columns(columns: dict, kind: str, joints) -> np.ndarray:
     """The ``<kind>_<joint>`` columns as one array (rows, n), joints in model order."""
     return np.column_stack([columns[f"{kind}_{j}"] for j in joints])
+
+
+__all__ = ["BYTES_PER_VALUE", "DECIMALS", "Table", "read_columns", "read_table"]
