@@ -9,23 +9,23 @@ notebooks' exercise checks use too.
 
 Statuses (``SubmissionGrade.status``; anything but ``ok`` scores zero):
 
-===================  =========================================================
-status               meaning
-===================  =========================================================
-``ok``               graded term by term
-``not python``       not a readable UTF-8 text file of at most 1 MB
-``syntax error``     Python cannot parse it (the message gives the line)
-``forbidden import`` it imports a module the assignment forbids
-``no functions``     it defines none of tau, M, V, G, C
-``exited``           it called exit() while being imported
-``crashed``          an exception at import, or the process died
-``file access``      it tried to write or read where it may not
-``timeout``          it used more than the CPU or wall-clock time allowed
-``memory``           it ran out of its memory allowance
-``output limit``     it printed more than the assignment's output_limit
-``invalid result``   what came back is not what the harness writes (a
-                     submission that wrote on the results channel itself)
-===================  =========================================================
+====================  =========================================================
+status                meaning
+====================  =========================================================
+``ok``                graded term by term
+``not python``        not a readable UTF-8 text file of at most 1 MB
+``syntax error``      Python cannot parse it (the message gives the line)
+``forbidden import``  it imports a module the assignment forbids
+``no functions``      it defines none of tau, M, V, G, C
+``exited``            it called exit() while being imported
+``crashed``           an exception at import, or the process died
+``file access``       it tried to write or read where it may not
+``timeout``           it used more than the CPU or wall-clock time allowed
+``memory``            it ran out of its memory allowance
+``output limit``      it printed more than the assignment's output_limit
+``invalid result``    what came back is not what the harness writes (a
+                      submission that wrote on the results channel itself)
+====================  =========================================================
 
 Everything a submission's process sends back is read as hostile
 (:mod:`~course_dynamics.grading.results`): one bad submission affects only its
@@ -60,7 +60,33 @@ FEEDBACK_OUTPUT = 20_000  # characters of a submission's printed output kept in 
 
 @dataclass
 class SubmissionGrade:
-    """One student's grade: per-term diagnoses, or the status that gave zero."""
+    """One student's grade: per-term diagnoses, or the status that gave zero.
+
+    Parameters
+    ----------
+    student : str
+        The student's name (the file's stem by default).
+    path : pathlib.Path
+        The submission file.
+    status : str
+        ``ok``, or why it scored zero (the module docstring's table).
+    message : str
+        What the status means for this file.
+    diagnoses : list of Diagnosis
+        Per graded term, its score and feedback (with status ``ok``).
+    max_total : float
+        The points the assignment is worth.
+    stdout : str
+        What the submission printed (standard output, then error), cut to the first 20000 characters.
+    sandbox : str
+        How it was isolated: ``bubblewrap``, ``unprivileged-user`` or ``none``.
+    notes : list of str
+        Notes of the run, shown in the feedback.
+    flags : list of tuple of (str, str)
+        Integrity flags (code, detail): leads for the instructor, never a score.
+    ran : bool
+        False when it was refused from its source alone (not run, so not watched for flags either).
+    """
 
     student: str
     path: Path
@@ -81,9 +107,22 @@ class SubmissionGrade:
 
     @property
     def total(self) -> float:
+        """The points given, 0 unless the status is ``ok``."""
         return round(sum(d.points for d in self.diagnoses), 2) if self.status == "ok" else 0.0
 
     def points(self, term: str) -> float:
+        """The points given for ``term``.
+
+        Parameters
+        ----------
+        term : str
+            A term: ``tau``, ``M``, ``V``, ``G`` or ``C``.
+
+        Returns
+        -------
+        float
+            Its points; 0 when it is not graded or the status is not ``ok``.
+        """
         if self.status != "ok":
             return 0.0
         return next((d.points for d in self.diagnoses if d.term == term), 0.0)
@@ -121,7 +160,18 @@ SOURCE_REFUSALS = Refusals(unreadable="cannot read the file: {reason}", not_a_fi
 
 def read_source(path: Path) -> tuple[str | None, str]:
     """(source, "") for a readable UTF-8 file of at most MAX_SOURCE_BYTES, read without blocking on a FIFO
-    (:func:`~course_dynamics.base.files.read_small`); (None, why not) otherwise."""
+    (:func:`~course_dynamics.base.files.read_small`); (None, why not) otherwise.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The submission file.
+
+    Returns
+    -------
+    tuple of (str or None, str)
+        The source and an empty reason, or None and why it cannot be read.
+    """
     try:
         data = read_small(path, MAX_SOURCE_BYTES, "submission", refusals=SOURCE_REFUSALS)
     except InputError as exc:
@@ -133,7 +183,20 @@ def read_source(path: Path) -> tuple[str | None, str]:
 
 
 def inspect_source(path: Path, assignment: Assignment) -> tuple[str, str] | None:
-    """(status, message) when the file cannot be graded at all, read without running it; None otherwise."""
+    """(status, message) when the file cannot be graded at all, read without running it; None otherwise.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The submission file.
+    assignment : Assignment
+        The assignment: its forbidden imports.
+
+    Returns
+    -------
+    tuple of (str, str) or None
+        The status (``not python``, ``syntax error`` or ``forbidden import``) and its message, or None.
+    """
     return check_source(*read_source(path), path.name, assignment)
 
 
@@ -190,6 +253,32 @@ def grade_submission(assignment: Assignment, plan: Plan, expected: Expected, pat
 
     Without ``bwrap``, a ``user`` (uid, gid) is the unprivileged user the submission runs as (sandbox.run_submission).
     ``read`` is what :func:`read_source` already read of the file, if the caller read it.
+
+    Parameters
+    ----------
+    assignment : Assignment
+        The assignment, as this submission is graded on it.
+    plan : Plan
+        The calls asked (:func:`~course_dynamics.grading.plan.make_plan`).
+    expected : Expected
+        Our answers (:func:`~course_dynamics.grading.plan.expected_terms`).
+    path : pathlib.Path
+        The submission file.
+    bwrap : str or None
+        The bubblewrap executable (:func:`~course_dynamics.grading.sandbox.check_sandbox`), None for no sandbox.
+    environment : Environment or None
+        The Python the submission runs in; numpy and the allowed packages of this installation when None.
+    user : tuple of (int, int) or None
+        Without ``bwrap``, the (uid, gid) the submission runs as.
+    student : str or None
+        The student's name; the file's stem when None.
+    read : tuple of (str or None, str) or None
+        What :func:`read_source` read of the file; read here when None.
+
+    Returns
+    -------
+    SubmissionGrade
+        The grade: diagnoses per term, or the status that gave zero.
     """
     isolation = "bubblewrap" if bwrap else "unprivileged-user" if user is not None else "none"
     grade = SubmissionGrade(student=student or path.stem, path=path, status="ok", max_total=assignment.total_points,
@@ -243,7 +332,25 @@ def _unusable_name(name: str) -> str:
 
 def student_names(paths) -> list[str]:
     """The file stems, which name the students; InputError for a missing file or two files with one name (or names
-    that differ only in case)."""
+    that differ only in case).
+
+    Parameters
+    ----------
+    paths : iterable of str or os.PathLike
+        The submission files.
+
+    Returns
+    -------
+    list of str
+        The students' names, in the order of the files.
+
+    Raises
+    ------
+    InputError
+        If a file is missing, two files have one name (or names that differ only in case), a name is not printable
+        UTF-8 of at most 200 bytes, or it is one of the class's own files (``summary``, ``gradebook``,
+        ``similar-N``).
+    """
     names, folded = {}, {}
     for path in paths:
         path = Path(path)
@@ -266,7 +373,27 @@ def student_names(paths) -> list[str]:
 
 def similar_submissions(paths, threshold: float, starter=None) -> Comparison:
     """Near-identical pairs among the submission files (similarity.similar_pairs), read without running them;
-    ``starter`` is the path of the starter code given to everyone, or None."""
+    ``starter`` is the path of the starter code given to everyone, or None.
+
+    Parameters
+    ----------
+    paths : iterable of str or os.PathLike
+        The submission files; an unreadable one is left out.
+    threshold : float
+        The similarity from which a pair is listed, 0 to 1.
+    starter : str or os.PathLike or None
+        The starter code, whose text does not count as shared.
+
+    Returns
+    -------
+    Comparison
+        The pairs found, the threshold and the starter's file name.
+
+    Raises
+    ------
+    InputError
+        If the starter code cannot be read.
+    """
     given = read_starter(starter) if starter is not None else None
     found = []
     for path in map(Path, paths):
@@ -291,6 +418,38 @@ def grade_class(assignment: Assignment, paths, sandbox: bool = True, jobs: int |
     submissions (default: their file stems); ``user`` and ``environment`` are as in :func:`grade_submission`
     (default environment: numpy and the assignment's allowed packages from this installation). Each file is
     graded on states of its own (:meth:`~course_dynamics.grading.assignment.Assignment.for_submission`).
+
+    Parameters
+    ----------
+    assignment : Assignment
+        The assignment.
+    paths : iterable of str or os.PathLike
+        The submission files, one per student.
+    sandbox : bool
+        Run each submission in bubblewrap.
+    jobs : int or None
+        How many submissions run at a time; as many as there are CPUs (and files) when None.
+    progress : callable or None
+        Called with 1 once per submission graded.
+    students : iterable of str or None
+        The students' names, one per file; the file stems when None.
+    user : tuple of (int, int) or None
+        Without the sandbox, the (uid, gid) submissions run as.
+    environment : Environment or None
+        The Python submissions run in; numpy and the allowed packages of this installation when None.
+
+    Returns
+    -------
+    list of SubmissionGrade
+        One grade per file, in the order of ``paths``.
+
+    Raises
+    ------
+    SandboxError
+        If ``sandbox`` is set and bubblewrap cannot start on this machine.
+    InputError
+        If the files cannot name the students (:func:`student_names`), or with ``variant = "per-student"`` a name
+        is not a valid student id.
     """
     paths = [Path(p) for p in paths]
     names = list(students) if students is not None else student_names(paths)
@@ -316,3 +475,7 @@ def grade_class(assignment: Assignment, paths, sandbox: bool = True, jobs: int |
 
     with ThreadPoolExecutor(max_workers=jobs) as pool:
         return list(pool.map(one, zip(paths, names)))
+
+
+__all__ = ["SubmissionGrade", "grade_class", "grade_submission", "inspect_source", "read_source", "similar_submissions",
+           "student_names"]

