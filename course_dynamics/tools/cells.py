@@ -20,6 +20,7 @@ from ..base.errors import InputError
 
 # Columns separated by runs of spaces and tabs: what str.split() and numpy's reader (delimiter=None)
 # split at, which is any whitespace, so that both paths of the reader cut a row alike.
+#: The delimiter that means runs of spaces and tabs (None, as ``str.split`` and numpy's reader take it).
 WHITESPACE = None
 
 # A number as written in a log: ASCII digits only (Python's float() also takes '1_000', '١٢٣', '１２３'
@@ -35,6 +36,18 @@ def split(line: str, delimiter: str | None) -> list[str]:
 
     With :data:`WHITESPACE` a cell is a run of other characters: leading and trailing whitespace
     make no cell, and a quote is part of its cell (strip it with :func:`clean`).
+
+    Parameters
+    ----------
+    line : str
+        A line of the table, without its end.
+    delimiter : str or None
+        ``,``, ``;``, a tab, or :data:`WHITESPACE`.
+
+    Returns
+    -------
+    list of str
+        The cells, unstripped (quotes removed where the csv module reads them).
     """
     if delimiter is WHITESPACE:
         return line.split()
@@ -42,7 +55,18 @@ def split(line: str, delimiter: str | None) -> list[str]:
 
 
 def clean(cell: str) -> str:
-    """A cell as it is judged: stripped of spaces and of the quotes around it."""
+    """A cell as it is judged: stripped of spaces and of the quotes around it.
+
+    Parameters
+    ----------
+    cell : str
+        A cell as :func:`split` gives it.
+
+    Returns
+    -------
+    str
+        The cell, stripped.
+    """
     cell = cell.strip()
     return cell.strip('"') if '"' in cell else cell
 
@@ -52,6 +76,16 @@ def is_word(cell: str) -> bool:
 
     A cell starting with a digit, sign or point is a number or a typo of one (``1_000``, ``0x10``,
     ``١٢٣``), never a word.
+
+    Parameters
+    ----------
+    cell : str
+        A cleaned cell.
+
+    Returns
+    -------
+    bool
+        Whether it is a word.
 
     >>> [is_word(cell) for cell in ("RUNNING", "mode = auto", "STATE_2", "1_000", "0x10", "nan", "-1", "")]
     [True, True, True, False, False, False, False, False]
@@ -125,6 +159,30 @@ def parse_rows(path, header, rows, delimiter: str | None, decimal: str | None) -
     followed by exactly three digits (1,234 is 1.234, or 1234 with a thousands separator). A row
     whose cells are all plain numbers of one kind is checked by one pattern and read by numpy; any
     other row is read cell by cell, which finds and names what is wrong.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file, for messages.
+    header : sequence of str
+        The numeric columns' names.
+    rows : iterable of (int, str)
+        (line number, line) of each data row, holding only the numeric columns' cells.
+    delimiter : str or None
+        ``,``, ``;``, a tab, or :data:`WHITESPACE`.
+    decimal : str or None
+        ``"point"`` or ``"comma"``; None reads it from the rows.
+
+    Returns
+    -------
+    numpy.ndarray, shape (rows, len(header))
+        The values.
+
+    Raises
+    ------
+    InputError
+        Naming the line and column of the first cell that is not a number, could be read two ways, or of a row
+        with another number of cells than the header.
     """
     width = len(header)
     values, block = array("d"), []
@@ -195,3 +253,6 @@ def parse_rows(path, header, rows, delimiter: str | None, decimal: str | None) -
                          "in the file settles which; say it is a decimal comma (decimal='comma'; torques: --decimal "
                          "comma), or write the log with decimal points")
     return np.frombuffer(values, dtype=float).reshape(-1, width)
+
+
+__all__ = ["WHITESPACE", "clean", "is_word", "parse_rows", "split"]

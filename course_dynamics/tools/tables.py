@@ -278,7 +278,7 @@ def read_table(path, comment: str = "#", decimal: str | None = None) -> Table:
     optional sign, decimal separator and exponent (``-1.5e-3``).
 
     Text columns: a column whose cell in the first data row is a word (it starts with a letter,
-    quoted or not: ``RUNNING``, ``mode = auto``; ``course_dynamics.tools.cells.is_word``) holds
+    quoted or not: ``RUNNING``, ``mode = auto``; :func:`course_dynamics.tools.cells.is_word`) holds
     text, whatever its later cells; its name is in ``Table.text``, its data NaN, and
     :meth:`Table.columns` leaves it out. The first row decides, never a later one: a word in a
     numeric column is an error naming its line and column (a typo must not turn a signal to text).
