@@ -1,20 +1,20 @@
 """The robots the project ships: the course models and example-robot-data arms.
 
-=============================  ===============================================
-name                           file
-=============================  ===============================================
-``two_link``                   robots/two_link.urdf (Craig 6.7; installed as package data)
-``rp_arm``                     robots/rp_arm.urdf (Craig example 6.5)
-``pendulum``                   robots/pendulum.urdf (the notes' pendulum)
-``rrr_arm``                    robots/rrr_arm.urdf (a spatial 3R arm, for 3-joint derivations)
-``spatial_arm``                robots/spatial_arm.urdf (skewed axes, products of inertia: the
-                               Newton–Euler exercises)
-``ur5``                        example-robot-data ur_description/urdf/ur5_robot.urdf
-``panda``                      example-robot-data panda_description/urdf/panda.urdf
-                               (7 arm joints and both finger joints)
-``double_pendulum``            example-robot-data double_pendulum.urdf (revolute)
-``double_pendulum_continuous`` example-robot-data double_pendulum_continuous.urdf
-=============================  ===============================================
+==============================  ===============================================
+name                            file
+==============================  ===============================================
+``two_link``                    robots/two_link.urdf (Craig 6.7; installed as package data)
+``rp_arm``                      robots/rp_arm.urdf (Craig example 6.5)
+``pendulum``                    robots/pendulum.urdf (the notes' pendulum)
+``rrr_arm``                     robots/rrr_arm.urdf (a spatial 3R arm, for 3-joint derivations)
+``spatial_arm``                 robots/spatial_arm.urdf (skewed axes, products of inertia: the
+                                Newton–Euler exercises)
+``ur5``                         example-robot-data ur_description/urdf/ur5_robot.urdf
+``panda``                       example-robot-data panda_description/urdf/panda.urdf
+                                (7 arm joints and both finger joints)
+``double_pendulum``             example-robot-data double_pendulum.urdf (revolute)
+``double_pendulum_continuous``  example-robot-data double_pendulum_continuous.urdf
+==============================  ===============================================
 
 example-robot-data 6.x installs data only, under
 ``site-packages/cmeel.prefix/share/example-robot-data/robots/``; its
@@ -48,6 +48,7 @@ def _robots_folder() -> Path:
 
 ROBOTS_DIR = _robots_folder()
 
+#: The course robots, by name, and their URDF files in the robots folder.
 COURSE_ROBOTS = {
     "two_link": "two_link.urdf",
     "rp_arm": "rp_arm.urdf",
@@ -56,6 +57,7 @@ COURSE_ROBOTS = {
     "spatial_arm": "spatial_arm.urdf",
 }
 
+#: The example-robot-data arms, by name, and their URDF files under its ``robots`` folder.
 EXAMPLE_ROBOTS = {
     "ur5": "ur_description/urdf/ur5_robot.urdf",
     "panda": "panda_description/urdf/panda.urdf",
@@ -67,6 +69,14 @@ EXAMPLE_ROBOTS = {
 def robot_names() -> tuple[str, ...]:
     """Every robot name :func:`robot_path` knows, course robots first.
 
+    Returns
+    -------
+    tuple of str
+        The names of :data:`COURSE_ROBOTS`, then those of :data:`EXAMPLE_ROBOTS`.
+
+    Examples
+    --------
+
     >>> robot_names()[:4]
     ('two_link', 'rp_arm', 'pendulum', 'rrr_arm')
     """
@@ -76,8 +86,18 @@ def robot_names() -> tuple[str, ...]:
 def example_robot_data_share() -> Path:
     """The ``cmeel.prefix/share`` folder that holds example-robot-data.
 
-    Raises FileNotFoundError when example-robot-data is not installed.
+    Returns
+    -------
+    pathlib.Path
+        The folder, found on ``sys.path`` or in the site packages.
 
+    Raises
+    ------
+    FileNotFoundError
+        When example-robot-data is not installed.
+
+    Examples
+    --------
     >>> (example_robot_data_share() / "example-robot-data" / "robots").is_dir()
     True
     """
@@ -93,6 +113,26 @@ def example_robot_data_share() -> Path:
 def robot_path(name: str) -> Path:
     """The URDF file of a shipped robot, by name (see the module table).
 
+    Parameters
+    ----------
+    name : str
+        One of :func:`robot_names`.
+
+    Returns
+    -------
+    pathlib.Path
+        The robot's URDF file.
+
+    Raises
+    ------
+    UnknownRobotError
+        If ``name`` is not a shipped robot (the message lists those that are).
+    FileNotFoundError
+        For an example-robot-data arm when example-robot-data is not installed.
+
+    Examples
+    --------
+
     >>> robot_path("two_link").name, robot_path("ur5").name
     ('two_link.urdf', 'ur5_robot.urdf')
     """
@@ -105,6 +145,28 @@ def robot_path(name: str) -> Path:
 
 def load_robot(name: str, gravity=STANDARD_GRAVITY) -> Model:
     """:func:`~course_dynamics.core.urdf.load_urdf` of a shipped robot, by name.
+
+    Parameters
+    ----------
+    name : str
+        One of :func:`robot_names`.
+    gravity : array_like, shape (3,), optional
+        The gravity vector g in the base frame, m/s²; (0, 0, −9.81) by default.
+
+    Returns
+    -------
+    Model
+        The robot.
+
+    Raises
+    ------
+    UnknownRobotError
+        If ``name`` is not a shipped robot.
+    ModelError
+        If ``gravity`` is not three finite numbers.
+
+    Examples
+    --------
 
     >>> load_robot("ur5").n
     6
@@ -120,6 +182,23 @@ def resolve(name_or_path) -> Path:
     A name that is neither a shipped robot nor an existing path, and has no
     file suffix, is an :class:`~course_dynamics.base.errors.UnknownRobotError`.
 
+    Parameters
+    ----------
+    name_or_path : str or pathlib.Path
+        A robot name (:func:`robot_names`) or the path of a URDF file.
+
+    Returns
+    -------
+    pathlib.Path
+        The URDF file: the shipped robot's, or the path as given (which need not exist when it has a suffix).
+
+    Raises
+    ------
+    UnknownRobotError
+        If ``name_or_path`` is no robot name, no existing path, and has no suffix.
+
+    Examples
+    --------
     >>> resolve("two_link").name, str(resolve("my_arm.urdf"))
     ('two_link.urdf', 'my_arm.urdf')
     """
@@ -133,9 +212,41 @@ def resolve(name_or_path) -> Path:
 
 
 def load(name_or_path, gravity=STANDARD_GRAVITY, allow_nonphysical_inertia: bool = False) -> Model:
-    """The robot of a URDF path or a shipped robot's name (see :func:`resolve`; flags as :func:`load_urdf`).
+    """The robot of a URDF path or a shipped robot's name (see :func:`resolve`; flags as
+    :func:`~course_dynamics.core.urdf.load_urdf`).
+
+    Parameters
+    ----------
+    name_or_path : str or pathlib.Path
+        A robot name (:func:`robot_names`) or the path of a URDF file.
+    gravity : array_like, shape (3,), optional
+        The gravity vector g in the base frame, m/s²; (0, 0, −9.81) by default.
+    allow_nonphysical_inertia : bool, optional
+        Load a link whose inertia tensor no real body can have, with an
+        :class:`~course_dynamics.core.urdf.InertiaWarning`, instead of refusing it.
+
+    Returns
+    -------
+    Model
+        The robot.
+
+    Raises
+    ------
+    UnknownRobotError
+        If ``name_or_path`` is neither a shipped robot nor a path.
+    InputError
+        If the file cannot be read (missing, not a regular file, too large).
+    ModelError
+        If the URDF is no robot the dynamics can use.
+
+    Examples
+    --------
 
     >>> load("pendulum").joint_names, load(robot_path("rp_arm")).joint_names
     (('theta',), ('theta1', 'd2'))
     """
     return load_urdf(resolve(name_or_path), gravity=gravity, allow_nonphysical_inertia=allow_nonphysical_inertia)
+
+
+__all__ = ["COURSE_ROBOTS", "EXAMPLE_ROBOTS", "example_robot_data_share", "load", "load_robot", "resolve",
+           "robot_names", "robot_path"]
