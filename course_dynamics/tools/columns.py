@@ -39,6 +39,7 @@ from ..core.model import Model
 from .tables import joint_columns
 
 MAX_MAP_BYTES = 2**20         # a column map of a thousand joints is under 100 kB
+#: The kinds of our joint columns a log gives or the plan derives: Θ, Θ̇, Θ̈.
 KINDS = ("q", "qd", "qdd")
 MEASURED = ("tau_meas", "current")   # optional: read when the log has them, never derived
 APPLIED = ("tau",)                    # applied torques: read only for a reader that asks (simulate's torques)
@@ -46,7 +47,19 @@ APPLIED = ("tau",)                    # applied torques: read only for a reader 
 
 @dataclass(frozen=True)
 class Derived:
-    """One of our rate columns the log lacks: ``name`` (``qd_j`` or ``qdd_j``) from ``source`` (``q`` or ``qd``)."""
+    """One of our rate columns the log lacks: ``name`` (``qd_j`` or ``qdd_j``) from ``source`` (``q`` or ``qd``).
+
+    Parameters
+    ----------
+    name : str
+        Our column, ``qd_<joint>`` or ``qdd_<joint>``.
+    joint : str
+        The joint's name.
+    order : int
+        1 for Θ̇, 2 for Θ̈.
+    source : str
+        ``"q"``: differentiate Θ ``order`` times; ``"qd"``: differentiate the given Θ̇ once.
+    """
 
     name: str
     joint: str
@@ -56,7 +69,23 @@ class Derived:
 
 @dataclass(frozen=True)
 class ColumnPlan:
-    """Where each of our columns comes from (module docstring); built by :func:`plan_columns`."""
+    """Where each of our columns comes from (module docstring); built by :func:`plan_columns`.
+
+    Parameters
+    ----------
+    joints : tuple of str
+        The robot's joints, in the model's order.
+    theirs : tuple of str
+        The log's column names, in order.
+    read : mapping of str to str
+        Ours → theirs, for every one of ours the log holds.
+    constants : mapping of str to float
+        Ours → a value for every row, for signals the log lacks.
+    held : tuple of str
+        The ``qd_``/``qdd_`` columns that are zero because their q is a constant.
+    derived : tuple of Derived
+        The rate columns to be differentiated, and from what.
+    """
 
     joints: tuple[str, ...]
     theirs: tuple[str, ...]
@@ -67,10 +96,12 @@ class ColumnPlan:
 
     @property
     def ours(self) -> tuple[str, ...]:
+        """Every column name of ours the plan knows for these joints (``t``, Θ, Θ̇, Θ̈, what the robot measured)."""
         return ("t",) + tuple(joint_columns(KINDS + MEASURED, self.joints))
 
     @property
     def has_time(self) -> bool:
+        """Whether the log has a ``t`` column."""
         return "t" in self.read
 
     @property
@@ -85,27 +116,75 @@ class ColumnPlan:
 
     @property
     def ignored(self) -> tuple[str, ...]:
+        """The log's columns the plan does not read, in order."""
         used = self.used_as
         return tuple(c for c in self.theirs if c not in used)
 
     def require_positions(self, where: str) -> None:
-        """Raise :class:`InputError` unless every joint's Θ is read or set."""
+        """Raise :class:`~course_dynamics.base.errors.InputError` unless every joint's Θ is read or set.
+
+        Parameters
+        ----------
+        where : str
+            The log's name in messages.
+
+        Raises
+        ------
+        InputError
+            If a ``q_<joint>`` column is neither in the log nor given a constant.
+        """
         if self.missing_positions:
             raise InputError(f"{where}: missing columns: {', '.join(self.missing_positions)} (a column map can name "
                              f"the log's own; a joint the log does not record can be given a constant)")
 
     def measured(self, kind: str) -> list[str]:
-        """The joints whose ``kind`` (tau_meas or current) the log holds."""
+        """The joints whose ``kind`` (tau_meas or current) the log holds.
+
+        Parameters
+        ----------
+        kind : str
+            ``"tau_meas"`` or ``"current"``.
+
+        Returns
+        -------
+        list of str
+            The joints' names, in the model's order.
+        """
         return [j for j in self.joints if f"{kind}_{j}" in self.read]
 
     def derived_kind(self, kind: str, source: str | None = None) -> list[str]:
-        """The joints whose ``kind`` (qd or qdd) is differentiated (from ``source``, if given)."""
+        """The joints whose ``kind`` (qd or qdd) is differentiated (from ``source``, if given).
+
+        Parameters
+        ----------
+        kind : str
+            ``"qd"`` or ``"qdd"``.
+        source : str, optional
+            ``"q"`` or ``"qd"``; None for either.
+
+        Returns
+        -------
+        list of str
+            The joints' names, in the model's order.
+        """
         order = KINDS.index(kind)
         return [d.joint for d in self.derived if d.order == order and (source is None or d.source == source)]
 
 
 def merged_map(implied: Mapping[str, str], columns: Mapping[str, str] | None) -> dict[str, str]:
     """A format's map overridden by the user's, entry by entry: a column the user maps, theirs or ours, is the user's.
+
+    Parameters
+    ----------
+    implied : mapping of str to str
+        Ours → theirs, as the log's format implies them.
+    columns : mapping of str to str, optional
+        Ours → theirs, as the user gave them.
+
+    Returns
+    -------
+    dict of str to str
+        The merged map.
 
     >>> merged_map({"t": "timestamp", "q_a": "actual_q_0"}, {"q_a": "pos_a"})
     {'t': 'timestamp', 'q_a': 'pos_a'}
@@ -123,12 +202,23 @@ def plan_columns(model: Model, theirs: Iterable[str], *, columns: Mapping[str, s
 
     Parameters
     ----------
-    model : whose joints the log must cover
-    theirs : the log's column names, in order
-    columns : our column name → the log's (a map; unmapped ones of ours are looked up by name)
-    constants : our column name → a value for every row
-    where : the log's name in messages
-    applied : also read ``tau_<joint>``, applied torques (otherwise such columns are ignored like any other)
+    model : Model
+        The robot whose joints the log must cover.
+    theirs : iterable of str
+        The log's column names, in order.
+    columns : mapping of str to str, optional
+        Our column name → the log's (a map; unmapped ones of ours are looked up by name).
+    constants : mapping of str to float, optional
+        Our column name → a value for every row.
+    where : str
+        The log's name in messages.
+    applied : bool
+        Also read ``tau_<joint>``, applied torques (otherwise such columns are ignored like any other).
+
+    Returns
+    -------
+    ColumnPlan
+        What is read, set, held at zero and derived.
 
     Raises
     ------
@@ -177,7 +267,24 @@ def plan_columns(model: Model, theirs: Iterable[str], *, columns: Mapping[str, s
 
 
 def parse_column_map(text: str) -> dict[str, str]:
-    """``ours=theirs,…`` or the path of a TOML file of ``ours = "theirs"`` lines (optionally under ``[columns]``)."""
+    """``ours=theirs,…`` or the path of a TOML file of ``ours = "theirs"`` lines (optionally under ``[columns]``).
+
+    Parameters
+    ----------
+    text : str
+        The map as written on the command line, or a TOML file's path.
+
+    Returns
+    -------
+    dict of str to str
+        Ours → theirs.
+
+    Raises
+    ------
+    InputError
+        If an entry is not ``ours=theirs`` or maps a name twice, or the TOML file is too large, not valid, or has
+        an entry that is not a string.
+    """
     if text.endswith(".toml") or (Path(text).is_file() and "=" not in text):
         try:
             document = tomllib.loads(read_small(text, MAX_MAP_BYTES, "column map").decode("utf-8"))
@@ -196,3 +303,6 @@ def parse_column_map(text: str) -> dict[str, str]:
             raise InputError(f"column map: '{ours.strip()}' is mapped twice")
         mapping[ours.strip()] = theirs.strip()
     return mapping
+
+
+__all__ = ["KINDS", "ColumnPlan", "Derived", "merged_map", "parse_column_map", "plan_columns"]
