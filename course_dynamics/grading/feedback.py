@@ -48,11 +48,26 @@ from .grade import SubmissionGrade
 from .harness import FLAGS
 from .similarity import Comparison, Pair
 
+#: The most bytes a feedback file (Markdown or HTML) has; a longer one is cut.
 MAX_FEEDBACK_BYTES = 1_000_000
 FEEDBACK_PRINTED = 10_000  # characters of a submission's printed output in Gradescope's results
 
 
 def gradebook_csv(grades: list[SubmissionGrade], assignment: Assignment) -> str:
+    """The gradebook: one row per student, the points per graded term, the total, status, sandbox and flags.
+
+    Parameters
+    ----------
+    grades : list of SubmissionGrade
+        The class's grades.
+    assignment : Assignment
+        The assignment: its graded terms.
+
+    Returns
+    -------
+    str
+        The CSV text; every text a student gave (a name, a status) is made safe for a spreadsheet.
+    """
     out = text_io.StringIO()
     writer = csv.writer(out, lineterminator="\n")
     writer.writerow(["student", *assignment.terms, "total", "status", "sandbox", "flags"])
@@ -66,7 +81,18 @@ FORMULA_STARTS = ("=", "+", "-", "@", "\t", "\r", "\n", "|", "%")
 
 
 def spreadsheet_text(text: str) -> str:
-    """A cell a spreadsheet shows as text, never runs as a formula (a leading quote, as OWASP's CSV advice)."""
+    """A cell a spreadsheet shows as text, never runs as a formula (a leading quote, as OWASP's CSV advice).
+
+    Parameters
+    ----------
+    text : str
+        The cell's text.
+
+    Returns
+    -------
+    str
+        The text, with a leading ``'`` when it (or its first non-blank character) could start a formula.
+    """
     return "'" + text if text[:1] in FORMULA_STARTS or text.lstrip()[:1] in FORMULA_STARTS else text
 
 
@@ -81,7 +107,21 @@ def flag_lines(grade: SubmissionGrade) -> list[str]:
 
 
 def results_json(grade: SubmissionGrade, assignment: Assignment) -> dict:
-    """Gradescope's autograder ``results.json`` for one student (its documented schema: score, output, tests)."""
+    """Gradescope's autograder ``results.json`` for one student (its documented schema: score, output, tests).
+
+    Parameters
+    ----------
+    grade : SubmissionGrade
+        The student's grade.
+    assignment : Assignment
+        The assignment.
+
+    Returns
+    -------
+    dict
+        The document: ``score``, ``output``, ``visibility`` and ``tests`` (one per graded term, and the integrity
+        flags as a hidden test of no points).
+    """
     tests = []
     for term in assignment.terms:
         d = next((d for d in grade.diagnoses if d.term == term), None)
@@ -112,6 +152,21 @@ def _header(grade: SubmissionGrade, assignment: Assignment) -> list[str]:
 
 
 def feedback_markdown(grade: SubmissionGrade, assignment: Assignment) -> str:
+    """A student's feedback as Markdown: the total, per term the points, the findings and the worst state, and what
+    the file printed.
+
+    Parameters
+    ----------
+    grade : SubmissionGrade
+        The student's grade.
+    assignment : Assignment
+        The assignment.
+
+    Returns
+    -------
+    str
+        The Markdown, every text from the student escaped, at most :data:`MAX_FEEDBACK_BYTES`.
+    """
     e = render.markdown_escape
     parts = [f"# Feedback for {e(grade.student)}", ""]
     parts += [f"{e(line)}  " for line in _header(grade, assignment)] + [""]
@@ -124,6 +179,20 @@ def feedback_markdown(grade: SubmissionGrade, assignment: Assignment) -> str:
 
 
 def feedback_html(grade: SubmissionGrade, assignment: Assignment) -> str:
+    """A student's feedback as an HTML page, the same as :func:`feedback_markdown`.
+
+    Parameters
+    ----------
+    grade : SubmissionGrade
+        The student's grade.
+    assignment : Assignment
+        The assignment.
+
+    Returns
+    -------
+    str
+        The page, every text from the student escaped, at most :data:`MAX_FEEDBACK_BYTES`.
+    """
     body = ([page.heading(f"Feedback for {grade.student}")]
             + [page.paragraph(line) for line in _header(grade, assignment)])
     for d in grade.diagnoses:
@@ -154,6 +223,18 @@ def _histogram_svg(totals: list[float], maximum: float) -> str:
 
 
 def similar_name(index: int) -> str:
+    """The file name of the page of a similar pair.
+
+    Parameters
+    ----------
+    index : int
+        The pair's index in the comparison, from 0.
+
+    Returns
+    -------
+    str
+        ``similar-<index + 1>.html``.
+    """
     return f"similar-{index + 1}.html"
 
 
@@ -174,7 +255,22 @@ def _compared(comparison: Comparison) -> str:
 
 
 def similar_html(pair: Pair, assignment: Assignment, comparison: Comparison) -> str:
-    """One pair side by side: a lead for the instructor to read, not a verdict."""
+    """One pair side by side: a lead for the instructor to read, not a verdict.
+
+    Parameters
+    ----------
+    pair : Pair
+        The pair.
+    assignment : Assignment
+        The assignment.
+    comparison : Comparison
+        The class's comparison (its starter code).
+
+    Returns
+    -------
+    str
+        The page: both sources, their lines numbered, the shared lines marked.
+    """
     title = f"{pair.first.student} and {pair.second.student}: {pair.score:.0%} of the smaller submission shared"
     body = [page.heading(title),
             page.paragraph(f"{assignment.source.name}; {_compared(comparison)}; marked lines hold shared runs. Two "
@@ -216,6 +312,23 @@ def _flags_section(grades: list[SubmissionGrade]) -> list:
 
 
 def summary_html(grades: list[SubmissionGrade], assignment: Assignment, comparison=None) -> str:
+    """The class summary for the instructor: score histogram, per-term pass rates, the most common mistakes and
+    statuses, the integrity flags, the similar pairs (with a comparison), and every student.
+
+    Parameters
+    ----------
+    grades : list of SubmissionGrade
+        The class's grades.
+    assignment : Assignment
+        The assignment.
+    comparison : Comparison or None
+        The similar pairs, None when they were not asked for.
+
+    Returns
+    -------
+    str
+        The page.
+    """
     totals = [g.total for g in grades]
     rows = []
     for term in assignment.terms:
@@ -247,11 +360,25 @@ def summary_html(grades: list[SubmissionGrade], assignment: Assignment, comparis
     return page.page(f"{assignment.source.name}: class summary", body)
 
 
+#: The command named in the output folder's manifest as the writer of the files.
 OWNER = "grade"  # the command named in the output folder's manifest
 
 
 def output_names(students, comparison: Comparison | None = None) -> list[str]:
-    """The files :func:`write_outputs` writes for these students (what ``grade`` checks before grading)."""
+    """The files :func:`write_outputs` writes for these students (what ``grade`` checks before grading).
+
+    Parameters
+    ----------
+    students : iterable of str
+        The students' names.
+    comparison : Comparison or None
+        The similar pairs, whose pages are written too.
+
+    Returns
+    -------
+    list of str
+        The file names, relative to the output folder.
+    """
     pairs = comparison.pairs if comparison is not None else ()
     return (["gradebook.csv", "summary.html"]
             + [f"{s}{suffix}" for s in students for suffix in (".md", ".html", ".json")]
@@ -259,16 +386,53 @@ def output_names(students, comparison: Comparison | None = None) -> list[str]:
 
 
 def other_students(out: Path, students) -> list[str]:
-    """Students whose feedback an earlier ``grade`` wrote in ``out`` and who are not among ``students``."""
+    """Students whose feedback an earlier ``grade`` wrote in ``out`` and who are not among ``students``.
+
+    Parameters
+    ----------
+    out : pathlib.Path
+        The output folder.
+    students : iterable of str
+        The students graded now.
+
+    Returns
+    -------
+    list of str
+        Their names, sorted.
+    """
     now = set(students)
     return sorted({name[:-3] for name in written_by(out, OWNER) if name.endswith(".md")} - now)
 
 
 def write_outputs(out: Path, grades: list[SubmissionGrade], assignment: Assignment,
                   comparison: Comparison | None = None) -> list[Path]:
-    """Every output file in ``out`` (made if missing), through the folder's manifest (:func:`write_folder`):
-    only files an earlier ``grade`` wrote there are replaced, and nothing else in the folder is touched.
-    ``comparison`` (similarity's, or None when not asked for) adds the summary's table and one page per pair."""
+    """Every output file in ``out`` (made if missing), through the folder's manifest
+    (:func:`~course_dynamics.output.folders.write_folder`): only files an earlier ``grade`` wrote there are
+    replaced, and nothing else in the folder is touched.
+    ``comparison`` (similarity's, or None when not asked for) adds the summary's table and one page per pair.
+
+    Parameters
+    ----------
+    out : pathlib.Path
+        The output folder, made if missing.
+    grades : list of SubmissionGrade
+        The class's grades.
+    assignment : Assignment
+        The assignment.
+    comparison : Comparison or None
+        The similar pairs.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files written.
+
+    Raises
+    ------
+    InputError
+        If a file is in the way that an earlier ``grade`` did not write there, or a file cannot be written
+        (raised before anything is written).
+    """
     documents = {"gradebook.csv": gradebook_csv(grades, assignment),
                  "summary.html": summary_html(grades, assignment, comparison)}
     for k, pair in enumerate(comparison.pairs if comparison is not None else ()):
@@ -278,3 +442,8 @@ def write_outputs(out: Path, grades: list[SubmissionGrade], assignment: Assignme
         documents[f"{g.student}.html"] = feedback_html(g, assignment)
         documents[f"{g.student}.json"] = render.json_text(results_json(g, assignment)) + "\n"
     return write_folder(out, documents, OWNER)
+
+
+__all__ = ["MAX_FEEDBACK_BYTES", "OWNER", "feedback_html", "feedback_markdown", "gradebook_csv", "other_students",
+           "output_names", "results_json", "similar_html", "similar_name", "spreadsheet_text", "summary_html",
+           "write_outputs"]

@@ -35,10 +35,14 @@ from pathlib import Path
 from ..base.errors import InputError
 from ..base.files import read_small
 
-GRAM = 16          # tokens per fingerprint
-MIN_GRAMS = 30     # a submission with fewer fingerprints of its own (beyond the starter) is never listed
-THRESHOLD = 0.8    # the default score at which a pair is listed
-COMMON_CLASS = 10  # from this many submissions, what most of them hold is common ground
+#: Tokens per fingerprint.
+GRAM = 16
+#: The fewest fingerprints of its own (beyond the starter's) a submission needs to be listed in a pair.
+MIN_GRAMS = 30
+#: The default score at which a pair is listed.
+THRESHOLD = 0.8
+#: The class size from which a fingerprint most submissions hold is common ground and counts for no pair.
+COMMON_CLASS = 10
 MAX_TOKENS = 200_000  # tokens read of one file (a dynamics answer has a few thousand)
 MAX_STARTER_BYTES = 1_000_000  # as a submission may have
 CONTEXTS = (ast.Load, ast.Store, ast.Del)
@@ -46,7 +50,17 @@ CONTEXTS = (ast.Load, ast.Store, ast.Del)
 
 @dataclass(frozen=True)
 class Fingerprints:
-    """A submission's fingerprints: hash -> the source lines (first, last) its tokens span."""
+    """A submission's fingerprints: hash -> the source lines (first, last) its tokens span.
+
+    Parameters
+    ----------
+    student : str
+        Whose submission it is.
+    source : str
+        Its source.
+    grams : dict of int to tuple of (int, int)
+        Per fingerprint's hash, the first and last source lines its tokens span.
+    """
 
     student: str
     source: str
@@ -55,7 +69,17 @@ class Fingerprints:
 
 @dataclass(frozen=True)
 class Comparison:
-    """A class compared: the pairs listed, the threshold they reached, the starter file's name (or None)."""
+    """A class compared: the pairs listed, the threshold they reached, the starter file's name (or None).
+
+    Parameters
+    ----------
+    pairs : tuple of Pair
+        The pairs listed, highest score first.
+    threshold : float
+        The score they reached.
+    starter : str or None
+        The starter file's name, None when there was none.
+    """
 
     pairs: tuple
     threshold: float
@@ -64,7 +88,17 @@ class Comparison:
 
 @dataclass(frozen=True)
 class Pair:
-    """Two submissions and their score (the share of the smaller one's fingerprints the other holds)."""
+    """Two submissions and their score (the share of the smaller one's fingerprints the other holds).
+
+    Parameters
+    ----------
+    first, second : Fingerprints
+        The two submissions.
+    score : float
+        The share of the smaller one's own fingerprints that the other holds, 0 to 1.
+    shared : frozenset of int
+        The fingerprints both hold, less the common ground.
+    """
 
     first: Fingerprints
     second: Fingerprints
@@ -72,7 +106,18 @@ class Pair:
     shared: frozenset[int]
 
     def lines(self, which: Fingerprints) -> set[int]:
-        """The source lines of ``which`` that the shared fingerprints cover."""
+        """The source lines of ``which`` that the shared fingerprints cover.
+
+        Parameters
+        ----------
+        which : Fingerprints
+            One of the pair.
+
+        Returns
+        -------
+        set of int
+            Its line numbers, from 1.
+        """
         covered = set()
         for gram in self.shared:
             first, last = which.grams[gram]
@@ -149,7 +194,22 @@ def _grams(source: str, where: str) -> dict[int, tuple[int, int]]:
 
 
 def fingerprints(student: str, source: str, starter: Fingerprints | None = None) -> Fingerprints:
-    """``source``'s fingerprints, less those of ``starter`` (the code every student was given)."""
+    """``source``'s fingerprints, less those of ``starter`` (the code every student was given).
+
+    Parameters
+    ----------
+    student : str
+        Whose submission it is.
+    source : str
+        Its source; one that does not parse has no fingerprints.
+    starter : Fingerprints or None
+        The starter code's fingerprints.
+
+    Returns
+    -------
+    Fingerprints
+        The fingerprints.
+    """
     grams = _grams(source, student)
     if starter is not None:
         grams = {g: lines for g, lines in grams.items() if g not in starter.grams}
@@ -158,7 +218,23 @@ def fingerprints(student: str, source: str, starter: Fingerprints | None = None)
 
 def read_starter(path) -> Fingerprints:
     """The starter file's fingerprints; InputError when it cannot be read (as a regular file of at most 1 MB) or
-    parsed."""
+    parsed.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The starter file.
+
+    Returns
+    -------
+    Fingerprints
+        Its fingerprints.
+
+    Raises
+    ------
+    InputError
+        If the file is missing, not a regular UTF-8 file of at most 1 MB, or not Python.
+    """
     path = Path(path)
     if not path.exists():
         raise InputError(f"{path}: no such starter file")
@@ -177,6 +253,18 @@ def similar_pairs(submissions: list[Fingerprints], threshold: float = THRESHOLD)
 
     In a class of at least :data:`COMMON_CLASS`, a fingerprint that more than half the submissions hold is common
     ground, like the starter's, and counts for no pair. Only pairs that share a fingerprint are compared.
+
+    Parameters
+    ----------
+    submissions : list of Fingerprints
+        The class's submissions.
+    threshold : float
+        The score from which a pair is listed, 0 to 1.
+
+    Returns
+    -------
+    list of Pair
+        The pairs, highest score first.
     """
     owners: dict[int, list[int]] = {}
     for index, submission in enumerate(submissions):
@@ -199,3 +287,7 @@ def similar_pairs(submissions: list[Fingerprints], threshold: float = THRESHOLD)
             pairs.append(Pair(first, second, count / smaller,
                               frozenset(first.grams.keys() & second.grams.keys() - common)))
     return sorted(pairs, key=lambda p: (-p.score, p.first.student, p.second.student))
+
+
+__all__ = ["COMMON_CLASS", "GRAM", "MIN_GRAMS", "THRESHOLD", "Comparison", "Fingerprints", "Pair", "fingerprints",
+           "read_starter", "similar_pairs"]
