@@ -41,15 +41,34 @@ import numpy as np
 
 from ..base.errors import InputError
 
+#: A step within this share of Δt is Δt; of k Δt, within it of Δt, is k periods.
 JITTER = 0.1               # a step within 10 % of Δt is Δt; of k Δt, within 10 % of Δt, is k periods
+#: The longest gap filled, in periods (4 dropped samples in a row); a longer one is refused or split.
 MAX_FILLED_PERIODS = 5     # a gap of up to 5 periods (4 dropped samples in a row) is filled
 MIN_SEGMENT_ROWS = 2
+#: The highest resampling rate, as a multiple of the log's own: above it samples are invented, not evened.
 MAX_UPSAMPLING = 4.0       # resampling above 4x the log's own rate invents, rather than evens, samples
 
 
 @dataclass(frozen=True)
 class EvenLog:
-    """Columns on an even clock: ``t`` (K',) s, ``columns`` our name → (K',), ``segments`` (start, stop) rows."""
+    """Columns on an even clock: ``t`` (K',) s, ``columns`` our name → (K',), ``segments`` (start, stop) rows.
+
+    Parameters
+    ----------
+    t : numpy.ndarray, shape (K',)
+        Sample times on the even clock, s.
+    columns : dict
+        Our column name → values of shape (K',), in the log's units.
+    step : float
+        The clock's period Δt, s (0 for a log of fewer than two rows).
+    segments : tuple of (int, int)
+        The (start, stop) row ranges, each differentiated on its own.
+    notes : tuple of str
+        What was filled, resampled or split.
+    filled : numpy.ndarray of bool, shape (K',), optional
+        True where a sample was interpolated rather than logged; None after resampling.
+    """
 
     t: np.ndarray
     columns: dict
@@ -79,9 +98,37 @@ def even_clock(t, columns: dict, *, resample: float | None = None, split_gaps: b
                where: str = "the log", line=None) -> EvenLog:
     """``columns`` (our name → (K,) values at times ``t``) on an even clock (module docstring).
 
-    ``line(row)`` names a logged row in messages (default ``row N``). Raises :class:`InputError` for a gap longer
+    ``line(row)`` names a logged row in messages (default ``row N``). Raises
+    :class:`~course_dynamics.base.errors.InputError` for a gap longer
     than :data:`MAX_FILLED_PERIODS` periods (unless ``split_gaps``), a step that is no whole number of periods
     (unless ``resample``), or a bad ``resample`` rate.
+
+    Parameters
+    ----------
+    t : numpy.ndarray, shape (K,)
+        Sample times as logged, s, increasing.
+    columns : dict
+        Our column name → values of shape (K,).
+    resample : float, optional
+        Put every column on an even clock at this rate, Hz.
+    split_gaps : bool
+        Split at long gaps into segments instead of refusing them.
+    where : str
+        The log's name in messages.
+    line : callable, optional
+        ``line(row)`` names a logged row in messages.
+
+    Returns
+    -------
+    EvenLog
+        The columns on the even clock, its segments and the notes.
+
+    Raises
+    ------
+    InputError
+        A long gap (without ``split_gaps``), a segment of one sample, a step that is no whole number of periods
+        (without ``resample``), t not increasing, or a resampling rate not positive or above
+        :data:`MAX_UPSAMPLING` times the log's own.
     """
     t = np.asarray(t, dtype=float)
     line = line or (lambda row: f"row {row + 1}")
@@ -169,3 +216,6 @@ def even_clock(t, columns: dict, *, resample: float | None = None, split_gaps: b
         notes.append(f"split at {len(pieces) - 1} long gap{'s' if len(pieces) > 2 else ''} into {len(pieces)} "
                      "segments, each differentiated on its own")
     return EvenLog(new_t, out, dt, tuple(segments), tuple(notes), None if resample is not None else ~logged)
+
+
+__all__ = ["JITTER", "MAX_FILLED_PERIODS", "MAX_UPSAMPLING", "EvenLog", "even_clock"]
