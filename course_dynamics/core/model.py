@@ -43,6 +43,7 @@ from ..base.errors import ModelError
 from .algebra import Mat3, Vec3
 from .joints import KINDS
 
+#: g at the Earth's surface, pointing down the base frame's z axis, m/s²: the default of every model.
 STANDARD_GRAVITY = (0.0, 0.0, -9.81)
 JOINT_TYPES = tuple(KINDS)  # what each does: course_dynamics.core.joints
 
@@ -68,6 +69,53 @@ def _is_numeric(values) -> bool:
 @dataclass(frozen=True)
 class Body:
     """One moving body: the link carried by joint i and everything fixed to it.
+
+    Vectors and matrices are kept as read-only arrays (float, or object for sympy entries).
+
+    Parameters
+    ----------
+    name : str
+        The URDF child link of joint i.
+    joint : str
+        The joint's name: Θ's entry for this body.
+    joint_type : str
+        ``"revolute"``, ``"continuous"`` or ``"prismatic"``.
+    parent : int
+        The index of the parent body p, −1 for the fixed base.
+    R0 : array_like, shape (3, 3)
+        ᵖᵢR at Θ = 0: the orientation of frame i in its parent.
+    P : array_like, shape (3,)
+        ᵖPᵢ at Θ = 0: the origin of frame i in its parent, m.
+    axis : array_like, shape (3,)
+        ⁱẐᵢ, the unit joint axis in frame i.
+    mass : float or sympy.Expr
+        mᵢ, kg.
+    p_com : array_like, shape (3,)
+        ⁱP_Cᵢ, the centre of mass in frame i, m.
+    I_com : array_like, shape (3, 3)
+        ᶜⁱIᵢ, the inertia tensor about the centre of mass, axes parallel to frame i, kg·m².
+    lower : float, optional
+        The lower position limit, rad (m for a prismatic joint); −inf for none.
+    upper : float, optional
+        The upper position limit, rad (m); inf for none.
+    effort : float, optional
+        The torque limit, N·m (force, N); inf for none.
+    velocity : float, optional
+        The speed limit, rad/s (m/s); inf for none.
+    damping : float, optional
+        The viscous friction coefficient of ``<dynamics damping>``, N·m·s/rad (N·s/m).
+    friction : float, optional
+        The Coulomb friction of ``<dynamics friction>``, N·m (N).
+    parent_link : str, optional
+        The URDF parent link of the joint (which may be merged into body ``parent``).
+
+    Raises
+    ------
+    ModelError
+        If a vector or matrix has the wrong shape, or ``joint_type`` is not one the dynamics takes.
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> body = load_robot("two_link").bodies[1]
@@ -101,6 +149,7 @@ class Body:
 
     @property
     def is_prismatic(self) -> bool:
+        """True for a prismatic joint (its coordinate is a length dᵢ, m), False for a revolute or continuous one."""
         return self.joint_type == "prismatic"
 
     # The recursion works on Vec3/Mat3 of plain scalars; build them once per body.
@@ -150,6 +199,25 @@ class Frame:
     ``body`` is −1 for links fixed to the base. Every URDF link is a frame,
     whether it moves on its own joint or was merged into a body by a fixed joint.
 
+    Parameters
+    ----------
+    name : str
+        The URDF link.
+    body : int
+        The index of the body it is fixed to, −1 for the base.
+    R : array_like, shape (3, 3)
+        ᵇR_F, its orientation in the body's frame.
+    P : array_like, shape (3,)
+        ᵇP_F, its origin in the body's frame, m.
+
+    Raises
+    ------
+    ModelError
+        If ``R`` or ``P`` has the wrong shape.
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> tool = load_robot("two_link").frame("tool")   # Craig's {3}, fixed to body 1 (link 2)
     >>> tool.body, tool.P.tolist()
@@ -172,6 +240,29 @@ class Model:
 
     ``joint_names[j]`` is the joint whose coordinate is Θ[j]; Θ has one entry
     per moving joint (rad for revolute and continuous, m for prismatic).
+
+    Parameters
+    ----------
+    name : str
+        The robot's name (the URDF's ``<robot name>``).
+    bodies : sequence of Body
+        The moving bodies, each after its parent.
+    gravity : array_like, shape (3,), optional
+        g in the base frame, m/s²; :data:`STANDARD_GRAVITY` by default.
+    source : str, optional
+        Where the model was read from (the URDF's path).
+    base_link : str, optional
+        The URDF's root link, the fixed base.
+    frames : sequence of Frame, optional
+        Every URDF link as a frame.
+
+    Raises
+    ------
+    ModelError
+        If a body's parent does not come before it, or ``gravity`` is not of shape (3,).
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> arm = load_robot("two_link")
@@ -201,6 +292,7 @@ class Model:
 
     @property
     def joint_names(self) -> tuple[str, ...]:
+        """The joints, in the order of Θ's entries."""
         return tuple(body.joint for body in self.bodies)
 
     @cached_property
@@ -210,10 +302,12 @@ class Model:
 
     @cached_property
     def lower(self) -> np.ndarray:
+        """Lower position limits, shape (n,), rad or m; −inf where the URDF gives none."""
         return np.array([b.lower for b in self.bodies], dtype=float)
 
     @cached_property
     def upper(self) -> np.ndarray:
+        """Upper position limits, shape (n,), rad or m; inf where the URDF gives none."""
         return np.array([b.upper for b in self.bodies], dtype=float)
 
     @cached_property
@@ -228,10 +322,33 @@ class Model:
 
     @property
     def frame_names(self) -> tuple[str, ...]:
+        """The names of ``frames``: every URDF link."""
         return tuple(f.name for f in self.frames)
 
     def frame(self, name: str) -> Frame:
-        """The frame of URDF link ``name``; ModelError naming the known frames if absent."""
+        """The frame of URDF link ``name``; ModelError naming the known frames if absent.
+
+        Parameters
+        ----------
+        name : str
+            A URDF link.
+
+        Returns
+        -------
+        Frame
+            The link's frame.
+
+        Raises
+        ------
+        ModelError
+            If the robot has no such link (the message lists those it has).
+
+        Examples
+        --------
+        >>> from course_dynamics import load_robot
+        >>> load_robot("two_link").frame("link2").body
+        1
+        """
         for frame in self.frames:
             if frame.name == name:
                 return frame
@@ -247,5 +364,30 @@ class Model:
         return Vec3.of(self.gravity)
 
     def with_gravity(self, gravity) -> "Model":
-        """The same robot under another gravity vector g (base frame, m/s²)."""
+        """The same robot under another gravity vector g (base frame, m/s²).
+
+        Parameters
+        ----------
+        gravity : array_like, shape (3,)
+            g in the base frame, m/s².
+
+        Returns
+        -------
+        Model
+            A copy of the model with that gravity.
+
+        Raises
+        ------
+        ModelError
+            If ``gravity`` is not of shape (3,).
+
+        Examples
+        --------
+        >>> from course_dynamics import load_robot
+        >>> load_robot("pendulum").with_gravity([0.0, 0.0, -1.62]).gravity.tolist()
+        [0.0, 0.0, -1.62]
+        """
         return replace(self, gravity=np.asarray(gravity, dtype=float))
+
+
+__all__ = ["Body", "Frame", "Model", "STANDARD_GRAVITY"]
