@@ -10,8 +10,8 @@ torques.png         the PNG that ``torques ur5 --log examples/ur5_log.csv --map 
                     --out tau.csv --plot tau.png`` writes (exit 0 or 1: 1 only says a limit is exceeded)
 residual.png        the PNG of ``torques ur5 --log examples/ur5_joint_states.mcap --plot r.png``: the log holds
                     measured torques, so each joint's panel draws them beside ours, with the residual's RMS and R²
-feedback.png        the top (at most 1400 px, 1100 px wide), of the HTML feedback page of the student whose grading names
-                    a mistake (a ``[slip-name]``), after ``grade examples/grading/assignment.toml alice.py bob.py
+feedback.png        the HTML feedback page (1100 px wide, its top 1400 px at most) of the student whose grading
+                    names a mistake (a ``[slip-name]``), after ``grade examples/grading/assignment.toml alice.py bob.py
                     --out grades``
 summary.png         grades/summary.html of the same run
 identification.png  the HTML report of ``identify ur5 --log examples/ur5_joint_states.mcap --out identification``
@@ -22,7 +22,8 @@ report.png          course-report/index.html of ``report two_link --samples 10 -
 Screenshots are taken by headless Chromium through Playwright, launched as tests/conftest.py's ``browser``
 fixture does (tests/helpers.py's CHROMIUM and CHROMIUM_ARGS; Playwright's own browser download is never
 used). Pages are opened from disk and every request that is not file:// is aborted, so nothing is fetched.
-A PNG over 250 KB is quantised to 256 colours, so each stays well under 400 KB.
+A page longer than 1400 px is cut below the last paragraph, heading, list item, table row or figure that
+fits. A PNG over 250 KB is quantised to 256 colours, so each stays well under 400 KB.
 """
 from __future__ import annotations
 
@@ -58,7 +59,7 @@ NAMED_MISTAKE = re.compile(r"^- \[[a-z][a-z0-9-]*\] ", re.MULTILINE)  # a feedba
 
 
 def run(work: Path, *args: str, ok: tuple[int, ...] = (0,)) -> None:
-    """``python3 -m course_dynamics.cli ARGS`` in WORK, this checkout's package first; stop unless its status is in OK."""
+    """``python3 -m course_dynamics.cli ARGS`` in WORK, this checkout's package first; stop unless it exits with OK."""
     env = dict(os.environ, PYTHONPATH=os.pathsep.join(filter(None, [str(ROOT), os.environ.get("PYTHONPATH")])))
     print("$ course-dynamics", " ".join(args), flush=True)
     status = subprocess.run([sys.executable, "-m", "course_dynamics.cli", *args], cwd=work, env=env).returncode
