@@ -1,17 +1,17 @@
 """The identification report: a folder with ``report.html``, ``report.md``, ``report.json`` and ``held_out.svg``.
 
-===============  ===========================================================================
-file             holds
-===============  ===========================================================================
-``report.html``  one page (:mod:`~course_dynamics.output.page`): the held-out residuals, the
-                 base parameters before and after with their standard errors, every body's
-                 parameters, friction, what the log does not excite, and the figure inline
-``report.md``    the same tables in Markdown (names escaped), the figure as a link
-``report.json``  :meth:`~course_dynamics.tools.identification.Identification.record`, with the
-                 URDF and log named
-``held_out.svg`` measured torques against the URDF's and the identified model's, joint by joint,
-                 on the held-out part of the log (matplotlib)
-===============  ===========================================================================
+================  ===============================================================================
+file              holds
+================  ===============================================================================
+``report.html``   one page (:mod:`~course_dynamics.output.page`): the held-out residuals, the
+                  base parameters before and after with their standard errors, every body's
+                  parameters, friction, what the log does not excite, and the figure inline
+``report.md``     the same tables in Markdown (names escaped), the figure as a link
+``report.json``   :meth:`~course_dynamics.tools.identification.Identification.record`, with the
+                  URDF and log named
+``held_out.svg``  measured torques against the URDF's and the identified model's, joint by joint,
+                  on the held-out part of the log (matplotlib)
+================  ===============================================================================
 
 The folder is written by :func:`~course_dynamics.output.folders.write_folder` for the command
 ``identify``: files the user put there are never replaced.
@@ -27,6 +27,7 @@ import numpy as np
 from ..tools.identification import Identification
 from . import folders, page, plotting, render
 
+#: The files of the report folder, in the order they are listed.
 REPORT_FILES = ("report.html", "report.md", "report.json", "held_out.svg")
 OWNER = "identify"
 
@@ -37,7 +38,20 @@ def _number(x, digits: int = 4) -> str:
 
 def residual_rows(result: Identification) -> list[list[str]]:
     """Per measured joint: σ (the noise the fit found), RMS residual on the held-out part with the URDF and
-    identified, and their ratio."""
+    identified, and their ratio.
+
+    Parameters
+    ----------
+    result : Identification
+        The identification (:class:`~course_dynamics.tools.identification.Identification`).
+
+    Returns
+    -------
+    list of list of str
+        One row per measured joint, in the columns of :data:`RESIDUAL_HEADER`: the joint, σ, the two RMS
+        residuals (N·m, N for a prismatic joint) and the URDF's over the identified one, 4 (3 for the ratio)
+        significant digits, ``–`` for a value that is not finite.
+    """
     rows = []
     for j, joint in enumerate(result.model.joint_names):
         if not np.isfinite(result.sigma[j]):
@@ -48,6 +62,7 @@ def residual_rows(result: Identification) -> list[list[str]]:
     return rows
 
 
+#: The columns of :func:`residual_rows`.
 RESIDUAL_HEADER = ("joint", "σ (fit)", "RMS held out, URDF", "RMS held out, identified", "URDF / identified")
 
 
@@ -163,7 +178,27 @@ def report_html(result: Identification, urdf: str, log: str, svg: str) -> str:
 
 
 def report_files(result: Identification, urdf: str, log: str) -> dict[str, str | bytes]:
-    """Every file of the report folder (:data:`REPORT_FILES`), by name."""
+    """Every file of the report folder (:data:`REPORT_FILES`), by name.
+
+    Parameters
+    ----------
+    result : Identification
+        The identification (:class:`~course_dynamics.tools.identification.Identification`).
+    urdf : str
+        The URDF identified, as the report names it.
+    log : str
+        The log it was identified from, as the report names it.
+
+    Returns
+    -------
+    dict of str to str
+        File name → its text (the HTML page, the Markdown, the JSON record, the SVG figure).
+
+    Raises
+    ------
+    InputError
+        If a value of the record is not finite (:func:`~course_dynamics.output.render.json_text`).
+    """
     svg = plotting.figure_bytes(held_out_figure(result), "svg").decode("utf-8")
     document = {"urdf": urdf, "log": log, **result.record()}
     return {"report.html": report_html(result, urdf, log, svg), "report.md": report_markdown(result, urdf, log),
@@ -171,11 +206,53 @@ def report_files(result: Identification, urdf: str, log: str) -> dict[str, str |
 
 
 def check_report_folder(folder, also=()) -> None:
-    """Fail before long work unless the report (and the files named ``also``) can be written into ``folder``."""
+    """Fail before long work unless the report (and the files named ``also``) can be written into ``folder``.
+
+    Parameters
+    ----------
+    folder : str or pathlib.Path
+        The report folder (it need not exist yet).
+    also : iterable of str, optional
+        Other files to be written with the report (the identified URDF).
+
+    Raises
+    ------
+    InputError
+        If a file in the way was not written there by ``identify``, or the folder cannot be written
+        (:func:`~course_dynamics.output.folders.check_folder`).
+    """
     folders.check_folder(folder, REPORT_FILES + tuple(also), OWNER)
 
 
 def write_report(folder, result: Identification, urdf: str, log: str, also=None):
     """Write the report folder (module docstring) and the files ``also`` (name → bytes, e.g. the identified
-    URDF); returns the paths written."""
+    URDF); returns the paths written.
+
+    Parameters
+    ----------
+    folder : str or pathlib.Path
+        The report folder, made if missing.
+    result : Identification
+        The identification (:class:`~course_dynamics.tools.identification.Identification`).
+    urdf : str
+        The URDF identified, as the report names it.
+    log : str
+        The log it was identified from, as the report names it.
+    also : Mapping of str to bytes, optional
+        Other files to write into the folder, by name.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The paths written.
+
+    Raises
+    ------
+    InputError
+        If a file in the way was not written there by ``identify``, the folder cannot be written
+        (:func:`~course_dynamics.output.folders.write_folder`), or a value of the record is not finite.
+    """
     return folders.write_folder(folder, {**dict(also or {}), **report_files(result, urdf, log)}, OWNER)
+
+
+__all__ = ["REPORT_FILES", "RESIDUAL_HEADER", "check_report_folder", "report_files", "residual_rows", "write_report"]

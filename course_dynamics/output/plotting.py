@@ -15,8 +15,11 @@ from ..base.errors import InputError
 from ..tools.simulation import Trajectory
 from . import io, page
 
+#: The picture formats of a plot file, by its suffix.
 PLOT_FORMATS = ("png", "svg")
+#: What every ``--plot`` takes: the picture formats, and ``html`` (a page with the figure inline).
 FIGURE_FORMATS = PLOT_FORMATS + ("html",)   # what every --plot takes: html is a page with the figure inline
+#: The most joints a torque figure draws (one panel each).
 MAX_PANELS = 24   # a torque figure draws one panel per joint: 24 already make a picture 37 inches tall
 
 
@@ -25,6 +28,16 @@ def check_panels(model) -> None:
 
     Refused rather than cut to the first 24: a figure of the limits that silently leaves out joints could hide the one
     beyond its limit, and every joint is in the table and the JSON anyway.
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+
+    Raises
+    ------
+    InputError
+        If the robot has more than :data:`MAX_PANELS` joints.
     """
     if model.n > MAX_PANELS:
         raise InputError(f"--plot draws one panel per joint, at most {MAX_PANELS}: robot '{model.name}' has {model.n} "
@@ -32,7 +45,30 @@ def check_panels(model) -> None:
 
 
 def plot_format(path, formats=PLOT_FORMATS) -> str:
-    """The picture format of ``path`` from its suffix; InputError for another one."""
+    """The picture format of ``path`` from its suffix; InputError for another one.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file to be written.
+    formats : tuple of str, optional
+        The formats taken (:data:`PLOT_FORMATS` by default, :data:`FIGURE_FORMATS` with ``html``).
+
+    Returns
+    -------
+    str
+        The suffix, lower case, without its dot (``"png"``).
+
+    Raises
+    ------
+    InputError
+        If the suffix is not one of ``formats``.
+
+    Examples
+    --------
+    >>> plot_format("run.SVG")
+    'svg'
+    """
     fmt = Path(str(path)).suffix.lower().lstrip(".")
     if fmt not in formats:
         raise InputError(f"{path}: a plot is written as {', '.join('.' + f for f in formats)} (by the file's suffix)")
@@ -44,6 +80,18 @@ def figure_bytes(figure, fmt: str) -> bytes:
 
     The same figure gives the same bytes on every run: an SVG carries no date, and its element ids come from a
     fixed salt rather than a random one.
+
+    Parameters
+    ----------
+    figure : matplotlib.figure.Figure
+        The figure.
+    fmt : str
+        ``"png"`` or ``"svg"``.
+
+    Returns
+    -------
+    bytes
+        The file's bytes.
     """
     import matplotlib
     import matplotlib.pyplot as plt
@@ -56,7 +104,22 @@ def figure_bytes(figure, fmt: str) -> bytes:
 
 
 def figure_file(figure, fmt: str, title: str = "") -> bytes:
-    """The figure as the bytes of a ``fmt`` file (:data:`FIGURE_FORMATS`): png, svg, or a page holding the SVG."""
+    """The figure as the bytes of a ``fmt`` file (:data:`FIGURE_FORMATS`): png, svg, or a page holding the SVG.
+
+    Parameters
+    ----------
+    figure : matplotlib.figure.Figure
+        The figure (closed afterwards).
+    fmt : str
+        ``"png"``, ``"svg"`` or ``"html"``.
+    title : str, optional
+        The page's title and heading (``html`` only); ``"figure"`` when empty.
+
+    Returns
+    -------
+    bytes
+        The file's bytes (a page in UTF-8 for ``html``).
+    """
     if fmt != "html":
         return figure_bytes(figure, fmt)
     drawing = figure_bytes(figure, "svg").decode("utf-8")
@@ -73,6 +136,16 @@ def _save(figure, path) -> None:
 
 
 def pyplot():
+    """``matplotlib.pyplot``, set up to draw off-screen (Agg), with no TeX from names and SVG labels as paths.
+
+    Every figure of the project is drawn through it: a ``$`` in a joint name is a dollar sign, and no text
+    from a URDF reaches an SVG as text.
+
+    Returns
+    -------
+    module
+        ``matplotlib.pyplot``.
+    """
     import matplotlib
 
     matplotlib.use("Agg")  # no screen needed
@@ -84,12 +157,41 @@ def pyplot():
 
 
 def plot_trajectory(trajectory: Trajectory, path, title: str = "") -> None:
-    """Joint positions Θ(t), velocities Θ̇(t) and total energy E(t), stacked, saved as ``path`` (PNG or SVG)."""
+    """Joint positions Θ(t), velocities Θ̇(t) and total energy E(t), stacked, saved as ``path`` (PNG or SVG).
+
+    Parameters
+    ----------
+    trajectory : Trajectory
+        One simulated run (:class:`~course_dynamics.tools.simulation.Trajectory`): Θ, Θ̇ of shape (T, n),
+        rad or m and rad/s or m/s; E in J.
+    path : str or pathlib.Path
+        The file to write, ``.png`` or ``.svg``.
+    title : str, optional
+        The figure's title.
+
+    Raises
+    ------
+    InputError
+        If the suffix is neither, or ``path`` cannot be written.
+    """
     _save(trajectory_figure(trajectory, title), path)
 
 
 def trajectory_figure(trajectory: Trajectory, title: str = ""):
-    """The figure of :func:`plot_trajectory`."""
+    """The figure of :func:`plot_trajectory`.
+
+    Parameters
+    ----------
+    trajectory : Trajectory
+        One simulated run (:class:`~course_dynamics.tools.simulation.Trajectory`).
+    title : str, optional
+        The figure's title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Three panels sharing t, s: Θ(t), Θ̇(t) and E(t).
+    """
     plt = pyplot()
 
     figure, axes = plt.subplots(3, 1, sharex=True, figsize=(8, 7.5), constrained_layout=True)
@@ -110,12 +212,41 @@ def trajectory_figure(trajectory: Trajectory, title: str = ""):
 
 
 def plot_ensemble(trajectory: Trajectory, path, title: str = "") -> None:
-    """Divergence of an ensemble from member 0: max over joints of |Θₖ(t) − Θ₀(t)|, log scale, and Θ of every member."""
+    """Divergence of an ensemble from member 0: max over joints of ``|Θₖ(t) − Θ₀(t)|``, log scale, and Θ of every
+    member.
+
+    Parameters
+    ----------
+    trajectory : Trajectory
+        An ensemble run (:class:`~course_dynamics.tools.simulation.Trajectory`): Θ of shape (T, K, n), K ≥ 2.
+    path : str or pathlib.Path
+        The file to write, ``.png`` or ``.svg``.
+    title : str, optional
+        The figure's title.
+
+    Raises
+    ------
+    InputError
+        If the suffix is neither, or ``path`` cannot be written.
+    """
     _save(ensemble_figure(trajectory, title), path)
 
 
 def ensemble_figure(trajectory: Trajectory, title: str = ""):
-    """The figure of :func:`plot_ensemble`."""
+    """The figure of :func:`plot_ensemble`.
+
+    Parameters
+    ----------
+    trajectory : Trajectory
+        An ensemble run (:class:`~course_dynamics.tools.simulation.Trajectory`), Θ of shape (T, K, n), K ≥ 2.
+    title : str, optional
+        The figure's title; by default the number of members.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two panels sharing t, s: the divergence (rad or m, log scale) and Θ of every member.
+    """
     import numpy as np
 
     plt = pyplot()
@@ -142,7 +273,26 @@ def ensemble_figure(trajectory: Trajectory, title: str = ""):
 
 def torque_figure(result, title: str = ""):
     """τ(t) of a :class:`~course_dynamics.tools.logs.TorqueLog`, one panel per joint, effort limits as bands;
-    where the robot measured its torques, those in grey beneath ours, with the residual in the panel's title."""
+    where the robot measured its torques, those in grey beneath ours, with the residual in the panel's title.
+
+    Parameters
+    ----------
+    result : TorqueLog
+        The torques of a log (:class:`~course_dynamics.tools.logs.TorqueLog`), τ of shape (N, n), N·m (N for
+        a prismatic joint).
+    title : str, optional
+        The figure's title; by default the robot's name and a key to the bands.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel per joint.
+
+    Raises
+    ------
+    InputError
+        If the robot has more than :data:`MAX_PANELS` joints.
+    """
     import numpy as np
 
     model, report = result.model, result.report
@@ -190,7 +340,26 @@ def torque_figure(result, title: str = ""):
 
 
 def torques_page(result, title: str = "") -> str:
-    """A self-contained HTML page: the torque figure (SVG) and the limits table; every name escaped."""
+    """A self-contained HTML page: the torque figure (SVG) and the limits table; every name escaped.
+
+    Parameters
+    ----------
+    result : TorqueLog
+        The torques of a log (:class:`~course_dynamics.tools.logs.TorqueLog`).
+    title : str, optional
+        The page's title and heading; by default the robot's name.
+
+    Returns
+    -------
+    str
+        The HTML page: the verdict, the limits table, the violations, the residuals against measured torques,
+        the derived signals and the figure.
+
+    Raises
+    ------
+    InputError
+        If the robot has more than :data:`MAX_PANELS` joints.
+    """
     plt = pyplot()
     figure = torque_figure(result, title)
     svg = figure_bytes(figure, "svg").decode("utf-8")
@@ -224,9 +393,30 @@ def torques_page(result, title: str = "") -> str:
 
 
 def plot_torques(result, path, title: str = "") -> None:
-    """Draw τ(t) against the effort limits to ``path``: PNG, SVG, or HTML (figure and limits table)."""
+    """Draw τ(t) against the effort limits to ``path``: PNG, SVG, or HTML (figure and limits table).
+
+    Parameters
+    ----------
+    result : TorqueLog
+        The torques of a log (:class:`~course_dynamics.tools.logs.TorqueLog`).
+    path : str or pathlib.Path
+        The file to write: ``.png``, ``.svg`` or ``.html``.
+    title : str, optional
+        The figure's (and page's) title.
+
+    Raises
+    ------
+    InputError
+        If the suffix is none of these, the robot has more than :data:`MAX_PANELS` joints, or ``path`` cannot
+        be written.
+    """
     fmt = plot_format(path, FIGURE_FORMATS)
     if fmt == "html":
         io.write_text(path, torques_page(result, title))
         return
     _save(torque_figure(result, title), path)
+
+
+__all__ = ["FIGURE_FORMATS", "MAX_PANELS", "PLOT_FORMATS", "check_panels", "ensemble_figure", "figure_bytes",
+           "figure_file", "plot_ensemble", "plot_format", "plot_torques", "plot_trajectory", "pyplot", "torque_figure",
+           "torques_page", "trajectory_figure"]
