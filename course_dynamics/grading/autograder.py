@@ -63,8 +63,10 @@ from .feedback import results_json
 from .grade import grade_class
 from .sandbox import SandboxError, check_sandbox
 
+#: The autograder's folder in Gradescope's image, unless ``AUTOGRADER`` names another.
 ROOT = "/autograder"
 PACKAGES = ("course_dynamics", "course_dynamics_reference", "course_dynamics_notebooks", "course_dynamics_robots")
+#: The unprivileged user and group id a submission runs as where bubblewrap cannot start and the grader is root.
 SUBMISSION_UID = 61_000  # the unprivileged user (and group) a submission runs as without the sandbox
 MAX_METADATA_BYTES = 10 * 2**20
 ISOLATION_WORDS = {
@@ -123,6 +125,11 @@ def wheel() -> tuple[str, bytes]:
 
     Made from what is installed (an editable install too), so the bundle grades with exactly the code that
     wrote it.
+
+    Returns
+    -------
+    tuple of (str, bytes)
+        The wheel's file name and its bytes.
     """
     distribution = importlib.metadata.distribution("course-dynamics")
     version = distribution.version
@@ -158,7 +165,25 @@ def _entry(name: str, executable: bool = False) -> zipfile.ZipInfo:
 
 
 def write_bundle(assignment: Assignment, target) -> Path:
-    """The autograder zip for ``assignment`` at ``target`` (module docstring); InputError if something is there."""
+    """The autograder zip for ``assignment`` at ``target`` (module docstring); InputError if something is there.
+
+    Parameters
+    ----------
+    assignment : Assignment
+        The assignment, bundled with its robot's URDF when the robot is a file.
+    target : str or os.PathLike
+        The zip file to write; never overwritten.
+
+    Returns
+    -------
+    pathlib.Path
+        The zip written.
+
+    Raises
+    ------
+    InputError
+        If ``target`` exists, or the robot's URDF is outside the assignment's folder.
+    """
     target = Path(target)
     files = {f"assignment/{assignment.source.name}": assignment.source.read_bytes()}
     robot_file = assignment.source.parent / assignment.robot_argument
@@ -186,11 +211,35 @@ def write_bundle(assignment: Assignment, target) -> Path:
 
 
 def root() -> Path:
+    """The autograder's folder: ``$AUTOGRADER``, else :data:`ROOT`.
+
+    Returns
+    -------
+    pathlib.Path
+        The folder.
+    """
     return Path(os.environ.get("AUTOGRADER", ROOT))
 
 
 def prepare(where: Path | None = None) -> list[str]:
-    """After ``setup.sh`` installed the wheel: the submissions' packages, and the grader's files closed to others."""
+    """After ``setup.sh`` installed the wheel: the submissions' packages, and the grader's files closed to others.
+
+    Parameters
+    ----------
+    where : pathlib.Path or None
+        The autograder's folder; ``$AUTOGRADER`` (default ``/autograder``) when None.
+
+    Returns
+    -------
+    list of str
+        The packages copied for the submissions (numpy and the assignment's allowed ones).
+
+    Raises
+    ------
+    InputError
+        If the bundled assignment is not valid, or (as root) a file a submission's Python needs is not readable by
+        other users.
+    """
     where = where or root()
     assignment = _assignment(where)
     site = where / "submission-site"
@@ -245,7 +294,25 @@ def _isolation() -> tuple[bool, tuple[int, int] | None, str]:
 
 def student_id(metadata_path: Path, field: str) -> str:
     """The student from Gradescope's ``submission_metadata.json``: the first user's ``field`` (``email``: its local
-    part), checked as an id; InputError naming the file and the field otherwise."""
+    part), checked as an id; InputError naming the file and the field otherwise.
+
+    Parameters
+    ----------
+    metadata_path : pathlib.Path
+        Gradescope's ``submission_metadata.json``.
+    field : str
+        The user field that names the student (the assignment's ``gradescope_student``).
+
+    Returns
+    -------
+    str
+        The student id.
+
+    Raises
+    ------
+    InputError
+        If the file is missing or not JSON, the field is missing, or its value is not a valid id.
+    """
     where = f"{metadata_path.name}: users[0].{field}"
     try:
         with open(metadata_path, "rb") as handle:
@@ -271,7 +338,23 @@ def student_id(metadata_path: Path, field: str) -> str:
 
 
 def submission_file(folder: Path) -> Path:
-    """The one Python file of the submission (at its top, or alone anywhere below it); InputError otherwise."""
+    """The one Python file of the submission (at its top, or alone anywhere below it); InputError otherwise.
+
+    Parameters
+    ----------
+    folder : pathlib.Path
+        The submission's folder; links in it are never followed.
+
+    Returns
+    -------
+    pathlib.Path
+        The file.
+
+    Raises
+    ------
+    InputError
+        If there is no such file or more than one.
+    """
     def usable(path: Path) -> bool:  # a regular file inside the folder: a link is never followed, as root
         return not path.is_symlink() and path.is_file() and not any(p.is_symlink() for p in path.parents
                                                                      if p.is_relative_to(folder))
@@ -286,7 +369,24 @@ def submission_file(folder: Path) -> Path:
 
 
 def grade_here(where: Path) -> dict:
-    """Grade the submission in ``where`` (the /autograder layout) and return Gradescope's results document."""
+    """Grade the submission in ``where`` (the /autograder layout) and return Gradescope's results document.
+
+    Parameters
+    ----------
+    where : pathlib.Path
+        The autograder's folder.
+
+    Returns
+    -------
+    dict
+        Gradescope's ``results.json`` document (:func:`~course_dynamics.grading.feedback.results_json`), the
+        student named in its output and the isolation in its hidden test.
+
+    Raises
+    ------
+    InputError
+        If the student id or the submission file cannot be found (:func:`student_id`, :func:`submission_file`).
+    """
     assignment = _assignment(where)
     student = student_id(where / "submission_metadata.json", assignment.gradescope_student)
     path = submission_file(where / "submission")
@@ -302,7 +402,18 @@ def grade_here(where: Path) -> dict:
 
 
 def run(where: Path | None = None) -> dict:
-    """Grade and write ``results/results.json`` whatever happens: a problem becomes a score of 0 with its reason."""
+    """Grade and write ``results/results.json`` whatever happens: a problem becomes a score of 0 with its reason.
+
+    Parameters
+    ----------
+    where : pathlib.Path or None
+        The autograder's folder; ``$AUTOGRADER`` (default ``/autograder``) when None.
+
+    Returns
+    -------
+    dict
+        The results document written, with its ``execution_time``, s.
+    """
     where = where or root()
     started = time.monotonic()
     metadata = where / "submission_metadata.json"
@@ -326,6 +437,18 @@ def run(where: Path | None = None) -> dict:
 
 
 def main(argv=None) -> int:
+    """``python -m course_dynamics.grading.autograder prepare`` or ``run``, as the bundle's scripts call it.
+
+    Parameters
+    ----------
+    argv : list of str or None
+        The arguments, ``["prepare"]`` or ``["run"]``; ``sys.argv[1:]`` when None.
+
+    Returns
+    -------
+    int
+        The exit status: 0, or 2 (with a usage line) for other arguments.
+    """
     argv = sys.argv[1:] if argv is None else argv
     if argv == ["prepare"]:
         prepare()
@@ -336,6 +459,11 @@ def main(argv=None) -> int:
     print("usage: python -m course_dynamics.grading.autograder {prepare|run} (run by the Gradescope bundle's "
           "setup.sh and run_autograder)", file=sys.stderr)
     return 2
+
+
+
+__all__ = ["ROOT", "SUBMISSION_UID", "grade_here", "main", "prepare", "root", "run", "student_id", "submission_file",
+           "wheel", "write_bundle"]
 
 
 if __name__ == "__main__":
