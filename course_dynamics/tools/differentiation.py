@@ -22,10 +22,10 @@ rows (where a centred window does not fit) come from one fit of the first (last)
 cubic or quintic. All of it is chosen per joint from the signal y (Θ, or Θ̇ when logged) itself,
 with yₛ⁽ᵐ⁾ = Δtᵐ y⁽ᵐ⁾ its m-th derivative per sample:
 
-1. Noise. σ̂ = 1.4826 · median |Δ⁴y| / √70, where Δ⁴y is the fourth difference of successive
+1. Noise. σ̂ = 1.4826 · median ``|Δ⁴y|`` / √70, where Δ⁴y is the fourth difference of successive
    samples: for white noise of standard deviation σ it has standard deviation σ √C(8,4) = σ √70, and
-   1.4826 · median |·| is the standard deviation of a normal variable, untouched by a few outliers.
-   It assumes white noise and a smooth motion, |yₛ⁽⁴⁾| ≪ 8σ (so at 125 Hz and beyond, motions of a
+   1.4826 · median ``|·|`` is the standard deviation of a normal variable, untouched by a few outliers.
+   It assumes white noise and a smooth motion, ``|yₛ⁽⁴⁾|`` ≪ 8σ (so at 125 Hz and beyond, motions of a
    few Hz); what the motion adds to Δ⁴y counts as noise. If more than half the differences are zero
    (a quantized signal at rest) the RMS of Δ⁴y takes the median's place.
 2. Error of a filter h: its noise is σ̂ ‖h‖₂ (per sample); its bias is the first term of y's Taylor
@@ -37,7 +37,7 @@ with yₛ⁽ᵐ⁾ = Δtᵐ y⁽ᵐ⁾ its m-th derivative per sample:
    or 0. From 20 ms, w moves to the odd window (7 to 1001 samples, 5 % apart) minimizing E², at most
    a factor 3 away (the Taylor term holds near where Rₘ was measured), and Rₘ is measured again there,
    until w stays (six times at most). The edge fit (degree p, N samples) minimizes E² of its end row
-   the same way. Data without noise (σ̂ below 1e-12 of |y|: rounding) keep the shortest window, 7.
+   the same way. Data without noise (σ̂ below 1e-12 of ``|y|``: rounding) keep the shortest window, 7.
 
 σ_Θ̈ of a row is √(σ̂² ‖h‖₂² + β² Rₘ) / Δtᵈ with the row's own weights h (the end rows' bias is the end
 row's one-sided fit's): the noise left after filtering and the fit's own error, larger at the ends. An end row is a
@@ -67,8 +67,11 @@ from ..base.errors import InputError
 
 POLYORDER = 3                  # the centred fits: cubic (their Θ̈ is exact for cubic Θ)
 EDGE_ORDERS = (3, 5)           # an edge fit's degrees: a longer quintic beats a cubic on smooth motion
+#: Where the window search starts, and the window of a log too short to search, s.
 DEFAULT_WINDOW_SECONDS = 0.02  # where the search starts, and the window of a log too short to search
+#: The shortest window chosen, samples.
 MIN_WINDOW = 7
+#: The longest window chosen, samples: 1 s at 1 kHz; longer fits of a robot's motion are not local any more.
 MAX_WINDOW = 1001              # samples: 1 s at 1 kHz; longer fits of a robot's motion are not local any more
 GRID_RATIO = 1.05              # successive candidate windows differ by 5 %
 MAX_PILOTS = 6
@@ -85,6 +88,23 @@ class Derivatives:
     """Θ̇ and Θ̈ on the samples of a log, with the windows, noise and uncertainty they came with (module docstring).
 
     ``noise_qd`` is None when Θ̇ was not given; ``notes`` has one line per decision.
+
+    Parameters
+    ----------
+    qd : numpy.ndarray, shape (K, n)
+        Joint velocities Θ̇, rad/s (m/s for a prismatic joint): given, or differentiated.
+    qdd : numpy.ndarray, shape (K, n)
+        Joint accelerations Θ̈, rad/s² (m/s²).
+    window : numpy.ndarray, shape (n,)
+        The centred filter's window per joint, samples (odd).
+    noise_q : numpy.ndarray, shape (n,)
+        The position noise σ_Θ estimated per joint, rad (m).
+    noise_qd : numpy.ndarray, shape (n,), optional
+        The rate noise σ_Θ̇ estimated per joint, rad/s (m/s); None when Θ̇ was not given.
+    sigma_qdd : numpy.ndarray, shape (K, n)
+        The estimated error σ_Θ̈ of Θ̈, rad/s² (m/s²).
+    notes : tuple of str
+        One line per decision.
     """
 
     qd: np.ndarray
@@ -98,6 +118,16 @@ class Derivatives:
 
 def noise_level(y: np.ndarray) -> np.ndarray:
     """The standard deviation of white noise on each column of ``y`` (K, n), from its fourth differences.
+
+    Parameters
+    ----------
+    y : numpy.ndarray, shape (K, n)
+        A sampled signal, one column per joint.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,)
+        σ̂ per column, in ``y``'s unit; NaN for fewer than 5 rows.
 
     >>> import numpy as np
     >>> y = np.linspace(0, 1, 4000)[:, None] ** 3 + np.random.default_rng(1).normal(0, 1e-4, (4000, 1))
@@ -295,12 +325,17 @@ def derivatives(t_step: float, q, qd=None, window: int | None = None, *, where: 
 
     Parameters
     ----------
-    t_step : float, s — the (even) sample step Δt
-    q : array, shape (K, n) — Θ, rad or m
-    qd : array, shape (K, n), or None — a logged Θ̇ (rad/s or m/s), passed through unchanged
-    window : odd int or None — the Savitzky–Golay window in samples for every joint and row (scipy's
-        ``savgol_filter(mode="interp")``, as chosen by hand); None chooses per joint (module docstring)
-    where : the log's name, for messages
+    t_step : float
+        The (even) sample step Δt, s.
+    q : numpy.ndarray, shape (K, n)
+        Joint positions Θ, rad (m for a prismatic joint).
+    qd : numpy.ndarray, shape (K, n), optional
+        A logged Θ̇, rad/s (m/s), passed through unchanged; None differentiates Θ.
+    window : int, optional
+        The Savitzky–Golay window in samples (odd) for every joint and row (scipy's
+        ``savgol_filter(mode="interp")``, as chosen by hand); None chooses per joint (module docstring).
+    where : str
+        The log's name, for messages.
 
     Returns
     -------
@@ -390,3 +425,6 @@ def _notes(plans: list[_Plan], t_step: float, positions_only: bool, sigma: np.nd
                  f"first and last {_span([p.edge_window for p in plans], digits='d')} samples "
                  f"({', '.join(orders.get(o, str(o)) for o in sorted({p.edge_order for p in plans}))})")
     return tuple(lines)
+
+
+__all__ = ["DEFAULT_WINDOW_SECONDS", "MAX_WINDOW", "MIN_WINDOW", "Derivatives", "derivatives", "noise_level"]
