@@ -291,8 +291,8 @@ def read_table(path, comment: str = "#", decimal: str | None = None) -> Table:
     file. Thousands separators, ``_`` between digits, other digits than 0-9 and hexadecimal are
     refused too.
 
-    The file must be a regular file (:func:`~course_dynamics.base.files.open_regular`: never a pipe or device, which could
-    block or be endless), and the memory its rows would take in use (:data:`BYTES_PER_VALUE`
+    The file must be a regular file (:func:`~course_dynamics.base.files.open_regular`: never a pipe or
+    device, which could block or be endless), and the memory its rows would take in use (:data:`BYTES_PER_VALUE`
     per cell, estimated from its size before it is read, then counted while reading) must fit in
     half the machine's memory. Rows are read as a stream: the text is never held whole.
 
