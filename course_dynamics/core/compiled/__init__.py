@@ -6,17 +6,17 @@ on *traced* scalars (:class:`Traced`): every +, −, ×, ÷, cos and sin they do
 recorded as one line of a program, identical operations are recorded once
 (common-subexpression elimination by hash-consing), and operations on
 constants are done on the spot (0·x, 1·x, the model's numbers). The program is
-then written out as plain Python (:attr:`CompiledModel.source`: a student can
+then written out as plain Python (``CompiledModel.source``: a student can
 read it) and compiled twice: with ``math`` for one state (Python floats, the
 fastest scalar arithmetic) and with ``numpy`` for a batch (one array per line).
 
 =====================  ==========================================================
 program                traced from
 =====================  ==========================================================
-``tau``                :func:`~course_dynamics.core.newton_euler.torque_entries` (6.45)–(6.53)
-``mass_matrix``        :func:`~course_dynamics.core.crba.mass_matrix_entries` (upper triangle)
+``tau``                ``course_dynamics.core.newton_euler.torque_entries`` (6.45)–(6.53)
+``mass_matrix``        ``course_dynamics.core.crba.mass_matrix_entries`` (upper triangle)
 ``bias``               V + G = τ(Θ, Θ̇, 0), the same Newton–Euler recursion
-``coriolis``           :func:`~course_dynamics.core.coriolis.coriolis_matrix_entries`
+``coriolis``           ``course_dynamics.core.coriolis.coriolis_matrix_entries``
 ``forward_dynamics``   M and the bias as above, then Θ̈ = M⁻¹(τ − V − G) (6.115)
                        by an unrolled LDLᵀ factorization, with its pivots
 =====================  ==========================================================
@@ -88,11 +88,10 @@ from ..forward_dynamics import SINGULAR_PIVOT_RATIO, accelerations
 from ..model import Model
 from ..newton_euler import inverse_dynamics
 from ..state import as_state, batch_shape
-from . import building, codegen, native, tracing
-from .cache import CACHE_OFF, Cache, CacheWarning, cache_folder
+from . import building, cache, codegen, native, tracing
+from .cache import Cache, CacheWarning, cache_folder
 from .codegen import module_source, program_source
 from .tracing import (
-    MAX_OPERATIONS,
     Program,
     ProgramTooLargeError,
     Tape,
@@ -100,14 +99,21 @@ from .tracing import (
     trace_programs,
 )
 
-__all__ = ["CACHE_OFF", "MAX_OPERATIONS", "CacheWarning", "CompileWarning", "CompiledModel", "Program",
-           "ProgramTooLargeError", "Tape", "Traced", "cache_folder", "compile_model", "model_key", "module_source",
-           "program_source", "trace_programs"]
+#: The value of ``COURSE_DYNAMICS_CACHE`` that turns the cache off
+#: (:data:`~course_dynamics.core.compiled.cache.CACHE_OFF`).
+CACHE_OFF = cache.CACHE_OFF
+#: The most operations the programs of one robot may take together
+#: (:data:`~course_dynamics.core.compiled.tracing.MAX_OPERATIONS`).
+MAX_OPERATIONS = tracing.MAX_OPERATIONS
 
 
 class CompileWarning(CourseDynamicsWarning):
     """A model that was run interpreted because it is too large to compile (the message says so).
 
+    The evaluator gives it when :func:`compile_model` raises :class:`ProgramTooLargeError`.
+
+    Examples
+    --------
     >>> issubclass(CompileWarning, UserWarning)          # warnings.simplefilter("error", CompileWarning) makes it fatal
     True
     """
@@ -162,8 +168,20 @@ def code_fingerprint() -> bytes:
 
 def model_key(model: Model) -> str:
     """A hash of everything the programs depend on: the model's numbers, the library and Python versions, and
-    the source of every module the trace can run (:func:`traced_sources`).
+    the source of every module the trace can run (``traced_sources``).
 
+    Parameters
+    ----------
+    model : Model
+        The robot.
+
+    Returns
+    -------
+    str
+        64 hexadecimal digits (SHA-256): the name of the model's cache entries.
+
+    Examples
+    --------
     >>> from course_dynamics import load_robot
     >>> arm = load_robot("two_link")
     >>> key = model_key(arm)
@@ -182,6 +200,38 @@ def model_key(model: Model) -> str:
 class CompiledModel:
     """The compiled programs of one model (module docstring); methods mirror the library's functions.
 
+    Made by :func:`compile_model`. Each method checks its arguments as the library's function does and takes
+    one state (n,) or a batch (N, n) (any batch shape that broadcasts).
+
+    Parameters
+    ----------
+    model : Model
+        The robot, its gravity built into the programs.
+    source : str
+        The generated Python module, for reading: each program for one state and, as ``<name>_batch``, for a
+        batch.
+    generation_seconds : float
+        The time tracing and compiling (or loading from the cache) took, s.
+    from_cache : bool
+        Whether the programs were read from the cache.
+    path : pathlib.Path or None
+        The cache entry, ``<key>.entry``; None where no cache was used.
+    functions : dict of str to callable
+        The compiled Python functions by name (``tau``, ``tau_batch``, ``mass_matrix``, …).
+    native : dict of str to callable
+        The native functions by program name; empty where there is no native code.
+    native_source : str
+        The C source of the native library when it was built in this process; ``""`` otherwise.
+    native_seconds : float
+        The time building (or loading) the native library took, s.
+    native_reason : str
+        Why there is no native code (yet): turned off, no compiler, over the bound, failed before, being built;
+        ``""`` when there is.
+    native_build : object or None
+        The build running in the background (``native_code="background"``), until :meth:`collected` takes it up.
+
+    Examples
+    --------
     >>> import numpy as np
     >>> from course_dynamics import load_robot, mass_matrix
     >>> arm = load_robot("two_link")
@@ -207,7 +257,19 @@ class CompiledModel:
 
     def collected(self, wait: float = 0.0) -> CompiledModel:
         """This model with its background build's library once the build has ended (a new CompiledModel; the
-        same one while it runs), waiting at most ``wait`` s for it."""
+        same one while it runs), waiting at most ``wait`` s for it.
+
+        Parameters
+        ----------
+        wait : float, optional
+            The most time to wait for the build to end, s; 0 looks without waiting.
+
+        Returns
+        -------
+        CompiledModel
+            A new model with the native functions (or with ``native_reason`` saying why there are none) once
+            the build has ended; this one while it runs, or when there is no build.
+        """
         return building.collect(self, _agrees_with_the_recursion, wait)
 
     def _run(self, name: str, *arrays) -> np.ndarray:
@@ -224,7 +286,26 @@ class CompiledModel:
     def native_call(self, name: str, *arrays) -> np.ndarray | None:
         """What the method ``name`` returns (τ; M as an n × n matrix; Θ̈ once its pivots show M is not singular),
         from the native program, if the arguments are one state of finite float64 values (n,) each; None otherwise
-        (no native code, or anything the checked path should see first)."""
+        (no native code, or anything the checked path should see first).
+
+        Parameters
+        ----------
+        name : str
+            The program: ``tau``, ``mass_matrix`` or ``forward_dynamics`` (or ``bias``, ``coriolis``).
+        *arrays : numpy.ndarray, shape (n,)
+            Its inputs, in order (Θ, Θ̇, Θ̈ for ``tau``; Θ for ``mass_matrix``; Θ, Θ̇, τ for ``forward_dynamics``).
+
+        Returns
+        -------
+        numpy.ndarray or None
+            τ, shape (n,), N·m; M(Θ), shape (n, n); Θ̈, shape (n,), rad/s²: or None where the native program
+            does not take the arguments.
+
+        Raises
+        ------
+        SingularMassMatrixError
+            For ``forward_dynamics``, if M(Θ) is singular (the error names the joint).
+        """
         function = self.native.get(name)
         if function is None:
             return None
@@ -263,7 +344,27 @@ class CompiledModel:
         return out
 
     def inverse_dynamics(self, q, qd, qdd) -> np.ndarray:
-        """τ, shape (n,) or (N, n), as :func:`~course_dynamics.core.newton_euler.inverse_dynamics`."""
+        """τ, shape (n,) or (N, n), as :func:`~course_dynamics.core.newton_euler.inverse_dynamics`.
+
+        Parameters
+        ----------
+        q : array_like, shape (n,) or (N, n)
+            Joint positions Θ, rad (m for a prismatic joint).
+        qd : array_like, shape (n,) or (N, n)
+            Joint velocities Θ̇, rad/s (m/s).
+        qdd : array_like, shape (n,) or (N, n)
+            Joint accelerations Θ̈, rad/s² (m/s²).
+
+        Returns
+        -------
+        numpy.ndarray, shape (n,) or (N, n)
+            Joint torques τ, N·m (N for a prismatic joint).
+
+        Raises
+        ------
+        StateError
+            If an argument is not a finite array of shape (n,) or (N, n).
+        """
         fast = self.native_call("tau", q, qd, qdd)
         if fast is not None:
             return fast
@@ -271,7 +372,23 @@ class CompiledModel:
         return self._run("tau", as_state(m, q, "q"), as_state(m, qd, "qd"), as_state(m, qdd, "qdd"))
 
     def mass_matrix(self, q) -> np.ndarray:
-        """M(Θ), shape (n, n) or (N, n, n)."""
+        """M(Θ), shape (n, n) or (N, n, n).
+
+        Parameters
+        ----------
+        q : array_like, shape (n,) or (N, n)
+            Joint positions Θ, rad (m for a prismatic joint).
+
+        Returns
+        -------
+        numpy.ndarray, shape (n, n) or (N, n, n)
+            The mass matrix M(Θ), kg·m² (kg for prismatic joints).
+
+        Raises
+        ------
+        StateError
+            If an argument is not a finite array of shape (n,) or (N, n).
+        """
         fast = self.native_call("mass_matrix", q)
         if fast is not None:
             return fast
@@ -282,21 +399,97 @@ class CompiledModel:
         return out.reshape(out.shape[:-1] + (n, n))
 
     def bias(self, q, qd) -> np.ndarray:
-        """V(Θ, Θ̇) + G(Θ), shape (n,) or (N, n)."""
+        """V(Θ, Θ̇) + G(Θ), shape (n,) or (N, n).
+
+        Parameters
+        ----------
+        q : array_like, shape (n,) or (N, n)
+            Joint positions Θ, rad (m for a prismatic joint).
+        qd : array_like, shape (n,) or (N, n)
+            Joint velocities Θ̇, rad/s (m/s).
+
+        Returns
+        -------
+        numpy.ndarray, shape (n,) or (N, n)
+            The velocity and gravity torques V(Θ, Θ̇) + G(Θ), N·m (N for a prismatic joint).
+
+        Raises
+        ------
+        StateError
+            If an argument is not a finite array of shape (n,) or (N, n).
+        """
         return self._run("bias", as_state(self.model, q, "q"), as_state(self.model, qd, "qd"))
 
     def gravity_torques(self, q) -> np.ndarray:
-        """G(Θ) = V + G at Θ̇ = 0, shape (n,) or (N, n)."""
+        """G(Θ) = V + G at Θ̇ = 0, shape (n,) or (N, n).
+
+        Parameters
+        ----------
+        q : array_like, shape (n,) or (N, n)
+            Joint positions Θ, rad (m for a prismatic joint).
+
+        Returns
+        -------
+        numpy.ndarray, shape (n,) or (N, n)
+            The gravity torques G(Θ), N·m (N for a prismatic joint).
+
+        Raises
+        ------
+        StateError
+            If an argument is not a finite array of shape (n,) or (N, n).
+        """
         q = as_state(self.model, q, "q")
         return self._run("bias", q, np.zeros_like(q))
 
     def coriolis_matrix(self, q, qd) -> np.ndarray:
-        """C(Θ, Θ̇), shape (n, n) or (N, n, n)."""
+        """C(Θ, Θ̇), shape (n, n) or (N, n, n).
+
+        Parameters
+        ----------
+        q : array_like, shape (n,) or (N, n)
+            Joint positions Θ, rad (m for a prismatic joint).
+        qd : array_like, shape (n,) or (N, n)
+            Joint velocities Θ̇, rad/s (m/s).
+
+        Returns
+        -------
+        numpy.ndarray, shape (n, n) or (N, n, n)
+            The Coriolis matrix C(Θ, Θ̇), with V(Θ, Θ̇) = C(Θ, Θ̇) Θ̇, kg·m²/s.
+
+        Raises
+        ------
+        StateError
+            If an argument is not a finite array of shape (n,) or (N, n).
+        """
         C = self._run("coriolis", as_state(self.model, q, "q"), as_state(self.model, qd, "qd"))
         return C.reshape(C.shape[:-1] + (self.model.n, self.model.n))
 
     def forward_dynamics(self, q, qd, tau, friction=None) -> np.ndarray:
-        """Θ̈ (6.115), shape (n,) or (N, n), as :func:`~course_dynamics.core.forward_dynamics.forward_dynamics`."""
+        """Θ̈ (6.115), shape (n,) or (N, n), as :func:`~course_dynamics.core.forward_dynamics.forward_dynamics`.
+
+        Parameters
+        ----------
+        q : array_like, shape (n,) or (N, n)
+            Joint positions Θ, rad (m for a prismatic joint).
+        qd : array_like, shape (n,) or (N, n)
+            Joint velocities Θ̇, rad/s (m/s).
+        tau : array_like, shape (n,) or (N, n)
+            Applied joint torques τ, N·m (N for a prismatic joint).
+        friction : Friction, optional
+            Subtracted from τ as F(Θ̇) (6.114); default none.
+
+        Returns
+        -------
+        numpy.ndarray, shape (n,) or (N, n)
+            Joint accelerations Θ̈, rad/s² (m/s²).
+
+        Raises
+        ------
+        StateError
+            If an argument is not a finite array of shape (n,) or (N, n).
+        SingularMassMatrixError
+            If M(Θ) is singular (the error names the joint).
+        """
         fast = self.native_call("forward_dynamics", q, qd, tau) if friction is None else None
         if fast is not None:
             return fast
@@ -307,7 +500,27 @@ class CompiledModel:
         return self.accelerations(q, qd, tau)
 
     def accelerations(self, q: np.ndarray, qd: np.ndarray, tau: np.ndarray) -> np.ndarray:
-        """Θ̈ for checked float arrays (n,) or (K, n): an AccelerationFunction for ``simulate``."""
+        """Θ̈ for checked float arrays (n,) or (K, n): an AccelerationFunction for ``simulate``.
+
+        Parameters
+        ----------
+        q : numpy.ndarray, shape (n,) or (K, n)
+            Joint positions Θ, rad (m for a prismatic joint), float, already checked.
+        qd : numpy.ndarray, shape (n,) or (K, n)
+            Joint velocities Θ̇, rad/s (m/s).
+        tau : numpy.ndarray, shape (n,) or (K, n)
+            Applied joint torques τ, friction already subtracted, N·m (N for a prismatic joint).
+
+        Returns
+        -------
+        numpy.ndarray, shape (n,) or (K, n)
+            Joint accelerations Θ̈, rad/s² (m/s²).
+
+        Raises
+        ------
+        SingularMassMatrixError
+            If M(Θ) is singular (the error names the joint).
+        """
         n = self.model.n
         fast = self.native_call("forward_dynamics", q, qd, tau)
         if fast is not None:  # one state, natively: the path of a simulation's every step
@@ -389,10 +602,33 @@ def compile_model(model: Model, cache: bool = True, native_code: bool | None = T
 
     ``native_code``: True also builds the C version (native.py) where a compiler exists, waiting for it (a
     build is bounded and a failed one remembered: building.py), "background" builds it in a child process
-    (:attr:`CompiledModel.native_build`; the evaluator takes it up), None uses one only if the cache holds it,
-    False never; :attr:`CompiledModel.native_reason` says why there is none. Raises :class:`ProgramTooLargeError`
+    (``CompiledModel.native_build``; the evaluator takes it up), None uses one only if the cache holds it,
+    False never; ``CompiledModel.native_reason`` says why there is none. Raises :class:`ProgramTooLargeError`
     for a robot too large to compile.
 
+    Parameters
+    ----------
+    model : Model
+        The robot; its gravity is built into the programs.
+    cache : bool, optional
+        Read the programs from the cache folder (:func:`cache_folder`) and keep them there; False compiles in
+        memory.
+    native_code : bool or str or None, optional
+        True: build the native library and wait for it; ``"background"``: build it in a child process; None:
+        use one only if the cache holds it; False: never.
+
+    Returns
+    -------
+    CompiledModel
+        The compiled programs, checked against the interpreted recursions at a random state.
+
+    Raises
+    ------
+    ProgramTooLargeError
+        If the programs would take more than :data:`MAX_OPERATIONS` operations.
+
+    Examples
+    --------
     >>> from course_dynamics import load_robot
     >>> ur5 = compile_model(load_robot("ur5"))
     >>> ur5.model.n, ur5.generation_seconds < 60
@@ -422,3 +658,8 @@ def compile_model(model: Model, cache: bool = True, native_code: bool | None = T
         if native_code is not False:
             building.attach(compiled, programs, key, store, native_code, _agrees_with_the_recursion)
     return compiled
+
+
+__all__ = ["CACHE_OFF", "MAX_OPERATIONS", "CacheWarning", "CompileWarning", "CompiledModel", "Program",
+           "ProgramTooLargeError", "Tape", "Traced", "cache_folder", "compile_model", "model_key", "module_source",
+           "program_source", "trace_programs"]
