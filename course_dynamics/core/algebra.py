@@ -29,6 +29,17 @@ import numpy as np
 class Vec3:
     """A column 3-vector with components x, y, z of any scalar kind.
 
+    Vectors add, subtract, negate, scale by a scalar (on either side) and divide by one; ``x, y, z = v``
+    unpacks them.
+
+    Parameters
+    ----------
+    x, y, z : float, numpy.ndarray of shape (N,), sympy.Expr, Dual or complex
+        The components (one state, a batch of N, a symbol, …), in the vector's own unit.
+
+    Examples
+    --------
+
     >>> v = Vec3(1.0, 2.0, 3.0)
     >>> 2 * v - Vec3.of([1.0, 0.0, 0.0])
     Vec3(1.0, 4.0, 6.0)
@@ -44,7 +55,23 @@ class Vec3:
 
     @classmethod
     def of(cls, values) -> "Vec3":
-        """Vec3 from a length-3 sequence (a numpy array becomes Python floats)."""
+        """Vec3 from a length-3 sequence (a numpy array becomes Python floats).
+
+        Parameters
+        ----------
+        values : sequence or numpy.ndarray, shape (3,)
+            The components.
+
+        Returns
+        -------
+        Vec3
+            The vector; Python floats for a numeric array (fast arithmetic), the entries as they are otherwise.
+
+        Examples
+        --------
+        >>> Vec3.of(np.array([1.0, 2.0, 3.0]))
+        Vec3(1.0, 2.0, 3.0)
+        """
         if isinstance(values, np.ndarray) and values.dtype != object:
             values = values.tolist()
         return cls(values[0], values[1], values[2])
@@ -77,6 +104,21 @@ class Vec3:
 def cross(a: Vec3, b: Vec3) -> Vec3:
     """a × b.
 
+    Parameters
+    ----------
+    a : Vec3
+        The left factor.
+    b : Vec3
+        The right factor.
+
+    Returns
+    -------
+    Vec3
+        The cross product a × b.
+
+    Examples
+    --------
+
     >>> cross(Vec3(1, 0, 0), Vec3(0, 1, 0))   # x × y = z
     Vec3(0, 0, 1)
     """
@@ -87,6 +129,25 @@ def point_acceleration(v_dot: Vec3, omega_dot: Vec3, omega: Vec3, P: Vec3) -> Ve
     """v̇ + ω̇ × P + ω × (ω × P): acceleration of a point P fixed in a moving frame (6.12).
 
     Written out in components because it is the innermost step of the recursion.
+
+    Parameters
+    ----------
+    v_dot : Vec3
+        v̇, the linear acceleration of the moving frame's origin, m/s².
+    omega_dot : Vec3
+        ω̇, the frame's angular acceleration, rad/s².
+    omega : Vec3
+        ω, the frame's angular velocity, rad/s.
+    P : Vec3
+        The point's position from the frame's origin, m (all four in the same coordinates).
+
+    Returns
+    -------
+    Vec3
+        The point's acceleration, m/s², in those coordinates.
+
+    Examples
+    --------
 
     >>> # a point 1 m out on a frame spinning at 2 rad/s about z: centripetal −ω² r
     >>> point_acceleration(Vec3(0, 0, 0), Vec3(0, 0, 0), Vec3(0, 0, 2.0), Vec3(1.0, 0, 0))
@@ -106,6 +167,21 @@ def point_acceleration(v_dot: Vec3, omega_dot: Vec3, omega: Vec3, P: Vec3) -> Ve
 def dot(a: Vec3, b: Vec3):
     """aᵀ b.
 
+    Parameters
+    ----------
+    a : Vec3
+        The left factor.
+    b : Vec3
+        The right factor.
+
+    Returns
+    -------
+    float, numpy.ndarray of shape (N,) or sympy.Expr
+        The scalar product, of the components' kind.
+
+    Examples
+    --------
+
     >>> dot(Vec3(1, 2, 3), Vec3(4, 5, 6))
     32
     """
@@ -114,6 +190,17 @@ def dot(a: Vec3, b: Vec3):
 
 class Mat3:
     """A 3×3 matrix stored by rows; ``R @ v`` and ``R @ S`` are products.
+
+    Iterating over it gives its rows.
+
+    Parameters
+    ----------
+    rows : tuple of tuple
+        ((a, b, c), (d, e, f), (g, h, i)), entries of any scalar kind (as :class:`Vec3`'s components); kept
+        as the attribute ``rows``.
+
+    Examples
+    --------
 
     >>> R = Mat3.of(np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]))   # 90° about z
     >>> R @ Vec3(1.0, 0.0, 0.0)
@@ -130,13 +217,30 @@ class Mat3:
 
     @classmethod
     def of(cls, matrix) -> "Mat3":
-        """Mat3 from a 3×3 nested sequence or numpy array."""
+        """Mat3 from a 3×3 nested sequence or numpy array.
+
+        Parameters
+        ----------
+        matrix : sequence or numpy.ndarray, shape (3, 3)
+            The entries, by rows.
+
+        Returns
+        -------
+        Mat3
+            The matrix; Python floats for a numeric array, the entries as they are otherwise.
+
+        Examples
+        --------
+        >>> Mat3.of(np.eye(3)).rows[0]
+        (1.0, 0.0, 0.0)
+        """
         if isinstance(matrix, np.ndarray) and matrix.dtype != object:
             matrix = matrix.tolist()
         return cls(tuple(tuple(row) for row in matrix))
 
     @property
     def T(self) -> "Mat3":
+        """The transpose: ``R.T @ v`` maps a vector from the parent frame into the child frame when R = ᵖᵢR."""
         (a, b, c), (d, e, f), (g, h, i) = self.rows
         return Mat3(((a, d, g), (b, e, h), (c, f, i)))
 
@@ -158,7 +262,18 @@ class Mat3:
 class Dual:
     """a + b·ε with ε² = 0: carries a value and its exact directional derivative.
 
-    ``a`` and ``b`` may be floats or numpy arrays of shape (N,).
+    Duals add, subtract, negate and multiply (with each other and with plain scalars); :class:`Vec3` and
+    :class:`Mat3` take them as components.
+
+    Parameters
+    ----------
+    a : float or numpy.ndarray, shape (N,)
+        The value.
+    b : float or numpy.ndarray, shape (N,)
+        Its derivative along the chosen direction.
+
+    Examples
+    --------
 
     >>> x = Dual(3.0, 1.0)   # x = 3 with dx = 1
     >>> x * x + 2 * x        # x² + 2x = 15, derivative 2x + 2 = 8
@@ -256,3 +371,6 @@ def rotation_from_parts(parts, c, s) -> Mat3:
             row.append(value)
         rows.append(tuple(row))
     return Mat3(tuple(rows))
+
+
+__all__ = ["Dual", "Mat3", "Vec3", "cross", "dot", "point_acceleration"]
