@@ -36,12 +36,13 @@ from pathlib import Path
 from ..base.errors import InputError
 from .libraries import elf_files, shared_libraries
 
+#: Where the allowed packages are bound read-only in the sandbox, the one folder added to the submission's path.
 SITE = "/site"
 ALWAYS = ("numpy",)  # what every submission may use besides the standard library
 PACKAGE_FOLDERS = ("site-packages", "dist-packages")
 TOP_FOLDERS = ("/bin", "/sbin", "/lib", "/lib32", "/lib64")  # links into /usr on a merged-/usr system
-# What a Python says of itself when started as a submission's is: its base executable, its import path, its
-# standard library and where its shared libraries are.
+#: What a Python says of itself when started as a submission's is (its base executable, its import path, its
+#: standard library and where its shared libraries are): a program for ``python -I -S -c``.
 DESCRIBE = ("import json, sys, sysconfig; print(json.dumps({'executable': getattr(sys, '_base_executable', '') or "
             "sys.executable, 'path': sys.path, 'stdlib': sysconfig.get_paths()['stdlib'], "
             "'libdir': sysconfig.get_config_var('LIBDIR') or ''}))")
@@ -55,6 +56,19 @@ class Environment:
     under ``-I -S`` (the standard library, lib-dynload), ``libraries`` the shared libraries outside the
     system's folders that it and the packages load (``libpython3.X.so``; on conda its ``lib/``'s ``libz``,
     ``libcblas`` …), each by the path the dynamic loader opens.
+
+    Parameters
+    ----------
+    interpreter : pathlib.Path
+        The base Python binary.
+    stdlib : pathlib.Path
+        The standard library's folder.
+    libraries : tuple of pathlib.Path
+        The shared libraries outside the system's folders that it and the packages load.
+    packages : tuple of tuple of (str, pathlib.Path)
+        The allowed packages: (name in :data:`SITE`, the installed folder or file).
+    path : tuple of pathlib.Path
+        The interpreter's own import path under ``-I -S``.
     """
 
     interpreter: Path
@@ -70,14 +84,31 @@ class Environment:
         return ":".join(dict.fromkeys(str(library.parent) for library in self.libraries))
 
     def linked_site(self, folder: Path) -> Path:
-        """``folder`` filled with links to the allowed packages (the path of a run without a sandbox)."""
+        """``folder`` filled with links to the allowed packages (the path of a run without a sandbox).
+
+        Parameters
+        ----------
+        folder : pathlib.Path
+            An empty folder.
+
+        Returns
+        -------
+        pathlib.Path
+            ``folder``.
+        """
         for name, source in self.packages:
             os.symlink(source, folder / name)
         return folder
 
 
 def base_interpreter() -> Path:
-    """The Python binary of the base installation: a virtual environment's python is only a link to it."""
+    """The Python binary of the base installation: a virtual environment's python is only a link to it.
+
+    Returns
+    -------
+    pathlib.Path
+        The binary, links resolved.
+    """
     return Path(os.path.realpath(getattr(sys, "_base_executable", None) or sys.executable))
 
 
@@ -112,6 +143,26 @@ def submission_environment(allowed=(), site: Path | None = None, interpreter: Pa
     as the Gradescope bundle's setup makes one: :func:`copy_packages`). The interpreter is this installation's
     base Python, or the base of ``interpreter`` (a virtual environment's python names its base in
     ``pyvenv.cfg``); it must be of the same Python version as the packages.
+
+    Parameters
+    ----------
+    allowed : iterable of str
+        Top-level module names allowed besides numpy.
+    site : pathlib.Path or None
+        A folder holding the packages; this installation's when None.
+    interpreter : pathlib.Path or None
+        The Python whose base runs the submission; this installation's when None.
+
+    Returns
+    -------
+    Environment
+        The environment.
+
+    Raises
+    ------
+    InputError
+        If an allowed package is not installed (or not in ``site``), or the interpreter cannot run or puts a site
+        folder on its path (:func:`describe`).
     """
     packages: dict[str, Path] = {}
     for name in dict.fromkeys((*ALWAYS, *allowed)):
@@ -129,7 +180,24 @@ def submission_environment(allowed=(), site: Path | None = None, interpreter: Pa
 @functools.lru_cache(maxsize=None)
 def describe(interpreter: Path) -> dict:
     """What ``interpreter`` says of itself started as a submission's is (:data:`DESCRIBE`), its import path
-    reduced to the folders and files that exist; InputError when it cannot run or its path holds a site folder."""
+    reduced to the folders and files that exist; InputError when it cannot run or its path holds a site folder.
+
+    Parameters
+    ----------
+    interpreter : pathlib.Path
+        The Python binary.
+
+    Returns
+    -------
+    dict
+        ``executable`` (its base executable), ``path`` (its import path under ``-I -S``), ``stdlib`` and
+        ``libdir``.
+
+    Raises
+    ------
+    InputError
+        If it cannot run, or its import path holds a site-packages or dist-packages folder.
+    """
     try:
         ran = subprocess.run([str(interpreter), "-I", "-S", "-c", DESCRIBE], capture_output=True, text=True,
                              env={"PATH": "/usr/bin:/bin", "LANG": "C.UTF-8"}, timeout=60)
@@ -160,6 +228,11 @@ def system_folders() -> list[str]:
     """What of the system a submission's Python needs: commands, the shared libraries, the dynamic loader.
 
     Not all of ``/usr``: the rest holds other software, packages vendored by it, and what is installed.
+
+    Returns
+    -------
+    list of str
+        The folders that exist here.
     """
     import glob
 
@@ -180,7 +253,25 @@ def _site_files(site: Path, name: str) -> list[tuple[str, Path]]:
 
 
 def copy_packages(allowed, site: Path) -> list[str]:
-    """Copy numpy and ``allowed`` from this installation into ``site`` (readable by everyone); their names."""
+    """Copy numpy and ``allowed`` from this installation into ``site`` (readable by everyone); their names.
+
+    Parameters
+    ----------
+    allowed : iterable of str
+        Top-level module names allowed besides numpy.
+    site : pathlib.Path
+        The folder to copy them into.
+
+    Returns
+    -------
+    list of str
+        The names copied (a wheel's ``<name>.libs`` folder too).
+
+    Raises
+    ------
+    InputError
+        If an allowed package is not installed.
+    """
     import shutil
 
     copied = []
@@ -200,5 +291,20 @@ def copy_packages(allowed, site: Path) -> list[str]:
 
 def harness_arguments(environment: Environment) -> list[str]:
     """How the interpreter is started: isolated (-I: no PYTHON* variables, no user site), without site (-S), and
-    unbuffered (-u: what a submission prints and what its processes print stay in order)."""
+    unbuffered (-u: what a submission prints and what its processes print stay in order).
+
+    Parameters
+    ----------
+    environment : Environment
+        The submission's environment.
+
+    Returns
+    -------
+    list of str
+        The command's start: the interpreter and its options.
+    """
     return [str(environment.interpreter), "-I", "-S", "-u"]
+
+
+__all__ = ["DESCRIBE", "SITE", "Environment", "base_interpreter", "copy_packages", "describe", "harness_arguments",
+           "submission_environment", "system_folders"]

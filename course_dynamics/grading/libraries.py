@@ -30,6 +30,17 @@ def dynamic_section(path: Path) -> tuple[list[str], list[str]] | None:
     """(needed library names, search folders as written) of an ELF file; None for anything else.
 
     The search folders are ``DT_RUNPATH``'s, else ``DT_RPATH``'s (the loader ignores RPATH when RUNPATH is there).
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file; only its headers are read.
+
+    Returns
+    -------
+    tuple of (list of str, list of str) or None
+        The ``DT_NEEDED`` names and the search folders (empty for a static executable), or None for a file that is
+        not ELF or cannot be read.
     """
     try:
         with open(path, "rb") as handle:
@@ -84,6 +95,20 @@ def shared_libraries(objects, search=(), shown=()) -> tuple[Path, ...]:
     ``search`` is where the loader looks after an object's own run path (the interpreter's ``LIBDIR``). Each
     library is given by the path the loader opens (a link's name, not its target), so binding that path in a
     sandbox is what makes it load there.
+
+    Parameters
+    ----------
+    objects : iterable of str or os.PathLike
+        The ELF files.
+    search : iterable of str or os.PathLike
+        Where the loader looks after an object's own run path.
+    shown : iterable of str or os.PathLike
+        The folders the sandbox shows anyway.
+
+    Returns
+    -------
+    tuple of pathlib.Path
+        The libraries, each by the path the loader opens.
     """
     shown = tuple(Path(folder).resolve() for folder in shown)
     found: dict[Path, None] = {}
@@ -113,7 +138,21 @@ def shared_libraries(objects, search=(), shown=()) -> tuple[Path, ...]:
 
 
 def elf_files(folder: Path) -> list[Path]:
-    """The compiled modules and libraries in ``folder`` (a package, lib-dynload), in a stable order."""
+    """The compiled modules and libraries in ``folder`` (a package, lib-dynload), in a stable order.
+
+    Parameters
+    ----------
+    folder : pathlib.Path
+        A folder, or a single file.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The ``.so`` files (links left out), sorted.
+    """
     if folder.is_file():
         return [folder] if ".so" in folder.name else []
     return sorted(p for p in folder.rglob("*.so*") if p.is_file() and not p.is_symlink())
+
+
+__all__ = ["dynamic_section", "elf_files", "shared_libraries"]

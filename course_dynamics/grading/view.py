@@ -4,17 +4,17 @@ Builds keep what is installed in different places, most of them inside the
 standard library's own folder, so binding the standard library binds every
 package installed there:
 
-=====================  ==================================  ==============================================
-build                  standard library                    packages
-=====================  ==================================  ==============================================
-pyenv, python.org, uv  ``PREFIX/lib/python3.X``            ``PREFIX/lib/python3.X/site-packages``
-conda                  ``PREFIX/lib/python3.X``            ``PREFIX/lib/python3.X/site-packages`` (shared
-                                                           libraries in ``PREFIX/lib``)
-Debian, Ubuntu         ``/usr/lib/python3.X``              ``/usr/lib/python3/dist-packages``,
-                                                           ``/usr/local/lib/python3.X/dist-packages``
-Fedora                 ``/usr/lib64/python3.X``            ``/usr/lib64/python3.X/site-packages``
-a venv (``pyvenv.cfg``)  its base's                        ``VENV/lib/python3.X/site-packages``
-=====================  ==================================  ==============================================
+=======================  ==================================  ==============================================
+build                    standard library                    packages
+=======================  ==================================  ==============================================
+pyenv, python.org, uv    ``PREFIX/lib/python3.X``            ``PREFIX/lib/python3.X/site-packages``
+conda                    ``PREFIX/lib/python3.X``            ``PREFIX/lib/python3.X/site-packages`` (shared
+                                                             libraries in ``PREFIX/lib``)
+Debian, Ubuntu           ``/usr/lib/python3.X``              ``/usr/lib/python3/dist-packages``,
+                                                             ``/usr/local/lib/python3.X/dist-packages``
+Fedora                   ``/usr/lib64/python3.X``            ``/usr/lib64/python3.X/site-packages``
+a venv (``pyvenv.cfg``)  its base's                          ``VENV/lib/python3.X/site-packages``
+=======================  ==================================  ==============================================
 
 The view (:func:`view`, in bubblewrap's order: later mounts cover earlier
 ones) binds read-only the system folders a Python needs, the interpreter, the
@@ -40,13 +40,26 @@ from pathlib import Path
 from .environment import PACKAGE_FOLDERS, SITE, TOP_FOLDERS, Environment, system_folders
 
 ETC_FILES = ("/etc/ld.so.cache", "/etc/ld.so.conf", "/etc/ld.so.conf.d", "/etc/alternatives", "/etc/localtime")
+#: How deep below a bound folder a site-packages or dist-packages folder is looked for.
 SEARCH_DEPTH = 3  # how deep below a bound folder a site folder is looked for (/usr/lib64/python3.X/site-packages: 2)
 
 
 @dataclass(frozen=True)
 class Mount:
     """One mount of the view: ``bind`` (``source`` read-only at ``target``; ``optional`` when it may be missing),
-    ``link`` (a symbolic link to ``source``) or ``hidden`` (an empty read-only folder no one may list or enter)."""
+    ``link`` (a symbolic link to ``source``) or ``hidden`` (an empty read-only folder no one may list or enter).
+
+    Parameters
+    ----------
+    kind : str
+        ``"bind"``, ``"link"`` or ``"hidden"``.
+    target : str
+        Where it is in the sandbox.
+    source : str
+        What is bound there, or what the link points to.
+    optional : bool
+        For a bind, whether the source may be missing.
+    """
 
     kind: str
     target: str
@@ -56,7 +69,18 @@ class Mount:
 
 def site_folders(folders) -> list[Path]:
     """Every site-packages or dist-packages folder at most :data:`SEARCH_DEPTH` deep inside ``folders`` (real paths),
-    and any on this grader's import path that lies inside them; the outermost only, links not followed."""
+    and any on this grader's import path that lies inside them; the outermost only, links not followed.
+
+    Parameters
+    ----------
+    folders : iterable of str or os.PathLike
+        The folders bound.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The site folders, sorted.
+    """
     folders = [Path(folder) for folder in folders]
     found: set[Path] = set()
     pending = [(folder, 0) for folder in folders if folder.is_dir()]
@@ -89,7 +113,20 @@ def _inside(path: Path, folders) -> bool:
 @functools.lru_cache(maxsize=None)
 def view(environment: Environment, roots: tuple[str, ...] | None = None) -> tuple[Mount, ...]:
     """The sandbox's read-only view for ``environment`` (module docstring); ``roots`` the system folders bound
-    whole (default :func:`~course_dynamics.grading.environment.system_folders`)."""
+    whole (default :func:`~course_dynamics.grading.environment.system_folders`).
+
+    Parameters
+    ----------
+    environment : Environment
+        The submission's environment.
+    roots : tuple of str or None
+        The system folders bound whole.
+
+    Returns
+    -------
+    tuple of Mount
+        The mounts, in bubblewrap's order (later ones cover earlier ones).
+    """
     roots = tuple(system_folders()) if roots is None else roots
     mounts = [Mount("bind", folder, folder) for folder in roots]
     mounts += [Mount("link", top, os.readlink(top)) for top in TOP_FOLDERS if os.path.islink(top)]
@@ -106,7 +143,18 @@ def view(environment: Environment, roots: tuple[str, ...] | None = None) -> tupl
 
 
 def bwrap_arguments(mounts) -> list[str]:
-    """The bubblewrap options that make ``mounts``."""
+    """The bubblewrap options that make ``mounts``.
+
+    Parameters
+    ----------
+    mounts : iterable of Mount
+        The mounts, in order.
+
+    Returns
+    -------
+    list of str
+        The options.
+    """
     args = []
     for mount in mounts:
         if mount.kind == "bind":
@@ -116,3 +164,6 @@ def bwrap_arguments(mounts) -> list[str]:
         else:
             args += ["--perms", "0000", "--size", "4096", "--tmpfs", mount.target, "--remount-ro", mount.target]
     return args
+
+
+__all__ = ["SEARCH_DEPTH", "Mount", "bwrap_arguments", "site_folders", "view"]
