@@ -28,7 +28,23 @@ OURS = str(Path(__file__).resolve().parents[1])  # the package: the time limit n
 
 @contextlib.contextmanager
 def time_limit(seconds: int):
-    """Interrupt the code in the block after ``seconds`` (module docstring); outside the main thread, no limit."""
+    """Interrupt the code in the block after ``seconds`` (module docstring); outside the main thread, no limit.
+
+    Parameters
+    ----------
+    seconds : int
+        The time limit, s (of wall-clock time).
+
+    Yields
+    ------
+    None
+        The block runs under the limit.
+
+    Raises
+    ------
+    CheckTimeout
+        In the block's code, once ``seconds`` have passed (and at every line after, until the block ends).
+    """
     if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "SIGALRM"):
         yield
         return
@@ -61,3 +77,6 @@ def time_limit(seconds: int):
         while frame is not None:
             frame.f_trace, frame.f_trace_opcodes = None, False
             frame = frame.f_back
+
+
+__all__ = ["CheckTimeout", "time_limit"]
