@@ -9,7 +9,8 @@ measured on the course's robots (2-core machine, NumPy; the per-state costs hold
 quantity              size
 ====================  =====================================================================================
 P                     2 n (H − 1) free coefficients
-K_c                   ``CONSTRAINT_POINTS`` H instants where the limits are imposed (:mod:`.excitation`)
+K_c                   ``CONSTRAINT_POINTS`` H instants where the limits are imposed
+                      (:mod:`~course_dynamics.tools.excitation`)
 m                     2 K_c (joints with a range + with a velocity limit + with an effort limit) rows of
                       the constraints' Jacobian (m, P), which SLSQP copies into its own work arrays
 linear maps           3 (instants + K_c) n P floats: the motion as a linear function of the coefficients
@@ -38,7 +39,9 @@ from ..core.evaluator import inverse_dynamics
 from ..core.regressor import regressor
 from ..base.errors import InputError
 
+#: The most harmonics an excitation may have (the module docstring says why).
 HARMONICS_MAX = 50           # see the module docstring
+#: The most instants κ is optimised on.
 INSTANTS_MAX = 10_000        # instants κ is optimised on
 BATCH_BYTES = 64 * 2**20     # work arrays of one regressor or inverse-dynamics call
 REGRESSOR_WORK = 24          # the regressor's work per state, in floats per entry of Y (n × 10 n); measured 17-22
@@ -49,15 +52,33 @@ INVERSE_DYNAMICS_SECONDS = 3e-6  # per Jacobian state and joint, an iteration's;
 SUBPROBLEM_SECONDS = 1.6e-8  # SLSQP, per iteration and m P²; measured 1.1e-8 to 1.6e-8 end to end
 WRITE_SECONDS = 2e-6         # per value written as CSV: measured 1e-6 alone, 3.5e-6 with both cores busy
 SAMPLE_VALUES = 6            # floats per written sample and joint: q, q̇, q̈, τ kept, two temporaries of the checks
+#: A run estimated to take longer than this many seconds is said before it starts.
 LONG = 60.0                  # s: a run estimated to take longer is said before it starts
 
 
 class ExcitationError(InputError):
-    """An excitation that cannot be made or does not stay within the limits (the message says which)."""
+    """An excitation that cannot be made or does not stay within the limits (the message says which).
+
+    An :class:`~course_dynamics.base.errors.InputError`: one line on the command line.
+    """
 
 
 class Cost(NamedTuple):
-    """An excitation's estimated memory (bytes) and seconds: to set up, per iteration, for the samples."""
+    """An excitation's estimated memory (bytes) and seconds: to set up, per iteration, for the samples.
+
+    Parameters
+    ----------
+    memory : float
+        The peak memory, bytes.
+    setup : float
+        The time to set up, s.
+    iteration : float
+        The time of one iteration, s.
+    samples : float
+        The time to compute and write the samples, s.
+    iterations : int
+        The most iterations the run may take.
+    """
 
     memory: float
     setup: float
@@ -67,10 +88,17 @@ class Cost(NamedTuple):
 
     @property
     def seconds(self) -> float:
+        """The whole run's estimated time, s, at the most iterations."""
         return self.setup + (self.iterations + 1) * self.iteration + self.samples  # + SLSQP's last evaluations
 
     def describe(self) -> str:
-        """'about 25 min (15 s an iteration × 100, 3 s for the samples), 1.2 GiB' for a warning."""
+        """'about 25 min (15 s an iteration × 100, 3 s for the samples), 1.2 GiB' for a warning.
+
+        Returns
+        -------
+        str
+            The time and the memory, in words.
+        """
         return (f"about {_duration(self.seconds)} ({_duration(self.iteration)} an iteration × {self.iterations}, "
                 f"{_duration(self.setup + self.samples)} to set up and write the samples), {format_bytes(self.memory)}")
 
@@ -89,7 +117,35 @@ def states_per_call(n: int, regressor_call: bool = True) -> int:
 
 def cost(model, harmonics: int, instants: int, samples: int, max_iterations: int, constraint_points: int,
          fine_points: int) -> Cost:
-    """The estimate of the module docstring for ``model``; ExcitationError (one line) beyond the memory budget."""
+    """The estimate of the module docstring for ``model``; ExcitationError (one line) beyond the memory budget.
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    harmonics : int
+        H, the harmonics of the Fourier series.
+    instants : int
+        The instants κ is optimised on.
+    samples : int
+        The samples to be written.
+    max_iterations : int
+        The most iterations of the optimisation.
+    constraint_points : int
+        Instants per harmonic where the limits are imposed.
+    fine_points : int
+        Instants per harmonic where the result is checked.
+
+    Returns
+    -------
+    Cost
+        The estimated memory and times.
+
+    Raises
+    ------
+    ExcitationError
+        If the memory needed is beyond the budget.
+    """
     n = model.n
     P, Kc = 2 * n * (harmonics - 1), constraint_points * harmonics
     ranged = np.isfinite(model.lower) & np.isfinite(model.upper)
@@ -114,7 +170,26 @@ def _is_integer(value) -> bool:
 
 
 def check_options(duration, harmonics, instants, max_iterations, margin) -> None:
-    """ExcitationError (one line) for an option no excitation can have, before anything is computed."""
+    """ExcitationError (one line) for an option no excitation can have, before anything is computed.
+
+    Parameters
+    ----------
+    duration : float
+        The excitation's period, s; positive.
+    harmonics : int
+        From 2 to :data:`HARMONICS_MAX`.
+    instants : int
+        From 1 to :data:`INSTANTS_MAX`.
+    max_iterations : int
+        At least 0.
+    margin : float
+        The share of each limit kept free, 0 ≤ margin < 1.
+
+    Raises
+    ------
+    ExcitationError
+        If an option is out of its range.
+    """
     if not (np.isfinite(duration) and duration > 0):
         raise ExcitationError(f"the duration must be a positive number of seconds, got {duration}")
     if not (_is_integer(harmonics) and 2 <= harmonics <= HARMONICS_MAX):
@@ -184,3 +259,6 @@ def torques(model, q, qd, qdd, tick=None) -> np.ndarray:
         if tick is not None:
             tick(len(tau[start:start + step]))
     return tau.reshape(shape)
+
+
+__all__ = ["HARMONICS_MAX", "INSTANTS_MAX", "LONG", "Cost", "ExcitationError", "check_options", "cost"]
