@@ -37,7 +37,18 @@ def _sympy():
 
 
 def time_functions(*names: str):
-    """t and one real function of t per name: ``t, theta1, d2 = time_functions("theta1", "d2")``."""
+    """t and one real function of t per name: ``t, theta1, d2 = time_functions("theta1", "d2")``.
+
+    Parameters
+    ----------
+    *names : str
+        The joints' names (``"theta1"``, ``"d2"``).
+
+    Returns
+    -------
+    tuple
+        The real sympy symbol t (s), then θ(t) (rad) or d(t) (m) as an applied sympy function, one per name.
+    """
     sympy = _sympy()
     t = sympy.Symbol("t", real=True)
     return (t, *(sympy.Function(name, real=True)(t) for name in names))
@@ -48,6 +59,18 @@ def in_joint_symbols(expression, joints: dict):
 
     Second derivatives go first, so that θ̈ is never read as the derivative of θ̇; an expression already written in
     the symbols is returned as it is.
+
+    Parameters
+    ----------
+    expression : sympy.Expr or str
+        The expression in θ(t) and its derivatives (what sympy can ``sympify``).
+    joints : dict
+        Joint name → (q, qd, qdd), the sympy symbols of Θ, Θ̇ and Θ̈ for that joint.
+
+    Returns
+    -------
+    sympy.Expr
+        The expression in the joint symbols.
     """
     sympy = _sympy()
     t = sympy.Symbol("t", real=True)
@@ -81,7 +104,33 @@ def display_names(joints: dict) -> dict:
 
 def term_differences(answer, expected, joints: dict, g, row: int) -> list[str]:
     """What differs between τ_row as derived (``answer``) and as it should be, term by term ([] if they agree),
-    in Craig's names: "M₁₁ is missing m2*d₂^2", "V₁ lacks the Coriolis term 2*m2*d₂*ḋ₂*θ̇₁", "G₂ has an extra …"."""
+    in Craig's names: "M₁₁ is missing m2*d₂^2", "V₁ lacks the Coriolis term 2*m2*d₂*ḋ₂*θ̇₁", "G₂ has an extra …".
+
+    Parameters
+    ----------
+    answer : sympy.Expr
+        τ_row as derived, in the joint symbols (:func:`in_joint_symbols`).
+    expected : sympy.Expr
+        τ_row as it should be, in the same symbols.
+    joints : dict
+        Joint name → (q, qd, qdd), the sympy symbols of Θ, Θ̇ and Θ̈ for that joint.
+    g : sympy.Symbol
+        The symbol of gravity's acceleration, m/s².
+    row : int
+        The joint's number, from 1 (for the names τᵢ, Mᵢⱼ, Vᵢ, Gᵢ).
+
+    Returns
+    -------
+    list of str
+        One line per differing term; empty when the two are equal up to simplification.
+
+    Examples
+    --------
+    >>> import sympy
+    >>> q, qd, qdd, m, g = sympy.symbols("q_theta1 qd_theta1 qdd_theta1 m g", real=True)
+    >>> term_differences(m * qdd, m * qdd + m * g * sympy.cos(q), {"theta1": (q, qd, qdd)}, g, 1)
+    ['G₁ is missing g*m*cos(θ₁)']
+    """
     sympy = _sympy()
     if sympy.simplify(sympy.expand(answer - expected)) == 0:
         return []
@@ -188,3 +237,6 @@ def equation_problems(rows, expected, joints: dict, parameters, g) -> list[str]:
     parts = [line.split(" ")[0].rstrip("'s") for lines_ in found for line in lines_]
     return [f"these parts differ from the right ones: {', '.join(dict.fromkeys(parts))} — start again from k and u, "
             "and take d/dt with the chain rule"]
+
+
+__all__ = ["in_joint_symbols", "term_differences", "time_functions"]
