@@ -1,15 +1,15 @@
 """What keeps a run's processes and memory in, beside the sandbox: cgroups, a seccomp filter, the subreaper.
 
-==================  ============================================================
-mechanism           what it holds
-==================  ============================================================
-:class:`ControlGroups`  pids and memory cgroups for one run's whole tree, where the
-                    machine lets us make them (cgroup v1 or v2)
-:func:`seccomp_program` a BPF filter the launcher installs: no ``memfd_create``
-                    or System V shared memory (memory no limit counts)
-:func:`become_subreaper`, :func:`kill_orphans`  without a sandbox, processes a
-                    submission detaches are re-parented to the grader and killed
-==================  ============================================================
+==============================================  ============================================================
+mechanism                                       what it holds
+==============================================  ============================================================
+:class:`ControlGroups`                          pids and memory cgroups for one run's whole tree, where the
+                                                machine lets us make them (cgroup v1 or v2)
+:func:`seccomp_program`                         a BPF filter the launcher installs: no ``memfd_create``
+                                                or System V shared memory (memory no limit counts)
+:func:`become_subreaper`, :func:`kill_orphans`  without a sandbox, processes a submission detaches are
+                                                re-parented to the grader and killed
+==============================================  ============================================================
 """
 from __future__ import annotations
 
@@ -21,6 +21,7 @@ from pathlib import Path
 
 from ..base.errors import CourseDynamicsError
 
+#: The most processes one run may have at once (its pids cgroup, or ``RLIMIT_NPROC`` beyond those already running).
 PROCESSES = 64
 
 
@@ -44,6 +45,16 @@ def seccomp_program(machine: str | None = None) -> bytes | None:
     """The BPF program of the filter for this machine (None where we know no numbers: the run says so).
 
     Any other ABI than the machine's own (32-bit calls, x32) is refused too: it would number calls otherwise.
+
+    Parameters
+    ----------
+    machine : str or None
+        The machine, as ``platform.machine()`` names it (``x86_64``, ``aarch64``); this one when None.
+
+    Returns
+    -------
+    bytes or None
+        The program's instructions, or None for a machine whose system call numbers are not known here.
     """
     import platform
     import struct
@@ -71,6 +82,13 @@ class ControlGroups:
 
     ``procs`` lists the cgroup.procs files the launcher joins; ``available``
     says whether a process limit holds for the whole tree.
+
+    Parameters
+    ----------
+    name : str
+        The cgroups' name, one per run.
+    memory_bytes : int
+        The memory limit of the whole tree, bytes.
     """
 
     def __init__(self, name: str, memory_bytes: int):
@@ -89,6 +107,7 @@ class ControlGroups:
 
     @property
     def available(self) -> bool:
+        """Whether a pids cgroup, and so a process limit for the whole tree, was made."""
         return any((folder / "pids.max").exists() for folder in self.folders)
 
     @staticmethod
@@ -112,6 +131,13 @@ class ControlGroups:
         return None
 
     def pids(self) -> set[int]:
+        """The processes in the groups now.
+
+        Returns
+        -------
+        set of int
+            Their process ids.
+        """
         found = set()
         for procs in self.procs:
             try:
@@ -121,7 +147,13 @@ class ControlGroups:
         return found
 
     def out_of_memory(self) -> bool:
-        """Whether the memory cgroup killed a process (read before :meth:`kill_and_remove`)."""
+        """Whether the memory cgroup killed a process (read before :meth:`kill_and_remove`).
+
+        Returns
+        -------
+        bool
+            True when it killed one or refused memory; False without a memory cgroup.
+        """
         if self.memory is None:
             return False
         for events in ("memory.events", "memory.oom_control"):
@@ -197,7 +229,13 @@ def children() -> set[int]:
 
 
 def become_subreaper() -> None:
-    """Make detached descendants of a run children of the grader (module docstring); once per process."""
+    """Make detached descendants of a run children of the grader (module docstring); once per process.
+
+    Raises
+    ------
+    ContainmentError
+        If the system refuses (``prctl(PR_SET_CHILD_SUBREAPER)`` fails).
+    """
     global BEFORE
     if BEFORE is not None:
         return
@@ -236,6 +274,16 @@ def process_limit(uid: int | None = None) -> int | None:
     running plus PROCESSES.
 
     None for root, to whom the kernel does not apply the limit.
+
+    Parameters
+    ----------
+    uid : int or None
+        The user the run takes; this process's when None.
+
+    Returns
+    -------
+    int or None
+        The limit, or None for root.
     """
     uid = os.getuid() if uid is None else uid
     if uid == 0:
@@ -253,7 +301,18 @@ def process_limit(uid: int | None = None) -> int | None:
 
 
 def kill_group(pid: int) -> None:
+    """Kill the process group ``pid`` leads (SIGKILL); nothing when it is gone or not ours.
+
+    Parameters
+    ----------
+    pid : int
+        The group leader's process id.
+    """
     try:
         os.killpg(pid, signal.SIGKILL)
     except (ProcessLookupError, PermissionError):
         pass
+
+
+__all__ = ["PROCESSES", "ContainmentError", "ControlGroups", "become_subreaper", "kill_group", "kill_orphans",
+           "process_limit", "seccomp_program"]

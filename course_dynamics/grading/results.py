@@ -32,6 +32,7 @@ MAX_NAMES = 100            # forbidden import attempts listed
 MAX_DIGITS = 18            # an integer in the document (a shape, a returned int) has at most this many digits
 BYTES_PER_VALUE = 32       # a float's repr with its separator
 BYTES_PER_RECORD = 2 * MAX_TEXT + 256
+#: The most bytes of the integrity channel read, bytes: every flag code's lines, and the closing line.
 FLAGS_BYTES = (len(FLAGS) * MAX_FLAG_LINES + 2) * (4 * MAX_FLAG_DETAIL + 64)  # the integrity channel, read at most
 KEY_WINDOW = 8  # a tagged line may come this many keys ahead (a line lost, two threads' lines crossed)
 MAX_FOREIGN = 1000  # lines that are not the hook's, checked at most (one is enough to say so)
@@ -42,7 +43,18 @@ class InvalidResults(CourseDynamicsError):
 
 
 def results_cap(plan: dict) -> int:
-    """Bytes a results document for ``plan`` may take: every call answered with an n×n array or an error."""
+    """Bytes a results document for ``plan`` may take: every call answered with an n×n array or an error.
+
+    Parameters
+    ----------
+    plan : dict
+        The harness's plan: ``functions``, per function its argument lists.
+
+    Returns
+    -------
+    int
+        The cap, bytes.
+    """
     total = 4 * MAX_TEXT + MAX_NAMES * 256 + 4096
     for calls in plan.get("functions", {}).values():
         for arguments in calls:
@@ -114,7 +126,26 @@ def _record(record) -> dict:
 
 
 def read_results(data: bytes, plan: dict) -> dict:
-    """The checked document (module docstring) from the raw bytes; InvalidResults for anything else."""
+    """The checked document (module docstring) from the raw bytes; InvalidResults for anything else.
+
+    Parameters
+    ----------
+    data : bytes
+        What came back on the results channel.
+    plan : dict
+        The harness's plan the document answers.
+
+    Returns
+    -------
+    dict
+        The document, checked: ``status``, ``message``, ``defined``, ``forbidden_attempts`` and ``results``.
+
+    Raises
+    ------
+    InvalidResults
+        If the document is larger than :func:`results_cap`, not JSON of a bounded depth, or not of the shape the
+        harness writes (any field, name, record, number or shape).
+    """
     cap = results_cap(plan)
     if len(data) > cap:
         raise InvalidResults(f"the results document has more than {cap} bytes")
@@ -156,6 +187,20 @@ def read_flags(data: bytes, nonce: str, results: bytes | None) -> list[tuple[str
     MAX_FLAG_LINES are kept per code. ``results`` are the results document's bytes (None: none came back, and the
     status says what happened); a channel whose closing line (``end<TAB>digest``) does not hold their SHA-256 is
     ``channel-closed`` too: the hook withheld it (it saw tampering), or was switched off, or the line was forged early.
+
+    Parameters
+    ----------
+    data : bytes
+        What came back on the integrity channel.
+    nonce : str
+        The run's secret, which the keys come from.
+    results : bytes or None
+        The results document's bytes, None when none came back.
+
+    Returns
+    -------
+    list of tuple of (str, str)
+        The flags (code, detail), each once, in the order they came.
     """
     flags, closed, counts, foreign = [], False, dict.fromkeys(FLAGS, 0), 0
     keys, used = [first_key(nonce)] if nonce else [], set()
@@ -191,3 +236,6 @@ def read_flags(data: bytes, nonce: str, results: bytes | None) -> list[tuple[str
     elif results is not None and (foreign or len(data) > FLAGS_BYTES):
         flags.append(("channel-closed", "written to by the submission"))
     return list(dict.fromkeys(flags))
+
+
+__all__ = ["FLAGS_BYTES", "InvalidResults", "read_flags", "read_results", "results_cap"]
