@@ -240,7 +240,7 @@ class Mat3:
 
     @property
     def T(self) -> "Mat3":
-        """The transpose: ``R.T @ v`` maps a vector from the parent frame into the child frame when R = ᵖᵢR."""
+        """The transpose; ``R.T @ v`` maps a vector from the parent frame into the child frame when R = ᵖᵢR."""
         (a, b, c), (d, e, f), (g, h, i) = self.rows
         return Mat3(((a, d, g), (b, e, h), (c, f, i)))
 

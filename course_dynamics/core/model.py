@@ -43,7 +43,7 @@ from ..base.errors import ModelError
 from .algebra import Mat3, Vec3
 from .joints import KINDS
 
-#: g at the Earth's surface, pointing down the base frame's z axis, m/s²: the default of every model.
+#: g at the Earth's surface in m/s², pointing down the base frame's z axis (the default of every model).
 STANDARD_GRAVITY = (0.0, 0.0, -9.81)
 JOINT_TYPES = tuple(KINDS)  # what each does: course_dynamics.core.joints
 
@@ -171,7 +171,10 @@ class Body:
 
     @cached_property
     def rotation_parts(self) -> tuple:
-        """(R0 a aᵀ, R0 (1 − a aᵀ), R0 [a]ₓ) as nested tuples: ᵖᵢR(θ) = K₀ + cos θ K_c + sin θ K_s."""
+        """The constant parts (K₀, K_c, K_s) of ᵖᵢR(θ) = K₀ + cos θ K_c + sin θ K_s, as nested tuples.
+
+        They are (R0 a aᵀ, R0 (1 − a aᵀ), R0 ``[a]ₓ``), a being the unit axis.
+        """
         a = self.axis
         A = np.outer(a, a)
         K = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]], dtype=a.dtype)
@@ -297,7 +300,7 @@ class Model:
 
     @cached_property
     def children(self) -> tuple[tuple[int, ...], ...]:
-        """children[i]: indices of the bodies whose parent is body i."""
+        """The indices of the bodies whose parent is body i, for each body i (``children[i]``)."""
         return tuple(tuple(j for j, b in enumerate(self.bodies) if b.parent == i) for i in range(self.n))
 
     @cached_property
@@ -322,7 +325,7 @@ class Model:
 
     @property
     def frame_names(self) -> tuple[str, ...]:
-        """The names of ``frames``: every URDF link."""
+        """The names of ``frames``, every URDF link."""
         return tuple(f.name for f in self.frames)
 
     def frame(self, name: str) -> Frame:
@@ -356,7 +359,7 @@ class Model:
 
     @cached_property
     def gravity_v(self) -> Vec3:
-        """g (m/s², base frame) as a Vec3: the one place the algorithms read gravity from.
+        """g in m/s², base frame, as a Vec3; the one place the algorithms read gravity from.
 
         It enters the recursion once, as the base acceleration ⁰v̇₀ = −g; :meth:`with_gravity` is the one
         way to change it.
