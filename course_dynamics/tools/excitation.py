@@ -12,7 +12,7 @@ code             symbol       meaning (shape, unit)
 ``kappa``        κ            condition number of Y_b stacked over K instants, columns scaled to unit norm
 ===============  ===========  ==========================================================================
 
-Each joint moves along a finite Fourier series (Swevers' form), periodic over T by construction:
+Each joint moves along a finite Fourier series (Swevers' form), periodic over T by construction::
 
     q_j(t) = q0_j + Σ_{k=1..H} a_jk/(ω_f k) sin(ω_f k t) − b_jk/(ω_f k) cos(ω_f k t)
     q̇_j(t) = Σ_k a_jk cos(ω_f k t) + b_jk sin(ω_f k t)
@@ -28,8 +28,8 @@ to κ times that of the torques. Unit-norm columns make κ independent of the pa
 as in :func:`~course_dynamics.tools.identification.identify`; repeating the period keeps κ.
 
 SLSQP (SciPy), from seeded random coefficients, minimises log κ on ``samples`` instants of the period,
-keeping |q − q_mid|, |q̇| and |τ| (our inverse dynamics, rigid bodies) within (1 − margin) of half the range,
-the velocity and the effort limit on ``CONSTRAINT_POINTS`` instants per period of the highest harmonic. q and
+keeping ``|q − q_mid|``, ``|q̇|`` and ``|τ|`` (our inverse dynamics, rigid bodies) within (1 − margin) of half the
+range, the velocity and the effort limit on ``CONSTRAINT_POINTS`` instants per period of the highest harmonic. q and
 q̇ are linear in x (exact Jacobians); the other gradients are forward differences, one batched call each. The
 best feasible iterate is kept, and checked against the limits themselves on ``FINE_POINTS`` instants per
 period of the highest harmonic and on the written samples.
@@ -48,16 +48,24 @@ from . import excitationcost as batches  # the cost estimated up front, evaluati
 from .excitationcost import ExcitationError
 from .simulation import time_grid
 
+#: H by default.
 HARMONICS = 5           # H
+#: Instants of the period on which κ is optimised, by default.
 SAMPLES = 40            # instants of the period on which κ is optimised
+#: SLSQP's iterations at most, by default.
 MAX_ITERATIONS = 100    # of SLSQP
+#: The share of each limit the optimisation keeps clear of, by default.
 MARGIN = 0.05           # the share of each limit the optimisation keeps clear of
+#: Seconds between written samples, by default.
 DT = 0.01               # s between written samples
+#: Instants per period of the highest harmonic where the limits are imposed.
 CONSTRAINT_POINTS = 24  # instants per period of the highest harmonic where the limits are imposed
+#: Instants per period of the highest harmonic where the result is checked.
 FINE_POINTS = 200       # instants per period of the highest harmonic where the result is checked
 STEP = 1e-6             # forward-difference step in x
 START_SHARE = 0.5       # the random start uses half of the tightest position or velocity limit
 FEASIBLE = 1e-6         # slack (a share of a limit) within which an iterate counts as feasible
+#: The kinds of limit an excitation keeps within, as :class:`LimitShares` names them.
 KINDS = ("position", "velocity", "effort")
 SMALLEST = 1e-6         # rad, m, rad/s or m/s: a joint whose half range or velocity limit is below it cannot move
 
@@ -74,6 +82,17 @@ class Fourier:
     >>> q, qd, qdd = f([0.0, 0.5])
     >>> q.round(4).tolist(), qd.round(4).tolist()
     ([[0.1], [0.4183]], [[0.0], [1.0]])
+
+    Parameters
+    ----------
+    period : float
+        T, the motion's period, s.
+    q0 : numpy.ndarray, shape (n,)
+        Each joint's offset q0_j, rad (m for a prismatic joint).
+    a : numpy.ndarray, shape (n, H)
+        The cosine coefficients a_jk of q̇, rad/s (m/s).
+    b : numpy.ndarray, shape (n, H)
+        The sine coefficients b_jk of q̇, rad/s (m/s).
     """
 
     period: float
@@ -89,6 +108,7 @@ class Fourier:
 
     @property
     def harmonics(self) -> int:
+        """H, the number of harmonics."""
         return self.a.shape[1]
 
     def __call__(self, t):
@@ -105,7 +125,19 @@ class Fourier:
 class LimitShares:
     """The largest share of each limit a motion uses, per joint (n,): 1 is at the limit, NaN where none is given.
 
-    Position: max |q − q_mid| over half the range; velocity: max |q̇| over the limit; effort: max |τ| over it.
+    Position: max ``|q − q_mid|`` over half the range; velocity: max ``|q̇|`` over the limit; effort: max ``|τ|``
+    over it.
+
+    Parameters
+    ----------
+    joints : tuple of str
+        The joints' names, in the model's order.
+    position : numpy.ndarray, shape (n,)
+        The share of half the range used.
+    velocity : numpy.ndarray, shape (n,)
+        The share of the velocity limit used.
+    effort : numpy.ndarray, shape (n,)
+        The share of the effort limit used.
     """
 
     joints: tuple[str, ...]
@@ -114,7 +146,20 @@ class LimitShares:
     effort: np.ndarray
 
     def largest(self, kind: str) -> tuple[float, str | None]:
-        """(share, joint) of the joint that uses most of ``kind``'s limit; (NaN, None) if no joint has one."""
+        """(share, joint) of the joint that uses most of ``kind``'s limit; (NaN, None) if no joint has one.
+
+        Parameters
+        ----------
+        kind : str
+            One of :data:`KINDS`.
+
+        Returns
+        -------
+        share : float
+            The largest share.
+        joint : str or None
+            The joint that uses it.
+        """
         shares = getattr(self, kind)
         if not np.isfinite(shares).any():
             return float("nan"), None
@@ -122,6 +167,13 @@ class LimitShares:
         return float(shares[j]), self.joints[j]
 
     def record(self) -> dict:
+        """The shares, JSON-ready.
+
+        Returns
+        -------
+        dict
+            {kind: {joint: share or None}}.
+        """
         return {kind: {j: _number(s) for j, s in zip(self.joints, getattr(self, kind))} for kind in KINDS}
 
 
@@ -131,6 +183,37 @@ class Excitation:
     our inverse dynamics, rigid bodies); ``condition``: κ on the fine grid, ``condition_start``: the random start's,
     ``condition_samples``: κ on the optimisation's instants; ``limits``: the shares used (fine grid and samples);
     ``notes``: the limits the URDF lacks; ``ended``: how the optimisation ended.
+
+    Parameters
+    ----------
+    joints : tuple of str
+        The joints' names, in the model's order.
+    t : numpy.ndarray, shape (K,)
+        The written samples' times, s.
+    q : numpy.ndarray, shape (K, n)
+        Joint positions Θ, rad (m for a prismatic joint).
+    qd : numpy.ndarray, shape (K, n)
+        Joint velocities Θ̇, rad/s (m/s).
+    qdd : numpy.ndarray, shape (K, n)
+        Joint accelerations Θ̈, rad/s² (m/s²).
+    tau : numpy.ndarray, shape (K, n)
+        Joint torques τ by our inverse dynamics, rigid bodies, N·m (N).
+    coefficients : Fourier
+        The motion.
+    condition : float
+        κ on the fine grid.
+    condition_start : float
+        κ of the random start.
+    condition_samples : float
+        κ on the optimisation's instants.
+    limits : LimitShares
+        The shares of the limits used, on the fine grid and the samples.
+    iterations : int
+        SLSQP's iterations.
+    notes : tuple of str
+        The limits the URDF lacks.
+    ended : str
+        How the optimisation ended.
     """
 
     joints: tuple[str, ...]
@@ -149,13 +232,32 @@ class Excitation:
     ended: str = ""
 
     def table(self, rows: slice = slice(None)) -> tuple[list[str], np.ndarray]:
-        """(header, data) of samples ``rows``: t, q_<joint>, qd_<joint>, qdd_<joint>, tau_<joint>, as ``torques`` and
-        ``simulate`` read."""
+        """(header, data) of samples ``rows``: t, ``q_<joint>``, ``qd_<joint>``, ``qdd_<joint>``, ``tau_<joint>``, as
+        ``torques`` and ``simulate`` read.
+
+        Parameters
+        ----------
+        rows : slice
+            The samples.
+
+        Returns
+        -------
+        header : list of str
+            The column names.
+        data : numpy.ndarray, shape (rows, 4 n + 1)
+            One row per sample, SI units.
+        """
         header = ["t"] + [f"{kind}_{j}" for kind in ("q", "qd", "qdd", "tau") for j in self.joints]
         return header, np.column_stack([v[rows] for v in (self.t, self.q, self.qd, self.qdd, self.tau)])
 
     def record(self) -> dict:
-        """A JSON-ready summary (no samples)."""
+        """A JSON-ready summary (no samples).
+
+        Returns
+        -------
+        dict
+            κ, the largest shares, the shares per joint, the coefficients, the notes and how it ended.
+        """
         largest = {kind: dict(share=_number(share), joint=joint)
                    for kind, (share, joint) in ((k, self.limits.largest(k)) for k in KINDS)}
         return dict(joints=list(self.joints), duration=float(self.coefficients.period),
@@ -169,6 +271,24 @@ class Excitation:
 
 def condition_number(model: Model, q, qd, qdd, base: BaseParameters | None = None) -> float:
     """κ: the condition number of the base regressor stacked over the samples (K, n), columns of unit norm.
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : numpy.ndarray, shape (K, n)
+        Joint positions Θ, rad (m for a prismatic joint).
+    qd : numpy.ndarray, shape (K, n)
+        Joint velocities Θ̇, rad/s (m/s).
+    qdd : numpy.ndarray, shape (K, n)
+        Joint accelerations Θ̈, rad/s² (m/s²).
+    base : BaseParameters, optional
+        The model's base parameters, if already computed.
+
+    Returns
+    -------
+    float
+        κ; inf where a column of the regressor vanishes.
 
     >>> from course_dynamics import load_robot
     >>> t = np.linspace(0, 2 * np.pi, 50)[:, None]             # both joints in phase: a poor excitation
@@ -341,6 +461,22 @@ def _start(problem: _Problem, rng) -> np.ndarray:
 def limit_shares(model: Model, q, qd, tau) -> LimitShares:
     """The shares of the URDF's limits a motion (K, n) uses, position measured from the middle of the range.
 
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : numpy.ndarray, shape (K, n)
+        Joint positions Θ, rad (m for a prismatic joint).
+    qd : numpy.ndarray, shape (K, n)
+        Joint velocities Θ̇, rad/s (m/s).
+    tau : numpy.ndarray, shape (K, n)
+        Joint torques τ, N·m (N).
+
+    Returns
+    -------
+    LimitShares
+        Per joint, the largest share of each limit; NaN where none is given.
+
     >>> from course_dynamics import load_robot
     >>> arm = load_robot("rp_arm")                   # d2 between 0.1 and 0.8 m, at most 1 m/s
     >>> shares = limit_shares(arm, [[0.0, 0.8]], [[0.0, 0.5]], [[50.0, 0.0]])
@@ -365,18 +501,38 @@ def excitation(model: Model, duration: float, harmonics: int = HARMONICS, sample
 
     Parameters
     ----------
-    model : the robot; its position, velocity and effort limits bound the motion
-    duration : T, s: one period
-    harmonics : H ≥ 2; samples : instants of the period κ is optimised on; seed : of the random start
-    max_iterations : of SLSQP; margin : share of each limit kept clear of, 0 ≤ margin < 1
-    dt : s between the written samples (t = 0 … T, both ends: the motion is at rest in the middle at both)
-    progress : called as ``progress(iteration, max_iterations)``
+    model : Model
+        The robot; its position, velocity and effort limits bound the motion.
+    duration : float
+        T, one period, s.
+    harmonics : int
+        H ≥ 2.
+    samples : int
+        The instants of the period κ is optimised on.
+    seed : int
+        The seed of the random start.
+    max_iterations : int
+        SLSQP's iterations at most.
+    margin : float
+        The share of each limit kept clear of, 0 ≤ margin < 1.
+    dt : float
+        Seconds between the written samples (t = 0 … T, both ends: the motion is at rest in the middle at both).
+    progress : callable, optional
+        Called as ``progress(iteration, max_iterations)``.
+
+    Returns
+    -------
+    Excitation
+        The samples, the coefficients, κ and the shares of the limits used.
 
     Raises
     ------
     ExcitationError
         A bad option, a joint without position and velocity limits or that cannot move, a robot that
         cannot rest in the middle within its effort limits, or a result beyond a limit on the fine grid.
+    SimulationError
+        A ``duration`` or ``dt`` that gives no time grid (not positive, ``dt`` longer than ``duration``, too many
+        samples for the memory budget).
 
     >>> from course_dynamics import load_robot
     >>> found = excitation(load_robot("two_link"), 4.0, harmonics=3, samples=12, max_iterations=15)
@@ -446,3 +602,7 @@ def excitation(model: Model, duration: float, harmonics: int = HARMONICS, sample
         condition=condition, condition_start=condition_start,
         condition_samples=float(np.exp(best[0])), limits=shares, iterations=iterations, notes=bounds.notes, ended=ended)
 
+
+__all__ = ["CONSTRAINT_POINTS", "DT", "FINE_POINTS", "HARMONICS", "KINDS", "MARGIN", "MAX_ITERATIONS", "SAMPLES",
+           "Excitation", "ExcitationError", "Fourier", "LimitShares", "condition_number", "excitation",
+           "limit_shares"]
