@@ -41,7 +41,9 @@ from .mesh_limits import (
     read_mesh_bytes,
 )
 
+#: The choices of ``geometry``: what :func:`robot_geometry` draws (module docstring).
 GEOMETRIES = ("auto", "visual", "collision", "stick")
+#: With ``geometry="auto"``, visual meshes larger than this together, bytes, give way to the collision meshes.
 MESH_BUDGET_BYTES = 1_500_000  # auto: larger visual meshes fall back to collision meshes
 PACKAGE_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*")  # a ROS package name: never '..', never a path
 DEFAULT_COLOUR = (0.65, 0.67, 0.72)
@@ -50,15 +52,22 @@ AXIS_COLOUR = 0xd08030
 COM_COLOUR = 0xc0392b
 TORQUE_COLOUR = 0x27ae60
 PATH_COLOUR = 0x8e44ad
+#: Frames per second of an animation, Hz.
 ANIMATION_FPS = 30
 
 
 class ViewerError(CourseDynamicsError):
-    """A trajectory that does not fit the robot, or an output that cannot be written."""
+    """A trajectory that does not fit the robot, or an output that cannot be written.
+
+    Also an unknown ``geometry``, a mesh file that cannot be read, and a meshcat server that did not start.
+    """
 
 
 class MeshWarning(CourseDynamicsWarning):
-    """A mesh file of the URDF is not found, not allowed, or too big; the stick model is used instead."""
+    """A mesh file of the URDF is not found, not allowed, or too big; the stick model is used instead.
+
+    Also given when a mesh outside the URDF's folder is read because ``mesh_anywhere`` asked for it.
+    """
 
 
 # ---------------------------------------------------------------------------------- geometry
@@ -66,7 +75,26 @@ class MeshWarning(CourseDynamicsWarning):
 
 @dataclass
 class Shape:
-    """One piece of geometry, placed in its body's frame (4×4 ``T``)."""
+    """One piece of geometry, placed in its body's frame (4×4 ``T``).
+
+    Parameters
+    ----------
+    kind : str
+        ``box``, ``cylinder`` (along z, as in a URDF), ``cylinder_y`` (along y, as in meshcat), ``sphere`` or
+        ``mesh``.
+    T : numpy.ndarray, shape (4, 4)
+        Its placement in the body's frame, m.
+    size : tuple of float, optional
+        A box's sides (x, y, z); a cylinder's (radius, length); a sphere's (radius,); m.
+    path : pathlib.Path or None, optional
+        A mesh's file.
+    scale : tuple of float, optional
+        A mesh's scale along x, y and z.
+    colour : int, optional
+        The colour, 0xRRGGBB.
+    opacity : float, optional
+        From 0 (invisible) to 1 (opaque).
+    """
 
     kind: str  # box, cylinder, sphere, mesh
     T: np.ndarray
@@ -79,7 +107,17 @@ class Shape:
 
 @dataclass
 class RobotGeometry:
-    """Shapes per moving body (index) and for the fixed base (−1), and the kind that was chosen."""
+    """Shapes per moving body (index) and for the fixed base (−1), and the kind that was chosen.
+
+    Parameters
+    ----------
+    kind : str
+        What is drawn: ``visual``, ``collision`` or ``stick``.
+    shapes : dict of int to list of Shape, optional
+        The shapes of each body, by its index in the model; −1 for the fixed base.
+    warnings : list of str, optional
+        The warnings given while choosing (each also given as a :class:`MeshWarning`).
+    """
 
     kind: str
     shapes: dict = field(default_factory=dict)
@@ -88,12 +126,38 @@ class RobotGeometry:
 
 def resolve_mesh_path(filename: str, urdf) -> Path:
     """Where a URDF mesh reference is read from, symlinks resolved: ``package://``, ``file://``, absolute
-    or relative."""
+    or relative.
+
+    Parameters
+    ----------
+    filename : str
+        The mesh reference, as the URDF writes it.
+    urdf : str or pathlib.Path
+        The URDF file that holds it.
+
+    Returns
+    -------
+    pathlib.Path
+        The file the reference names (which need not exist, nor be allowed: :func:`mesh_allowed`).
+    """
     return mesh_location(filename, Path(urdf))[0]
 
 
 def mesh_allowed(filename: str, urdf) -> bool:
-    """Whether a mesh reference, resolved, lies in a folder it may be read from (see :func:`mesh_location`)."""
+    """Whether a mesh reference, resolved, lies in a folder it may be read from (see :func:`mesh_location`).
+
+    Parameters
+    ----------
+    filename : str
+        The mesh reference, as the URDF writes it.
+    urdf : str or pathlib.Path
+        The URDF file that holds it.
+
+    Returns
+    -------
+    bool
+        True if the file may be read.
+    """
     return mesh_location(filename, Path(urdf))[1]
 
 
@@ -105,6 +169,18 @@ def mesh_location(filename: str, urdf: Path) -> tuple[Path, bool]:
     below. The allowed folder comes from the URDF's place and the package search path,
     never from the reference itself; nothing is percent-decoded, so what is checked is
     what is read.
+
+    Parameters
+    ----------
+    filename : str
+        The mesh reference, as the URDF writes it.
+    urdf : pathlib.Path
+        The URDF file that holds it.
+
+    Returns
+    -------
+    tuple of (pathlib.Path, bool)
+        The file, and whether it may be read.
     """
     urdf_folder = _resolved(urdf.parent)
     if filename.startswith("package://"):
@@ -123,6 +199,18 @@ def package_folders(package: str, urdf: Path) -> list[Path]:
     ``package.xml``), is the URDF's own folder, or lies inside one of those search folders.
     A folder that is merely named like the package is not one: ``package://home/...`` for
     a URDF under /home would otherwise read anything there.
+
+    Parameters
+    ----------
+    package : str
+        The package's name; one that is not a ROS package name (``..``, a path) has no folders.
+    urdf : pathlib.Path
+        The URDF file that refers to it.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The package's folders that exist, each once, in the order they are searched.
     """
     if not PACKAGE_NAME.fullmatch(package):
         return []
@@ -228,7 +316,18 @@ def _urdf_shapes(model: Model, urdf: Path, which: str):
 
 
 def stick_shapes(model: Model) -> dict:
-    """The stick model: links as cylinders, joint axes as bars, COM spheres sized by mass."""
+    """The stick model: links as cylinders, joint axes as bars, COM spheres sized by mass.
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+
+    Returns
+    -------
+    dict of int to list of Shape
+        The shapes of each body, by its index; −1 for the segments from the base to the first joints.
+    """
     masses = np.array([float(b.mass) for b in model.bodies])
     reach = max([float(np.linalg.norm(b.P)) for b in model.bodies]
                 + [float(np.linalg.norm(b.p_com)) for b in model.bodies] + [0.1])
@@ -280,6 +379,33 @@ def robot_geometry(model: Model, urdf, geometry: str = "auto", mesh_anywhere: bo
     reads it (with a warning saying so). Mesh files are counted before they are read
     (:mod:`.mesh_limits`): geometry beyond the limits, for the robot as a whole, falls
     back to the stick model with a warning too.
+
+    Parameters
+    ----------
+    model : Model
+        The robot, loaded from ``urdf``.
+    urdf : str or pathlib.Path
+        Its URDF file.
+    geometry : str, optional
+        One of :data:`GEOMETRIES`: ``auto``, ``visual``, ``collision`` or ``stick``.
+    mesh_anywhere : bool, optional
+        Read mesh files outside the URDF's folder and its packages too.
+
+    Returns
+    -------
+    RobotGeometry
+        The shapes to draw and the kind chosen.
+
+    Raises
+    ------
+    ViewerError
+        If ``geometry`` is not one of :data:`GEOMETRIES`.
+
+    Warns
+    -----
+    MeshWarning
+        For a mesh that is not found, not allowed, a URL, too large or not finite (the stick model is drawn),
+        and for one read from outside because ``mesh_anywhere`` asked.
     """
     if geometry not in GEOMETRIES:
         raise ViewerError(f"unknown geometry '{geometry}' (choose from {', '.join(GEOMETRIES)})")
@@ -368,6 +494,24 @@ def load_mesh(path: Path) -> tuple[np.ndarray, np.ndarray]:
     sending bare triangles lets the viewer compute its own.
 
     Raises ViewerError naming the file when it cannot be read or holds too much geometry.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The mesh file: ``.stl``, ``.dae`` or ``.obj``.
+
+    Returns
+    -------
+    vertices : numpy.ndarray, shape (V, 3), float32
+        The vertices, in the file's units (m in a URDF's meshes).
+    faces : numpy.ndarray, shape (F, 3), uint32
+        The triangles, as indices into ``vertices``.
+
+    Raises
+    ------
+    ViewerError
+        If the file cannot be read or parsed, is not STL, COLLADA or OBJ, or holds more geometry than
+        :mod:`~course_dynamics.output.viewer.mesh_limits` allows.
     """
     import trimesh
 
@@ -389,3 +533,8 @@ def load_mesh(path: Path) -> tuple[np.ndarray, np.ndarray]:
     except MeshLimitError as exc:
         raise ViewerError(str(exc)) from None
     return vertices, faces
+
+
+__all__ = ["ANIMATION_FPS", "GEOMETRIES", "MESH_BUDGET_BYTES", "MeshWarning", "RobotGeometry", "Shape", "ViewerError",
+           "load_mesh", "mesh_allowed", "mesh_location", "package_folders", "resolve_mesh_path", "robot_geometry",
+           "stick_shapes"]

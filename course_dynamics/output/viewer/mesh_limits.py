@@ -34,23 +34,31 @@ from ...base.errors import CourseDynamicsError
 from ...base.files import Refusals, read_small
 from ...core.urdf import xml_parser
 
+#: The largest mesh file that is read, bytes; a larger one is not drawn (the stick model is).
 MAX_MESH_BYTES = 200 * 2**20  # any geometry: a mesh file larger than this is not drawn (stick model instead)
 # MAX_TRIANGLES and MAX_INSTANCES hold for all the meshes of one robot together. In
 # example-robot-data, Panda's visual meshes have 135 000 triangles and UR5's 96 000; the heaviest
 # robot (b1 with its z1 arm) about a million. Two million triangles are ~20 s of trimesh parsing
 # COLLADA and ~100 MB of HTML, about as much as an offline page should carry.
+#: The most triangles the meshes of one robot may expand to together.
 MAX_TRIANGLES = 2_000_000
 # Node visits and geometry instances, which trimesh walks one by one in Python (~0.4 ms each):
 # the most in example-robot-data is 360 (ANYmal with a Kinova arm); 5 000 take about 2 s.
+#: The most node visits and geometry instances the meshes of one robot may expand to together.
 MAX_INSTANCES = 5_000
 # Per STL or OBJ file: trimesh names each solid, object or material group by searching the
 # names so far (quadratic: 4 000 parts take 6 s); the most in example-robot-data is 109.
+#: The most solids (STL), or objects, groups and materials (OBJ), in one file.
 MAX_PARTS = 1_000
 # Per COLLADA file: pycollada parses a node again on every pass while it instances a node defined
 # after it (a chain of 1 000 such nodes is half a million parses, 10 s); ~7 µs per element.
+#: The most node elements pycollada may parse for one COLLADA file, passes included.
 MAX_NODE_LOADS = 200_000
+#: The deepest that COLLADA nodes may nest.
 MAX_NODE_DEPTH = 200  # trimesh walks nested nodes recursively, and Python stops at 1 000 frames
+#: Counts are clipped at this while they are added up, far above every limit.
 CAP = 10**15  # counts are clipped here while adding up, far above every limit
+#: The mesh file suffixes that are read (and counted first).
 MESH_FORMATS = (".stl", ".dae", ".obj")
 
 
@@ -60,7 +68,17 @@ class MeshLimitError(CourseDynamicsError):
 
 @dataclass(frozen=True)
 class MeshCount:
-    """What one mesh file expands to: triangles, and node visits plus geometry instances."""
+    """What one mesh file expands to: triangles, and node visits plus geometry instances.
+
+    Counts add with ``+``, clipped at :data:`CAP`.
+
+    Parameters
+    ----------
+    triangles : int
+        The triangles trimesh would build, at most.
+    instances : int
+        The node visits and geometry instances it would walk (solids, objects and groups for STL and OBJ).
+    """
 
     triangles: int
     instances: int
@@ -77,7 +95,23 @@ MESH_REFUSALS = Refusals(error=MeshLimitError, unreadable="mesh file {path}: can
 
 
 def read_mesh_bytes(path: Path) -> bytes:
-    """The bytes of a regular mesh file of at most :data:`MAX_MESH_BYTES` (a FIFO or device is refused, unread)."""
+    """The bytes of a regular mesh file of at most :data:`MAX_MESH_BYTES` (a FIFO or device is refused, unread).
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The mesh file.
+
+    Returns
+    -------
+    bytes
+        Its content.
+
+    Raises
+    ------
+    MeshLimitError
+        If it cannot be opened, is not a regular file, or is larger than :data:`MAX_MESH_BYTES`.
+    """
     return read_small(path, MAX_MESH_BYTES, "mesh file", refusals=MESH_REFUSALS)
 
 
@@ -86,6 +120,24 @@ def count_mesh(path: Path, data: bytes) -> MeshCount:
 
     Raises MeshLimitError naming the file for formats other than STL, OBJ and COLLADA,
     and for files that cannot be counted.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The mesh file, whose suffix gives its format (:data:`MESH_FORMATS`).
+    data : bytes
+        Its content (:func:`read_mesh_bytes`).
+
+    Returns
+    -------
+    MeshCount
+        What it expands to.
+
+    Raises
+    ------
+    MeshLimitError
+        If the format is not read, or the file cannot be counted or is refused (a DTD, a cycle, nodes nested
+        too deep, too many parts or node loads).
     """
     counter = COUNTERS.get(Path(path).suffix.lower())
     if counter is None:
@@ -98,7 +150,22 @@ def count_mesh(path: Path, data: bytes) -> MeshCount:
 
 
 def check_count(path: Path, count: MeshCount, total: MeshCount | None = None) -> None:
-    """Raise MeshLimitError if ``count`` (or the robot's ``total`` so far) is above the limits."""
+    """Raise MeshLimitError if ``count`` (or the robot's ``total`` so far) is above the limits.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The mesh file, for the message.
+    count : MeshCount
+        What it expands to.
+    total : MeshCount or None, optional
+        What the robot's meshes expand to so far, this one included; default ``count``.
+
+    Raises
+    ------
+    MeshLimitError
+        If the triangles pass :data:`MAX_TRIANGLES` or the nodes and instances :data:`MAX_INSTANCES`.
+    """
     total = count if total is None else total
     for what, limit, mine, all_ in (("triangles", MAX_TRIANGLES, count.triangles, total.triangles),
                                     ("nodes and instances", MAX_INSTANCES, count.instances, total.instances)):
@@ -109,7 +176,22 @@ def check_count(path: Path, count: MeshCount, total: MeshCount | None = None) ->
 
 
 def check_loaded(path: Path, count: MeshCount, triangles: int) -> None:
-    """Raise MeshLimitError if trimesh built more triangles than were counted (a gap in the counting, refused)."""
+    """Raise MeshLimitError if trimesh built more triangles than were counted (a gap in the counting, refused).
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The mesh file, for the message.
+    count : MeshCount
+        What it was counted to expand to.
+    triangles : int
+        The triangles trimesh built.
+
+    Raises
+    ------
+    MeshLimitError
+        If ``triangles`` is more than ``count.triangles``.
+    """
     if triangles > count.triangles:
         raise MeshLimitError(f"mesh file {path}: trimesh built {triangles:,} triangles, more than the "
                              f"{count.triangles:,} counted before reading it")
@@ -126,7 +208,23 @@ def count_words(text: bytes) -> int:
 
 
 def count_stl(data: bytes) -> MeshCount:
-    """Binary STL when the header's triangle count fits the file size exactly (trimesh's test), else ASCII."""
+    """Binary STL when the header's triangle count fits the file size exactly (trimesh's test), else ASCII.
+
+    Parameters
+    ----------
+    data : bytes
+        The file's content.
+
+    Returns
+    -------
+    MeshCount
+        What it expands to.
+
+    Raises
+    ------
+    MeshLimitError
+        If it is neither binary nor ASCII STL, or has more than :data:`MAX_PARTS` solids.
+    """
     claimed = int.from_bytes(data[80:84], "little") if len(data) >= 84 else None
     if claimed is not None and len(data) == 84 + 50 * claimed:
         return MeshCount(claimed, 1)
@@ -139,7 +237,23 @@ def count_stl(data: bytes) -> MeshCount:
 
 
 def count_obj(data: bytes) -> MeshCount:
-    """Triangles of the ``f`` lines (k corners: k − 2), and one instance per object, group or material."""
+    """Triangles of the ``f`` lines (k corners: k − 2), and one instance per object, group or material.
+
+    Parameters
+    ----------
+    data : bytes
+        The file's content.
+
+    Returns
+    -------
+    MeshCount
+        What it expands to.
+
+    Raises
+    ------
+    MeshLimitError
+        If it has more than :data:`MAX_PARTS` objects, groups and materials.
+    """
     text = b"\n" + data.replace(b"\\\n", b"")  # trimesh joins continued lines too
     faces = re.findall(rb"\n[ \t]*f[ \t][^\n]*", text)
     corners = count_words(b"\n".join(faces)) - len(faces)  # each line's "f" is no corner
@@ -164,7 +278,25 @@ PRIMITIVE_CORNERS = {"triangles": 3, "polylist": 1, "polygons": 1, "tristrips": 
 
 
 def count_dae(data: bytes) -> MeshCount:
-    """The COLLADA scene graph expanded: node visits, geometry instances and their triangles."""
+    """The COLLADA scene graph expanded: node visits, geometry instances and their triangles.
+
+    Parameters
+    ----------
+    data : bytes
+        The file's content.
+
+    Returns
+    -------
+    MeshCount
+        What it expands to.
+
+    Raises
+    ------
+    MeshLimitError
+        If it is not COLLADA, declares a DTD, has an ``<instance_node>`` cycle, nests nodes deeper than
+        :data:`MAX_NODE_DEPTH`, would make pycollada parse more than :data:`MAX_NODE_LOADS` nodes, or names no
+        visual scene to draw.
+    """
     root = _collada_root(data)
     nodes = list(root.iter("{*}node"))
     position = {node: i for i, node in enumerate(nodes)}
@@ -326,3 +458,8 @@ def _instanced_urls(top) -> list[str]:
 
 
 COUNTERS = {".stl": count_stl, ".obj": count_obj, ".dae": count_dae}
+
+
+__all__ = ["CAP", "MAX_INSTANCES", "MAX_MESH_BYTES", "MAX_NODE_DEPTH", "MAX_NODE_LOADS", "MAX_PARTS", "MAX_TRIANGLES",
+           "MESH_FORMATS", "MeshCount", "MeshLimitError", "check_count", "check_loaded", "count_dae", "count_mesh",
+           "count_obj", "count_stl", "read_mesh_bytes"]
