@@ -7,7 +7,7 @@ variant of a course robot, and :func:`given` their data for an exercise. A
 notebook without a student id works for :data:`~course_dynamics.tools.variants.COURSE_STUDENT`,
 whose robots differ from the worked examples' too.
 
-Hints come in tiers (:attr:`Exercise.hints`): which term or idea, then which
+Hints come in tiers (the ``hints`` of an :class:`Exercise`): which term or idea, then which
 equation, then the formula itself, last.
 
 >>> use_student("ada")
@@ -38,19 +38,52 @@ _STUDENT = {"id": COURSE_STUDENT}
 
 
 def use_student(student: str) -> None:
-    """Check the exercises of this kernel against ``student``'s robot and numbers (an id as the course uses it)."""
+    """Check the exercises of this kernel against ``student``'s robot and numbers (an id as the course uses it).
+
+    Parameters
+    ----------
+    student : str
+        The student's id (letters, digits and ``. _ + -``; ``"course"`` for the course's own numbers).
+
+    Raises
+    ------
+    InputError
+        If ``student`` is not an id a course uses.
+    """
     _STUDENT["id"] = check_student_id(student)
 
 
 def student() -> str:
-    """The student whose exercises this kernel checks."""
+    """The student whose exercises this kernel checks.
+
+    Returns
+    -------
+    str
+        The id :func:`use_student` set, or :data:`~course_dynamics.tools.variants.COURSE_STUDENT`.
+    """
     return _STUDENT["id"]
 
 
 def my_robot(name: str = "two_link") -> Variant:
     """The student's own variant of course robot ``name``: ``.describe()`` lists its numbers, ``.parameters``
     gives m1, l1, … by name, ``.model`` is the model (its bodies' masses, centres of mass, tensors and joint
-    placements, which the spatial arm's exercises read)."""
+    placements, which the spatial arm's exercises read).
+
+    Parameters
+    ----------
+    name : str, optional
+        A course robot (``"two_link"``, ``"rp_arm"``, ``"spatial_arm"``, …).
+
+    Returns
+    -------
+    Variant
+        The student's robot (:class:`~course_dynamics.tools.variants.Variant`), the same on every call.
+
+    Raises
+    ------
+    InputError
+        If ``name`` is not a course robot.
+    """
     return robot_variant(name, student())
 
 
@@ -88,6 +121,7 @@ def _physical(rng) -> dict:
     return {"tensors": [tensors[k] for k in rng.permutation(len(tensors))[:3]]}
 
 
+#: Exercise name → how its data is drawn from the student's random numbers (what :func:`given` returns).
 GIVEN = {
     "omega_dot_C": _given_6_15,
     "principal_moments": _principal,
@@ -105,14 +139,51 @@ GIVEN = {
 
 
 def given(name: str) -> dict:
-    """The data exercise ``name`` gives this student (numbers they work with, the same every time)."""
+    """The data exercise ``name`` gives this student (numbers they work with, the same every time).
+
+    Parameters
+    ----------
+    name : str
+        An exercise that gives data (a key of :data:`GIVEN`).
+
+    Returns
+    -------
+    dict
+        Name → value: arrays such as Θ (``"q"``, rad), Θ̇ (``"qd"``, rad/s) and Θ̈ (``"qdd"``, rad/s²) of shape
+        (n,), or the numbers of a body (``"m"``, kg; ``"w"``, ``"l"``, ``"h"``, m), as the exercise says.
+
+    Raises
+    ------
+    KeyError
+        If no exercise of that name gives data.
+    """
     if name not in GIVEN:
         raise KeyError(f"no exercise named {name!r} gives data (those that do: {', '.join(GIVEN)})")
     return GIVEN[name](rng_for(student(), name))
 
 
 def symbols(*names: str):
-    """Positive real sympy symbols for parameters (m, l, g, …) and real ones for angles and rates."""
+    """Positive real sympy symbols for parameters (m, l, g, …) and real ones for angles and rates.
+
+    The angles and rates are ``theta``, ``theta_dot``, ``theta_ddot``, ``theta1``, ``theta2``, ``d2`` and ``t``;
+    every other name is positive. A formula a student writes in these symbols is what the checks compare.
+
+    Parameters
+    ----------
+    *names : str
+        The symbols' names.
+
+    Returns
+    -------
+    sympy.Symbol or list of sympy.Symbol
+        One symbol for one name, else a list in the order of ``names``.
+
+    Examples
+    --------
+    >>> m, theta = symbols("m", "theta")
+    >>> m.is_positive, theta.is_positive
+    (True, None)
+    """
     import sympy
 
     real = ("theta", "theta_dot", "theta_ddot", "theta1", "theta2", "d2", "t")
@@ -210,7 +281,39 @@ class Exercise:
     "links" (every quantity of both iterations, link by link, at the exercise's given state), "equations"
     (equations of motion derived by hand in θ(t), term by term: :mod:`~course_dynamics.teaching.derivations`),
     "function" (compared on random inputs with ``reference``), "value" or "formula"; ``hints`` in tiers, the
-    formula last."""
+    formula last.
+
+    Parameters
+    ----------
+    kind : str
+        ``"term"``, ``"links"``, ``"equations"``, ``"function"``, ``"value"`` or ``"formula"``.
+    answer : callable, optional
+        The right answer, made when called (a value, a sympy expression or matrix, or the equations).
+    robot : str, optional
+        The course robot the exercise is on (the student's variant of it).
+    term : str, optional
+        For ``"term"``: the robot function graded, ``"tau"``, ``"M"``, ``"V"`` or ``"G"``.
+    reference : callable, optional
+        For ``"function"``: the right function, compared with the student's on random inputs.
+    inputs : callable, optional
+        For ``"function"``: a random generator (``numpy.random.Generator``) → one list of arguments.
+    tolerance : float, optional
+        The relative tolerance of a numeric comparison.
+    variables : tuple of str, optional
+        For ``"formula"``: the symbols (:func:`symbols`) a formula is compared in.
+    constant_in : tuple of str, optional
+        A formula may differ from the answer by anything that does not depend on these (a potential energy's
+        constant).
+    hints : tuple of str, optional
+        The hints in tiers: which term or idea, then which equation, then the formula itself.
+    mistakes : tuple of tuple, optional
+        The slips students make, each (code, the reference with that slip, its words): an answer that matches
+        one is told which.
+    time_functions : tuple of str, optional
+        A formula may be written in these as functions of t (θ(t) for ``theta``).
+    slipped : callable, optional
+        A value's answer made by the recursion with other operations (a slip, named if it fits).
+    """
 
     kind: str
     answer: Callable | None = None
@@ -241,6 +344,7 @@ NEWTON_EULER_HINTS = (
     "ⁱPᵢ₊₁ × ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁; τᵢ = ⁱnᵢᵀ Ẑ",
 )
 
+#: Every exercise, by the name a notebook's ``check("name")`` gives.
 EXERCISES: dict[str, Exercise] = {
     "point_acceleration": Exercise(
         "function",
@@ -424,3 +528,6 @@ EXERCISES: dict[str, Exercise] = {
             "for τ, link 2's mass is a point mass of link 1 at joint 2, (l₁, 0, 0)",
             "what does that point mass add to link 1's first moment h₁ and to I_zz,₁?")),
 }
+
+
+__all__ = ["EXERCISES", "GIVEN", "Exercise", "given", "my_robot", "student", "symbols", "use_student"]
