@@ -147,6 +147,18 @@ def point_jacobian_columns(model: Model, placements: BasePlacements, body: int, 
 class Placements:
     """Base-frame placements of every body: R (n, 3, 3), P and P_com (n, 3); batch axes lead.
 
+    Parameters
+    ----------
+    R : numpy.ndarray, shape (n, 3, 3) or (N, n, 3, 3)
+        ⁰ᵢR, the orientation of each body's frame in the base.
+    P : numpy.ndarray, shape (n, 3) or (N, n, 3)
+        ⁰Pᵢ, the origin of each body's frame in the base, m.
+    P_com : numpy.ndarray, shape (n, 3) or (N, n, 3)
+        ⁰P_Cᵢ, each body's centre of mass in the base, m.
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> placed = forward_kinematics(load_robot("two_link"), np.zeros((4, 2)))   # a batch of 4 states
     >>> placed.R.shape, placed.P.shape
@@ -160,6 +172,27 @@ class Placements:
 
 def forward_kinematics(model: Model, q) -> Placements:
     """Where every body is at Θ (shape (n,) or (N, n)).
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : array_like, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint); a numpy object array of sympy expressions for a
+        closed form.
+
+    Returns
+    -------
+    Placements
+        ⁰ᵢR, ⁰Pᵢ and ⁰P_Cᵢ of every body, batch axes first.
+
+    Raises
+    ------
+    StateError
+        If ``q`` is not numeric or not finite, or its last axis is not the model's n joints.
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> arm = load_robot("two_link")
@@ -179,6 +212,31 @@ def forward_kinematics(model: Model, q) -> Placements:
 
 def frame_placement(model: Model, q, frame: str) -> tuple[np.ndarray, np.ndarray]:
     """⁰R_F (3, 3) and ⁰P_F (3,) of URDF link ``frame`` at Θ; batch axes lead.
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : array_like, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint); a numpy object array of sympy expressions for a
+        closed form.
+    frame : str
+        A URDF link (``model.frame_names``).
+
+    Returns
+    -------
+    tuple of (numpy.ndarray, numpy.ndarray)
+        ⁰R_F, shape (3, 3) or (N, 3, 3), and ⁰P_F, shape (3,) or (N, 3), m.
+
+    Raises
+    ------
+    StateError
+        If ``q`` is not numeric or not finite, or its last axis is not the model's n joints.
+    ModelError
+        If the robot has no link ``frame``.
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> R, P = frame_placement(load_robot("rrr_arm"), [0.0, 0.0, 0.0], "forearm")
@@ -208,9 +266,33 @@ def potential_energy_entry(model: Model, theta: list):
 def potential_energy(model: Model, q) -> np.ndarray:
     """u(Θ), J: shape () for one state, (N,) for a batch.
 
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : array_like, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint); a numpy object array of sympy expressions for a
+        closed form.
+
+    Returns
+    -------
+    numpy.ndarray, shape () or (N,)
+        The potential energy u = Σᵢ −mᵢ ⁰gᵀ ⁰P_Cᵢ of (6.73), J, with u_ref = 0.
+
+    Raises
+    ------
+    StateError
+        If ``q`` is not numeric or not finite, or its last axis is not the model's n joints.
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> potential_energy(load_robot("pendulum"), [[0.0], [np.pi]]).round(2)   # hanging, upright; J
     array([-9.81,  9.81])
     """
     q = as_state(model, q, "q")
     return layout_of(q).assemble(potential_energy_entry(model, entries(q)), ())
+
+
+__all__ = ["Placements", "forward_kinematics", "frame_placement", "potential_energy"]
