@@ -32,6 +32,11 @@ AccelerationFunction = Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray
 class SingularMassMatrixError(CourseDynamicsError):
     """M(Θ) is singular: some joint moves no mass.
 
+    The message names the state and the joint that moves least mass.
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_urdf
     >>> import tempfile, pathlib
     >>> urdf = pathlib.Path(tempfile.mkdtemp()) / "massless.urdf"
@@ -53,9 +58,28 @@ def forward_dynamics(model: Model, q, qd, tau, friction: Friction | None = None)
 
     Parameters
     ----------
-    q, qd, tau : array_like, shape (n,) or (N, n)
+    model : Model
+        The robot.
+    q : array_like, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint).
+    qd : array_like, shape (n,) or (N, n)
+        Joint velocities Θ̇, rad/s (m/s).
+    tau : array_like, shape (n,) or (N, n)
+        Applied joint torques τ, N·m (N for a prismatic joint).
     friction : Friction, optional
         Subtracted from τ as F(Θ̇) (6.114); default none.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,) or (N, n)
+        Joint accelerations Θ̈, rad/s² (m/s² for a prismatic joint).
+
+    Raises
+    ------
+    StateError
+        If ``q``, ``qd`` or ``tau`` is not a finite array whose last axis is the model's n joints.
+    SingularMassMatrixError
+        If M(Θ) is singular (a joint that moves no mass).
 
     Examples
     --------
@@ -72,6 +96,30 @@ def forward_dynamics(model: Model, q, qd, tau, friction: Friction | None = None)
 
 def accelerations(model: Model, q: np.ndarray, qd: np.ndarray, tau: np.ndarray) -> np.ndarray:
     """(6.115) without friction for already checked float arrays, (n,) or (K, n): the default backend.
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : numpy.ndarray, shape (n,) or (K, n)
+        Joint positions Θ, rad (m), as :func:`~course_dynamics.core.state.as_state` gives them.
+    qd : numpy.ndarray, shape (n,) or (K, n)
+        Joint velocities Θ̇, rad/s (m/s).
+    tau : numpy.ndarray, shape (n,) or (K, n)
+        Joint torques τ, N·m (N), friction already taken off.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,) or (K, n)
+        Joint accelerations Θ̈, rad/s² (m/s²).
+
+    Raises
+    ------
+    SingularMassMatrixError
+        If M(Θ) is singular.
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> arm = load_robot("pendulum")
@@ -90,6 +138,19 @@ def accelerations(model: Model, q: np.ndarray, qd: np.ndarray, tau: np.ndarray) 
 def newton_euler_dynamics(model: Model) -> AccelerationFunction:
     """The default :data:`AccelerationFunction` of ``model``: M and V + G by Newton–Euler, Cholesky solve.
 
+    Parameters
+    ----------
+    model : Model
+        The robot.
+
+    Returns
+    -------
+    AccelerationFunction
+        :func:`accelerations` bound to ``model``: (q, qd, tau) → qdd.
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> qdd_of = newton_euler_dynamics(load_robot("pendulum"))      # what simulate calls: (q, qd, tau) -> qdd
     >>> np.round(qdd_of(np.array([0.5]), np.array([0.0]), np.array([0.0])), 4)
@@ -100,6 +161,30 @@ def newton_euler_dynamics(model: Model) -> AccelerationFunction:
 
 def solve(model: Model, M: np.ndarray, rhs: np.ndarray, q: np.ndarray) -> np.ndarray:
     """Θ̈ = M⁻¹ rhs for M (…, n, n), rhs (…, n), after checking that M is positive definite.
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    M : numpy.ndarray, shape (n, n) or (K, n, n)
+        The mass matrix M(Θ), kg·m² (kg).
+    rhs : numpy.ndarray, shape (n,) or (K, n)
+        τ − V − G (− F), N·m (N).
+    q : numpy.ndarray, shape (n,) or (K, n)
+        The joint positions Θ, rad (m), named in a refusal.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,) or (K, n)
+        Joint accelerations Θ̈, rad/s² (m/s²).
+
+    Raises
+    ------
+    SingularMassMatrixError
+        If a Cholesky pivot of M is within round-off of zero (naming the state and the joint).
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> arm = load_robot("two_link")
@@ -128,3 +213,7 @@ def _check_positive_definite(model: Model, M: np.ndarray, q: np.ndarray) -> None
         f"the mass matrix of robot '{model.name}' is singular at q = {np.round(q[k], 6).tolist()} "
         f"(smallest eigenvalue {eigenvalues[k][0]:.3g}): joint '{joint}' moves no mass (a massless chain?)"
     )
+
+
+__all__ = ["AccelerationFunction", "SingularMassMatrixError", "accelerations", "forward_dynamics",
+           "newton_euler_dynamics", "solve"]
