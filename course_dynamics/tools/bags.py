@@ -55,6 +55,7 @@ DEFAULT_TOPIC, FRANKA_JOINTS = "/joint_states", 7
 KINDS = ("q", "qd", "tau_meas")
 JOINT_STATE_FIELDS = {"q": "position", "qd": "velocity", "tau_meas": "effort"}
 FRANKA_STATE_READ = {"q": "q", "qd": "dq", "tau_meas": "tau_J"}
+#: The suffixes of the files read as bags (a ROS2 bag's folder is told by its metadata.yaml).
 BAG_SUFFIXES = (".bag", ".mcap")  # as rosbags spells them (it tells a ROS1 bag by its suffix alone)
 METADATA, METADATA_LIMIT = "metadata.yaml", 16 * 2**20
 # What rosbags 0.11 reads of a ROS2 bag's metadata.yaml (its rosbag2_bagfile_information): a type, a mapping of
@@ -72,12 +73,26 @@ SKIPPED_NAMES = 5  # at most this many joint names of skipped messages in the no
 # holds its index, about 150 bytes a message). Using them as `torques` uses a table took 44 bytes per value beyond
 # reading it (tables.BYTES_PER_VALUE); budgeted with a like margin. Reading took 26 (sqlite3) to 35 (ROS1) µs a
 # message, most of it rosbags decoding it.
+#: Bytes of memory a bag's value (1 + 3 n a message) is budgeted at, read and in use.
 BYTES_PER_VALUE = 100
 
 @dataclass(frozen=True)
 class BagLog:
     """Our columns (module docstring; read-only arrays (rows,)) from one topic of a bag. ``where`` names the bag and
-    topic for messages ("run.bag, topic /joint_states"); ``notes`` says what was left out or skipped, and why."""
+    topic for messages ("run.bag, topic /joint_states"); ``notes`` says what was left out or skipped, and why.
+
+    Parameters
+    ----------
+    columns : dict of str to numpy.ndarray
+        Our columns (``t`` s, ``q_<joint>`` rad or m, ``qd_<joint>`` rad/s or m/s, ``tau_meas_<joint>`` N·m or N),
+        each of shape (rows,), read-only.
+    where : str
+        The bag and topic, for messages.
+    rows : int
+        The messages read.
+    notes : tuple of str
+        What was left out or skipped, and why.
+    """
 
     columns: dict[str, np.ndarray]
     where: str
@@ -86,7 +101,18 @@ class BagLog:
 
 
 def is_bag(path) -> bool:
-    """Whether ``path`` is read as a bag: a ``.bag`` or ``.mcap`` file, or a folder holding ``metadata.yaml``."""
+    """Whether ``path`` is read as a bag: a ``.bag`` or ``.mcap`` file, or a folder holding ``metadata.yaml``.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A file or folder.
+
+    Returns
+    -------
+    bool
+        Whether it is read as a bag (by its name and folder only; its content is checked by :func:`read_bag`).
+    """
     path = Path(path)
     return os.path.lexists(path / METADATA) if path.is_dir() else path.suffix in BAG_SUFFIXES
 
@@ -187,6 +213,20 @@ def read_bag(path, joints: tuple[str, ...], topic: str | None = None) -> BagLog:
 
         log = read_bag("run.bag", load_robot("ur5").joint_names)
         log.columns["q_elbow_joint"]        # (log.rows,), rad
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A ``.bag`` or ``.mcap`` file, or a ROS2 bag's folder.
+    joints : tuple of str
+        The model's joint names, in Θ's order.
+    topic : str, optional
+        The topic to read.
+
+    Returns
+    -------
+    BagLog
+        Our columns, the bag's name and the notes.
 
     Raises
     ------
@@ -396,3 +436,6 @@ def _bag_log(where: str, data: np.ndarray, stamps: array, joints, keep: list[int
                                  f"{fields[kind]} of joint '{joints[j]}' is {column[bad[0]]} (must be finite)")
             columns[f"{kind}_{joints[j]}"] = column
     return BagLog(columns=columns, where=where, rows=rows, notes=tuple(notes))
+
+
+__all__ = ["BAG_SUFFIXES", "BYTES_PER_VALUE", "BagLog", "is_bag", "read_bag"]
