@@ -1,7 +1,7 @@
 """The notebooks' exercises and their checks: ``check("name")`` says right, wrong and why, or not done yet.
 
 Each exercise of the notebook course has a name here, the data it gives the
-student (:data:`GIVEN`) and a way to know the answer from the library. A check
+student (:data:`~course_dynamics.teaching.catalogue.GIVEN`) and a way to know the answer from the library. A check
 cell calls :func:`check` with the exercise's name; it finds the student's
 answer under that name in the notebook (or takes it as a second argument) and
 returns a :class:`Verdict`, which the notebook shows:
@@ -49,7 +49,7 @@ from .catalogue import (RP_PARAMETERS, EXERCISES, Exercise, given, my_robot, rp_
 from .limits import CheckTimeout, time_limit
 from .derivations import equation_problems, in_joint_symbols, time_functions
 
-__all__ = ["EXERCISES", "Verdict", "check", "given", "hint", "my_robot", "show_values", "student", "symbols",
+__all__ = ["Verdict", "check", "given", "hint", "my_robot", "show_values", "student", "symbols",
            "term_assignment", "time_functions", "use_student"]
 MISSING = object()
 BACKTICKS = re.compile(r"`([^`]*)`")
@@ -58,12 +58,42 @@ _REVEAL = {"values": False}
 
 def show_values(on: bool = True) -> None:
     """Let the checks print the expected values (the instructor's solution mode); students' checks never do, and
-    under nbgrader's autograder it stays off."""
+    under nbgrader's autograder it stays off.
+
+    Parameters
+    ----------
+    on : bool, optional
+        Show them (True, the default) or not.
+    """
     _REVEAL["values"] = bool(on) and os.environ.get("NBGRADER_EXECUTION") != "autograde"
 
 
 def hint(name: str, level: int = 1) -> str:
-    """Hint ``level`` (1, 2, …) of exercise ``name``: which idea, then which equation, then the formula, last."""
+    """Hint ``level`` (1, 2, …) of exercise ``name``: which idea, then which equation, then the formula, last.
+
+    Parameters
+    ----------
+    name : str
+        The exercise.
+    level : int, optional
+        The tier, from 1; a level past the last gives the last (the formula), and one that is not a number
+        gives the first.
+
+    Returns
+    -------
+    str
+        ``"hint 1 of 3: …"``, with how to ask for the next one.
+
+    Raises
+    ------
+    KeyError
+        If there is no exercise of that name.
+
+    Examples
+    --------
+    >>> print(hint("k_pendulum", 3))
+    hint 3 of 3: ½ m v² with v = l θ̇
+    """
     if name not in EXERCISES:
         raise KeyError(f"no exercise named {name!r} (exercises: {', '.join(EXERCISES)})")
     hints = EXERCISES[name].hints
@@ -82,7 +112,21 @@ def _whose(student: str) -> str:
 
 @dataclass
 class Verdict:
-    """The outcome of a check: ``status`` is "right", "wrong" or "not done", ``lines`` the feedback."""
+    """The outcome of a check: ``status`` is "right", "wrong" or "not done", ``lines`` the feedback.
+
+    True when right; a notebook shows it as Markdown, a console as :meth:`text`.
+
+    Parameters
+    ----------
+    name : str
+        The exercise.
+    status : str
+        ``"right"``, ``"wrong"`` or ``"not done"``.
+    lines : list of str, optional
+        The feedback, one line each (Markdown: code names in backticks).
+    numbers_of : str, optional
+        The student whose robot and numbers it was checked on (empty when the exercise has none of its own).
+    """
 
     name: str
     status: str
@@ -93,7 +137,13 @@ class Verdict:
         return self.status == "right"
 
     def text(self) -> str:
-        """Plain text (a console, a log): code names in quotes instead of Markdown's backticks."""
+        """Plain text (a console, a log): code names in quotes instead of Markdown's backticks.
+
+        Returns
+        -------
+        str
+            The exercise's name and verdict, then each line of feedback as ``  - …``.
+        """
         head = {"right": "✓ right", "wrong": "✗ not yet right", "not done": "… not done yet"}[self.status]
         head += f" ({_whose(self.numbers_of)})" if self.numbers_of else ""
         plain = [BACKTICKS.sub(r"'\1'", line) for line in self.lines]
@@ -131,7 +181,38 @@ def _not_done(value) -> bool:
 
 
 def check(name: str, answer=MISSING) -> Verdict:
-    """Check exercise ``name`` against the library (module docstring); the answer is looked up by name if not given."""
+    """Check exercise ``name`` against the library (module docstring); the answer is looked up by name if not given.
+
+    Parameters
+    ----------
+    name : str
+        The exercise (a key of :data:`~course_dynamics.teaching.catalogue.EXERCISES`).
+    answer : object, optional
+        The answer (a function, a value, a sympy expression, a list of equations); by default the value of
+        the name ``name`` in the caller's globals (the notebook's).
+
+    Returns
+    -------
+    Verdict
+        Right, wrong (and why), or not done yet. An answer that fails, or runs longer than 60 s, is a
+        wrong verdict, never an exception.
+
+    Raises
+    ------
+    KeyError
+        If there is no exercise of that name.
+    AssertionError
+        Under nbgrader's autograder (``NBGRADER_EXECUTION=autograde``), for an answer that is not right, with
+        the verdict's text.
+
+    Examples
+    --------
+    >>> check("k_pendulum").status
+    'not done'
+    >>> m, l, theta_dot = symbols("m", "l", "theta_dot")
+    >>> bool(check("k_pendulum", m * l**2 * theta_dot**2 / 2))
+    True
+    """
     if name not in EXERCISES:
         raise KeyError(f"no exercise named '{name}' (exercises: {', '.join(EXERCISES)})")
     if answer is MISSING:
@@ -179,7 +260,23 @@ def _try(function, *arguments):
 
 def term_assignment(name: str) -> Assignment:
     """The assignment term exercise ``name`` is checked under, as the grader would grade it: one point for its
-    term, on 12 states seeded by the student and the exercise, on the student's robot."""
+    term, on 12 states seeded by the student and the exercise, on the student's robot.
+
+    Parameters
+    ----------
+    name : str
+        A ``"term"`` exercise (``"tau_two_link"``, ``"M_two_link"``, …).
+
+    Returns
+    -------
+    Assignment
+        The assignment (:class:`~course_dynamics.grading.assignment.Assignment`).
+
+    Raises
+    ------
+    KeyError
+        If there is no exercise of that name.
+    """
     exercise = EXERCISES[name]
     seed = int(rng_for(student(), name).integers(2**31))
     return Assignment(source=Path(name), robot_argument=exercise.robot, robot=my_robot(exercise.robot).model,
