@@ -40,6 +40,7 @@ from pathlib import Path
 from ..base.errors import InputError
 from ..base.resources import budget_text, format_bytes, memory_budget
 
+#: The most a compressed chunk may grow, as a multiple of its compressed bytes.
 RATIO = 100  # real logs compress 2-10x (a joint state's floats 3-5x); rosbags' own ROS1 bags of zeros, 400x
 STEP = 2**23  # bytes a streaming decompressor gives at a time
 ROS1_MAGIC, MCAP_MAGIC = b"#ROSBAG V2.0\n", b"\x89MCAP0\r\n"
@@ -47,7 +48,10 @@ ROS1_CHUNK, MCAP_CHUNK, MCAP_FOOTER = 0x05, 0x06, 0x02
 
 
 class DecompressionBombError(InputError):
-    """Compressed data that would grow past its bound (:func:`bound`); the message names the file and the chunk."""
+    """Compressed data that would grow past its bound (:func:`bound`); the message names the file and the chunk.
+
+    An :class:`~course_dynamics.base.errors.InputError`: one line on the command line.
+    """
 
 
 @dataclass
@@ -78,6 +82,7 @@ def _zstd():  # the module rosbags uses: the standard library's from Python 3.14
 # What each kind's whole-data function does after one stream ends, which ours repeats: bz2.decompress goes on to the
 # next stream and ignores what follows the first unless it is one; zstd.decompress reads every frame, strictly;
 # lz4.frame.decompress reads the first frame and ignores the rest.
+#: The kinds of compression bounded: {kind: (its streaming decompressor, what follows the first stream)}.
 STREAMS = {"bz2": (bz2.BZ2Decompressor, "streams, then anything"), "zstd": (_zstd, "frames"),
            "lz4": (_lz4, "one frame")}
 
@@ -87,6 +92,22 @@ def bound(compressed: int, stored: int = 0, disk: bool = False) -> tuple[int, st
 
     The smallest of :data:`RATIO` × ``compressed``, the memory budget less ``stored`` (bytes already kept) and, with
     ``disk``, half the space free in the temporary folder.
+
+    Parameters
+    ----------
+    compressed : int
+        The compressed bytes.
+    stored : int
+        Bytes already kept from the bag, counted against the memory budget.
+    disk : bool
+        Whether the output goes to the temporary folder (a ROS2 bag's storage file).
+
+    Returns
+    -------
+    limit : int
+        The most bytes the data may decompress to.
+    reason : str
+        The bound's name, for a message.
 
     >>> bound(512)
     (51200, '100x its 512 bytes: refused as a decompression bomb')
@@ -106,6 +127,20 @@ def decompress(kind: str, data: bytes, what) -> bytes:
 
     ``what`` names the data for the message (a string, or a function giving it, called only then).
 
+    Parameters
+    ----------
+    kind : str
+        ``"bz2"``, ``"lz4"`` or ``"zstd"``, a key of :data:`STREAMS`.
+    data : bytes
+        The compressed data.
+    what : str or callable
+        The data's name for the message, or a function giving it.
+
+    Returns
+    -------
+    bytes
+        The decompressed data.
+
     >>> len(decompress("bz2", bz2.compress(os.urandom(5000)), "probe"))
     5000
     >>> decompress("bz2", bz2.compress(bytes(10**6)), "probe")
@@ -118,8 +153,10 @@ as a decompression bomb
     ------
     DecompressionBombError
         ``what`` would decompress past the bound.
-    ValueError, OSError and the decompressors' own
-        Damaged data, as rosbags' own decompressors raise them.
+    ValueError
+        Damaged data (or data that ends inside a stream), as rosbags' own decompressors raise it.
+    OSError
+        Damaged data, as rosbags' own decompressors raise it (and their other errors, unchanged).
     """
     new, rest = STREAMS[kind]
     limit, past = bound(len(data))
@@ -229,7 +266,18 @@ def _install() -> None:
 
 @contextmanager
 def bounded(path):
-    """Within it, what rosbags decompresses of the bag at ``path`` is bounded (module docstring)."""
+    """Within it, what rosbags decompresses of the bag at ``path`` is bounded (module docstring).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The bag being read, named in the messages.
+
+    Yields
+    ------
+    None
+        The block within which rosbags' decompression is bounded.
+    """
     _install()
     token = _reading.set(_Reading(Path(path)))
     try:
@@ -291,3 +339,6 @@ def _ros1_op(view, position: int, end: int) -> int | None:
             return field[3]
         position += 4 + size
     return None
+
+
+__all__ = ["RATIO", "STREAMS", "DecompressionBombError", "bound", "bounded", "decompress"]
