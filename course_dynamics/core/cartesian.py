@@ -33,13 +33,21 @@ from .kinematics import (
 from .model import Model
 from .state import as_state, entries, layout_of
 
+#: The names of the task rows, in the order of J's rows (vx, vy, vz, ωx, ωy, ωz).
 ROW_NAMES = ("x", "y", "z", "rx", "ry", "rz")
+#: The coordinates a Jacobian can be expressed in, the base frame's or the frame's own.
 EXPRESSED_IN = ("base", "frame")
-MAX_CONDITION = 1e8  # beyond this J is treated as singular
+#: The largest condition number of J taken by default; beyond it J is treated as singular.
+MAX_CONDITION = 1e8
 
 
 class SingularityError(CourseDynamicsError):
     """The task Jacobian is singular or nearly so at the given state.
+
+    The message gives the frame, the state and the condition number.
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> try:   # the two-link arm stretched out (θ₂ = 0) cannot move its tool along the arm
@@ -94,6 +102,37 @@ def jacobian(model: Model, q, frame: str, expressed_in: str = "base", rows=None)
     Rows are (vx, vy, vz, ωx, ωy, ωz) of the frame origin (m/s and rad/s per unit
     joint rate); ``rows`` selects some by index or name ("x", "y", "z", "rx", "ry", "rz").
 
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : array_like, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint).
+    frame : str
+        A URDF link (``model.frame_names``): the frame whose origin is the task point.
+    expressed_in : {"base", "frame"}, optional
+        The coordinates of J: the base frame's (the default) or the frame's own.
+    rows : sequence of int or str, optional
+        The task rows, by index or name (:data:`ROW_NAMES`); all six by default.
+
+    Returns
+    -------
+    numpy.ndarray, shape (k, n) or (N, k, n)
+        J(Θ): m/s (rows x, y, z) and rad/s (rows rx, ry, rz) per rad/s of a revolute joint (per m/s of a
+        prismatic one).
+
+    Raises
+    ------
+    StateError
+        If a state is not a finite array whose last axis is the model's n joints.
+    ModelError
+        If the robot has no link ``frame``.
+    InputError
+        If ``expressed_in`` or a row is unknown.
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> jacobian(load_robot("two_link"), [np.pi / 6, np.pi / 6], "tool", rows=("x", "z")).round(3)   # world x, z
     array([[-0.596, -0.346],
@@ -108,6 +147,38 @@ def jacobian(model: Model, q, frame: str, expressed_in: str = "base", rows=None)
 
 def jacobian_dot(model: Model, q, qd, frame: str, expressed_in: str = "base", rows=None) -> np.ndarray:
     """J̇(Θ, Θ̇) = d/dt J(Θ(t)): same shape as :func:`jacobian`; exact (dual numbers).
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : array_like, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint).
+    qd : array_like, shape (n,) or (N, n)
+        Joint velocities Θ̇, rad/s (m/s).
+    frame : str
+        A URDF link (``model.frame_names``): the frame whose origin is the task point.
+    expressed_in : {"base", "frame"}, optional
+        The coordinates of J: the base frame's (the default) or the frame's own.
+    rows : sequence of int or str, optional
+        The task rows, by index or name (:data:`ROW_NAMES`); all six by default.
+
+    Returns
+    -------
+    numpy.ndarray, shape (k, n) or (N, k, n)
+        J̇(Θ, Θ̇), the units of J per second.
+
+    Raises
+    ------
+    StateError
+        If a state is not a finite array whose last axis is the model's n joints.
+    ModelError
+        If the robot has no link ``frame``.
+    InputError
+        If ``expressed_in`` or a row is unknown.
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> jacobian_dot(load_robot("two_link"), [0.0, np.pi / 2], [0.0, 1.0], "tool", "frame", ("x", "y")).round(3)
@@ -126,6 +197,28 @@ def jacobian_dot(model: Model, q, qd, frame: str, expressed_in: str = "base", ro
 class CartesianTerms:
     """F = M_x Ẍ + V_x + G_x (6.91) at one state, for one frame and task rows.
 
+    Parameters
+    ----------
+    frame : str
+        The URDF link whose origin is the task point.
+    rows : tuple of str
+        The task rows (:data:`ROW_NAMES`), k = n of them.
+    J : numpy.ndarray, shape (n, n)
+        The task Jacobian J(Θ).
+    J_dot : numpy.ndarray, shape (n, n)
+        Its time derivative J̇(Θ, Θ̇).
+    Mx : numpy.ndarray, shape (n, n)
+        M_x(Θ) = J⁻ᵀ M J⁻¹, kg (kg·m² for rotation rows).
+    Vx : numpy.ndarray, shape (n,)
+        V_x(Θ, Θ̇) = J⁻ᵀ (V − M J⁻¹ J̇ Θ̇), N (N·m for rotation rows).
+    Gx : numpy.ndarray, shape (n,)
+        G_x(Θ) = J⁻ᵀ G, N (N·m).
+    condition : float
+        The condition number of J.
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> arm = load_robot("two_link")
     >>> terms = cartesian_dynamics(arm, [np.pi / 6, np.pi / 2], [0.0, 0.0], "tool", "frame", ("x", "y"))
@@ -143,7 +236,18 @@ class CartesianTerms:
     condition: float
 
     def joint_torques(self, x_ddot) -> np.ndarray:
-        """τ = Jᵀ (M_x Ẍ + V_x + G_x) (6.104) for a task acceleration Ẍ, shape (k,)."""
+        """τ = Jᵀ (M_x Ẍ + V_x + G_x) (6.104) for a task acceleration Ẍ, shape (k,).
+
+        Parameters
+        ----------
+        x_ddot : array_like, shape (k,)
+            The task acceleration Ẍ, m/s² (rad/s² for rotation rows).
+
+        Returns
+        -------
+        numpy.ndarray, shape (n,)
+            Joint torques τ, N·m (N for a prismatic joint).
+        """
         return self.J.T @ (self.Mx @ np.asarray(x_ddot, dtype=float) + self.Vx + self.Gx)  # (6.104)
 
 
@@ -151,6 +255,29 @@ def operational_space_terms(J_inv, J_dot, M, V, G, theta_dot):
     """(M_x, V_x, G_x) of (6.99) from J⁻¹, J̇, M, V, G and Θ̇: numpy arrays or sympy matrices alike.
 
     The one place (6.99) is written: the numeric path and the symbolic derivation both call it.
+
+    Parameters
+    ----------
+    J_inv : numpy.ndarray or sympy.Matrix, shape (n, n)
+        J⁻¹.
+    J_dot : numpy.ndarray or sympy.Matrix, shape (n, n)
+        J̇.
+    M : numpy.ndarray or sympy.Matrix, shape (n, n)
+        M(Θ), kg·m² (kg).
+    V : numpy.ndarray or sympy.Matrix, shape (n,)
+        V(Θ, Θ̇), N·m (N).
+    G : numpy.ndarray or sympy.Matrix, shape (n,)
+        G(Θ), N·m (N).
+    theta_dot : numpy.ndarray or sympy.Matrix, shape (n,)
+        Θ̇, rad/s (m/s).
+
+    Returns
+    -------
+    tuple
+        (M_x, V_x, G_x), of the arguments' kind.
+
+    Examples
+    --------
 
     >>> import numpy as np
     >>> Mx, Vx, Gx = operational_space_terms(np.eye(2), np.zeros((2, 2)), 2 * np.eye(2), np.ones(2), np.ones(2),
@@ -169,10 +296,37 @@ def cartesian_dynamics(model: Model, q, qd, frame: str, expressed_in: str = "bas
                        max_condition: float = MAX_CONDITION) -> CartesianTerms:
     """M_x, V_x, G_x of (6.99) at one numeric state, for a square task Jacobian.
 
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : array_like, shape (n,)
+        Joint positions Θ, rad (m for a prismatic joint).
+    qd : array_like, shape (n,)
+        Joint velocities Θ̇, rad/s (m/s).
+    frame : str
+        A URDF link (``model.frame_names``): the frame whose origin is the task point.
+    expressed_in : {"base", "frame"}, optional
+        The coordinates of J: the base frame's (the default) or the frame's own.
+    rows : sequence of int or str, optional
+        The task rows, by index or name (:data:`ROW_NAMES`); all six by default.
+    max_condition : float, optional
+        The largest condition number of J taken (:data:`MAX_CONDITION`).
+
+    Returns
+    -------
+    CartesianTerms
+        J, J̇, M_x, V_x, G_x and cond(J) at the state.
+
     Raises
     ------
     InputError
-        If the selected rows do not make J square (k ≠ n).
+        If the selected rows do not make J square (k ≠ n), the state is a batch or symbolic, or
+        ``expressed_in`` or a row is unknown.
+    StateError
+        If a state is not a finite array of the model's n joints.
+    ModelError
+        If the robot has no link ``frame``.
     SingularityError
         If cond(J) exceeds ``max_condition`` (the message gives the condition number).
 
@@ -204,3 +358,7 @@ def cartesian_dynamics(model: Model, q, qd, frame: str, expressed_in: str = "bas
     Mx, Vx, Gx = operational_space_terms(np.linalg.inv(J), J_dot, M, V, G, qd)
     return CartesianTerms(frame=frame, rows=tuple(ROW_NAMES[i] for i in indices), J=J, J_dot=J_dot,
                           Mx=Mx, Vx=Vx, Gx=Gx, condition=condition)
+
+
+__all__ = ["CartesianTerms", "EXPRESSED_IN", "MAX_CONDITION", "ROW_NAMES", "SingularityError", "cartesian_dynamics",
+           "jacobian", "jacobian_dot", "operational_space_terms"]
