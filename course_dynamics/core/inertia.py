@@ -323,4 +323,5 @@ def physical_problems(I, tolerance: float = TOLERANCE) -> list[str]:
     return problems
 
 
-__all__ = ["TOLERANCE", "box", "cylinder", "parallel_axis", "physical_problems", "point_mass", "principal_axes", "products_of_inertia", "rod", "rotate", "sphere"]
+__all__ = ["TOLERANCE", "box", "cylinder", "parallel_axis", "physical_problems", "point_mass", "principal_axes",
+           "products_of_inertia", "rod", "rotate", "sphere"]

@@ -267,4 +267,5 @@ def smooth_trajectory(model: Model, duration: float = 2.0, samples: int = 201, s
     return t, q, qd, qdd
 
 
-__all__ = ["gravity_free", "random_states", "reach", "relative_error", "sampling_bounds", "smooth_trajectory", "term_scales"]
+__all__ = ["gravity_free", "random_states", "reach", "relative_error", "sampling_bounds", "smooth_trajectory",
+           "term_scales"]
