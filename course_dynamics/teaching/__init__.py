@@ -14,3 +14,5 @@ module             job
 ``limits``         a time limit for a check in a student's kernel, even inside its ``except:``
 =================  ============================================================================
 """
+
+__all__ = []

@@ -34,8 +34,10 @@ from ..output.folders import check_folder, write_folder
 from ..tools.variants import check_student_id
 
 BEGIN, END = "### BEGIN SOLUTION", "### END SOLUTION"
+#: The first line (alone or after ``# ``) of a cell that only the version with solutions keeps.
 SOLUTIONS_ONLY = "(with the solutions only)"  # a cell whose first line is this (or "# " and this) shows an answer
 PLACEHOLDER = "pass  # YOUR CODE HERE"  # a function with it returns None: "not done yet"; nothing is displayed
+#: How long one cell may run, s, before :func:`execute` fails.
 CELL_TIMEOUT = 300  # s
 PUBLISH_OWNER = "publish-notebooks"  # the command named in an output folder's manifest
 # What a published page shows of an output, best first (JupyterLab's order, less what a static page cannot run).
@@ -44,7 +46,13 @@ ANSI = re.compile(r"\x1b\[[0-9;]*[A-Za-z]")  # colours in a traceback
 
 
 def notebooks_folder() -> Path:
-    """Where the course's notebooks are: the installed package data, else the repository's ``notebooks/``."""
+    """Where the course's notebooks are: the installed package data, else the repository's ``notebooks/``.
+
+    Returns
+    -------
+    pathlib.Path
+        The folder of the percent-format sources.
+    """
     try:
         folder = resources.files("course_dynamics_notebooks")
         if folder.is_dir():
@@ -55,7 +63,23 @@ def notebooks_folder() -> Path:
 
 
 def notebook_paths(only=None) -> list[Path]:
-    """The course's notebooks, in reading order (their numbers); ``only`` keeps those numbered e.g. ("01", "03")."""
+    """The course's notebooks, in reading order (their numbers); ``only`` keeps those numbered e.g. ("01", "03").
+
+    Parameters
+    ----------
+    only : iterable of str, optional
+        The two-digit numbers of the notebooks to keep; all by default.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The sources, ``NN_topic.py``.
+
+    Raises
+    ------
+    InputError
+        If no notebook is found, or a number of ``only`` is not one of the course's.
+    """
     paths = sorted(p for p in notebooks_folder().glob("[0-9][0-9]_*.py"))
     if not paths:
         raise InputError(f"{notebooks_folder()}: no course notebooks found")
@@ -69,14 +93,41 @@ def notebook_paths(only=None) -> list[Path]:
 
 
 def read_notebook(path):
-    """A notebook (nbformat) from a percent-format source file."""
+    """A notebook (nbformat) from a percent-format source file.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The source, ``NN_topic.py``.
+
+    Returns
+    -------
+    nbformat.NotebookNode
+        The notebook, without outputs.
+    """
     import jupytext
 
     return jupytext.read(str(path), fmt="py:percent")
 
 
 def solution_regions(source: str) -> list[tuple[int, int]]:
-    """(first, last) line numbers of every ``### BEGIN SOLUTION`` … ``### END SOLUTION`` region, markers included."""
+    """(first, last) line numbers of every ``### BEGIN SOLUTION`` … ``### END SOLUTION`` region, markers included.
+
+    Parameters
+    ----------
+    source : str
+        A cell's source.
+
+    Returns
+    -------
+    list of tuple of (int, int)
+        The regions' first and last lines, numbered from 0.
+
+    Examples
+    --------
+    >>> solution_regions("x = 1\\n### BEGIN SOLUTION\\ny = 2\\n### END SOLUTION")
+    [(1, 3)]
+    """
     regions, start = [], None
     for number, line in enumerate(source.splitlines()):
         if line.strip() == BEGIN:
@@ -88,7 +139,24 @@ def solution_regions(source: str) -> list[tuple[int, int]]:
 
 
 def strip_solutions(source: str) -> str:
-    """The cell's source with every solution region replaced by a placeholder at its indentation."""
+    """The cell's source with every solution region replaced by a placeholder at its indentation.
+
+    Parameters
+    ----------
+    source : str
+        A cell's source.
+
+    Returns
+    -------
+    str
+        The source, each region replaced by ``pass  # YOUR CODE HERE``.
+
+    Examples
+    --------
+    >>> print(strip_solutions("def f():\\n    ### BEGIN SOLUTION\\n    return 1\\n    ### END SOLUTION"))
+    def f():
+        pass  # YOUR CODE HERE
+    """
     lines = source.splitlines()
     for first, last in reversed(solution_regions(source)):
         indent = re.match(r"\s*", lines[first]).group(0)
@@ -127,7 +195,27 @@ def _for_student(notebook, student: str | None) -> None:
 
 def student_version(notebook, stem: str = "notebook", student: str | None = None):
     """A copy without solutions (placeholders instead) and without outputs, with nbgrader metadata; with
-    ``student``, its checks run on that student's robot and numbers."""
+    ``student``, its checks run on that student's robot and numbers.
+
+    Parameters
+    ----------
+    notebook : nbformat.NotebookNode
+        The notebook with solutions (it is not changed).
+    stem : str, optional
+        The notebook's name, for nbgrader's cell ids.
+    student : str, optional
+        The student's id: a first code cell calls :func:`~course_dynamics.teaching.catalogue.use_student`.
+
+    Returns
+    -------
+    nbformat.NotebookNode
+        The student version.
+
+    Raises
+    ------
+    InputError
+        If ``student`` is not an id a course uses.
+    """
     notebook = copy.deepcopy(notebook)
     notebook.cells = [cell for cell in notebook.cells if not solutions_only(cell)]
     _nbgrader(notebook, stem)
@@ -141,13 +229,44 @@ def student_version(notebook, stem: str = "notebook", student: str | None = None
 
 def solutions_only(cell) -> bool:
     """Whether a cell shows an exercise's answer (the library's closed form of what the student derives), and so
-    stays out of the student version: its first line is :data:`SOLUTIONS_ONLY`."""
+    stays out of the student version: its first line is :data:`SOLUTIONS_ONLY`.
+
+    Parameters
+    ----------
+    cell : nbformat.NotebookNode
+        A cell of a notebook.
+
+    Returns
+    -------
+    bool
+        True for a cell only the version with solutions keeps.
+    """
     first = (cell.source.strip().splitlines() or [""])[0].strip()
     return first in (SOLUTIONS_ONLY, "# " + SOLUTIONS_ONLY)
 
 
 def solution_version(notebook, stem: str = "notebook", student: str | None = None):
-    """A copy with the solutions, with nbgrader metadata (for ``student``'s robot, if given)."""
+    """A copy with the solutions, with nbgrader metadata (for ``student``'s robot, if given).
+
+    Parameters
+    ----------
+    notebook : nbformat.NotebookNode
+        The notebook (it is not changed).
+    stem : str, optional
+        The notebook's name, for nbgrader's cell ids.
+    student : str, optional
+        The student's id: a first code cell calls :func:`~course_dynamics.teaching.catalogue.use_student`.
+
+    Returns
+    -------
+    nbformat.NotebookNode
+        The version with solutions.
+
+    Raises
+    ------
+    InputError
+        If ``student`` is not an id a course uses.
+    """
     notebook = copy.deepcopy(notebook)
     _nbgrader(notebook, stem)
     _for_student(notebook, student)
@@ -161,6 +280,15 @@ class NotebooksWritten:
     ``written``: the notebooks written; ``kept``: (path, why) for each left as it was — ``"exists"``
     for a file (a student's work, perhaps), or what else is there (``"is a symbolic link"``, …);
     ``backups``: the copies kept of the notebooks replaced with ``force``.
+
+    Parameters
+    ----------
+    written : tuple of pathlib.Path
+        The notebooks written.
+    kept : tuple of tuple of (pathlib.Path, str)
+        Each notebook left as it was, and why.
+    backups : tuple of pathlib.Path
+        The copies kept of the notebooks replaced.
     """
 
     written: tuple[Path, ...]
@@ -179,6 +307,30 @@ def write_notebooks(out: Path, solutions: bool = False, force: bool = False, stu
     is not a regular file at a notebook's name (a symbolic link, a folder, a pipe) is left alone even
     with ``force``: nothing is written through it or put in its place. Every notebook is rendered
     before the first is written.
+
+    Parameters
+    ----------
+    out : str or pathlib.Path
+        The folder.
+    solutions : bool, optional
+        Write the versions with solutions.
+    force : bool, optional
+        Replace a notebook that is there (after keeping a copy).
+    student : str, optional
+        The student's id, for their own robot and numbers.
+    only : iterable of str, optional
+        The two-digit numbers of the notebooks to write; all by default.
+
+    Returns
+    -------
+    NotebooksWritten
+        What was written, kept and backed up.
+
+    Raises
+    ------
+    InputError
+        If ``out`` is not a folder, ``student`` or a number of ``only`` is not valid, or a notebook cannot be
+        written.
     """
     import nbformat
 
@@ -218,7 +370,13 @@ NOTEBOOK_STACK = ("nbclient", "nbconvert", "ipykernel")  # the `notebooks` extra
 
 def check_notebook_stack() -> None:
     """An InputError saying what to install when the notebook execution stack is missing (the base install
-    leaves it out: an engineer computing torques never runs a notebook)."""
+    leaves it out: an engineer computing torques never runs a notebook).
+
+    Raises
+    ------
+    InputError
+        If nbclient, nbconvert or ipykernel cannot be imported.
+    """
     import importlib
 
     missing = []
@@ -233,7 +391,29 @@ def check_notebook_stack() -> None:
 
 
 def execute(notebook, folder: Path, timeout: int = CELL_TIMEOUT):
-    """Run every cell in a fresh kernel with ``folder`` as working directory; a failing cell raises."""
+    """Run every cell in a fresh kernel with ``folder`` as working directory; a failing cell raises.
+
+    Parameters
+    ----------
+    notebook : nbformat.NotebookNode
+        The notebook, run in place (its outputs filled in).
+    folder : str or pathlib.Path
+        The kernel's working directory.
+    timeout : int, optional
+        How long one cell may run, s.
+
+    Returns
+    -------
+    nbformat.NotebookNode
+        ``notebook``, run.
+
+    Raises
+    ------
+    KeyboardInterrupt
+        When the run was interrupted (SIGINT or SIGTERM), whatever nbclient made of it.
+    nbclient.exceptions.CellExecutionError
+        If a cell raises (nbclient's errors: a cell's timeout too).
+    """
     import subprocess
 
     from nbclient import NotebookClient
@@ -258,6 +438,18 @@ def execute(notebook, folder: Path, timeout: int = CELL_TIMEOUT):
 
 
 def first_heading(notebook) -> str:
+    """The text of the first Markdown heading of a notebook (its title), or ``""``.
+
+    Parameters
+    ----------
+    notebook : nbformat.NotebookNode
+        The notebook.
+
+    Returns
+    -------
+    str
+        The heading without its ``#`` marks.
+    """
     for cell in notebook.cells:
         if cell.cell_type == "markdown":
             for line in cell.source.splitlines():
@@ -270,7 +462,18 @@ def output_html(output):
     """One cell output as HTML: printed text and tracebacks escaped, figures inline, Markdown and LaTeX with MathML.
 
     HTML outputs are kept as they are: in the course they come from the library itself (the
-    animation of :func:`course_dynamics.output.viewer.show`, an ``srcdoc`` iframe that plays offline).
+    animation of :func:`~course_dynamics.output.viewer.live.show`, an ``srcdoc`` iframe that plays offline).
+
+    Parameters
+    ----------
+    output : dict
+        One output of a code cell (nbformat): a stream, an error, or display data.
+
+    Returns
+    -------
+    markupsafe.Markup or None
+        A ``<pre>`` for a stream or an error, a ``<div class="output">`` for data; None for data of no kind a
+        page shows.
     """
     kind = output.get("output_type")
     if kind == "stream":
@@ -296,7 +499,20 @@ def output_html(output):
 
 
 def notebook_page(notebook, title: str = "") -> str:
-    """A notebook (run or not) as one page: its Markdown with the formulas as MathML, its code and outputs."""
+    """A notebook (run or not) as one page: its Markdown with the formulas as MathML, its code and outputs.
+
+    Parameters
+    ----------
+    notebook : nbformat.NotebookNode
+        The notebook.
+    title : str, optional
+        The page's title; by default the notebook's first heading.
+
+    Returns
+    -------
+    str
+        The HTML page (:func:`~course_dynamics.output.page.page`).
+    """
     body = []
     for cell in notebook.cells:
         if cell.cell_type == "markdown":
@@ -308,7 +524,20 @@ def notebook_page(notebook, title: str = "") -> str:
 
 
 def index_page(entries, solutions: bool = False) -> str:
-    """The course's front page: a link to each ``(stem, title)`` in ``entries``, in order."""
+    """The course's front page: a link to each ``(stem, title)`` in ``entries``, in order.
+
+    Parameters
+    ----------
+    entries : iterable of tuple of (str, str)
+        Each notebook's name (its page is ``stem.html``) and title (the name when empty).
+    solutions : bool, optional
+        The pages are the versions with solutions (the heading says which).
+
+    Returns
+    -------
+    str
+        The HTML page.
+    """
     kind = "with solutions" if solutions else "student version"
     links = [page.link(f"{stem}.html", title or stem) for stem, title in entries]
     return page.page("Manipulator dynamics: the course",
@@ -325,6 +554,28 @@ def publish(out: Path, solutions: bool = False, only=None, progress=None) -> lis
     :func:`course_dynamics.output.folders.write_folder`, which replaces only pages an earlier run of
     this command wrote and nobody changed since, and refuses (before any notebook runs) when another
     file is in the way.
+
+    Parameters
+    ----------
+    out : str or pathlib.Path
+        The folder of the pages.
+    solutions : bool, optional
+        Publish the versions with solutions.
+    only : iterable of str, optional
+        The two-digit numbers of the notebooks to publish; all by default.
+    progress : callable, optional
+        Called with 1 after each notebook.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The pages written, ``index.html`` last.
+
+    Raises
+    ------
+    InputError
+        If the notebook execution stack is missing, a number of ``only`` is not one of the course's, or a
+        file in the way was not written by ``publish-notebooks`` (before any notebook runs).
     """
     import tempfile
 
@@ -344,3 +595,9 @@ def publish(out: Path, solutions: bool = False, only=None, progress=None) -> lis
                 progress(1)
     pages["index.html"] = index_page(entries, solutions)
     return write_folder(out, pages, PUBLISH_OWNER)
+
+
+__all__ = ["CELL_TIMEOUT", "SOLUTIONS_ONLY", "NotebooksWritten", "check_notebook_stack", "execute", "first_heading",
+           "index_page", "notebook_page", "notebook_paths", "notebooks_folder", "output_html", "publish",
+           "read_notebook", "solution_regions", "solution_version", "solutions_only", "strip_solutions",
+           "student_version", "write_notebooks"]
