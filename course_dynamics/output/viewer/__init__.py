@@ -11,9 +11,9 @@ module             job
 ``mesh_limits``    how much geometry a mesh file expands to, counted before trimesh reads it
 =================  ===============================================================
 """
+from . import geometry
 from .export import RecordingWindow, export_html, html_document, scene_document
 from .geometry import (
-    GEOMETRIES,
     MeshWarning,
     RobotGeometry,
     ViewerError,
@@ -22,6 +22,9 @@ from .geometry import (
 )
 from .live import LiveViewer, show, start_server
 from .scene import animate, body_placements, build_scene, draw_robot, tip_frame
+
+#: The choices of ``geometry`` (:data:`~course_dynamics.output.viewer.geometry.GEOMETRIES`).
+GEOMETRIES = geometry.GEOMETRIES
 
 __all__ = [
     "GEOMETRIES", "LiveViewer", "MeshWarning", "RecordingWindow", "RobotGeometry", "ViewerError", "animate",

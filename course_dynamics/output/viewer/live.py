@@ -14,13 +14,26 @@ from .scene import build_scene
 
 @dataclass
 class LiveViewer:
-    """A meshcat server of ours (loopback only, dies with this process) and a Visualizer on it."""
+    """A meshcat server of ours (loopback only, dies with this process) and a Visualizer on it.
+
+    Jupyter shows it as the viewer's page in an iframe.
+
+    Parameters
+    ----------
+    vis : meshcat.Visualizer
+        The scene, connected to the server.
+    process : subprocess.Popen
+        The server's process (:mod:`~course_dynamics.output.viewer.meshcat_server`).
+    url : str
+        The viewer's web page, on 127.0.0.1.
+    """
 
     vis: object
     process: subprocess.Popen
     url: str
 
     def close(self) -> None:
+        """Stop the server: terminated, and killed if it has not ended within 5 s."""
         if self.process.poll() is None:
             self.process.terminate()
             try:
@@ -48,6 +61,21 @@ def start_server(timeout: float = 20.0) -> LiveViewer:
     The server is a child process that receives SIGTERM when this Python
     process dies, even by SIGKILL (Linux ``PR_SET_PDEATHSIG``), and is
     terminated at normal exit; :meth:`LiveViewer.close` stops it at once.
+
+    Parameters
+    ----------
+    timeout : float, optional
+        The most time to wait for the server to say where it listens, s.
+
+    Returns
+    -------
+    LiveViewer
+        The server, its web page's address and a Visualizer connected to it.
+
+    Raises
+    ------
+    ViewerError
+        If the server did not start (or said nothing) within ``timeout``.
     """
     import atexit
     import re
@@ -82,6 +110,39 @@ def show(model: Model, urdf, geometry: str = "auto", t=None, q=None, tau=None, d
     iframe, or the self-contained HTML in an ``srcdoc`` iframe). The live
     viewer keeps a server process; ``.close()`` stops it, and it also stops
     when Python exits.
+
+    Parameters
+    ----------
+    model : Model
+        The robot, loaded from ``urdf``.
+    urdf : str or pathlib.Path
+        Its URDF file.
+    geometry : str, optional
+        What to draw: one of :data:`~course_dynamics.output.viewer.geometry.GEOMETRIES`.
+    t : numpy.ndarray, shape (T,), optional
+        Sample times of a trajectory, s; none shows the robot still.
+    q : numpy.ndarray, shape (T, n), optional
+        Joint positions Θ at those times, rad (m for a prismatic joint).
+    tau : numpy.ndarray, shape (T, n), optional
+        Joint torques τ, N·m (N), drawn as bars along the joint axes.
+    draw_path : bool, optional
+        Draw the path of the tip frame (:func:`~course_dynamics.output.viewer.scene.tip_frame`).
+    static : bool, optional
+        Embed an offline animation instead of starting a live server.
+    mesh_anywhere : bool, optional
+        Read mesh files outside the URDF's folder and its packages too.
+
+    Returns
+    -------
+    LiveViewer or object
+        The live viewer; with ``static=True`` an object Jupyter displays as the offline page.
+
+    Raises
+    ------
+    ViewerError
+        If ``geometry`` is unknown, a mesh file cannot be read, or the live server did not start.
+    StateError
+        If ``q`` is not a finite array of shape (T, n).
     """
     if static:
         import html
@@ -100,3 +161,6 @@ class _StaticHTML:
 
     def _repr_html_(self) -> str:
         return self.markup
+
+
+__all__ = ["LiveViewer", "show", "start_server"]

@@ -6,10 +6,15 @@ loopback interface too, then runs meshcat's own server unchanged.
 """
 from __future__ import annotations
 
+#: The only address the server listens on, web page and ZeroMQ alike.
 LOOPBACK = "127.0.0.1"
 
 
 def main() -> None:
+    """Run meshcat's server (``meshcat.servers.zmqserver``) with its web server bound to :data:`LOOPBACK`.
+
+    It prints where it listens (``zmq_url=…``, ``web_url=…``) and runs until it is stopped.
+    """
     import tornado.web
     from meshcat.servers import zmqserver
 
@@ -20,6 +25,9 @@ def main() -> None:
 
     tornado.web.Application.listen = loopback_listen
     zmqserver.main()
+
+
+__all__ = ["LOOPBACK", "main"]
 
 
 if __name__ == "__main__":

@@ -50,7 +50,25 @@ def _shape_transform(shape: Shape) -> np.ndarray:
 
 
 def body_placements(model: Model, q: np.ndarray) -> np.ndarray:
-    """⁰T_i of every body for every state: shape (K, n, 4, 4) for q of shape (K, n)."""
+    """⁰T_i of every body for every state: shape (K, n, 4, 4) for q of shape (K, n).
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : numpy.ndarray, shape (n,) or (K, n)
+        Joint positions Θ, rad (m for a prismatic joint); one state counts as K = 1.
+
+    Returns
+    -------
+    numpy.ndarray, shape (K, n, 4, 4)
+        The homogeneous transform ⁰T_i of body i in the base frame, m.
+
+    Raises
+    ------
+    StateError
+        If ``q`` is not a finite array of shape (n,) or (K, n).
+    """
     placements = forward_kinematics(model, np.atleast_2d(q))
     K = placements.R.shape[0]
     T = np.zeros((K, model.n, 4, 4))
@@ -59,7 +77,26 @@ def body_placements(model: Model, q: np.ndarray) -> np.ndarray:
 
 
 def draw_robot(vis, model: Model, geometry: RobotGeometry, q) -> None:
-    """Put the robot's shapes into meshcat under ``robot/`` and pose it at Θ = ``q``."""
+    """Put the robot's shapes into meshcat under ``robot/`` and pose it at Θ = ``q``.
+
+    Parameters
+    ----------
+    vis : meshcat.Visualizer
+        The scene to draw into.
+    model : Model
+        The robot.
+    geometry : RobotGeometry
+        What to draw (:func:`~course_dynamics.output.viewer.geometry.robot_geometry`).
+    q : array_like, shape (n,)
+        Joint positions Θ, rad (m for a prismatic joint).
+
+    Raises
+    ------
+    ViewerError
+        If a mesh file cannot be read or holds too much geometry.
+    StateError
+        If ``q`` is not a finite array of shape (n,).
+    """
     for body, shapes in geometry.shapes.items():
         node = vis["robot"]["base" if body < 0 else model.bodies[body].name]
         for k, shape in enumerate(shapes):
@@ -70,13 +107,51 @@ def draw_robot(vis, model: Model, geometry: RobotGeometry, q) -> None:
 
 
 def tip_frame(model: Model) -> str:
-    """The last URDF link carried by the last body: the end effector by default."""
+    """The last URDF link carried by the last body: the end effector by default.
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+
+    Returns
+    -------
+    str
+        The link's name.
+    """
     return [f.name for f in model.frames if f.body == model.n - 1][-1]
 
 
 def animate(vis, model: Model, t: np.ndarray, q: np.ndarray, tau: np.ndarray | None = None,
             path_frame: str | None = None, fps: int = ANIMATION_FPS) -> None:
-    """A keyframe animation of Θ(t) (and τ(t) bars, and the path of ``path_frame``)."""
+    """A keyframe animation of Θ(t) (and τ(t) bars, and the path of ``path_frame``).
+
+    Each frame shows the sample nearest its time; the animation plays in a loop.
+
+    Parameters
+    ----------
+    vis : meshcat.Visualizer
+        The scene, with the robot drawn (:func:`draw_robot`).
+    model : Model
+        The robot.
+    t : numpy.ndarray, shape (T,)
+        Sample times, s.
+    q : numpy.ndarray, shape (T, n)
+        Joint positions Θ at those times, rad (m for a prismatic joint).
+    tau : numpy.ndarray, shape (T, n), optional
+        Joint torques τ, N·m (N), drawn as bars along the joint axes, their length ∝ τ.
+    path_frame : str, optional
+        A URDF link whose path is drawn as a line.
+    fps : int, optional
+        Frames per second, Hz.
+
+    Raises
+    ------
+    ModelError
+        If ``path_frame`` is not a link of the robot.
+    StateError
+        If ``q`` is not a finite array of shape (T, n).
+    """
     import meshcat.animation
     import meshcat.geometry as g
 
@@ -120,7 +195,42 @@ def build_scene(vis, model: Model, urdf, geometry: str = "auto", t=None, q=None,
                 draw_path: bool = False, mesh_anywhere: bool = False) -> RobotGeometry:
     """Draw the robot into ``vis`` and, if a trajectory is given, its animation (and the tip's path if ``draw_path``).
 
-    ``mesh_anywhere``: read mesh files outside the URDF's folder and package (see :func:`robot_geometry`).
+    ``mesh_anywhere``: read mesh files outside the URDF's folder and package (see
+    :func:`~course_dynamics.output.viewer.geometry.robot_geometry`).
+
+    Parameters
+    ----------
+    vis : meshcat.Visualizer
+        The scene to draw into.
+    model : Model
+        The robot, loaded from ``urdf``.
+    urdf : str or pathlib.Path
+        Its URDF file.
+    geometry : str, optional
+        What to draw: one of :data:`~course_dynamics.output.viewer.geometry.GEOMETRIES`.
+    t : numpy.ndarray, shape (T,), optional
+        Sample times of a trajectory, s; none draws the robot still.
+    q : numpy.ndarray, shape (T, n), optional
+        Joint positions Θ at those times, rad (m for a prismatic joint); the first is the pose drawn (zero
+        without ``q``).
+    tau : numpy.ndarray, shape (T, n), optional
+        Joint torques τ, N·m (N), drawn as bars along the joint axes.
+    draw_path : bool, optional
+        Draw the path of the tip frame (:func:`tip_frame`).
+    mesh_anywhere : bool, optional
+        Read mesh files outside the URDF's folder and its packages too.
+
+    Returns
+    -------
+    RobotGeometry
+        What was drawn, with the warnings given.
+
+    Raises
+    ------
+    ViewerError
+        If ``geometry`` is unknown or a mesh file cannot be read.
+    StateError
+        If ``q`` is not a finite array of shape (T, n).
     """
     shapes = robot_geometry(model, urdf, geometry, mesh_anywhere=mesh_anywhere)
     q0 = np.zeros(model.n) if q is None else np.asarray(q, float)[0]
@@ -141,3 +251,6 @@ def _place_camera(vis, model: Model, q) -> None:
     reach = max(float(np.linalg.norm(points, axis=1).max()), 0.3)
     x, y, z = 1.6 * reach, -2.0 * reach, 1.2 * reach  # world, z up
     vis["/Cameras/default/rotated/<object>"].set_property("position", [x, z, -y])  # three.js is y up
+
+
+__all__ = ["animate", "body_placements", "build_scene", "draw_robot", "tip_frame"]
