@@ -43,6 +43,27 @@ NO_GRAVITY = Vec3(0.0, 0.0, 0.0)  # the recursion at g = 0: V and M Θ̇ alone
 def gravity_torques(model: Model, q) -> np.ndarray:
     """G(Θ), shape (n,) or (N, n): the torques that hold the arm still against ``model.gravity``.
 
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : array_like, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint); a numpy object array of sympy expressions for a
+        closed form.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,) or (N, n)
+        Gravity torques G(Θ), N·m (N for a prismatic joint).
+
+    Raises
+    ------
+    StateError
+        If ``q`` is not numeric or not finite, or its last axis is not the model's n joints.
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> arm = load_robot("two_link")
     >>> np.round(gravity_torques(arm, [0.0, 0.0]), 6)                  # stretched out: the largest G
@@ -63,6 +84,30 @@ def _without_gravity(model: Model, q, qd, qdd) -> np.ndarray:
 
 def velocity_torques(model: Model, q, qd) -> np.ndarray:
     """V(Θ, Θ̇), shape (n,) or (N, n): centrifugal and Coriolis torques.
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : array_like, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint); a numpy object array of sympy expressions for a
+        closed form.
+    qd : array_like, shape (n,) or (N, n)
+        Joint velocities Θ̇, rad/s (m/s for a prismatic joint).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,) or (N, n)
+        Velocity torques V(Θ, Θ̇), N·m (N for a prismatic joint).
+
+    Raises
+    ------
+    StateError
+        If a state is not numeric or not finite, its last axis is not the model's n joints, or the batches
+        differ in length.
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> arm = load_robot("two_link")
@@ -92,6 +137,27 @@ def unit_acceleration_entries(model: Model, theta: list, X=None) -> list:
 def mass_matrix(model: Model, q) -> np.ndarray:
     """M(Θ), shape (n, n) or (N, n, n): the joint-space mass matrix (kg·m², kg), by the composite-rigid-body algorithm.
 
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : array_like, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint); a numpy object array of sympy expressions for a
+        closed form.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, n) or (N, n, n)
+        The mass matrix M(Θ), kg·m² between revolute joints (kg between prismatic ones).
+
+    Raises
+    ------
+    StateError
+        If ``q`` is not numeric or not finite, or its last axis is not the model's n joints.
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> arm = load_robot("two_link")
     >>> np.round(mass_matrix(arm, [0.0, 0.5]), 6)
@@ -103,6 +169,27 @@ def mass_matrix(model: Model, q) -> np.ndarray:
 
 def mass_matrix_by_unit_accelerations(model: Model, q) -> np.ndarray:
     """M(Θ) by its definition in Craig section 6.8: column j is τ(Θ, 0, eⱼ) with g = 0.
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : array_like, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint); a numpy object array of sympy expressions for a
+        closed form.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, n) or (N, n, n)
+        The mass matrix M(Θ), kg·m² (kg), from n Newton–Euler passes.
+
+    Raises
+    ------
+    StateError
+        If ``q`` is not numeric or not finite, or its last axis is not the model's n joints.
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> arm = load_robot("two_link")
@@ -118,6 +205,30 @@ def coriolis_matrix(model: Model, q, qd) -> np.ndarray:
     """C(Θ, Θ̇), shape (n, n) or (N, n, n), in Christoffel form, by the O(n²) recursion of
     :mod:`~course_dynamics.core.coriolis`.
 
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : array_like, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint); a numpy object array of sympy expressions for a
+        closed form.
+    qd : array_like, shape (n,) or (N, n)
+        Joint velocities Θ̇, rad/s (m/s for a prismatic joint).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, n) or (N, n, n)
+        The Coriolis matrix C(Θ, Θ̇), with C Θ̇ = V, kg·m²/s between revolute joints.
+
+    Raises
+    ------
+    StateError
+        If a state is not numeric or not finite, its last axis is not the model's n joints, or the batches
+        differ in length.
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> arm = load_robot("two_link")
     >>> q, qd = np.array([0.0, 0.5]), np.array([1.0, -2.0])
@@ -129,6 +240,29 @@ def coriolis_matrix(model: Model, q, qd) -> np.ndarray:
 
 def coriolis_matrix_christoffel(model: Model, q, qd) -> np.ndarray:
     """C(Θ, Θ̇) by its definition, ½ (Ṁ + D − Dᵀ), differentiated exactly with dual numbers (no finite differences).
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : array_like, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint); numbers.
+    qd : array_like, shape (n,) or (N, n)
+        Joint velocities Θ̇, rad/s (m/s for a prismatic joint).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, n) or (N, n, n)
+        The Coriolis matrix C(Θ, Θ̇), kg·m²/s between revolute joints.
+
+    Raises
+    ------
+    StateError
+        If a state is not numeric or not finite, its last axis is not the model's n joints, or the batches
+        differ in length.
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> arm = load_robot("two_link")
@@ -155,6 +289,30 @@ def coriolis_matrix_christoffel(model: Model, q, qd) -> np.ndarray:
 
 def kinetic_energy(model: Model, q, qd) -> np.ndarray:
     """k = ½ Θ̇ᵀ M(Θ) Θ̇ (6.71), J: shape () or (N,). One pass: M Θ̇ = τ(Θ, 0, Θ̇) at g = 0.
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : array_like, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint); a numpy object array of sympy expressions for a
+        closed form.
+    qd : array_like, shape (n,) or (N, n)
+        Joint velocities Θ̇, rad/s (m/s for a prismatic joint).
+
+    Returns
+    -------
+    numpy.ndarray, shape () or (N,)
+        The kinetic energy k, J.
+
+    Raises
+    ------
+    StateError
+        If a state is not numeric or not finite, its last axis is not the model's n joints, or the batches
+        differ in length.
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> arm = load_robot("two_link")
@@ -207,6 +365,26 @@ def _derivative(x):
 class DynamicsTerms:
     """Every term of (6.59) at one state (or a batch), joints in model order.
 
+    Parameters
+    ----------
+    joints : tuple of str
+        The joints, in the order of every term's entries.
+    tau : numpy.ndarray, shape (n,)
+        τ = M(Θ)Θ̈ + V(Θ, Θ̇) + G(Θ), N·m (N for a prismatic joint).
+    M : numpy.ndarray, shape (n, n)
+        The mass matrix M(Θ), kg·m² (kg).
+    C : numpy.ndarray, shape (n, n)
+        The Coriolis matrix C(Θ, Θ̇), kg·m²/s.
+    V : numpy.ndarray, shape (n,)
+        Velocity torques V(Θ, Θ̇), N·m (N).
+    G : numpy.ndarray, shape (n,)
+        Gravity torques G(Θ), N·m (N).
+
+    Each has a leading batch axis (N, …) for a batch of states.
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> arm = load_robot("two_link")
     >>> terms = dynamics_terms(arm, [0.0, 0.5], [1.0, 0.0], [0.0, 0.0])
@@ -227,6 +405,34 @@ def dynamics_terms(model: Model, q, qd, qdd, progress=None) -> DynamicsTerms:
 
     ``progress``, if given, is called with the name of each term just computed (five calls).
 
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : array_like, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint); a numpy object array of sympy expressions for a
+        closed form.
+    qd : array_like, shape (n,) or (N, n)
+        Joint velocities Θ̇, rad/s (m/s for a prismatic joint).
+    qdd : array_like, shape (n,) or (N, n)
+        Joint accelerations Θ̈, rad/s² (m/s² for a prismatic joint).
+    progress : callable, optional
+        Called with ``"tau"``, ``"M"``, ``"C"``, ``"V"``, ``"G"`` as each is done.
+
+    Returns
+    -------
+    DynamicsTerms
+        τ, M, C, V and G.
+
+    Raises
+    ------
+    StateError
+        If a state is not numeric or not finite, its last axis is not the model's n joints, or the batches
+        differ in length.
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> arm = load_robot("two_link")
     >>> done = []
@@ -243,3 +449,7 @@ def dynamics_terms(model: Model, q, qd, qdd, progress=None) -> DynamicsTerms:
         if progress is not None:
             progress(name)
     return DynamicsTerms(joints=model.joint_names, **values)
+
+
+__all__ = ["DynamicsTerms", "coriolis_matrix", "coriolis_matrix_christoffel", "dynamics_terms", "gravity_torques",
+           "kinetic_energy", "mass_matrix", "mass_matrix_by_unit_accelerations", "velocity_torques"]
