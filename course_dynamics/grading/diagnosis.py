@@ -301,8 +301,8 @@ class InPart:
         return Finding(codes + self.prefix + text, finding.tags)
 
 
-#: The checks :func:`diagnose` always runs: what makes a state unusable (no function, an error, a wrong shape,
-#: NaN or inf).
+#: The checks :func:`diagnose` always runs, for what makes a state unusable (no function, an error, a wrong
+#: shape, NaN or inf).
 SCREENS = (not_defined, raised_an_error, wrong_shape, not_finite)
 #: The checks :func:`diagnose` runs by default when some comparable state disagrees, in order (module docstring).
 CHECKS = (

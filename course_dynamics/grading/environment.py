@@ -79,7 +79,7 @@ class Environment:
 
     @property
     def library_path(self) -> str:
-        """``LD_LIBRARY_PATH`` for the submission: the folders of :attr:`libraries`, so that a package bound
+        """``LD_LIBRARY_PATH`` for the submission, the folders of ``libraries``, so that a package bound
         into SITE still finds what its run path names relative to where it was installed (conda's numpy)."""
         return ":".join(dict.fromkeys(str(library.parent) for library in self.libraries))
 

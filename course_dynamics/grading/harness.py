@@ -16,8 +16,9 @@ The notebooks' exercise checks call :func:`evaluate` in the student's own kernel
 
 Integrity flags: before the submission runs, the audit hook of
 :mod:`integrity.py <course_dynamics.grading.integrity>` (beside this file, loaded by its path; a Python audit hook
-cannot be removed once added) records what it tries that a dynamics answer never needs (:data:`FLAGS`), each line
-tagged and written at once on the channel FLAGS_FD, before the attempt itself proceeds. The hook ends the channel
+cannot be removed once added) records what it tries that a dynamics answer never needs
+(:data:`~course_dynamics.grading.integrity.FLAGS`), each line tagged and written at once on the channel FLAGS_FD,
+before the attempt itself proceeds. The hook ends the channel
 when the harness raises END_EVENT with the digest of the results it is about to write, and tells the harness, when
 asked with IMPORTS_EVENT, the forbidden modules it saw loaded (an import the submission hid afterwards, its guard
 taken out and its modules dropped from ``sys.modules``, still makes the status ``forbidden import``). After arming,
@@ -50,9 +51,13 @@ try:  # in grading, numpy is importable only once main() has put the plan's fold
 except ImportError:
     np = None
 
+#: The functions a submission may define, in the order they are graded.
 FUNCTIONS = ("tau", "M", "V", "G", "C")
+#: The statuses the harness writes (``ok``, or what ended the submission's run).
 STATUSES = ("ok", "syntax error", "forbidden import", "exited", "memory", "file access", "crashed")
+#: The most numbers one returned value may hold to be sent back (nor more than n × n for n joints).
 MAX_VALUES = 10_000  # a returned array larger than this is reported, not sent back (nor one over n × n values)
+#: The most dimensions one returned value may have to be sent back (M and C have two).
 MAX_DIMENSIONS = 3   # nor one of more dimensions (M and C have two)
 FILE_ERRORS = (errno.EROFS, errno.EACCES, errno.EPERM)
 
@@ -72,17 +77,44 @@ END_EVENT, IMPORTS_EVENT = integrity.END_EVENT, integrity.IMPORTS_EVENT
 
 
 class ForbiddenImport(ImportError):
-    """A submission imported a module the assignment forbids."""
+    """A submission imported a module the assignment forbids (its status becomes ``forbidden import``)."""
 
 
 class ImportGuard(importlib.abc.MetaPathFinder):
-    """Refuses the forbidden top-level modules and remembers every attempt."""
+    """Refuses the forbidden top-level modules and remembers every attempt.
+
+    Parameters
+    ----------
+    forbidden : iterable of str
+        The forbidden top-level module names.
+    """
 
     def __init__(self, forbidden):
         self.forbidden = set(forbidden)
         self.attempts: list[str] = []
 
     def find_spec(self, fullname, path=None, target=None):
+        """Refuse ``fullname`` when its top-level module is forbidden, recording the attempt; else leave it to others.
+
+        Parameters
+        ----------
+        fullname : str
+            The module imported.
+        path : list of str or None
+            The parent package's path (unused).
+        target : module or None
+            The module being reloaded (unused).
+
+        Returns
+        -------
+        None
+            For a module that is not forbidden, which the next finders then look for.
+
+        Raises
+        ------
+        ForbiddenImport
+            If the module is forbidden.
+        """
         if fullname.split(".")[0] in self.forbidden:
             if fullname not in self.attempts:
                 self.attempts.append(fullname)
@@ -124,6 +156,26 @@ def evaluate(namespace, functions: dict, path: str = "") -> dict:
 
     ``namespace`` is a module or a dict (a notebook's globals). Returns
     ``{"defined": [...], "results": {name: [record, ...]}}`` as in the module docstring.
+
+    Parameters
+    ----------
+    namespace : module or dict
+        Where the student's functions are.
+    functions : dict of str to list
+        Per function name, its argument lists (each argument a list of floats).
+    path : str
+        The submission's file, whose line an error names.
+
+    Returns
+    -------
+    dict
+        ``defined`` (the functions of :data:`FUNCTIONS` it defines) and ``results`` (per function called, one
+        record per call: ``value`` and ``shape``, or ``error`` when the call failed or returned no usable array).
+
+    Raises
+    ------
+    SystemExit, MemoryError, KeyboardInterrupt
+        Whatever of these a student's function raises, passed on.
     """
     get = namespace.get if isinstance(namespace, dict) else (lambda name: getattr(namespace, name, None))
     defined = [name for name in FUNCTIONS if callable(get(name))]
@@ -146,7 +198,18 @@ def evaluate(namespace, functions: dict, path: str = "") -> dict:
 
 
 def run(plan: dict) -> dict:
-    """Import the submission and evaluate it; every outcome becomes a status, never an exception."""
+    """Import the submission and evaluate it; every outcome becomes a status, never an exception.
+
+    Parameters
+    ----------
+    plan : dict
+        The plan (module docstring): ``module``, ``forbidden`` and ``functions``.
+
+    Returns
+    -------
+    dict
+        The results document (module docstring), its ``status`` one of :data:`STATUSES`.
+    """
     path = plan["module"]
     guard = ImportGuard(plan.get("forbidden", ()))
     outcome = {"status": "ok", "message": "", "defined": [], "results": {}, "forbidden_attempts": guard.attempts}
@@ -186,6 +249,11 @@ def run(plan: dict) -> dict:
 
 
 def main() -> None:
+    """The script: read the plan on standard input, arm the integrity hook, run, write the results to RESULTS_FD.
+
+    Started as ``python -I -S harness.py RESULTS_FD FLAGS_FD``; it ends the process itself (``os._exit``), so no
+    handler the submission registered runs after the results are written.
+    """
     global np
     results_fd, flags_fd = int(sys.argv[1]), int(sys.argv[2])
     write, close, digest, audit = os.write, os.close, hashlib.sha256, sys.audit  # whatever the submission rebinds
@@ -225,6 +293,11 @@ def _library(plan: dict) -> list[str]:
         except OSError:
             pass
     return folders
+
+
+
+__all__ = ["FUNCTIONS", "MAX_DIMENSIONS", "MAX_VALUES", "STATUSES", "ForbiddenImport", "ImportGuard", "evaluate",
+           "main", "run"]
 
 
 if __name__ == "__main__":

@@ -19,7 +19,7 @@ import hmac
 import os
 import sys
 
-# Integrity flags: code -> what the submission tried (the instructor's summary prints these words).
+#: The integrity flags, code -> what the submission tried (the instructor's summary prints these words).
 FLAGS = {
     "file-read": "opened a file outside its own folder, its working folder and Python's installation",
     "file-write": "wrote, made, moved or removed a file outside its working folder",
@@ -35,7 +35,9 @@ FLAGS = {
     "import-outside": "imported a module from a folder outside the interpreter's path as the harness set it up",
     "channel-closed": "the integrity channel was closed, redirected or written to by the submission",
 }
+#: The most lines the hook writes per flag code, ``tampered`` excepted (each distinct attempt once).
 MAX_FLAG_LINES = 50  # lines the hook writes at most per code but tampered (each distinct attempt once)
+#: The most characters of a flag's detail (a path, a command).
 MAX_FLAG_DETAIL = 200  # characters of a flag's detail (a path, a command)
 TAG_CHARS = 32  # hex characters of a line's tag
 WRITE_BITS = os.O_WRONLY | os.O_RDWR | os.O_APPEND | os.O_CREAT | os.O_TRUNC
@@ -46,22 +48,59 @@ PROCESS_EVENTS = ("os.system", "os.exec", "os.posix_spawn", "os.spawn", "os.fork
 LISTINGS = ("os.listdir", "os.scandir", "glob.glob")
 INTROSPECTION = ("sys._getframe", "sys._current_frames", "gc.get_objects", "gc.get_referrers", "gc.get_referents")
 FRAME_ATTRIBUTES = ("tb_frame", "gi_frame", "cr_frame", "ag_frame", "f_back")
+#: The audit event the harness raises with the results' digest, the channel's last line.
 END_EVENT = "course_dynamics.harness.end"  # the harness raises it with the results' digest: the channel's last line
+#: The audit event the harness raises with a list the hook fills with the forbidden modules it saw loaded.
 IMPORTS_EVENT = "course_dynamics.harness.imports"  # the harness raises it with a list the hook fills
 
 
 def first_key(nonce: str) -> bytes:
-    """The channel's first key, from the run's nonce (the grader's secret, in the plan only)."""
+    """The channel's first key, from the run's nonce (the grader's secret, in the plan only).
+
+    Parameters
+    ----------
+    nonce : str
+        The run's nonce.
+
+    Returns
+    -------
+    bytes
+        The key, 32 bytes.
+    """
     return hashlib.sha256(b"course-dynamics integrity\0" + nonce.encode()).digest()
 
 
 def next_key(key: bytes) -> bytes:
-    """The key after ``key``: one line, one key."""
+    """The key after ``key``: one line, one key.
+
+    Parameters
+    ----------
+    key : bytes
+        A key of the channel.
+
+    Returns
+    -------
+    bytes
+        The next key, 32 bytes.
+    """
     return hashlib.sha256(b"next\0" + key).digest()
 
 
 def tag(key: bytes, body: bytes) -> bytes:
-    """A line's tag: the HMAC of its ``code<TAB>detail`` under its key, in hex."""
+    """A line's tag: the HMAC of its ``code<TAB>detail`` under its key, in hex.
+
+    Parameters
+    ----------
+    key : bytes
+        The line's key.
+    body : bytes
+        The line's ``code<TAB>detail``.
+
+    Returns
+    -------
+    bytes
+        The tag, 32 hexadecimal characters.
+    """
     return hmac.digest(key, body, "sha256").hex()[:TAG_CHARS].encode()
 
 
@@ -76,6 +115,30 @@ def integrity_hook(fd: int, own, library, writable, nonce: str, forbidden=(), ha
     of the harness (its code, whose frames are the harness's); ``closer`` the code that alone may raise END_EVENT and
     IMPORTS_EVENT. The hook runs on copies made here, before any submission exists, of these globals, the builtins,
     ``os``, ``sys`` and ``os.path``: rewriting a module's names changes nothing it calls.
+
+    Parameters
+    ----------
+    fd : int
+        The channel's file descriptor.
+    own : iterable of str
+        The submission's folder and its working folder.
+    library : iterable of str
+        Python's standard library and the allowed packages.
+    writable : iterable of str
+        Where the submission may write (its working folder).
+    nonce : str
+        The run's nonce, which the channel's first key comes from.
+    forbidden : iterable of str
+        The top-level modules the submission may not import.
+    harness : iterable of str
+        The harness's files.
+    closer : code or None
+        The code that alone may raise :data:`END_EVENT` and :data:`IMPORTS_EVENT`.
+
+    Returns
+    -------
+    callable
+        The hook, ``hook(event, args)``, for ``sys.addaudithook``.
     """
     import builtins
     import posixpath
@@ -346,3 +409,7 @@ def _integrity_hook(fd, own, library, writable, forbidden, harness_files, closer
                 gc_enable()
 
     return hook
+
+
+__all__ = ["END_EVENT", "FLAGS", "IMPORTS_EVENT", "MAX_FLAG_DETAIL", "MAX_FLAG_LINES", "first_key", "integrity_hook",
+           "next_key", "tag"]

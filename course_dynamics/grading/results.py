@@ -32,7 +32,7 @@ MAX_NAMES = 100            # forbidden import attempts listed
 MAX_DIGITS = 18            # an integer in the document (a shape, a returned int) has at most this many digits
 BYTES_PER_VALUE = 32       # a float's repr with its separator
 BYTES_PER_RECORD = 2 * MAX_TEXT + 256
-#: The most bytes of the integrity channel read, bytes: every flag code's lines, and the closing line.
+#: The most bytes of the integrity channel read (every flag code's lines, and the closing line).
 FLAGS_BYTES = (len(FLAGS) * MAX_FLAG_LINES + 2) * (4 * MAX_FLAG_DETAIL + 64)  # the integrity channel, read at most
 KEY_WINDOW = 8  # a tagged line may come this many keys ahead (a line lost, two threads' lines crossed)
 MAX_FOREIGN = 1000  # lines that are not the hook's, checked at most (one is enough to say so)

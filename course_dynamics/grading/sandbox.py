@@ -113,7 +113,7 @@ class Limits:
 
     @property
     def mount_bytes(self) -> int:
-        """The size of each writable mount: three of them take at most three quarters of the memory limit."""
+        """The size of each writable mount, bytes (three of them take at most three quarters of the memory limit)."""
         return min(SCRATCH_BYTES, self.memory_limit * 2**20 // 4)
 
 
