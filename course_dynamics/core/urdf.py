@@ -13,7 +13,7 @@ What is read, and how (see README "Known limits" for what is not):
   default ``buildModelFromUrdf``;
 * ``<dynamics damping friction>`` is kept on the body for the friction models.
 
-Every problem raises :class:`ModelError` with one line naming the file and the
+Every problem raises :class:`~course_dynamics.base.errors.ModelError` with one line naming the file and the
 joint or link at fault.
 """
 from __future__ import annotations
@@ -39,22 +39,31 @@ INERTIA_TOLERANCE = 1e-12
 
 
 class InertiaWarning(CourseDynamicsWarning):
-    """A link's inertia is not physical, loaded anyway because the caller allowed it."""
+    """A link's inertia is not physical, loaded anyway because the caller allowed it.
+
+    Given to ``warnings.warn`` by :func:`load_urdf` with ``allow_nonphysical_inertia=True``, once per link; the
+    message names the file, the link and the problem.
+    """
 
 
 def load_urdf(path, gravity=STANDARD_GRAVITY, allow_nonphysical_inertia: bool = False) -> Model:
-    """Load a fixed-base URDF as a :class:`Model`.
+    """Load a fixed-base URDF as a :class:`~course_dynamics.core.model.Model`.
 
     Parameters
     ----------
-    path : str or Path
+    path : str or pathlib.Path
         The URDF file.
-    gravity : array_like, shape (3,)
+    gravity : array_like, shape (3,), optional
         g in the base frame, m/s²; default (0, 0, −9.81).
-    allow_nonphysical_inertia : bool
+    allow_nonphysical_inertia : bool, optional
         Load a link whose inertia breaks the triangle inequality or is not positive
         semi-definite (as classroom URDFs that give only izz do), with an
         :class:`InertiaWarning` per link instead of an error.
+
+    Returns
+    -------
+    Model
+        The robot: one body per moving joint, parents first, fixed links merged; every link a frame.
 
     Raises
     ------
@@ -147,7 +156,9 @@ def load_urdf(path, gravity=STANDARD_GRAVITY, allow_nonphysical_inertia: bool = 
                  frames=tuple(frames))
 
 
-MAX_URDF_BYTES = 64 * 2**20  # a 1 000-joint chain is under 1 MiB; anything far larger is not a robot description
+#: The largest URDF file read, bytes (64 MiB): a 1 000-joint chain is under 1 MiB; anything far larger is not a
+#: robot description.
+MAX_URDF_BYTES = 64 * 2**20
 MAX_ANGLE = 1e4  # rad in an rpy: exporters write angles within a turn or two; 1e300 rad is no orientation
 MAX_NAME = 1000  # characters of a link or joint name: a name becomes a CSV column, a label, part of messages
 
@@ -212,6 +223,14 @@ def xml_parser():
     and lxml's limits on depth (256) and amplification stay on (no ``huge_tree``).
     Documents that declare a DTD at all are refused by :func:`read_description`.
 
+    Returns
+    -------
+    lxml.etree.XMLParser
+        A new parser.
+
+    Examples
+    --------
+
     >>> from lxml import etree
     >>> etree.fromstring(b"<robot name='arm'/>", xml_parser()).get("name")
     'arm'
@@ -239,10 +258,21 @@ def read_description(path):
     (parsed by :func:`xml_parser`) with no DTD; yourdfpy then reads the checked tree, never
     the file again. Meshes are not loaded here.
 
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The URDF file.
+
+    Returns
+    -------
+    yourdfpy.Robot
+        The description, as yourdfpy reads it (``.name``, ``.links``, ``.joints``).
+
     Raises
     ------
     ModelError
-        Naming the file and the problem.
+        Naming the file and the problem: missing, not a regular file, too large, empty, with a DTD, not
+        well-formed XML, a number or namespace URDF does not write, or what yourdfpy refuses.
 
     Examples
     --------
@@ -386,3 +416,6 @@ def _combine(parts: list) -> tuple[float, np.ndarray, np.ndarray]:
         d = c - com
         inertia += I + m * (d @ d * np.eye(3) - np.outer(d, d))
     return mass, com, inertia
+
+
+__all__ = ["InertiaWarning", "MAX_URDF_BYTES", "load_urdf", "read_description", "xml_parser"]
