@@ -117,7 +117,7 @@ class Assignment:
     partial_credit : str
         ``"states"`` (points times the fraction of states that agree) or ``"none"`` (all or nothing).
     notes : tuple of str
-        Notes shown with the grades.
+        Notes that go with the assignment (none is read from the file).
     variant : str
         ``"same"``, or ``"per-student"``: each student on their own variant of the course robot and states.
     flags_in_feedback : bool
@@ -238,9 +238,12 @@ def load_assignment(path) -> Assignment:
     Raises
     ------
     InputError
-        If the file cannot be read, is not TOML, or has an unknown key or a bad value (naming the file and the key).
+        If the file cannot be read, is not TOML, or has an unknown key or a bad value (naming the file and the key),
+        or the robot's URDF file cannot be read.
+    UnknownRobotError
+        If ``robot`` is neither a shipped robot nor a file.
     ModelError
-        If the robot's URDF file does not describe a valid robot.
+        If the robot's URDF file is no robot the dynamics can use.
     """
     path = Path(path)
     try:

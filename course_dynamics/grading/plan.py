@@ -499,7 +499,7 @@ class Coefficient:
     state : int
         The diagnostic state's index.
     expected : float
-        Our coefficient, kg·m² (kg·m for mixed, kg for prismatic joints).
+        Our coefficient (τᵢ per θ̇ⱼθ̇ₖ or θ̇ⱼ²: kg·m² when the joints are revolute).
     returned : float
         The student's, in the same unit.
     scale : float
