@@ -3,21 +3,21 @@
 Notation (every vector is expressed in the frame of the link it belongs to;
 i is a body, p its parent, frames as in :mod:`course_dynamics.core.model`):
 
-=================  ===========  ===============================================
-code               Craig        meaning (unit)
-=================  ===========  ===============================================
-``R[i]``           ᵖᵢR          orientation of frame i in its parent at Θ
-``P[i]``           ᵖPᵢ          origin of frame i in its parent at Θ (m)
-``omega[i]``       ⁱωᵢ          angular velocity of link i (rad/s)
-``omega_dot[i]``   ⁱω̇ᵢ          angular acceleration (rad/s²)
-``v_dot[i]``       ⁱv̇ᵢ          linear acceleration of the origin of frame i (m/s²),
-                                classical (not spatial), including the −g base lift
-``v_dot_c[i]``     ⁱv̇_Cᵢ        linear acceleration of the centre of mass (m/s²)
-``F[i]``, ``N[i]`` ⁱFᵢ, ⁱNᵢ     inertial force (N) and moment (N·m) at the COM
-``f[i]``, ``n[i]`` ⁱfᵢ, ⁱnᵢ     force and moment exerted on link i by its parent
-``tau[i]``         τᵢ           joint torque (N·m) or force (N, prismatic)
-``z``              ⁱẐᵢ          the joint axis (any unit vector, not only z)
-=================  ===========  ===============================================
+===================  ===========  ===============================================
+code                 Craig        meaning (unit)
+===================  ===========  ===============================================
+``R[i]``             ᵖᵢR          orientation of frame i in its parent at Θ
+``P[i]``             ᵖPᵢ          origin of frame i in its parent at Θ (m)
+``omega[i]``         ⁱωᵢ          angular velocity of link i (rad/s)
+``omega_dot[i]``     ⁱω̇ᵢ          angular acceleration (rad/s²)
+``v_dot[i]``         ⁱv̇ᵢ          linear acceleration of the origin of frame i (m/s²),
+                                  classical (not spatial), including the −g base lift
+``v_dot_c[i]``       ⁱv̇_Cᵢ        linear acceleration of the centre of mass (m/s²)
+``F[i]``, ``N[i]``   ⁱFᵢ, ⁱNᵢ     inertial force (N) and moment (N·m) at the COM
+``f[i]``, ``n[i]``   ⁱfᵢ, ⁱnᵢ     force and moment exerted on link i by its parent
+``tau[i]``           τᵢ           joint torque (N·m) or force (N, prismatic)
+``z``                ⁱẐᵢ          the joint axis (any unit vector, not only z)
+===================  ===========  ===============================================
 
 For a tree, "the child i+1" of Craig's chain becomes "every child c of i",
 and "link i" of the outward iteration follows its parent p rather than i−1.
@@ -52,6 +52,11 @@ class Operations:
 
     Each takes the number of the equation that asks for it (such as "6.47"), so that
     another set of operations may differ in one equation and not in another.
+    A subclass that overrides some of them is another way of writing the chapter
+    (the grader's slips are such subclasses).
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> arm = load_robot("pendulum")
@@ -60,44 +65,181 @@ class Operations:
     """
 
     def into_child(self, X: JointTransforms, i: int, equation: str):
-        """ⁱₚR, the rotation from the parent's frame into frame i."""
+        """ⁱₚR, the rotation from the parent's frame into frame i.
+
+        Parameters
+        ----------
+        X : JointTransforms
+            The joint transforms at Θ (``kinematics.joint_transforms``).
+        i : int
+            The body.
+        equation : str
+            The equation that asks for it, such as ``"6.47"``.
+
+        Returns
+        -------
+        Mat3
+            ⁱₚR.
+        """
         return X.R_T[i]
 
     def into_parent(self, X: JointTransforms, c: int, equation: str):
-        """ⁱ_cR, the rotation from child c's frame into its parent's."""
+        """ⁱ_cR, the rotation from child c's frame into its parent's.
+
+        Parameters
+        ----------
+        X : JointTransforms
+            The joint transforms at Θ (``kinematics.joint_transforms``).
+        c : int
+            The child body.
+        equation : str
+            The equation that asks for it, such as ``"6.47"``.
+
+        Returns
+        -------
+        Mat3
+            ⁱ_cR, i being c's parent.
+        """
         return X.R[c]
 
     def cross(self, a: Vec3, b: Vec3, equation: str) -> Vec3:
-        """a × b."""
+        """a × b.
+
+        Parameters
+        ----------
+        a : Vec3
+            The left factor.
+        b : Vec3
+            The right factor.
+        equation : str
+            The equation that asks for it, such as ``"6.47"``.
+
+        Returns
+        -------
+        Vec3
+            The cross product.
+        """
         return cross(a, b)
 
     def point_acceleration(self, v_dot: Vec3, omega_dot: Vec3, omega: Vec3, P: Vec3, equation: str) -> Vec3:
-        """v̇ + ω̇ × P + ω × (ω × P), the acceleration of a point P of a moving frame (as in (6.47), (6.48))."""
+        """v̇ + ω̇ × P + ω × (ω × P), the acceleration of a point P of a moving frame (as in (6.47), (6.48)).
+
+        Parameters
+        ----------
+        v_dot : Vec3
+            The frame origin's linear acceleration, m/s².
+        omega_dot : Vec3
+            The frame's angular acceleration, rad/s².
+        omega : Vec3
+            The frame's angular velocity, rad/s.
+        P : Vec3
+            The point, from the frame's origin, m.
+        equation : str
+            The equation that asks for it, such as ``"6.47"``.
+
+        Returns
+        -------
+        Vec3
+            The point's acceleration, m/s².
+        """
         return point_acceleration(v_dot, omega_dot, omega, P)
 
     def gyroscopic(self, omega: Vec3, I: Mat3, equation: str) -> Vec3:
-        """ω × ᶜI ω, the gyroscopic term of (6.50)."""
+        """ω × ᶜI ω, the gyroscopic term of (6.50).
+
+        Parameters
+        ----------
+        omega : Vec3
+            ⁱωᵢ, rad/s.
+        I : Mat3
+            ᶜI, kg·m².
+        equation : str
+            The equation that asks for it, such as ``"6.47"``.
+
+        Returns
+        -------
+        Vec3
+            The gyroscopic moment, N·m.
+        """
         return self.cross(omega, I @ omega, equation)
 
     def moment_arm(self, P: Vec3, f: Vec3, equation: str) -> Vec3:
-        """ⁱPᵢ₊₁ × ⁱfᵢ₊₁, the moment of a child's force about frame i's origin in (6.52)."""
+        """ⁱPᵢ₊₁ × ⁱfᵢ₊₁, the moment of a child's force about frame i's origin in (6.52).
+
+        Parameters
+        ----------
+        P : Vec3
+            ⁱPᵢ₊₁, the child's origin in frame i, m.
+        f : Vec3
+            ⁱfᵢ₊₁, the child's force in frame i, N.
+        equation : str
+            The equation that asks for it, such as ``"6.47"``.
+
+        Returns
+        -------
+        Vec3
+            The moment, N·m.
+        """
         return self.cross(P, f, equation)
 
     def inertia(self, body: Body) -> Mat3:
-        """ᶜI, the inertia tensor about the centre of mass, in the body's frame (kg·m²)."""
+        """ᶜI, the inertia tensor about the centre of mass, in the body's frame (kg·m²).
+
+        Parameters
+        ----------
+        body : Body
+            The body.
+
+        Returns
+        -------
+        Mat3
+            ᶜI, kg·m².
+        """
         return body.I_com_m
 
     def base_acceleration(self, gravity: Vec3) -> Vec3:
-        """⁰v̇₀ = −g: gravity enters once, as an upward acceleration of the base."""
+        """⁰v̇₀ = −g: gravity enters once, as an upward acceleration of the base.
+
+        Parameters
+        ----------
+        gravity : Vec3
+            g in the base frame, m/s².
+
+        Returns
+        -------
+        Vec3
+            ⁰v̇₀, m/s².
+        """
         return -gravity
 
 
+#: The chapter's operations, the default of every iteration.
 EXACT = Operations()
 
 
 @dataclass(frozen=True)
 class OutwardPass:
     """Result of the outward iteration: per-body kinematics and inertial loads.
+
+    Each field is a list of n :class:`~course_dynamics.core.algebra.Vec3`, body i's in frame i.
+
+    Parameters
+    ----------
+    omega : list of Vec3
+        ⁱωᵢ, rad/s (6.45).
+    omega_dot : list of Vec3
+        ⁱω̇ᵢ, rad/s² (6.46).
+    v_dot : list of Vec3
+        ⁱv̇ᵢ, m/s² (6.47), with the −g base lift.
+    v_dot_c : list of Vec3
+        ⁱv̇_Cᵢ, m/s² (6.48).
+    F : list of Vec3
+        ⁱFᵢ, N (6.49).
+    N : list of Vec3
+        ⁱNᵢ, N·m (6.50).
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> from course_dynamics.core.kinematics import joint_transforms
@@ -120,6 +262,18 @@ class OutwardPass:
 class InwardPass:
     """Result of the inward iteration: joint reactions and torques.
 
+    Parameters
+    ----------
+    f : list of Vec3
+        ⁱfᵢ, the force on link i from its parent, frame i, N (6.51).
+    n : list of Vec3
+        ⁱnᵢ, the moment on link i from its parent, frame i, N·m (6.52).
+    tau : list
+        τᵢ, N·m (N for a prismatic joint) (6.53), one scalar per joint.
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> from course_dynamics.core.kinematics import joint_transforms
     >>> arm = load_robot("two_link")
@@ -137,6 +291,29 @@ class InwardPass:
 def outward_iteration(model: Model, X: JointTransforms, theta_dot: list, theta_ddot: list, gravity: Vec3,
                       ops: Operations = EXACT) -> OutwardPass:
     """Link velocities, accelerations and inertial loads, base to tips.
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    X : JointTransforms
+        The joint transforms at Θ (``kinematics.joint_transforms``).
+    theta_dot : list
+        Θ̇, one scalar per joint (float, (N,) array or sympy expression), rad/s (m/s).
+    theta_ddot : list
+        Θ̈, one scalar per joint, rad/s² (m/s²).
+    gravity : Vec3
+        g in the base frame, m/s².
+    ops : Operations, optional
+        The operations the equations are written with; :data:`EXACT` by default.
+
+    Returns
+    -------
+    OutwardPass
+        ⁱωᵢ, ⁱω̇ᵢ, ⁱv̇ᵢ, ⁱv̇_Cᵢ, ⁱFᵢ and ⁱNᵢ of every body.
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> from course_dynamics.core.kinematics import joint_transforms
@@ -179,6 +356,25 @@ def outward_iteration(model: Model, X: JointTransforms, theta_dot: list, theta_d
 def inward_iteration(model: Model, X: JointTransforms, out: OutwardPass, ops: Operations = EXACT) -> InwardPass:
     """Joint forces, moments and torques, tips to base.
 
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    X : JointTransforms
+        The joint transforms at Θ (``kinematics.joint_transforms``).
+    out : OutwardPass
+        The outward iteration's result at the same state.
+    ops : Operations, optional
+        The operations the equations are written with; :data:`EXACT` by default.
+
+    Returns
+    -------
+    InwardPass
+        ⁱfᵢ, ⁱnᵢ and τᵢ of every body.
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> from course_dynamics.core.kinematics import joint_transforms
     >>> arm = load_robot("two_link")
@@ -220,15 +416,25 @@ def inverse_dynamics(model: Model, q, qd, qdd) -> np.ndarray:
     Parameters
     ----------
     model : Model
-    q, qd, qdd : array_like, shape (n,) or (N, n)
-        Θ (rad or m), Θ̇ (rad/s or m/s), Θ̈ (rad/s² or m/s²), joints in
-        ``model.joint_names`` order; numpy object arrays of sympy expressions
-        give symbolic torques. Gravity is ``model.gravity`` (``model.with_gravity(g)`` changes it).
+        The robot. Gravity is ``model.gravity`` (``model.with_gravity(g)`` changes it).
+    q : array_like, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint), joints in ``model.joint_names`` order; numpy object
+        arrays of sympy expressions give symbolic torques.
+    qd : array_like, shape (n,) or (N, n)
+        Joint velocities Θ̇, rad/s (m/s).
+    qdd : array_like, shape (n,) or (N, n)
+        Joint accelerations Θ̈, rad/s² (m/s²).
 
     Returns
     -------
-    tau : ndarray, shape (n,) or (N, n)
-        Joint torques (N·m) and prismatic forces (N).
+    numpy.ndarray, shape (n,) or (N, n)
+        Joint torques τ, N·m (N for a prismatic joint).
+
+    Raises
+    ------
+    StateError
+        If a state is not numeric or not finite, its last axis is not the model's n joints, or the batches
+        differ in length.
 
     Examples
     --------
@@ -252,6 +458,32 @@ class LinkQuantities:
     expressed in its own link's frame (Craig's ⁱ(·)ᵢ). ``tau`` has shape (n,)
     or (N, n).
 
+    Parameters
+    ----------
+    joints : tuple of str
+        The joints, in model order.
+    omega : numpy.ndarray, shape (n, 3) or (N, n, 3)
+        ⁱωᵢ, rad/s.
+    omega_dot : numpy.ndarray, shape (n, 3) or (N, n, 3)
+        ⁱω̇ᵢ, rad/s².
+    v_dot : numpy.ndarray, shape (n, 3) or (N, n, 3)
+        ⁱv̇ᵢ, m/s², with the −g base lift.
+    v_dot_c : numpy.ndarray, shape (n, 3) or (N, n, 3)
+        ⁱv̇_Cᵢ, m/s².
+    F : numpy.ndarray, shape (n, 3) or (N, n, 3)
+        ⁱFᵢ, N.
+    N : numpy.ndarray, shape (n, 3) or (N, n, 3)
+        ⁱNᵢ, N·m.
+    f : numpy.ndarray, shape (n, 3) or (N, n, 3)
+        ⁱfᵢ, N.
+    n : numpy.ndarray, shape (n, 3) or (N, n, 3)
+        ⁱnᵢ, N·m.
+    tau : numpy.ndarray, shape (n,) or (N, n)
+        τᵢ, N·m (N for a prismatic joint).
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> links = newton_euler_links(load_robot("pendulum"), [0.5], [2.0], [0.0])
     >>> np.round(links.omega, 6), np.round(links.tau, 4)     # ¹ω₁ = θ̇₁ ¹Ẑ₁, the joint axis (the URDF's y)
@@ -273,6 +505,34 @@ class LinkQuantities:
 def newton_euler_links(model: Model, q, qd, qdd, ops: Operations = EXACT) -> LinkQuantities:
     """The outward and inward iterations with every per-link quantity kept, run with the operations ``ops``.
 
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : array_like, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint); a numpy object array of sympy expressions for a
+        closed form.
+    qd : array_like, shape (n,) or (N, n)
+        Joint velocities Θ̇, rad/s (m/s for a prismatic joint).
+    qdd : array_like, shape (n,) or (N, n)
+        Joint accelerations Θ̈, rad/s² (m/s² for a prismatic joint).
+    ops : Operations, optional
+        The operations the equations are written with; :data:`EXACT` by default.
+
+    Returns
+    -------
+    LinkQuantities
+        Every body's ⁱωᵢ, ⁱω̇ᵢ, ⁱv̇ᵢ, ⁱv̇_Cᵢ, ⁱFᵢ, ⁱNᵢ, ⁱfᵢ, ⁱnᵢ and τᵢ.
+
+    Raises
+    ------
+    StateError
+        If a state is not numeric or not finite, its last axis is not the model's n joints, or the batches
+        differ in length.
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> links = newton_euler_links(load_robot("two_link"), [0.0, 0.5], [1.0, 0.0], [0.0, 0.0])
     >>> links.omega.shape, links.joints, np.round(links.tau, 6)
@@ -293,3 +553,7 @@ def newton_euler_links(model: Model, q, qd, qdd, ops: Operations = EXACT) -> Lin
         v_dot_c=per_link(out.v_dot_c), F=per_link(out.F), N=per_link(out.N),
         f=per_link(back.f), n=per_link(back.n), tau=layout.assemble(back.tau, (model.n,)),
     )
+
+
+__all__ = ["EXACT", "InwardPass", "LinkQuantities", "Operations", "OutwardPass", "inverse_dynamics", "inward_iteration",
+           "newton_euler_links", "outward_iteration"]
