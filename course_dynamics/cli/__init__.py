@@ -2,15 +2,15 @@
 
 Every command reads a URDF (or the name of a shipped robot), calls
 course_dynamics, and prints a table or, with ``--json``, one JSON document.
-Each lives in its own module in :mod:`course_dynamics.cli.commands`; every flag
-is defined once in :mod:`course_dynamics.cli.flags` (one meaning per name; old
+Each lives in its own module in ``course_dynamics.cli.commands``; every flag
+is defined once in ``course_dynamics.cli.flags`` (one meaning per name; old
 spellings read for one release with a warning line), and shared option handling
-is in :mod:`course_dynamics.cli.options`.
+is in ``course_dynamics.cli.options``.
 
 Bad input of any kind (a :class:`~course_dynamics.base.errors.CourseDynamicsError`)
 ends with one line ``error: …`` on stderr and exit code 2; Ctrl-C ends with
 exit code 130, even where a library we call catches the interrupt
-(:mod:`course_dynamics.cli.interrupts`). No output file is left behind
+(``course_dynamics.cli.interrupts``). No output file is left behind
 half-written. Running out of memory (which the size checks should have refused
 first) ends with one ``error: ran out of memory …`` line and exit code 2.
 
@@ -42,7 +42,7 @@ from .options import Parser, check_output_names, join_value_options, robots_epil
 
 
 def build_parser() -> Parser:
-    """The ``course-dynamics`` argument parser: one sub-command per module of :mod:`course_dynamics.cli.commands`.
+    """The ``course-dynamics`` argument parser: one sub-command per module of ``course_dynamics.cli.commands``.
 
     Each sub-command's parser carries its help, description and flags, and the function that runs it as
     ``run`` in the parsed namespace.

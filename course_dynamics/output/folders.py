@@ -19,7 +19,7 @@ from ..base.errors import InputError
 from ..base.files import kind_of_file, open_regular, read_small
 from .io import whole_file
 
-#: The name of the manifest in an output folder: the files each command wrote there, with sizes and sha256.
+#: The name of the manifest in an output folder, which lists the files each command wrote there (sizes, sha256).
 MANIFEST = ".course-dynamics-files.json"
 MANIFEST_FORMAT = 1
 #: The largest manifest read, bytes; a larger one is refused rather than trusted.

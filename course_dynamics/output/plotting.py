@@ -17,7 +17,7 @@ from . import io, page
 
 #: The picture formats of a plot file, by its suffix.
 PLOT_FORMATS = ("png", "svg")
-#: What every ``--plot`` takes: the picture formats, and ``html`` (a page with the figure inline).
+#: What every ``--plot`` takes, the picture formats and ``html`` (a page with the figure inline).
 FIGURE_FORMATS = PLOT_FORMATS + ("html",)   # what every --plot takes: html is a page with the figure inline
 #: The most joints a torque figure draws (one panel each).
 MAX_PANELS = 24   # a torque figure draws one panel per joint: 24 already make a picture 37 inches tall

@@ -32,9 +32,9 @@ import re
 from ..base.errors import InputError
 from ..tools.trace import INWARD_QUANTITIES, OUTWARD_QUANTITIES, Trace
 
-#: The formats of a Newton–Euler trace: :func:`trace_table`, :func:`trace_latex` and :func:`trace_record`.
+#: The formats of a Newton–Euler trace, by :func:`trace_table`, :func:`trace_latex` and :func:`trace_record`.
 TRACE_FORMATS = ("table", "latex", "json")
-#: The formats of a closed-form derivation: :func:`derivation_text` (Markdown, LaTeX) and :func:`derivation_record`.
+#: The formats of a closed-form derivation, by :func:`derivation_text` (Markdown, LaTeX) and :func:`derivation_record`.
 DERIVATION_FORMATS = ("markdown", "latex", "json")
 
 # key: (plain-text label, LaTeX symbol, equation number)

@@ -58,7 +58,7 @@ from ..core.urdf import InertiaWarning, load_urdf
 from . import io
 from .xml_spans import Element, elements
 
-#: The largest URDF file edited, bytes: the loader's own limit, so a larger file was never loaded.
+#: The largest URDF file edited, bytes (the loader's own limit, so a larger file was never loaded).
 MAX_URDF_BYTES = 64 * 2**20  # as the loader's limit: a URDF larger than this was never loaded
 MERGED_NOTE = b"<!-- inertial removed: lumped into the identified inertial of the moving link it is fixed to -->"
 HEADER_NOTE = b"<!-- inertial parameters and joint friction identified by course-dynamics identify -->\n"

@@ -81,7 +81,7 @@ class Element:
 
     @property
     def default_namespace(self) -> bool:
-        """In a namespace although written without a prefix: namespace-aware and other readers disagree on it."""
+        """In a namespace although written without a prefix (namespace-aware and other readers disagree on it)."""
         return NAMESPACE_SEPARATOR in self.name and ":" not in self.qualified
 
 

@@ -34,7 +34,7 @@ from ..output.folders import check_folder, write_folder
 from ..tools.variants import check_student_id
 
 BEGIN, END = "### BEGIN SOLUTION", "### END SOLUTION"
-#: The first line (alone or after ``# ``) of a cell that only the version with solutions keeps.
+#: The first line (alone, or as a comment) of a cell that only the version with solutions keeps.
 SOLUTIONS_ONLY = "(with the solutions only)"  # a cell whose first line is this (or "# " and this) shows an answer
 PLACEHOLDER = "pass  # YOUR CODE HERE"  # a function with it returns None: "not done yet"; nothing is displayed
 #: How long one cell may run, s, before :func:`execute` fails.

@@ -142,7 +142,7 @@ class Verdict:
         Returns
         -------
         str
-            The exercise's name and verdict, then each line of feedback as ``  - …``.
+            The exercise's name and verdict, then each line of feedback, indented, after a dash.
         """
         head = {"right": "✓ right", "wrong": "✗ not yet right", "not done": "… not done yet"}[self.status]
         head += f" ({_whose(self.numbers_of)})" if self.numbers_of else ""
