@@ -3,18 +3,18 @@
 Nothing here calls the Newton–Euler recursion; the two agree (tests), which is
 the point of computing both.
 
-=================  =========  ==================================================
-code               Craig      meaning (shape, unit)
-=================  =========  ==================================================
-``J_v[i]``         J_vᵢ       Jacobian of the COM of body i, base frame (3, n)
-``J_w[i]``         J_ωᵢ       angular-velocity Jacobian of body i (3, n)
-``I_base[i]``      ⁰Iᵢ        ⁰ᵢR ᶜⁱIᵢ ⁰ᵢRᵀ: inertia about the COM, base axes (3, 3)
-``k``              k          kinetic energy (6.69), (6.71), J
-``u``              u          potential energy (6.73), J (kinematics.potential_energy)
-``Gamma[i][j][k]`` Γᵢⱼₖ       Christoffel symbols ½(∂ₖMᵢⱼ + ∂ⱼMᵢₖ − ∂ᵢMⱼₖ)
-``B``, ``C``       B(Θ), C(Θ) Craig's Coriolis (n × n(n−1)/2) and centrifugal (n × n)
-                              coefficient matrices of (6.63)
-=================  =========  ==================================================
+===================  ===========  ==================================================
+code                 Craig        meaning (shape, unit)
+===================  ===========  ==================================================
+``J_v[i]``           J_vᵢ         Jacobian of the COM of body i, base frame (3, n)
+``J_w[i]``           J_ωᵢ         angular-velocity Jacobian of body i (3, n)
+``I_base[i]``        ⁰Iᵢ          ⁰ᵢR ᶜⁱIᵢ ⁰ᵢRᵀ: inertia about the COM, base axes (3, 3)
+``k``                k            kinetic energy (6.69), (6.71), J
+``u``                u            potential energy (6.73), J (kinematics.potential_energy)
+``Gamma[i][j][k]``   Γᵢⱼₖ         Christoffel symbols ½(∂ₖMᵢⱼ + ∂ⱼMᵢₖ − ∂ᵢMⱼₖ)
+``B``, ``C``         B(Θ), C(Θ)   Craig's Coriolis (n × n(n−1)/2) and centrifugal (n × n)
+                                  coefficient matrices of (6.63)
+===================  ===========  ==================================================
 
 From k = Σᵢ ½ mᵢ v_Cᵢᵀ v_Cᵢ + ½ ωᵢᵀ ⁰Iᵢ ωᵢ (6.69) with v_Cᵢ = J_vᵢ Θ̇, ωᵢ = J_ωᵢ Θ̇:
 
@@ -104,6 +104,27 @@ def _christoffel_entries(model: Model, theta: list) -> list:
 def mass_matrix(model: Model, q) -> np.ndarray:
     """M(Θ) from link Jacobians: shape (n, n) or (N, n, n).
 
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : array_like, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint); a numpy object array of sympy expressions for a
+        closed form.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, n) or (N, n, n)
+        The mass matrix M(Θ), kg·m² (kg between prismatic joints).
+
+    Raises
+    ------
+    StateError
+        If ``q`` is not numeric or not finite, or its last axis is not the model's n joints.
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> mass_matrix(load_robot("two_link"), [0.0, 0.0]).round(3)   # as the composite-rigid-body M
     array([[1.31, 0.36],
@@ -116,6 +137,27 @@ def mass_matrix(model: Model, q) -> np.ndarray:
 def gravity_torques(model: Model, q) -> np.ndarray:
     """G(Θ) = ∂u/∂Θ: shape (n,) or (N, n).
 
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : array_like, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint); a numpy object array of sympy expressions for a
+        closed form.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,) or (N, n)
+        Gravity torques G(Θ), N·m (N for a prismatic joint).
+
+    Raises
+    ------
+    StateError
+        If ``q`` is not numeric or not finite, or its last axis is not the model's n joints.
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> gravity_torques(load_robot("two_link"), [0.0, 0.0]).round(3)   # Craig (6.62) at Θ = 0, N·m
     array([18.639,  3.924])
@@ -126,6 +168,27 @@ def gravity_torques(model: Model, q) -> np.ndarray:
 
 def christoffel_symbols(model: Model, q) -> np.ndarray:
     """Γ(Θ): shape (n, n, n) or (N, n, n, n), Γ[..., i, j, k] = Γᵢⱼₖ.
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : array_like, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint); a numpy object array of sympy expressions for a
+        closed form.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, n, n) or (N, n, n, n)
+        The Christoffel symbols Γᵢⱼₖ of M, kg·m² per rad (between revolute joints).
+
+    Raises
+    ------
+    StateError
+        If ``q`` is not numeric or not finite, or its last axis is not the model's n joints.
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> Gamma = christoffel_symbols(load_robot("two_link"), [0.0, np.pi / 2])
@@ -138,6 +201,30 @@ def christoffel_symbols(model: Model, q) -> np.ndarray:
 
 def coriolis_matrix(model: Model, q, qd) -> np.ndarray:
     """C(Θ, Θ̇)ᵢⱼ = Σₖ Γᵢⱼₖ θ̇ₖ: shape (n, n) or (N, n, n).
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : array_like, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint); a numpy object array of sympy expressions for a
+        closed form.
+    qd : array_like, shape (n,) or (N, n)
+        Joint velocities Θ̇, rad/s (m/s for a prismatic joint).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, n) or (N, n, n)
+        The Coriolis matrix C(Θ, Θ̇), kg·m²/s (between revolute joints).
+
+    Raises
+    ------
+    StateError
+        If a state is not numeric or not finite, its last axis is not the model's n joints, or the batches
+        differ in length.
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> coriolis_matrix(load_robot("two_link"), [0.0, np.pi / 2], [1.0, 0.0]).round(3)
@@ -154,6 +241,30 @@ def coriolis_matrix(model: Model, q, qd) -> np.ndarray:
 def velocity_torques(model: Model, q, qd) -> np.ndarray:
     """V(Θ, Θ̇) = C(Θ, Θ̇) Θ̇: shape (n,) or (N, n).
 
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : array_like, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint); a numpy object array of sympy expressions for a
+        closed form.
+    qd : array_like, shape (n,) or (N, n)
+        Joint velocities Θ̇, rad/s (m/s for a prismatic joint).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,) or (N, n)
+        Velocity torques V(Θ, Θ̇), N·m (N for a prismatic joint).
+
+    Raises
+    ------
+    StateError
+        If a state is not numeric or not finite, its last axis is not the model's n joints, or the batches
+        differ in length.
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> velocity_torques(load_robot("two_link"), [0.0, np.pi / 2], [1.0, 1.0]).round(3)   # Craig (6.61), N·m
     array([-0.6,  0.2])
@@ -164,6 +275,32 @@ def velocity_torques(model: Model, q, qd) -> np.ndarray:
 
 def inverse_dynamics(model: Model, q, qd, qdd) -> np.ndarray:
     """τ = M Θ̈ + C Θ̇ + G: the Euler–Lagrange equation (6.77), shape (n,) or (N, n).
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : array_like, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint); a numpy object array of sympy expressions for a
+        closed form.
+    qd : array_like, shape (n,) or (N, n)
+        Joint velocities Θ̇, rad/s (m/s for a prismatic joint).
+    qdd : array_like, shape (n,) or (N, n)
+        Joint accelerations Θ̈, rad/s² (m/s² for a prismatic joint).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,) or (N, n)
+        Joint torques τ, N·m (N for a prismatic joint).
+
+    Raises
+    ------
+    StateError
+        If a state is not numeric or not finite, its last axis is not the model's n joints, or the batches
+        differ in length.
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> inverse_dynamics(load_robot("pendulum"), [0.5], [0.0], [0.0]).round(4)   # m g l sin θ, as Newton–Euler
@@ -178,6 +315,30 @@ def inverse_dynamics(model: Model, q, qd, qdd) -> np.ndarray:
 
 def link_kinetic_energies(model: Model, q, qd) -> np.ndarray:
     """kᵢ = ½ mᵢ v_Cᵢᵀ v_Cᵢ + ½ ωᵢᵀ ⁰Iᵢ ωᵢ (6.69) per body, J: shape (n,) or (N, n).
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : array_like, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint); a numpy object array of sympy expressions for a
+        closed form.
+    qd : array_like, shape (n,) or (N, n)
+        Joint velocities Θ̇, rad/s (m/s for a prismatic joint).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,) or (N, n)
+        Each body's kinetic energy kᵢ, J.
+
+    Raises
+    ------
+    StateError
+        If a state is not numeric or not finite, its last axis is not the model's n joints, or the batches
+        differ in length.
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> link_kinetic_energies(load_robot("two_link"), [0.0, 0.0], [1.0, 0.0]).round(3)   # ½ m v², J
@@ -197,6 +358,30 @@ def link_kinetic_energies(model: Model, q, qd) -> np.ndarray:
 def kinetic_energy(model: Model, q, qd) -> np.ndarray:
     """k = Σ kᵢ (6.71), J.
 
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : array_like, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint); a numpy object array of sympy expressions for a
+        closed form.
+    qd : array_like, shape (n,) or (N, n)
+        Joint velocities Θ̇, rad/s (m/s for a prismatic joint).
+
+    Returns
+    -------
+    numpy.ndarray, shape () or (N,)
+        The kinetic energy k, J.
+
+    Raises
+    ------
+    StateError
+        If a state is not numeric or not finite, its last axis is not the model's n joints, or the batches
+        differ in length.
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> float(kinetic_energy(load_robot("two_link"), [0.0, 0.0], [1.0, 0.0]).round(3))   # ½ Θ̇ᵀ M Θ̇ = ½ M₁₁, J
     0.655
@@ -206,6 +391,19 @@ def kinetic_energy(model: Model, q, qd) -> np.ndarray:
 
 def velocity_pairs(n: int) -> list[tuple[int, int]]:
     """The (j, k), j < k, of Craig's [Θ̇Θ̇] = (θ̇₁θ̇₂, θ̇₁θ̇₃, …, θ̇ₙ₋₁θ̇ₙ) (6.64), zero-based.
+
+    Parameters
+    ----------
+    n : int
+        The number of joints.
+
+    Returns
+    -------
+    list of tuple of (int, int)
+        The n(n−1)/2 pairs, in the order of B's columns.
+
+    Examples
+    --------
 
     >>> velocity_pairs(3)   # θ̇₁θ̇₂, θ̇₁θ̇₃, θ̇₂θ̇₃
     [(0, 1), (0, 2), (1, 2)]
@@ -217,6 +415,28 @@ def configuration_space_terms(model: Model, q) -> tuple[np.ndarray, np.ndarray]:
     """Craig's B(Θ) (n, n(n−1)/2) and C(Θ) (n, n) of (6.63): V = B [Θ̇Θ̇] + C [Θ̇²].
 
     From Christoffel symbols: Cᵢⱼ = Γᵢⱼⱼ (centrifugal) and Bᵢ,(ⱼ,ₖ) = Γᵢⱼₖ + Γᵢₖⱼ = 2Γᵢⱼₖ (Coriolis).
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : array_like, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint); a numpy object array of sympy expressions for a
+        closed form.
+
+    Returns
+    -------
+    tuple of (numpy.ndarray, numpy.ndarray)
+        B(Θ), shape (n, n(n−1)/2), columns in :func:`velocity_pairs` order, and C(Θ), shape (n, n); batch axes
+        first. Both kg·m² (between revolute joints).
+
+    Raises
+    ------
+    StateError
+        If ``q`` is not numeric or not finite, or its last axis is not the model's n joints.
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> B, C = configuration_space_terms(load_robot("two_link"), [0.0, np.pi / 2])
@@ -231,3 +451,7 @@ def configuration_space_terms(model: Model, q) -> tuple[np.ndarray, np.ndarray]:
     C = [[Gamma[i][j][j] for j in range(n)] for i in range(n)]
     layout = layout_of(q)
     return layout.assemble(B, (n, len(pairs))), layout.assemble(C, (n, n))
+
+
+__all__ = ["christoffel_symbols", "configuration_space_terms", "coriolis_matrix", "gravity_torques", "inverse_dynamics",
+           "kinetic_energy", "link_kinetic_energies", "mass_matrix", "velocity_pairs", "velocity_torques"]
