@@ -14,7 +14,7 @@ JOINT_STATE, FRANKA_STATE, FRANKA_ERRORS = ("sensor_msgs/msg/JointState", "frank
 # field for field in their order, one (type, names) group per run of fields of one type. Only header, q, dq and tau_J
 # are read, but the whole message is needed: a message is decoded field after field, its length is checked, and the
 # ROS1 MD5 sum covers every field and constant (the test checks ours against rosserial's from franka_ros 0.10).
-#: franka_msgs/msg/FrankaState as franka_ros 0.10 defines it: (type, space-separated names) groups, in order.
+#: franka_msgs/msg/FrankaState as franka_ros 0.10 defines it, as (type, space-separated names) groups in order.
 FRANKA_STATE_FIELDS = (
     ("std_msgs/Header", "header"), ("float64[6]", "cartesian_collision cartesian_contact"),
     ("float64[7]", "q q_d dq dq_d ddq_d theta dtheta tau_J dtau_J tau_J_d"), ("float64[6]", "K_F_ext_hat_K"),
@@ -29,7 +29,7 @@ FRANKA_STATE_FIELDS = (
               "ROBOT_MODE_USER_STOPPED=5 ROBOT_MODE_AUTOMATIC_ERROR_RECOVERY=6 robot_mode"),
     ("franka_msgs/Errors", "current_errors last_motion_errors"),
 )
-#: franka_msgs/msg/Errors as franka_ros 0.10 defines it: (type, space-separated names) groups, in order.
+#: franka_msgs/msg/Errors as franka_ros 0.10 defines it, as (type, space-separated names) groups in order.
 FRANKA_ERRORS_FIELDS = (("bool", """joint_position_limits_violation cartesian_position_limits_violation
     self_collision_avoidance_violation joint_velocity_violation cartesian_velocity_violation
     force_control_safety_violation joint_reflex cartesian_reflex max_goal_pose_deviation_violation

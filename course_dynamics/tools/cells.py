@@ -87,6 +87,8 @@ def is_word(cell: str) -> bool:
     bool
         Whether it is a word.
 
+    Examples
+    --------
     >>> [is_word(cell) for cell in ("RUNNING", "mode = auto", "STATE_2", "1_000", "0x10", "nan", "-1", "")]
     [True, True, True, False, False, False, False, False]
     """

@@ -39,7 +39,7 @@ from ..core.model import Model
 from .tables import joint_columns
 
 MAX_MAP_BYTES = 2**20         # a column map of a thousand joints is under 100 kB
-#: The kinds of our joint columns a log gives or the plan derives: Θ, Θ̇, Θ̈.
+#: The kinds of our joint columns a log gives or the plan derives (Θ, Θ̇, Θ̈).
 KINDS = ("q", "qd", "qdd")
 MEASURED = ("tau_meas", "current")   # optional: read when the log has them, never derived
 APPLIED = ("tau",)                    # applied torques: read only for a reader that asks (simulate's torques)
@@ -186,6 +186,8 @@ def merged_map(implied: Mapping[str, str], columns: Mapping[str, str] | None) ->
     dict of str to str
         The merged map.
 
+    Examples
+    --------
     >>> merged_map({"t": "timestamp", "q_a": "actual_q_0"}, {"q_a": "pos_a"})
     {'t': 'timestamp', 'q_a': 'pos_a'}
     """

@@ -82,7 +82,7 @@ def _zstd():  # the module rosbags uses: the standard library's from Python 3.14
 # What each kind's whole-data function does after one stream ends, which ours repeats: bz2.decompress goes on to the
 # next stream and ignores what follows the first unless it is one; zstd.decompress reads every frame, strictly;
 # lz4.frame.decompress reads the first frame and ignores the rest.
-#: The kinds of compression bounded: {kind: (its streaming decompressor, what follows the first stream)}.
+#: The kinds of compression bounded, each with its streaming decompressor and what may follow its first stream.
 STREAMS = {"bz2": (bz2.BZ2Decompressor, "streams, then anything"), "zstd": (_zstd, "frames"),
            "lz4": (_lz4, "one frame")}
 
@@ -109,6 +109,8 @@ def bound(compressed: int, stored: int = 0, disk: bool = False) -> tuple[int, st
     reason : str
         The bound's name, for a message.
 
+    Examples
+    --------
     >>> bound(512)
     (51200, '100x its 512 bytes: refused as a decompression bomb')
     """
@@ -141,6 +143,8 @@ def decompress(kind: str, data: bytes, what) -> bytes:
     bytes
         The decompressed data.
 
+    Examples
+    --------
     >>> len(decompress("bz2", bz2.compress(os.urandom(5000)), "probe"))
     5000
     >>> decompress("bz2", bz2.compress(bytes(10**6)), "probe")

@@ -71,7 +71,7 @@ EDGE_ORDERS = (3, 5)           # an edge fit's degrees: a longer quintic beats a
 DEFAULT_WINDOW_SECONDS = 0.02  # where the search starts, and the window of a log too short to search
 #: The shortest window chosen, samples.
 MIN_WINDOW = 7
-#: The longest window chosen, samples: 1 s at 1 kHz; longer fits of a robot's motion are not local any more.
+#: The longest window chosen, samples (1 s at 1 kHz); longer fits of a robot's motion are not local any more.
 MAX_WINDOW = 1001              # samples: 1 s at 1 kHz; longer fits of a robot's motion are not local any more
 GRID_RATIO = 1.05              # successive candidate windows differ by 5 %
 MAX_PILOTS = 6
@@ -129,6 +129,8 @@ def noise_level(y: np.ndarray) -> np.ndarray:
     numpy.ndarray, shape (n,)
         σ̂ per column, in ``y``'s unit; NaN for fewer than 5 rows.
 
+    Examples
+    --------
     >>> import numpy as np
     >>> y = np.linspace(0, 1, 4000)[:, None] ** 3 + np.random.default_rng(1).normal(0, 1e-4, (4000, 1))
     >>> f"{noise_level(y)[0]:.1e}"
@@ -349,6 +351,8 @@ def derivatives(t_step: float, q, qd=None, window: int | None = None, *, where: 
         A window that is even, below 5 or longer than the log; fewer than 5 rows; values whose
         derivatives leave the floating-point range.
 
+    Examples
+    --------
     >>> import numpy as np
     >>> t = np.arange(0, 1, 1e-3)[:, None]
     >>> result = derivatives(1e-3, t**3, None)                # a cubic: exact, with the shortest window

@@ -290,6 +290,8 @@ def condition_number(model: Model, q, qd, qdd, base: BaseParameters | None = Non
     float
         κ; inf where a column of the regressor vanishes.
 
+    Examples
+    --------
     >>> from course_dynamics import load_robot
     >>> t = np.linspace(0, 2 * np.pi, 50)[:, None]             # both joints in phase: a poor excitation
     >>> q, qd, qdd = np.sin(t) * [1.0, 0.5], np.cos(t) * [1.0, 0.5], -np.sin(t) * [1.0, 0.5]
@@ -477,6 +479,8 @@ def limit_shares(model: Model, q, qd, tau) -> LimitShares:
     LimitShares
         Per joint, the largest share of each limit; NaN where none is given.
 
+    Examples
+    --------
     >>> from course_dynamics import load_robot
     >>> arm = load_robot("rp_arm")                   # d2 between 0.1 and 0.8 m, at most 1 m/s
     >>> shares = limit_shares(arm, [[0.0, 0.8]], [[0.0, 0.5]], [[50.0, 0.0]])
@@ -534,6 +538,8 @@ def excitation(model: Model, duration: float, harmonics: int = HARMONICS, sample
         A ``duration`` or ``dt`` that gives no time grid (not positive, ``dt`` longer than ``duration``, too many
         samples for the memory budget).
 
+    Examples
+    --------
     >>> from course_dynamics import load_robot
     >>> found = excitation(load_robot("two_link"), 4.0, harmonics=3, samples=12, max_iterations=15)
     >>> bool(found.condition < found.condition_start), bool(np.nanmax(found.limits.velocity) <= 1)

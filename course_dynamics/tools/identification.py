@@ -4,7 +4,7 @@
 code                symbol         meaning (shape, unit)
 ==================  =============  ====================================================================
 ``pi``              π              inertial parameters, 10 per moving body (:mod:`~course_dynamics.core.regressor`)
-``Y``               Y(Θ, Θ̇, Θ̈)    the regressor: τ = Y π (K, n, 10 n)
+``Y``               Y(Θ, Θ̇, Θ̈)     the regressor: τ = Y π (K, n, 10 n)
 ``friction``        F_v, F_c       viscous and Coulomb coefficients per joint: τ_F = F_v θ̇ + F_c sgn θ̇ (6.112)
 ``theta``           θ              π and the friction coefficients identified, one vector
 ``base``            π_b = β π      the base parameters: the combinations of π the torques can tell apart
@@ -70,13 +70,13 @@ from ..core.regressor import (TENSOR, BaseParameters, base_parameters, parameter
 from .consistency import consistent_fit
 from .logs import JointLog
 
-#: Which friction :func:`identify` can identify: both parts, the viscous or the Coulomb part only, or none.
+#: Which friction :func:`identify` can identify (both parts, the viscous or the Coulomb part only, or none).
 FRICTION_MODELS = ("both", "viscous", "coulomb", "none")
 SYMBOLS = {"viscous": "Fv", "coulomb": "Fc"}   # friction coefficients are named Fv_<joint>, Fc_<joint>
 ROWS_AT_A_TIME = 2048         # samples per regressor block: (2048, n, 10 n) floats, 6 MB for a UR5
 #: λ by default (step 3).
 PRIOR_WEIGHT = 1e-6           # λ: the URDF counts as a millionth of what the log says
-#: m_min by default: this share of the URDF's mass of each body (at least :data:`MIN_MASS`).
+#: m_min by default, as this share of the URDF's mass of each body (at least :data:`MIN_MASS`).
 MIN_MASS_SHARE = 0.01         # m_min: 1 % of the URDF's mass of the body (MIN_MASS for a massless one)
 #: The least m_min of a body, kg.
 MIN_MASS = 1e-6               # kg
@@ -102,6 +102,8 @@ def pseudo_inertia(p) -> np.ndarray:
     numpy.ndarray, shape (4, 4)
         The pseudo-inertia J, kg·m² (Σ), kg·m (h) and kg (m).
 
+    Examples
+    --------
     >>> from course_dynamics import load_robot
     >>> from course_dynamics.core.regressor import parameters
     >>> J = pseudo_inertia(parameters(load_robot("two_link"))[10:20])   # a point mass, 1 kg at (0.4, 0, 0)

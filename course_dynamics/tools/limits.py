@@ -48,11 +48,13 @@ def seconds(t: float) -> str:
     str
         The number, without its unit.
 
+    Examples
+    --------
     >>> seconds(1.25), seconds(1700000000.0143)
     ('1.25', '1700000000.014')
     """
     return f"{t:.6g}" if abs(t) < 1e5 else f"{t:.3f}"
-#: The band of a verdict, in σ_τ: ± 2σ, about 95 % for Gaussian noise.
+#: The band of a verdict in σ_τ (± 2σ, about 95 % for Gaussian noise).
 UNCERTAINTY_SIGMAS = 2.0  # the band of a verdict: ± 2σ, about 95 % for Gaussian noise
 
 
@@ -142,12 +144,12 @@ class LimitsReport:
 
     @property
     def effort_used(self) -> np.ndarray:
-        """``peak_tau / effort`` (n,): 1 means at the limit, 0 where there is none."""
+        """``peak_tau / effort`` (n,), 1 at the limit, 0 where there is none."""
         return np.where(np.isfinite(self.effort), self.peak_tau / np.where(self.effort > 0, self.effort, np.inf), 0.0)
 
     @property
     def velocity_used(self) -> np.ndarray:
-        """``peak_qd / velocity`` (n,): 1 means at the limit, 0 where there is none."""
+        """``peak_qd / velocity`` (n,), 1 at the limit, 0 where there is none."""
         return np.where(np.isfinite(self.velocity),
                         self.peak_qd / np.where(self.velocity > 0, self.velocity, np.inf), 0.0)
 

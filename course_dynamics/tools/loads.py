@@ -178,7 +178,7 @@ class Wrench:
 
     @property
     def F(self) -> np.ndarray:
-        """(f, n) stacked, (6,): the rows of J."""
+        """f and n stacked (6,), as the rows of J are ordered, N and N·m."""
         return np.array(self.force + self.moment)
 
 

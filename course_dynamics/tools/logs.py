@@ -63,8 +63,8 @@ from .residuals import ResidualReport, residual_report
 from .sources import as_source
 from .tables import joint_columns, stack_joint_columns
 
-#: τ is computed this many rows at a time: the recursion's temporaries (for the UR5 about 1.6 kB a row
-#: interpreted, 0.5 kB compiled, measured with tracemalloc) then stay under 60 MB however long the log.
+#: τ is computed this many rows at a time, so that the recursion's temporaries (for the UR5 about 1.6 kB a row
+#: interpreted, 0.5 kB compiled, measured with tracemalloc) stay under 60 MB however long the log.
 ROWS_AT_A_TIME = 2**15
 MAX_MEASURED = 1e7          # N m: the largest industrial joints take about 1e5
 RATE_UNITS_RATIO = 3.0      # a logged Θ̇ this many times larger or smaller than dΘ/dt is in other units

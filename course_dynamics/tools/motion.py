@@ -37,7 +37,7 @@ from .columns import ColumnPlan, merged_map, plan_columns
 from .sources import LogSource, as_source
 from .tables import stack_joint_columns
 
-#: The units a log's ``t`` column may be in: {name: seconds per unit}.
+#: The units a log's ``t`` column may be in, each with its length in seconds.
 TIME_UNITS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9}
 
 

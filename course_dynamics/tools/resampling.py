@@ -46,7 +46,7 @@ JITTER = 0.1               # a step within 10 % of Δt is Δt; of k Δt, within 
 #: The longest gap filled, in periods (4 dropped samples in a row); a longer one is refused or split.
 MAX_FILLED_PERIODS = 5     # a gap of up to 5 periods (4 dropped samples in a row) is filled
 MIN_SEGMENT_ROWS = 2
-#: The highest resampling rate, as a multiple of the log's own: above it samples are invented, not evened.
+#: The highest resampling rate, as a multiple of the log's own (above it samples are invented, not evened).
 MAX_UPSAMPLING = 4.0       # resampling above 4x the log's own rate invents, rather than evens, samples
 
 

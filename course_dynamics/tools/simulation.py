@@ -58,7 +58,7 @@ from ..core.state import as_state
 #: The integrators :func:`simulate` offers, by name (the table above).
 INTEGRATORS = ("euler", "semi-implicit", "rk4", "adaptive")
 ADAPTIVE_CALLS_PER_STEP = 1000  # right-hand-side evaluations per output sample before the adaptive integrator gives up
-#: What :func:`simulate` does at a joint limit: ``"report"`` it, or ``"stop"`` the joint there.
+#: What :func:`simulate` does at a joint limit (``"report"`` it, or ``"stop"`` the joint there).
 LIMIT_MODES = ("report", "stop")
 #: Forward-dynamics calls per step of each integrator (DOP853 takes 12 stages a step, and several steps a sample).
 CALLS_PER_STEP = {"euler": 1, "semi-implicit": 1, "rk4": 4, "adaptive": 12}

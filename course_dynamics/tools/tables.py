@@ -39,7 +39,7 @@ MAX_LINE_CHARS = 16 * 2**20    # longer is no table (a header of 10 000 joints' 
 # and tau computed in blocks it was 115 bytes per value (6.2 per byte: an 80 MiB log peaked at 657 MB),
 # and reading alone took 72 bytes per value where it now takes 11. Budgeted with a margin for a model
 # with more joints than the log has columns.
-#: Bytes of memory a table's value (cell) is budgeted at, read and in use: a table must fit in the budget.
+#: Bytes of memory a table's value (cell) is budgeted at, read and in use; a table must fit in the budget.
 BYTES_PER_VALUE = 100
 
 

@@ -19,9 +19,9 @@ from ..core.newton_euler import LinkQuantities, newton_euler_links
 from ..core.parameters import check_symbolic_size, joint_symbols, symbolic_model
 from ..core.symbolic import check_decimals, decimal, tidy
 
-#: The outward iteration's quantities (6.45)–(6.50), as keys of :attr:`Trace.values`: ⁱωᵢ, ⁱω̇ᵢ, ⁱv̇ᵢ, ⁱv̇_Cᵢ, ⁱFᵢ, ⁱNᵢ.
+#: The outward iteration's quantities (6.45)–(6.50) ⁱωᵢ, ⁱω̇ᵢ, ⁱv̇ᵢ, ⁱv̇_Cᵢ, ⁱFᵢ, ⁱNᵢ, as keys of :attr:`Trace.values`.
 OUTWARD_QUANTITIES = ("omega", "omega_dot", "v_dot", "v_dot_c", "F", "N")  # (6.45)–(6.50)
-#: The inward iteration's quantities (6.51)–(6.52), as keys of :attr:`Trace.values`: ⁱfᵢ, ⁱnᵢ.
+#: The inward iteration's quantities (6.51)–(6.52) ⁱfᵢ, ⁱnᵢ, as keys of :attr:`Trace.values`.
 INWARD_QUANTITIES = ("f", "n")  # (6.51)–(6.52)
 
 
@@ -60,8 +60,8 @@ class Trace:
 
     @cached_property
     def values(self) -> dict:
-        """{key: per-link vectors as nested lists} for every key of :data:`OUTWARD_QUANTITIES` and
-        :data:`INWARD_QUANTITIES`: rad/s, rad/s², m/s², N and N·m as the quantity is."""
+        """Per key of :data:`OUTWARD_QUANTITIES` and :data:`INWARD_QUANTITIES`, the per-link vectors as nested
+        lists (rad/s, rad/s², m/s², N and N·m as the quantity is)."""
         return {key: getattr(self.quantities, key).tolist() for key in OUTWARD_QUANTITIES + INWARD_QUANTITIES}
 
     @cached_property

@@ -42,7 +42,7 @@ from ..core.parameters import parameter_values
 from ..core.robots import COURSE_ROBOTS, load_robot
 
 STUDENT_ID = re.compile(r"[A-Za-z0-9][A-Za-z0-9._+-]{0,63}")
-#: The id of a notebook written without one: it gets a variant too.
+#: The id of a notebook written without one (it gets a variant too).
 COURSE_STUDENT = "course"  # the id of a notebook written without one
 LENGTHS, MASSES = (0.75, 1.3), (0.6, 1.6)
 
@@ -67,6 +67,8 @@ def check_student_id(student: str, where: str = "student id") -> str:
     InputError
         If ``student`` is not such an id.
 
+    Examples
+    --------
     >>> check_student_id("ada.lovelace")
     'ada.lovelace'
     """
@@ -91,6 +93,8 @@ def rng_for(student: str, purpose: str) -> np.random.Generator:
     numpy.random.Generator
         A generator seeded from SHA-256 of ``purpose`` and ``student``.
 
+    Examples
+    --------
     >>> float(rng_for("ada", "v_dot_c1").uniform()) == float(rng_for("ada", "v_dot_c1").uniform())
     True
     """
@@ -131,7 +135,7 @@ class Variant:
 
     @property
     def parameters(self) -> dict[str, float]:
-        """{parameter name: value} of the student's robot, SI units."""
+        """The parameters of the student's robot by name, SI units."""
         return parameter_values(self.model)
 
     def describe(self) -> str:
