@@ -143,6 +143,15 @@ def decompress(kind: str, data: bytes, what) -> bytes:
     bytes
         The decompressed data.
 
+    Raises
+    ------
+    DecompressionBombError
+        ``what`` would decompress past the bound.
+    ValueError
+        Damaged data (or data that ends inside a stream), as rosbags' own decompressors raise it.
+    OSError
+        Damaged data, as rosbags' own decompressors raise it (and their other errors, unchanged).
+
     Examples
     --------
     >>> len(decompress("bz2", bz2.compress(os.urandom(5000)), "probe"))
@@ -152,15 +161,6 @@ def decompress(kind: str, data: bytes, what) -> bytes:
     ...
     course_dynamics.tools.decompression.DecompressionBombError: probe decompresses past 100x its 48 bytes: refused \
 as a decompression bomb
-
-    Raises
-    ------
-    DecompressionBombError
-        ``what`` would decompress past the bound.
-    ValueError
-        Damaged data (or data that ends inside a stream), as rosbags' own decompressors raise it.
-    OSError
-        Damaged data, as rosbags' own decompressors raise it (and their other errors, unchanged).
     """
     new, rest = STREAMS[kind]
     limit, past = bound(len(data))
