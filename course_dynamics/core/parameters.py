@@ -41,11 +41,17 @@ from .model import Model
 
 ROUND_OFF = 1e-12
 INERTIA_ENTRIES = {"xx": (0, 0), "yy": (1, 1), "zz": (2, 2), "xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}
-MAX_SYMBOLIC_JOINTS = 4  # beyond this, simplification takes far longer than a lecture
+#: The most joints the symbolic path takes (beyond them, simplification takes far longer than a lecture).
+MAX_SYMBOLIC_JOINTS = 4
 
 
 class SymbolError(CourseDynamicsError):
     """A symbol name that does not name a parameter of the robot, or a robot too large.
+
+    The message names the symbol and the robot and lists the symbols it has.
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> symbolic_model(load_robot("pendulum"), ["mass"])
@@ -71,6 +77,21 @@ def _exact(array, tolerance: float = ROUND_OFF) -> np.ndarray:
 
 def rationalize(model: Model, tolerance: float = ROUND_OFF) -> Model:
     """The same robot with every number an exact sympy rational (within ``tolerance``).
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    tolerance : float, optional
+        How far a rational may be from the float it replaces (1e-12 by default).
+
+    Returns
+    -------
+    Model
+        The robot with rational placements, masses, inertias and gravity (object arrays).
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> exact = rationalize(load_robot("two_link"))
@@ -121,6 +142,20 @@ def com_distance(body) -> float | None:
 def parameter_values(model: Model) -> dict[str, float]:
     """Every parameter symbol this robot has (non-zero ones), with its value from the URDF.
 
+    Parameters
+    ----------
+    model : Model
+        The robot.
+
+    Returns
+    -------
+    dict of str to float
+        Symbol name (module table) → value: kg for ``m<i>``, kg·m² for ``I<ab><i>``, m for ``l<i>`` and
+        ``lc<i>``, m/s² for ``g``.
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> parameter_values(load_robot("pendulum"))
     {'m1': 1.0, 'l1': 1.0, 'lc1': 1.0, 'g': 9.81}
@@ -146,6 +181,19 @@ def parameter_values(model: Model) -> dict[str, float]:
 
 def check_symbolic_size(model: Model) -> None:
     """SymbolError for robots with more joints than the symbolic path handles in reasonable time.
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+
+    Raises
+    ------
+    SymbolError
+        If the robot has more than :data:`MAX_SYMBOLIC_JOINTS` joints.
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> check_symbolic_size(load_robot("rrr_arm"))   # 3 joints: fine
@@ -174,6 +222,27 @@ def symbolic_model(model: Model, symbols=()) -> tuple[Model, dict[str, object]]:
 
     Returns the model and {name: Symbol}. Unnamed parameters are exact
     rationals from the URDF. Raises :class:`SymbolError` for unknown names.
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    symbols : iterable of str, optional
+        The parameters kept as symbols, named as in the module table (``m1``, ``l2``, ``Izz1``, ``g``; a
+        one-joint robot also takes ``m``, ``l``, …); none by default.
+
+    Returns
+    -------
+    tuple of (Model, dict)
+        The exact model, and each name given → its positive ``sympy.Symbol``.
+
+    Raises
+    ------
+    SymbolError
+        If a name is no parameter of the robot (the message lists those it has).
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> exact, symbols = symbolic_model(load_robot("pendulum"), ["m", "l"])
@@ -232,7 +301,17 @@ SYMBOL_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 
 
 def joint_symbols(model: Model) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(Θ, Θ̇, Θ̈) as object arrays of real sympy symbols q_<joint>, qd_<joint>, qdd_<joint>.
+    """(Θ, Θ̇, Θ̈) as object arrays of real sympy symbols ``q_<joint>``, ``qd_<joint>``, ``qdd_<joint>``.
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+
+    Returns
+    -------
+    tuple of (numpy.ndarray, numpy.ndarray, numpy.ndarray), each of shape (n,)
+        Θ, Θ̇ and Θ̈, object arrays of ``sympy.Symbol``.
 
     Raises
     ------
@@ -259,3 +338,7 @@ def joint_symbols(model: Model) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         return np.array([sympy.Symbol(f"{prefix}_{name}", real=True) for name in model.joint_names], dtype=object)
 
     return symbols("q"), symbols("qd"), symbols("qdd")
+
+
+__all__ = ["MAX_SYMBOLIC_JOINTS", "SymbolError", "check_symbolic_size", "joint_symbols", "parameter_values",
+           "rationalize", "symbolic_model"]
