@@ -2,8 +2,9 @@
 
 Python spends most of a single evaluation on its own bookkeeping, not on the
 arithmetic. :func:`compile_model` therefore runs the library's recursions once
-on *traced* scalars (:class:`Traced`): every +, −, ×, ÷, cos and sin they do is
-recorded as one line of a program, identical operations are recorded once
+on *traced* scalars (:class:`~course_dynamics.core.compiled.tracing.Traced`):
+every +, −, ×, ÷, cos and sin they do is recorded as one line of a program,
+identical operations are recorded once
 (common-subexpression elimination by hash-consing), and operations on
 constants are done on the spot (0·x, 1·x, the model's numbers). The program is
 then written out as plain Python (``CompiledModel.source``: a student can
@@ -51,15 +52,16 @@ checked, and checked *before* anything is executed:
   every compiled function is compared with the interpreted recursions at a
   random state.
 
-A folder that fails these checks is warned about once (:class:`CacheWarning`)
-and the model is compiled in memory; a bad entry is generated again and
-replaced. A folder that cannot be written means no cache, not an error.
+A folder that fails these checks is warned about once
+(:class:`~course_dynamics.core.compiled.cache.CacheWarning`) and the model is
+compiled in memory; a bad entry is generated again and replaced. A folder that
+cannot be written means no cache, not an error.
 
 A robot whose programs would exceed :data:`MAX_OPERATIONS` operations (a chain
 of about 20 joints; the Coriolis program grows as n³) is not compiled:
-:class:`ProgramTooLargeError`, which the evaluator
-(:mod:`~course_dynamics.core.evaluator`, the one place that chooses whether to compile) answers by
-running the interpreted recursions.
+:class:`~course_dynamics.core.compiled.tracing.ProgramTooLargeError`, which the
+evaluator (:mod:`~course_dynamics.core.evaluator`, the one place that chooses
+whether to compile) answers by running the interpreted recursions.
 
 The native library (:mod:`~course_dynamics.core.compiled.native`, ``<key>.native``) is
 built under a bound and limits, in the background for the evaluator, and a build that
@@ -110,7 +112,8 @@ MAX_OPERATIONS = tracing.MAX_OPERATIONS
 class CompileWarning(CourseDynamicsWarning):
     """A model that was run interpreted because it is too large to compile (the message says so).
 
-    The evaluator gives it when :func:`compile_model` raises :class:`ProgramTooLargeError`.
+    The evaluator gives it when :func:`compile_model` raises
+    :class:`~course_dynamics.core.compiled.tracing.ProgramTooLargeError`.
 
     Examples
     --------
@@ -603,16 +606,16 @@ def compile_model(model: Model, cache: bool = True, native_code: bool | None = T
     ``native_code``: True also builds the C version (native.py) where a compiler exists, waiting for it (a
     build is bounded and a failed one remembered: building.py), "background" builds it in a child process
     (``CompiledModel.native_build``; the evaluator takes it up), None uses one only if the cache holds it,
-    False never; ``CompiledModel.native_reason`` says why there is none. Raises :class:`ProgramTooLargeError`
-    for a robot too large to compile.
+    False never; ``CompiledModel.native_reason`` says why there is none. Raises
+    :class:`~course_dynamics.core.compiled.tracing.ProgramTooLargeError` for a robot too large to compile.
 
     Parameters
     ----------
     model : Model
         The robot; its gravity is built into the programs.
     cache : bool, optional
-        Read the programs from the cache folder (:func:`cache_folder`) and keep them there; False compiles in
-        memory.
+        Read the programs from the cache folder (:func:`~course_dynamics.core.compiled.cache.cache_folder`) and
+        keep them there; False compiles in memory.
     native_code : bool or str or None, optional
         True: build the native library and wait for it; ``"background"``: build it in a child process; None:
         use one only if the cache holds it; False: never.

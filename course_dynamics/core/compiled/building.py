@@ -57,7 +57,7 @@ from .tracing import Program, trace_programs
 
 #: The estimated build time per operation, s (gcc -O1 on parts of 1000 operations).
 SECONDS_PER_OPERATION = 1.1e-4  # gcc -O1 on parts of 1000 operations (table), a little above the measured 1.0e-4
-#: The estimated time of starting a build, s: the child's Python and the compiler's start.
+#: The estimated time of starting a build (the child's Python and the compiler's start), s.
 START_SECONDS = 0.5             # the child's Python and the compiler's start
 #: A build estimated to take longer than this, s, is not started (and that is remembered).
 MAX_BUILD_SECONDS = 15.0        # a build estimated longer is not started (the 20-joint chain: 8.7 s estimated)

@@ -46,13 +46,13 @@ from .tracing import Program
 
 #: The value of ``COURSE_DYNAMICS_NATIVE`` that turns native code off.
 NATIVE_OFF = "off"  # COURSE_DYNAMICS_NATIVE=off
-#: The most wall and CPU time a build may take, s: a build taking longer is stopped and remembered.
+#: The most wall and CPU time a build may take, s; a build taking longer is stopped and remembered.
 BUILD_SECONDS = 60            # a build taking longer is stopped (the Python programs run), and remembered
 #: The compiler's address space, bytes.
 BUILD_MEMORY = 2**30          # address space of the compiler (the 20-joint chain's build peaks at 0.3 GB)
 #: The largest file the compiler may write, bytes (the library included).
 BUILD_FILE_BYTES = 256 * 2**20  # any file the compiler writes (the 20-joint chain's library is 0.8 MB)
-#: The most operations in one C function: a longer program is cut into parts of this size.
+#: The most operations in one C function; a longer program is cut into parts of this size.
 PART_OPERATIONS = 1000  # operations in one C function at most: gcc then takes time linear in the program (below)
 OPERATIONS = {"add": "{} + {}", "sub": "{} - {}", "mul": "{} * {}", "div": "{} / {}", "neg": "-{}", "cos": "cos({})",
               "sin": "sin({})"}

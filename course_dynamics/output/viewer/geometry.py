@@ -41,7 +41,7 @@ from .mesh_limits import (
     read_mesh_bytes,
 )
 
-#: The choices of ``geometry``: what :func:`robot_geometry` draws (module docstring).
+#: The choices of ``geometry``, what :func:`robot_geometry` draws (module docstring).
 GEOMETRIES = ("auto", "visual", "collision", "stick")
 #: With ``geometry="auto"``, visual meshes larger than this together, bytes, give way to the collision meshes.
 MESH_BUDGET_BYTES = 1_500_000  # auto: larger visual meshes fall back to collision meshes
