@@ -24,7 +24,8 @@ MAX_PANELS = 24   # a torque figure draws one panel per joint: 24 already make a
 
 
 def check_panels(model) -> None:
-    """InputError (naming --plot and the joints) when the torque figure would need more than :data:`MAX_PANELS` panels.
+    """InputError (naming ``--plot`` and the joints) when the torque figure would need more than
+    :data:`MAX_PANELS` panels.
 
     Refused rather than cut to the first 24: a figure of the limits that silently leaves out joints could hide the one
     beyond its limit, and every joint is in the table and the JSON anyway.
