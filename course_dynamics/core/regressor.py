@@ -31,7 +31,7 @@ them, so every τⱼ is a linear combination of the parameters, with coefficient
 depend on the state alone.
 
 How Y is computed: column k is ∂τ/∂π_k, the dual part of τ when the recursion
-(:func:`~course_dynamics.core.newton_euler.torque_entries`) runs on a model whose parameters
+(``newton_euler.torque_entries``) runs on a model whose parameters
 are Dual numbers π₀ + ε e_k, converted into the model's m, ⁱP_Cᵢ = h/m and
 ᶜⁱIᵢ = I_o − m (cᵀc 1 − c cᵀ) by :func:`with_parameters`. One pass gives every column: the
 dual parts are vectors of 10 n entries (with a trailing batch axis for N states). Exact to
@@ -67,12 +67,15 @@ from .parameters import parameter_values, symbolic_model
 from .sampling import random_states
 from .state import as_state, entries, layout_of
 
+#: The names of a body's ten parameters, in Pinocchio's order (the module table).
 PARAMETER_NAMES = ("m", "mcx", "mcy", "mcz", "Ixx", "Ixy", "Iyy", "Ixz", "Iyz", "Izz")
 PARAMETER_SYMBOLS = ("m{i}", "m{i}c{i},x", "m{i}c{i},y", "m{i}c{i},z", "I{i},xx", "I{i},xy", "I{i},yy",
                      "I{i},xz", "I{i},yz", "I{i},zz")  # for display: I{i} is ⁱIᵢ, about the origin
-TENSOR = ((4, 5, 7), (5, 6, 8), (7, 8, 9))  # where entry (a, b) of I_o sits among a body's ten
+#: Where entry (a, b) of I_o sits among a body's ten parameters (``TENSOR[a][b]``).
+TENSOR = ((4, 5, 7), (5, 6, 8), (7, 8, 9))
 SEED = (1.0,) + (0.0,) * 9  # π₀ of every body: a unit point mass at its frame origin
-SAMPLES = 64  # random states stacked for the base parameters
+#: The number of random states stacked for the base parameters by default.
+SAMPLES = 64
 ZERO_COLUMN = 1e-12  # a column this small (relative to the largest) is a parameter that never acts
 RANK_TOLERANCE = 1e-9  # on unit-length columns: |R_kk| is the sine of the angle to the columns before
 FIT_TOLERANCE = 1e-8  # describe(): how exactly β must be a quadratic polynomial in the named lengths
@@ -83,6 +86,19 @@ SUBSCRIPTS = str.maketrans("0123456789", "₀₁₂₃₄₅₆₇₈₉")
 def parameter_names(model: Model) -> list[str]:
     """The names of π's entries, ``m_1 … Izz_n`` (body numbers from 1).
 
+    Parameters
+    ----------
+    model : Model
+        The robot.
+
+    Returns
+    -------
+    list of str
+        10 n names, body by body in :data:`PARAMETER_NAMES` order.
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> parameter_names(load_robot("pendulum"))
     ['m_1', 'mcx_1', 'mcy_1', 'mcz_1', 'Ixx_1', 'Ixy_1', 'Iyy_1', 'Ixz_1', 'Iyz_1', 'Izz_1']
@@ -92,6 +108,19 @@ def parameter_names(model: Model) -> list[str]:
 
 def parameter_symbols(model: Model) -> list[str]:
     """Craig-like display symbols of π's entries: m₂, m₂c₂,x (a first moment), I₂,xx (²I₂ about the origin).
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+
+    Returns
+    -------
+    list of str
+        10 n symbols, in the order of :func:`parameter_names`.
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> parameter_symbols(load_robot("two_link"))[10:14]
@@ -120,6 +149,19 @@ def _body_parameters(body) -> list:
 
 def parameters(model: Model) -> np.ndarray:
     """π of the model, shape (10 n,): per body m, m c, I_o (module table); object dtype for symbolic models.
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+
+    Returns
+    -------
+    numpy.ndarray, shape (10 n,)
+        π: kg, kg·m and kg·m², in :func:`parameter_names` order.
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> parameters(load_robot("two_link"))[10:20].tolist()   # m₂ = 1 kg at 0.4 m: h = 0.4, Izz = m l² = 0.16
@@ -155,6 +197,26 @@ def with_parameters(model: Model, pi) -> Model:
     h = 0 is a massless body and keeps its centre of mass. Nothing else is checked: an
     identified π need not be physical (I_com positive definite).
 
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    pi : array_like, shape (10 n,)
+        π in :func:`parameter_names` order: kg, kg·m, kg·m².
+
+    Returns
+    -------
+    Model
+        The robot with those masses, centres of mass and inertias.
+
+    Raises
+    ------
+    ModelError
+        If ``pi`` is not of shape (10 n,), or a body's mass is negative, or zero with a non-zero first moment.
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> arm = load_robot("two_link")
     >>> pi = parameters(arm)
@@ -183,14 +245,26 @@ def regressor(model: Model, q, qd, qdd) -> np.ndarray:
     Parameters
     ----------
     model : Model
-    q, qd, qdd : array_like, shape (n,) or (N, n)
-        Θ, Θ̇, Θ̈ in ``model.joint_names`` order, as for ``inverse_dynamics`` (numpy object
-        arrays of sympy symbols give a symbolic Y).
+        The robot; Y does not depend on its inertial parameters, only on its geometry and gravity.
+    q : array_like, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint), in ``model.joint_names`` order, as for
+        :func:`~course_dynamics.core.newton_euler.inverse_dynamics` (numpy object arrays of sympy symbols give
+        a symbolic Y).
+    qd : array_like, shape (n,) or (N, n)
+        Joint velocities Θ̇, rad/s (m/s).
+    qdd : array_like, shape (n,) or (N, n)
+        Joint accelerations Θ̈, rad/s² (m/s²).
 
     Returns
     -------
-    Y : ndarray, shape (n, 10 n) or (N, n, 10 n)
-        Column k is ∂τ/∂π_k (N·m or N per unit of parameter k, named by :func:`parameter_names`).
+    numpy.ndarray, shape (n, 10 n) or (N, n, 10 n)
+        Y; column k is ∂τ/∂π_k (N·m or N per unit of parameter k, named by :func:`parameter_names`).
+
+    Raises
+    ------
+    StateError
+        If a state is not numeric or not finite, its last axis is not the model's n joints, or the batches
+        differ in length.
 
     Examples
     --------
@@ -238,6 +312,24 @@ class BaseParameters:
     ``independent`` are the r columns of Y kept (Y_b = Y[..., independent]), ``beta`` is
     (r, 10 n), so that Y π = Y_b β π for every π.
 
+    Parameters
+    ----------
+    names : tuple of str
+        The names of π's entries (:func:`parameter_names`).
+    independent : tuple of int
+        The r columns of Y kept, in the model's order.
+    beta : numpy.ndarray, shape (r, 10 n)
+        β, with π_b = β π.
+    model : Model
+        The robot they were found for.
+    samples : int, optional
+        The number of random states stacked.
+    seed : int, optional
+        Their seed.
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> base = base_parameters(load_robot("two_link"))
     >>> base.rank, [base.names[k] for k in base.independent]
@@ -271,14 +363,37 @@ class BaseParameters:
 
     @property
     def rank(self) -> int:
+        """r, the number of base parameters (the rank of the stacked Y)."""
         return len(self.independent)
 
     def values(self, pi) -> np.ndarray:
-        """π_b = β π, shape (r,)."""
+        """π_b = β π, shape (r,).
+
+        Parameters
+        ----------
+        pi : array_like, shape (10 n,)
+            π (:func:`parameters`).
+
+        Returns
+        -------
+        numpy.ndarray, shape (r,)
+            The base parameters' values, in the units of their independent columns' parameters.
+        """
         return self.beta @ np.asarray(pi)
 
     def regressor(self, Y) -> np.ndarray:
-        """Y_b: the independent columns of a regressor Y (..., n, 10 n)."""
+        """Y_b: the independent columns of a regressor Y (..., n, 10 n).
+
+        Parameters
+        ----------
+        Y : array_like, shape (n, 10 n) or (N, n, 10 n)
+            A regressor (:func:`~course_dynamics.core.regressor.regressor`).
+
+        Returns
+        -------
+        numpy.ndarray, shape (n, r) or (N, n, r)
+            Y_b = Y[..., independent].
+        """
         return np.asarray(Y)[..., list(self.independent)]
 
     def describe(self, symbols=(), digits: int = 4) -> str:
@@ -289,6 +404,23 @@ class BaseParameters:
         inertias through π, and a named link length l<i> through β, found by fitting β (a
         polynomial of degree ≤ 2 in the lengths) over seeded lengths within ±50 %; if β is not
         such a polynomial to ``FIT_TOLERANCE``, its numbers are kept.
+
+        Parameters
+        ----------
+        symbols : sequence of str, optional
+            Parameter symbols of :func:`~course_dynamics.core.parameters.symbolic_model`; none by default.
+        digits : int, optional
+            Significant figures of the numeric coefficients.
+
+        Returns
+        -------
+        str
+            r lines, ``π_b1 = …`` to ``π_br = …``.
+
+        Raises
+        ------
+        SymbolError
+            If a symbol is no parameter of the robot.
         """
         if not symbols:
             lines = (f"π_b{j + 1} = {_combination(row, self.names, digits)}" for j, row in enumerate(self.beta))
@@ -372,6 +504,28 @@ def base_parameters(model: Model, samples: int = SAMPLES, seed: int = 0) -> Base
     tolerances in the module docstring. A ModelError if the pivoted and the ordered QR
     disagree about the rank (more samples may settle it).
 
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    samples : int, optional
+        The number of random states stacked (:data:`SAMPLES`).
+    seed : int, optional
+        Their seed.
+
+    Returns
+    -------
+    BaseParameters
+        The rank, the independent columns and β.
+
+    Raises
+    ------
+    ModelError
+        If the pivoted and the ordered QR disagree about the rank.
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> base = base_parameters(load_robot("rp_arm"))
     >>> base.rank                                    # the slider's mass and first moment act on their own
@@ -397,3 +551,7 @@ def base_parameters(model: Model, samples: int = SAMPLES, seed: int = 0) -> Base
                          f"in the model's order at tolerance {RANK_TOLERANCE:g}; try more samples than {samples}")
     beta = _grouping(W, independent, list(acting))
     return BaseParameters(tuple(parameter_names(model)), tuple(independent), beta, model, samples, seed)
+
+
+__all__ = ["BaseParameters", "PARAMETER_NAMES", "SAMPLES", "TENSOR", "base_parameters", "parameter_names",
+           "parameter_symbols", "parameters", "regressor", "with_parameters"]
