@@ -422,8 +422,9 @@ def torques_from_log(model: Model, table, *, dt: float | None = None, columns: M
     Raises
     ------
     InputError
-        Whatever :func:`joint_log` refuses, a payload or wrench that does not fit the robot, and torques that
-        overflow.
+        Whatever :func:`joint_log` refuses, a payload on a link fixed to the base, and torques that overflow.
+    ModelError
+        A payload's or wrench's link that is not one of the robot's.
     """
     for load in _as_list(payload):
         model = with_payload(model, load)
