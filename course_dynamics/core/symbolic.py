@@ -39,7 +39,9 @@ from .model import Model
 from .newton_euler import inverse_dynamics
 from .parameters import SymbolError, check_symbolic_size, joint_symbols, parameter_values, symbolic_model
 
-MAX_DECIMALS = 30  # the most digits ``decimals`` may ask for (check_decimals)
+#: The most digits ``decimals`` may ask for (:func:`check_decimals`).
+MAX_DECIMALS = 30
+#: The two formulations :func:`derive` runs, Newton–Euler (the default) and Lagrange.
 METHODS = ("newton-euler", "lagrange")
 
 
@@ -54,6 +56,21 @@ def canonical(expression, angles):
 
     Two expressions are equal as functions iff their canonical forms are
     identical, which is much faster to decide than ``simplify(a − b) == 0``.
+
+    Parameters
+    ----------
+    expression : sympy.Expr or number
+        The expression.
+    angles : sequence of sympy.Symbol
+        The joint angles θ whose sines and cosines are reduced.
+
+    Returns
+    -------
+    sympy.Expr
+        Its canonical form.
+
+    Examples
+    --------
 
     >>> import sympy
     >>> q1 = sympy.Symbol("q1", real=True)
@@ -78,6 +95,21 @@ def canonical(expression, angles):
 def tidy(expression, angles):
     """A readable form for display: canonical, then sympy's trigonometric simplification.
 
+    Parameters
+    ----------
+    expression : sympy.Expr or number
+        The expression.
+    angles : sequence of sympy.Symbol
+        The joint angles θ whose sines and cosines are reduced.
+
+    Returns
+    -------
+    sympy.Expr
+        The simplified expression, common factors taken out.
+
+    Examples
+    --------
+
     >>> import sympy
     >>> q1, l = sympy.Symbol("q1", real=True), sympy.Symbol("l")
     >>> tidy(l * sympy.sin(q1)**2 + l * sympy.cos(q1)**2 + 2 * l, [q1])
@@ -93,6 +125,40 @@ class Derivation:
 
     ``tau`` (n,), ``M`` (n, n), ``V`` (n,), ``G`` (n,), ``B`` (n, n(n−1)/2) and
     ``C`` (n, n) with V = B [Θ̇Θ̇] + C [Θ̇²] (6.63); ``pairs`` are the (j, k) of [Θ̇Θ̇].
+
+    Parameters
+    ----------
+    joints : tuple of str
+        The joints, in model order.
+    prismatic : tuple of bool
+        Whether each joint is prismatic.
+    method : str
+        The formulation used (:data:`METHODS`).
+    q : tuple of sympy.Symbol
+        Θ's symbols, ``q_<joint>``.
+    qd : tuple of sympy.Symbol
+        Θ̇'s symbols, ``qd_<joint>``.
+    qdd : tuple of sympy.Symbol
+        Θ̈'s symbols, ``qdd_<joint>``.
+    parameters : dict
+        Each parameter kept symbolic, by name → its ``sympy.Symbol``.
+    tau : list, length n
+        τ, N·m (N for a prismatic joint).
+    M : list of list, n × n
+        M(Θ), kg·m² (kg).
+    V : list, length n
+        V(Θ, Θ̇), N·m (N).
+    G : list, length n
+        G(Θ), N·m (N).
+    B : list of list, n × n(n−1)/2
+        Craig's Coriolis coefficients B(Θ) of (6.63).
+    C : list of list, n × n
+        Craig's centrifugal coefficients C(Θ) of (6.63).
+    pairs : list of tuple of (int, int)
+        The (j, k), j < k, of B's columns (:func:`~course_dynamics.core.lagrange.velocity_pairs`).
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> d = derive(load_robot("two_link"), ["m2", "l1", "l2"])
@@ -119,6 +185,21 @@ class Derivation:
 def decimal(expression, digits: int | None):
     """``expression`` with its fractions written as ``digits``-digit decimals (unchanged for None).
 
+    Parameters
+    ----------
+    expression : sympy.Expr or number
+        The expression.
+    digits : int or None
+        Significant digits; None leaves the expression as it is.
+
+    Returns
+    -------
+    sympy.Expr
+        The expression with every non-integer rational a ``sympy.Float``.
+
+    Examples
+    --------
+
     >>> import sympy
     >>> x = sympy.Symbol("x")
     >>> decimal(sympy.Rational(981, 100) * x + sympy.Rational(1, 3), 3), decimal(x / 3, None)
@@ -137,6 +218,19 @@ def check_decimals(decimals) -> None:
 
     The one check of the ``decimals`` argument, for every symbolic result that takes it (derivations, traces).
 
+    Parameters
+    ----------
+    decimals : int or None
+        The number of digits asked for.
+
+    Raises
+    ------
+    SymbolError
+        If ``decimals`` is neither None nor an int from 1 to :data:`MAX_DECIMALS`.
+
+    Examples
+    --------
+
     >>> check_decimals(4), check_decimals(None)
     (None, None)
     >>> check_decimals(0)
@@ -154,6 +248,36 @@ def derive(model: Model, symbols=(), method: str = "newton-euler", simplify: boo
     ``symbols`` names parameters kept symbolic (module table); the rest are the
     URDF's numbers, made exact (or ``decimals``-digit decimals in the result).
     B and C are read off V as the coefficients of θ̇ⱼθ̇ₖ (j < k) and θ̇ⱼ² (6.63)–(6.65).
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    symbols : iterable of str, optional
+        The parameters kept as symbols (the table of :mod:`course_dynamics.core.parameters`: ``m1``, ``l1``,
+        ``Izz1``, ``g``, …); the rest are the URDF's numbers, made exact. By default, none.
+    method : {"newton-euler", "lagrange"}, optional
+        The formulation (:data:`METHODS`).
+    simplify : bool, optional
+        Simplify each entry for display (the default); ``False`` keeps the canonical form, which is faster.
+    decimals : int, optional
+        Write the model's numbers as ``decimals``-digit decimals (1 to :data:`MAX_DECIMALS`); exact fractions
+        by default.
+
+    Returns
+    -------
+    Derivation
+        τ, M, V, G, B and C, with the symbols they are in.
+
+    Raises
+    ------
+    SymbolError
+        If the robot has too many joints (:data:`~course_dynamics.core.parameters.MAX_SYMBOLIC_JOINTS`), a
+        symbol is no parameter of it, a joint name is no identifier, or ``method`` or ``decimals`` is not one
+        taken.
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> d = derive(load_robot("pendulum"), ["m", "l", "g"])
@@ -199,6 +323,27 @@ def numeric_functions(derivation: Derivation, parameter_values: dict | None = No
     ``G(q)``, ``tau(q, qd, qdd)`` → (n,) or (N, n). Parameter symbols must be
     given numbers in ``parameter_values``.
 
+    Parameters
+    ----------
+    derivation : Derivation
+        The closed forms (:func:`derive`).
+    parameter_values : dict, optional
+        A number for each parameter kept symbolic, by name (kg, m, kg·m², m/s²).
+
+    Returns
+    -------
+    dict of str to callable
+        ``"M"``, ``"V"``, ``"G"`` and ``"tau"``; each takes arrays of shape (n,) or (N, n), rad, rad/s, rad/s²
+        (m, m/s, m/s²), and returns kg·m² or N·m (kg or N for a prismatic joint).
+
+    Raises
+    ------
+    SymbolError
+        If a parameter symbol of ``derivation`` is given no value.
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> functions = numeric_functions(derive(load_robot("pendulum"), ["m"]), {"m": 1.0})
     >>> functions["G"](np.array([0.5])).round(4), functions["G"](np.zeros((3, 1))).shape   # N·m; a batch
@@ -237,6 +382,30 @@ def numeric_functions(derivation: Derivation, parameter_values: dict | None = No
 class CartesianDerivation:
     """Closed forms of (6.99) for one frame and task rows: J, M_x, V_x, G_x as sympy matrices.
 
+    Parameters
+    ----------
+    frame : str
+        The URDF link whose origin is the task point.
+    rows : tuple of str
+        The task rows (:data:`~course_dynamics.core.cartesian.ROW_NAMES`).
+    q : tuple of sympy.Symbol
+        Θ's symbols.
+    qd : tuple of sympy.Symbol
+        Θ̇'s symbols.
+    parameters : dict
+        Each parameter kept symbolic, by name → its ``sympy.Symbol``.
+    J : sympy.Matrix
+        J(Θ), n × n.
+    Mx : sympy.Matrix
+        M_x(Θ), n × n.
+    Vx : sympy.Matrix
+        V_x(Θ, Θ̇), n × 1.
+    Gx : sympy.Matrix
+        G_x(Θ), n × 1.
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> c = derive_cartesian(load_robot("rp_arm"), "link2", rows=["x", "y"], expressed_in="frame")
     >>> print(c.rows, c.J)   # the RP arm in its slider's frame: ∂(x, y)/∂(θ₁, d₂)
@@ -261,6 +430,41 @@ def derive_cartesian(model: Model, frame: str, rows=None, expressed_in: str = "b
     The same Jacobian and dynamics functions as the numeric path, on symbols; the
     selected task rows must make J square. For the two-link arm in its tool frame
     this is Craig's example 6.6.
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    frame : str
+        A URDF link: the frame whose origin is the task point.
+    rows : sequence of int or str, optional
+        The task rows (:data:`~course_dynamics.core.cartesian.ROW_NAMES`), n of them; all six by default.
+    expressed_in : {"base", "frame"}, optional
+        The coordinates of J.
+    symbols : iterable of str, optional
+        The parameters kept as symbols (the table of :mod:`course_dynamics.core.parameters`: ``m1``, ``l1``,
+        ``Izz1``, ``g``, …); the rest are the URDF's numbers, made exact. By default, none.
+    decimals : int, optional
+        Write the model's numbers as ``decimals``-digit decimals (1 to :data:`MAX_DECIMALS`); exact fractions
+        by default.
+
+    Returns
+    -------
+    CartesianDerivation
+        J, M_x, V_x and G_x in closed form.
+
+    Raises
+    ------
+    SymbolError
+        If the rows do not make J square, the robot has too many joints, a symbol is no parameter of it, or
+        ``decimals`` is not one taken.
+    ModelError
+        If the robot has no link ``frame``.
+    InputError
+        If ``expressed_in`` or a row is unknown.
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> c = derive_cartesian(load_robot("rp_arm"), "link2", rows=["x", "y"], expressed_in="frame", symbols=["m2"])
@@ -290,3 +494,7 @@ def derive_cartesian(model: Model, frame: str, rows=None, expressed_in: str = "b
         frame=frame, rows=tuple(ROW_NAMES[i] for i in indices), q=tuple(q), qd=tuple(qd), parameters=parameters,
         J=clean(J), Mx=clean(Mx), Vx=clean(Vx), Gx=clean(Gx),
     )
+
+
+__all__ = ["CartesianDerivation", "Derivation", "MAX_DECIMALS", "METHODS", "canonical", "check_decimals", "decimal",
+           "derive", "derive_cartesian", "numeric_functions", "tidy"]
