@@ -237,7 +237,22 @@ def constant_has_doc(module, name: str) -> bool:
             below = isinstance(after, ast.Expr) and isinstance(getattr(after, "value", None), ast.Constant) and \
                 isinstance(after.value.value, str)
             return above.startswith("#:") or below
-    return False
+    origin = imported_from(module, name)
+    return origin is not None and constant_has_doc(origin, name)
+
+
+def imported_from(module, name: str):
+    """The module of ours a ``from … import name`` line of the module takes the name from, or None."""
+    import ast
+
+    for node in ast.parse(inspect.getsource(module)).body:
+        if isinstance(node, ast.ImportFrom) and any(a.name == name and a.asname is None for a in node.names):
+            base = module.__name__ if module.__file__.endswith("__init__.py") else module.__name__.rpartition(".")[0]
+            for _ in range(node.level - 1):
+                base = base.rpartition(".")[0]
+            target = f"{base}.{node.module}" if node.level and node.module else base if node.level else node.module
+            return importlib.import_module(target) if target.startswith("course_dynamics") else None
+    return None
 
 
 @pytest.mark.parametrize("name", API_MODULES)

@@ -24,6 +24,26 @@ README = (ROOT / "README.md").read_text()
 PAGES = {"README.md": README} | {str(p.relative_to(ROOT)): p.read_text() for p in sorted((ROOT / "docs").rglob("*.md"))
                                  if "_build" not in p.parts}
 ALL = "\n\n".join(PAGES.values())
+
+
+def fences(text: str) -> list[tuple[int, int, str, str]]:
+    """Every fenced block of a page as (start, end, language, body), read line by line as Markdown reads it: a
+    fence opens with ```` ``` ```` and an info string (``sh``, ``python``, a MyST ``{toctree}``, nothing) and
+    closes at the next bare ```` ``` ````."""
+    found, opened, offset = [], None, 0
+    for line in text.splitlines(keepends=True):
+        stripped = line.strip()
+        if opened is None and stripped.startswith("```"):
+            opened = (offset, stripped[3:].split(" ")[0], offset + len(line))
+        elif opened is not None and stripped == "```":
+            found.append((opened[0], offset + len(line), opened[1], text[opened[2]:offset]))
+            opened = None
+        offset += len(line)
+    return found
+
+
+def blocks_of(language: str, text: str = ALL) -> list[str]:
+    return [body for _, _, lang, body in fences(text) if lang == language]
 PLACEHOLDERS = ("my_robot.urdf", "torques.csv")  # files a reader brings; shown for the syntax
 
 
@@ -37,7 +57,7 @@ def test_python_quick_start_runs():
 def example_blocks() -> list[list[tuple[str, int]]]:
     """Each ``sh`` block's commands as (command, expected exit status): 0, or the N of a trailing ``# exit N``."""
     blocks = []
-    for block in re.findall(r"```sh\n(.*?)```", ALL, re.S):
+    for block in blocks_of("sh"):
         text = block.replace("\\\n", " ")
         commands = []
         for line in text.splitlines():
@@ -65,7 +85,7 @@ def test_cli_examples_run(commands, tmp_path, monkeypatch, capsys):
 
 
 def test_python_log_example_runs(tmp_path, monkeypatch):
-    block = next(b for b in re.findall(r"```python\n(.*?)```", ALL, re.S) if "torques_from_log(" in b)
+    block = next(b for b in blocks_of("python") if "torques_from_log(" in b)
     shutil.copytree(ROOT / "examples", tmp_path / "examples")
     monkeypatch.chdir(tmp_path)
     namespace: dict = {}
@@ -97,7 +117,7 @@ def command_output_pairs() -> list[tuple[str, str]]:
     """
     pairs = []
     for text in PAGES.values():
-        blocks = [(m.start(), m.end(), m.group(1), m.group(2)) for m in re.finditer(r"```(\w*)\n(.*?)```", text, re.S)]
+        blocks = fences(text)
         for (_, end, lang, code), (start, _, next_lang, shown) in zip(blocks, blocks[1:]):
             if lang == "sh" and next_lang == "" and not text[end:start].strip() and "..." not in shown \
                     and "…" not in shown:
@@ -131,7 +151,7 @@ def test_outputs_are_shown_for_several_commands():
 
 
 def python_blocks() -> list[str]:
-    return re.findall(r"```python\n(.*?)```", ALL, re.S)
+    return blocks_of("python")
 
 
 @pytest.mark.parametrize("number", range(len(python_blocks())))

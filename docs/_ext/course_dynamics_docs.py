@@ -47,9 +47,29 @@ def defined_in_module(module) -> tuple[list[str], list[str]]:
             continue
         if origin == module.__name__ or (origin is None and name in lines):
             own.append(name)
-        elif origin is not None:
+        elif origin is not None or imported_from(module, name) is not None:
             elsewhere.append(name)
     return sorted(own, key=lambda n: lines.get(n, 10 ** 9)), elsewhere
+
+
+def imported_from(module, name: str) -> str | None:
+    """The name of the module of ours that a ``from … import name`` line of the module takes it from, or None."""
+    for node in ast.parse(inspect.getsource(module)).body:
+        if isinstance(node, ast.ImportFrom) and any(a.name == name and a.asname is None for a in node.names):
+            base = module.__name__ if module.__file__.endswith("__init__.py") else module.__name__.rpartition(".")[0]
+            for _ in range(node.level - 1):
+                base = base.rpartition(".")[0]
+            target = f"{base}.{node.module}" if node.level and node.module else base if node.level else node.module
+            return target if target.startswith("course_dynamics") else None
+    return None
+
+
+def target_of(module, name: str) -> str:
+    """Where a re-exported name is documented: its defining module (a value: the module it is imported from)."""
+    obj = getattr(module, name)
+    if inspect.isclass(obj) or inspect.isroutine(obj):
+        return f"{obj.__module__}.{obj.__qualname__}"
+    return f"{imported_from(module, name)}.{name}"
 
 
 def directive_of(obj) -> str:
@@ -75,8 +95,7 @@ def module_rst(name: str, underline: str, title: bool = True) -> list[str]:
         lines += ["   :no-value:"] if directive_of(obj) == "autodata" else []
         lines += [""]
     if elsewhere:
-        links = ", ".join(f":{role_of(getattr(module, n))}:`~{getattr(module, n).__module__}."
-                          f"{getattr(module, n).__qualname__}`" for n in elsewhere)
+        links = ", ".join(f":{role_of(getattr(module, n))}:`~{target_of(module, n)}`" for n in elsewhere)
         lines += [f"Offered here too, documented where they are defined: {links}.", ""]
     return lines
 
