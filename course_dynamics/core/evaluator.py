@@ -16,7 +16,7 @@ the call                                              runs
 ====================================================  =========================================================
 ``compiled=False`` (``--no-compile``)                 the recursions as written
 symbols, duals, complex numbers                       the recursions as written (the programs take floats only)
-a robot too large to compile                          the recursions as written (one :class:`CompileWarning`)
+a robot too large to compile                          the recursions as written (one ``CompileWarning``)
 ``compiled=True``                                     the compiled model, waiting for its native build
 floats, and the cache holds the compiled model        the compiled model, loaded from the cache
 floats, work of :data:`COMPILE_SECONDS` or more       the compiled model, compiled now (and kept in the cache)
@@ -71,10 +71,14 @@ from .friction import Friction
 from .model import Model
 from .state import as_state, batch_shape
 
-CALL_SECONDS = 3e-4     # the interpreted recursions' cost of one call (UR5: 0.26 ms for τ at one state)
-STATE_SECONDS = 1.5e-6  # and of one more state in a vectorised batch (UR5: 13 ms for τ at 10 000 states)
-COMPILE_SECONDS = 0.03  # a compiled model loaded from a warm cache (two-link 10 ms, UR5 25 ms, Panda 50 ms)
-NATIVE_SECONDS = 1.0    # work that pays for building the C version once (UR5 about 3 s, then cached)
+#: The interpreted recursions' cost of one call, s (UR5 0.26 ms for τ at one state).
+CALL_SECONDS = 3e-4
+#: The interpreted recursions' cost of one more state in a vectorised batch, s (UR5 13 ms for τ at 10 000 states).
+STATE_SECONDS = 1.5e-6
+#: What loading a compiled model from a warm cache costs, s (two-link 10 ms, UR5 25 ms, Panda 50 ms).
+COMPILE_SECONDS = 0.03
+#: The work, s, that pays for building the C version once (UR5 about 3 s, then cached).
+NATIVE_SECONDS = 1.0
 
 ASKED = "asked for"
 NOT_FLOATS = "symbols, duals or complex numbers: the compiled programs take float64 only"
@@ -87,6 +91,18 @@ LITTLE = "little work, and the cache does not hold its compiled model"
 class Interpreted:
     """The recursions as written, behind a compiled model's methods: what a choice of "interpreted" runs.
 
+    Each method takes what the function of the same name takes, without the model.
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    native : dict, optional
+        Empty: the recursions have no native code (as a compiled model without C).
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> np.round(Interpreted(load_robot("two_link")).gravity_torques([0.0, 0.0]), 6)
     array([18.639,  3.924])
@@ -96,25 +112,128 @@ class Interpreted:
     native: dict = field(default_factory=dict, repr=False)  # none: as a compiled model without C
 
     def inverse_dynamics(self, q, qd, qdd) -> np.ndarray:
+        """τ by :func:`~course_dynamics.core.newton_euler.inverse_dynamics`.
+
+        Parameters
+        ----------
+        q : array_like, shape (n,) or (N, n)
+            Joint positions Θ, rad (m).
+        qd : array_like, shape (n,) or (N, n)
+            Joint velocities Θ̇, rad/s (m/s).
+        qdd : array_like, shape (n,) or (N, n)
+            Joint accelerations Θ̈, rad/s² (m/s²).
+
+        Returns
+        -------
+        numpy.ndarray, shape (n,) or (N, n)
+            Joint torques τ, N·m (N).
+        """
         return newton_euler.inverse_dynamics(self.model, q, qd, qdd)
 
     def mass_matrix(self, q) -> np.ndarray:
+        """M(Θ) by :func:`~course_dynamics.core.dynamics.mass_matrix`.
+
+        Parameters
+        ----------
+        q : array_like, shape (n,) or (N, n)
+            Joint positions Θ, rad (m).
+
+        Returns
+        -------
+        numpy.ndarray, shape (n, n) or (N, n, n)
+            M(Θ), kg·m² (kg).
+        """
         return dynamics.mass_matrix(self.model, q)
 
     def coriolis_matrix(self, q, qd) -> np.ndarray:
+        """C(Θ, Θ̇) by :func:`~course_dynamics.core.dynamics.coriolis_matrix`.
+
+        Parameters
+        ----------
+        q : array_like, shape (n,) or (N, n)
+            Joint positions Θ, rad (m).
+        qd : array_like, shape (n,) or (N, n)
+            Joint velocities Θ̇, rad/s (m/s).
+
+        Returns
+        -------
+        numpy.ndarray, shape (n, n) or (N, n, n)
+            C(Θ, Θ̇), kg·m²/s.
+        """
         return dynamics.coriolis_matrix(self.model, q, qd)
 
     def gravity_torques(self, q) -> np.ndarray:
+        """G(Θ) by :func:`~course_dynamics.core.dynamics.gravity_torques`.
+
+        Parameters
+        ----------
+        q : array_like, shape (n,) or (N, n)
+            Joint positions Θ, rad (m).
+
+        Returns
+        -------
+        numpy.ndarray, shape (n,) or (N, n)
+            G(Θ), N·m (N).
+        """
         return dynamics.gravity_torques(self.model, q)
 
     def bias(self, q, qd) -> np.ndarray:
+        """V(Θ, Θ̇) + G(Θ) = τ(Θ, Θ̇, 0), by Newton–Euler.
+
+        Parameters
+        ----------
+        q : array_like, shape (n,) or (N, n)
+            Joint positions Θ, rad (m).
+        qd : array_like, shape (n,) or (N, n)
+            Joint velocities Θ̇, rad/s (m/s).
+
+        Returns
+        -------
+        numpy.ndarray, shape (n,) or (N, n)
+            V + G, N·m (N).
+        """
         qd = as_state(self.model, qd, "qd")
         return newton_euler.inverse_dynamics(self.model, q, qd, np.zeros_like(qd))
 
     def forward_dynamics(self, q, qd, tau, friction: Friction | None = None) -> np.ndarray:
+        """Θ̈ by :func:`~course_dynamics.core.forward_dynamics.forward_dynamics`.
+
+        Parameters
+        ----------
+        q : array_like, shape (n,) or (N, n)
+            Joint positions Θ, rad (m).
+        qd : array_like, shape (n,) or (N, n)
+            Joint velocities Θ̇, rad/s (m/s).
+        tau : array_like, shape (n,) or (N, n)
+            Joint torques τ, N·m (N).
+        friction : Friction, optional
+            Subtracted from τ as F(Θ̇); default none.
+
+        Returns
+        -------
+        numpy.ndarray, shape (n,) or (N, n)
+            Θ̈, rad/s² (m/s²).
+        """
         return interpreted_forward.forward_dynamics(self.model, q, qd, tau, friction)
 
     def accelerations(self, q: np.ndarray, qd: np.ndarray, tau: np.ndarray) -> np.ndarray:
+        """Θ̈ without friction for checked float arrays, by
+        :func:`~course_dynamics.core.forward_dynamics.accelerations`.
+
+        Parameters
+        ----------
+        q : numpy.ndarray, shape (n,) or (N, n)
+            Joint positions Θ, rad (m).
+        qd : numpy.ndarray, shape (n,) or (N, n)
+            Joint velocities Θ̇, rad/s (m/s).
+        tau : numpy.ndarray, shape (n,) or (N, n)
+            Joint torques τ, N·m (N).
+
+        Returns
+        -------
+        numpy.ndarray, shape (n,) or (N, n)
+            Θ̈, rad/s² (m/s²).
+        """
         return interpreted_forward.accelerations(self.model, q, qd, tau)
 
 
@@ -123,6 +242,18 @@ class Choice:
     """What :func:`choice` chose: ``path`` "interpreted" or "compiled", ``reason`` (the row of the module
     docstring's table), and ``run``, the :class:`Interpreted` recursions or the
     :class:`~course_dynamics.core.compiled.CompiledModel` that runs the call.
+
+    Parameters
+    ----------
+    path : str
+        ``"interpreted"`` or ``"compiled"``.
+    reason : str
+        Why, in words (a row of the module docstring's table).
+    run : Interpreted or CompiledModel
+        What runs the call.
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> chosen = choice(load_robot("two_link"), floats=False)
@@ -181,6 +312,21 @@ def _key(model: Model) -> str:
 def interpreted_seconds(calls: int, states: int) -> float:
     """The estimated time of ``calls`` interpreted calls on ``states`` states each, s.
 
+    Parameters
+    ----------
+    calls : int
+        The number of calls.
+    states : int
+        The number of states of each call (1 for one state, N for a batch).
+
+    Returns
+    -------
+    float
+        ``calls`` × (:data:`CALL_SECONDS` + ``states`` × :data:`STATE_SECONDS`), s.
+
+    Examples
+    --------
+
     >>> round(interpreted_seconds(calls=1000, states=1), 4)   # a simulation's worth of one-state calls, s
     0.3015
     """
@@ -191,6 +337,38 @@ def choice(model: Model, calls: int = 1, states: int = 1, floats: bool = True, c
     """The implementation of ``calls`` calls on ``states`` states each (float64 unless ``floats`` is False), by
     the rule of the module docstring; ``compiled`` True or False overrides it (True raises
     :class:`~course_dynamics.core.compiled.ProgramTooLargeError` for a robot too large to compile).
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    calls : int, optional
+        The number of calls the choice is for (a simulation's steps, a log's blocks).
+    states : int, optional
+        The number of states of each call.
+    floats : bool, optional
+        Whether the states are float64 (False for symbols, duals, complex numbers).
+    compiled : bool, optional
+        True for the compiled model, False for the recursions as written; None (the default) lets the rule of
+        the module docstring choose.
+
+    Returns
+    -------
+    Choice
+        The path, the reason and what runs.
+
+    Raises
+    ------
+    ProgramTooLargeError
+        With ``compiled=True``, for a robot too large to compile.
+
+    Warns
+    -----
+    CompileWarning
+        Once, when the rule would compile a robot too large to compile (the recursions as written run).
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> arm = load_robot("two_link")
@@ -246,6 +424,31 @@ def implementation(model: Model, calls: int = 1, states: int = 1, compiled: bool
     :class:`~course_dynamics.core.compiled.CompiledModel` or the :class:`Interpreted` recursions, with the same
     methods (``inverse_dynamics``, ``mass_matrix``, ``bias``, ``forward_dynamics``, ``accelerations``, …).
 
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    calls : int, optional
+        The number of calls.
+    states : int, optional
+        The number of float states of each call.
+    compiled : bool, optional
+        True for the compiled model, False for the recursions as written; None (the default) lets the rule of
+        the module docstring choose.
+
+    Returns
+    -------
+    Interpreted or CompiledModel
+        What runs the calls.
+
+    Raises
+    ------
+    ProgramTooLargeError
+        With ``compiled=True``, for a robot too large to compile.
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> type(implementation(load_robot("two_link"), compiled=False)).__name__
     'Interpreted'
@@ -274,6 +477,32 @@ def inverse_dynamics(model: Model, q, qd, qdd) -> np.ndarray:
 
     As :func:`course_dynamics.core.newton_euler.inverse_dynamics`, which it calls for symbols and little work.
 
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : array_like, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint); a numpy object array of sympy expressions for a
+        closed form.
+    qd : array_like, shape (n,) or (N, n)
+        Joint velocities Θ̇, rad/s (m/s for a prismatic joint).
+    qdd : array_like, shape (n,) or (N, n)
+        Joint accelerations Θ̈, rad/s² (m/s² for a prismatic joint).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,) or (N, n)
+        Joint torques τ, N·m (N for a prismatic joint).
+
+    Raises
+    ------
+    StateError
+        If a state is not numeric or not finite, its last axis is not the model's n joints, or the batches
+        differ in length.
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> np.round(inverse_dynamics(load_robot("two_link"), [0.1, 0.2], [1, 0], [0, 1]), 6)
     array([18.74624 ,  3.948474])
@@ -288,6 +517,27 @@ def inverse_dynamics(model: Model, q, qd, qdd) -> np.ndarray:
 def mass_matrix(model: Model, q) -> np.ndarray:
     """M(Θ), shape (n, n) or (..., n, n), by the chosen implementation; as
     :func:`course_dynamics.core.dynamics.mass_matrix`.
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : array_like, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint); a numpy object array of sympy expressions for a
+        closed form.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, n) or (N, n, n)
+        The mass matrix M(Θ), kg·m² (kg between prismatic joints).
+
+    Raises
+    ------
+    StateError
+        If ``q`` is not numeric or not finite, or its last axis is not the model's n joints.
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> np.round(mass_matrix(load_robot("two_link"), [0.0, 0.5]), 6)
@@ -305,6 +555,30 @@ def coriolis_matrix(model: Model, q, qd) -> np.ndarray:
     """C(Θ, Θ̇), shape (n, n) or (..., n, n), by the chosen implementation; as
     :func:`course_dynamics.core.dynamics.coriolis_matrix`.
 
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : array_like, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint); a numpy object array of sympy expressions for a
+        closed form.
+    qd : array_like, shape (n,) or (N, n)
+        Joint velocities Θ̇, rad/s (m/s for a prismatic joint).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, n) or (N, n, n)
+        The Coriolis matrix C(Θ, Θ̇), with C Θ̇ = V, kg·m²/s between revolute joints.
+
+    Raises
+    ------
+    StateError
+        If a state is not numeric or not finite, its last axis is not the model's n joints, or the batches
+        differ in length.
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> np.round(coriolis_matrix(load_robot("two_link"), [0.0, 0.5], [1.0, 0.0]), 6)
     array([[ 0.      , -0.095885],
@@ -318,6 +592,27 @@ def gravity_torques(model: Model, q) -> np.ndarray:
     """G(Θ), shape (n,) or (..., n), by the chosen implementation; as
     :func:`course_dynamics.core.dynamics.gravity_torques`.
 
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : array_like, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint); a numpy object array of sympy expressions for a
+        closed form.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,) or (N, n)
+        Gravity torques G(Θ), N·m (N for a prismatic joint).
+
+    Raises
+    ------
+    StateError
+        If ``q`` is not numeric or not finite, or its last axis is not the model's n joints.
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> np.round(gravity_torques(load_robot("two_link"), [0.0, 0.0]), 6)
     array([18.639,  3.924])
@@ -330,6 +625,35 @@ def forward_dynamics(model: Model, q, qd, tau, friction: Friction | None = None)
     """Θ̈ (6.115), shape (n,) or (..., n), by the chosen implementation; as
     :func:`course_dynamics.core.forward_dynamics.forward_dynamics`.
 
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : array_like, shape (n,) or (N, n)
+        Joint positions Θ, rad (m for a prismatic joint).
+    qd : array_like, shape (n,) or (N, n)
+        Joint velocities Θ̇, rad/s (m/s for a prismatic joint).
+    tau : array_like, shape (n,) or (N, n)
+        Applied joint torques τ, N·m (N for a prismatic joint).
+    friction : Friction, optional
+        Subtracted from τ as F(Θ̇) (6.114); default none.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,) or (N, n)
+        Joint accelerations Θ̈, rad/s² (m/s² for a prismatic joint).
+
+    Raises
+    ------
+    StateError
+        If a state is not numeric or not finite, its last axis is not the model's n joints, or the batches
+        differ in length.
+    SingularMassMatrixError
+        If M(Θ) is singular (a joint that moves no mass).
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> np.round(forward_dynamics(load_robot("two_link"), [0.0, 0.5], [0, 0], [24.0, 5.0]), 6)
     array([4.623991, 0.030879])
@@ -339,3 +663,8 @@ def forward_dynamics(model: Model, q, qd, tau, friction: Friction | None = None)
         return out
     q, qd, tau = as_state(model, q, "q"), as_state(model, qd, "qd"), as_state(model, tau, "tau")
     return _run(model, q, qd, tau).forward_dynamics(q, qd, tau, friction)
+
+
+__all__ = ["CALL_SECONDS", "COMPILE_SECONDS", "Choice", "Interpreted", "NATIVE_SECONDS", "STATE_SECONDS", "choice",
+           "coriolis_matrix", "forward_dynamics", "gravity_torques", "implementation", "interpreted_seconds",
+           "inverse_dynamics", "mass_matrix"]
