@@ -28,7 +28,7 @@ floats, less work, the cache does not hold it         the recursions as written,
 tool whose calls are known in advance (a simulation's steps, a log's blocks) asks once for all of them.
 :data:`COMPILE_SECONDS` is about what loading a compiled model from a warm cache costs: a batch of about
 20 000 states, 100 Euler steps. "The cache holds it": ``<key>.entry`` is in the cache folder
-(:func:`~course_dynamics.core.compiled.cache_folder`; with ``COURSE_DYNAMICS_CACHE=off`` it never does), or
+(:func:`~course_dynamics.core.compiled.cache.cache_folder`; with ``COURSE_DYNAMICS_CACHE=off`` it never does), or
 this process loaded it from there or stored it there. So the same call on the same model runs the same code
 whatever ran before, as long as the cache holds the same; a loop of one-state calls is fast from its first
 call once the model was compiled once, by ``compile_model(model)`` or by a call of work that pays, in this
@@ -336,7 +336,7 @@ def interpreted_seconds(calls: int, states: int) -> float:
 def choice(model: Model, calls: int = 1, states: int = 1, floats: bool = True, compiled: bool | None = None) -> Choice:
     """The implementation of ``calls`` calls on ``states`` states each (float64 unless ``floats`` is False), by
     the rule of the module docstring; ``compiled`` True or False overrides it (True raises
-    :class:`~course_dynamics.core.compiled.ProgramTooLargeError` for a robot too large to compile).
+    :class:`~course_dynamics.core.compiled.tracing.ProgramTooLargeError` for a robot too large to compile).
 
     Parameters
     ----------

@@ -156,8 +156,8 @@ def load_urdf(path, gravity=STANDARD_GRAVITY, allow_nonphysical_inertia: bool = 
                  frames=tuple(frames))
 
 
-#: The largest URDF file read, bytes (64 MiB): a 1 000-joint chain is under 1 MiB; anything far larger is not a
-#: robot description.
+#: The largest URDF file read, in bytes (64 MiB). A 1 000-joint chain is under 1 MiB; anything far larger is
+#: not a robot description.
 MAX_URDF_BYTES = 64 * 2**20
 MAX_ANGLE = 1e4  # rad in an rpy: exporters write angles within a turn or two; 1e300 rad is no orientation
 MAX_NAME = 1000  # characters of a link or joint name: a name becomes a CSV column, a label, part of messages
