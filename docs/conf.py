@@ -25,7 +25,7 @@ nitpicky = True
 nitpick_ignore_regex = [
     (r"py:.*", r"(numpy|np|sympy|sp|scipy|pathlib|typing|collections|collections\.abc|os|io|argparse|subprocess|"
                r"threading|concurrent\.futures|types|enum|dataclasses|datetime|matplotlib|trimesh|meshcat|yourdfpy|"
-               r"rosbags|cvxpy|jinja2|nbformat|tqdm|warnings|re|json|tempfile|zipfile|tarfile|csv|ast|"
+               r"rosbags|cvxpy|jinja2|markupsafe|nbformat|nbclient|importlib|tqdm|warnings|re|json|tempfile|zipfile|tarfile|csv|ast|"
                r"contextlib|functools|itertools|logging|signal|socket|http|urllib)(\..*)?"),
     (r"py:.*", r"(int|float|str|bytes|bool|dict|list|tuple|set|frozenset|object|type|None|callable|Callable|"
                r"Iterable|Iterator|Sequence|Mapping|Any|Path|array|ndarray|array_like|optional|default|"
@@ -35,7 +35,8 @@ nitpick_ignore_regex = [
 
 autodoc_default_options = {}
 autodoc_member_order = "bysource"
-autodoc_typehints = "signature"
+# Types are in each docstring's Parameters and Returns, with shapes and units; signatures show names and defaults.
+autodoc_typehints = "none"
 autodoc_preserve_defaults = True
 napoleon_google_docstring = False
 napoleon_numpy_docstring = True

@@ -179,7 +179,25 @@ class CliReference(SphinxDirective):
         return node.children
 
 
+def resolve_re_export(app, env, node, contnode):
+    """A reference to a name where a package re-exports it (``course_dynamics.inverse_dynamics``) leads to where
+    the name is defined and documented; any other missing reference stays missing (a warning, so an error)."""
+    if node.get("refdomain") != "py" or not node.get("reftarget", "").startswith("course_dynamics"):
+        return None
+    module_name, _, name = node["reftarget"].lstrip("~").rpartition(".")
+    try:
+        module = importlib.import_module(module_name)
+        getattr(module, name)
+    except (ImportError, AttributeError, ValueError):
+        return None
+    target = target_of(module, name)
+    if target == node["reftarget"]:
+        return None
+    return env.domains["py"].resolve_xref(env, node["refdoc"], app.builder, node["reftype"], target, node, contnode)
+
+
 def setup(app):
     app.add_directive("layer-api", LayerApi)
     app.add_directive("cli-reference", CliReference)
+    app.connect("missing-reference", resolve_re_export)
     return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}
