@@ -37,6 +37,21 @@ from .state import as_state, entries, layout_of
 class JointTransforms:
     """ᵖᵢR, its transpose ⁱₚR, and ᵖPᵢ for every body at one configuration Θ.
 
+    Each field is a list of n entries, one per body, of :class:`~course_dynamics.core.algebra.Mat3` or
+    :class:`~course_dynamics.core.algebra.Vec3` whose components are per-joint scalars.
+
+    Parameters
+    ----------
+    R : list of Mat3
+        ᵖᵢR, the orientation of frame i in its parent.
+    R_T : list of Mat3
+        ⁱₚR, its transpose: maps parent-frame vectors into frame i.
+    P : list of Vec3
+        ᵖPᵢ, the origin of frame i in its parent, m.
+
+    Examples
+    --------
+
     >>> from course_dynamics import load_robot
     >>> X = joint_transforms(load_robot("two_link"), [0.0, 0.0])
     >>> list(X.P[1]), X.R_T[1].rows == X.R[1].T.rows
@@ -50,6 +65,22 @@ class JointTransforms:
 
 def joint_transforms(model: Model, theta: list) -> JointTransforms:
     """ᵖᵢR(θᵢ) and ᵖPᵢ(θᵢ) of every body, from per-joint scalars θ.
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    theta : list
+        Θ, one scalar per joint (a float, an (N,) array or a sympy expression; as
+        :func:`~course_dynamics.core.state.entries` gives them), rad (m for a prismatic joint).
+
+    Returns
+    -------
+    JointTransforms
+        ᵖᵢR, ⁱₚR and ᵖPᵢ of every body.
+
+    Examples
+    --------
 
     >>> from course_dynamics import load_robot
     >>> X = joint_transforms(load_robot("rrr_arm"), [0.0, 0.0, 0.0])
@@ -295,4 +326,5 @@ def potential_energy(model: Model, q) -> np.ndarray:
     return layout_of(q).assemble(potential_energy_entry(model, entries(q)), ())
 
 
-__all__ = ["Placements", "forward_kinematics", "frame_placement", "potential_energy"]
+__all__ = ["JointTransforms", "Placements", "forward_kinematics", "frame_placement", "joint_transforms",
+           "potential_energy"]

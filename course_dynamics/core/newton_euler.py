@@ -70,7 +70,7 @@ class Operations:
         Parameters
         ----------
         X : JointTransforms
-            The joint transforms at Θ (``kinematics.joint_transforms``).
+            The joint transforms at Θ (:func:`~course_dynamics.core.kinematics.joint_transforms`).
         i : int
             The body.
         equation : str
@@ -89,7 +89,7 @@ class Operations:
         Parameters
         ----------
         X : JointTransforms
-            The joint transforms at Θ (``kinematics.joint_transforms``).
+            The joint transforms at Θ (:func:`~course_dynamics.core.kinematics.joint_transforms`).
         c : int
             The child body.
         equation : str
@@ -297,7 +297,7 @@ def outward_iteration(model: Model, X: JointTransforms, theta_dot: list, theta_d
     model : Model
         The robot.
     X : JointTransforms
-        The joint transforms at Θ (``kinematics.joint_transforms``).
+        The joint transforms at Θ (:func:`~course_dynamics.core.kinematics.joint_transforms`).
     theta_dot : list
         Θ̇, one scalar per joint (float, (N,) array or sympy expression), rad/s (m/s).
     theta_ddot : list
@@ -361,7 +361,7 @@ def inward_iteration(model: Model, X: JointTransforms, out: OutwardPass, ops: Op
     model : Model
         The robot.
     X : JointTransforms
-        The joint transforms at Θ (``kinematics.joint_transforms``).
+        The joint transforms at Θ (:func:`~course_dynamics.core.kinematics.joint_transforms`).
     out : OutwardPass
         The outward iteration's result at the same state.
     ops : Operations, optional
