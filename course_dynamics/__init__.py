@@ -9,7 +9,7 @@ the Coriolis matrix C(Θ, Θ̇), for one state, a batch of states or sympy symbo
 >>> arm.joint_names
 ('theta1', 'theta2')
 
-The tools the README shows (:func:`~course_dynamics.tools.simulation.simulate`,
+The tools the guides show (:func:`~course_dynamics.tools.simulation.simulate`,
 :func:`~course_dynamics.tools.logs.torques_from_log`, :func:`~course_dynamics.tools.identification.identify`,
 :func:`~course_dynamics.core.compiled.compile_model`, …) are importable from here too, and
 loaded only when first asked for: ``import course_dynamics`` loads the base and

@@ -1,4 +1,4 @@
-"""Draw docs/animation.png: the README's `animate` example, photographed in headless Chromium at t = 1.5 s.
+"""Draw docs/animation.png: the engineer guide's `animate` example, photographed in headless Chromium at t = 1.5 s.
 
 Run:  python docs/animation_screenshot.py     (needs Debian's chromium and the test extra's playwright)
 """

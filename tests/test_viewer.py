@@ -472,7 +472,7 @@ def test_animation_plays_in_chromium(browser, tmp_path, name):
 
 
 def test_cli_animate_and_screenshot_for_the_docs(browser, tmp_path, capsys):
-    """`animate` end to end on the README example; the screenshot is what docs/animation.png shows."""
+    """`animate` end to end on the engineer guide's example; the screenshot is what docs/animation.png shows."""
     html = tmp_path / "ur5.html"
     code = main(["animate", "ur5", "--trajectory", str(ROOT / "examples" / "ur5_wave.csv"), "--html", str(html),
                  "--torques", "--path"])

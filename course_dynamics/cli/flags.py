@@ -71,7 +71,7 @@ FLAGS: dict[str, dict] = {
     "--seed": _flag("random seed (default 0)", type=int, default=0),
     "--samples": _flag("random states per robot (default 200)", type=int, default=200),
     "--tolerance": _flag("relative tolerance (default %(default)g)", type=float),
-    "--no-compile": _flag("use the interpreted recursions, never a compiled model (see README: Compiled models)",
+    "--no-compile": _flag("use the interpreted recursions, never a compiled model (see the site: Compiled models)",
                           action="store_true"),
     # Friction (6.110)-(6.112)
     "--friction": _flag("joint friction to apply: none, or viscous = URDF damping and Coulomb = URDF friction "
@@ -245,7 +245,7 @@ def output_format(formats):
     return dict(apply=apply, choices=formats, dest=argparse.SUPPRESS)
 
 
-# (command, old spelling, new spelling): what the README's table of renamed flags lists.
+# (command, old spelling, new spelling): what the site's table of renamed flags lists (topics/command-line).
 RENAMES = (
     ("torques, identify", "--format", "--log-format"),
     ("torques, identify", "--dt", "--log-dt"),

@@ -1,6 +1,6 @@
 """URDF → :class:`~course_dynamics.core.model.Model`, through yourdfpy (never Pinocchio).
 
-What is read, and how (see README "Known limits" for what is not):
+What is read, and how (see the site's "Known limits" for what is not):
 
 * revolute, continuous and prismatic joints become moving bodies, in depth-first
   order from the root link (parents before children, URDF child order);

@@ -276,7 +276,7 @@ class Expected:
 def _all_terms(model, q, qd, qdd) -> dict[str, np.ndarray]:
     # Deliberately the recursions as written, not the evaluator's choice: a grade rests on these answers, so they
     # come from the code a student reads, the same code whose mistaken variants (mistakes.py) they are told apart
-    # from, whatever the cache holds; and a class's few states take milliseconds interpreted (README: Compiled models).
+    # from, whatever the cache holds; and a class's few states take milliseconds interpreted (docs: Compiled models).
     return dict(tau=inverse_dynamics(model, q, qd, qdd), M=mass_matrix(model, q), V=velocity_torques(model, q, qd),
                 G=gravity_torques(model, q), C=coriolis_matrix(model, q, qd))
 
