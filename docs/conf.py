@@ -55,3 +55,6 @@ html_static_path = ["_static"]
 html_show_sourcelink = False
 html_copy_source = False
 html_last_updated_fmt = None
+
+# Flags stay as typed: "--json" must not become an en dash.
+smartquotes = False

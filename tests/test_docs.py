@@ -80,7 +80,7 @@ def test_every_command_is_in_the_cli_reference_with_its_help_and_an_example(site
 
     html, _ = site
     page = unescape((html / "cli.html").read_text())
-    monkeypatch.setenv("COLUMNS", "100")  # the width the reference shows --help at
+    monkeypatch.setenv("COLUMNS", "80")  # the width the reference shows --help at
     parser = build_parser()
     commands = next(a for a in parser._actions if a.__class__.__name__ == "_SubParsersAction").choices
     assert sorted(commands) == sorted(name.replace("_", "-") for name in COMMANDS)

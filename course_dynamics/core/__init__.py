@@ -35,7 +35,7 @@ module                job
 ``compiled``          compiled models: the recursions traced into straight-line Python or C
 ====================  ================================================================
 
-While :mod:`course_dynamics.core.compiled` is being reworked, its modules are listed here:
+The subpackage :mod:`course_dynamics.core.compiled` holds these modules:
 
 =======================  =============================================================
 module                   job

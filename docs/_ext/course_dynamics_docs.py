@@ -25,7 +25,7 @@ from sphinx.util.docutils import SphinxDirective
 from sphinx.util.nodes import nested_parse_with_titles
 
 LOG = logging.getLogger(__name__)
-HELP_COLUMNS = "100"  # the width the --help texts are shown at (argparse reads $COLUMNS)
+HELP_COLUMNS = "80"  # the width the --help texts are shown at (argparse reads $COLUMNS)
 
 
 def defined_in_module(module) -> tuple[list[str], list[str]]:
@@ -200,4 +200,6 @@ def setup(app):
     app.add_directive("layer-api", LayerApi)
     app.add_directive("cli-reference", CliReference)
     app.connect("missing-reference", resolve_re_export)
+    app.connect("autodoc-process-bases", lambda app, name, obj, options, bases: bases.remove(object)
+                if object in bases else None)  # "Bases: object" says nothing
     return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}
