@@ -179,8 +179,22 @@ def _owner(element) -> str:
     return "the robot" if element is None else f"{element.tag} '{element.get('name')}'"
 
 
-def _check_numbers(root, where: str) -> None:
-    """Every number of the links and joints written as URDF writes numbers (:data:`URDF_NUMBER`), none lost to 0."""
+def check_numbers(root, where: str) -> None:
+    """Every number of the links and joints written as URDF writes numbers (:data:`URDF_NUMBER`), none lost to 0.
+
+    Parameters
+    ----------
+    root : lxml.etree._Element or iterable of them
+        The ``<robot>`` element (its ``<link>`` and ``<joint>`` children are checked), or the links and joints.
+    where : str
+        The file, as messages name it.
+
+    Raises
+    ------
+    ModelError
+        At the first number URDF does not write (``1_000``, ``heavy``, a wrong count of values, an angle over
+        ``MAX_ANGLE``, a value too small for a double), naming the link or joint.
+    """
     for top in root:
         if top.tag not in ("link", "joint"):
             continue  # gazebo, transmission and other extensions are not read
@@ -205,9 +219,22 @@ def _check_numbers(root, where: str) -> None:
                                          f"{token!r} is too small for a double and would be read as 0")
 
 
-def _check_namespaces(root, where: str) -> None:
+def check_namespaces(root, where: str) -> None:
     """No element in a default XML namespace: lxml (and so yourdfpy) would skip it, urdfdom reads it by its
-    bare name."""
+    bare name.
+
+    Parameters
+    ----------
+    root : lxml.etree._Element
+        The element whose descendants (itself included) are checked.
+    where : str
+        The file, as messages name it.
+
+    Raises
+    ------
+    ModelError
+        At the first element in a default namespace, naming its link or joint.
+    """
     for element in root.iter():
         if isinstance(element.tag, str) and element.tag.startswith("{") and element.prefix is None:
             namespace, name = element.tag[1:].split("}", 1)
@@ -254,9 +281,8 @@ def _xml_problem(raw: bytes, exc: Exception) -> str:
 def read_description(path):
     """The yourdfpy description of a URDF file, read defensively.
 
-    The file must be a regular file of at most :data:`MAX_URDF_BYTES`, well-formed XML
-    (parsed by :func:`xml_parser`) with no DTD; yourdfpy then reads the checked tree, never
-    the file again. Meshes are not loaded here.
+    The file is read by :func:`read_tree` and its numbers and namespaces checked; yourdfpy then reads
+    the checked tree, never the file again. Meshes are not loaded here.
 
     Parameters
     ----------
@@ -287,6 +313,51 @@ def read_description(path):
     from lxml import etree
 
     path = Path(path)
+    root = read_tree(path)
+    check_namespaces(root, str(path))
+    check_numbers(root, str(path))
+    logging.getLogger("yourdfpy").setLevel(logging.CRITICAL)
+    try:
+        urdf = yourdfpy.URDF.load(
+            BytesIO(etree.tostring(root)), mesh_dir=str(path.parent), build_scene_graph=False,
+            build_collision_scene_graph=False, load_meshes=False, load_collision_meshes=False,
+        )
+    except Exception as exc:  # yourdfpy reports bad values with assorted exception types
+        raise ModelError(f"{path}: malformed URDF: {exc}") from None
+    return urdf.robot
+
+
+def read_tree(path):
+    """The XML tree of a URDF file, read defensively: what :func:`read_description` and the linter parse.
+
+    The file must be a regular file of at most :data:`MAX_URDF_BYTES`, not empty, well-formed XML (parsed by
+    :func:`xml_parser`, so every element knows its ``sourceline``) with no DTD and no entity.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The URDF file.
+
+    Returns
+    -------
+    lxml.etree._Element
+        The root element (not checked to be ``<robot>``).
+
+    Raises
+    ------
+    ModelError
+        Naming the file and the problem: missing, not a regular file, too large, empty, with a DTD or an
+        entity, not well-formed XML.
+
+    Examples
+    --------
+    >>> from course_dynamics.core.robots import robot_path
+    >>> read_tree(robot_path("pendulum")).tag
+    'robot'
+    """
+    from lxml import etree
+
+    path = Path(path)
     if not os.path.lexists(path):
         raise ModelError(f"{path}: no such file")
     try:  # a regular file (a pipe would block, a device never end), checked on the opened file too
@@ -305,17 +376,7 @@ def read_description(path):
     if root.getroottree().docinfo.internalDTD is not None or b"<!ENTITY" in raw:
         raise ModelError(f"{path}: declares a DTD (<!DOCTYPE ... [...]>); URDF files have none, and XML entities "
                          "are refused")
-    _check_namespaces(root, str(path))
-    _check_numbers(root, str(path))
-    logging.getLogger("yourdfpy").setLevel(logging.CRITICAL)
-    try:
-        urdf = yourdfpy.URDF.load(
-            BytesIO(etree.tostring(root)), mesh_dir=str(path.parent), build_scene_graph=False,
-            build_collision_scene_graph=False, load_meshes=False, load_collision_meshes=False,
-        )
-    except Exception as exc:  # yourdfpy reports bad values with assorted exception types
-        raise ModelError(f"{path}: malformed URDF: {exc}") from None
-    return urdf.robot
+    return root
 
 
 def _descendants(root: str, children: dict) -> set[str]:
@@ -418,4 +479,5 @@ def _combine(parts: list) -> tuple[float, np.ndarray, np.ndarray]:
     return mass, com, inertia
 
 
-__all__ = ["InertiaWarning", "MAX_URDF_BYTES", "load_urdf", "read_description", "xml_parser"]
+__all__ = ["InertiaWarning", "MAX_URDF_BYTES", "check_namespaces", "check_numbers", "load_urdf", "read_description",
+           "read_tree", "xml_parser"]
