@@ -194,6 +194,15 @@ def check_numbers(root, where: str) -> None:
     ModelError
         At the first number URDF does not write (``1_000``, ``heavy``, a wrong count of values, an angle over
         ``MAX_ANGLE``, a value too small for a double), naming the link or joint.
+
+    Examples
+    --------
+    >>> from lxml import etree
+    >>> check_numbers(etree.fromstring(b'<robot><link name="a"><mass value="1_0"/></link></robot>'), "a.urdf")
+    Traceback (most recent call last):
+    ...
+    course_dynamics.base.errors.ModelError: a.urdf: link 'a': <mass value="1_0">: '1_0' is not a number as URDF \
+writes them (ASCII digits, '.', an exponent)
     """
     for top in root:
         if top.tag not in ("link", "joint"):
@@ -234,6 +243,15 @@ def check_namespaces(root, where: str) -> None:
     ------
     ModelError
         At the first element in a default namespace, naming its link or joint.
+
+    Examples
+    --------
+    >>> from lxml import etree
+    >>> check_namespaces(etree.fromstring(b'<robot><joint name="j"><axis xmlns="urn:x"/></joint></robot>'), "a.urdf")
+    Traceback (most recent call last):
+    ...
+    course_dynamics.base.errors.ModelError: a.urdf: joint 'j': <axis> is in the default XML namespace 'urn:x' \
+(an xmlns="..." attribute): URDF readers disagree on whether it is a URDF element; remove the xmlns
     """
     for element in root.iter():
         if isinstance(element.tag, str) and element.tag.startswith("{") and element.prefix is None:
