@@ -7,6 +7,7 @@ output, grading, teaching or the command line.
 module               job
 ===================  ==========================================================================================
 ``simulation``       forward dynamics in time (6.115)–(6.117): integrators, ensembles
+``joint_stops``      joint limits as unilateral constraints: a stop's impulse through M, a held joint's reaction
 ``tables``           reading delimited tables as robots and people write them
 ``cells``            a table's cells read as numbers one way only, and split at a delimiter
 ``bags``             ROS 1/ROS 2 bags and MCAP: joint states and Franka's state, without ROS

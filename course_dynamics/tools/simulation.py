@@ -33,9 +33,15 @@ time, held at its first/last row outside its range).
 
 Joint limits (joints whose URDF limits form a non-empty interval):
 ``limits="report"`` lets the motion continue and records, once per joint, when
-it left its limits (in ``Trajectory.events``); ``limits="stop"`` holds the
-joint at the limit and removes the velocity into it (a perfectly inelastic
-stop), also recorded. Nothing passes a limit silently.
+it left its limits (in ``Trajectory.events``). ``limits="stop"`` makes each
+limit a unilateral constraint (:mod:`course_dynamics.tools.joint_stops`): the
+crossing is found within its step, an impulse through M stops the joint there
+(the other joints keep their momentum), the joint is held by its reaction
+torque while the motion pushes into the limit and let go when the reaction
+would pull. Each stop takes kinetic energy and never adds any; it is recorded
+with its time, joints and energy (``Trajectory.stops``, and a sentence in
+``Trajectory.events``), and the reaction at every sample is
+``Trajectory.reaction``. Nothing passes a limit silently.
 """
 from __future__ import annotations
 
@@ -54,6 +60,7 @@ from ..core.friction import Friction
 from ..core.kinematics import potential_energy
 from ..core.model import Model
 from ..core.state import as_state
+from .joint_stops import Stop, StopRun, hold, limit_bounds
 
 #: The integrators :func:`simulate` offers, by name (the table above).
 INTEGRATORS = ("euler", "semi-implicit", "rk4", "adaptive")
@@ -136,6 +143,10 @@ class Trajectory:
         Total energy, kinetic (6.71) plus potential (6.73), J.
     events : tuple of str
         The joint-limit crossings and stops, in time order, as sentences.
+    stops : tuple of Stop
+        Under ``limits="stop"``: each stop, in time order (when, which joints, the kinetic energy it took).
+    reaction : numpy.ndarray, shape (T, n) or (T, K, n), optional
+        Under ``limits="stop"``: the held joints' reaction torques λ, N·m (N), zero where a joint is not held.
     """
 
     joints: tuple[str, ...]
@@ -146,6 +157,8 @@ class Trajectory:
     tau: np.ndarray
     energy: np.ndarray
     events: tuple[str, ...] = ()
+    stops: tuple[Stop, ...] = ()
+    reaction: np.ndarray | None = None
 
     @property
     def members(self) -> int | None:
@@ -325,10 +338,17 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
         raise SimulationError(f"unknown limits mode '{limits}' (choose from {', '.join(LIMIT_MODES)})")
     if integrator == "adaptive" and limits == "stop":
         raise SimulationError("limits='stop' needs a fixed-step integrator (euler, semi-implicit or rk4)")
+    if limits == "stop":
+        _check_within_limits(model, q0)
+        if dynamics is not None:
+            raise SimulationError("limits='stop' holds joints through our mass matrix and bias: it cannot be "
+                                  "combined with a dynamics function of your own (use limits='report')")
     tau_of = torque_function(model, torque)
+    run = None
     if dynamics is None:
-        dynamics = implementation(model, calls=(len(times) - 1) * CALLS_PER_STEP[integrator], states=members,
-                                  compiled=compiled).accelerations
+        run = implementation(model, calls=(len(times) - 1) * CALLS_PER_STEP[integrator], states=members,
+                             compiled=compiled)
+        dynamics = run.accelerations
     solve_accelerations = dynamics
 
     constant = None if callable(torque) else tau_of(0.0, q0, qd0)  # checked once: None or an array (n,)
@@ -343,6 +363,10 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
                                   + (f" (or shape {q.shape})" if q.ndim == 2 else ""))
         return np.broadcast_to(tau, q.shape)
 
+    def driving_torques(t, q, qd):
+        tau = applied(t, q, qd)
+        return tau if friction is None else tau - friction.torques(qd)  # (6.114)
+
     def accelerations(t, q, qd):
         if not (_finite(q) and _finite(qd)):
             raise SimulationError(f"the state became non-finite near t = {t:.6g} s (try a smaller dt)")
@@ -351,7 +375,10 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
         return solve_accelerations(q, qd, driving), tau
 
     guard = _LimitGuard(model, limits)
-    if integrator == "adaptive":
+    if limits == "stop":
+        stops = StopRun(model, run, _STEPS[integrator], accelerations, driving_torques)
+        q, qd, held = _integrate_with_stops(stops, times, q0, qd0, progress)
+    elif integrator == "adaptive":
         q, qd = _integrate_adaptive(model, accelerations, times, q0, qd0, progress)
     else:
         q, qd = _integrate_fixed(_STEPS[integrator], accelerations, times, q0, qd0, guard, progress)
@@ -365,8 +392,58 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
     tau = np.array([applied(t, q[k], qd[k]) for k, t in enumerate(times)])
     driving = tau if friction is None else tau - friction.torques(qd)  # (6.114)
     qdd = solve_accelerations(q, qd, driving)
+    if limits != "stop":
+        return Trajectory(joints=model.joint_names, t=times, q=q, qd=qd, qdd=qdd, tau=tau,
+                          energy=total_energy(model, q, qd), events=tuple(guard.events))
+    reaction = np.zeros_like(qdd)
+    rows = held.any(axis=-1)
+    if rows.any():  # the held joints' accelerations and reactions, as each step began (its held joints let go first)
+        _, qdd[rows], reaction[rows] = hold(run.mass_matrix(q[rows]), run.bias(q[rows], qd[rows]), driving[rows],
+                                            held[rows], stops.side(q[rows]))
+    found = tuple(sorted(stops.stops, key=lambda stop: (stop.t, stop.member or 0)))
     return Trajectory(joints=model.joint_names, t=times, q=q, qd=qd, qdd=qdd, tau=tau,
-                      energy=total_energy(model, q, qd), events=tuple(guard.events))
+                      energy=total_energy(model, q, qd), events=tuple(stop.sentence() for stop in found),
+                      stops=found, reaction=reaction)
+
+
+def _check_within_limits(model: Model, q0: np.ndarray) -> None:
+    """Under limits='stop' a motion starts within the limits (a start beyond one would be moved, silently)."""
+    lower, upper = limit_bounds(model)
+    outside = np.argwhere((q0 < lower) | (q0 > upper))
+    if len(outside):
+        index = tuple(outside[0])
+        j = index[-1]
+        member = f" (member {index[0]})" if q0.ndim == 2 else ""
+        side, bound = ("lower", lower[j]) if q0[index] < lower[j] else ("upper", upper[j])
+        raise SimulationError(f"q0 for joint '{model.joint_names[j]}' is {q0[index]:g}{member}, beyond its {side} "
+                              f"limit {bound:g}: with limits='stop' the motion must start within the limits")
+
+
+def _integrate_with_stops(stops: StopRun, times, q0, qd0, progress):
+    """The fixed-step integration with joint stops: every member stepped alike with its held joints held, and a
+    member with a joint crossing a limit within the step stepped alone to the crossing and on (joint_stops)."""
+    q, qd = np.empty((len(times),) + q0.shape), np.empty((len(times),) + q0.shape)
+    held = np.zeros((len(times),) + q0.shape, dtype=bool)
+    q[0], qd[0] = q0, qd0
+    for m in [None] if q0.ndim == 1 else range(len(q0)):  # a start on a limit is a contact at t = 0
+        at = ... if m is None else m
+        if (stops.side(q0[at]) != 0).any():
+            q[0][at], qd[0][at], held[0][at] = stops.contact(times[0], q0[at], qd0[at], held[0][at], m)
+    for k in range(len(times) - 1):
+        t, h = times[k], times[k + 1] - times[k]
+        now = stops.release(t, q[k], qd[k], held[k])
+        q_next, qd_next = stops.step(lambda time, a, b: stops.accelerations(time, a, b, now), t, q[k], qd[k], h)
+        crossed = (stops.beyond(q_next, ~now) > 0).any(axis=-1)
+        held[k + 1] = now
+        if q0.ndim == 1 and crossed:
+            q_next, qd_next, held[k + 1] = stops.substeps(t, q[k], qd[k], h, now, None)
+        elif q0.ndim == 2:
+            for m in np.flatnonzero(crossed):
+                q_next[m], qd_next[m], held[k + 1, m] = stops.substeps(t, q[k, m], qd[k, m], h, now[m], int(m))
+        q[k + 1], qd[k + 1] = q_next, qd_next
+        if progress is not None:
+            progress(1)
+    return q, qd, held
 
 
 def _finite(a: np.ndarray) -> bool:
