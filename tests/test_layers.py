@@ -14,7 +14,7 @@ import pytest
 PACKAGE = Path(__file__).resolve().parent.parent / "course_dynamics"
 LAYERS = ("base", "core", "tools", "output", "grading", "teaching", "cli")
 # Where the Pinocchio oracle may be imported: the report and validate commands and the options that serve them.
-ORACLE_USERS = {"cli/commands/report.py", "cli/commands/validate.py"}
+ORACLE_USERS = {"cli/commands/report.py", "cli/commands/validate.py", "cli/commands/crosscheck.py"}
 # Code that runs beside student code, in the student's interpreter: nothing of ours at all.
 STANDALONE = {"grading/harness.py", "grading/integrity.py", "grading/launcher.py"}
 

@@ -1,0 +1,370 @@
+"""Why engines disagree on one URDF: course_dynamics, Pinocchio, MuJoCo and PyBullet at seeded states.
+
+Each engine (:mod:`course_dynamics_reference.engines`) gives τ, M, G, the bias forces C(Θ, Θ̇)Θ̇ + G and the
+forward dynamics Θ̈ at the same seeded states, called as its users call it. Every difference from
+course_dynamics is either within the tolerance (relative, as ``validate`` measures it) or explained by one of
+the named conventions of :data:`CONVENTIONS`, each shown with its size: the largest absolute amount it
+accounts for, per term, over the states (or, for conventions of representation, what it concerns). What no
+convention explains is reported as such, with the first body (parents first) whose mass, centre of mass or
+inertia the engine placed differently.
+
+==================  ============================================================
+symbol              meaning
+==================  ============================================================
+Θ, Θ̇, Θ̈             joint positions (rad, m), velocities, accelerations
+τ                   joint torques, N·m (N for a prismatic joint)
+M, G                mass matrix (kg·m², kg), gravity torques (N·m, N)
+bias                C(Θ, Θ̇)Θ̇ + G(Θ), N·m (N)
+forward             Θ̈ from τ, rad/s² (m/s²)
+==================  ============================================================
+"""
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass, field, replace
+from importlib import metadata
+from pathlib import Path
+
+import numpy as np
+
+from course_dynamics.core.model import STANDARD_GRAVITY
+from course_dynamics.core.robots import load, resolve
+from course_dynamics.core.sampling import random_states, relative_error, term_scales
+
+from . import TOLERANCE
+from .engines import ENGINES, MUJOCO_INERTIA_BOUND, Engine, EngineRefused, EngineUnavailable, load_engine
+
+TERMS = ("tau", "M", "G", "bias", "forward")
+TERM_TITLES = {"tau": "τ", "M": "M", "G": "G", "bias": "bias", "forward": "forward"}
+DEFAULT_GRAVITY = {"pinocchio": STANDARD_GRAVITY, "mujoco": STANDARD_GRAVITY, "pybullet": (0.0, 0.0, 0.0)}
+PACKAGES = {"pinocchio": "pin", "mujoco": "mujoco", "pybullet": "pybullet"}
+
+#: The named conventions: what each engine does differently, and how the comparison undoes it.
+CONVENTIONS = {
+    "fixed joints merged": "course_dynamics and Pinocchio merge a link held by a fixed joint into its parent's "
+                           "body; MuJoCo (fusestatic off) and PyBullet keep it as a body, lumped here per body",
+    "joint order": "the engine orders the joints its own way; they are matched by name",
+    "continuous joints as cos/sin": "Pinocchio gives a continuous joint two configuration entries (cos θ, sin θ)",
+    "gravity": "the engine's default gravity is not the model's; it was set (setGravity, opt.gravity, "
+               "model.gravity): the size is what the default would have got wrong in G",
+    "damping": "mj_inverse adds the URDF's joint damping b·Θ̇ to τ and mj_forward subtracts it (course_dynamics "
+               "does with --friction urdf)",
+    "frictionloss": "MuJoCo turns the URDF's joint friction into friction-loss constraint forces",
+    "armature": "the engine adds rotor inertia to M's diagonal (MuJoCo's dof_armature, Pinocchio's armature)",
+    "mimic joints as equality constraints": "MuJoCo's importer couples a <mimic> joint to its leader by an "
+                                            "equality constraint, whose force it adds to τ and Θ̈",
+    "joint limits": "MuJoCo applies joint-limit constraint forces at a state at or beyond a limit",
+    "massless links": "PyBullet gives a link without <inertial> 1 kg and unit inertia; here it is given an explicit "
+                      "zero one",
+    "inertial frame dropped or rotated": "the engine imported an inertia in other axes than the URDF's (an "
+                                         "<inertial><origin rpy> ignored, or principal axes found only "
+                                         "approximately): course_dynamics with the engine's inertias agrees",
+    "inertia refused": "the engine refuses or alters an inertia: it raised a point mass's zero rotational inertia "
+                       "to its least value, or changed an inertia that breaks the triangle inequality",
+}
+ADDITION_CONVENTIONS = {"damping": "damping", "frictionloss": "frictionloss", "armature": "armature",
+                        "equality": "mimic joints as equality constraints", "limits": "joint limits",
+                        "massless links": "massless links"}
+
+
+@dataclass
+class EngineCheck:
+    """One engine against course_dynamics: its status, its worst relative residual per term, its conventions."""
+
+    engine: str
+    status: str  # "compared", "skipped" (not installed) or "refused"
+    version: str = ""
+    reason: str = ""
+    calls: dict[str, str] = field(default_factory=dict)
+    raw: dict[str, float] = field(default_factory=dict)       # before any convention is undone
+    residual: dict[str, float] = field(default_factory=dict)  # after
+    conventions: list[dict] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
+    first_link: str | None = None
+    explained: bool = True
+
+    def as_dict(self) -> dict:
+        return dict(self.__dict__)
+
+
+@dataclass
+class CrossCheck:
+    """The whole comparison of one URDF."""
+
+    robot: str
+    urdf: str
+    joints: list[str]
+    samples: int
+    seed: int
+    tolerance: float
+    engines: list[EngineCheck]
+
+    @property
+    def ok(self) -> bool:
+        """Every engine agrees, or differs by named conventions only (a missing engine is a note)."""
+        return all(e.explained for e in self.engines)
+
+    def as_dict(self) -> dict:
+        return {"robot": self.robot, "urdf": Path(self.urdf).name, "joints": self.joints, "samples": self.samples,
+                "seed": self.seed, "tolerance": self.tolerance, "ok": self.ok,
+                "conventions": CONVENTIONS, "engines": [e.as_dict() for e in self.engines]}
+
+
+def _version(engine: str) -> str:
+    if engine == "course_dynamics":
+        engine = "course-dynamics"
+    try:
+        return metadata.version(engine)
+    except metadata.PackageNotFoundError:
+        return "unknown"
+
+
+def _states(model, samples, seed):
+    q, qd, qdd = random_states(model, samples, seed)
+    return list(zip(q, qd, qdd))
+
+
+def _arguments(term, q, qd, qdd, tau):
+    return {"tau": (q, qd, qdd), "M": (q,), "G": (q,), "bias": (q, qd), "forward": (q, qd, tau)}[term]
+
+
+def _scales(ours: Engine, q, qd, qdd) -> dict[str, float]:
+    M, G = ours.M(q), ours.G(q)
+    s = term_scales(M, G, qd, qdd, ours.model.gravity)
+    return {"tau": s["tau"], "M": s["M"], "G": s["G"], "bias": s["V"] + s["G"], "forward": float(np.abs(qdd).max())}
+
+
+def _evaluate(engine: Engine, ours: Engine, states, reference=None) -> tuple[dict, dict, dict]:
+    """Worst raw and residual relative errors per term, and each addition's largest absolute part per term."""
+    raw = {t: 0.0 for t in TERMS}
+    residual = {t: 0.0 for t in TERMS}
+    parts: dict[str, dict[str, float]] = {}
+    reference = reference or ours
+    for q, qd, qdd in states:
+        tau = ours.tau(q, qd, qdd)
+        scales = _scales(ours, q, qd, qdd)
+        for term in TERMS:
+            arguments = _arguments(term, q, qd, qdd, tau)
+            expected = getattr(reference, term)(*arguments)
+            value = getattr(engine, term)(*arguments)
+            added = engine.parts(term, *arguments)
+            plain = value - sum(added.values()) if added else value
+            raw[term] = max(raw[term], relative_error(value, expected, scales[term]))
+            residual[term] = max(residual[term], relative_error(plain, expected, scales[term]))
+            for name, part in added.items():
+                sizes = parts.setdefault(name, {t: 0.0 for t in TERMS})
+                sizes[term] = max(sizes[term], float(np.abs(part).max(initial=0.0)))
+    return raw, residual, parts
+
+
+def _nonphysical(model) -> list[str]:
+    """Joints whose body's inertia is not positive semi-definite or breaks the triangle inequality."""
+    out = []
+    for body in model.bodies:
+        moments = np.sort(np.linalg.eigvalsh(np.asarray(body.I_com, dtype=float)))
+        slack = 1e-12 * max(moments[-1], 1e-300)
+        if moments[0] < -slack or moments[2] > moments[0] + moments[1] + slack:
+            out.append(body.joint)
+    return out
+
+
+def with_inertias_of(engine: Engine, model, q):
+    """``model`` with each body's m, ⁱP_C and ᶜⁱI as ``engine`` placed them at ``q`` (in our body frames).
+
+    Parameters
+    ----------
+    engine : Engine
+        The engine whose imported inertias are taken.
+    model : course_dynamics.Model
+        The robot as course_dynamics loaded it.
+    q : array_like, shape (n,)
+        The joint positions the engine's bodies are read at, rad (m).
+
+    Returns
+    -------
+    course_dynamics.Model
+        The same joints and frames, the engine's inertias.
+    """
+    from course_dynamics import forward_kinematics
+
+    placed, theirs = forward_kinematics(model, q), engine.bodies(q)
+    bodies = []
+    for i, body in enumerate(model.bodies):
+        mass, com, inertia = theirs[body.joint]
+        R = placed.R[i]
+        bodies.append(replace(body, mass=mass, p_com=R.T @ (com - placed.P[i]), I_com=R.T @ inertia @ R))
+    return replace(model, bodies=tuple(bodies))
+
+
+def first_parting(engine: Engine, ours: Engine, q, tolerance: float, joints=None) -> str | None:
+    """The joint of the first body (parents first) whose m, ⁰P_C or ⁰I_C the engine places differently.
+
+    Parameters
+    ----------
+    engine, ours : Engine
+        The engine compared and course_dynamics.
+    q : array_like, shape (n,)
+        Joint positions, rad (m).
+    tolerance : float
+        Relative, against the largest mass, centre-of-mass distance and inertia of all bodies.
+    joints : sequence of str, optional
+        The bodies (by joint) looked at; default all.
+
+    Returns
+    -------
+    str or None
+        The joint carrying the body, or None when every body agrees.
+    """
+    theirs, mine = engine.bodies(q), ours.bodies(q)
+    scale = [max(float(np.abs(mine[j][k]).max()) for j in mine) for k in range(3)]
+    for joint in ours.model.joint_names if joints is None else joints:
+        for k in range(3):
+            if relative_error(theirs[joint][k], mine[joint][k], scale[k]) > tolerance:
+                return joint
+    return None
+
+
+def _fixed_joints(model) -> int:
+    return max(0, len(model.frames) - 1 - model.n)
+
+
+def _representation(engine: Engine, model, states) -> list[dict]:
+    """The conventions of representation that apply to this engine and robot (sizes as counts or orders)."""
+    out = []
+    if engine.name in ("mujoco", "pybullet") and _fixed_joints(model):
+        out.append({"name": "fixed joints merged", "size": f"{_fixed_joints(model)} links held by fixed joints"})
+    if engine.joint_order != list(model.joint_names):
+        out.append({"name": "joint order", "size": "its order: " + ", ".join(engine.joint_order)})
+    continuous = getattr(engine, "continuous", [])
+    if continuous:
+        out.append({"name": "continuous joints as cos/sin", "size": ", ".join(continuous)})
+    default = np.asarray(DEFAULT_GRAVITY.get(engine.name, model.gravity), dtype=float)
+    if not np.array_equal(default, model.gravity):
+        ours = Engine(model)
+        otherwise = Engine(replace(model, gravity=default))
+        size = max(float(np.abs(ours.G(q) - otherwise.G(q)).max(initial=0.0)) for q, _, _ in states)
+        out.append({"name": "gravity", "size": {"G": size}, "detail": f"default {default.tolist()} m/s^2"})
+    return out
+
+
+def check_engine(name: str, model, urdf, states, tolerance: float, model_options: dict,
+                 armature=None) -> EngineCheck:
+    """One engine against course_dynamics on ``states``; see :func:`crosscheck`.
+
+    Parameters
+    ----------
+    name : str
+        One of :data:`~course_dynamics_reference.engines.ENGINES` other than course_dynamics.
+    model : course_dynamics.Model
+        The robot as course_dynamics loaded it.
+    urdf : Path
+        Its URDF.
+    states : list of tuple of numpy.ndarray
+        (Θ, Θ̇, Θ̈), each (n,).
+    tolerance : float
+        Relative.
+    model_options : dict
+        How ``model`` was loaded (for the variants a convention is checked against).
+    armature : array_like, shape (n,), optional
+        Rotor inertias set on the engines that model them, kg·m² (kg).
+
+    Returns
+    -------
+    EngineCheck
+        Its status, raw and residual errors, conventions, notes and, when unexplained, the first body that parts.
+    """
+    version = _version(PACKAGES.get(name, name))
+    try:
+        engine = load_engine(name, model, urdf, armature)
+    except EngineUnavailable as exc:
+        return EngineCheck(name, "skipped", reason=str(exc), notes=[f"{name} skipped: {exc}"])
+    except EngineRefused as exc:
+        reason = str(exc)
+        named = any(word in reason for word in ("inertia", "mass"))
+        conventions = [{"name": "inertia refused", "size": reason}] if named else []
+        return EngineCheck(name, "refused", version=version, reason=reason, conventions=conventions,
+                           explained=named)
+    ours = Engine(model)
+    raw, residual, parts = _evaluate(engine, ours, states)
+    check = EngineCheck(name, "compared", version=version, calls=dict(engine.call), raw=raw, residual=residual,
+                        notes=list(engine.notes))
+    check.conventions = _representation(engine, model, states)
+    check.conventions += [{"name": ADDITION_CONVENTIONS[k], "size": sizes} for k, sizes in parts.items()
+                          if any(sizes.values())]
+    if getattr(engine, "bounded", None):
+        check.conventions.append({"name": "inertia refused",
+                                  "size": f"{engine.bounded}; loaded with boundinertia={MUJOCO_INERTIA_BOUND:g} kg·m², "
+                                          "its least"})
+    if all(v <= tolerance for v in residual.values()):
+        return check
+    check.first_link = first_parting(engine, ours, states[0][0], tolerance)
+    if check.first_link is None:
+        check.explained = False
+        return check
+    as_placed = Engine(with_inertias_of(engine, model, states[0][0]))
+    _, against_placed, _ = _evaluate(engine, ours, states, reference=as_placed)
+    if all(v <= tolerance for v in against_placed.values()):  # the engine's inertias are the whole difference
+        differing = [j for j in model.joint_names if first_parting(engine, ours, states[0][0], tolerance, [j])]
+        nonphysical = set(_nonphysical(model))
+        name = "inertia refused" if set(differing) <= nonphysical else "inertial frame dropped or rotated"
+        sizes = {t: 0.0 for t in TERMS}
+        for q, qd, qdd in states:
+            tau = ours.tau(q, qd, qdd)
+            for t in TERMS:
+                difference = getattr(ours, t)(*_arguments(t, q, qd, qdd, tau)) - getattr(as_placed, t)(
+                    *_arguments(t, q, qd, qdd, tau))
+                sizes[t] = max(sizes[t], float(np.abs(difference).max()))
+        links = [model.bodies[model.joint_names.index(j)].name for j in differing]
+        check.conventions.append({"name": name, "size": sizes, "detail": "the inertia of " + ", ".join(links)})
+        check.residual, check.first_link = against_placed, None
+        return check
+    check.explained = False
+    return check
+
+
+def crosscheck(name_or_path: str, samples: int = 3, seed: int = 0, tolerance: float = TOLERANCE,
+               engines=ENGINES[1:], gravity=None, allow_nonphysical_inertia: bool = False,
+               armature=None) -> CrossCheck:
+    """The same URDF through course_dynamics and each engine at seeded random states.
+
+    Parameters
+    ----------
+    name_or_path : str
+        A URDF file or a shipped robot's name.
+    samples : int, optional
+        Seeded random states (within the joint limits), default 3.
+    seed : int, optional
+        The states' seed.
+    tolerance : float, optional
+        Relative, per term, as ``validate`` measures it.
+    engines : sequence of str, optional
+        Which of Pinocchio, MuJoCo and PyBullet (default all three).
+    gravity : array_like, shape (3,), optional
+        m/s² in the base frame, set on every engine (default the model's).
+    allow_nonphysical_inertia : bool, optional
+        Load a link whose inertia breaks the triangle inequality (with a warning).
+    armature : array_like, shape (n,), optional
+        Rotor inertias, kg·m² (kg), set on MuJoCo and Pinocchio after loading (a URDF cannot say them).
+
+    Returns
+    -------
+    CrossCheck
+        Every engine's result; ``ok`` when each difference is within ``tolerance`` or a named convention.
+
+    Raises
+    ------
+    InputError
+        If course_dynamics cannot read the URDF (as every command reports it).
+    """
+    urdf = resolve(name_or_path)
+    options = dict(allow_nonphysical_inertia=allow_nonphysical_inertia,
+                   **({} if gravity is None else {"gravity": gravity}))
+    model = load(urdf, **options)
+    states = _states(model, samples, seed)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the variants a convention is checked against warn as the model did
+        checks = [check_engine(name, model, Path(urdf), states, tolerance, options, armature) for name in engines]
+    return CrossCheck(model.name, str(urdf), list(model.joint_names), samples, seed, tolerance, checks)
+
+
+__all__ = ["CONVENTIONS", "CrossCheck", "EngineCheck", "TERMS", "check_engine", "crosscheck", "first_parting"]

@@ -1,0 +1,534 @@
+"""One URDF in four engines, each called through its own API as its users call it, in our joint order.
+
+Every adapter answers the same five questions at one state, in course_dynamics' joint order and units
+(joints are matched by name), and gives each moving body's mass and inertia as it placed them:
+
+==========  ======================================================================================
+method      course_dynamics / Pinocchio / MuJoCo / PyBullet
+==========  ======================================================================================
+``tau``     ``inverse_dynamics`` / ``rnea`` / ``mj_inverse`` ``qfrc_inverse`` /
+            ``calculateInverseDynamics``
+``M``       ``mass_matrix`` / ``crba`` / ``mj_fullM`` / ``calculateMassMatrix``
+``G``       ``gravity_torques`` / ``computeGeneralizedGravity`` / ``qfrc_bias`` at Θ̇ = 0 /
+            inverse dynamics at Θ̇ = Θ̈ = 0
+``bias``    V + G / ``nonLinearEffects`` / ``qfrc_bias`` / inverse dynamics at Θ̈ = 0
+``forward`` ``forward_dynamics`` / ``aba`` / ``mj_forward`` ``qacc`` (τ as ``qfrc_applied``) /
+            M⁻¹(τ − bias) from its own M and bias (PyBullet has no forward-dynamics call)
+``bodies``  per moving body (a body and what fixed joints hold to it): m (kg), ⁰P_C (3,) m, the
+            inertia about the centre of mass in base axes (3, 3) kg·m²
+==========  ======================================================================================
+
+Where an engine adds something course_dynamics does not (MuJoCo's joint damping, friction loss, armature
+and constraints; PyBullet's 1 kg for a link without ``<inertial>``), the adapter holds a second, plain
+model without it, and :meth:`Engine.parts` gives what each addition contributes: the engine's own answer
+minus its answer without that addition, measured, never assumed. ``notes`` are what the adapter did to load
+the model (an inertia raised to the engine's bound, a gravity set, joints matched by name).
+
+==================  ============================================================
+symbol              meaning
+==================  ============================================================
+Θ, Θ̇, Θ̈ (q, qd, qdd)  joint positions (rad, m), velocities, accelerations
+τ                   joint torques, N·m (N for a prismatic joint)
+M, G, bias          mass matrix, gravity torques, C(Θ, Θ̇)Θ̇ + G(Θ)
+==================  ============================================================
+"""
+from __future__ import annotations
+
+import contextlib
+import os
+import re
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from course_dynamics import forward_dynamics, forward_kinematics, gravity_torques, inverse_dynamics, mass_matrix
+from course_dynamics import velocity_torques
+
+ENGINES = ("course_dynamics", "pinocchio", "mujoco", "pybullet")
+MUJOCO_INERTIA_BOUND = 1e-15  # kg·m²: MuJoCo's mjMINVAL, the least rotational inertia it takes for a moving body
+MUJOCO_COMPILER = ('<mujoco><compiler discardvisual="true" fusestatic="false" inertiafromgeom="false"{bound}/>'
+                   '</mujoco>')
+
+
+class EngineUnavailable(Exception):
+    """The engine's Python package is not installed: the engine is skipped with a note."""
+
+
+class EngineRefused(Exception):
+    """The engine would not load the model; ``str(exc)`` is its reason, in one line."""
+
+
+@contextlib.contextmanager
+def _quiet_descriptors():
+    """File descriptors 1 and 2 into a temporary file while an engine's C code prints (PyBullet, urdfdom)."""
+    sys.stdout.flush()
+    sys.stderr.flush()
+    with tempfile.TemporaryFile() as sink:
+        saved = [os.dup(1), os.dup(2)]
+        os.dup2(sink.fileno(), 1)
+        os.dup2(sink.fileno(), 2)
+        try:
+            yield
+        finally:
+            os.dup2(saved[0], 1)
+            os.dup2(saved[1], 2)
+            for fd in saved:
+                os.close(fd)
+
+
+def _world_inertia(R, inertia) -> np.ndarray:
+    return R @ inertia @ R.T
+
+
+def _lump(parts) -> tuple[float, np.ndarray, np.ndarray]:
+    """(m, centre of mass, inertia about it) of rigidly joined parts, each (m, ⁰P_C, ⁰I_C)."""
+    mass = sum(m for m, _, _ in parts)
+    com = sum(m * c for m, c, _ in parts) / mass if mass > 0 else np.zeros(3)
+    inertia = np.zeros((3, 3))
+    for m, c, I in parts:
+        d = c - com
+        inertia += I + m * (d @ d * np.eye(3) - np.outer(d, d))  # parallel axes
+    return float(mass), com, inertia
+
+
+class Engine:
+    """What every adapter answers; the course_dynamics adapter is this class itself.
+
+    Parameters
+    ----------
+    model : course_dynamics.Model
+        The robot as course_dynamics loaded it (its joint order and gravity are the comparison's).
+    """
+
+    name = "course_dynamics"
+    call = {"tau": "inverse_dynamics", "M": "mass_matrix", "G": "gravity_torques", "bias": "velocity_torques + G",
+            "forward": "forward_dynamics"}
+
+    def __init__(self, model):
+        self.model = model
+        self.notes: list[str] = []
+        self.joint_order: list[str] = list(model.joint_names)  # the engine's own order of our joints
+
+    def tau(self, q, qd, qdd):
+        return inverse_dynamics(self.model, q, qd, qdd)
+
+    def M(self, q):
+        return mass_matrix(self.model, q)
+
+    def G(self, q):
+        return gravity_torques(self.model, q)
+
+    def bias(self, q, qd):
+        return velocity_torques(self.model, q, qd) + gravity_torques(self.model, q)
+
+    def forward(self, q, qd, tau):
+        return forward_dynamics(self.model, q, qd, tau)
+
+    def parts(self, term: str, *state) -> dict[str, np.ndarray]:
+        """What each of the engine's own additions contributes to ``term`` at ``state`` (none here)."""
+        return {}
+
+    def bodies(self, q) -> dict[str, tuple[float, np.ndarray, np.ndarray]]:
+        placed = forward_kinematics(self.model, q)
+        return {b.joint: (float(b.mass), placed.P_com[i], _world_inertia(placed.R[i], np.asarray(b.I_com)))
+                for i, b in enumerate(self.model.bodies)}
+
+
+class PinocchioEngine(Engine):
+    """Pinocchio through :class:`~course_dynamics_reference.pinocchio_oracle.PinocchioOracle`."""
+
+    name = "pinocchio"
+    call = {"tau": "rnea", "M": "crba", "G": "computeGeneralizedGravity", "bias": "nonLinearEffects",
+            "forward": "aba"}
+
+    def __init__(self, model, urdf):
+        super().__init__(model)
+        try:
+            from .pinocchio_oracle import PinocchioOracle
+        except ImportError as exc:
+            raise EngineUnavailable(f"pinocchio is not installed ({exc})") from None
+        from course_dynamics.base.errors import InputError
+
+        try:
+            self.oracle = PinocchioOracle(urdf, model.joint_names, model.gravity)
+        except (InputError, ValueError) as exc:
+            raise EngineRefused(str(exc).split(": ", 1)[-1]) from None
+        pin_model = self.oracle.model
+        self.joint_order = [pin_model.names[j] for j in range(1, pin_model.njoints)]
+        self.continuous = [name for name, nq in zip(model.joint_names, self.oracle.nq) if nq == 2]
+
+    def tau(self, q, qd, qdd):
+        return self.oracle.tau(q, qd, qdd)
+
+    def M(self, q):
+        return self.oracle.M(q)
+
+    def G(self, q):
+        return self.oracle.G(q)
+
+    def bias(self, q, qd):
+        return self.oracle.V(q, qd) + self.oracle.G(q)
+
+    def forward(self, q, qd, tau):
+        return self.oracle.aba(q, qd, tau)
+
+    def parts(self, term, *state):
+        armature = np.array(self.oracle.model.armature, dtype=float)
+        if not armature.any():
+            return {}
+        value = getattr(self, term)(*state)
+        self.oracle.model.armature = np.zeros_like(armature)
+        try:
+            plain = getattr(self, term)(*state)
+        finally:
+            self.oracle.model.armature = armature
+        return {"armature": value - plain}
+
+    def bodies(self, q):
+        import pinocchio as pin
+
+        pin.forwardKinematics(self.oracle.model, self.oracle.data, self.oracle.configuration(q))
+        out = {}
+        for name in self.model.joint_names:
+            joint = self.oracle.model.getJointId(name)
+            placement, inertia = self.oracle.data.oMi[joint], self.oracle.model.inertias[joint]
+            R = placement.rotation
+            out[name] = (float(inertia.mass), placement.translation + R @ inertia.lever,
+                         _world_inertia(R, np.asarray(inertia.inertia)))
+        return out
+
+
+def geometry_free(text: str) -> str:
+    """A URDF's text without ``<visual>`` and ``<collision>`` (meshes, ``package://`` paths): dynamics need none."""
+    for tag in ("visual", "collision"):
+        text = re.sub(rf"<{tag}\b[^>]*/>|<{tag}\b.*?</{tag}>", "", text, flags=re.S)
+    return text
+
+
+class MujocoEngine(Engine):
+    """MuJoCo's URDF importer, with the compiler told to keep fixed bodies and read inertias from the file."""
+
+    name = "mujoco"
+    call = {"tau": "mj_inverse", "M": "mj_fullM", "G": "qfrc_bias at qd = 0", "bias": "qfrc_bias",
+            "forward": "mj_forward"}
+    # What MuJoCo adds that course_dynamics does not, in the order the plain model drops them.
+    ADDITIONS = ("damping", "frictionloss", "armature", "equality", "limits")
+    DISABLE = {"equality": "mjDSBL_EQUALITY", "limits": "mjDSBL_LIMIT"}
+
+    def __init__(self, model, urdf, armature=None):
+        super().__init__(model)
+        try:
+            import mujoco
+        except ImportError as exc:
+            raise EngineUnavailable(f"mujoco is not installed ({exc})") from None
+        self.mj = mujoco
+        text = geometry_free(re.sub(r"<\?xml.*?\?>", "", Path(urdf).read_text(encoding="utf-8"), flags=re.S))
+        raw = self._compile(text, "")
+        if isinstance(raw, str):
+            first = raw
+            raw = self._compile(text, f' boundinertia="{MUJOCO_INERTIA_BOUND:g}"')
+            if isinstance(raw, str):
+                raise EngineRefused(first)
+            self.bounded = first
+        else:
+            self.bounded = None
+        names = [raw.joint(j).name for j in range(raw.njnt)]
+        missing = [name for name in model.joint_names if name not in names]
+        if missing:
+            raise EngineRefused(f"no joint {', '.join(missing)} in MuJoCo's model")
+        joints = [names.index(name) for name in model.joint_names]
+        self.joint_order = [name for name in names if name in model.joint_names]
+        self.qpos = np.array([raw.jnt_qposadr[j] for j in joints])
+        self.dof = np.array([raw.jnt_dofadr[j] for j in joints])
+        if armature is not None:
+            raw.dof_armature[self.dof] = armature  # as MuJoCo's users set it: the URDF cannot say it
+        raw.opt.gravity[:] = model.gravity
+        self.models = [raw]
+        for addition in self.ADDITIONS:  # each plain model drops one more of MuJoCo's additions
+            plain = self._copy(self.models[-1])
+            if addition in self.DISABLE:
+                plain.opt.disableflags |= int(getattr(mujoco.mjtDisableBit, self.DISABLE[addition]))
+            else:
+                getattr(plain, f"dof_{addition}")[:] = 0.0
+            self.models.append(plain)
+        self.data = [mujoco.MjData(m) for m in self.models]
+        self.body_owner = self._owners(raw)
+
+    def _compile(self, text: str, bound: str):
+        extension = MUJOCO_COMPILER.format(bound=bound)
+        text = re.sub(r"<mujoco\b[^>]*/>|<mujoco\b.*?</mujoco>", "", text, flags=re.S)  # ours replaces the URDF's own
+        text = re.sub(r"(<robot\b[^>]*>)", lambda m: m.group(1) + extension, text, count=1)
+        try:
+            return self.mj.MjModel.from_xml_string(text)
+        except ValueError as exc:
+            return " ".join(str(exc).split()).removeprefix("Error: ")
+
+    def _copy(self, model):
+        import copy
+
+        return copy.copy(model)
+
+    def _owners(self, m) -> dict[int, int]:
+        owner = {0: -1}
+        for b in range(1, m.nbody):
+            owner[b] = b if m.body_jntnum[b] > 0 else owner[int(m.body_parentid[b])]
+        return owner
+
+    def _state(self, k: int, q, qd=None, qdd=None, applied=None):
+        m, d = self.models[k], self.data[k]
+        d.qpos[:] = 0.0
+        d.qvel[:] = 0.0
+        d.qacc[:] = 0.0
+        d.qfrc_applied[:] = 0.0
+        d.qpos[self.qpos] = q
+        if qd is not None:
+            d.qvel[self.dof] = qd
+        if qdd is not None:
+            d.qacc[self.dof] = qdd
+        if applied is not None:
+            d.qfrc_applied[self.dof] = applied
+        return m, d
+
+    def _tau(self, k, q, qd, qdd):
+        m, d = self._state(k, q, qd, qdd)
+        self.mj.mj_inverse(m, d)
+        return d.qfrc_inverse[self.dof].copy()
+
+    def _M(self, k, q):
+        m, d = self._state(k, q)
+        self.mj.mj_forward(m, d)
+        full = np.zeros((m.nv, m.nv))
+        try:
+            self.mj.mj_fullM(m, d, full)  # MuJoCo ≥ 3.4
+        except TypeError:
+            self.mj.mj_fullM(m, full, d.qM)
+        return full[np.ix_(self.dof, self.dof)]
+
+    def _bias(self, k, q, qd):
+        m, d = self._state(k, q, qd)
+        self.mj.mj_forward(m, d)
+        return d.qfrc_bias[self.dof].copy()
+
+    def _forward(self, k, q, qd, tau):
+        m, d = self._state(k, q, qd, applied=tau)
+        self.mj.mj_forward(m, d)
+        return d.qacc[self.dof].copy()
+
+    def _G(self, k, q):
+        return self._bias(k, q, np.zeros(len(self.dof)))
+
+    def _at(self, term: str, k: int, *state):
+        return getattr(self, f"_{term}")(k, *state)
+
+    def tau(self, q, qd, qdd):
+        return self._tau(0, q, qd, qdd)
+
+    def M(self, q):
+        return self._M(0, q)
+
+    def G(self, q):
+        return self._G(0, q)
+
+    def bias(self, q, qd):
+        return self._bias(0, q, qd)
+
+    def forward(self, q, qd, tau):
+        return self._forward(0, q, qd, tau)
+
+    def parts(self, term, *state):
+        values = [self._at(term, k, *state) for k in range(len(self.models))]
+        return {addition: values[k] - values[k + 1] for k, addition in enumerate(self.ADDITIONS)}
+
+    def bodies(self, q):
+        m, d = self._state(0, q)
+        self.mj.mj_kinematics(m, d)
+        lumps: dict[int, list] = {}
+        for b, owner in self.body_owner.items():
+            if owner >= 0:
+                R = d.ximat[b].reshape(3, 3)
+                lumps.setdefault(owner, []).append((float(m.body_mass[b]), d.xipos[b].copy(),
+                                                    _world_inertia(R, np.diag(m.body_inertia[b]))))
+        by_joint = {m.joint(j).name: int(m.jnt_bodyid[j]) for j in range(m.njnt)}
+        return {name: _lump(lumps[by_joint[name]]) for name in self.model.joint_names}
+
+
+def _explicit_massless(text: str) -> str:
+    """Every ``<link>`` without ``<inertial>`` given a zero one (PyBullet would give it 1 kg)."""
+    zero = ('<inertial><mass value="0"/><inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/>'
+            '</inertial>')
+
+    def fill(match):
+        whole = match.group(0)
+        if "<inertial" in whole:
+            return whole
+        if whole.rstrip().endswith("/>") and "</link>" not in whole:
+            return whole.rstrip()[:-2].rstrip() + ">" + zero + "</link>"
+        return whole.replace("</link>", zero + "</link>")
+
+    return re.sub(r"<link\b[^>]*/>|<link\b.*?</link>", fill, text, flags=re.S)
+
+
+class PybulletEngine(Engine):
+    """PyBullet in DIRECT mode, a fixed base and the file's inertias (``URDF_USE_INERTIA_FROM_FILE``)."""
+
+    name = "pybullet"
+    call = {"tau": "calculateInverseDynamics", "M": "calculateMassMatrix", "G": "calculateInverseDynamics at rest",
+            "bias": "calculateInverseDynamics at qdd = 0", "forward": "M^-1 (tau - bias)"}
+    ADDITIONS = ("massless links",)
+
+    def __init__(self, model, urdf):
+        super().__init__(model)
+        try:
+            with _quiet_descriptors():  # it prints its build time when imported
+                import pybullet
+        except ImportError as exc:
+            raise EngineUnavailable(f"pybullet is not installed ({exc})") from None
+        self.pb = pybullet
+        text = Path(urdf).read_text(encoding="utf-8")
+        with _quiet_descriptors():
+            self.client = pybullet.connect(pybullet.DIRECT)
+        self.bodies_loaded = [self._load(urdf)]
+        plain = _explicit_massless(text)
+        if plain != text:
+            # beside the original, so that its relative mesh paths still resolve
+            handle, name = tempfile.mkstemp(suffix=".urdf", dir=Path(urdf).parent if os.access(
+                Path(urdf).parent, os.W_OK) else None)
+            try:
+                with os.fdopen(handle, "w", encoding="utf-8") as out:
+                    out.write(plain)
+                self.bodies_loaded.append(self._load(name))
+            finally:
+                os.unlink(name)
+        pybullet.setGravity(*model.gravity, physicsClientId=self.client)
+        body = self.bodies_loaded[0]
+        infos = [pybullet.getJointInfo(body, j, physicsClientId=self.client)
+                 for j in range(pybullet.getNumJoints(body, physicsClientId=self.client))]
+        self.infos = infos
+        movable = [info[1].decode() for info in infos if info[2] != pybullet.JOINT_FIXED]
+        missing = [name for name in model.joint_names if name not in movable]
+        if missing or len(movable) != model.n:
+            raise EngineRefused(f"its movable joints {movable} are not ours {list(model.joint_names)}")
+        self.joint_order = movable
+        self.order = np.array([movable.index(name) for name in model.joint_names])
+        self.index = {info[1].decode(): info[0] for info in infos}
+
+    def _load(self, path):
+        with _quiet_descriptors():
+            try:
+                return self.pb.loadURDF(str(path), useFixedBase=True, flags=self.pb.URDF_USE_INERTIA_FROM_FILE,
+                                        physicsClientId=self.client)
+            except self.pb.error as exc:
+                raise EngineRefused(str(exc)) from None
+
+    def close(self):
+        self.pb.disconnect(physicsClientId=self.client)
+
+    def _theirs(self, x) -> list:
+        out = np.zeros(self.model.n)
+        out[self.order] = x
+        return out.tolist()
+
+    def _call(self, k, function, *vectors):
+        with _quiet_descriptors():
+            return np.asarray(function(self.bodies_loaded[k], *map(self._theirs, vectors), physicsClientId=self.client))
+
+    def _tau(self, k, q, qd, qdd):
+        return self._call(k, self.pb.calculateInverseDynamics, q, qd, qdd)[self.order]
+
+    def _M(self, k, q):
+        return self._call(k, self.pb.calculateMassMatrix, q)[np.ix_(self.order, self.order)]
+
+    def _bias(self, k, q, qd):
+        return self._tau(k, q, qd, np.zeros(self.model.n))
+
+    def _G(self, k, q):
+        return self._bias(k, q, np.zeros(self.model.n))
+
+    def _forward(self, k, q, qd, tau):
+        return np.linalg.solve(self._M(k, q), np.asarray(tau) - self._bias(k, q, qd))
+
+    def tau(self, q, qd, qdd):
+        return self._tau(0, q, qd, qdd)
+
+    def M(self, q):
+        return self._M(0, q)
+
+    def G(self, q):
+        return self._G(0, q)
+
+    def bias(self, q, qd):
+        return self._bias(0, q, qd)
+
+    def forward(self, q, qd, tau):
+        return self._forward(0, q, qd, tau)
+
+    def parts(self, term, *state):
+        if len(self.bodies_loaded) == 1:
+            return {}
+        values = [getattr(self, f"_{term}")(k, *state) for k in range(2)]
+        return {"massless links": values[0] - values[1]}
+
+    def bodies(self, q):
+        pb, body, client = self.pb, self.bodies_loaded[-1], self.client  # massless links as the URDF says
+        for name, value in zip(self.model.joint_names, q):
+            pb.resetJointState(body, self.index[name], float(value), physicsClientId=client)
+        owner = {-1: -1}
+        lumps: dict[int, list] = {}
+        for info in self.infos:
+            link = info[0]
+            owner[link] = link if info[2] != pb.JOINT_FIXED else owner[info[16]]
+            if owner[link] < 0:
+                continue
+            dynamics = pb.getDynamicsInfo(body, link, physicsClientId=client)
+            state = pb.getLinkState(body, link, computeForwardKinematics=True, physicsClientId=client)
+            R = np.reshape(pb.getMatrixFromQuaternion(state[1]), (3, 3))
+            lumps.setdefault(owner[link], []).append((float(dynamics[0]), np.asarray(state[0]),
+                                                      _world_inertia(R, np.diag(dynamics[2]))))
+        return {name: _lump(lumps[self.index[name]]) for name in self.model.joint_names}
+
+
+def load_engine(name: str, model, urdf, armature=None) -> Engine:
+    """The adapter of engine ``name`` (one of :data:`ENGINES`) for ``model``, loaded from ``urdf``.
+
+    Parameters
+    ----------
+    name : str
+        ``"course_dynamics"``, ``"pinocchio"``, ``"mujoco"`` or ``"pybullet"``.
+    model : course_dynamics.Model
+        The robot as course_dynamics loaded it from ``urdf``.
+    urdf : str or Path
+        The URDF file.
+    armature : array_like, shape (n,), optional
+        Rotor inertias (kg·m², kg) set on the joints of the engines that model them (MuJoCo's ``dof_armature``,
+        Pinocchio's ``armature``) after loading, as their users set them: a URDF cannot say them.
+
+    Returns
+    -------
+    Engine
+        The loaded adapter.
+
+    Raises
+    ------
+    EngineUnavailable
+        If the engine's package is not installed.
+    EngineRefused
+        If the engine would not load the model (its reason is the message).
+    """
+    if name == "course_dynamics":
+        return Engine(model)
+    if name == "pinocchio":
+        engine = PinocchioEngine(model, urdf)
+        if armature is not None:
+            engine.oracle.model.armature[engine.oracle.idx_v] = armature
+        return engine
+    if name == "mujoco":
+        return MujocoEngine(model, urdf, armature)
+    if name == "pybullet":
+        return PybulletEngine(model, urdf)
+    raise ValueError(f"unknown engine {name!r}; engines: {', '.join(ENGINES)}")
+
+
+__all__ = ["ENGINES", "Engine", "EngineRefused", "EngineUnavailable", "MujocoEngine", "PinocchioEngine",
+           "PybulletEngine", "geometry_free", "load_engine"]
