@@ -51,6 +51,9 @@ FLAGS: dict[str, dict] = {
     "--plot": _flag("also draw the result to FILE: .png, .svg or .html (a page with the figure), by its suffix",
                     metavar="FILE"),
     "--html": _flag("write a self-contained HTML animation (opens offline)", metavar="FILE"),
+    "--sarif": _flag("also write the findings to FILE as a SARIF 2.1.0 log (for code-scanning tools)", metavar="FILE"),
+    "--fail-on": _flag("the least severe finding that makes the exit status 1 (default error)",
+                       choices=("error", "warning", "note"), default="error"),
     "--geometry": _flag("what to draw: URDF visual or collision meshes, or a stick model; auto picks the lightest "
                         "faithful one (default)", choices=GEOMETRIES, default="auto"),
     "--torques": _flag("draw joint torques as bars along the joint axes (a log's tau_<joint>, or computed from its "

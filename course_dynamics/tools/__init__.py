@@ -28,6 +28,9 @@ module               job
 ``limits``           effort and velocity limits: peaks, shares, violations
 ``trace``            the Newton–Euler iterations link by link, for teaching
 ``variants``         each student's own variant of a course robot, and their states
+``lint``             a URDF's physics checked as written: findings by class, link or joint, severity and fix
+``lint_classes``     the linter's classes of finding (severity, fix) and its finding record
+``lint_geometry``    the linter's checks of an inertia against the link's shapes (density, reach, units)
 ===================  ==========================================================================================
 """
 

@@ -8,6 +8,7 @@ only what they use (numpy, not sympy, matplotlib, yourdfpy or nbconvert), which 
 module                 ``course-dynamics …``
 =====================  ==========================================================
 ``info``               the joints and moving bodies of a robot
+``lint``               a URDF's physics checked, each finding with its class, severity and fix
 ``terms``              τ, M, C, V and G at one state
 ``torques``            the joint torques a logged trajectory needs, and a limits report
 ``excite``             an excitation trajectory for identification
@@ -18,6 +19,7 @@ module                 ``course-dynamics …``
 ``derive``             closed-form τ, M, V, G and Craig's B, C
 ``animate``            a motion as a self-contained HTML animation
 ``validate``           every term against Pinocchio on seeded random states
+``crosscheck``         one URDF in course_dynamics, Pinocchio, MuJoCo and PyBullet, each difference explained
 ``report``             a comparison report against Pinocchio
 ``grade``              students' dynamics code graded in a sandbox, with feedback
 ``student_notebooks``  the course's notebooks without solutions
@@ -26,5 +28,5 @@ module                 ``course-dynamics …``
 """
 
 # In the order ``course-dynamics --help`` lists them.
-COMMANDS = ("info", "terms", "torques", "excite", "identify", "cartesian", "simulate", "trace", "derive", "animate",
-            "validate", "report", "grade", "student_notebooks", "publish_notebooks")
+COMMANDS = ("info", "lint", "terms", "torques", "excite", "identify", "cartesian", "simulate", "trace", "derive",
+            "animate", "validate", "crosscheck", "report", "grade", "student_notebooks", "publish_notebooks")

@@ -1,0 +1,65 @@
+"""``course-dynamics lint``: a URDF's physics checked link by link and joint by joint, with the fix for each finding."""
+from __future__ import annotations
+
+import dataclasses
+import json
+
+from ..options import add_all, print_json
+
+HELP = "check a URDF's masses, inertias, limits and axes; each finding with its class, severity and fix"
+DESCRIPTION = ("Read each URDF as written (what the loader refuses too) and report its findings: class, link or "
+               "joint, line, severity (error, warning, note) and the fix. --json prints one document (ok, fail_on, "
+               "files with their findings); --sarif FILE also writes them as a SARIF 2.1.0 log for code scanning. "
+               "Exit 0 when no finding is as severe as --fail-on (default error), 1 when one is, 2 for a file that "
+               "is no URDF at all (missing, too large, not XML, no <robot>).")
+
+
+def add_arguments(parser) -> None:
+    parser.add_argument("urdf", nargs="*", help="URDF files or robot names (default: every shipped robot)")
+    add_all(parser, "--fail-on", "--sarif", "--json")
+
+
+def _start_lines(report):
+    """The findings with the line where their element's start tag starts (the parser gives the line it ends on)."""
+    from ...base.errors import InputError
+    from ...base.files import read_small
+    from ...core.urdf import MAX_URDF_BYTES
+    from ...output.xml_spans import elements
+
+    try:
+        raw = read_small(report.path, MAX_URDF_BYTES, "URDF file")
+        root = elements(raw, str(report.path), depth=1)
+    except InputError:  # positions unknown to the span reader: keep the parser's lines
+        return report
+
+    def line(offset):
+        return raw.count(b"\n", 0, offset) + 1
+
+    starts = {line(e.start_end - 1): line(e.start) for e in [root, *root.children]}
+    findings = tuple(dataclasses.replace(f, line=starts.get(f.line, f.line)) for f in report.findings)
+    return dataclasses.replace(report, findings=findings)
+
+
+def run(args) -> int:
+    from ...core.robots import resolve, robot_names
+    from ...output import io
+    from ...tools.lint import lint_urdf, sarif
+
+    targets = args.urdf or list(robot_names())
+    if args.sarif:
+        io.check_writable(args.sarif)
+    reports = [_start_lines(lint_urdf(resolve(target))) for target in targets]  # a file no URDF fails before output
+    ok = not any(report.fails(args.fail_on) for report in reports)
+    if args.sarif:
+        io.write_text(args.sarif, json.dumps(sarif(reports), indent=1) + "\n")
+    if args.json:
+        print_json(dict(ok=ok, fail_on=args.fail_on, files=[report.as_dict() for report in reports]))
+        return 0 if ok else 1
+    for report in reports:
+        for f in report.findings:
+            print(f"{report.path}:{f.line or 0}: {f.severity} [{f.rule}] {f.message}")
+            print(f"    fix: {f.fix}")
+        counts = ", ".join(f"{report.count(s)} {s}{'' if report.count(s) == 1 else 's'}"
+                           for s in ("error", "warning", "note"))
+        print(f"{report.path}: robot '{report.robot}': {counts}")
+    return 0 if ok else 1
