@@ -27,12 +27,13 @@ symbol     meaning
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from ..base.errors import ModelError
+from ..base.errors import CourseDynamicsWarning, ModelError
 from ..core import inertia as inertia_checks
 from ..core.urdf import (
     MAX_NAME,
@@ -595,6 +596,36 @@ def mass_findings(model) -> list:
     return list(_mass_findings(model.name, None, [(b.joint, b.name, None) for b in model.bodies], empty))
 
 
+class MassWarning(CourseDynamicsWarning):
+    """A robot with no mass where a joint moves: given by :func:`warn_if_massless`, one per finding."""
+
+
+def warn_if_massless(model) -> list:
+    """One :class:`MassWarning` per :func:`mass_findings` finding of a model; the findings.
+
+    Parameters
+    ----------
+    model : course_dynamics.core.model.Model
+        The robot.
+
+    Returns
+    -------
+    list of Finding
+        The findings warned of (empty for a robot with its masses).
+
+    Examples
+    --------
+    >>> from course_dynamics.core.robots import load_robot
+    >>> warn_if_massless(load_robot("rrr_arm"))
+    []
+    """
+    findings = mass_findings(model)
+    for finding in findings:
+        where = "" if finding.element == "robot" else f"robot '{model.name}': "
+        warnings.warn(MassWarning(f"{where}{finding.message} [{finding.rule}]"), stacklevel=2)
+    return findings
+
+
 def sarif(reports) -> dict:
     """A SARIF 2.1.0 log of lint reports, for code-scanning tools: one run, the classes as rules, one result per
     finding with the file and the line of its element.
@@ -626,5 +657,5 @@ def sarif(reports) -> dict:
             "runs": [dict(tool=dict(driver=dict(name="course-dynamics lint", rules=rules)), results=results)]}
 
 
-__all__ = ["CHECKS", "Inertial", "Joint", "Link", "LintReport", "Robot", "lint_urdf", "mass_findings", "read_robot",
-           "sarif"]
+__all__ = ["CHECKS", "Inertial", "Joint", "Link", "LintReport", "MassWarning", "Robot", "lint_urdf", "mass_findings",
+           "read_robot", "sarif", "warn_if_massless"]

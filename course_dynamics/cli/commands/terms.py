@@ -39,6 +39,9 @@ def run(args) -> int:
     check_memory(TERMS_BYTES_PER_SQUARED_JOINT * model.n**2,
                  f"robot '{model.name}' has {model.n} joints: its M and C and their intermediates", error=UsageError)
     warn_if_gravity_free(model)
+    from ...tools.lint import warn_if_massless
+
+    warn_if_massless(model)  # every term of such a joint is 0: say so rather than print zeros silently
     # The library checks the lengths and values, naming the joint at fault.
     q = numbers(args.q, "--q")
     qd = numbers(args.qd, "--qd") if args.qd is not None else np.zeros(model.n)
