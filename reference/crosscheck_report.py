@@ -95,7 +95,7 @@ def crosscheck_text(check: CrossCheck) -> str:
         lines.append("conventions (size: the largest absolute amount each accounts for, per term):")
         lines += [f"  {engine:<10} {c['name']}: {convention_size(c)}" for engine, c in conventions]
     notes = [(e.engine, n) for e in check.engines for n in e.notes]
-    notes += [(e.engine, f"refused: {e.reason}") for e in check.engines if e.status == "refused"]
+    notes += [(e.engine, f"refused: {e.reason}") for e in check.engines if e.status == "refused" and not e.explained]
     if notes:
         lines.append("notes:")
         lines += [f"  {engine:<10} {n}" for engine, n in notes]
@@ -154,7 +154,8 @@ def crosscheck_html(check: CrossCheck) -> str:
             "Size: the largest absolute amount each accounts for, per term, in the term's units."),
             page.table(rows, header=("engine", "convention", "size"))))
     notes = [f"{e.engine}: {n}" for e in check.engines for n in e.notes]
-    notes += [f"{e.engine} refused the model: {e.reason}" for e in check.engines if e.status == "refused"]
+    notes += [f"{e.engine} refused the model: {e.reason}" for e in check.engines
+              if e.status == "refused" and not e.explained]
     if notes:
         parts.append(page.section("Notes", page.bullet_list(notes)))
     calls = [(e.engine, *[e.calls.get(t, "") for t in TERMS]) for e in check.engines if e.calls]

@@ -47,7 +47,7 @@ from course_dynamics import forward_dynamics, forward_kinematics, gravity_torque
 from course_dynamics import velocity_torques
 
 ENGINES = ("course_dynamics", "pinocchio", "mujoco", "pybullet")
-MUJOCO_INERTIA_BOUND = 1e-15  # kg·m²: MuJoCo's mjMINVAL, the least rotational inertia it takes for a moving body
+MUJOCO_INERTIA_BOUND = 1e-15  # MuJoCo's mjMINVAL: the least mass (kg) and inertia (kg·m²) it takes for a moving body
 MUJOCO_COMPILER = ('<mujoco><compiler discardvisual="true" fusestatic="false" inertiafromgeom="false"{bound}/>'
                    '</mujoco>')
 
@@ -228,7 +228,7 @@ class MujocoEngine(Engine):
         raw = self._compile(text, "")
         if isinstance(raw, str):
             first = raw
-            raw = self._compile(text, f' boundinertia="{MUJOCO_INERTIA_BOUND:g}"')
+            raw = self._compile(text, f' boundmass="{MUJOCO_INERTIA_BOUND:g}" boundinertia="{MUJOCO_INERTIA_BOUND:g}"')
             if isinstance(raw, str):
                 raise EngineRefused(first)
             self.bounded = first

@@ -1,0 +1,282 @@
+"""crosscheck: one URDF through course_dynamics, Pinocchio, MuJoCo and PyBullet (reference/crosscheck.py).
+
+Every shipped robot (and the tests' awkward tree) agrees across the four engines within 1e-9 once the named
+conventions are applied; each convention has a small URDF here that shows it, named by the report with its
+size, and each size is checked against what the convention says it is (b·Θ̇ for damping, the armature on
+M's diagonal, PyBullet's own M for its massless links). An engine that is not installed is a note.
+"""
+from __future__ import annotations
+
+import builtins
+import json
+import re
+
+import numpy as np
+import pytest
+from helpers import AWKWARD, RTOL, run
+
+from course_dynamics import load_urdf
+from course_dynamics.core.robots import robot_names
+from course_dynamics.core.sampling import random_states
+
+pytest.importorskip("mujoco")
+pytest.importorskip("pybullet")
+
+from course_dynamics_reference import crosscheck as cc  # noqa: E402
+from course_dynamics_reference import engines  # noqa: E402
+from course_dynamics_reference.crosscheck import crosscheck  # noqa: E402
+
+SAMPLES = 2
+INERTIA = '<inertia ixx="{i}" ixy="0" ixz="0" iyy="{i}" iyz="0" izz="{i}"/>'
+
+
+def link(name, mass="1.0", xyz="0.2 0 0", rpy="0 0 0", inertia=None):
+    inertia = inertia or INERTIA.format(i="0.01")
+    return (f'<link name="{name}"><inertial><origin xyz="{xyz}" rpy="{rpy}"/><mass value="{mass}"/>{inertia}'
+            '</inertial></link>')
+
+
+def joint(name, parent, child, kind="revolute", axis="0 0 1", xyz="0 0 0.1", extra=""):
+    limit = '' if kind == "continuous" else '<limit lower="-2" upper="2" effort="10" velocity="5"/>'
+    return (f'<joint name="{name}" type="{kind}"><parent link="{parent}"/><child link="{child}"/>'
+            f'<origin xyz="{xyz}" rpy="0 0 0"/><axis xyz="{axis}"/>{limit}{extra}</joint>')
+
+
+def arm(*, second="", kind="revolute", extra="", name="probe", links=()):
+    """A two-joint arm (base → upper → fore) as URDF text, with one thing changed at a time."""
+    return (f'<?xml version="1.0"?><robot name="{name}"><link name="base"/>' + link("upper")
+            + (second or link("fore", mass="0.7", xyz="0.15 0.02 0"))
+            + joint("shoulder", "base", "upper", axis="0 1 0")
+            + joint("elbow", "upper", "fore", kind=kind, xyz="0.4 0 0", extra=extra) + "".join(links) + "</robot>")
+
+
+def write(tmp_path, text, name="probe.urdf"):
+    path = tmp_path / name
+    path.write_text(text)
+    return str(path)
+
+
+def by_engine(check):
+    return {e.engine: e for e in check.engines}
+
+
+def conventions(engine_check):
+    return {c["name"]: c for c in engine_check.conventions}
+
+
+def agrees(check):
+    """Every engine compared (or refused for a named reason) and within the tolerance once conventions apply."""
+    assert check.ok, [(e.engine, e.status, e.reason, e.residual, e.first_link) for e in check.engines]
+    for e in check.engines:
+        if e.status == "compared":
+            assert max(e.residual.values()) <= RTOL, (e.engine, e.residual)
+
+
+@pytest.mark.parametrize("robot", list(robot_names()) + [str(AWKWARD)])
+def test_every_shipped_robot_agrees_across_the_four_engines(robot):
+    check = crosscheck(robot, samples=SAMPLES)
+    agrees(check)
+    assert [e.status for e in check.engines] == ["compared"] * 3
+
+
+def test_fixed_joints_merged_are_named_with_their_count_and_lumped_per_body(tmp_path):
+    tool = link("tool", mass="0.3", xyz="0.05 0 0.02")
+    text = arm(links=[tool, joint("tool_mount", "fore", "tool", kind="fixed", xyz="0.3 0 0")])
+    check = crosscheck(write(tmp_path, text), samples=SAMPLES)
+    agrees(check)
+    for name in ("mujoco", "pybullet"):
+        assert conventions(by_engine(check)[name])["fixed joints merged"]["size"] == "1 links held by fixed joints"
+    assert "fixed joints merged" not in conventions(by_engine(check)["pinocchio"])
+
+
+def test_joint_order_is_named_with_the_engines_order(tmp_path):
+    text = ('<?xml version="1.0"?><robot name="tree"><link name="base"/>' + link("a") + link("b", mass="2")
+            + link("c", mass="0.5") + joint("to_c", "a", "c", axis="0 1 0", xyz="0.4 0 0")
+            + joint("to_b", "base", "b", axis="1 0 0") + joint("to_a", "base", "a") + "</robot>")
+    path = write(tmp_path, text)
+    check = crosscheck(path, samples=SAMPLES)
+    agrees(check)
+    pinocchio = by_engine(check)["pinocchio"]
+    assert list(load_urdf(path).joint_names) != ["to_a", "to_c", "to_b"]
+    assert conventions(pinocchio)["joint order"]["size"] == "its order: to_a, to_c, to_b"
+
+
+def test_continuous_joints_as_cos_sin_are_named(tmp_path):
+    check = crosscheck(write(tmp_path, arm(kind="continuous")), samples=SAMPLES)
+    agrees(check)
+    assert conventions(by_engine(check)["pinocchio"])["continuous joints as cos/sin"]["size"] == "elbow"
+
+
+def test_gravity_is_set_on_every_engine_and_its_default_named_with_what_it_would_miss(tmp_path):
+    path = write(tmp_path, arm())
+    g = np.array([1.0, -2.0, -5.0])
+    check = crosscheck(path, samples=SAMPLES, gravity=g)
+    agrees(check)
+    model = load_urdf(path, gravity=g)
+    from course_dynamics import gravity_torques
+
+    q = random_states(model, SAMPLES, 0)[0]
+    for name, default in (("pybullet", np.zeros(3)), ("mujoco", np.array([0, 0, -9.81]))):
+        expected = np.abs(gravity_torques(model, q) - gravity_torques(load_urdf(path, gravity=default), q)).max()
+        size = conventions(by_engine(check)[name])["gravity"]["size"]["G"]
+        assert size == pytest.approx(expected, rel=RTOL)
+
+
+def test_mj_inverse_adds_damping_as_b_times_qd(tmp_path):
+    path = write(tmp_path, arm(extra='<dynamics damping="0.8"/>'))
+    check = crosscheck(path, samples=SAMPLES)
+    agrees(check)
+    mujoco = by_engine(check)["mujoco"]
+    qd = random_states(load_urdf(path), SAMPLES, 0)[1]
+    assert conventions(mujoco)["damping"]["size"]["tau"] == pytest.approx(0.8 * np.abs(qd[:, 1]).max(), rel=RTOL)
+    assert mujoco.raw["tau"] > 1e-3  # as MuJoCo's users get it, before the convention is undone
+    assert "damping" not in conventions(by_engine(check)["pybullet"])
+
+
+def test_friction_loss_is_named(tmp_path):
+    check = crosscheck(write(tmp_path, arm(extra='<dynamics friction="0.4"/>')), samples=SAMPLES)
+    agrees(check)
+    size = conventions(by_engine(check)["mujoco"])["frictionloss"]["size"]
+    assert 0 < size["tau"] <= 0.4 + 1e-12
+
+
+def test_armature_is_named_with_its_size_on_the_mass_matrix(tmp_path):
+    check = crosscheck(write(tmp_path, arm()), samples=SAMPLES, armature=[0.05, 0.2])
+    agrees(check)
+    for name in ("mujoco", "pinocchio"):
+        assert conventions(by_engine(check)[name])["armature"]["size"]["M"] == pytest.approx(0.2, rel=RTOL)
+    assert "armature" not in conventions(by_engine(check)["pybullet"])
+
+
+def test_mimic_joints_become_an_equality_constraint_in_mujoco(tmp_path):
+    check = crosscheck(write(tmp_path, arm(extra='<mimic joint="shoulder" multiplier="1" offset="0"/>')),
+                       samples=SAMPLES)
+    agrees(check)
+    assert conventions(by_engine(check)["mujoco"])["mimic joints as equality constraints"]["size"]["tau"] > 0
+
+
+def test_a_joint_limit_reached_is_a_constraint_force_in_mujoco(tmp_path):
+    path = write(tmp_path, arm())
+    model = load_urdf(path)
+    mujoco = engines.load_engine("mujoco", model, path)
+    beyond = np.array([0.0, 2.05])  # past the elbow's upper limit of 2 rad
+    parts = mujoco.parts("tau", beyond, np.zeros(2), np.zeros(2))
+    assert np.abs(parts["limits"]).max() > 0
+    plain = mujoco.tau(beyond, np.zeros(2), np.zeros(2)) - sum(parts.values())
+    ours = engines.Engine(model).tau(beyond, np.zeros(2), np.zeros(2))
+    assert np.abs(plain - ours).max() <= RTOL * np.abs(ours).max()
+
+
+def test_pybullet_gives_a_link_without_inertial_a_kilogram(tmp_path):
+    text = arm(links=['<link name="tool"/>', joint("tool_mount", "fore", "tool", kind="fixed", xyz="0.3 0 0")])
+    path = write(tmp_path, text)
+    check = crosscheck(path, samples=SAMPLES)
+    agrees(check)
+    pybullet = by_engine(check)["pybullet"]
+    model = load_urdf(path)
+    q = random_states(model, SAMPLES, 0)[0]
+    bullet = engines.load_engine("pybullet", model, path)
+    ours = engines.Engine(model)
+    expected = max(np.abs(bullet.M(x) - ours.M(x)).max() for x in q)  # PyBullet's own M, as its users get it
+    assert conventions(pybullet)["massless links"]["size"]["M"] == pytest.approx(expected, rel=1e-6)
+    assert expected > 0.05
+
+
+def test_mujoco_raises_a_point_mass_inertia_to_its_bound_and_says_why():
+    check = crosscheck("pendulum", samples=SAMPLES)
+    agrees(check)
+    refused = conventions(by_engine(check)["mujoco"])["inertia refused"]["size"]
+    assert "mjMINVAL" in refused and "boundmass=1e-15 kg and boundinertia=1e-15" in refused
+
+
+def test_an_inertia_that_breaks_the_triangle_inequality_is_refused_or_altered_by_name(tmp_path):
+    bad = link("fore", mass="0.7", inertia='<inertia ixx="0.05" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.02"/>')
+    with pytest.warns(Warning):
+        check = crosscheck(write(tmp_path, arm(second=bad)), samples=SAMPLES, allow_nonphysical_inertia=True)
+    agrees(check)
+    mujoco, pybullet = by_engine(check)["mujoco"], by_engine(check)["pybullet"]
+    assert mujoco.status == "refused" and "A + B >= C" in mujoco.reason
+    altered = conventions(pybullet)["inertia refused"]
+    assert altered["detail"] == "the inertia of fore" and altered["size"]["M"] > 1e-3
+
+
+def _fake(load_as, monkeypatch):
+    """Make crosscheck's MuJoCo an engine that computes as course_dynamics does on ``load_as`` (a URDF)."""
+    real = cc.load_engine
+
+    def load_engine(name, model, urdf, armature=None):
+        if name != "mujoco":
+            return real(name, model, urdf, armature)
+        fake = engines.Engine(load_urdf(load_as))
+        fake.name = "mujoco"
+        return fake
+
+    monkeypatch.setattr(cc, "load_engine", load_engine)
+
+
+def test_an_inertial_frame_dropped_on_import_is_named_with_its_link_and_size(tmp_path, monkeypatch):
+    rotated = link("fore", mass="0.7", rpy="0.4 0.3 0.9",
+                   inertia='<inertia ixx="0.03" ixy="0" ixz="0" iyy="0.02" iyz="0" izz="0.015"/>')
+    path = write(tmp_path, arm(second=rotated))
+    assert agrees(crosscheck(path, samples=SAMPLES)) is None  # the engines installed keep the rpy
+    _fake(write(tmp_path, arm(second=rotated.replace('rpy="0.4 0.3 0.9"', 'rpy="0 0 0"')), "dropped.urdf"),
+          monkeypatch)  # an importer that drops it, as MuJoCo once did
+    check = crosscheck(path, samples=SAMPLES, engines=["mujoco"])
+    agrees(check)
+    dropped = conventions(by_engine(check)["mujoco"])["inertial frame dropped or rotated"]
+    assert dropped["detail"] == "the inertia of fore" and dropped["size"]["M"] > 1e-3
+
+
+def test_an_unexplained_difference_names_the_first_body_where_the_engines_part(tmp_path, monkeypatch, capsys):
+    path = write(tmp_path, arm())
+    _fake(write(tmp_path, arm(second=link("fore", mass="0.75", xyz="0.15 0.02 0")), "heavier.urdf"), monkeypatch)
+    check = crosscheck(path, samples=SAMPLES, engines=["mujoco"])
+    assert not check.ok and by_engine(check)["mujoco"].first_link == "elbow"
+    code, out, _ = run(capsys, "crosscheck", path)
+    assert code == 1
+    assert out.splitlines()[-1] == "UNEXPLAINED DIFFERENCE: mujoco (first at the body of joint elbow)"
+
+
+def test_a_missing_engine_is_skipped_with_a_note(tmp_path, monkeypatch, capsys):
+    real_import = builtins.__import__
+
+    def without_mujoco(name, *args, **kwargs):
+        if name == "mujoco" or name.startswith("mujoco."):
+            raise ImportError("No module named 'mujoco'")
+        return real_import(name, *args, **kwargs)
+
+    monkeypatch.setattr(builtins, "__import__", without_mujoco)
+    code, out, err = run(capsys, "crosscheck", "two_link")
+    assert code == 0 and err == ""
+    assert re.search(r"^mujoco +- .* skipped$", out, re.M), out
+    assert "mujoco     mujoco skipped: mujoco is not installed" in out
+
+
+def test_json_is_one_document(capsys):
+    code, out, _ = run(capsys, "crosscheck", "double_pendulum", "--json")
+    document = json.loads(out)
+    assert code == 0 and document["ok"] is True and document["urdf"] == "double_pendulum.urdf"
+    mujoco = {e["engine"]: e for e in document["engines"]}["mujoco"]
+    assert mujoco["status"] == "compared" and {c["name"] for c in mujoco["conventions"]} == {"damping"}
+    assert set(document["conventions"]) == set(cc.CONVENTIONS)
+
+
+def test_the_page_is_offline_and_escapes_names(tmp_path, capsys):
+    path = write(tmp_path, arm(name="a&lt;script&gt;b"))
+    out_file = tmp_path / "page.html"
+    code, out, _ = run(capsys, "crosscheck", path, "--out", str(out_file))
+    html = out_file.read_text()
+    assert code == 0 and out.splitlines()[-1] == f"wrote {out_file}"
+    assert "<script" not in html and "a&lt;script&gt;b" in html
+    assert not re.search(r"""(src|href)=["']?(https?:)?//""", html)
+    for heading in ("Conventions", "Before the conventions", "What was called", "The named conventions"):
+        assert f">{heading}</h2>" in html
+
+
+def test_bad_input_is_one_error_line(capsys):
+    from helpers import assert_one_line_error
+
+    code, _, err = run(capsys, "crosscheck", "no_such_robot.urdf")
+    assert_one_line_error(code, err, "no_such_robot.urdf")
+    code, _, err = run(capsys, "crosscheck", "two_link", "--samples", "0")
+    assert_one_line_error(code, err, "--samples")
