@@ -18,8 +18,9 @@ method      course_dynamics / Pinocchio / MuJoCo / PyBullet
             inertia about the centre of mass in base axes (3, 3) kg·m²
 ==========  ======================================================================================
 
-Where an engine adds something course_dynamics does not (MuJoCo's joint damping, friction loss, armature
-and constraints; PyBullet's 1 kg for a link without ``<inertial>``), the adapter holds a second, plain
+PyBullet's adapter is in :mod:`course_dynamics_reference.engines_pybullet`. Where an engine adds something
+course_dynamics does not (MuJoCo's joint damping, friction loss, armature and constraints; PyBullet's 1 kg
+for a link without ``<inertial>``), the adapter holds a second, plain
 model without it, and :meth:`Engine.parts` gives what each addition contributes: the engine's own answer
 minus its answer without that addition, measured, never assumed. ``notes`` are what the adapter did to load
 the model (an inertia raised to the engine's bound, a gravity set, joints matched by name).
@@ -35,6 +36,7 @@ M, G, bias          mass matrix, gravity torques, C(Θ, Θ̇)Θ̇ + G(Θ)
 from __future__ import annotations
 
 import contextlib
+import copy
 import os
 import re
 import sys
@@ -266,8 +268,6 @@ class MujocoEngine(Engine):
             return " ".join(str(exc).split()).removeprefix("Error: ")
 
     def _copy(self, model):
-        import copy
-
         return copy.copy(model)
 
     def _owners(self, m) -> dict[int, int]:
@@ -354,141 +354,6 @@ class MujocoEngine(Engine):
         return {name: _lump(lumps[by_joint[name]]) for name in self.model.joint_names}
 
 
-def _explicit_massless(text: str) -> str:
-    """Every ``<link>`` without ``<inertial>`` given a zero one (PyBullet would give it 1 kg)."""
-    zero = ('<inertial><mass value="0"/><inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/>'
-            '</inertial>')
-
-    def fill(match):
-        whole = match.group(0)
-        if "<inertial" in whole:
-            return whole
-        if whole.rstrip().endswith("/>") and "</link>" not in whole:
-            return whole.rstrip()[:-2].rstrip() + ">" + zero + "</link>"
-        return whole.replace("</link>", zero + "</link>")
-
-    return re.sub(r"<link\b[^>]*/>|<link\b.*?</link>", fill, text, flags=re.S)
-
-
-class PybulletEngine(Engine):
-    """PyBullet in DIRECT mode, a fixed base and the file's inertias (``URDF_USE_INERTIA_FROM_FILE``)."""
-
-    name = "pybullet"
-    call = {"tau": "calculateInverseDynamics", "M": "calculateMassMatrix", "G": "calculateInverseDynamics at rest",
-            "bias": "calculateInverseDynamics at qdd = 0", "forward": "M^-1 (tau - bias)"}
-    ADDITIONS = ("massless links",)
-
-    def __init__(self, model, urdf):
-        super().__init__(model)
-        try:
-            with _quiet_descriptors():  # it prints its build time when imported
-                import pybullet
-        except ImportError as exc:
-            raise EngineUnavailable(f"pybullet is not installed ({exc})") from None
-        self.pb = pybullet
-        text = Path(urdf).read_text(encoding="utf-8")
-        with _quiet_descriptors():
-            self.client = pybullet.connect(pybullet.DIRECT)
-        self.bodies_loaded = [self._load(urdf)]
-        plain = _explicit_massless(text)
-        if plain != text:
-            # beside the original, so that its relative mesh paths still resolve
-            handle, name = tempfile.mkstemp(suffix=".urdf", dir=Path(urdf).parent if os.access(
-                Path(urdf).parent, os.W_OK) else None)
-            try:
-                with os.fdopen(handle, "w", encoding="utf-8") as out:
-                    out.write(plain)
-                self.bodies_loaded.append(self._load(name))
-            finally:
-                os.unlink(name)
-        pybullet.setGravity(*model.gravity, physicsClientId=self.client)
-        body = self.bodies_loaded[0]
-        infos = [pybullet.getJointInfo(body, j, physicsClientId=self.client)
-                 for j in range(pybullet.getNumJoints(body, physicsClientId=self.client))]
-        self.infos = infos
-        movable = [info[1].decode() for info in infos if info[2] != pybullet.JOINT_FIXED]
-        missing = [name for name in model.joint_names if name not in movable]
-        if missing or len(movable) != model.n:
-            raise EngineRefused(f"its movable joints {movable} are not ours {list(model.joint_names)}")
-        self.joint_order = movable
-        self.order = np.array([movable.index(name) for name in model.joint_names])
-        self.index = {info[1].decode(): info[0] for info in infos}
-
-    def _load(self, path):
-        with _quiet_descriptors():
-            try:
-                return self.pb.loadURDF(str(path), useFixedBase=True, flags=self.pb.URDF_USE_INERTIA_FROM_FILE,
-                                        physicsClientId=self.client)
-            except self.pb.error as exc:
-                raise EngineRefused(str(exc)) from None
-
-    def close(self):
-        self.pb.disconnect(physicsClientId=self.client)
-
-    def _theirs(self, x) -> list:
-        out = np.zeros(self.model.n)
-        out[self.order] = x
-        return out.tolist()
-
-    def _call(self, k, function, *vectors):
-        with _quiet_descriptors():
-            return np.asarray(function(self.bodies_loaded[k], *map(self._theirs, vectors), physicsClientId=self.client))
-
-    def _tau(self, k, q, qd, qdd):
-        return self._call(k, self.pb.calculateInverseDynamics, q, qd, qdd)[self.order]
-
-    def _M(self, k, q):
-        return self._call(k, self.pb.calculateMassMatrix, q)[np.ix_(self.order, self.order)]
-
-    def _bias(self, k, q, qd):
-        return self._tau(k, q, qd, np.zeros(self.model.n))
-
-    def _G(self, k, q):
-        return self._bias(k, q, np.zeros(self.model.n))
-
-    def _forward(self, k, q, qd, tau):
-        return np.linalg.solve(self._M(k, q), np.asarray(tau) - self._bias(k, q, qd))
-
-    def tau(self, q, qd, qdd):
-        return self._tau(0, q, qd, qdd)
-
-    def M(self, q):
-        return self._M(0, q)
-
-    def G(self, q):
-        return self._G(0, q)
-
-    def bias(self, q, qd):
-        return self._bias(0, q, qd)
-
-    def forward(self, q, qd, tau):
-        return self._forward(0, q, qd, tau)
-
-    def parts(self, term, *state):
-        if len(self.bodies_loaded) == 1:
-            return {}
-        values = [getattr(self, f"_{term}")(k, *state) for k in range(2)]
-        return {"massless links": values[0] - values[1]}
-
-    def bodies(self, q):
-        pb, body, client = self.pb, self.bodies_loaded[-1], self.client  # massless links as the URDF says
-        for name, value in zip(self.model.joint_names, q):
-            pb.resetJointState(body, self.index[name], float(value), physicsClientId=client)
-        owner = {-1: -1}
-        lumps: dict[int, list] = {}
-        for info in self.infos:
-            link = info[0]
-            owner[link] = link if info[2] != pb.JOINT_FIXED else owner[info[16]]
-            if owner[link] < 0:
-                continue
-            dynamics = pb.getDynamicsInfo(body, link, physicsClientId=client)
-            state = pb.getLinkState(body, link, computeForwardKinematics=True, physicsClientId=client)
-            R = np.reshape(pb.getMatrixFromQuaternion(state[1]), (3, 3))
-            lumps.setdefault(owner[link], []).append((float(dynamics[0]), np.asarray(state[0]),
-                                                      _world_inertia(R, np.diag(dynamics[2]))))
-        return {name: _lump(lumps[self.index[name]]) for name in self.model.joint_names}
-
-
 def load_engine(name: str, model, urdf, armature=None) -> Engine:
     """The adapter of engine ``name`` (one of :data:`ENGINES`) for ``model``, loaded from ``urdf``.
 
@@ -526,9 +391,11 @@ def load_engine(name: str, model, urdf, armature=None) -> Engine:
     if name == "mujoco":
         return MujocoEngine(model, urdf, armature)
     if name == "pybullet":
+        from .engines_pybullet import PybulletEngine
+
         return PybulletEngine(model, urdf)
     raise ValueError(f"unknown engine {name!r}; engines: {', '.join(ENGINES)}")
 
 
 __all__ = ["ENGINES", "Engine", "EngineRefused", "EngineUnavailable", "MujocoEngine", "PinocchioEngine",
-           "PybulletEngine", "geometry_free", "load_engine"]
+           "geometry_free", "load_engine"]
