@@ -130,6 +130,8 @@ class Joint:
         Its ``<dynamics friction>`` (0 when absent).
     mimic : str or None
         The joint its ``<mimic>`` names, or None.
+    origin : numpy.ndarray, shape (6,)
+        Its ``<origin>`` xyz (m) and rpy (rad), zeros when absent.
     """
 
     name: str
@@ -142,6 +144,7 @@ class Joint:
     damping: float
     friction: float
     mimic: str | None
+    origin: np.ndarray
 
 
 @dataclass
@@ -260,7 +263,8 @@ def read_robot(path) -> Robot:
             None if limit is None else {k: (None if limit.get(k) is None else float(_floats(limit, k, 1)[0]))
                                         for k in ("lower", "upper", "effort", "velocity")},
             float(_floats(dynamics, "damping", 1)[0]), float(_floats(dynamics, "friction", 1)[0]),
-            None if mimic is None else (mimic.get("joint") or "")))
+            None if mimic is None else (mimic.get("joint") or ""),
+            np.concatenate([_floats(top.find("origin"), "xyz", 3), _floats(top.find("origin"), "rpy", 3)])))
     return robot
 
 
@@ -285,8 +289,9 @@ def _names(robot: Robot):
 
 def _numbers(robot: Robot):
     """Values the loader refuses though written as numbers: NaN, inf, beyond 1e9 in size."""
+    flagged = {(f.element, f.name, f.line) for f in robot.findings if f.rule == "unreadable-number"}  # once each
     for link in robot.links:
-        if link.inertial is not None:
+        if link.inertial is not None and ("link", link.name, link.line) not in flagged:
             values = np.concatenate([[link.inertial.mass], link.inertial.xyz, link.inertial.rpy,
                                      link.inertial.inertia.ravel()])
             if _not_finite(values):
@@ -294,9 +299,10 @@ def _numbers(robot: Robot):
                               f"value that is not a finite number within {MAX_MAGNITUDE:g} in size",
                               link.inertial.line)
     for joint in robot.joints:
-        if _not_finite(joint.axis):
-            yield Finding("unreadable-number", "joint", joint.name, f"joint '{joint.name}': its axis "
-                          f"{joint.axis.tolist()} is not finite numbers within {MAX_MAGNITUDE:g} in size", joint.line)
+        for what, values in (("axis", joint.axis), ("origin", joint.origin)):
+            if _not_finite(values) and ("joint", joint.name, joint.line) not in flagged:
+                yield Finding("unreadable-number", "joint", joint.name, f"joint '{joint.name}': its {what} "
+                              f"{values.tolist()} is not finite numbers within {MAX_MAGNITUDE:g} in size", joint.line)
 
 
 def _not_finite(values) -> bool:
@@ -314,8 +320,8 @@ def _tree(robot: Robot):
                           f"not supported ({', '.join(SUPPORTED_TYPES)})", joint.line)
         for role, link in (("parent", joint.parent), ("child", joint.child)):
             if link not in links:
-                yield Finding("undefined-link", "joint", joint.name, f"joint '{joint.name}': {role} link "
-                              f"'{link}' is not defined", joint.line)
+                yield Finding("undefined-link", "joint", joint.name, f"joint '{joint.name}': " + (
+                    f"{role} link '{link}' is not defined" if link else f"no <{role} link=...>"), joint.line)
         if joint.child in parent_of:
             yield Finding("not-a-tree", "joint", joint.name, f"kinematic loop: link '{joint.child}' is the child of "
                           f"both joint '{parent_of[joint.child].name}' and joint '{joint.name}'", joint.line)

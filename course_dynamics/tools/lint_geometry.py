@@ -39,6 +39,7 @@ SLIPS = {3: "the mass in grams", 6: "the mass in milligrams", -3: "the mass in t
          "large", -9: "the shapes in millimetres", 9: "the shapes in kilometres, or the mass in grams and the shapes "
          "10 times too small", -6: "the mass in grams and the shapes in millimetres"}
 COM_MARGIN = 0.1         # of the box's largest side: how far outside the box a centre of mass may lie
+COM_SLIP = 100.0         # boxes' largest sides: a centre of mass this far out, inside in millimetres, is a slip
 GYRATION_MARGIN = 1.5    # k may exceed reach by this factor (the box is only around the shapes)
 GYRATION_SLIP = 20.0     # k / reach at which the inertia is taken to be in the wrong units (31.6 for 10³)
 
@@ -183,7 +184,7 @@ def geometry_findings(link) -> list:
         return bool(np.all(point >= low - margin) and np.all(point <= high + margin))
 
     if not inside(com):
-        if inside(com / 1000):
+        if inside(com / 1000) and float(np.abs(com).max()) > COM_SLIP * float((high - low).max()):
             found.append(Finding("units-slip", "link", link.name, f"{owner}: centre of mass {com.tolist()} lies far "
                                  "outside its shapes, and would lie within them in millimetres", line))
         else:
@@ -224,6 +225,7 @@ def inertial_rpy_finding(link):
     if inertial is None or not np.all(np.isfinite(inertial.rpy)) or not np.any(inertial.rpy != 0):
         return None
     I = rotate(inertial.inertia, rotation_rpy(inertial.rpy))
+    I = np.where(np.abs(I) > 1e-12 * np.abs(I).max(), I, 0.0) + 0.0  # round-off of the rotation, and -0, as 0
     entries = " ".join(f'{n}="{I[i, j]:.6g}"' for n, (i, j) in
                        (("ixx", (0, 0)), ("ixy", (0, 1)), ("ixz", (0, 2)), ("iyy", (1, 1)), ("iyz", (1, 2)),
                         ("izz", (2, 2))))

@@ -1,0 +1,287 @@
+"""course_dynamics/tools/lint.py (and lint_classes, lint_geometry, cli/commands/lint.py): the URDF physics linter.
+
+Every class of finding has a URDF with one thing changed (tests/helpers.py's two-link arm) that the linter
+names by class and by link or joint; the robots we ship lint without an error, with the notes and warnings
+listed here, each read and judged; what the loader refuses is a finding (exit 1), and only a file that is no
+URDF at all is an ``error:`` line (exit 2).
+"""
+from __future__ import annotations
+
+import json
+
+import pytest
+from helpers import BAD_URDFS, LINK, arm_urdf, assert_one_line_error, run
+
+from course_dynamics.core.robots import load, robot_names, robot_path
+from course_dynamics.tools.lint import lint_urdf, mass_findings, sarif
+from course_dynamics.tools.lint_classes import CLASSES, SEVERITIES
+
+LINK2 = LINK.format(name="link2", mass="1.0", ixx="0.01", iyy="0.01", izz="0.01")
+LINK1 = LINK.format(name="link1", mass="1.0", ixx="0.01", iyy="0.01", izz="0.01")
+LIMIT = '<limit lower="-1" upper="1" effort="1" velocity="1"/>'
+
+
+def second(text: str, old: str, new: str) -> str:
+    """``text`` with the second ``old`` (joint2's, link2's) replaced by ``new``."""
+    first = text.index(old)
+    at = text.index(old, first + len(old))
+    return text[:at] + new + text[at + len(old):]
+
+
+def with_box(size: str, at: str = "0.1 0 0", **link) -> str:
+    """The arm whose link2 has a collision box of ``size`` centred at ``at`` (and ``link``'s mass and inertia)."""
+    values = dict(mass="1.0", ixx="0.01", iyy="0.01", izz="0.01") | link
+    body = LINK.format(name="link2", **values).replace(
+        "</inertial>", f'</inertial><collision><origin xyz="{at}" rpy="0 0 0"/><geometry><box size="{size}"/>'
+                       "</geometry></collision>")
+    return arm_urdf().replace(LINK2, body)
+
+
+# class → (URDF text with one thing changed, the link or joint (or robot) the finding names)
+MUTATIONS = {
+    "unreadable-number": (arm_urdf(mass="heavy"), "link2"),
+    "xml-namespace": (BAD_URDFS["default namespace"][0], "joint1"),
+    "empty-name": (arm_urdf().replace('name="joint2"', 'name=""'), ""),
+    "duplicate-name": (arm_urdf().replace('name="joint2"', 'name="joint1"'), "joint1"),
+    "unusable-name": (arm_urdf().replace('name="joint2"', 'name="joint&#9;2"'), "joint\t2"),
+    "undefined-link": (BAD_URDFS["undefined link"][0], "j3"),
+    "unsupported-joint": (arm_urdf(joint_type="floating"), "joint2"),
+    "not-a-tree": (BAD_URDFS["kinematic loop"][0], "loop"),
+    "nothing-moves": (arm_urdf().replace('type="revolute"', 'type="fixed"'), "probe"),
+    "refused": (arm_urdf().replace("</inertial></link>", "</inertial><collision><geometry/></collision></link>", 1),
+                "probe"),
+    "no-mass": (arm_urdf().replace(LINK1, '<link name="link1"/>').replace(LINK2, '<link name="link2"/>'), "probe"),
+    "joint-carries-nothing": (arm_urdf().replace(LINK2, '<link name="link2"/>'), "joint2"),
+    "missing-inertial": (arm_urdf().replace(LINK1, '<link name="link1"/>'), "link1"),
+    "negative-mass": (arm_urdf(mass="-1"), "link2"),
+    "zero-mass": (arm_urdf(mass="0"), "link2"),
+    "inertia-not-psd": (arm_urdf(ixx="-0.01"), "link2"),
+    "triangle-inequality": (arm_urdf(izz="0.05"), "link2"),
+    "inertia-on-boundary": (arm_urdf(izz="0.02"), "link2"),
+    "point-mass": (arm_urdf(ixx="0", iyy="0", izz="0"), "link2"),
+    "inertial-rpy": (second(arm_urdf(), 'rpy="0 0 0"/><mass', 'rpy="0 0 1.5707963267948966"/><mass'), "link2"),
+    "implausible-density": (with_box("0.1 0.1 0.1", mass="30"), "link2"),    # 30 000 kg/m³: denser than osmium
+    "gyration-exceeds-link": (with_box("0.1 0.1 0.1", ixx="0.05", iyy="0.05", izz="0.05"), "link2"),
+    "com-outside-geometry": (with_box("0.1 0.1 0.1", at="0 0 0"), "link2"),  # the COM 0.1 m out, the box 0.05
+    "units-slip": (with_box("0.1 0.1 0.1", mass="2700"), "link2"),            # aluminium, in grams
+    "missing-limit": (second(arm_urdf(), LIMIT, ""), "joint2"),
+    "reversed-limits": (second(arm_urdf(), LIMIT, LIMIT.replace('lower="-1" upper="1"', 'lower="1" upper="-1"')),
+                        "joint2"),
+    "zero-range": (second(arm_urdf(), LIMIT, '<limit effort="1" velocity="1"/>'), "joint2"),
+    "huge-limits": (second(arm_urdf(), LIMIT, LIMIT.replace('"-1"', '"-1.7976931348623157e308"')), "joint2"),
+    "zero-effort-velocity": (second(arm_urdf(), LIMIT, LIMIT.replace('effort="1"', 'effort="0"')), "joint2"),
+    "negative-effort-velocity": (second(arm_urdf(), LIMIT, LIMIT.replace('velocity="1"', 'velocity="-1"')),
+                                 "joint2"),
+    "zero-axis": (arm_urdf(axis="0 0 0"), "joint2"),
+    "axis-not-unit": (arm_urdf(axis="0 0 2"), "joint2"),
+    "mimic-joint": (second(arm_urdf(), LIMIT, LIMIT + '<mimic joint="joint1" multiplier="1"/>'), "joint2"),
+    "damping-friction": (second(arm_urdf(), LIMIT, LIMIT + '<dynamics damping="0.1" friction="0.2"/>'), "joint2"),
+}
+
+# What the shipped robots get, read one by one: (robot, class, link or joint).
+SHIPPED = {
+    # The textbook's point masses (Craig's two-link arm, the notes' pendulum): as the course means them.
+    "two_link": [("point-mass", "link1"), ("point-mass", "link2")],
+    "pendulum": [("point-mass", "bob")],
+    "rp_arm": [], "rrr_arm": [], "spatial_arm": [], "ur5": [],
+    # Panda: a damping of 0.003 per arm joint and 0.3 per finger (used only with --friction urdf), and its second
+    # finger mimics the first: read as an independent joint, which the finding says.
+    "panda": [("damping-friction", f"panda_joint{i}") for i in range(1, 8)]
+    + [("damping-friction", "panda_finger_joint1"), ("mimic-joint", "panda_finger_joint2"),
+       ("damping-friction", "panda_finger_joint2")],
+    # example-robot-data's double pendulum is a CAD export: lower = upper = 0 and effort = velocity = 0 on both
+    # revolute joints (so a limit-enforcing engine holds it still), and a damping of 0.05.
+    "double_pendulum": [(rule, joint) for joint in ("joint1", "joint2") for rule in
+                        ("zero-range", "zero-effort-velocity", "zero-effort-velocity", "damping-friction")],
+    "double_pendulum_continuous": [(rule, joint) for joint in ("joint1", "joint2") for rule in
+                                   ("zero-effort-velocity", "zero-effort-velocity", "damping-friction")],
+}
+
+
+def lint_text(tmp_path, text: str, name: str = "probe.urdf"):
+    path = tmp_path / name
+    path.write_text(text)
+    return lint_urdf(path)
+
+
+def test_every_class_has_a_mutated_urdf_and_the_unchanged_arm_has_no_finding(tmp_path):
+    assert set(MUTATIONS) == set(CLASSES)
+    assert lint_text(tmp_path, arm_urdf()).findings == ()
+    assert {c.severity for c in CLASSES.values()} == set(SEVERITIES)
+
+
+@pytest.mark.parametrize("rule", list(MUTATIONS))
+def test_each_class_is_named_with_its_link_or_joint(tmp_path, rule):
+    text, name = MUTATIONS[rule]
+    report = lint_text(tmp_path, text)
+    named = [f for f in report.findings if f.rule == rule]
+    assert named, [(f.rule, f.name, f.message) for f in report.findings]
+    assert name in {f.name for f in named}, [(f.name, f.message) for f in named]
+    finding = next(f for f in named if f.name == name)
+    assert finding.severity == CLASSES[rule].severity and finding.fix == CLASSES[rule].fix
+    assert finding.line == 1 and finding.message  # these files are one line
+    assert report.fails("error") == any(f.severity == "error" for f in report.findings)
+    assert {f.rule for f in report.findings} <= {rule} | ALSO.get(rule, set())  # one thing changed, one class
+
+
+# What a mutation also brings, of necessity: a robot with no inertial has links with none; an inertia with a
+# negative moment (-0.01, 0.01, 0.01) breaks the triangle inequality too.
+ALSO = {"no-mass": {"missing-inertial"}, "joint-carries-nothing": {"missing-inertial"},
+        "inertia-not-psd": {"triangle-inequality"}}
+
+
+@pytest.mark.parametrize("robot", list(robot_names()))
+def test_the_shipped_robots_lint_without_an_error_and_with_the_findings_reviewed(robot):
+    report = lint_urdf(robot_path(robot))
+    assert not report.fails("error")
+    assert [(f.rule, f.name) for f in report.findings] == SHIPPED[robot]
+
+
+def test_panda_mimic_finding_says_how_it_is_read():
+    finding = next(f for f in lint_urdf(robot_path("panda")).findings if f.rule == "mimic-joint")
+    assert "independent joint, as Pinocchio does by default" in finding.message
+    assert "panda_finger_joint1" in finding.message
+
+
+@pytest.mark.parametrize("case", [c for c in BAD_URDFS if c != "malformed XML"])
+def test_what_the_loader_refuses_is_an_error_finding_with_exit_1(tmp_path, capsys, case):
+    (tmp_path / "bad.urdf").write_text(BAD_URDFS[case][0])
+    code, out, err = run(capsys, "lint", str(tmp_path / "bad.urdf"))
+    assert code == 1 and " error [" in out and not err, (out, err)
+
+
+@pytest.mark.parametrize("text, fragment", [
+    ('<robot name="x"><link name="a"></robot>', "malformed XML"),
+    ('<?xml version="1.0"?><sdf version="1.6"><model name="x"/></sdf>', "not a URDF: its root element is <sdf>"),
+    ("", "empty file"),
+])
+def test_a_file_that_is_no_urdf_is_one_error_line_with_exit_2(tmp_path, capsys, text, fragment):
+    (tmp_path / "no.urdf").write_text(text)
+    assert_one_line_error(*run(capsys, "lint", str(tmp_path / "no.urdf"))[::2], fragment)
+
+
+def test_a_file_over_the_loaders_size_limit_is_exit_2(tmp_path, capsys, monkeypatch):
+    import course_dynamics.core.urdf as urdf
+
+    monkeypatch.setattr(urdf, "MAX_URDF_BYTES", 100)
+    (tmp_path / "big.urdf").write_text(arm_urdf())
+    assert_one_line_error(*run(capsys, "lint", str(tmp_path / "big.urdf"))[::2], "big.urdf", "100")
+
+
+def test_exit_status_follows_fail_on(tmp_path, capsys):
+    (tmp_path / "warned.urdf").write_text(MUTATIONS["axis-not-unit"][0])
+    (tmp_path / "noted.urdf").write_text(MUTATIONS["point-mass"][0])
+    assert run(capsys, "lint", str(tmp_path / "warned.urdf"))[0] == 0
+    assert run(capsys, "lint", str(tmp_path / "warned.urdf"), "--fail-on", "warning")[0] == 1
+    assert run(capsys, "lint", str(tmp_path / "noted.urdf"), "--fail-on", "warning")[0] == 0
+    assert run(capsys, "lint", str(tmp_path / "noted.urdf"), "--fail-on", "note")[0] == 1
+    code, out, _ = run(capsys, "lint", str(tmp_path / "warned.urdf"))
+    assert "warning [axis-not-unit] joint 'joint2': axis [0.0, 0.0, 2.0] has length 2" in out
+    assert f"    fix: {CLASSES['axis-not-unit'].fix}" in out
+    assert out.strip().endswith("robot 'probe': 0 errors, 1 warning, 0 notes")
+
+
+def multiline_urdf() -> str:
+    """The arm with every tag on lines of its own, and joint2's attributes on three lines."""
+    text = arm_urdf(axis="0 0 3").replace("><", ">\n<")
+    return text.replace('<joint name="joint2" type="revolute">', '<joint\n  name="joint2"\n  type="revolute">')
+
+
+def test_json_and_sarif_give_each_finding_with_the_line_its_element_starts_on(tmp_path, capsys):
+    path = tmp_path / "arm.urdf"
+    path.write_text(multiline_urdf())
+    start = path.read_text().splitlines().index("<joint") + 1
+    code, out, _ = run(capsys, "lint", str(path), "--json", "--sarif", str(tmp_path / "lint.sarif"))
+    document = json.loads(out)
+    assert code == 0 and document["ok"] and document["fail_on"] == "error"
+    (report,) = document["files"]
+    assert (report["robot"], report["errors"], report["warnings"], report["notes"]) == ("probe", 0, 1, 0)
+    (finding,) = report["findings"]
+    assert finding == dict(rule="axis-not-unit", severity="warning", element="joint", name="joint2", line=start,
+                           message="joint 'joint2': axis [0.0, 0.0, 3.0] has length 3",
+                           fix=CLASSES["axis-not-unit"].fix)
+    log = json.loads((tmp_path / "lint.sarif").read_text())
+    assert log["version"] == "2.1.0"
+    (run_,) = log["runs"]
+    assert [r["id"] for r in run_["tool"]["driver"]["rules"]] == list(CLASSES)
+    assert {r["id"]: r["defaultConfiguration"]["level"] for r in run_["tool"]["driver"]["rules"]} == {
+        c.name: c.severity for c in CLASSES.values()}
+    (result,) = run_["results"]
+    assert (result["ruleId"], result["level"]) == ("axis-not-unit", "warning")
+    assert run_["tool"]["driver"]["rules"][result["ruleIndex"]]["id"] == "axis-not-unit"
+    assert result["message"]["text"].startswith("joint 'joint2': axis [0.0, 0.0, 3.0] has length 3")
+    location = result["locations"][0]["physicalLocation"]
+    assert location == dict(artifactLocation=dict(uri=path.as_uri()), region=dict(startLine=start))
+
+
+def test_sarif_of_a_relative_path_is_a_relative_uri(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "arm.urdf").write_text(MUTATIONS["mimic-joint"][0])
+    result = sarif([lint_urdf("arm.urdf")])["runs"][0]["results"][0]
+    assert result["locations"][0]["physicalLocation"]["artifactLocation"]["uri"] == "arm.urdf"
+
+
+def test_a_units_slip_names_the_likely_unit():
+    findings = {}
+    for name, text in (("grams", with_box("0.1 0.1 0.1", mass="2700")),
+                       ("millimetres", with_box("100 100 100", at="100 0 0", mass="2.7")),
+                       ("kg mm^2", with_box("0.1 0.1 0.1", ixx="10", iyy="10", izz="10"))):
+        import tempfile
+        from pathlib import Path
+
+        with tempfile.TemporaryDirectory() as folder:
+            findings[name] = [f.message for f in lint_text(Path(folder), text).findings if f.rule == "units-slip"]
+    assert "the mass in grams?" in findings["grams"][0]
+    assert "the shapes in millimetres?" in findings["millimetres"][0]
+    assert "kg mm^2" in findings["kg mm^2"][0]
+
+
+def test_inertial_rpy_gives_the_tensor_in_the_links_axes(tmp_path):
+    text = second(arm_urdf(ixx="0.01", iyy="0.02", izz="0.025"), 'rpy="0 0 0"/><mass',
+                  'rpy="0 0 1.5707963267948966"/><mass')
+    (finding,) = [f for f in lint_text(tmp_path, text).findings if f.rule == "inertial-rpy"]
+    assert 'ixx="0.02" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.025"' in finding.message
+
+
+def test_validate_and_terms_warn_of_a_joint_that_carries_nothing(tmp_path, capsys):
+    path = tmp_path / "empty.urdf"
+    path.write_text(MUTATIONS["joint-carries-nothing"][0])
+    (finding,) = mass_findings(load(path))
+    assert (finding.rule, finding.name) == ("joint-carries-nothing", "joint2")
+    code, out, err = run(capsys, "terms", str(path), "--q", "0,0")
+    assert code == 0 and "warning: robot 'probe': joint 'joint2' moves link 'link2'" in err
+    assert "[joint-carries-nothing]" in err
+    code, out, err = run(capsys, "validate", str(path), "--samples", "3", "--quiet")
+    assert code == 0
+    assert out.splitlines()[-1].startswith("all robots agree, but empty.urdf: no mass where a joint moves")
+    assert "[joint-carries-nothing]" in err
+    code, out, err = run(capsys, "validate", str(path), "two_link", "--samples", "3", "--quiet", "--json")
+    assert json.loads(out)["massless"] == ["empty.urdf"]
+
+
+def test_a_robot_without_any_mass_is_one_no_mass_warning(tmp_path, capsys):
+    path = tmp_path / "fanuc.urdf"
+    path.write_text(MUTATIONS["no-mass"][0])
+    assert [f.rule for f in mass_findings(load(path))] == ["no-mass"]
+    code, out, err = run(capsys, "terms", str(path), "--q", "0,0")
+    assert "warning: robot 'probe': no link it moves has a mass or an inertia" in err and "[no-mass]" in err
+
+
+def test_a_shipped_robot_with_its_masses_draws_no_mass_warning(capsys):
+    for robot in robot_names():
+        assert mass_findings(load(robot)) == [], robot
+    code, out, err = run(capsys, "terms", "two_link", "--q", "0,0")
+    assert code == 0 and "carries" not in err and "no-mass" not in err
+
+
+def test_lint_with_no_argument_lints_every_shipped_robot(capsys):
+    code, out, err = run(capsys, "lint", "--json")
+    assert code == 0
+    assert [f["robot"] for f in json.loads(out)["files"]] == [
+        lint_urdf(robot_path(name)).robot for name in robot_names()]
+
+
+def test_joints_and_links_are_read_whatever_the_others_hold(tmp_path):
+    """Two findings in one file, of different elements, are both reported (the linter does not stop at one)."""
+    rules = {(f.rule, f.name) for f in lint_text(tmp_path, arm_urdf(mass="-1", axis="0 0 0")).findings}
+    assert {("negative-mass", "link2"), ("zero-axis", "joint2")} <= rules
