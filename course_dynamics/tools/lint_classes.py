@@ -126,8 +126,8 @@ CLASSES: dict[str, LintClass] = _classes(
     ("axis-not-unit", "warning", "a joint axis that is not a unit vector",
      "Normalise it: read normalised here, as by Pinocchio; other readers scale the motion by its length."),
     ("mimic-joint", "warning", "a <mimic> joint",
-     "Know that it is read as an independent joint (its own coordinate and torque), as Pinocchio does by default; "
-     "give it the values the mimic relation implies."),
+     "Give the joint, in every state, the value its <mimic> implies (multiplier * q + offset of the joint it "
+     "follows): it has its own coordinate and torque here."),
     ("damping-friction", "note", "a joint <dynamics damping friction> that engines treat differently",
      f"Know where it counts: course-dynamics uses it only with --friction urdf; {NO_FRICTION_ENGINES}."),
 )
