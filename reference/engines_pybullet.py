@@ -22,7 +22,15 @@ from pathlib import Path
 
 import numpy as np
 
-from .engines import Engine, EngineRefused, EngineUnavailable, _lump, _quiet_descriptors, _world_inertia
+from .engines import (
+    Engine,
+    EngineRefused,
+    EngineUnavailable,
+    _lump,
+    _quiet_descriptors,
+    _world_inertia,
+    geometry_free,
+)
 
 
 def _explicit_massless(text: str) -> str:
@@ -63,12 +71,11 @@ class PybulletEngine(Engine):
         self.bodies_loaded = [self._load(urdf)]
         plain = _explicit_massless(text)
         if plain != text:
-            # beside the original, so that its relative mesh paths still resolve
-            handle, name = tempfile.mkstemp(suffix=".urdf", dir=Path(urdf).parent if os.access(
-                Path(urdf).parent, os.W_OK) else None)
+            # in the temporary folder, without geometry: the file's inertias are used, so no mesh is needed
+            handle, name = tempfile.mkstemp(suffix=".urdf")
             try:
                 with os.fdopen(handle, "w", encoding="utf-8") as out:
-                    out.write(plain)
+                    out.write(geometry_free(plain))
                 self.bodies_loaded.append(self._load(name))
             finally:
                 os.unlink(name)
