@@ -180,7 +180,7 @@ def _owner(element) -> str:
 
 
 def check_numbers(root, where: str) -> None:
-    """Every number of the links and joints written as URDF writes numbers (:data:`URDF_NUMBER`), none lost to 0.
+    """Every number of the links and joints written as URDF writes numbers (``URDF_NUMBER``), none lost to 0.
 
     Parameters
     ----------

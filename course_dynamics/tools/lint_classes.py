@@ -159,7 +159,7 @@ class Finding:
 
     @property
     def severity(self) -> str:
-        """Its class's severity: ``"note"``, ``"warning"`` or ``"error"``."""
+        """The severity of its class, ``"note"``, ``"warning"`` or ``"error"``."""
         return CLASSES[self.rule].severity
 
     @property

@@ -30,7 +30,7 @@ import numpy as np
 from ..core.inertia import rotate
 from .lint_classes import Finding
 
-#: The densities of solids, kg/m³: from foams (~10) to osmium (22 590), with some room.
+#: The densities of solids in kg/m³, from foams (~10) to osmium (22 590), with some room.
 DENSITY = (10.0, 25_000.0)
 #: The densities of the materials robot links are made of, kg/m³ (plastics to steel), to name a units slip.
 MATERIALS = (300.0, 10_000.0)
