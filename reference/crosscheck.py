@@ -81,7 +81,8 @@ class EngineCheck:
     residual: dict[str, float] = field(default_factory=dict)  # after
     conventions: list[dict] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
-    first_link: str | None = None
+    first_link: str | None = None   # the URDF link of the first body the engine places differently
+    first_joint: str | None = None  # the joint that carries it
     explained: bool = True
 
     def as_dict(self) -> dict:
@@ -310,10 +311,11 @@ def check_engine(name: str, model, urdf, states, tolerance: float, model_options
                                           f"boundinertia={MUJOCO_INERTIA_BOUND:g} kg·m², its least"})
     if all(v <= tolerance for v in residual.values()):
         return check
-    check.first_link = first_parting(engine, ours, states[0][0], tolerance)
-    if check.first_link is None:
+    check.first_joint = first_parting(engine, ours, states[0][0], tolerance)
+    if check.first_joint is None:
         check.explained = False
         return check
+    check.first_link = model.bodies[model.joint_names.index(check.first_joint)].name
     as_placed = Engine(with_inertias_of(engine, model, states[0][0]))
     _, against_placed, _ = _evaluate(engine, ours, states, reference=as_placed)
     if all(v <= tolerance for v in against_placed.values()):  # the engine's inertias are the whole difference
@@ -334,7 +336,7 @@ def check_engine(name: str, model, urdf, states, tolerance: float, model_options
                 sizes[t] = max(sizes[t], float(np.abs(difference).max()))
         links = [model.bodies[model.joint_names.index(j)].name for j in differing]
         check.conventions.append({"name": name, "size": sizes, "detail": "the inertia of " + ", ".join(links)})
-        check.residual, check.first_link = against_placed, None
+        check.residual, check.first_link, check.first_joint = against_placed, None, None
         return check
     check.explained = False
     return check

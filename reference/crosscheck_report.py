@@ -65,7 +65,7 @@ def summary(check: CrossCheck) -> str:
     """
     if check.ok:
         return "every engine agrees with course_dynamics once the named conventions are applied"
-    parted = [e.engine + (f" (first at the body of joint {e.first_link})" if e.first_link else "")
+    parted = [e.engine + (f" (first at link {e.first_link}, joint {e.first_joint})" if e.first_link else "")
               for e in check.engines if not e.explained]
     return "UNEXPLAINED DIFFERENCE: " + ", ".join(parted)
 
@@ -116,7 +116,7 @@ def crosscheck_document(check: CrossCheck) -> dict:
     dict
         ``robot, urdf, joints, samples, seed, tolerance, ok, conventions`` (name → what it is) and ``engines``
         (each ``engine, status, version, reason, calls, raw, residual, conventions, notes, first_link,
-        explained``).
+        first_joint, explained``).
     """
     return check.as_dict()
 

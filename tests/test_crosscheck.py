@@ -231,10 +231,11 @@ def test_an_unexplained_difference_names_the_first_body_where_the_engines_part(t
     path = write(tmp_path, arm())
     _fake(write(tmp_path, arm(second=link("fore", mass="0.75", xyz="0.15 0.02 0")), "heavier.urdf"), monkeypatch)
     check = crosscheck(path, samples=SAMPLES, engines=["mujoco"])
-    assert not check.ok and by_engine(check)["mujoco"].first_link == "elbow"
+    mujoco = by_engine(check)["mujoco"]
+    assert not check.ok and (mujoco.first_link, mujoco.first_joint) == ("fore", "elbow")
     code, out, _ = run(capsys, "crosscheck", path)
     assert code == 1
-    assert out.splitlines()[-1] == "UNEXPLAINED DIFFERENCE: mujoco (first at the body of joint elbow)"
+    assert out.splitlines()[-1] == "UNEXPLAINED DIFFERENCE: mujoco (first at link fore, joint elbow)"
 
 
 def test_a_missing_engine_is_skipped_with_a_note(tmp_path, monkeypatch, capsys):
