@@ -10,7 +10,7 @@ from __future__ import annotations
 import json
 
 import pytest
-from helpers import BAD_URDFS, LINK, arm_urdf, assert_one_line_error, run
+from helpers import BAD_URDFS, LINK, ROOT, arm_urdf, assert_one_line_error, run
 
 from course_dynamics.core.robots import load, robot_names, robot_path
 from course_dynamics.tools.lint import lint_urdf, mass_findings, sarif
@@ -285,3 +285,32 @@ def test_joints_and_links_are_read_whatever_the_others_hold(tmp_path):
     """Two findings in one file, of different elements, are both reported (the linter does not stop at one)."""
     rules = {(f.rule, f.name) for f in lint_text(tmp_path, arm_urdf(mass="-1", axis="0 0 0")).findings}
     assert {("negative-mass", "link2"), ("zero-axis", "joint2")} <= rules
+
+
+def test_the_inertial_rpy_fix_gives_the_same_body(tmp_path):
+    """Writing the tensor the finding gives, with rpy="0 0 0", loads the same inertia (to its 12 printed digits)."""
+    import re
+
+    text = second(arm_urdf(), 'rpy="0 0 0"/><mass', 'rpy="0.3 -0.2 0.5"/><mass').replace(
+        'ixx="0.01" iyy="0.01" izz="0.01" ixy="0"', 'ixx="0.03" iyy="0.02" izz="0.025" ixy="0.004"')
+    (tmp_path / "rotated.urdf").write_text(text)
+    (finding,) = [f for f in lint_urdf(tmp_path / "rotated.urdf").findings if f.rule == "inertial-rpy"]
+    entries = " ".join(re.findall(r'i[xyz]{2}="[^"]*"', finding.message))
+    fixed = text.replace('rpy="0.3 -0.2 0.5"/><mass', 'rpy="0 0 0"/><mass')
+    start = fixed.index("<inertia ", fixed.index('<link name="link2">'))
+    fixed = fixed[:start] + f"<inertia {entries}/>" + fixed[fixed.index("</inertial>", start):]
+    (tmp_path / "fixed.urdf").write_text(fixed)
+    assert lint_urdf(tmp_path / "fixed.urdf").findings == ()
+    rotated, unrotated = load(tmp_path / "rotated.urdf").bodies[1].I_com, load(tmp_path / "fixed.urdf").bodies[1].I_com
+    assert abs(rotated - unrotated).max() <= 1e-9 * abs(rotated).max()
+
+
+def test_the_site_lists_every_class_with_its_severity_and_fix():
+    page = (ROOT / "docs" / "guides" / "engineer-lint.md").read_text()
+    rows = [line for line in page.splitlines() if line.startswith("| `")]
+    assert rows == [f"| `{c.name}` | {c.severity} | {c.summary} | {c.fix} |" for c in CLASSES.values()]
+
+
+def test_a_robot_name_with_a_control_character_is_unusable(tmp_path):
+    report = lint_text(tmp_path, arm_urdf().replace('name="probe"', 'name="pro&#10;be"'))
+    assert [(f.rule, f.element) for f in report.findings] == [("unusable-name", "robot")]

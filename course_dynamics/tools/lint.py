@@ -272,6 +272,9 @@ MOVING = ("revolute", "continuous", "prismatic")
 
 
 def _names(robot: Robot):
+    if not robot.name.isprintable() or len(robot.name) > MAX_NAME:
+        yield Finding("unusable-name", "robot", robot.name[:40], f"robot name {robot.name[:40]!r}: a control "
+                      f"character or over {MAX_NAME} characters", robot.line)
     for kind, items in (("link", robot.links), ("joint", robot.joints)):
         seen = {}
         for item in items:

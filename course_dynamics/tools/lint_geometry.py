@@ -226,7 +226,7 @@ def inertial_rpy_finding(link):
         return None
     I = rotate(inertial.inertia, rotation_rpy(inertial.rpy))
     I = np.where(np.abs(I) > 1e-12 * np.abs(I).max(), I, 0.0) + 0.0  # round-off of the rotation, and -0, as 0
-    entries = " ".join(f'{n}="{I[i, j]:.6g}"' for n, (i, j) in
+    entries = " ".join(f'{n}="{I[i, j]:.12g}"' for n, (i, j) in
                        (("ixx", (0, 0)), ("ixy", (0, 1)), ("ixz", (0, 2)), ("iyy", (1, 1)), ("iyz", (1, 2)),
                         ("izz", (2, 2))))
     rpy = " ".join(f"{x:g}" for x in inertial.rpy)
