@@ -261,8 +261,7 @@ def _representation(engine: Engine, model, states) -> list[dict]:
     return out
 
 
-def check_engine(name: str, model, urdf, states, tolerance: float, model_options: dict,
-                 armature=None) -> EngineCheck:
+def check_engine(name: str, model, urdf, states, tolerance: float, armature=None) -> EngineCheck:
     """One engine against course_dynamics on ``states``; see :func:`crosscheck`.
 
     Parameters
@@ -277,8 +276,6 @@ def check_engine(name: str, model, urdf, states, tolerance: float, model_options
         (Θ, Θ̇, Θ̈), each (n,).
     tolerance : float
         Relative.
-    model_options : dict
-        How ``model`` was loaded (for the variants a convention is checked against).
     armature : array_like, shape (n,), optional
         Rotor inertias set on the engines that model them, kg·m² (kg).
 
@@ -298,7 +295,15 @@ def check_engine(name: str, model, urdf, states, tolerance: float, model_options
         conventions = [{"name": "inertia refused", "size": reason}] if named else []
         return EngineCheck(name, "refused", version=version, reason=reason, conventions=conventions,
                            explained=named)
-    ours = Engine(model)
+    try:
+        return _compared(engine, model, version, states, tolerance)
+    finally:
+        engine.close()
+
+
+def _compared(engine: Engine, model, version: str, states, tolerance: float) -> EngineCheck:
+    """The check of a loaded engine: residuals, conventions and, for what they leave, the first body that parts."""
+    name, ours = engine.name, Engine(model)
     raw, residual, parts = _evaluate(engine, ours, states)
     check = EngineCheck(name, "compared", version=version, calls=dict(engine.call), raw=raw, residual=residual,
                         notes=list(engine.notes))
@@ -383,7 +388,7 @@ def crosscheck(name_or_path: str, samples: int = 3, seed: int = 0, tolerance: fl
     states = _states(model, samples, seed)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the variants a convention is checked against warn as the model did
-        checks = [check_engine(name, model, Path(urdf), states, tolerance, options, armature) for name in engines]
+        checks = [check_engine(name, model, Path(urdf), states, tolerance, armature) for name in engines]
     return CrossCheck(model.name, str(urdf), list(model.joint_names), samples, seed, tolerance, checks)
 
 

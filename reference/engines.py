@@ -132,6 +132,9 @@ class Engine:
         """What each of the engine's own additions contributes to ``term`` at ``state`` (none here)."""
         return {}
 
+    def close(self) -> None:
+        """Let the engine's resources go (PyBullet's physics client)."""
+
     def bodies(self, q) -> dict[str, tuple[float, np.ndarray, np.ndarray]]:
         placed = forward_kinematics(self.model, q)
         return {b.joint: (float(b.mass), placed.P_com[i], _world_inertia(placed.R[i], np.asarray(b.I_com)))

@@ -101,7 +101,8 @@ class PybulletEngine(Engine):
                 raise EngineRefused(str(exc)) from None
 
     def close(self):
-        self.pb.disconnect(physicsClientId=self.client)
+        with _quiet_descriptors():
+            self.pb.disconnect(physicsClientId=self.client)
 
     def _theirs(self, x) -> list:
         out = np.zeros(self.model.n)
