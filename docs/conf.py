@@ -55,6 +55,8 @@ html_static_path = ["_static"]
 html_show_sourcelink = False
 html_copy_source = False
 html_last_updated_fmt = None
+# A search result's summary is fetched from its page, which a browser refuses for pages opened from disk.
+html_show_search_summary = False
 
 # Flags stay as typed: "--json" must not become an en dash.
 smartquotes = False

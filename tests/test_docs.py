@@ -88,7 +88,28 @@ def test_every_command_is_in_the_cli_reference_with_its_help_and_an_example(site
         assert f'id="cli-{name}"' in page or f'id="course-dynamics-{name}"' in page, name
         for line in sub.format_help().splitlines():
             assert line.strip() in page, (name, line)
-        assert f"course-dynamics {name} " in page.split(f"course-dynamics {name}", 1)[1], name
+
+
+
+def test_every_command_has_an_example_that_the_tests_run():
+    """The CLI reference lists each command's examples from the pages (each page's ``sh`` blocks); every one of
+    them is among the commands the examples test executes, and every command has at least one."""
+    from test_documentation_examples import example_blocks
+
+    from course_dynamics.cli.commands import COMMANDS
+
+    sys.path.insert(0, str(DOCS / "_ext"))
+    try:
+        extension = importlib.import_module("course_dynamics_docs")
+    finally:
+        sys.path.remove(str(DOCS / "_ext"))
+    listed = extension.page_examples(DOCS)
+    executed = {" ".join(command.split()) for block in example_blocks() for command, _ in block}
+    for name in COMMANDS:
+        examples = listed.get(name.replace("_", "-"), [])
+        assert examples, f"course-dynamics {name} has no example on any page"
+        shown = {line.partition("  #")[0].strip() for _, line in examples}
+        assert shown <= executed, shown - executed
 
 
 def test_the_layer_picture_is_the_package_as_it_is():
@@ -135,3 +156,18 @@ def test_the_readme_is_a_front_door_whose_links_lead_somewhere():
     assert sum(link.startswith("docs/") for link in links) >= 5, links
     missing = [link for link in links if not (ROOT / link).exists()]
     assert not missing, missing
+
+
+def test_the_search_page_finds_a_function_from_disk(site, browser):
+    html, _ = site
+    tab = browser.new_page(viewport={"width": 1200, "height": 900})
+    requests, errors = [], []
+    tab.on("request", lambda request: requests.append(request.url))
+    tab.on("pageerror", lambda error: errors.append(str(error)))
+    tab.goto((html / "search.html").as_uri() + "?q=inverse_dynamics")
+    tab.wait_for_selector("#search-results li", timeout=20_000)
+    tab.wait_for_timeout(500)
+    found = tab.inner_text("#search-results")
+    tab.close()
+    assert "inverse_dynamics" in found and not errors, errors
+    assert all(url.startswith(("file:", "data:")) for url in requests), requests

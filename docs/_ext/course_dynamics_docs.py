@@ -25,6 +25,9 @@ from sphinx.util.docutils import SphinxDirective
 from sphinx.util.nodes import nested_parse_with_titles
 
 LOG = logging.getLogger(__name__)
+# Files a reader brings (shown for the syntax): a command naming one is not run by the tests, so it is never
+# listed as an example of a command either (tests/test_documentation_examples.py reads this).
+PLACEHOLDERS = ("my_robot.urdf", "torques.csv")
 HELP_COLUMNS = "80"  # the width the --help texts are shown at (argparse reads $COLUMNS)
 
 
@@ -91,7 +94,8 @@ def module_rst(name: str, underline: str, title: bool = True) -> list[str]:
     for attribute in own:
         obj = getattr(module, attribute)
         lines += [f".. {directive_of(obj)}:: {name}.{attribute}"]
-        lines += ["   :members:", "   :show-inheritance:"] if inspect.isclass(obj) else []
+        lines += ["   :members:"] if inspect.isclass(obj) else []
+        lines += ["   :show-inheritance:"] if inspect.isclass(obj) and obj.__bases__ != (object,) else []
         lines += ["   :no-value:"] if directive_of(obj) == "autodata" else []
         lines += [""]
     if elsewhere:
@@ -112,9 +116,13 @@ class LayerApi(SphinxDirective):
     def run(self):
         package = f"course_dynamics.{self.arguments[0]}" if self.arguments[0] != "course_dynamics" else "course_dynamics"
         lines = module_rst(package, "-", title=False)
+        names = [package]
         if package not in ("course_dynamics", "course_dynamics.cli"):  # the commands: see the CLI reference
             for name in submodules(package):
                 lines += module_rst(name, "-")
+                names.append(name)
+        for name in names:  # the page is read again when any of its modules changes
+            self.env.note_dependency(importlib.import_module(name).__file__)
         node = nodes.section()
         node.document = self.state.document
         nested_parse_with_titles(self.state, StringList(lines, source=f"<layer-api {package}>"), node)
@@ -132,8 +140,11 @@ def page_examples(docs: Path) -> dict[str, list[tuple[str, str]]]:
             for line in block.replace("\\\n", " ").splitlines():
                 line = line.strip()
                 words = line.split()
-                if len(words) >= 2 and words[0] == "course-dynamics" and not words[1].startswith("-"):
-                    found.setdefault(words[1], []).append((docname, re.sub(r"\s+", " ", line)))
+                if len(words) >= 2 and words[0] == "course-dynamics" and not words[1].startswith("-") and not any(
+                        p in line for p in PLACEHOLDERS):
+                    command, sharp, comment = line.partition("  #")  # "  # exit 1": as the tests read it
+                    shown = " ".join(command.split()) + (f"  #{comment}" if sharp else "")
+                    found.setdefault(words[1], []).append((docname, shown))
     return found
 
 
@@ -150,6 +161,10 @@ class CliReference(SphinxDirective):
             commands = next(a for a in parser._actions if a.__class__.__name__ == "_SubParsersAction").choices
             lines = [".. code-block:: text", ""] + ["   " + line for line in parser.format_help().splitlines()] + [""]
             examples = page_examples(Path(self.env.srcdir))
+            import course_dynamics.cli as cli
+
+            for path in [*Path(cli.__file__).parent.rglob("*.py"), *Path(self.env.srcdir).rglob("*.md")]:
+                self.env.note_dependency(str(path))  # the parsers, and the pages the examples come from
             for name, sub in commands.items():
                 title = f"course-dynamics {name}"
                 lines += [f".. _cli-{name}:", "", title, "-" * len(title), "", sub.description or "", "",
@@ -196,10 +211,29 @@ def resolve_re_export(app, env, node, contnode):
     return env.domains["py"].resolve_xref(env, node["refdoc"], app.builder, node["reftype"], target, node, contnode)
 
 
+def drop_what_no_page_uses(app, exception):
+    """The built site holds what its pages use: no empty ``_sources`` folder, no source maps of the theme."""
+    if exception is not None or app.builder.format != "html":
+        return
+    out = Path(app.outdir)
+    for source_map in (out / "_static").rglob("*.map"):
+        source_map.unlink()
+    sources = out / "_sources"
+    if sources.is_dir() and not any(sources.iterdir()):
+        sources.rmdir()
+
+
+def colons_are_prose(app, what, name, obj, options, lines):
+    """A value's or property's first line is prose here: napoleon would read "text: more" as "type: description"
+    (and cross-reference the text as a type), so it is moved down one line, where napoleon reads no type."""
+    if what in ("attribute", "data", "property") and lines and ":" in lines[0]:
+        lines.insert(0, "")
+
+
 def setup(app):
     app.add_directive("layer-api", LayerApi)
     app.add_directive("cli-reference", CliReference)
     app.connect("missing-reference", resolve_re_export)
-    app.connect("autodoc-process-bases", lambda app, name, obj, options, bases: bases.remove(object)
-                if object in bases else None)  # "Bases: object" says nothing
+    app.connect("build-finished", drop_what_no_page_uses)
+    app.connect("autodoc-process-docstring", colons_are_prose, priority=400)  # before napoleon's (500)
     return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}
