@@ -199,7 +199,7 @@ def with_inertias_of(engine: Engine, model, q):
 
 
 def first_parting(engine: Engine, ours: Engine, q, tolerance: float, joints=None) -> str | None:
-    """The joint of the first body (parents first) whose m, ⁰P_C or ⁰I_C the engine places differently.
+    """The joint of the first body (parents first) whose m, m·⁰P_C or ⁰I_C the engine places differently.
 
     Parameters
     ----------
@@ -208,7 +208,7 @@ def first_parting(engine: Engine, ours: Engine, q, tolerance: float, joints=None
     q : array_like, shape (n,)
         Joint positions, rad (m).
     tolerance : float
-        Relative, against the largest mass, centre-of-mass distance and inertia of all bodies.
+        Relative, against the largest mass, first moment m·⁰P_C and inertia of all bodies.
     joints : sequence of str, optional
         The bodies (by joint) looked at; default all.
 
@@ -217,7 +217,10 @@ def first_parting(engine: Engine, ours: Engine, q, tolerance: float, joints=None
     str or None
         The joint carrying the body, or None when every body agrees.
     """
-    theirs, mine = engine.bodies(q), ours.bodies(q)
+    def moments(bodies):  # m, m·⁰P_C (a massless body's centre is anywhere) and ⁰I_C
+        return {j: (m, m * c, I) for j, (m, c, I) in bodies.items()}
+
+    theirs, mine = moments(engine.bodies(q)), moments(ours.bodies(q))
     scale = [max(float(np.abs(mine[j][k]).max()) for j in mine) for k in range(3)]
     for joint in ours.model.joint_names if joints is None else joints:
         for k in range(3):
@@ -234,7 +237,7 @@ def _rotated(engine: Engine, ours: Engine, q, joint: str, tolerance: float) -> b
     (m, c, I), (m0, c0, I0) = engine.bodies(q)[joint], ours.bodies(q)[joint]
     scale = max(float(np.abs(I0).max()), np.finfo(float).tiny)
     moments = np.linalg.eigvalsh(I) - np.linalg.eigvalsh(I0)
-    return (relative_error(m, m0) <= tolerance and relative_error(c, c0, 1.0) <= tolerance
+    return (relative_error(m, m0) <= tolerance and relative_error(m * c, m0 * c0, m0) <= tolerance
             and float(np.abs(moments).max()) <= ROTATION_TOLERANCE * scale)
 
 

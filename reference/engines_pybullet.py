@@ -91,6 +91,13 @@ class PybulletEngine(Engine):
         self.joint_order = movable
         self.order = np.array([movable.index(name) for name in model.joint_names])
         self.index = {info[1].decode(): info[0] for info in infos}
+        self.axis_length = {info[1].decode(): float(np.linalg.norm(info[13])) if info[2] == pybullet.JOINT_PRISMATIC
+                            else 1.0 for info in infos}
+        for name, length in self.axis_length.items():
+            if abs(length - 1.0) > 1e-12:
+                self.notes.append(f"joint {name}: its kinematics (getLinkState) take the prismatic axis as written, "
+                                  f"of length {length:.6g}, its dynamics a unit axis; the per-body data are read "
+                                  "with the displacement scaled to match")
 
     def _load(self, path):
         with _quiet_descriptors():
@@ -152,7 +159,8 @@ class PybulletEngine(Engine):
     def bodies(self, q):
         pb, body, client = self.pb, self.bodies_loaded[-1], self.client  # massless links as the URDF says
         for name, value in zip(self.model.joint_names, q):
-            pb.resetJointState(body, self.index[name], float(value), physicsClientId=client)
+            # resetJointState slides a prismatic joint along its axis as written, of whatever length
+            pb.resetJointState(body, self.index[name], float(value) / self.axis_length[name], physicsClientId=client)
         owner = {-1: -1}
         lumps: dict[int, list] = {}
         for info in self.infos:

@@ -281,3 +281,26 @@ def test_bad_input_is_one_error_line(capsys):
     assert_one_line_error(code, err, "no_such_robot.urdf")
     code, _, err = run(capsys, "crosscheck", "two_link", "--samples", "0")
     assert_one_line_error(code, err, "--samples")
+
+
+def test_a_refusal_for_a_reason_no_convention_names_is_unexplained(monkeypatch, capsys):
+    def load_engine(name, model, urdf, armature=None):
+        raise engines.EngineRefused("XML parse error 14")
+
+    monkeypatch.setattr(cc, "load_engine", load_engine)
+    code, out, _ = run(capsys, "crosscheck", "rp_arm")
+    assert code == 1
+    assert "  mujoco     refused: XML parse error 14" in out.splitlines()
+    assert re.search(r"^mujoco +[0-9.]+ .* REFUSED$", out, re.M), out
+
+
+@pytest.mark.parametrize("name", ["pinocchio", "mujoco", "pybullet"])
+def test_every_engine_places_each_body_as_course_dynamics_does(name):
+    """The per-body data the first parting link is found from: m, centre of mass and inertia of each body and what
+    fixed joints hold to it (the awkward tree has massive links behind fixed joints, a branch, rotated inertial
+    frames); 1e-6 because PyBullet finds principal axes iteratively."""
+    model = load_urdf(AWKWARD)
+    engine, ours = engines.load_engine(name, model, AWKWARD), engines.Engine(model)
+    for q in random_states(model, SAMPLES, 1)[0]:
+        assert cc.first_parting(engine, ours, q, 1e-6) is None
+    engine.close()
