@@ -72,7 +72,7 @@ FLAGS: dict[str, dict] = {
     "--dt": _flag("time between the samples of the motion written, s (simulate: also the integration step; excite: "
                   "default 0.01)", type=float),
     "--seed": _flag("random seed (default 0)", type=int, default=0),
-    "--samples": _flag("random states per robot (default 200)", type=int, default=200),
+    "--samples": _flag("random states per robot (default %(default)s)", type=int, default=200),
     "--tolerance": _flag("relative tolerance (default %(default)g)", type=float),
     "--no-compile": _flag("use the interpreted recursions, never a compiled model (see the site: Compiled models)",
                           action="store_true"),
