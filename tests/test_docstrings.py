@@ -86,6 +86,34 @@ API_MODULES = ["course_dynamics", "course_dynamics.cli"] + [
     name for name in MODULES if name.split(".")[1:2] and name.split(".")[1] in API_LAYERS]
 
 
+def bare_entries(doc: str) -> list[str]:
+    """The entries of Parameters, Returns, Yields and Raises that say nothing: a parameter without `` : type``,
+    or any entry without an indented description below it; and such a section with no entry at all."""
+    import re
+
+    lines = inspect.cleandoc(doc or "").splitlines()
+    wrong, title = [], None
+    entries: dict[str, int] = {}
+    for here, line in enumerate(lines):
+        underline = lines[here + 1] if here + 1 < len(lines) else ""
+        if line.strip() and re.fullmatch(r"-{3,}", underline.strip()):
+            title = line.strip()
+            entries[title] = 0
+            continue
+        if title not in ("Parameters", "Returns", "Yields", "Raises") or not line or line[0].isspace() or \
+                re.fullmatch(r"-{3,}", line.strip()):
+            continue
+        entries[title] += 1
+        described = here + 1 < len(lines) and lines[here + 1][:1].isspace() and lines[here + 1].strip()
+        if title == "Parameters" and " : " not in line and not line.rstrip().endswith(" :"):
+            wrong.append(f"Parameters entry '{line.strip()}' gives no type")
+        elif not described and not (title == "Parameters" and " — " in line):
+            wrong.append(f"{title} entry '{line.strip()}' has no description")
+    wrong += [f"an empty {t} section" for t, n in entries.items()
+              if n == 0 and t in ("Parameters", "Returns", "Yields", "Raises")]
+    return wrong
+
+
 def sections(doc: str) -> dict[str, list[str]]:
     """A numpydoc docstring's sections: {title: the entries' names}, an entry being a line at the section's indent
     (``name : type`` or ``name, other : type``; ``*args`` and ``**kwargs`` as written)."""
@@ -149,7 +177,7 @@ def function_problems(function, is_method: bool = False) -> list[str]:
     if not doc.strip():
         return ["no docstring"]
     found = sections(doc)
-    problems = []
+    problems = bare_entries(doc)
     signature = inspect.signature(function)
     names = []
     for i, parameter in enumerate(signature.parameters.values()):
@@ -183,11 +211,13 @@ def class_problems(cls) -> list[str]:
     doc = cls.__doc__ or ""
     if not doc.strip() or (dataclasses.is_dataclass(cls) and doc.startswith(cls.__name__ + "(")):
         return ["no docstring"]
-    problems = []
+    problems = bare_entries(doc)
     found = sections(doc)
     listed = found.get("Parameters", []) + found.get("Attributes", [])
-    if dataclasses.is_dataclass(cls):
-        missing = [f.name for f in dataclasses.fields(cls) if f.init and f.name not in listed]
+    fields = [f.name for f in dataclasses.fields(cls) if f.init] if dataclasses.is_dataclass(cls) else list(
+        getattr(cls, "_fields", ())) if issubclass(cls, tuple) else None  # a dataclass's or a NamedTuple's
+    if fields is not None:
+        missing = [name for name in fields if name not in listed]
         if missing:
             problems.append(f"Parameters/Attributes lacks the fields {', '.join(missing)}")
     elif "__init__" in vars(cls) and not issubclass(cls, BaseException):

@@ -365,6 +365,8 @@ def _derivative(x):
 class DynamicsTerms:
     """Every term of (6.59) at one state (or a batch), joints in model order.
 
+    Each has a leading batch axis (N, …) for a batch of states.
+
     Parameters
     ----------
     joints : tuple of str
@@ -379,8 +381,6 @@ class DynamicsTerms:
         Velocity torques V(Θ, Θ̇), N·m (N).
     G : numpy.ndarray, shape (n,)
         Gravity torques G(Θ), N·m (N).
-
-    Each has a leading batch axis (N, …) for a batch of states.
 
     Examples
     --------
