@@ -274,13 +274,23 @@ def test_the_page_is_offline_and_escapes_names(tmp_path, capsys):
         assert f">{heading}</h2>" in html
 
 
-def test_bad_input_is_one_error_line(capsys):
+def test_bad_input_is_one_error_line(tmp_path, capsys):
     from helpers import assert_one_line_error
 
     code, _, err = run(capsys, "crosscheck", "no_such_robot.urdf")
     assert_one_line_error(code, err, "no_such_robot.urdf")
     code, _, err = run(capsys, "crosscheck", "two_link", "--samples", "0")
     assert_one_line_error(code, err, "--samples")
+    code, _, err = run(capsys, "crosscheck", "two_link", "--out", "-", "--json")
+    assert_one_line_error(code, err, "--out - and --json")
+    code, out, err = run(capsys, "crosscheck", "two_link", "--out", str(tmp_path / "missing" / "page.html"))
+    assert_one_line_error(code, err, "missing")
+    assert out == ""  # nothing computed, nothing printed
+
+
+def test_the_page_on_standard_output_is_the_whole_output(capsys):
+    code, out, _ = run(capsys, "crosscheck", "pendulum", "--out", "-")
+    assert code == 0 and out.startswith("<!DOCTYPE html>") and out.rstrip().endswith("</html>")
 
 
 def test_a_refusal_for_a_reason_no_convention_names_is_unexplained(monkeypatch, capsys):

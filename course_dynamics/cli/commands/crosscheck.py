@@ -6,6 +6,7 @@ import sys
 from course_dynamics_reference import TOLERANCE
 
 from ..options import (
+    UsageError,
     add,
     add_all,
     add_robot_argument,
@@ -41,6 +42,8 @@ def run(args) -> int:
 
     check_sampling(args)
     check_output_names(args)
+    if args.out == "-" and args.json:
+        raise UsageError("--out - and --json would both print to standard output; give --out a file")
     load_robot_argument(args)  # bad input fails before an engine is loaded
     if args.out is not None:
         io.check_writable(args.out)
@@ -54,7 +57,7 @@ def run(args) -> int:
         io.write_text(args.out, crosscheck_html(check))
     if args.json:
         print_json(crosscheck_document(check) | ({} if args.out is None else {"out": str(args.out)}))
-    else:
+    elif args.out != "-":  # the page itself is the output on standard output
         sys.stdout.write(crosscheck_text(check))
         if args.out is not None:
             print(f"wrote {args.out}")
