@@ -87,6 +87,8 @@ def row_indices(rows) -> list[int]:
             if row not in ROW_NAMES:
                 raise InputError(f"unknown task row '{row}' (rows are {', '.join(ROW_NAMES)})")
             row = ROW_NAMES.index(row)
+        elif isinstance(row, bool) or not isinstance(row, (int, np.integer)) or not 0 <= row < 6:
+            raise InputError(f"task row {row!r} is neither a name ({', '.join(ROW_NAMES)}) nor an index 0 to 5")
         indices.append(int(row))
     return indices
 

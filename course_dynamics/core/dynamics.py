@@ -302,8 +302,8 @@ def kinetic_energy(model: Model, q, qd) -> np.ndarray:
 
     Returns
     -------
-    numpy.ndarray, shape () or (N,)
-        The kinetic energy k, J.
+    float or numpy.ndarray, shape (N,)
+        The kinetic energy k, J. A sympy expression for a symbolic state.
 
     Raises
     ------

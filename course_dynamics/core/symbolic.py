@@ -20,6 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..base.errors import StateError
 from . import lagrange
 from .cartesian import (
     ROW_NAMES,
@@ -339,7 +340,10 @@ def numeric_functions(derivation: Derivation, parameter_values: dict | None = No
     Raises
     ------
     SymbolError
-        If a parameter symbol of ``derivation`` is given no value.
+        If a parameter symbol of ``derivation`` is given no value, a name it does not have, or a value that is not
+        a finite number.
+    StateError
+        From a returned function: if an array is not finite, or its last axis is not the n joints.
 
     Examples
     --------
@@ -350,7 +354,15 @@ def numeric_functions(derivation: Derivation, parameter_values: dict | None = No
     (array([4.7032]), (3, 1))
     """
     sympy = _sympy()
-    values = {derivation.parameters[k]: v for k, v in (parameter_values or {}).items()}
+    given = dict(parameter_values or {})
+    unknown = sorted(str(k) for k in given if k not in derivation.parameters)
+    if unknown:
+        raise SymbolError(f"unknown parameter symbols {', '.join(unknown)} (known: "
+                          f"{', '.join(derivation.parameters) or 'none'})")
+    for name, value in given.items():
+        if isinstance(value, bool) or not isinstance(value, (int, float, np.number)) or not np.isfinite(value):
+            raise SymbolError(f"parameter {name} must be a finite number, got {value!r}")
+    values = {derivation.parameters[k]: v for k, v in given.items()}
     missing = [name for name, symbol in derivation.parameters.items() if symbol not in values]
     if missing:
         raise SymbolError(f"give values for the parameter symbols {', '.join(missing)}")
@@ -362,6 +374,11 @@ def numeric_functions(derivation: Derivation, parameter_values: dict | None = No
 
         def evaluate(*arrays):
             arrays = [np.asarray(a, dtype=float) for a in arrays]
+            if any(a.ndim == 0 or a.shape[-1] != len(q) for a in arrays):
+                raise StateError(f"each argument needs shape ({len(q)},) or (N, {len(q)}): "
+                                 f"got {', '.join(str(a.shape) for a in arrays)}")
+            if not all(np.isfinite(a).all() for a in arrays):
+                raise StateError("the state holds a value that is not finite (nan or inf)")
             columns = [a[..., j] for a in arrays for j in range(a.shape[-1])]
             batch = np.broadcast_shapes(*(a.shape[:-1] for a in arrays))
             out = [np.broadcast_to(np.asarray(v, dtype=float), batch) for v in function(*columns)]

@@ -53,8 +53,16 @@ def score(answer: Answer, max_points: float = 1.0, partial_credit: str = "states
     -------
     Diagnosis
         The points (rounded to 0.01), the agreeing states, the findings and their tags, the worst state.
+
+    Raises
+    ------
+    ValueError
+        If ``partial_credit`` is neither ``"states"`` nor ``"none"``, or the answer has no states (a caller's
+        mistake: an assignment's file is checked when it is read).
     """
     agreeing, N = answer.agreed, answer.count
+    if partial_credit not in ("states", "none") or N == 0:
+        raise ValueError(f"score: partial_credit {partial_credit!r} on {N} states")
     if partial_credit == "states":
         points = round(max_points * len(agreeing) / N, 2)
     else:

@@ -423,8 +423,12 @@ def write_csv(path, header: list[str], data: np.ndarray, comments: list[str] = (
     ------
     InputError
         If ``path`` cannot be written.
+    ValueError
+        If ``data`` is not a table of ``len(header)`` columns (a caller's mistake: nothing is written).
     """
     data = np.asarray(data, dtype=float)
+    if data.ndim != 2 or data.shape[1] != len(header):
+        raise ValueError(f"write_csv: {len(header)} column names for data of shape {data.shape}")
     with output(path) as handle:
         for line in comments:
             handle.write("# " + " ".join(str(line).split()) + "\n")

@@ -348,8 +348,9 @@ def derivatives(t_step: float, q, qd=None, window: int | None = None, *, where: 
     Raises
     ------
     InputError
-        A window that is even, below 5 or longer than the log; fewer than 5 rows; values whose
-        derivatives leave the floating-point range.
+        If ``q`` is not a table of shape (K, n), ``qd`` has another shape, the sample step is not a positive
+        number of seconds, the window is even, below 5 or longer than the log, there are fewer than 5 rows, or
+        the derivatives leave the floating-point range.
 
     Examples
     --------

@@ -205,8 +205,8 @@ def total_energy(model: Model, q, qd) -> np.ndarray:
 
     Returns
     -------
-    numpy.ndarray, shape () or (N,)
-        Kinetic plus potential energy, J.
+    float or numpy.ndarray, shape (N,)
+        Kinetic plus potential energy, J. A sympy expression for a symbolic state.
 
     Raises
     ------
