@@ -148,7 +148,9 @@ class Finding:
     message : str
         What is wrong, with the values read.
     line : int or None, optional
-        The line of the element in the URDF file (1 is the first), when known.
+        The line of the element in the URDF file (1 is the first), when known: the line its start tag ends on,
+        as the XML parser counts; ``course-dynamics lint`` gives the line it starts on (found by
+        :mod:`course_dynamics.output.xml_spans`), which differs for a start tag written over several lines.
     """
 
     rule: str
