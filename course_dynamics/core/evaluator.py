@@ -473,7 +473,7 @@ def _run(model: Model, *arrays: np.ndarray):
 
 
 def inverse_dynamics(model: Model, q, qd, qdd) -> np.ndarray:
-    """τ (6.45)–(6.53), shape (n,) or (..., n), N·m or N, by the chosen implementation (module docstring).
+    """τ (6.45)–(6.53), shape (n,) or (N, n), N·m or N, by the chosen implementation (module docstring).
 
     As :func:`course_dynamics.core.newton_euler.inverse_dynamics`, which it calls for symbols and little work.
 
@@ -589,7 +589,7 @@ def coriolis_matrix(model: Model, q, qd) -> np.ndarray:
 
 
 def gravity_torques(model: Model, q) -> np.ndarray:
-    """G(Θ), shape (n,) or (..., n), by the chosen implementation; as
+    """G(Θ), shape (n,) or (N, n), by the chosen implementation; as
     :func:`course_dynamics.core.dynamics.gravity_torques`.
 
     Parameters
@@ -622,7 +622,7 @@ def gravity_torques(model: Model, q) -> np.ndarray:
 
 
 def forward_dynamics(model: Model, q, qd, tau, friction: Friction | None = None) -> np.ndarray:
-    """Θ̈ (6.115), shape (n,) or (..., n), by the chosen implementation; as
+    """Θ̈ (6.115), shape (n,) or (N, n), by the chosen implementation; as
     :func:`course_dynamics.core.forward_dynamics.forward_dynamics`.
 
     Parameters

@@ -4,20 +4,18 @@ Ten parameters per moving body i (frames as in :mod:`course_dynamics.core.model`
 Pinocchio's order (``Inertia.toDynamicParameters``), so that our Y and π equal Pinocchio's
 column for column once its joints are put in our order:
 
-=========  ==========  ===========================================================
-name       Craig       meaning (unit)
-=========  ==========  ===========================================================
-``m_i``    mᵢ          mass of body i (kg)
-``mcx_i``  mᵢ ⁱP_Cᵢ    first moment h = m c, c the centre of mass in frame i
-``mcy_i``              (three entries, kg·m)
-``mcz_i``
-``Ixx_i``  ⁱIᵢ         inertia tensor about the ORIGIN of frame i, axes of frame i
-``Ixy_i``              (kg·m²): ⁱIᵢ = ᶜⁱIᵢ + m (cᵀc 1 − c cᵀ), the parallel-axis
-``Iyy_i``              theorem (6.25). Entries are the tensor's (``Ixy_i`` is entry
-``Ixz_i``              (x, y), the URDF's ``ixy``), so Craig's product of inertia
-``Iyz_i``              I_xy is −``Ixy_i``
-``Izz_i``
-=========  ==========  ===========================================================
+=====================================  ==========  ====================================================
+name                                   Craig       meaning (unit)
+=====================================  ==========  ====================================================
+``m_i``                                mᵢ          mass of body i (kg)
+``mcx_i``, ``mcy_i``, ``mcz_i``        mᵢ ⁱP_Cᵢ    first moment h = m c, c the centre of mass in frame i
+                                                   (kg·m)
+``Ixx_i``, ``Ixy_i``, ``Iyy_i``,       ⁱIᵢ         inertia tensor about the ORIGIN of frame i, axes of
+``Ixz_i``, ``Iyz_i``, ``Izz_i``                    frame i (kg·m²)
+=====================================  ==========  ====================================================
+
+ⁱIᵢ = ᶜⁱIᵢ + m (cᵀc 1 − c cᵀ), the parallel-axis theorem (6.25). Its entries are the tensor's: ``Ixy_i`` is
+entry (x, y), the URDF's ``ixy``, so Craig's product of inertia I_xy is the negative of ``Ixy_i``.
 
 ``Y`` has shape (n, 10 n) (N·m or N per unit of each parameter): row j is joint j, columns
 are the bodies' blocks of ten in ``model.bodies`` order (body numbers from 1, as in Craig).

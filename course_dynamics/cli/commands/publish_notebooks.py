@@ -11,7 +11,8 @@ DESCRIPTION = ("Execute the ten notebooks in fresh kernels and render each to OU
                "(exercises unanswered, checks saying 'not done yet'); --solutions publishes the worked answers. "
                "Animations are embedded and play offline. OUTDIR may hold other files: a run replaces only the pages "
                "an earlier run wrote there and nobody changed since (listed in OUTDIR/.course-dynamics-files.json), "
-               "and refuses, before any notebook runs, when another file is in the way.")
+               "and refuses, before any notebook runs, when another file is in the way. --json: out, solutions, "
+               "pages (the files written).")
 
 
 def add_arguments(parser) -> None:
@@ -29,5 +30,6 @@ def run(args) -> int:
     progress.close()
     if args.json:
         print_json(dict(out=str(args.out), solutions=args.solutions, pages=[str(p) for p in written]))
-    print(f"wrote {len(written) - 1} pages and {args.out}/index.html", file=sys.stderr)
+    pages = len(written) - 1
+    print(f"wrote {pages} page{'s' if pages != 1 else ''} and {args.out}/index.html", file=sys.stderr)
     return 0

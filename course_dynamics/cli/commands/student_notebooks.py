@@ -13,7 +13,9 @@ DESCRIPTION = ("Write the ten notebooks of the course (one per section of Craig'
                "student's work), so running again adds only what is missing; --force replaces it, keeping a copy "
                "beside it. With --student ID the exercises use that student's own robot and numbers (derived from "
                "the id); with --roster FILE (a CSV with an 'id' column) each student gets a subfolder OUTDIR/ID. The "
-               "grader uses the same robots (an assignment with variant = \"per-student\").")
+               "grader uses the same robots (an assignment with variant = \"per-student\"). --json: out, "
+               "solutions, and student, written, kept (path, why), backups; with --roster, students: id -> written, "
+               "kept, backups.")
 
 
 def add_arguments(parser) -> None:

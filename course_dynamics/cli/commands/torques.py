@@ -124,7 +124,7 @@ def _list_columns(source, model, mapping, fixed) -> int:
     for name, value in plan.constants.items():
         print(f"{name} = {value:g} throughout (--set)")
     if not plan.has_time:
-        print("t: not found (map it, or give --dt)")
+        print("t: not found (map it, or give --log-dt)")
     if plan.missing_positions:
         print(f"missing (map them, or --set a constant): {', '.join(plan.missing_positions)}")
     derived = [d.name for d in plan.derived]

@@ -19,7 +19,7 @@ HELP = "the Newton-Euler iterations link by link (numeric or symbolic)"
 DESCRIPTION = ("Show omega, omega_dot, v_dot, v_dot_C, F, N (outward, 6.45-6.50) and f, n, tau (inward, 6.51-6.53) "
                "for every link, each in its own frame, as the notes' worked example lays them out: numeric at --q, "
                "--qd, --qdd, or symbolic (--symbolic, with --symbols kept as symbols and --digits for the URDF's "
-               "numbers). A table, --latex, or --json (joints, links: each link's quantities).")
+               "numbers). A table, --latex, or --json (robot, joints, symbolic, links: each link's quantities).")
 
 
 def add_arguments(parser) -> None:
