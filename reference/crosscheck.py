@@ -59,6 +59,8 @@ CONVENTIONS = {
     "inertial frame dropped or rotated": "the engine imported an inertia in other axes than the URDF's (an "
                                          "<inertial><origin rpy> ignored, or principal axes found only "
                                          "approximately): course_dynamics with the engine's inertias agrees",
+    "subnormal numbers": "MuJoCo's URDF reader refuses a number smaller in size than 2.2e-308 (the least normal "
+                         "double); such numbers are given to it as 0",
     "inertia refused": "the engine refuses or alters an inertia: MuJoCo raises a massless moving body or a point "
                        "mass's zero rotational inertia to its least value (1e-15), refuses one that breaks the "
                        "triangle inequality, which PyBullet alters",
@@ -313,6 +315,8 @@ def _compared(engine: Engine, model, version: str, states, tolerance: float) -> 
     check.conventions = _representation(engine, model, states)
     check.conventions += [{"name": ADDITION_CONVENTIONS[k], "size": sizes} for k, sizes in parts.items()
                           if any(sizes.values())]
+    if getattr(engine, "subnormal", None):
+        check.conventions.append({"name": "subnormal numbers", "size": engine.subnormal})
     if getattr(engine, "bounded", None):
         check.conventions.append({"name": "inertia refused",
                                   "size": f"{engine.bounded}; loaded with boundmass={MUJOCO_INERTIA_BOUND:g} kg and "

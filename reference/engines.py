@@ -212,6 +212,22 @@ def geometry_free(text: str) -> str:
     return text
 
 
+def _flush_subnormal(text: str) -> tuple[str, str]:
+    """``text`` with every number smaller in size than the least normal double written as 0, and what was."""
+    found = []
+
+    def flush(match):
+        value = float(match.group(0))
+        if 0.0 < abs(value) < sys.float_info.min:
+            found.append(abs(value))
+            return "0"
+        return match.group(0)
+
+    text = re.sub(r"[-+]?(\d+\.?\d*|\.\d+)[eE][-+]?\d+", flush, text)
+    many = f"{len(found)} numbers" if len(found) > 1 else "1 number"
+    return text, (f"{many} of size at most {max(found):.3g} read as 0" if found else "")
+
+
 class MujocoEngine(Engine):
     """MuJoCo's URDF importer, with the compiler told to keep fixed bodies and read inertias from the file."""
 
@@ -231,6 +247,11 @@ class MujocoEngine(Engine):
         self.mj = mujoco
         text = geometry_free(re.sub(r"<\?xml.*?\?>", "", Path(urdf).read_text(encoding="utf-8"), flags=re.S))
         raw = self._compile(text, "")
+        self.subnormal = None
+        if isinstance(raw, str) and "number is too large" in raw:  # its reader refuses a subnormal number
+            text, self.subnormal = _flush_subnormal(text)
+            self.subnormal = f"{raw}; {self.subnormal}" if self.subnormal else None
+            raw = self._compile(text, "") if self.subnormal else raw
         if isinstance(raw, str):
             first = raw
             raw = self._compile(text, f' boundmass="{MUJOCO_INERTIA_BOUND:g}" boundinertia="{MUJOCO_INERTIA_BOUND:g}"')

@@ -14,6 +14,9 @@ import re
 import numpy as np
 import pytest
 from helpers import AWKWARD, RTOL, run
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from test_random_robots import link_specs, write_urdf
 
 from course_dynamics import load_urdf
 from course_dynamics.core.robots import robot_names
@@ -314,3 +317,20 @@ def test_every_engine_places_each_body_as_course_dynamics_does(name):
     for q in random_states(model, SAMPLES, 1)[0]:
         assert cc.first_parting(engine, ours, q, 1e-6) is None
     engine.close()
+
+
+def test_mujoco_is_given_a_subnormal_number_as_zero(tmp_path):
+    text = arm().replace('<origin xyz="0.4 0 0"', '<origin xyz="0.4 1e-310 0"', 1)
+    check = crosscheck(write(tmp_path, text), samples=SAMPLES)
+    agrees(check)
+    flushed = conventions(by_engine(check)["mujoco"])["subnormal numbers"]["size"]
+    assert "number is too large" in flushed and flushed.endswith("1 number of size at most 1e-310 read as 0")
+
+
+@settings(max_examples=6, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(specs=st.lists(link_specs(), min_size=1, max_size=5).filter(lambda s: any(x["type"] != "fixed" for x in s)))
+def test_random_trees_agree_across_the_four_engines(tmp_path, specs):
+    """The property test's trees (random joint types, non-unit axes, rotated inertial frames, branches)."""
+    path = tmp_path / "random.urdf"
+    write_urdf(path, specs)
+    agrees(crosscheck(str(path), samples=SAMPLES))

@@ -23,10 +23,10 @@ DESCRIPTION = ("Evaluate tau, M, G, the bias forces C(q, qd) qd + G and the forw
                "seeded random states. Every difference is within the tolerance (relative) or explained by a named "
                "convention shown with its size (fixed joints merged, joint order, continuous joints as cos/sin, "
                "gravity, MuJoCo's damping, friction loss, armature and constraints, PyBullet's massless links, an "
-               "inertial frame dropped or rotated, an inertia refused); an engine that is not installed is skipped "
-               "with a note. --json prints the report (robot, ok, conventions, engines); --out writes it as an "
-               "offline HTML page. Exit 0 when every difference is explained, 1 when one is not (the report names "
-               "the first body where the engines part), 2 on bad input.")
+               "inertial frame dropped or rotated, an inertia refused, a subnormal number); an engine that is not "
+               "installed is skipped with a note. --json prints the report (robot, ok, conventions, engines); --out "
+               "writes it as an offline HTML page. Exit 0 when every difference is explained, 1 when one is not (the "
+               "report names the first link where the engines part), 2 on bad input.")
 
 
 def add_arguments(parser) -> None:
