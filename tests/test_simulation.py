@@ -205,3 +205,25 @@ def test_a_too_large_ensemble_is_refused_before_its_perturbations_are_drawn(caps
                        "--out", str(out), "--ensemble", "100000000")
     assert_one_line_error(code, err, "of memory", "fewer --ensemble members (100000000 asked)", "larger dt")
     assert not out.exists()
+
+
+def test_an_ensemble_under_stop_is_its_members_run_one_by_one():
+    """Members reaching their limits at different times are stopped each on its own: the ensemble's stops and
+    states are those of its members run alone."""
+    model = load_robot("rrr_arm")
+    q0 = np.array([[0.0, 1.5, 2.0], [0.2, -1.0, 1.0], [0.0, 0.0, 0.0]])
+    qd0 = np.array([[1.0, 2.0, 3.0], [-1.0, -3.0, 1.0], [0.0, 0.0, 0.0]])
+    together = simulate(model, q0, qd0, duration=0.5, dt=1e-3, limits="stop")
+    assert {stop.member for stop in together.stops} == {0, 1, 2}
+    assert len({next(s.t for s in together.stops if s.member == k) for k in range(3)}) == 3  # each at its own time
+    for k in range(3):
+        alone = simulate(model, q0[k], qd0[k], duration=0.5, dt=1e-3, limits="stop")
+        np.testing.assert_allclose(together.q[:, k], alone.q, rtol=1e-12, atol=1e-12)
+        np.testing.assert_allclose(together.reaction[:, k], alone.reaction, rtol=1e-10, atol=1e-10)
+        mine = [stop for stop in together.stops if stop.member == k]
+        assert [(s.t, s.joints) for s in mine] == [(s.t, s.joints) for s in alone.stops]
+
+
+def test_a_start_beyond_a_limit_is_refused_under_stop():
+    with pytest.raises(SimulationError, match="q0 for joint 'd2' is 0.9, beyond its upper limit 0.8"):
+        simulate(load_robot("rp_arm"), [0.0, 0.9], [0.0, 0.0], duration=0.1, dt=0.01, limits="stop")

@@ -19,8 +19,8 @@ P               the impulse of a stop, N·m·s: Θ̇⁺ = Θ̇⁻ + M⁻¹E P wi
 ==============  ===================================================================================================
 
 A limit can only push: a stop keeps a joint only if dᵢ Pᵢ ≤ 0, a hold only if dᵢ λᵢ ≤ 0. When several joints are
-stopped or held at once, the joint whose impulse or reaction would pull hardest is let go and the small system is
-solved again, until none pulls (at most n solves).
+stopped or held at once, the small complementarity problem is solved exactly (every stopped or held joint
+pushed, every other joint at its limit leaving it) by principal pivoting.
 
 >>> import numpy as np
 >>> M = np.array([[2.0, 1.0], [1.0, 1.0]])
@@ -176,18 +176,33 @@ def held_accelerations(M: np.ndarray, bias: np.ndarray, tau: np.ndarray, held: n
     return qdd, reaction
 
 
-def _let_go_worst(keep: np.ndarray, pull: np.ndarray, strength: np.ndarray) -> np.ndarray:
-    """``keep`` without, in each state where some joint pulls, the joint that pulls hardest."""
-    keep = keep.copy()
-    rows = pull.reshape(-1, pull.shape[-1]).any(axis=1)
-    worst = np.argmax(np.where(pull, strength, -np.inf).reshape(-1, pull.shape[-1]), axis=1)
-    flat = keep.reshape(-1, keep.shape[-1])
-    flat[np.flatnonzero(rows), worst[rows]] = False
-    return flat.reshape(keep.shape)
+def _pivot(candidates: np.ndarray, solve, wrong):
+    """Murty's least-index principal pivoting on the small complementarity problem of a stop or a hold: start
+    with every candidate active; while some joint breaks complementarity (active and pulling, or inactive and
+    moving into its limit), flip the first such joint of each state. For these problems (the matrices Eᵀ M⁻¹ E
+    are positive definite) it ends at the one solution."""
+    active = np.asarray(candidates, dtype=bool).copy()
+    for _ in range(MAXIMUM_PIVOTS):
+        result = solve(active)
+        bad = wrong(active, *result)
+        if not bad.any():
+            break
+        flat, rows = active.reshape(-1, active.shape[-1]), bad.reshape(-1, bad.shape[-1])
+        broken = np.flatnonzero(rows.any(axis=1))
+        first = np.argmax(rows[broken], axis=1)
+        flat[broken, first] = ~flat[broken, first]
+        active = flat.reshape(active.shape)
+    return active, result
+
+
+def _round_off(x: np.ndarray) -> np.ndarray:
+    """What counts as zero beside the values of x, state by state: 1e-12 of the largest."""
+    return 1e-12 * (1e-300 + np.abs(x).max(axis=-1, keepdims=True))
 
 
 def hold(M: np.ndarray, bias: np.ndarray, tau: np.ndarray, held: np.ndarray, side: np.ndarray):
-    """The joints that stay held, their reaction and the accelerations: those whose reaction would pull are let go.
+    """The joints held, their reaction and the accelerations: every held joint pushed by its reaction (dᵢ λᵢ ≤ 0),
+    every other candidate accelerating away from its limit (dᵢ Θ̈ᵢ ≤ 0).
 
     Parameters
     ----------
@@ -205,7 +220,7 @@ def hold(M: np.ndarray, bias: np.ndarray, tau: np.ndarray, held: np.ndarray, sid
     Returns
     -------
     held : numpy.ndarray of bool, shape (n,) or (K, n)
-        The joints held: every reaction pushes away from its limit (dᵢ λᵢ ≤ 0).
+        The joints held.
     qdd : numpy.ndarray, shape (n,) or (K, n)
         Joint accelerations Θ̈, rad/s² (m/s²).
     reaction : numpy.ndarray, shape (n,) or (K, n)
@@ -219,20 +234,24 @@ def hold(M: np.ndarray, bias: np.ndarray, tau: np.ndarray, held: np.ndarray, sid
     >>> held, qdd                                                     # pulled away from its upper limit: let go
     (array([False, False]), array([ 1., -2.]))
     """
-    held = np.asarray(held, dtype=bool).copy()
-    while True:  # each pass lets one joint go: at most n + 1 passes
-        qdd, reaction = held_accelerations(M, bias, tau, held)
-        pull = held & (side * reaction > 0)
-        if not pull.any():
-            return held, qdd, reaction
-        held = _let_go_worst(held, pull, side * reaction)
+    candidates = np.asarray(held, dtype=bool)
+    scale = _round_off(tau - bias)
+
+    def wrong(active, qdd, reaction):
+        return ((active & (side * reaction > scale)) |
+                (candidates & ~active & (side * qdd > _round_off(qdd))))
+
+    held, (qdd, reaction) = _pivot(candidates, lambda active: held_accelerations(M, bias, tau, active), wrong)
+    return held, qdd, reaction
 
 
-def stop_impulse(M: np.ndarray, qd: np.ndarray, stopping: np.ndarray, side: np.ndarray):
-    """Θ̇ just after the impulse that stops the ``stopping`` joints, acting through M.
+def stop_impulse(M: np.ndarray, qd: np.ndarray, stopping: np.ndarray, side: np.ndarray, resting=0.0):
+    """Θ̇ just after the impulse that stops joints at their limits, acting through M.
 
-    P = −(Eᵀ M⁻¹ E)⁻¹ Eᵀ Θ̇⁻ and Θ̇⁺ = Θ̇⁻ + M⁻¹ E P (the stopped joints' rates exactly zero); a joint whose
-    impulse would pull (dᵢ Pᵢ > 0) is let go and the rest solved again.
+    P = −(Eᵀ M⁻¹ E)⁻¹ Eᵀ Θ̇⁻ and Θ̇⁺ = Θ̇⁻ + M⁻¹ E P (the stopped joints' rates exactly zero), for the set of
+    candidates in which every stopped joint's impulse pushes (dᵢ Pᵢ ≤ 0) and every other candidate leaves its
+    limit (dᵢ Θ̇⁺ᵢ ≤ 0). A joint leaving more slowly than ``resting`` counts as resting on its limit: it is stopped
+    too (by an impulse of at most that rate's size, whichever its sign).
 
     Parameters
     ----------
@@ -241,28 +260,37 @@ def stop_impulse(M: np.ndarray, qd: np.ndarray, stopping: np.ndarray, side: np.n
     qd : numpy.ndarray, shape (n,) or (K, n)
         Θ̇⁻, rad/s (m/s).
     stopping : numpy.ndarray of bool, shape (n,) or (K, n)
-        The joints at a limit that may be stopped: those running into it and those held there.
+        The joints at a limit, which may be stopped.
     side : numpy.ndarray, shape (n,) or (K, n)
         dᵢ: +1 at an upper limit, −1 at a lower one (0 elsewhere).
+    resting : float or numpy.ndarray, shape (n,) or (K, n)
+        The rate below which a joint leaving its limit rests on it, rad/s (m/s); default 0.
 
     Returns
     -------
     qd : numpy.ndarray, shape (n,) or (K, n)
         Θ̇⁺, rad/s (m/s).
     stopped : numpy.ndarray of bool, shape (n,) or (K, n)
-        The joints stopped (each impulse pushes away from its limit).
+        The joints stopped.
     impulse : numpy.ndarray, shape (n,) or (K, n)
         P, N·m·s (N·s), zero for the joints not stopped.
     """
-    stopped = np.asarray(stopping, dtype=bool).copy()
+    candidates = np.asarray(stopping, dtype=bool)
     inverse = np.linalg.inv(M)
-    while True:  # each pass lets one joint go: at most n + 1 passes
-        impulse = np.where(stopped, _solve(_masked_system(inverse, stopped), np.where(stopped, -qd, 0.0)), 0.0)
-        pull = stopped & (side * impulse > 0)
-        if not pull.any():
-            after = qd + (inverse @ impulse[..., None])[..., 0]
-            return np.where(stopped, 0.0, after), stopped, impulse
-        stopped = _let_go_worst(stopped, pull, side * impulse)
+    resting = np.broadcast_to(resting, qd.shape)
+    leaving = np.where(resting > 0, -resting, _round_off(qd))  # a candidate not stopped leaves faster than this
+    allowed = _round_off(qd) / np.diagonal(inverse, axis1=-2, axis2=-1) + resting / np.diagonal(inverse, axis1=-2,
+                                                                                                   axis2=-1)
+
+    def solve(active):
+        impulse = np.where(active, _solve(_masked_system(inverse, active), np.where(active, -qd, 0.0)), 0.0)
+        return np.where(active, 0.0, qd + (inverse @ impulse[..., None])[..., 0]), impulse
+
+    def wrong(active, after, impulse):
+        return ((active & (side * impulse > allowed)) | (candidates & ~active & (side * after > leaving)))
+
+    stopped, (after, impulse) = _pivot(candidates, solve, wrong)
+    return after, stopped, impulse
 
 
 class StopRun:
@@ -282,10 +310,12 @@ class StopRun:
         ``free(t, q, qd) -> (qdd, tau)``: the unconstrained accelerations, rad/s², and applied torques, N·m.
     driving : callable
         ``driving(t, q, qd) -> tau``: the torques the dynamics is driven by (friction taken off), N·m.
+    dt : float
+        The run's step, s: a joint leaving its limit at less than its acceleration into it times dt rests on it.
     """
 
-    def __init__(self, model: Model, run, step, free, driving):
-        self.model, self.run, self.step, self.free, self.driving = model, run, step, free, driving
+    def __init__(self, model: Model, run, step, free, driving, dt: float):
+        self.model, self.run, self.step, self.free, self.driving, self.dt = model, run, step, free, driving, dt
         self.lower, self.upper = limit_bounds(model)
         self.stops: list[Stop] = []
 
@@ -331,7 +361,8 @@ class StopRun:
         return (np.where(rows[..., None], constrained, qdd) if q.ndim == 2 else constrained), tau
 
     def release(self, t, q, qd, held):
-        """The held joints that stay held at (t, Θ, Θ̇): those whose reaction would pull are let go.
+        """The joints held from (t, Θ, Θ̇) on: of those held until now and those still at a limit, the ones the
+        motion pushes into it (:func:`hold`).
 
         Parameters
         ----------
@@ -347,12 +378,15 @@ class StopRun:
         numpy.ndarray of bool, shape (n,) or (K, n)
             The joints held from now.
         """
-        if not held.any():
+        side = self.side(q)
+        candidates = held | ((side != 0) & (side * qd >= -_round_off(qd)))
+        if not candidates.any():
             return held
-        return hold(self.run.mass_matrix(q), self.run.bias(q, qd), self.driving(t, q, qd), held, self.side(q))[0]
+        return hold(self.run.mass_matrix(q), self.run.bias(q, qd), self.driving(t, q, qd), candidates, side)[0]
 
     def contact(self, t, q, qd, held, member):
-        """Stop the joints at a limit that run into it (one impulse), hold those pushed into it; record the stop.
+        """Stop the joints at a limit that run into it (one impulse, :func:`stop_impulse`), hold those pushed into
+        it (:func:`hold`), and record the stop.
 
         Parameters
         ----------
@@ -374,9 +408,10 @@ class StopRun:
         """
         q = np.clip(q, self.lower, self.upper)
         side = self.side(q)
-        M = self.run.mass_matrix(q)
-        stopping = held | (side * qd > 0)
-        after, stopped, _ = stop_impulse(M, qd, stopping, side)
+        M, tau = self.run.mass_matrix(q), self.driving(t, q, qd)
+        # leaving its limit more slowly than its acceleration into it would bring it back within a step: resting
+        resting = self.dt * np.maximum(side * np.linalg.solve(M, tau - self.run.bias(q, qd)), 0.0)
+        after, stopped, _ = stop_impulse(M, qd, side != 0, side, resting)
         new = stopped & ~held
         if new.any():
             names = tuple(self.model.joint_names[j] for j in np.flatnonzero(new))
@@ -385,8 +420,8 @@ class StopRun:
                                    limits=tuple(float(q[j]) for j in np.flatnonzero(new)),
                                    kinetic_before=float(0.5 * qd @ M @ qd),
                                    kinetic_after=float(0.5 * after @ M @ after)))
-        candidates = stopped | ((side != 0) & (after == 0))  # still at a limit: held if pushed into it
-        held = hold(M, self.run.bias(q, after), self.driving(t, q, after), candidates, side)[0]
+        candidates = (side != 0) & (side * after >= -_round_off(qd))  # not leaving its limit: held if pushed into it
+        held = hold(M, self.run.bias(q, after), tau, candidates, side)[0]
         return q, np.where(held, 0.0, after), held
 
     def beyond(self, q: np.ndarray, watched: np.ndarray) -> np.ndarray:
@@ -434,26 +469,26 @@ class StopRun:
             def f(time, a, b, held=held):
                 return self.accelerations(time, a, b, held)
 
-            watched = ~held & (self.beyond(q, np.ones_like(held)) < 0)  # strictly inside: a crossing is bracketed
             q_end, qd_end = self.step(f, t, q, qd, end - t)
-            if self.beyond(q_end, watched).max() <= 0:
-                if self.beyond(q_end, ~held).max() > 0:  # a joint that left its limit and came back within the step
-                    return self.contact(end, q_end, qd_end, held, member)
+            if self.beyond(q_end, ~held).max() <= 0:
                 return q_end, qd_end, held
-            s, q, qd = self.crossing(f, t, q, qd, end - t, watched, q_end, qd_end)
+            s, q, qd = self.crossing(f, t, q, qd, end - t, ~held, q_end, qd_end)
             t = t + s
             q, qd, held = self.contact(t, q, qd, held, member)
             if t >= end:
                 return q, qd, held
             held = self.release(t, q, qd, held)
-        return self.contact(t, q, qd, held, member)  # pragma: no cover - a step of more contacts than joints
+        q_end, qd_end = self.step(f, t, q, qd, end - t)  # pragma: no cover - more contacts than a step can hold
+        return self.contact(end, q_end, qd_end, held, member)  # pragma: no cover
 
     def crossing(self, f, t, q, qd, h, watched, q_end, qd_end):
         """The first time within (0, h] at which a watched joint reaches its limit, and the state then.
 
         Found by the Illinois variant of regula falsi on the joints' distance beyond their limits, each
         evaluation one step of the integrator from the step's start; the state returned is at or just beyond the
-        limit, by at most :data:`POSITION_TOLERANCE`.
+        limit, by at most :data:`POSITION_TOLERANCE`. A joint that starts on its limit and leaves it is bracketed
+        from the first of h/2, h/4, … at which every watched joint is inside; one that cannot leave it is a contact
+        at once (s = 0).
 
         Parameters
         ----------
@@ -466,7 +501,7 @@ class StopRun:
         h : float
             The step, s.
         watched : numpy.ndarray of bool, shape (n,)
-            The joints inside their limits at the start.
+            The joints not held at the start (inside their limits or on them).
         q_end, qd_end : numpy.ndarray, shape (n,)
             The state after the whole step (some watched joint beyond its limit).
 
@@ -478,6 +513,13 @@ class StopRun:
             The state then.
         """
         a, f_a = 0.0, float(self.beyond(q, watched).max())
+        for k in range(1, 30 if f_a >= 0 else 0):  # a joint starting on its limit: find where it is inside
+            q_a = self.step(f, t, q, qd, h * 0.5 ** k)[0]
+            if self.beyond(q_a, watched).max() < 0:
+                a, f_a = h * 0.5 ** k, float(self.beyond(q_a, watched).max())
+                break
+        if f_a >= 0:
+            return 0.0, q, qd
         b, f_b, state = h, float(self.beyond(q_end, watched).max()), (q_end, qd_end)
         beyond_b, last = f_b, 0
         for _ in range(200):
@@ -499,9 +541,11 @@ class StopRun:
 
 #: How far beyond a limit the located crossing may be, rad (m); the joint is then put on the limit.
 POSITION_TOLERANCE = 1e-12
+#: Pivots of a stop's or a hold's complementarity problem before its last solution is taken as it is.
+MAXIMUM_PIVOTS = 64
 #: Contacts within one step before the rest of the step is taken as it comes (n + 1 or more is no motion).
 MAXIMUM_CONTACTS_PER_STEP = 64
 
 
-__all__ = ["MAXIMUM_CONTACTS_PER_STEP", "POSITION_TOLERANCE", "Stop", "StopRun", "held_accelerations", "hold",
+__all__ = ["MAXIMUM_CONTACTS_PER_STEP", "MAXIMUM_PIVOTS", "POSITION_TOLERANCE", "Stop", "StopRun", "held_accelerations", "hold",
            "limit_bounds", "stop_impulse"]

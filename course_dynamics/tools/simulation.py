@@ -376,7 +376,7 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
 
     guard = _LimitGuard(model, limits)
     if limits == "stop":
-        stops = StopRun(model, run, _STEPS[integrator], accelerations, driving_torques)
+        stops = StopRun(model, run, _STEPS[integrator], accelerations, driving_torques, dt)
         q, qd, held = _integrate_with_stops(stops, times, q0, qd0, progress)
     elif integrator == "adaptive":
         q, qd = _integrate_adaptive(model, accelerations, times, q0, qd0, progress)
