@@ -279,8 +279,8 @@ def stop_impulse(M: np.ndarray, qd: np.ndarray, stopping: np.ndarray, side: np.n
     inverse = np.linalg.inv(M)
     resting = np.broadcast_to(resting, qd.shape)
     leaving = np.where(resting > 0, -resting, _round_off(qd))  # a candidate not stopped leaves faster than this
-    allowed = _round_off(qd) / np.diagonal(inverse, axis1=-2, axis2=-1) + resting / np.diagonal(inverse, axis1=-2,
-                                                                                                   axis2=-1)
+    # the impulse that stops a rate v alone is v / (M⁻¹)ᵢᵢ: a resting joint's may pull that much
+    allowed = (_round_off(qd) + resting) / np.diagonal(inverse, axis1=-2, axis2=-1)
 
     def solve(active):
         impulse = np.where(active, _solve(_masked_system(inverse, active), np.where(active, -qd, 0.0)), 0.0)
@@ -543,9 +543,9 @@ class StopRun:
 POSITION_TOLERANCE = 1e-12
 #: Pivots of a stop's or a hold's complementarity problem before its last solution is taken as it is.
 MAXIMUM_PIVOTS = 64
-#: Contacts within one step before the rest of the step is taken as it comes (n + 1 or more is no motion).
+#: Contacts within one step before the rest of the step is taken as it comes (the joint put on its limit).
 MAXIMUM_CONTACTS_PER_STEP = 64
 
 
-__all__ = ["MAXIMUM_CONTACTS_PER_STEP", "MAXIMUM_PIVOTS", "POSITION_TOLERANCE", "Stop", "StopRun", "held_accelerations", "hold",
-           "limit_bounds", "stop_impulse"]
+__all__ = ["MAXIMUM_CONTACTS_PER_STEP", "MAXIMUM_PIVOTS", "POSITION_TOLERANCE", "Stop", "StopRun",
+           "held_accelerations", "hold", "limit_bounds", "stop_impulse"]
