@@ -120,7 +120,7 @@ FLAGS: dict[str, dict] = {
     "--harmonics": _flag("harmonics per joint, from 2 to 50 (default 5)", type=int, default=5),
     "--instants": _flag("instants of the period the condition number is optimised on (default 40)", type=int,
                         default=40),
-    "--max-iterations": _flag("of the optimisation (default 100: under a minute for a UR5; 0 keeps the random "
+    "--max-iterations": _flag("of the optimisation (default 100; 0 keeps the random "
                               "start)", type=int, default=100),
     "--margin": _flag("share of every limit the optimisation keeps clear of (default 0.05)", type=float,
                       default=0.05),

@@ -258,6 +258,10 @@ def ensemble_figure(trajectory: Trajectory, title: str = ""):
     alpha = max(0.05, min(0.5, 20 / distance.shape[1]))   # many members: each fainter
     axes[0].semilogy(t, np.maximum(distance, 1e-17), color="tab:blue", alpha=alpha, linewidth=0.8)
     axes[0].semilogy(t, np.maximum(np.median(distance, axis=1), 1e-17), color="black", linewidth=2, label="median")
+    # Plain "1e-05" labels: the default ones are TeX, which a figure here never parses (text.parse_math is off).
+    from matplotlib.ticker import LogFormatter
+
+    axes[0].yaxis.set_major_formatter(LogFormatter(labelOnlyBase=True))
     axes[0].set_ylabel("max_j |θ_j(t) − θ_j of member 0| (rad or m)")
     axes[0].legend(loc="lower right")
     for j, name in enumerate(trajectory.joints):

@@ -58,7 +58,7 @@ compiled in memory; a bad entry is generated again and replaced. A folder that
 cannot be written means no cache, not an error.
 
 A robot whose programs would exceed :data:`MAX_OPERATIONS` operations (a chain
-of about 20 joints; the Coriolis program grows as n³) is not compiled:
+of about 20 joints; the Coriolis program grows as n²) is not compiled:
 :class:`~course_dynamics.core.compiled.tracing.ProgramTooLargeError`, which the
 evaluator (:mod:`~course_dynamics.core.evaluator`, the one place that chooses
 whether to compile) answers by running the interpreted recursions.
