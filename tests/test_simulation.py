@@ -227,3 +227,36 @@ def test_an_ensemble_under_stop_is_its_members_run_one_by_one():
 def test_a_start_beyond_a_limit_is_refused_under_stop():
     with pytest.raises(SimulationError, match="q0 for joint 'd2' is 0.9, beyond its upper limit 0.8"):
         simulate(load_robot("rp_arm"), [0.0, 0.9], [0.0, 0.0], duration=0.1, dt=0.01, limits="stop")
+
+
+def test_the_cli_stops_the_issue_panda_without_adding_energy(capsys, tmp_path):
+    """`simulate panda --limits stop` from the Panda start that used to gain 570 J: the JSON's energy never rises
+    above the start plus the integrator's drift under --limits report, each stop is listed with its time, joints
+    and the kinetic energy it took (≤ 0), and the text output says the same."""
+    import json
+
+    from helpers import run
+
+    common = ["simulate", "panda", "--q0", "0,0,0,-1.5,0,1.5,0.7,0.02,0.02", "--duration", "2", "--dt", "0.001",
+              "--quiet", "--json"]
+    code, out, _ = run(capsys, *common, "--limits", "report", "--out", str(tmp_path / "report.csv"))
+    assert code == 0
+    report = np.genfromtxt(tmp_path / "report.csv", delimiter=",", names=True)["energy"]
+    drift = np.abs(report - report[0]).max()
+    code, out, err = run(capsys, *common, "--limits", "stop", "--out", str(tmp_path / "stop.csv"))
+    assert code == 0 and "warning" not in err
+    summary = json.loads(out)
+    assert summary["energy_max"] <= summary["energy_start"] + drift
+    stopped = np.genfromtxt(tmp_path / "stop.csv", delimiter=",", names=True)["energy"]
+    assert stopped.max() == summary["energy_max"]
+    assert summary["stops"] and all(stop["energy"] <= 1e-12 * (1 + stop["kinetic_before"])
+                                    for stop in summary["stops"])
+    first = summary["stops"][0]
+    assert first["joints"] == ["panda_joint2"] and first["sides"] == ["upper"] and first["limits"] == [1.7628]
+    assert 0.4 < first["t"] < 0.55 and first["energy"] == first["kinetic_after"] - first["kinetic_before"] < -10
+    assert summary["stops_energy"] == pytest.approx(sum(stop["energy"] for stop in summary["stops"]), rel=1e-12)
+    code, out, _ = run(capsys, *common[:-1], "--limits", "stop", "--out", str(tmp_path / "stop.csv"))
+    lines = out.splitlines()
+    assert lines[1].startswith(f"{len(summary['stops'])} joint stops took {-summary['stops_energy']:.6g} J")
+    assert "joint 'panda_joint2' stopped at its upper limit 1.7628 (kinetic energy" in lines[2]
+    assert lines[-1] == f"  … and {len(summary['stops']) - 10} more (--json lists every stop)"

@@ -74,7 +74,7 @@ class Stop:
 
     @property
     def energy(self) -> float:
-        """The kinetic energy the stop changed, J: ``kinetic_after − kinetic_before``, never positive.
+        """The kinetic energy the stop changed (``kinetic_after − kinetic_before``, J), never positive.
 
         Returns
         -------

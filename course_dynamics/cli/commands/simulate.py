@@ -42,7 +42,11 @@ DESCRIPTION = ("Integrate qdd = M^-1 (tau - V - G - F) from q0, qd0, under const
                "as what torques --out, simulate --out and excite --out write; the --log-... options say how to read "
                "it). The output CSV has t, q_<joint>, qd_<joint>, qdd_<joint>, tau_<joint> and energy (kinetic + "
                "potential, J), and can be fed back to 'torques' and 'animate'. --plot draws q(t), qd(t) and "
-               "energy(t); --json prints a summary (samples, energy_start, energy_end, events, ...).")
+               "energy(t); --json prints a summary (samples, energy_start, energy_end, events, ...). --limits stop makes each "
+               "joint limit a stop: an impulse through the mass matrix stops the joint (the others keep their "
+               "momentum), its reaction holds it while the motion pushes into the limit, and it is let go when the "
+               "reaction would pull; no stop adds energy, and each is printed with its time, joints and the kinetic "
+               "energy it took (--json: stops).")
 
 
 def add_arguments(parser) -> None:
@@ -143,12 +147,16 @@ def run(args) -> int:
         io.write_bytes(args.plot, picture)
     if document is not None:
         io.write_text(args.html, document)
-    for event in trajectory.events:
-        warnings.warn(event, CourseDynamicsWarning)
+    if args.limits != "stop":  # passing a limit is a warning; a stop is part of the motion, printed below
+        for event in trajectory.events:
+            warnings.warn(event, CourseDynamicsWarning)
     summary = dict(robot=model.name, joints=list(model.joint_names), integrator=args.integrator, dt=args.dt,
                    duration=args.duration, samples=len(trajectory.t), energy_start=float(np.mean(trajectory.energy[0])),
                    energy_end=float(np.mean(trajectory.energy[-1])), events=list(trajectory.events), out=str(args.out),
                    plot=args.plot)
+    if args.limits == "stop":
+        summary.update(energy_max=float(np.max(trajectory.energy)), stops=[stop.record() for stop in trajectory.stops],
+                       stops_energy=float(sum(stop.energy for stop in trajectory.stops)))
     if trajectory.members is not None:
         summary.update(members=trajectory.members, perturbation=args.perturbation,
                        final_spread=float(np.abs(trajectory.q[-1] - trajectory.q[-1, 0]).max()))
@@ -163,4 +171,24 @@ def run(args) -> int:
               f"wrote {args.out}")
         if trajectory.members:
             print(f"largest distance from member 0 at the end: {summary['final_spread']:.3g} (rad or m)")
+        if args.limits == "stop":
+            _print_stops(trajectory.stops, summary)
     return 0
+
+
+#: How many stops the text output lists (--json lists every one).
+STOPS_SHOWN = 10
+
+
+def _print_stops(stops, summary) -> None:
+    """The stops, one a line (the first :data:`STOPS_SHOWN`), after what they took in all."""
+    if not stops:
+        print(f"no joint reached a limit (energy at most {summary['energy_max']:.6g} J)")
+        return
+    count = f"{len(stops)} joint stop{'s' if len(stops) != 1 else ''}"
+    print(f"{count} took {-summary['stops_energy']:.6g} J of kinetic energy (energy at most "
+          f"{summary['energy_max']:.6g} J):")
+    for stop in stops[:STOPS_SHOWN]:
+        print(f"  {stop.sentence()}")
+    if len(stops) > STOPS_SHOWN:
+        print(f"  … and {len(stops) - STOPS_SHOWN} more (--json lists every stop)")
