@@ -384,7 +384,7 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
         q, qd = _integrate_fixed(_STEPS[integrator], accelerations, times, q0, qd0, guard, progress)
     if integrator == "adaptive":
         for k, t in enumerate(times):
-            guard.check(t, q[k], qd[k], clamp=False)
+            guard.check(t, q[k], qd[k])
     # Θ̈ and τ at every sample: the torques one by one (they may depend on t), the dynamics in one batched call.
     if not (np.all(np.isfinite(q)) and np.all(np.isfinite(qd))):
         k = int(np.argmax(~np.all(np.isfinite(np.concatenate([q, qd], axis=-1)).reshape(len(times), -1), axis=1)))
@@ -526,36 +526,27 @@ def _integrate_adaptive(model, f, times, q0, qd0, progress):
 
 
 class _LimitGuard:
-    """Applies the joint-limit policy after each step and records what happened."""
+    """Under limits='report': records, once per joint (and member), when the motion left the joint's limits."""
 
     def __init__(self, model: Model, mode: str):
         self.model, self.mode = model, mode
-        limited = np.isfinite(model.lower) & np.isfinite(model.upper) & (model.lower < model.upper)
-        self.lower = np.where(limited, model.lower, -np.inf)
-        self.upper = np.where(limited, model.upper, np.inf)
+        self.lower, self.upper = limit_bounds(model)
         self.reported: set[tuple] = set()
         self.events: list[str] = []
 
-    def check(self, t, q, qd, clamp=True):
+    def check(self, t, q, qd):
         below, above = q < self.lower, q > self.upper
-        if not (below.any() or above.any()):
+        if self.mode != "report" or not (below.any() or above.any()):
             return q, qd
-        q, qd = q.copy(), qd.copy()
         for index in np.argwhere(below | above):
             index = tuple(index)
             j = index[-1]
+            if index in self.reported:
+                continue
             member = f"member {index[0]}: " if q.ndim == 2 else ""
             side, bound = ("lower", self.lower[j]) if below[index] else ("upper", self.upper[j])
-            name = self.model.joint_names[j]
-            if self.mode == "stop" and clamp:
-                if index not in self.reported:
-                    self.events.append(f"t = {t:.6g} s: {member}joint '{name}' stopped at its {side} limit {bound:g}")
-                q[index] = bound
-                if (qd[index] < 0) if below[index] else (qd[index] > 0):
-                    qd[index] = 0.0
-            elif index not in self.reported:
-                self.events.append(f"t = {t:.6g} s: {member}joint '{name}' passed its {side} limit {bound:g} "
-                                   f"(q = {q[index]:.6g})")
+            self.events.append(f"t = {t:.6g} s: {member}joint '{self.model.joint_names[j]}' passed its {side} limit "
+                               f"{bound:g} (q = {q[index]:.6g})")
             self.reported.add(index)
         return q, qd
 

@@ -37,16 +37,16 @@ from ..options import (
 )
 
 HELP = "forward dynamics in time (6.115)-(6.117), written as CSV"
-DESCRIPTION = ("Integrate qdd = M^-1 (tau - V - G - F) from q0, qd0, under constant torques (--torque) or the torques "
-               "of a log (--torque-log: any log torques --log reads that holds tau_<joint> or measured torques, such "
-               "as what torques --out, simulate --out and excite --out write; the --log-... options say how to read "
-               "it). The output CSV has t, q_<joint>, qd_<joint>, qdd_<joint>, tau_<joint> and energy (kinetic + "
-               "potential, J), and can be fed back to 'torques' and 'animate'. --plot draws q(t), qd(t) and "
-               "energy(t); --json prints a summary (samples, energy_start, energy_end, events, ...). --limits stop makes each "
-               "joint limit a stop: an impulse through the mass matrix stops the joint (the others keep their "
-               "momentum), its reaction holds it while the motion pushes into the limit, and it is let go when the "
-               "reaction would pull; no stop adds energy, and each is printed with its time, joints and the kinetic "
-               "energy it took (--json: stops).")
+DESCRIPTION = ("Integrate qdd = M^-1 (tau - V - G - F) from q0, qd0, under constant torques (--torque) or the "
+               "torques of a log (--torque-log: any log torques --log reads that holds tau_<joint> or measured "
+               "torques, such as what torques --out, simulate --out and excite --out write; the --log-... options "
+               "say how to read it). The output CSV has t, q_<joint>, qd_<joint>, qdd_<joint>, tau_<joint> and "
+               "energy (kinetic + potential, J), and can be fed back to 'torques' and 'animate'. --plot draws q(t), "
+               "qd(t) and energy(t); --json prints a summary (samples, energy_start, energy_end, events, ...). "
+               "--limits stop makes each joint limit a stop: an impulse through the mass matrix stops the joint "
+               "(the others keep their momentum), its reaction holds it while the motion pushes into the limit, and it "
+               "is let go when the reaction would pull; no stop adds energy, and each is printed with its time, "
+               "joints and the kinetic energy it took (--json: stops).")
 
 
 def add_arguments(parser) -> None:
