@@ -378,11 +378,34 @@ class StopRun:
         numpy.ndarray of bool, shape (n,) or (K, n)
             The joints held from now.
         """
+        if not (held.any() or (self.side(q) != 0).any()):
+            return held
+        return self.holding(q, qd, self.driving(t, q, qd), held)[0]
+
+    def holding(self, q, qd, tau, held):
+        """:func:`hold` for the joints held until now and those still at a limit (not leaving it).
+
+        Parameters
+        ----------
+        q, qd : numpy.ndarray, shape (n,) or (K, n)
+            Joint positions, rad (m), and velocities, rad/s (m/s).
+        tau : numpy.ndarray, shape (n,) or (K, n)
+            The driving torques (friction taken off), N·m (N).
+        held : numpy.ndarray of bool, shape (n,) or (K, n)
+            The joints held until now.
+
+        Returns
+        -------
+        held : numpy.ndarray of bool, shape (n,) or (K, n)
+            The joints held from now.
+        qdd : numpy.ndarray, shape (n,) or (K, n)
+            Θ̈, rad/s² (m/s²).
+        reaction : numpy.ndarray, shape (n,) or (K, n)
+            λ, N·m (N).
+        """
         side = self.side(q)
         candidates = held | ((side != 0) & (side * qd >= -_round_off(qd)))
-        if not candidates.any():
-            return held
-        return hold(self.run.mass_matrix(q), self.run.bias(q, qd), self.driving(t, q, qd), candidates, side)[0]
+        return hold(self.run.mass_matrix(q), self.run.bias(q, qd), tau, candidates, side)
 
     def contact(self, t, q, qd, held, member):
         """Stop the joints at a limit that run into it (one impulse, :func:`stop_impulse`), hold those pushed into

@@ -60,7 +60,7 @@ from ..core.friction import Friction
 from ..core.kinematics import potential_energy
 from ..core.model import Model
 from ..core.state import as_state
-from .joint_stops import Stop, StopRun, hold, limit_bounds
+from .joint_stops import Stop, StopRun, limit_bounds
 
 #: The integrators :func:`simulate` offers, by name (the table above).
 INTEGRATORS = ("euler", "semi-implicit", "rk4", "adaptive")
@@ -396,10 +396,9 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
         return Trajectory(joints=model.joint_names, t=times, q=q, qd=qd, qdd=qdd, tau=tau,
                           energy=total_energy(model, q, qd), events=tuple(guard.events))
     reaction = np.zeros_like(qdd)
-    rows = held.any(axis=-1)
-    if rows.any():  # the held joints' accelerations and reactions, as each step began (its held joints let go first)
-        _, qdd[rows], reaction[rows] = hold(run.mass_matrix(q[rows]), run.bias(q[rows], qd[rows]), driving[rows],
-                                            held[rows], stops.side(q[rows]))
+    rows = (held | (stops.side(q) != 0)).any(axis=-1)
+    if rows.any():  # the held joints' accelerations and reactions, as each step began
+        _, qdd[rows], reaction[rows] = stops.holding(q[rows], qd[rows], driving[rows], held[rows])
     found = tuple(sorted(stops.stops, key=lambda stop: (stop.t, stop.member or 0)))
     return Trajectory(joints=model.joint_names, t=times, q=q, qd=qd, qdd=qdd, tau=tau,
                       energy=total_energy(model, q, qd), events=tuple(stop.sentence() for stop in found),
