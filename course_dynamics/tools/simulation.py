@@ -25,7 +25,9 @@ Ensembles: with ``q0`` (and ``qd0``) of shape (K, n), K systems are integrated
 at once, each step one batched call; the trajectory's arrays then have shape
 (T, K, n) (energy (T, K)). The fixed-step integrators step every member alike;
 ``adaptive`` integrates the stacked system with one shared step, chosen for
-the member that needs the smallest.
+the member that needs the smallest. Under ``limits="stop"`` a member whose
+joint reaches a limit within a step takes that step alone (a callable torque
+is then called with that member's state, shape (n,)).
 
 Torque input: ``None`` (zero), a constant array (n,), a callable
 ``tau(t, q, qd) -> (n,)``, or a :class:`TorqueTable` (linear interpolation in
