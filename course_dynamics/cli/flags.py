@@ -145,7 +145,8 @@ FLAGS: dict[str, dict] = {
     "--torque": _flag("constant applied torques tau1,tau2,... (default 0)"),
     "--torque-log": _flag("a log of the torques to apply, interpolated linearly in time: t and tau_<joint> (or the "
                           "measured tau_meas_<joint>, a bag's effort), in any form --log takes", metavar="LOG"),
-    "--limits": _flag("at a joint limit: report it and go on, or stop the joint there (default report)",
+    "--limits": _flag("at a joint limit: report it and go on, or stop the joint there by an impulse through M and "
+                      "hold it while the motion pushes into the limit, never adding energy (default report)",
                       choices=LIMIT_MODES, default="report"),
     "--ensemble": _flag("integrate K copies at once: member 0 starts at --q0, the others at --q0 plus a seeded "
                         "normal perturbation (the CSV gets a member column; --plot draws their divergence)", type=int,
