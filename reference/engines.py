@@ -141,6 +141,26 @@ class Engine:
                 for i, b in enumerate(self.model.bodies)}
 
 
+class LoadedVariants(Engine):
+    """An engine holding the URDF loaded several ways (as given, then with its own additions turned off one by
+    one): the terms are those of the first, ``_term(k, …)`` of the k-th."""
+
+    def tau(self, q, qd, qdd):
+        return self._tau(0, q, qd, qdd)
+
+    def M(self, q):
+        return self._M(0, q)
+
+    def G(self, q):
+        return self._G(0, q)
+
+    def bias(self, q, qd):
+        return self._bias(0, q, qd)
+
+    def forward(self, q, qd, tau):
+        return self._forward(0, q, qd, tau)
+
+
 class PinocchioEngine(Engine):
     """Pinocchio through :class:`~course_dynamics_reference.pinocchio_oracle.PinocchioOracle`."""
 
@@ -228,7 +248,7 @@ def _flush_subnormal(text: str) -> tuple[str, str]:
     return text, (f"{many} of size at most {max(found):.3g} read as 0" if found else "")
 
 
-class MujocoEngine(Engine):
+class MujocoEngine(LoadedVariants):
     """MuJoCo's URDF importer, with the compiler told to keep fixed bodies and read inertias from the file."""
 
     name = "mujoco"
@@ -346,21 +366,6 @@ class MujocoEngine(Engine):
     def _at(self, term: str, k: int, *state):
         return getattr(self, f"_{term}")(k, *state)
 
-    def tau(self, q, qd, qdd):
-        return self._tau(0, q, qd, qdd)
-
-    def M(self, q):
-        return self._M(0, q)
-
-    def G(self, q):
-        return self._G(0, q)
-
-    def bias(self, q, qd):
-        return self._bias(0, q, qd)
-
-    def forward(self, q, qd, tau):
-        return self._forward(0, q, qd, tau)
-
     def parts(self, term, *state):
         values = [self._at(term, k, *state) for k in range(len(self.models))]
         return {addition: values[k] - values[k + 1] for k, addition in enumerate(self.ADDITIONS)}
@@ -421,5 +426,5 @@ def load_engine(name: str, model, urdf, armature=None) -> Engine:
     raise ValueError(f"unknown engine {name!r}; engines: {', '.join(ENGINES)}")
 
 
-__all__ = ["ENGINES", "Engine", "EngineRefused", "EngineUnavailable", "MujocoEngine", "PinocchioEngine",
-           "geometry_free", "load_engine"]
+__all__ = ["ENGINES", "Engine", "EngineRefused", "EngineUnavailable", "LoadedVariants", "MujocoEngine",
+           "PinocchioEngine", "geometry_free", "load_engine"]

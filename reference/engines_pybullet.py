@@ -23,9 +23,9 @@ from pathlib import Path
 import numpy as np
 
 from .engines import (
-    Engine,
     EngineRefused,
     EngineUnavailable,
+    LoadedVariants,
     _lump,
     _quiet_descriptors,
     _world_inertia,
@@ -49,7 +49,7 @@ def _explicit_massless(text: str) -> str:
     return re.sub(r"<link\b[^>]*/>|<link\b.*?</link>", fill, text, flags=re.S)
 
 
-class PybulletEngine(Engine):
+class PybulletEngine(LoadedVariants):
     """PyBullet in DIRECT mode, a fixed base and the file's inertias (``URDF_USE_INERTIA_FROM_FILE``)."""
 
     name = "pybullet"
@@ -134,21 +134,6 @@ class PybulletEngine(Engine):
 
     def _forward(self, k, q, qd, tau):
         return np.linalg.solve(self._M(k, q), np.asarray(tau) - self._bias(k, q, qd))
-
-    def tau(self, q, qd, qdd):
-        return self._tau(0, q, qd, qdd)
-
-    def M(self, q):
-        return self._M(0, q)
-
-    def G(self, q):
-        return self._G(0, q)
-
-    def bias(self, q, qd):
-        return self._bias(0, q, qd)
-
-    def forward(self, q, qd, tau):
-        return self._forward(0, q, qd, tau)
 
     def parts(self, term, *state):
         if len(self.bodies_loaded) == 1:
