@@ -61,8 +61,10 @@ def summary(check: CrossCheck) -> str:
     Returns
     -------
     str
-        One sentence.
+        One sentence; it starts ``NO ENGINE COMPARED`` when every engine was skipped or refused.
     """
+    if not check.compared:
+        return "NO ENGINE COMPARED: " + ", ".join(f"{e.engine} {e.status}" for e in check.engines) + " (see the notes)"
     if check.ok:
         return "every engine agrees with course_dynamics once the named conventions are applied"
     parted = [e.engine + (f" (first at link {e.first_link}, joint {e.first_joint})" if e.first_link else "")

@@ -55,11 +55,38 @@ MUJOCO_COMPILER = ('<mujoco><compiler discardvisual="true" fusestatic="false" in
 
 
 class EngineUnavailable(Exception):
-    """The engine's Python package is not installed: the engine is skipped with a note."""
+    """The engine's Python package is not installed or cannot be imported: the engine is skipped with a note."""
 
 
 class EngineRefused(Exception):
     """The engine would not load the model; ``str(exc)`` is its reason, in one line."""
+
+
+def import_engine(package: str):
+    """Import an engine's package; any failure (not installed, a missing system library) is a skip with its reason.
+
+    Parameters
+    ----------
+    package : str
+        ``"pinocchio"``, ``"mujoco"`` or ``"pybullet"``.
+
+    Returns
+    -------
+    module
+        The package.
+
+    Raises
+    ------
+    EngineUnavailable
+        If it cannot be imported; the message says why in one line.
+    """
+    try:
+        with _quiet_descriptors():  # PyBullet prints its build time when imported
+            return __import__(package)
+    except ImportError as exc:
+        raise EngineUnavailable(f"{package} is not installed ({exc})") from None
+    except Exception as exc:  # an engine's import runs native code: a missing libGL is an OSError, and so on
+        raise EngineUnavailable(f"{package} cannot be imported ({type(exc).__name__}: {exc})") from None
 
 
 @contextlib.contextmanager
@@ -170,15 +197,14 @@ class PinocchioEngine(Engine):
 
     def __init__(self, model, urdf):
         super().__init__(model)
-        try:
-            from .pinocchio_oracle import PinocchioOracle
-        except ImportError as exc:
-            raise EngineUnavailable(f"pinocchio is not installed ({exc})") from None
+        import_engine("pinocchio")
         from course_dynamics.base.errors import InputError
+
+        from .pinocchio_oracle import PinocchioOracle
 
         try:
             self.oracle = PinocchioOracle(urdf, model.joint_names, model.gravity)
-        except (InputError, ValueError) as exc:
+        except (InputError, ValueError, RuntimeError) as exc:  # urdfdom's and Pinocchio's C++ exceptions
             raise EngineRefused(str(exc).split(": ", 1)[-1]) from None
         pin_model = self.oracle.model
         self.joint_order = [pin_model.names[j] for j in range(1, pin_model.njoints)]
@@ -260,11 +286,7 @@ class MujocoEngine(LoadedVariants):
 
     def __init__(self, model, urdf, armature=None):
         super().__init__(model)
-        try:
-            import mujoco
-        except ImportError as exc:
-            raise EngineUnavailable(f"mujoco is not installed ({exc})") from None
-        self.mj = mujoco
+        self.mj = mujoco = import_engine("mujoco")
         text = geometry_free(re.sub(r"<\?xml.*?\?>", "", Path(urdf).read_text(encoding="utf-8"), flags=re.S))
         raw = self._compile(text, "")
         self.subnormal = None
@@ -308,7 +330,7 @@ class MujocoEngine(LoadedVariants):
         text = re.sub(r"(<robot\b[^>]*>)", lambda m: m.group(1) + extension, text, count=1)
         try:
             return self.mj.MjModel.from_xml_string(text)
-        except ValueError as exc:
+        except (ValueError, RuntimeError) as exc:
             return " ".join(str(exc).split()).removeprefix("Error: ")
 
     def _copy(self, model):
@@ -427,4 +449,4 @@ def load_engine(name: str, model, urdf, armature=None) -> Engine:
 
 
 __all__ = ["ENGINES", "Engine", "EngineRefused", "EngineUnavailable", "LoadedVariants", "MujocoEngine",
-           "PinocchioEngine", "geometry_free", "load_engine"]
+           "PinocchioEngine", "geometry_free", "import_engine", "load_engine"]

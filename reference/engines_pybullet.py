@@ -1,7 +1,9 @@
 """PyBullet's adapter for the cross-engine check (see :mod:`course_dynamics_reference.engines`).
 
 DIRECT mode, a fixed base, the file's inertias (``URDF_USE_INERTIA_FROM_FILE``, else PyBullet recomputes them
-from the collision shapes); what PyBullet prints goes to a temporary file at the file-descriptor level.
+from the collision shapes), the URDF without ``<visual>`` and ``<collision>`` (it refuses a file whose meshes it
+cannot find, and dynamics need none); what PyBullet prints goes to a temporary file at the file-descriptor level.
+A body of more than :data:`MAX_LINKS` links is refused with that reason: PyBullet's per-link state fails.
 PyBullet has no forward-dynamics call: Θ̈ = M⁻¹(τ − bias) from its own mass matrix and inverse dynamics.
 A link without ``<inertial>`` gets 1 kg and unit inertia from PyBullet; the adapter loads a second copy
 with an explicit zero inertial there, and that difference is the "massless links" convention.
@@ -24,13 +26,15 @@ import numpy as np
 
 from .engines import (
     EngineRefused,
-    EngineUnavailable,
     LoadedVariants,
     _lump,
     _quiet_descriptors,
     _world_inertia,
     geometry_free,
+    import_engine,
 )
+
+MAX_LINKS = 128  # PyBullet 3.2.7: getLinkState serves every link of a 127-link body, fails for all of a 129-link one
 
 
 def _explicit_massless(text: str) -> str:
@@ -59,26 +63,23 @@ class PybulletEngine(LoadedVariants):
 
     def __init__(self, model, urdf):
         super().__init__(model)
-        try:
-            with _quiet_descriptors():  # it prints its build time when imported
-                import pybullet
-        except ImportError as exc:
-            raise EngineUnavailable(f"pybullet is not installed ({exc})") from None
-        self.pb = pybullet
-        text = Path(urdf).read_text(encoding="utf-8")
+        self.pb = pybullet = import_engine("pybullet")
+        # without geometry (the file's inertias are used, so no mesh is needed, nor a package:// path resolved)
+        text = geometry_free(Path(urdf).read_text(encoding="utf-8"))
         with _quiet_descriptors():
             self.client = pybullet.connect(pybullet.DIRECT)
-        self.bodies_loaded = [self._load(urdf)]
-        plain = _explicit_massless(text)
-        if plain != text:
-            # in the temporary folder, without geometry: the file's inertias are used, so no mesh is needed
-            handle, name = tempfile.mkstemp(suffix=".urdf")
-            try:
-                with os.fdopen(handle, "w", encoding="utf-8") as out:
-                    out.write(geometry_free(plain))
-                self.bodies_loaded.append(self._load(name))
-            finally:
-                os.unlink(name)
+        try:
+            self.bodies_loaded = [self._load_text(text)]
+            plain = _explicit_massless(text)
+            if plain != text:
+                self.bodies_loaded.append(self._load_text(plain))
+        except EngineRefused:
+            self.close()
+            raise
+        links = pybullet.getNumJoints(self.bodies_loaded[0], physicsClientId=self.client)
+        if links > MAX_LINKS:
+            self.close()
+            raise EngineRefused(f"its getLinkState serves a body of at most {MAX_LINKS} links; this one has {links}")
         pybullet.setGravity(*model.gravity, physicsClientId=self.client)
         body = self.bodies_loaded[0]
         infos = [pybullet.getJointInfo(body, j, physicsClientId=self.client)
@@ -99,13 +100,19 @@ class PybulletEngine(LoadedVariants):
                                   f"of length {length:.6g}, its dynamics a unit axis; the per-body data are read "
                                   "with the displacement scaled to match")
 
-    def _load(self, path):
-        with _quiet_descriptors():
-            try:
-                return self.pb.loadURDF(str(path), useFixedBase=True, flags=self.pb.URDF_USE_INERTIA_FROM_FILE,
+    def _load_text(self, text: str):
+        """Load URDF text, written to a temporary file (PyBullet loads only files)."""
+        handle, name = tempfile.mkstemp(suffix=".urdf")
+        try:
+            with os.fdopen(handle, "w", encoding="utf-8") as out:
+                out.write(text)
+            with _quiet_descriptors():
+                return self.pb.loadURDF(name, useFixedBase=True, flags=self.pb.URDF_USE_INERTIA_FROM_FILE,
                                         physicsClientId=self.client)
-            except self.pb.error as exc:
-                raise EngineRefused(str(exc)) from None
+        except self.pb.error as exc:
+            raise EngineRefused(str(exc)) from None
+        finally:
+            os.unlink(name)
 
     def close(self):
         with _quiet_descriptors():
@@ -161,4 +168,4 @@ class PybulletEngine(LoadedVariants):
         return {name: _lump(lumps[self.index[name]]) for name in self.model.joint_names}
 
 
-__all__ = ["PybulletEngine"]
+__all__ = ["MAX_LINKS", "PybulletEngine"]

@@ -190,6 +190,7 @@ def test_mujoco_raises_a_point_mass_inertia_to_its_bound_and_says_why():
     agrees(check)
     refused = conventions(by_engine(check)["mujoco"])["inertia refused"]["size"]
     assert "mjMINVAL" in refused and "boundmass=1e-15 kg and boundinertia=1e-15" in refused
+    assert refused.endswith("each such body gains at most 1e-15 kg and 1e-15 kg·m²")
 
 
 def test_an_inertia_that_breaks_the_triangle_inequality_is_refused_or_altered_by_name(tmp_path):
@@ -203,31 +204,152 @@ def test_an_inertia_that_breaks_the_triangle_inequality_is_refused_or_altered_by
     assert altered["detail"] == "the inertia of fore" and altered["size"]["M"] > 1e-3
 
 
-def _fake(load_as, monkeypatch):
-    """Make crosscheck's MuJoCo an engine that computes as course_dynamics does on ``load_as`` (a URDF)."""
+def _fake(load_as, monkeypatch, as_engine="mujoco", forward=None):
+    """Make crosscheck's ``as_engine`` one that computes as course_dynamics does on ``load_as`` (a URDF), its
+    forward dynamics changed by ``forward(model, q, Θ̈)`` if given."""
     real = cc.load_engine
 
+    class Fake(engines.Engine):
+        def forward(self, q, qd, tau):
+            qdd = super().forward(q, qd, tau)
+            return qdd if forward is None else forward(self.model, q, qdd)
+
     def load_engine(name, model, urdf, armature=None):
-        if name != "mujoco":
+        if name != as_engine:
             return real(name, model, urdf, armature)
-        fake = engines.Engine(load_urdf(load_as))
-        fake.name = "mujoco"
+        fake = Fake(load_urdf(load_as))
+        fake.name = as_engine
         return fake
 
     monkeypatch.setattr(cc, "load_engine", load_engine)
 
 
-def test_an_inertial_frame_dropped_on_import_is_named_with_its_link_and_size(tmp_path, monkeypatch):
-    rotated = link("fore", mass="0.7", rpy="0.4 0.3 0.9",
-                   inertia='<inertia ixx="0.03" ixy="0" ixz="0" iyy="0.02" iyz="0" izz="0.015"/>')
-    path = write(tmp_path, arm(second=rotated))
+ROTATED = link("fore", mass="0.7", rpy="0.4 0.3 0.9",
+               inertia='<inertia ixx="0.03" ixy="0" ixz="0" iyy="0.02" iyz="0" izz="0.015"/>')
+
+
+def test_an_inertial_frame_dropped_on_import_is_unexplained(tmp_path, monkeypatch):
+    path = write(tmp_path, arm(second=ROTATED))
     assert agrees(crosscheck(path, samples=SAMPLES)) is None  # the engines installed keep the rpy
-    _fake(write(tmp_path, arm(second=rotated.replace('rpy="0.4 0.3 0.9"', 'rpy="0 0 0"')), "dropped.urdf"),
-          monkeypatch)  # an importer that drops it, as MuJoCo once did
-    check = crosscheck(path, samples=SAMPLES, engines=["mujoco"])
+    _fake(write(tmp_path, arm(second=ROTATED.replace('rpy="0.4 0.3 0.9"', 'rpy="0 0 0"')), "dropped.urdf"),
+          monkeypatch)  # an importer that drops it: no engine installed does, so nothing names it
+    check = crosscheck(path, samples=SAMPLES, engines=["pinocchio", "mujoco"])
+    mujoco = by_engine(check)["mujoco"]
+    assert not check.ok and not mujoco.explained and (mujoco.first_link, mujoco.first_joint) == ("fore", "elbow")
+    assert not {c["name"] for c in mujoco.conventions} & set(cc.INERTIA_CONVENTIONS)
+
+
+def test_pybullets_principal_axes_are_named_only_as_small_as_pybullet_finds_them(tmp_path, monkeypatch):
+    path = write(tmp_path, arm(second=ROTATED))
+    for turn, named in ((1e-6, True), (1e-3, False)):  # PyBullet's own are ~1e-9 off; 1e-3 rad is no round-off
+        _fake(write(tmp_path, arm(second=ROTATED.replace('rpy="0.4 0.3 0.9"', f'rpy="0.4 0.3 {0.9 + turn!r}"')),
+                    "turned.urdf"), monkeypatch, as_engine="pybullet")
+        check = crosscheck(path, samples=SAMPLES, engines=["pinocchio", "pybullet"])
+        pybullet = by_engine(check)["pybullet"]
+        assert check.ok is named and pybullet.explained is named
+        assert ("principal axes approximated" in conventions(pybullet)) is named
+        assert max(pybullet.raw.values()) > cc.TOLERANCE
+
+
+def test_a_bug_of_ours_that_every_engine_agrees_on_is_unexplained(tmp_path, monkeypatch):
+    """course_dynamics' loader made to drop the inertial rpy: the three engines agree with each other, not with us."""
+    from course_dynamics.core import urdf as reader
+
+    path = write(tmp_path, arm(second=ROTATED))
+    right = reader._inertial_in_body
+
+    def dropped(where, link, T_body_link, allow_nonphysical=False):
+        mass, com, inertia = right(where, link, T_body_link, allow_nonphysical)
+        if link.inertial is not None and link.inertial.origin is not None:
+            R = (T_body_link @ link.inertial.origin)[:3, :3]
+            inertia = T_body_link[:3, :3] @ R.T @ inertia @ R @ T_body_link[:3, :3].T
+        return mass, com, inertia
+
+    monkeypatch.setattr(reader, "_inertial_in_body", dropped)
+    check = crosscheck(path, samples=SAMPLES)
+    assert not check.ok and [e.explained for e in check.engines] == [False] * 3
+    assert all(e.first_link == "fore" for e in check.engines)
+    for e in check.engines:
+        assert not {c["name"] for c in e.conventions} & set(cc.INERTIA_CONVENTIONS)
+
+
+def test_forward_dynamics_are_compared_as_the_torque_they_stand_for(tmp_path, monkeypatch):
+    """An engine's Θ̈ off along M's softest direction by what a round-off of τ gives: M·ΔΘ̈ is the round-off."""
+    light = link("fore", mass="1e-7", xyz="0.01 0 0", inertia=INERTIA.format(i="1e-13"))
+    path = write(tmp_path, arm(second=light))
+
+    def soft(model, q, qdd):
+        from course_dynamics import mass_matrix
+
+        moments, axes = np.linalg.eigh(mass_matrix(model, q))
+        return qdd + 1e-13 * np.abs(qdd).max() * moments[-1] / moments[0] * axes[:, 0]
+
+    _fake(path, monkeypatch, forward=soft)
+    mujoco = by_engine(crosscheck(path, samples=SAMPLES, engines=["mujoco"]))["mujoco"]
+    assert mujoco.explained and mujoco.residual["forward"] <= RTOL
+    model = load_urdf(path)
+    q, qd, qdd = random_states(model, 1, 0)
+    fake = cc.load_engine("mujoco", model, path)
+    tau = engines.Engine(model).tau(q[0], qd[0], qdd[0])
+    assert np.abs(fake.forward(q[0], qd[0], tau) - qdd[0]).max() > 1e-6 * np.abs(qdd[0]).max()  # Θ̈ itself is off
+
+
+def test_an_outside_urdf_with_meshes_pybullet_cannot_find_is_compared(tmp_path):
+    mesh = '<visual><geometry><mesh filename="package://nowhere/meshes/upper.stl"/></geometry></visual>'
+    text = arm().replace('<link name="upper"><inertial>', f'<link name="upper">{mesh}<inertial>')
+    check = crosscheck(write(tmp_path, text), samples=SAMPLES)
     agrees(check)
-    dropped = conventions(by_engine(check)["mujoco"])["inertial frame dropped or rotated"]
-    assert dropped["detail"] == "the inertia of fore" and dropped["size"]["M"] > 1e-3
+    assert by_engine(check)["pybullet"].status == "compared"
+
+
+def test_more_links_than_pybullet_holds_is_a_refusal_with_its_reason(tmp_path, capsys):
+    chain = "\n".join(link(f"l{i}") + joint(f"j{i}", f"l{i - 1}" if i else "base", f"l{i}") for i in range(129))
+    path = write(tmp_path, f'<?xml version="1.0"?>\n<robot name="long"><link name="base"/>\n{chain}\n</robot>')
+    check = crosscheck(path, samples=1, engines=["pinocchio", "pybullet"])
+    pybullet = by_engine(check)["pybullet"]
+    assert check.ok and pybullet.status == "refused" and "at most 128 links; this one has 129" in pybullet.reason
+    assert conventions(pybullet)["engine limit"]["size"] == pybullet.reason
+
+
+def test_a_link_breaking_the_triangle_inequality_inside_a_physical_body_is_named(tmp_path):
+    """PyBullet alters the link's own inertia, though the body it is lumped into (with a fixed tool) is physical."""
+    bad = link("fore", mass="0.7", inertia='<inertia ixx="0.05" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.02"/>')
+    tool = link("tool", mass="0.5", xyz="0 0 0", inertia=INERTIA.format(i="0.05"))
+    text = arm(second=bad, links=[tool, joint("tool_mount", "fore", "tool", kind="fixed", xyz="0 0 0")])
+    with pytest.warns(Warning):
+        check = crosscheck(write(tmp_path, text), samples=SAMPLES, allow_nonphysical_inertia=True)
+    agrees(check)
+    assert conventions(by_engine(check)["pybullet"])["inertia refused"]["detail"] == "the inertia of fore"
+
+
+def _importing(monkeypatch, failures):
+    """Make ``import name`` raise ``failures[name]``."""
+    real_import = builtins.__import__
+
+    def failing(name, *args, **kwargs):
+        if name.split(".")[0] in failures:
+            raise failures[name.split(".")[0]]
+        return real_import(name, *args, **kwargs)
+
+    monkeypatch.setattr(builtins, "__import__", failing)
+
+
+def test_an_engine_that_cannot_be_imported_is_skipped_with_its_reason(monkeypatch, capsys):
+    _importing(monkeypatch, {"mujoco": OSError("libGL.so.1: cannot open shared object file"),
+                             "pybullet": RuntimeError("no display")})
+    code, out, err = run(capsys, "crosscheck", "two_link")
+    assert code == 0 and err == ""
+    assert "  mujoco     mujoco skipped: mujoco cannot be imported (OSError: libGL.so.1: cannot open shared object " \
+           "file)" in out.splitlines()
+    assert "  pybullet   pybullet skipped: pybullet cannot be imported (RuntimeError: no display)" in out.splitlines()
+
+
+def test_no_engine_compared_is_said_and_exits_1(monkeypatch, capsys):
+    _importing(monkeypatch, {name: ImportError(f"No module named '{name}'") for name in cc.PACKAGES})
+    code, out, _ = run(capsys, "crosscheck", "two_link")
+    assert code == 1
+    last = "NO ENGINE COMPARED: pinocchio skipped, mujoco skipped, pybullet skipped (see the notes)"
+    assert out.splitlines()[-1] == last
 
 
 def test_an_unexplained_difference_names_the_first_body_where_the_engines_part(tmp_path, monkeypatch, capsys):
@@ -296,14 +418,19 @@ def test_the_page_on_standard_output_is_the_whole_output(capsys):
     assert code == 0 and out.startswith("<!DOCTYPE html>") and out.rstrip().endswith("</html>")
 
 
-def test_a_refusal_for_a_reason_no_convention_names_is_unexplained(monkeypatch, capsys):
+@pytest.mark.parametrize("reason", ["XML parse error 14", "mass of link 'a' is read as 0 inertia"])
+def test_a_refusal_for_a_reason_no_convention_names_is_unexplained(monkeypatch, capsys, reason):
+    real = cc.load_engine
+
     def load_engine(name, model, urdf, armature=None):
-        raise engines.EngineRefused("XML parse error 14")
+        if name == "mujoco":
+            raise engines.EngineRefused(reason)
+        return real(name, model, urdf, armature)
 
     monkeypatch.setattr(cc, "load_engine", load_engine)
     code, out, _ = run(capsys, "crosscheck", "rp_arm")
     assert code == 1
-    assert "  mujoco     refused: XML parse error 14" in out.splitlines()
+    assert f"  mujoco     refused: {reason}" in out.splitlines()
     assert re.search(r"^mujoco +[0-9.]+ .* REFUSED$", out, re.M), out
 
 

@@ -20,13 +20,14 @@ from ..options import (
 HELP = "compare one URDF across course_dynamics, Pinocchio, MuJoCo and PyBullet, explaining each difference"
 DESCRIPTION = ("Evaluate tau, M, G, the bias forces C(q, qd) qd + G and the forward dynamics with course_dynamics and "
                "with each engine through its own API (Pinocchio; MuJoCo and PyBullet from the engines extra) at "
-               "seeded random states. Every difference is within the tolerance (relative) or explained by a named "
-               "convention shown with its size (fixed joints merged, joint order, continuous joints as cos/sin, "
-               "gravity, MuJoCo's damping, friction loss, armature and constraints, PyBullet's massless links, an "
-               "inertial frame dropped or rotated, an inertia refused, a subnormal number); an engine that is not "
-               "installed is skipped with a note. --json prints the report (robot, ok, conventions, engines); --out "
-               "writes it as an offline HTML page. Exit 0 when every difference is explained, 1 when one is not (the "
-               "report names the first link where the engines part), 2 on bad input.")
+               "seeded random states. Every difference is within the tolerance (relative; qdd compared as the torque "
+               "M qdd it stands for) or explained by a named convention shown with its size (fixed joints merged, "
+               "joint order, continuous joints as cos/sin, gravity, MuJoCo's damping, friction loss, armature and "
+               "constraints, PyBullet's massless links and approximated principal axes, an inertia refused, an "
+               "engine limit, a subnormal number); an engine that cannot be imported is skipped with a note. --json "
+               "prints the report (robot, ok, conventions, engines); --out writes it as an offline HTML page. Exit 0 "
+               "when every difference is explained, 1 when one is not (the report names the first link where the "
+               "engines part) or no engine was compared, 2 on bad input.")
 
 
 def add_arguments(parser) -> None:
