@@ -10,7 +10,7 @@ from __future__ import annotations
 import json
 
 import pytest
-from helpers import BAD_URDFS, LINK, ROOT, arm_urdf, assert_one_line_error, run
+from helpers import BAD_URDFS, JOINT, LINK, ROOT, arm_urdf, assert_one_line_error, run
 
 from course_dynamics.core.robots import load, robot_names, robot_path
 from course_dynamics.tools.lint import lint_urdf, mass_findings, sarif
@@ -76,7 +76,17 @@ MUTATIONS = {
     "axis-not-unit": (arm_urdf(axis="0 0 2"), "joint2"),
     "mimic-joint": (second(arm_urdf(), LIMIT, LIMIT + '<mimic joint="joint1" multiplier="1"/>'), "joint2"),
     "damping-friction": (second(arm_urdf(), LIMIT, LIMIT + '<dynamics damping="0.1" friction="0.2"/>'), "joint2"),
+    "padded-number": (arm_urdf(mass="1.0 "), "link2"),
+    "incomplete-inertial": (second(arm_urdf(), '<mass value="1.0"/>', ""), "link2"),
+    "base-inertia-not-physical": (arm_urdf(extra=LINK.format(name="plate", mass="1.0", ixx="-0.01", iyy="0.01",
+                                                             izz="0.01")
+                                           + JOINT.format(name="bolted", type="fixed", parent="base", child="plate",
+                                                          axis="1 0 0")), "plate"),
+    "placeholder-inertia": (with_box("0.001 0.001 0.001", at="0.1 0 0", mass="0.0001", ixx="1e-9", iyy="1e-9",
+                                     izz="1e-9"), "link2"),                    # 1e5 kg/m³, but 1e-4 of the robot
+    "mass-beyond-effort": (arm_urdf(mass="1000"), "joint1"),                   # 1 N m to hold 1001 kg at 0.14 m
 }
+UNREAD = {"not-a-urdf"}   # a class of the command line's: a file lint_urdf cannot read (tested below)
 
 # What the shipped robots get, read one by one: (robot, class, link or joint).
 SHIPPED = {
@@ -105,7 +115,7 @@ def lint_text(tmp_path, text: str, name: str = "probe.urdf"):
 
 
 def test_every_class_has_a_mutated_urdf_and_the_unchanged_arm_has_no_finding(tmp_path):
-    assert set(MUTATIONS) == set(CLASSES)
+    assert set(MUTATIONS) | UNREAD == set(CLASSES)
     assert lint_text(tmp_path, arm_urdf()).findings == ()
     assert {c.severity for c in CLASSES.values()} == set(SEVERITIES)
 
@@ -124,10 +134,12 @@ def test_each_class_is_named_with_its_link_or_joint(tmp_path, rule):
     assert {f.rule for f in report.findings} <= {rule} | ALSO.get(rule, set())  # one thing changed, one class
 
 
-# What a mutation also brings, of necessity: a robot with no inertial has links with none; an inertia with a
-# negative moment (-0.01, 0.01, 0.01) breaks the triangle inequality too.
+# What a mutation also brings, of necessity: a robot with no inertial has links with none; an <inertial> without
+# its <mass> has mass 0 under its inertia; 2700 kg (aluminium in grams) on a joint of 1 N m is beyond its effort.
+# (An inertia with a negative moment that also breaks the triangle
+# inequality is one finding: one per tensor.)
 ALSO = {"no-mass": {"missing-inertial"}, "joint-carries-nothing": {"missing-inertial"},
-        "inertia-not-psd": {"triangle-inequality"}}
+        "incomplete-inertial": {"zero-mass"}, "units-slip": {"mass-beyond-effort"}}
 
 
 @pytest.mark.parametrize("robot", list(robot_names()))
@@ -314,3 +326,109 @@ def test_the_site_lists_every_class_with_its_severity_and_fix():
 def test_a_robot_name_with_a_control_character_is_unusable(tmp_path):
     report = lint_text(tmp_path, arm_urdf().replace('name="probe"', 'name="pro&#10;be"'))
     assert [(f.rule, f.element) for f in report.findings] == [("unusable-name", "robot")]
+
+
+def ur5_with(pattern: str, scale: float, text: str | None = None) -> str:
+    """The shipped UR5 (its links drawn by meshes only), or ``text``, with every number of the attributes
+    ``pattern`` matches multiplied by ``scale``."""
+    import re
+
+    def scaled(match):
+        numbers = " ".join(repr(float(x) * scale) for x in match.group(2).split())
+        return f'{match.group(1)}="{numbers}"'
+
+    return re.sub(pattern, scaled, robot_path("ur5").read_text() if text is None else text)
+
+
+ORIGIN_XYZ = r'(<origin[^>]*? xyz)="([^"]*)"'
+
+
+@pytest.mark.parametrize("slip, pattern, scale, rule, words", [
+    ("grams", r'(<mass value)="([^"]*)"', 1e3, "units-slip", "masses in grams"),
+    ("kg mm^2", r'(i[xyz]{2})="([^"]*)"', 1e6, "units-slip", "kg mm^2"),
+    ("millimetres", ORIGIN_XYZ, 1e3, "units-slip", "lengths in millimetres"),
+    ("SolidWorks' mm, g", ORIGIN_XYZ, 1e3, "units-slip", "lengths in millimetres"),
+    ("1e-300 kg", r'(<mass value)="(2.275)"', 1e-300, "gyration-exceeds-link", "the mass too small"),
+    ("1e-320 kg", r'(<mass value)="(2.275)"', 1e-320, "gyration-exceeds-link", "beyond 1e308 m"),
+    ("1e9 kg", r'(<mass value)="(2.275)"', 1e9 / 2.275, "mass-beyond-effort", "times its effort limit 150 N m"),
+])
+def test_a_units_slip_is_found_on_a_robot_drawn_by_meshes_only(tmp_path, slip, pattern, scale, rule, words):
+    text = ur5_with(pattern, scale)
+    if slip.startswith("SolidWorks"):   # and the masses in grams, the inertias in g mm^2: consistent, but 1000 m long
+        text = ur5_with(r'(i[xyz]{2})="([^"]*)"', 1e9, ur5_with(r'(<mass value)="([^"]*)"', 1e3, text))
+    report = lint_text(tmp_path, text)
+    assert [f.rule for f in report.findings] == [rule], [f.message for f in report.findings]
+    assert words in report.findings[0].message
+    assert lint_urdf(robot_path("ur5")).findings == ()
+
+
+def test_a_robot_whose_masses_add_to_nothing_is_a_no_mass_error(tmp_path):
+    report = lint_text(tmp_path, ur5_with(r'(<mass value)="([^"]*)"', 1e-300))
+    (finding,) = [f for f in report.findings if f.severity == "error"]
+    assert finding.rule == "no-mass" and "effectively none" in finding.message
+
+
+def test_a_placeholder_mass_is_one_note_and_a_link_gets_one_diagnosis(tmp_path):
+    """A sensor's 1 g in a 1 mm cube is a placeholder note, not a units slip; a link that fits its shapes neither
+    in density nor in reach is diagnosed once."""
+    (note,) = lint_text(tmp_path, MUTATIONS["placeholder-inertia"][0]).findings
+    assert "a placeholder" in note.message and "0.0001 of the robot's 1 kg" in note.message
+    both = with_box("0.1 0.1 0.1", mass="2700", ixx="1e4", iyy="1e4", izz="1e4")   # grams, and 20 times its reach
+    link2 = [f.rule for f in lint_text(tmp_path, both).findings if f.name == "link2"]
+    assert link2 == ["units-slip"]
+
+
+def test_an_inertia_the_loader_reads_is_checked_by_the_loaders_rule_once(tmp_path):
+    """A tensor fixed to the base (the loader reads none) is a warning; a tensor breaking both tests is one
+    finding; eigenvalue round-off is printed as 0."""
+    text, _ = MUTATIONS["base-inertia-not-physical"]
+    (tmp_path / "plate.urdf").write_text(text)
+    load(tmp_path / "plate.urdf")   # loads: the plate moves nothing
+    assert not lint_urdf(tmp_path / "plate.urdf").fails("error")
+    (finding,) = lint_text(tmp_path, arm_urdf(ixx="-0.01")).findings   # negative, and -0.01 + 0.01 < 0.01
+    assert finding.rule == "inertia-not-psd"
+    rod = second(arm_urdf(ixx="1e-6", iyy="2e-6", izz="0"), 'ixy="0"', 'ixy="1.4142135623730951e-6"')  # rank 1
+    (finding,) = lint_text(tmp_path, rod).findings
+    assert finding.rule == "triangle-inequality" and "(principal moments 0, 0, 3e-06 kg m^2)" in finding.message
+
+
+def test_what_urdfdom_reads_otherwise_is_a_finding(tmp_path):
+    (padded,) = lint_text(tmp_path, MUTATIONS["padded-number"][0]).findings
+    assert '<mass value="1.0 ">' in padded.message and "drops the <inertial>" in padded.message
+    missing = [f for f in lint_text(tmp_path, MUTATIONS["incomplete-inertial"][0]).findings if f.severity == "error"]
+    assert [f.rule for f in missing] == ["incomplete-inertial"] and "has no <mass>" in missing[0].message
+
+
+def test_a_file_that_is_no_urdf_among_others_is_a_finding_and_the_rest_is_linted(tmp_path, capsys):
+    (tmp_path / "log.csv").write_text("t,q1\n0,0\n")
+    (tmp_path / "arm.urdf").write_text(MUTATIONS["point-mass"][0])
+    code, out, err = run(capsys, "lint", str(tmp_path / "log.csv"), str(tmp_path / "arm.urdf"), "--json")
+    assert code == 1 and not err
+    unread, read = json.loads(out)["files"]
+    assert [f["rule"] for f in unread["findings"]] == ["not-a-urdf"] and "malformed XML" in unread["findings"][0][
+        "message"]
+    assert [f["rule"] for f in read["findings"]] == ["point-mass"]
+    code, out, err = run(capsys, "lint", str(tmp_path / "log.csv"), str(tmp_path / "missing.urdf"))
+    assert code == 2 and out.count("error [not-a-urdf]") == 2 and not err
+
+
+def test_sarif_on_standard_output_is_the_only_output(tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "my robot#1.urdf").write_text(MUTATIONS["mimic-joint"][0])
+    code, out, err = run(capsys, "lint", "my robot#1.urdf", "--sarif", "-")
+    log = json.loads(out)   # one document, no text around it
+    uri = log["runs"][0]["results"][0]["locations"][0]["physicalLocation"]["artifactLocation"]["uri"]
+    assert code == 0 and uri == "my%20robot%231.urdf"
+    assert_one_line_error(*run(capsys, "lint", "my robot#1.urdf", "--sarif", "-", "--json")[::2],
+                          "--sarif - and --json")
+
+
+def test_the_wording_says_what_is_true(tmp_path):
+    (empty,) = lint_text(tmp_path, '<robot name="ur3"/>').findings[:1]
+    assert empty.rule == "not-a-tree" and "no <link> at all" in empty.message
+    assert "continuous" not in CLASSES["huge-limits"].fix.split("(")[0]   # a prismatic joint has one too
+    assert "MuJoCo and PyBullet" in CLASSES["axis-not-unit"].fix and "scale" not in CLASSES["axis-not-unit"].fix
+    text = arm_urdf(mass="-1").replace("><", ">\n<")    # an inertial finding gives its link's line
+    lines = text.splitlines()
+    (finding,) = [f for f in lint_text(tmp_path, text).findings if f.rule == "negative-mass"]
+    assert finding.line == lines.index('<link name="link2">') + 1

@@ -436,14 +436,42 @@ def _inertial_in_body(where: str, link, T_body_link: np.ndarray, allow_nonphysic
     return mass, T[:3, 3].copy(), R @ inertia @ R.T
 
 
-def _check_inertia(where: str, link: str, inertia: np.ndarray, allow_nonphysical: bool = False) -> None:
-    """Symmetric, positive semi-definite, and principal moments obeying the triangle inequality.
+def inertia_problem(inertia) -> str | None:
+    """Why the loader refuses a link's inertia tensor, or None: the first of
+    :func:`~course_dynamics.core.inertia.physical_problems` with the loader's round-off, ``INERTIA_TOLERANCE``.
 
-    Zero is allowed: Craig's point masses (section 6.7) have no rotational inertia.
+    The one rule for the tensor of a link the loader reads (a link on a moving body; those fixed to the base
+    move nothing and are not read). Zero is allowed: Craig's point masses (section 6.7) have no rotational
+    inertia.
+
+    Parameters
+    ----------
+    inertia : array_like, shape (3, 3)
+        The tensor about the centre of mass, kg·m².
+
+    Returns
+    -------
+    str or None
+        The problem ("tensor is not symmetric (…)", "tensor is not positive semi-definite (…)", "breaks the
+        triangle inequality (…)"), or None for a tensor a body can have.
+
+    Examples
+    --------
+    >>> inertia_problem(np.diag([1.0, 2.0, 2.5])) is None
+    True
+    >>> inertia_problem(np.diag([-1.0, 2.0, 2.5]))[:35]
+    'tensor is not positive semi-definit'
     """
     problems = physical_problems(inertia, INERTIA_TOLERANCE)
-    if not problems:
+    return problems[0] if problems else None
+
+
+def _check_inertia(where: str, link: str, inertia: np.ndarray, allow_nonphysical: bool = False) -> None:
+    """Symmetric, positive semi-definite, and principal moments obeying the triangle inequality."""
+    problem = inertia_problem(inertia)
+    if problem is None:
         return
+    problems = [problem]
     if problems[0].startswith("tensor is not symmetric") or not allow_nonphysical:
         hint = "" if problems[0].startswith("tensor is not symmetric") else \
             " (allow_nonphysical_inertia / --allow-nonphysical-inertia loads it with a warning)"
@@ -497,5 +525,5 @@ def _combine(parts: list) -> tuple[float, np.ndarray, np.ndarray]:
     return mass, com, inertia
 
 
-__all__ = ["InertiaWarning", "MAX_URDF_BYTES", "check_namespaces", "check_numbers", "load_urdf", "read_description",
-           "read_tree", "xml_parser"]
+__all__ = ["InertiaWarning", "MAX_URDF_BYTES", "check_namespaces", "check_numbers", "inertia_problem", "load_urdf",
+           "read_description", "read_tree", "xml_parser"]

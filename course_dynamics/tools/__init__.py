@@ -31,6 +31,8 @@ module               job
 ``lint``             a URDF's physics checked as written: findings by class, link or joint, severity and fix
 ``lint_classes``     the linter's classes of finding (severity, fix) and its finding record
 ``lint_geometry``    the linter's checks of an inertia against the link's shapes (density, reach, units)
+``lint_inertia``     the linter's checks of each link's mass and inertia tensor, by the loader's rule
+``lint_scale``       the linter's checks that need no shapes: masses and inertias against joints and effort limits
 ===================  ==========================================================================================
 """
 

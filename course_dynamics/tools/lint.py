@@ -30,11 +30,11 @@ import math
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
+from urllib.parse import quote
 
 import numpy as np
 
 from ..base.errors import CourseDynamicsWarning, ModelError
-from ..core import inertia as inertia_checks
 from ..core.urdf import (
     MAX_NAME,
     SUPPORTED_TYPES,
@@ -45,12 +45,17 @@ from ..core.urdf import (
     read_tree,
 )
 from .lint_classes import CLASSES, SEVERITIES, Finding, empty_subtrees
-from .lint_geometry import geometry_findings, inertial_rpy_finding, shape
+from .lint_geometry import geometry_findings, shape
+from .lint_inertia import inertia_findings
+from .lint_scale import scale_findings
 
 MAX_MAGNITUDE = 1e9      # m, kg, kg·m²: the loader's bound on any value
 HUGE_LIMIT = 1e300       # rad or m: exporters write 1.79769e308 (DBL_MAX) for "no limit"
-BOUNDARY = 1e-6          # relative: principal moments this close to I1 + I2 = I3 (or to 0) are on the boundary
 UNIT_AXIS = 1e-6         # | |axis| - 1 | allowed
+#: The attributes that hold one number, by element: urdfdom reads none of them with spaces around it.
+ONE_NUMBER = {"mass": ("value",), "inertia": ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"),
+              "limit": ("lower", "upper", "effort", "velocity"), "dynamics": ("damping", "friction"),
+              "mimic": ("multiplier", "offset"), "cylinder": ("radius", "length"), "sphere": ("radius",)}
 
 
 @dataclass
@@ -252,6 +257,7 @@ def read_robot(path) -> Robot:
             except ModelError as problem:
                 robot.findings.append(Finding(rule, top.tag, name, str(problem).removeprefix(f"{where}: "),
                                               top.sourceline))
+        robot.findings.extend(_written(top, name))
         if top.tag == "link":
             robot.links.append(Link(name, top.sourceline, _inertial(top.find("inertial")), _shapes(top, "collision"),
                                     _shapes(top, "visual")))
@@ -269,6 +275,26 @@ def read_robot(path) -> Robot:
 
 
 MOVING = ("revolute", "continuous", "prismatic")
+
+
+def _written(top, name: str):
+    """What other readers refuse in how a link or joint is written: a padded number, an incomplete <inertial>."""
+    owner = f"{top.tag} '{name}'"
+    for element in top.iter(*ONE_NUMBER):
+        for attribute in ONE_NUMBER[element.tag]:
+            text = element.get(attribute)
+            if text is not None and text != text.strip() and URDF_NUMBER.fullmatch(text.strip()):
+                where = element.getparent().tag if element.tag in ("mass", "inertia") else element.tag
+                yield Finding("padded-number", top.tag, name, f"{owner}: <{element.tag} {attribute}=\"{text}\">: read "
+                              f"here as {text.strip()}, but urdfdom (ROS, Pinocchio) does not read it and drops the "
+                              f"<{where}>", top.sourceline)
+    if top.tag == "link":
+        for inertial in top.findall("inertial"):
+            missing = [f"<{tag}>" for tag in ("mass", "inertia") if inertial.find(tag) is None]
+            if missing:
+                yield Finding("incomplete-inertial", "link", name, f"{owner}: its <inertial> has no "
+                              f"{' and no '.join(missing)}, which urdfdom (ROS, Pinocchio), MuJoCo and PyBullet "
+                              "refuse (read here as 0)", top.sourceline)
 
 
 def _names(robot: Robot):
@@ -299,8 +325,7 @@ def _numbers(robot: Robot):
                                      link.inertial.inertia.ravel()])
             if _not_finite(values):
                 yield Finding("unreadable-number", "link", link.name, f"link '{link.name}': its <inertial> has a "
-                              f"value that is not a finite number within {MAX_MAGNITUDE:g} in size",
-                              link.inertial.line)
+                              f"value that is not a finite number within {MAX_MAGNITUDE:g} in size", link.line)
     for joint in robot.joints:
         for what, values in (("axis", joint.axis), ("origin", joint.origin)):
             if _not_finite(values) and ("joint", joint.name, joint.line) not in flagged:
@@ -330,7 +355,9 @@ def _tree(robot: Robot):
                           f"both joint '{parent_of[joint.child].name}' and joint '{joint.name}'", joint.line)
         parent_of.setdefault(joint.child, joint)
     roots = [link for link in robot.links if link.name not in parent_of]
-    if len(roots) != 1:
+    if not robot.links:
+        yield Finding("not-a-tree", "robot", robot.name, "no <link> at all (a xacro file not expanded?)", robot.line)
+    elif len(roots) != 1:
         yield Finding("not-a-tree", "robot", robot.name, f"{len(roots)} root links ("
                       f"{', '.join(r.name for r in roots[:5]) or 'every link has a parent joint'}); a URDF has one",
                       robot.line)
@@ -395,35 +422,7 @@ def _mass_findings(robot: str, line, moving, empty):
 
 
 def _inertias(robot: Robot):
-    moved = {joint.child for joint in robot.joints if joint.type in MOVING}
-    for link in robot.links:
-        inertial = link.inertial
-        if inertial is None or _not_finite(np.concatenate([[inertial.mass], inertial.inertia.ravel()])):
-            continue
-        m, I, owner = inertial.mass, inertial.inertia, f"link '{link.name}'"
-        if m < 0:
-            yield Finding("negative-mass", "link", link.name, f"{owner}: mass {m:g} kg", inertial.line)
-        elif m == 0 and (link.name in moved or np.any(I != 0)):   # mass 0 elsewhere: a frame (a tool point)
-            yield Finding("zero-mass", "link", link.name, f"{owner}: mass 0" + (
-                " with a non-zero inertia, which no body has" if np.any(I != 0) else ""), inertial.line)
-        problems = inertia_checks.physical_problems(I)
-        for problem in problems:
-            rule = "inertia-not-psd" if "positive semi-definite" in problem else "triangle-inequality"
-            yield Finding(rule, "link", link.name, f"{owner}: inertia {problem}", inertial.line)
-        if problems:
-            continue
-        moments = np.linalg.eigvalsh(I)
-        if not np.any(I != 0):
-            if m > 0:
-                yield Finding("point-mass", "link", link.name, f"{owner}: mass {m:g} kg with zero rotational "
-                              "inertia (a point mass)", inertial.line)
-        elif moments[0] + moments[1] - moments[2] <= BOUNDARY * moments[2] or moments[0] <= BOUNDARY * moments[2]:
-            yield Finding("inertia-on-boundary", "link", link.name, f"{owner}: principal moments "
-                          f"{', '.join(f'{x:.6g}' for x in moments)} kg m^2 lie on the boundary of what bodies have "
-                          f"(I1 + I2 = I3, or I1 = 0, within {BOUNDARY:g})", inertial.line)
-        found = inertial_rpy_finding(link)
-        if found is not None:
-            yield found
+    yield from inertia_findings(robot, _tree_order(robot))
 
 
 def _joints(robot: Robot):
@@ -470,12 +469,21 @@ def _joints(robot: Robot):
 
 
 def _geometry(robot: Robot):
+    total = sum(link.inertial.mass for link in robot.links if link.inertial is not None
+                and math.isfinite(link.inertial.mass) and link.inertial.mass > 0)
     for link in robot.links:
-        yield from geometry_findings(link)
+        yield from geometry_findings(link, total)
+
+
+def _scale(robot: Robot):
+    yield from scale_findings(robot, _tree_order(robot))
 
 
 #: The checks, each a function of a :class:`Robot` yielding findings, in the order they run.
-CHECKS = (_names, _numbers, _tree, _masses, _inertias, _geometry, _joints)
+CHECKS = (_names, _numbers, _tree, _masses, _inertias, _geometry, _scale, _joints)
+#: The classes that diagnose one link's inertial data against its size: a link gets the first of them only.
+DIAGNOSES = ("units-slip", "implausible-density", "com-outside-geometry", "gyration-exceeds-link",
+             "placeholder-inertia")
 
 
 @dataclass(frozen=True)
@@ -565,9 +573,14 @@ def lint_urdf(path) -> LintReport:
     ('rp_arm', False)
     """
     robot = read_robot(path)
-    findings = list(robot.findings)
+    findings, diagnosed = list(robot.findings), set()
     for check in CHECKS:
-        findings.extend(check(robot))
+        for finding in check(robot):
+            if finding.rule in DIAGNOSES and finding.element == "link":
+                if finding.name in diagnosed:
+                    continue   # one diagnosis per link
+                diagnosed.add(finding.name)
+            findings.append(finding)
     if not any(f.severity == "error" for f in findings):
         try:
             load_urdf(robot.path, allow_nonphysical_inertia=False)
@@ -577,6 +590,32 @@ def lint_urdf(path) -> LintReport:
     order = sorted(range(len(findings)), key=lambda i: (findings[i].line or 0, -SEVERITIES.index(
         findings[i].severity), i))
     return LintReport(robot.path, robot.name, tuple(findings[i] for i in order))
+
+
+def not_a_urdf(path, error) -> LintReport:
+    """The report of a file that is no URDF at all: one ``not-a-urdf`` finding, so that a run over many files
+    goes on.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file (or the name given).
+    error : Exception
+        Why it is no URDF (the :class:`ModelError` of :func:`lint_urdf`, or the error reading it).
+
+    Returns
+    -------
+    LintReport
+        The report, with no robot name and one error finding without a line.
+
+    Examples
+    --------
+    >>> not_a_urdf("log.csv", ModelError("log.csv: malformed XML")).findings[0].message
+    'malformed XML'
+    """
+    path = Path(path)
+    message = str(error).removeprefix(f"{path}: ")
+    return LintReport(path, "", (Finding("not-a-urdf", "robot", "", message),))
 
 
 def mass_findings(model) -> list:
@@ -655,7 +694,7 @@ def sarif(reports) -> dict:
     results = []
     for report in reports:
         for f in report.findings:
-            uri = report.path.as_uri() if report.path.is_absolute() else report.path.as_posix()
+            uri = report.path.as_uri() if report.path.is_absolute() else quote(report.path.as_posix())
             location = dict(artifactLocation=dict(uri=uri))
             if f.line is not None:
                 location["region"] = dict(startLine=f.line)
@@ -666,5 +705,5 @@ def sarif(reports) -> dict:
             "runs": [dict(tool=dict(driver=dict(name="course-dynamics lint", rules=rules)), results=results)]}
 
 
-__all__ = ["CHECKS", "Inertial", "Joint", "Link", "LintReport", "MassWarning", "Robot", "lint_urdf", "mass_findings",
-           "read_robot", "sarif", "warn_if_massless"]
+__all__ = ["CHECKS", "DIAGNOSES", "Inertial", "Joint", "Link", "LintReport", "MassWarning", "Robot", "lint_urdf",
+           "mass_findings", "not_a_urdf", "read_robot", "sarif", "warn_if_massless"]

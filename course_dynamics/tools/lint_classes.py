@@ -7,7 +7,7 @@ severity     meaning
 ===========  ==============================================================================================
 ``note``     legal and read as written here, but some engine or importer reads it otherwise
 ``warning``  probably not what the author meant: the dynamics of the file are likely wrong
-``error``    the loader refuses the file, or its dynamics are degenerate (a joint that moves nothing)
+``error``    the loader or the other URDF readers refuse the file, or its dynamics are degenerate
 ===========  ==============================================================================================
 
 :data:`CLASSES` is the table the site's lint page prints; :func:`empty_subtrees` is the one test of "a joint
@@ -57,8 +57,12 @@ NO_FRICTION_ENGINES = "Pinocchio's RNEA and Isaac Sim's importer ignore it, MuJo
 #: Every class of finding, by name, in the order the site's table lists them.
 CLASSES: dict[str, LintClass] = _classes(
     # The file as a tree of links and joints
+    ("not-a-urdf", "error", "a file that is no URDF at all: missing, too large, not XML, no <robot>",
+     "Give lint the URDF (a xacro file must be expanded first: xacro robot.urdf.xacro > robot.urdf)."),
     ("unreadable-number", "error", "a number URDF does not write, non-finite, or beyond 1e9 in size",
      "Write plain decimal numbers (1.5, 2e-3), finite, in SI units."),
+    ("padded-number", "warning", "a number written with spaces around it where URDF has one number",
+     "Remove the spaces: urdfdom (ROS, Pinocchio) does not read such a number and drops the element it is in."),
     ("xml-namespace", "error", "an element in a default XML namespace (xmlns=\"...\")",
      "Remove the xmlns attribute: URDF readers disagree on whether the element is a URDF element."),
     ("empty-name", "error", "a link or joint with an empty name",
@@ -84,6 +88,8 @@ CLASSES: dict[str, LintClass] = _classes(
      "Add <inertial> to the link it moves (and to the links beyond), or make the joint fixed."),
     ("missing-inertial", "warning", "the link a moving joint moves has no <inertial>",
      "Add its <inertial> (mass, centre of mass, inertia), even if a link beyond carries mass."),
+    ("incomplete-inertial", "error", "an <inertial> without its <mass> or its <inertia>",
+     "Write both: urdfdom (ROS, Pinocchio), MuJoCo and PyBullet refuse the file (read here as 0)."),
     ("negative-mass", "error", "a negative mass",
      "Write the link's mass in kilograms, positive."),
     ("zero-mass", "warning", "an <inertial> of mass 0",
@@ -93,6 +99,9 @@ CLASSES: dict[str, LintClass] = _classes(
      "(URDF's ixy is +I_xy of the matrix, with no minus sign)."),
     ("triangle-inequality", "error", "principal moments with I1 + I2 < I3: no body has them",
      "Recompute the tensor; a tensor giving only izz (planar models) breaks it: give ixx and iyy too."),
+    ("base-inertia-not-physical", "warning", "an inertia no body has, on a link fixed to the base",
+     "Recompute the tensor: the loader ignores it (the link moves nothing here), an engine that moves the base "
+     "uses it."),
     ("inertia-on-boundary", "warning", "principal moments with I1 + I2 = I3 or a zero moment (a flat plate, a rod)",
      "Give the body some thickness: engines that check strictly (or after rounding) refuse the tensor."),
     ("point-mass", "note", "a positive mass with zero rotational inertia (a point mass, as in the textbook robots)",
@@ -102,12 +111,18 @@ CLASSES: dict[str, LintClass] = _classes(
     # Inertias against the link's geometry (collision shapes, else visual shapes: boxes, cylinders, spheres)
     ("implausible-density", "warning", "mass over the shapes' volume outside 10 to 25 000 kg/m^3",
      "Check the mass and the shapes: no solid is lighter than foam or denser than osmium."),
-    ("gyration-exceeds-link", "warning", "a radius of gyration larger than the link's shapes reach",
+    ("gyration-exceeds-link", "warning", "a radius of gyration larger than the link's shapes reach, or the robot",
      "Check the inertia: sqrt(I/m) about the centre of mass cannot exceed the farthest point of the body."),
     ("com-outside-geometry", "warning", "the centre of mass outside the box around the link's shapes",
      "Check the <inertial><origin xyz>: it is in the link's frame, in metres."),
-    ("units-slip", "warning", "a value off by a power of 10^3 from what the shapes imply (grams, millimetres)",
+    ("units-slip", "warning",
+     "values off by a power of 10^3 from what the shapes or the joints imply (grams, millimetres)",
      "Convert to SI: kilograms, metres, kg m^2 (1 g = 1e-3 kg, 1 mm = 1e-3 m, 1 kg mm^2 = 1e-6 kg m^2)."),
+    ("placeholder-inertia", "note", "a negligible mass (under 1e-3 of the robot's) that does not fit its shapes",
+     "None needed: a placeholder (a sensor's or a frame's) weighs nothing in the dynamics; a real mass is better."),
+    # Inertias against the joints (no shapes needed)
+    ("mass-beyond-effort", "warning", "a joint that could not hold what it carries against gravity, by 100 times",
+     "Check the masses (grams?) and the joint's effort limit."),
     # Joints
     ("missing-limit", "error", "a revolute or prismatic joint without <limit>: URDF requires one",
      "Add <limit lower upper effort velocity>; urdfdom (ROS, Pinocchio's parser) refuses the file without it."),
@@ -116,7 +131,7 @@ CLASSES: dict[str, LintClass] = _classes(
     ("zero-range", "warning", "a moving joint with lower = upper (both default to 0): it cannot move",
      "Give the joint its range, or make it fixed."),
     ("huge-limits", "warning", "a limit of +-1.79e308 (DBL_MAX) or infinite",
-     "Use a continuous joint for an unlimited revolute joint, or the real range."),
+     "Write the joint's real range (a revolute joint without one is a continuous joint)."),
     ("zero-effort-velocity", "warning", "an effort or velocity limit of 0 or missing",
      "Write the actuator's limits: engines that enforce them hold the joint still (read here as no limit)."),
     ("negative-effort-velocity", "error", "a negative effort or velocity limit",
@@ -124,7 +139,7 @@ CLASSES: dict[str, LintClass] = _classes(
     ("zero-axis", "error", "a joint axis of zero length",
      "Write the axis as a unit vector in the joint's frame."),
     ("axis-not-unit", "warning", "a joint axis that is not a unit vector",
-     "Normalise it: read normalised here, as by Pinocchio; other readers scale the motion by its length."),
+     "Normalise it: URDF asks for a unit vector; read normalised here, as Pinocchio, MuJoCo and PyBullet read it."),
     ("mimic-joint", "warning", "a <mimic> joint",
      "Give the joint, in every state, the value its <mimic> implies (multiplier * q + offset of the joint it "
      "follows): it has its own coordinate and torque here."),

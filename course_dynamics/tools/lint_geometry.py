@@ -42,6 +42,8 @@ COM_MARGIN = 0.1         # of the box's largest side: how far outside the box a 
 COM_SLIP = 100.0         # boxes' largest sides: a centre of mass this far out, inside in millimetres, is a slip
 GYRATION_MARGIN = 1.5    # k may exceed reach by this factor (the box is only around the shapes)
 GYRATION_SLIP = 20.0     # k / reach at which the inertia is taken to be in the wrong units (31.6 for 10³)
+#: A mass under this share of the robot's is negligible: when it does not fit its shapes it is a placeholder.
+PLACEHOLDER = 1e-3
 
 
 def rotation_rpy(rpy) -> np.ndarray:
@@ -144,25 +146,38 @@ def _slip(ratio: float) -> int | None:
     return None
 
 
-def geometry_findings(link) -> list:
-    """The density, centre-of-mass and radius-of-gyration findings of one link against its shapes.
+def geometry_findings(link, total: float | None = None) -> list:
+    """The density, centre-of-mass or radius-of-gyration finding of one link against its shapes: one diagnosis.
 
     Parameters
     ----------
     link : course_dynamics.tools.lint.Link
         The link as the linter reads it.
+    total : float, optional
+        The robot's mass, kg: a link under :data:`PLACEHOLDER` of it whose mass or inertia does not fit its
+        shapes gets a ``placeholder-inertia`` note instead (a sensor's or a frame's 1 g in a 1 mm cube).
 
     Returns
     -------
     list of Finding
-        ``implausible-density``, ``com-outside-geometry``, ``gyration-exceeds-link`` or ``units-slip`` findings;
-        empty when the link has no mass, no measured shapes, or nothing wrong.
+        At most one: ``units-slip``, ``implausible-density``, ``com-outside-geometry``, ``gyration-exceeds-link``
+        or ``placeholder-inertia``; empty when the link has no mass, no measured shapes, or nothing wrong.
     """
+    found = _diagnoses(link)[:1]
+    m = link.inertial.mass if found else 0.0
+    if found and total and m < PLACEHOLDER * total:
+        return [Finding("placeholder-inertia", "link", link.name, f"link '{link.name}': mass {m:g} kg, {m / total:.2g} "
+                        f"of the robot's {total:.4g} kg, a placeholder: {found[0].message.split(': ', 1)[1]}",
+                        link.line)]
+    return found
+
+
+def _diagnoses(link) -> list:
     inertial, shapes = link.inertial, _measured(link)
     if inertial is None or shapes is None or not (inertial.mass > 0) or not np.all(np.isfinite(inertial.inertia)) \
             or not np.all(np.isfinite(inertial.xyz)):
         return []
-    m, owner, line, found = inertial.mass, f"link '{link.name}'", inertial.line, []
+    m, owner, line, found = inertial.mass, f"link '{link.name}'", link.line, []
     volume = sum(s.volume for s in shapes)
     corners = np.vstack([s.corners for s in shapes])
     low, high = corners.min(axis=0), corners.max(axis=0)
@@ -232,7 +247,8 @@ def inertial_rpy_finding(link):
     rpy = " ".join(f"{x:g}" for x in inertial.rpy)
     return Finding("inertial-rpy", "link", link.name, f"link '{link.name}': <inertial><origin rpy=\"{rpy}\">; in "
                    f"the link's axes the tensor is {entries} (an importer that drops the rpy uses the tensor "
-                   "unrotated)", inertial.line)
+                   "unrotated)", link.line)
 
 
-__all__ = ["DENSITY", "MATERIALS", "Shape", "geometry_findings", "inertial_rpy_finding", "rotation_rpy", "shape"]
+__all__ = ["DENSITY", "MATERIALS", "PLACEHOLDER", "Shape", "geometry_findings", "inertial_rpy_finding", "rotation_rpy",
+           "shape"]
