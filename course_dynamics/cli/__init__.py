@@ -120,13 +120,7 @@ def _main(argv: list, interrupts: Interrupts | None) -> int:
         print(f"error: {one_line(exc)}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
-        if interrupts is not None:
-            interrupts.received()
-        # What an interrupted notebook kernel leaves behind (asyncio's "Task exception was never retrieved",
-        # logged when the task is collected) is not the user's business: one line, as for any error.
-        logging.getLogger("asyncio").disabled = True
-        print("error: interrupted", file=sys.stderr)
-        return 130
+        return _interrupted(interrupts)
     except MemoryError as exc:
         # A safety net only: every size a small input sets is checked against the budget before the work starts;
         # this is for what no estimate foresaw. Outputs are written whole at the end, so none is left half-written.
@@ -143,6 +137,24 @@ def _main(argv: list, interrupts: Interrupts | None) -> int:
         print(f"error: {one_line(where)}: cannot write: {exc.strerror or exc}" if exc.filename is None
               else f"error: {one_line(where)}: {exc.strerror or exc}", file=sys.stderr)
         return 2
+    except Exception:
+        # A library that caught the Ctrl-C may fail on after it in its own way (trimesh, interrupted in its optional
+        # imports, keeps a wrapper for the module and then raises TypeError): an exception after a Ctrl-C is the
+        # Ctrl-C's. Any other is ours to see, with its traceback.
+        if interrupts is not None and interrupts.pending:
+            return _interrupted(interrupts)
+        raise
+
+
+def _interrupted(interrupts: Interrupts | None) -> int:
+    """The one line and exit status 130 of a command that Ctrl-C ended."""
+    if interrupts is not None:
+        interrupts.received()
+    # What an interrupted notebook kernel leaves behind (asyncio's "Task exception was never retrieved",
+    # logged when the task is collected) is not the user's business: one line, as for any error.
+    logging.getLogger("asyncio").disabled = True
+    print("error: interrupted", file=sys.stderr)
+    return 130
 
 
 __all__ = ["build_parser", "main"]

@@ -44,6 +44,11 @@ class Interrupts:
                 if not self._received.is_set():
                     _thread.interrupt_main(signal.SIGINT)
 
+    @property
+    def pending(self) -> bool:
+        """Whether a Ctrl-C came during the command (received or not)."""
+        return self._pending.is_set()
+
     def received(self) -> None:
         """The command's top level has the ``KeyboardInterrupt``: stop repeating it."""
         with self._lock:
