@@ -338,6 +338,8 @@ def check_engine(name: str, model, urdf, states, tolerance: float, armature=None
                            conventions=[{"name": c, "size": reason} for c in known])
     try:
         return _compared(engine, model, urdf, version, states, tolerance)
+    except EngineRefused as exc:  # an engine's call failed part way (one of its limits)
+        return EngineCheck(name, "refused", version=version, reason=str(exc), explained=False)
     finally:
         engine.close()
 

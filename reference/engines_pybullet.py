@@ -125,7 +125,11 @@ class PybulletEngine(LoadedVariants):
 
     def _call(self, k, function, *vectors):
         with _quiet_descriptors():
-            return np.asarray(function(self.bodies_loaded[k], *map(self._theirs, vectors), physicsClientId=self.client))
+            try:
+                return np.asarray(function(self.bodies_loaded[k], *map(self._theirs, vectors),
+                                           physicsClientId=self.client))
+            except self.pb.error as exc:  # its own limits: a refusal with its reason
+                raise EngineRefused(str(exc)) from None  # its messages name the call ("… failed.")
 
     def _tau(self, k, q, qd, qdd):
         return self._call(k, self.pb.calculateInverseDynamics, q, qd, qdd)[self.order]
@@ -160,8 +164,11 @@ class PybulletEngine(LoadedVariants):
             owner[link] = link if info[2] != pb.JOINT_FIXED else owner[info[16]]
             if owner[link] < 0:
                 continue
-            dynamics = pb.getDynamicsInfo(body, link, physicsClientId=client)
-            state = pb.getLinkState(body, link, computeForwardKinematics=True, physicsClientId=client)
+            try:
+                dynamics = pb.getDynamicsInfo(body, link, physicsClientId=client)
+                state = pb.getLinkState(body, link, computeForwardKinematics=True, physicsClientId=client)
+            except pb.error as exc:
+                raise EngineRefused(f"getLinkState or getDynamicsInfo of link {info[12].decode()}: {exc}") from None
             R = np.reshape(pb.getMatrixFromQuaternion(state[1]), (3, 3))
             lumps.setdefault(owner[link], []).append((float(dynamics[0]), np.asarray(state[0]),
                                                       _world_inertia(R, np.diag(dynamics[2]))))

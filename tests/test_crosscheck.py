@@ -322,6 +322,18 @@ def test_a_link_breaking_the_triangle_inequality_inside_a_physical_body_is_named
     assert conventions(by_engine(check)["pybullet"])["inertia refused"]["detail"] == "the inertia of fore"
 
 
+def test_an_engine_call_failing_part_way_is_a_refusal_with_its_reason(monkeypatch, capsys):
+    import pybullet
+
+    def failing(*args, **kwargs):
+        raise pybullet.error("calculateMassMatrix failed.")
+
+    monkeypatch.setattr(pybullet, "calculateMassMatrix", failing)
+    code, out, err = run(capsys, "crosscheck", "two_link")
+    assert code == 1 and "Traceback" not in err
+    assert "  pybullet   refused: calculateMassMatrix failed." in out.splitlines()
+
+
 def _importing(monkeypatch, failures):
     """Make ``import name`` raise ``failures[name]``."""
     real_import = builtins.__import__
