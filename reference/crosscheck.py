@@ -6,7 +6,10 @@ course_dynamics is either within the tolerance (relative, as ``validate`` measur
 the named conventions of :data:`CONVENTIONS`, each shown with its size: the largest absolute amount it
 accounts for, per term, over the states (or, for conventions of representation, what it concerns). What no
 convention explains is reported as such, with the first body (parents first) whose mass, centre of mass or
-inertia the engine placed differently.
+inertia the engine placed differently. A convention belongs to the engines known to have it, at the size they
+have it (:data:`KNOWN_REFUSALS`, :data:`ROTATING_ENGINES`); Pinocchio is the reference, so when it differs from
+course_dynamics unexplained, no other engine's inertia convention explains a difference either. Θ̈ is compared
+as the torque M·Θ̈ it stands for, so that an ill-conditioned M does not turn round-off into a difference.
 
 ==================  ============================================================
 symbol              meaning
@@ -89,7 +92,7 @@ class EngineCheck:
     """One engine against course_dynamics: its status, its worst relative residual per term, its conventions."""
 
     engine: str
-    status: str  # "compared", "skipped" (not installed) or "refused"
+    status: str  # "compared", "skipped" (cannot be imported) or "refused"
     version: str = ""
     reason: str = ""
     calls: dict[str, str] = field(default_factory=dict)
@@ -455,5 +458,5 @@ def crosscheck(name_or_path: str, samples: int = 3, seed: int = 0, tolerance: fl
     return CrossCheck(model.name, str(urdf), list(model.joint_names), samples, seed, tolerance, checks)
 
 
-__all__ = ["CONVENTIONS", "CrossCheck", "EngineCheck", "KNOWN_REFUSALS", "TERMS", "check_engine", "crosscheck",
-           "first_parting"]
+__all__ = ["CONVENTIONS", "CrossCheck", "EngineCheck", "KNOWN_REFUSALS", "ROTATING_ENGINES", "TERMS", "check_engine",
+           "crosscheck", "first_parting"]
