@@ -481,7 +481,7 @@ def _scale(robot: Robot):
 
 #: The checks, each a function of a :class:`Robot` yielding findings, in the order they run.
 CHECKS = (_names, _numbers, _tree, _masses, _inertias, _geometry, _scale, _joints)
-#: The classes that diagnose one link's inertial data against its size: a link gets the first of them only.
+#: The classes that diagnose one link's inertial data against its size, of which a link gets the first only.
 DIAGNOSES = ("units-slip", "implausible-density", "com-outside-geometry", "gyration-exceeds-link",
              "placeholder-inertia")
 
@@ -601,7 +601,8 @@ def not_a_urdf(path, error) -> LintReport:
     path : str or pathlib.Path
         The file (or the name given).
     error : Exception
-        Why it is no URDF (the :class:`ModelError` of :func:`lint_urdf`, or the error reading it).
+        Why it is no URDF (the :class:`~course_dynamics.base.errors.ModelError` of :func:`lint_urdf`, or the
+        error reading it).
 
     Returns
     -------

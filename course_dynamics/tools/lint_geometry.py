@@ -42,7 +42,7 @@ COM_MARGIN = 0.1         # of the box's largest side: how far outside the box a 
 COM_SLIP = 100.0         # boxes' largest sides: a centre of mass this far out, inside in millimetres, is a slip
 GYRATION_MARGIN = 1.5    # k may exceed reach by this factor (the box is only around the shapes)
 GYRATION_SLIP = 20.0     # k / reach at which the inertia is taken to be in the wrong units (31.6 for 10³)
-#: A mass under this share of the robot's is negligible: when it does not fit its shapes it is a placeholder.
+#: A mass under this share of the robot's is negligible, and a placeholder when it does not fit its shapes.
 PLACEHOLDER = 1e-3
 
 

@@ -4,13 +4,13 @@ The tensor of a link on a moving body is tested as the loader tests it
 (:func:`course_dynamics.core.urdf.inertia_problem`, one finding per tensor); the loader reads no tensor of a link
 fixed to the base (it moves nothing), so such a tensor no body has is a ``base-inertia-not-physical`` warning.
 
-=========  ==========================================================================================
-symbol     meaning
-=========  ==========================================================================================
-``m``      a link's mass, kg
-``I``      its inertia tensor about its centre of mass, in the ``<inertial>`` frame's axes, kg·m²
-``I₁..I₃`` its principal moments, smallest first, kg·m²
-=========  ==========================================================================================
+==========  ==========================================================================================
+symbol      meaning
+==========  ==========================================================================================
+``m``       a link's mass, kg
+``I``       its inertia tensor about its centre of mass, in the ``<inertial>`` frame's axes, kg·m²
+``I₁..I₃``  its principal moments, smallest first, kg·m²
+==========  ==========================================================================================
 
 >>> BOUNDARY
 1e-06
@@ -23,7 +23,7 @@ from ..core.urdf import MAX_MAGNITUDE, inertia_problem
 from .lint_classes import Finding
 from .lint_geometry import inertial_rpy_finding
 
-#: Relative: principal moments this close to I1 + I2 = I3 (or to 0) are on the boundary of what bodies have.
+#: Principal moments this close to I1 + I2 = I3 (or to 0), relative to I3, lie on the boundary of what bodies have.
 BOUNDARY = 1e-6
 MOVING = ("revolute", "continuous", "prismatic")
 

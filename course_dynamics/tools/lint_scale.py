@@ -11,18 +11,18 @@ every link alike, so these checks are made on the robot as a whole, at q = 0:
 - one link's k exceeds :data:`GYRATION_ROBOT` times the robot's extent (a mass of 1e-300 kg under an inertia);
 - a joint's effort limit could not hold what it carries against gravity by a factor of :data:`EFFORT_FACTOR`.
 
-=========  ==========================================================================================
-symbol     meaning
-=========  ==========================================================================================
-``m``      a link's mass, kg; ``M`` the robot's, the sum of its links'
-``I₃``     a link's largest principal moment about its centre of mass, kg·m²
-``k``      its radius of gyration sqrt(I₃ / m), m
-``L``      its length: the farthest of its child joints' origins and its centre of mass from its frame, m
-``extent`` the farthest link frame from the root's at q = 0, m
-``τ_g``    M_sub g r: the weight of what a joint carries (M_sub, kg) times the farthest of its centres of mass
-           from the joint's origin (r, m; 1 for a prismatic joint), an upper bound of its gravity load, N·m or N
-``g``      9.81 m/s²
-=========  ==========================================================================================
+============  ==========================================================================================
+symbol        meaning
+============  ==========================================================================================
+``m``         a link's mass, kg; ``M`` the robot's, the sum of its links'
+``I₃``        a link's largest principal moment about its centre of mass, kg·m²
+``k``         its radius of gyration sqrt(I₃ / m), m
+``L``         its length: the farthest of its child joints' origins and its centre of mass from its frame, m
+``extent``    the farthest link frame from the root's at q = 0, m
+``τ_g``       M_sub g r: the weight of what a joint carries (M_sub, kg) times the farthest of its centres of
+              mass from the joint's origin (r, m; 1 for a prismatic joint), an upper bound of its gravity load
+``g``         9.81 m/s²
+============  ==========================================================================================
 
 >>> GYRATION_RATIO
 (0.03, 50.0)
@@ -37,15 +37,15 @@ from .lint_classes import Finding
 from .lint_geometry import rotation_rpy
 
 G = 9.81                       # m/s²
-#: kg: a robot whose links' masses add to less has effectively none.
+#: The mass in kg under which a robot's links, added, have effectively none.
 NO_MASS = 1e-6
-#: m: no robot described by a URDF spans more between its joints.
+#: The span in m between joints that no robot described by a URDF exceeds.
 EXTENT = 50.0
-#: The range of the median k / L of a robot's links: example-robot-data's lie within 0.29 to 4.6.
+#: The range of the median k / L of a robot's links (example-robot-data's lie within 0.29 to 4.6).
 GYRATION_RATIO = (0.03, 50.0)
 #: A link's k beyond this many times the robot's extent (and 1 m) is a mass too small for its inertia.
 GYRATION_ROBOT = 10.0
-#: τ_g over the effort limit beyond which a joint could not hold what it carries: example-robot-data's stay under 14.
+#: τ_g over the effort limit beyond which a joint could not hold what it carries (example-robot-data's stay under 14).
 EFFORT_FACTOR = 100.0
 MIN_LENGTH = 0.01              # m: links shorter than this are not used for the median k / L
 MOVING = ("revolute", "continuous", "prismatic")
