@@ -373,6 +373,7 @@ def test_a_placeholder_mass_is_one_note_and_a_link_gets_one_diagnosis(tmp_path):
     in density nor in reach is diagnosed once."""
     (note,) = lint_text(tmp_path, MUTATIONS["placeholder-inertia"][0]).findings
     assert "a placeholder" in note.message and "0.0001 of the robot's 1 kg" in note.message
+    assert not note.message.endswith("?")   # no units slip is blamed
     both = with_box("0.1 0.1 0.1", mass="2700", ixx="1e4", iyy="1e4", izz="1e4")   # grams, and 20 times its reach
     link2 = [f.rule for f in lint_text(tmp_path, both).findings if f.name == "link2"]
     assert link2 == ["units-slip"]

@@ -166,8 +166,10 @@ def geometry_findings(link, total: float | None = None) -> list:
     found = _diagnoses(link)[:1]
     m = link.inertial.mass if found else 0.0
     if found and total and m < PLACEHOLDER * total:
+        measured = found[0].message.split(": ", 1)[1]
+        measured = measured.rsplit(": ", 1)[0] if measured.endswith("?") else measured   # no unit to blame
         return [Finding("placeholder-inertia", "link", link.name, f"link '{link.name}': mass {m:g} kg, {m / total:.2g} "
-                        f"of the robot's {total:.4g} kg, a placeholder: {found[0].message.split(': ', 1)[1]}",
+                        f"of the robot's {total:.4g} kg, a placeholder that does not fit its shapes: {measured}",
                         link.line)]
     return found
 
