@@ -284,10 +284,10 @@ def _written(top, name: str):
         for attribute in ONE_NUMBER[element.tag]:
             text = element.get(attribute)
             if text is not None and text != text.strip() and URDF_NUMBER.fullmatch(text.strip()):
-                where = element.getparent().tag if element.tag in ("mass", "inertia") else element.tag
+                dropped = " and drops the <inertial>" if element.tag in ("mass", "inertia") else ""
                 yield Finding("padded-number", top.tag, name, f"{owner}: <{element.tag} {attribute}=\"{text}\">: read "
-                              f"here as {text.strip()}, but urdfdom (ROS, Pinocchio) does not read it and drops the "
-                              f"<{where}>", top.sourceline)
+                              f"here as {text.strip()}, but urdfdom (ROS, Pinocchio) does not read it{dropped}",
+                              top.sourceline)
     if top.tag == "link":
         for inertial in top.findall("inertial"):
             missing = [f"<{tag}>" for tag in ("mass", "inertia") if inertial.find(tag) is None]

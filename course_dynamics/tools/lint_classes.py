@@ -62,7 +62,7 @@ CLASSES: dict[str, LintClass] = _classes(
     ("unreadable-number", "error", "a number URDF does not write, non-finite, or beyond 1e9 in size",
      "Write plain decimal numbers (1.5, 2e-3), finite, in SI units."),
     ("padded-number", "warning", "a number written with spaces around it where URDF has one number",
-     "Remove the spaces: urdfdom (ROS, Pinocchio) does not read such a number and drops the element it is in."),
+     "Remove the spaces: urdfdom (ROS, Pinocchio) does not read such a number (in <inertial>, it drops it whole)."),
     ("xml-namespace", "error", "an element in a default XML namespace (xmlns=\"...\")",
      "Remove the xmlns attribute: URDF readers disagree on whether the element is a URDF element."),
     ("empty-name", "error", "a link or joint with an empty name",
