@@ -85,6 +85,17 @@ def test_validate_every_bundled_robot(capsys):
     assert "all robots agree" in out
 
 
+def test_validate_keeps_its_columns_with_a_long_file_name(capsys, tmp_path):
+    from course_dynamics import robot_path
+
+    long = tmp_path / ("a_robot_exported_with_a_long_name_" * 2 + ".urdf")
+    long.write_text(robot_path("two_link").read_text())
+    code, out, _ = run(capsys, "validate", str(long), "two_link", "--samples", "3")
+    header, first, second = out.splitlines()[1:4]
+    assert code == 0 and header.index(" n ") == first.index(" 2 ") == second.index(" 2 ")
+    assert header.index("agree") == first.index("yes") == second.index("yes")
+
+
 def test_validate_reports_disagreement_with_exit_1(capsys, monkeypatch):
     """A wrong gravity term in our dynamics must be caught."""
     import course_dynamics_reference.validate as validate_module

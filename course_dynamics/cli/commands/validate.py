@@ -62,10 +62,11 @@ def run(args) -> int:
         return 0 if ok else 1
     print(f"course_dynamics vs Pinocchio: max relative error over {args.samples} random states (seed {args.seed}), "
           f"tolerance {args.tolerance:g}")
-    print(f"{'robot':<30} {'n':>2} " + " ".join(f"{t:>9}" for t in TERMS) + "  agree")
+    width = max(30, *(len(display_name(target)) for target in targets))  # a long file name keeps the columns
+    print(f"{'robot':<{width}} {'n':>2} " + " ".join(f"{t:>9}" for t in TERMS) + "  agree")
     for target, r in zip(targets, reports):
         errors = " ".join(f"{r.terms[t].max_rel:>9.1e}" for t in TERMS)
-        print(f"{display_name(target):<30} {len(r.joints):>2} {errors}  {'yes' if r.ok else 'NO'}")
+        print(f"{display_name(target):<{width}} {len(r.joints):>2} {errors}  {'yes' if r.ok else 'NO'}")
     if ok and massless:
         print(f"all robots agree, but {', '.join(map(display_name, massless))}: no mass where a joint moves, so "
               "they agree on zeros there (see the warnings; course-dynamics lint names each link)")
