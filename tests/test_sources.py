@@ -1,4 +1,4 @@
-"""course_dynamics/tools/sources.py: a UR RTDE recording, a table and a bag of one motion give one answer."""
+"""course_dynamics/tools/sources.py: a UR RTDE recording, a table, ROS CSV exports and a bag of one motion give one answer."""
 from __future__ import annotations
 
 import json
@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
 from helpers import assert_agrees, assert_one_line_error, run
-from logmakers import multisine, write_csv, write_ur_rtde
+from logmakers import dropped, multisine, write_csv, write_ur_rtde
 
 from course_dynamics import load_robot, robot_path
 from course_dynamics.core.newton_euler import inverse_dynamics
@@ -264,3 +264,71 @@ def test_a_file_inside_a_ros2_bag_points_to_its_folder_and_clock_times_print_in_
     assert_one_line_error(code, err, "part of a ROS 2 bag", "give the bag's folder")
     code, out, _ = run(capsys, "torques", "ur5", "--log", str(bag))
     assert code == 0 and "1.7e+09" not in out and "1700001234." in out      # the residual's "at t", in full
+
+
+def _ros_exports(tmp_path):
+    """One motion (a message lost) as ``rostopic echo -p`` and PlotJuggler write it, and as our CSV with the times each
+    reads (s from the log's start, as the tools' text gives them) and the values as each writes them."""
+    from examplelogs import EPOCH_NS, write_plotjuggler, write_rostopic
+
+    motion = dropped(MOTION, (400,))
+    tau = inverse_dynamics(UR5, motion.q, motion.qd, motion.qdd)
+    header = (["t"] + [f"q_{j}" for j in UR5.joint_names] + [f"qd_{j}" for j in UR5.joint_names]
+              + [f"tau_meas_{j}" for j in UR5.joint_names])
+    logs = {}
+    rostopic = write_rostopic(tmp_path / "joint_states.csv", UR5.joint_names, motion.t, motion.q, motion.qd, tau)
+    stamps = (EPOCH_NS + np.round((motion.t - motion.t[0]) * 1e9).astype(np.int64)).astype(float)
+    logs[rostopic] = [(stamps - stamps[0]) * 1e-9] + list(motion.q.T) + list(motion.qd.T) + list(tau.T)
+    juggler = write_plotjuggler(tmp_path / "plotjuggler.csv", UR5.joint_names, motion.t, motion.q, motion.qd, tau)
+    seconds = np.array([float(f"{x:.6f}") for x in EPOCH_NS * 1e-9 + (motion.t - motion.t[0])])
+    logs[juggler] = [seconds - seconds[0]] + [np.array([float(f"{v:.9f}") for v in x]) for x in
+                                              list(motion.q.T) + list(motion.qd.T) + list(tau.T)]
+    plains = {}
+    for log, columns in logs.items():
+        plains[log] = tmp_path / f"{log.stem}.plain.csv"
+        write_csv(plains[log], header, columns, fmt="{:.17g}")
+    return plains
+
+
+def test_rostopic_and_plotjuggler_csvs_give_the_torques_of_the_same_motion_as_our_csv(capsys, tmp_path, oracle):
+    """No map: the format by its header, joints by name (a gripper's ignored), ns stamps, times from the start."""
+    for log, plain in _ros_exports(tmp_path).items():
+        ours, report = _torques_csv(capsys, tmp_path, "ur5", log)
+        reference, _ = _torques_csv(capsys, tmp_path, "ur5", plain)
+        assert "measured: tau_meas" in report and "over 2 s" in report
+        assert ours["t"][0] == 0 and set(ours) == set(reference)
+        scale = max(np.abs(reference[f"tau_{j}"]).max() for j in UR5.joint_names)
+        for name in reference:
+            np.testing.assert_allclose(ours[name], reference[name], rtol=0, atol=1e-9 * scale, err_msg=f"{log} {name}")
+        q, qd, qdd = (np.column_stack([ours[f"{k}_{j}"] for j in UR5.joint_names]) for k in ("q", "qd", "qdd"))
+        tau = np.column_stack([ours[f"tau_{j}"] for j in UR5.joint_names])
+        for i in range(0, len(tau), 151):
+            assert_agrees(tau[i], oracle.tau(q[i], qd[i], qdd[i]), what=f"{log.name} row {i}")
+
+
+def test_columns_shows_how_a_rostopic_and_a_plotjuggler_csv_are_read(capsys, tmp_path):
+    rostopic, juggler = _ros_exports(tmp_path)
+    code, out, err = run(capsys, "torques", "ur5", "--log", str(rostopic), "--columns")
+    rows = {line.split()[0]: " ".join(line.split()[1:]) for line in out.splitlines() if line.startswith("field.")}
+    assert code == 0 and "(rostopic)" in out, err
+    assert rows["field.header.stamp"] == "t" and rows["field.header.frame_id"] == "(ignored)"
+    assert rows["field.position2"] == "q_shoulder_pan_joint" and rows["field.effort0"] == "tau_meas_elbow_joint"
+    assert rows["field.position6"] == "(ignored)" and rows["field.name0"] == "(words: ignored)"
+    code, out, err = run(capsys, "torques", "ur5", "--log", str(juggler), "--columns")
+    assert code == 0 and "(plotjuggler)" in out, err
+    rows = {line.split()[0]: " ".join(line.split()[1:]) for line in out.splitlines() if line.startswith(("/", "__"))}
+    assert rows["__time"] == "t" and rows["/joint_states/wrist_3_joint/velocity"] == "qd_wrist_3_joint"
+    assert rows["/gripper/joint_states/finger_joint/position"] == rows["/joint_states/header/stamp"] == "(ignored)"
+
+
+def test_a_ros_export_of_another_robot_or_a_table_with_an_empty_cell_is_refused(capsys, tmp_path):
+    rostopic, _ = _ros_exports(tmp_path)
+    code, _, err = run(capsys, "torques", "panda", "--log", str(rostopic))
+    assert_one_line_error(code, err, "joint_states.csv: none of the rostopic CSV's joints (elbow_joint, "
+                                     "shoulder_lift_joint, ", "is one of robot 'panda'")
+    plain = tmp_path / "gap.csv"
+    plain.write_text("t,q_theta1,q_theta2\n0,1,2\n0.1,,2\n")
+    code, _, err = run(capsys, "torques", "two_link", "--log", str(plain))
+    assert_one_line_error(code, err, "gap.csv: line 3, column 'q_theta1': empty cell")
+    code, _, err = run(capsys, "torques", "ur5", "--log", str(plain), "--log-format", "plotjuggler")
+    assert_one_line_error(code, err, "not a PlotJuggler CSV (its first column must be __time)")

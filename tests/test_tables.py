@@ -386,3 +386,14 @@ def test_reading_a_log_with_text_columns_does_not_hold_its_text(tmp_path, delimi
     assert table.text == ("mode",)
     np.testing.assert_array_equal(np.column_stack(list(table.columns().values())), np.column_stack(columns[:-1]))
     assert peak < 1.3 * size, (peak, size)  # the numbers, once read and once beside the NaN of the text column
+
+
+def test_blanks_are_nan_only_when_asked_and_counted(tmp_path):
+    """A recorder's export leaves a cell empty where a series has no sample; a plain table's empty cell is refused."""
+    path = tmp_path / "export.csv"
+    path.write_text("__time,/a/x,/b/y,mode\n0.5,1.5,,run\n0.75,,2.25,run\n1.0,3.0,4.0,stop\n")
+    table = read_table(path, blanks=True)
+    assert table.blanks == 2 and table.text == ("mode",)
+    np.testing.assert_array_equal(table.data[:, :3], [[0.5, 1.5, np.nan], [0.75, np.nan, 2.25], [1.0, 3.0, 4.0]])
+    with pytest.raises(InputError, match="line 2, column '/b/y': empty cell"):
+        read_table(path)

@@ -8,11 +8,21 @@ format          what is read, and how its columns become ours
 ``ur-rtde``     a UR controller's RTDE recording (``record.py`` writes it space separated):
                 ``timestamp`` → t, ``actual_q_i`` → Θ, ``actual_qd_i`` → Θ̇ and
                 ``actual_current_i`` → the motor currents, i = 0, 1, … the URDF's i-th joint
+``rostopic``    ``rostopic echo -p`` of a ``sensor_msgs/JointState`` topic: ``field.header.stamp`` (ns; ``%time``,
+                the receive time, when unstamped) → t from the log's start, ``field.positionK``,
+                ``field.velocityK``, ``field.effortK`` → Θ, Θ̇ and the measured torque of the joint named
+                in ``field.nameK``, matched to the URDF by name; other columns (``field.header.frame_id``,
+                empty) are not read
+``plotjuggler`` PlotJuggler's CSV export: ``__time`` (s since the epoch) → t from the log's start,
+                ``<topic>/<joint>/position``, ``…/velocity``, ``…/effort`` → Θ, Θ̇ and the measured
+                torque by joint name; an empty cell is a series without a sample at that time, and a
+                row missing one of the columns read is left out
 ``bag``         a ROS 1 bag, a ROS 2 bag (sqlite3 or MCAP) or an MCAP file: ``sensor_msgs/JointState``
                 matched by joint name (``effort`` is the measured torque) or Franka's
                 ``franka_msgs/FrankaState`` (``q``, ``dq``, ``tau_J``) (:mod:`~course_dynamics.tools.bags`)
 ``auto``        a bag by its file; a table whose header has ``timestamp`` and ``actual_q_0`` … is
-                an RTDE recording; any other table is a table
+                an RTDE recording, ``%time`` and ``field.name0`` a rostopic CSV, ``__time`` first a
+                PlotJuggler CSV; any other table is a table
 ==============  =================================================================================
 
 Every source gives a :class:`LogSource`: the log's own columns, the map from our names to them
@@ -33,8 +43,9 @@ from .bags import is_bag, read_bag
 from .tables import Table, read_table
 
 #: The log formats :func:`open_log` reads (the table above).
-FORMATS = ("auto", "table", "ur-rtde", "bag")
+FORMATS = ("auto", "table", "ur-rtde", "rostopic", "plotjuggler", "bag")
 RTDE_SIGNALS = {"q": "actual_q", "qd": "actual_qd", "current": "actual_current"}
+ROS_SIGNALS = {"q": "position", "qd": "velocity", "tau_meas": "effort"}   # ours → sensor_msgs/JointState's fields
 
 
 @dataclass(frozen=True)
@@ -48,7 +59,7 @@ class LogSource:
     where : str
         How messages name the log (its file).
     format : str
-        ``table``, ``ur-rtde`` or ``bag``.
+        ``table``, ``ur-rtde``, ``rostopic``, ``plotjuggler`` or ``bag``.
     implied : dict
         Our column names → the log's, as its format implies them.
     lines : numpy.ndarray, shape (K,), optional
@@ -132,6 +143,78 @@ def _looks_like_rtde(header) -> bool:
     return "timestamp" in header and "actual_q_0" in header
 
 
+def _looks_like_rostopic(header) -> bool:
+    return "%time" in header and "field.name0" in header
+
+
+def _looks_like_plotjuggler(header) -> bool:
+    return bool(header) and header[0] == "__time"
+
+
+def _from_start(columns: dict, name: str, scale: float, where: str) -> None:
+    """The time column ``name`` in s from its first row (a clock of the epoch, in 1/``scale`` s)."""
+    t = columns[name]
+    if np.isnan(t[0]):
+        raise InputError(f"{where}: column '{name}' has no time in its first row")
+    columns[name] = (t - t[0]) * scale
+
+
+def _matched(model: Model, found: dict, where: str, kind: str) -> tuple[dict, list[str]]:
+    """Ours → theirs from {joint: {field: column}}; the notes on the joints left out."""
+    joints = [j for j in model.joint_names if j in found]
+    if not joints:
+        raise InputError(f"{where}: none of the {kind}'s joints ({', '.join(list(found)[:8]) or 'none'}) is one of "
+                         f"robot '{model.name}' ({', '.join(model.joint_names)})")
+    implied = {f"{ours}_{j}": found[j][field] for j in joints for ours, field in ROS_SIGNALS.items()
+               if field in found[j]}
+    notes = [f"read as a {kind} (joints matched to the URDF by name)"]
+    others = [j for j in found if j not in model.joint_names]
+    if others:
+        notes.append(f"joints that the robot does not have, ignored: {', '.join(others)}")
+    return implied, notes
+
+
+def _rostopic(model: Model, table: Table, where: str):
+    """The implied map, columns and notes of a ``rostopic echo -p`` CSV."""
+    found, k = {}, 0
+    while f"field.name{k}" in table.header:
+        if f"field.name{k}" in table.text:
+            name = table.first_word(f"field.name{k}")[1]
+            found[name] = {field: f"field.{field}{k}" for field in ROS_SIGNALS.values()
+                           if f"field.{field}{k}" in table.header and f"field.{field}{k}" not in table.text}
+        k += 1
+    implied, notes = _matched(model, found, where, "rostopic CSV")
+    columns = as_source(table).columns
+    stamped = "field.header.stamp" in columns and np.all(columns["field.header.stamp"] > 0)
+    clock = "field.header.stamp" if stamped else "%time"
+    _from_start(columns, clock, 1e-9, where)
+    notes.append(f"t: {clock} (ns), from the log's start")
+    return {"t": clock, **implied}, columns, notes
+
+
+def _plotjuggler(model: Model, table: Table, where: str):
+    """The implied map, columns (rows missing a read sample left out) and notes of a PlotJuggler CSV."""
+    found = {}
+    for name in table.header[1:]:
+        head, _, field = name.rpartition("/")
+        joint = head.rpartition("/")[2]
+        if field in ROS_SIGNALS.values() and joint and name not in table.text:
+            found.setdefault(joint, {})[field] = name
+    implied, notes = _matched(model, found, where, "PlotJuggler CSV")
+    source = as_source(table)
+    read = [table.header.index(c) for c in ["__time", *implied.values()]]
+    full = ~np.isnan(table.data[:, read]).any(axis=1)
+    if not full.any():
+        raise InputError(f"{where}: no row holds a sample of every column read ({', '.join(implied.values())})")
+    columns = {name: values[full] for name, values in source.columns.items()}
+    if not full.all():
+        notes.append(f"rows without a sample of every column read, left out: {int((~full).sum())} of {len(full)} "
+                     f"(first: line {int(table.lines[~full][0])})")
+    _from_start(columns, "__time", 1.0, where)
+    notes.append("t: __time (s), from the log's start")
+    return {"t": "__time", **implied}, columns, notes, table.lines[full]
+
+
 def open_log(path, model: Model, *, format: str = "auto", topic: str | None = None,
              decimal: str | None = None) -> LogSource:
     """Read the log at ``path`` in ``format`` (module docstring) for ``model``'s joints.
@@ -179,10 +262,25 @@ def open_log(path, model: Model, *, format: str = "auto", topic: str | None = No
         raise InputError(f"{path}: --topic is for bags; this log is read as a table")
     if bag:
         raise InputError(f"{path}: a bag cannot be read as a {format} (use --format bag or auto)")
-    table = read_table(path, decimal=decimal)
+    table = read_table(path, decimal=decimal, blanks=True)
+    ours = any(name.startswith("q_") for name in table.header)
+    if format == "rostopic" or (format == "auto" and not ours and _looks_like_rostopic(table.header)):
+        if not _looks_like_rostopic(table.header):
+            raise InputError(f"{path}: not a rostopic CSV (it needs the columns %time, field.name0, "
+                             f"field.position0, …)")
+        implied, columns, notes = _rostopic(model, table, str(path))
+        return replace(as_source(table), columns=columns, where=str(path), format="rostopic", implied=implied,
+                       notes=tuple(notes))
+    if format == "plotjuggler" or (format == "auto" and not ours and _looks_like_plotjuggler(table.header)):
+        if not _looks_like_plotjuggler(table.header):
+            raise InputError(f"{path}: not a PlotJuggler CSV (its first column must be __time)")
+        implied, columns, notes, lines = _plotjuggler(model, table, str(path))
+        return replace(as_source(table), columns=columns, lines=lines, where=str(path), format="plotjuggler",
+                       implied=implied, notes=tuple(notes))
+    if table.blanks:   # only a recorder's export has cells without a sample: refused as before, where they are
+        table = read_table(path, decimal=decimal)
     kind, implied, notes = "table", {}, ()
-    if format == "ur-rtde" or (format == "auto" and _looks_like_rtde(table.header)
-                               and not any(name.startswith("q_") for name in table.header)):
+    if format == "ur-rtde" or (format == "auto" and _looks_like_rtde(table.header) and not ours):
         implied = rtde_map(model, table.header, str(path))
         kind = "ur-rtde"
         if format == "auto":

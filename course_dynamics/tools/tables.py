@@ -66,6 +66,8 @@ class Table:
         The names of the text columns, in header order.
     first_words : tuple of str
         Each text column's cell in the first data row.
+    blanks : int
+        The empty cells of numeric columns read as NaN (``read_table(..., blanks=True)``; else 0).
     """
 
     path: str
@@ -74,6 +76,7 @@ class Table:
     lines: np.ndarray
     text: tuple[str, ...] = ()
     first_words: tuple[str, ...] = ()
+    blanks: int = 0
 
     def column(self, name: str) -> np.ndarray:
         """One column by name.
@@ -266,7 +269,21 @@ def _numeric_cells(path, width: int, numeric: list[int], delimiter):
     return keep
 
 
-def read_table(path, comment: str = "#", decimal: str | None = None) -> Table:
+def _blank_cells(delimiter, blank: list):
+    """A row's empty cells as ``0``, their (line, column) recorded in ``blank``: NaN once the row is read."""
+    def fill(number, line):
+        if delimiter is WHITESPACE or delimiter * 2 not in delimiter + line + delimiter:
+            return line
+        cells = split(line, delimiter)
+        empty = [c for c, cell in enumerate(cells) if not cell.strip()]
+        if '"' in line or not empty:
+            return line
+        blank.extend((number, c) for c in empty)
+        return delimiter.join("0" if c in empty else cell for c, cell in enumerate(cells))
+    return fill
+
+
+def read_table(path, comment: str = "#", decimal: str | None = None, blanks: bool = False) -> Table:
     """Read a delimited table of numbers (and words), as trajectory logs come.
 
     Accepted: comma, semicolon or tab as delimiter, or runs of whitespace (spaces and tabs,
@@ -304,6 +321,9 @@ def read_table(path, comment: str = "#", decimal: str | None = None) -> Table:
         What starts a comment, a whole line or after a row's last cell.
     decimal : str, optional
         ``"point"`` or ``"comma"``; None reads it from the file.
+    blanks : bool
+        Read an empty cell of a numeric column as NaN (a recorder's "no sample here") instead of refusing it;
+        ``Table.blanks`` counts them.
 
     Returns
     -------
@@ -330,14 +350,14 @@ def read_table(path, comment: str = "#", decimal: str | None = None) -> Table:
         except OSError as exc:
             raise InputError(f"{path}: cannot read: {exc.strerror}") from None
         if start in (b"\xff\xfe", b"\xfe\xff"):
-            return _read_table(path, handle, size, "utf-16", comment, decimal)
+            return _read_table(path, handle, size, "utf-16", comment, decimal, blanks)
         try:
-            return _read_table(path, handle, size, "utf-8-sig", comment, decimal)
+            return _read_table(path, handle, size, "utf-8-sig", comment, decimal, blanks)
         except _NotUTF8:  # every byte is a Latin-1 character; numbers are ASCII in all three
-            return _read_table(path, handle, size, "latin-1", comment, decimal)
+            return _read_table(path, handle, size, "latin-1", comment, decimal, blanks)
 
 
-def _read_table(path, handle, size: int, encoding: str, comment: str, decimal: str | None) -> Table:
+def _read_table(path, handle, size: int, encoding: str, comment: str, decimal: str | None, blanks: bool) -> Table:
     readers = []
 
     def data_lines():
@@ -386,6 +406,12 @@ def _read_table(path, handle, size: int, encoding: str, comment: str, decimal: s
         else:
             def row(number, line):
                 return cut(line)
+        blank: list = []
+        if blanks:
+            fill, numeric_row = _blank_cells(delimiter, blank), row
+
+            def row(number, line):
+                return fill(number, numeric_row(number, line))
         numbers = array("q")
         data = None
         if decimal != "comma":  # numpy's C reader for the common case; the loop below finds what it could not read
@@ -403,17 +429,21 @@ def _read_table(path, handle, size: int, encoding: str, comment: str, decimal: s
             lines = data_lines()
             next(lines)
             numbers = array("q")
+            blank.clear()
             data = parse_rows(path, names, _rows(lines, row, numbers, limit), delimiter, decimal)
         finite = np.isfinite(data)
         if not finite.all():
             r, c = np.argwhere(~finite)[0]
             raise InputError(f"{path}: line {numbers[r]}, column '{names[c]}': value is {data[r, c]} (must be finite)")
+        if blank:
+            at = np.array(blank)
+            data[np.searchsorted(np.array(numbers), at[:, 0]), at[:, 1]] = np.nan
         if text:
             full = np.full((len(data), len(header)), np.nan)
             full[:, numeric] = data
             data = full
         return Table(path=str(path), header=header, data=data, lines=np.array(numbers, dtype=np.int64),
-                     text=tuple(header[c] for c in text), first_words=tuple(text.values()))
+                     text=tuple(header[c] for c in text), first_words=tuple(text.values()), blanks=len(blank))
     finally:
         if readers:
             readers[-1].detach()  # the handle stays open for a second pass; its owner closes it
