@@ -115,7 +115,8 @@ def write_examples(folder: Path = EXAMPLES) -> dict[str, Path]:
     return paths
 
 
-NAMES = ("ur5_rtde.csv", "ur5_rostopic.csv", "ur5_plotjuggler.csv", "ur5_joint_states.bag", "ur5_joint_states.mcap", "panda_franka.bag")
+NAMES = ("ur5_rtde.csv", "ur5_rostopic.csv", "ur5_plotjuggler.csv", "ur5_joint_states.bag", "ur5_joint_states.mcap",
+         "panda_franka.bag")
 
 
 if __name__ == "__main__":   # the examples are ours: written again from scratch

@@ -1,4 +1,4 @@
-"""course_dynamics/tools/sources.py: a UR RTDE recording, a table, ROS CSV exports and a bag of one motion give one answer."""
+"""course_dynamics/tools/sources.py: an RTDE recording, a table, ROS CSV exports and a bag of one motion agree."""
 from __future__ import annotations
 
 import json
