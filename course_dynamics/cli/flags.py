@@ -86,8 +86,9 @@ FLAGS: dict[str, dict] = {
     # Reading a log
     "--log": _flag(LOG, metavar="LOG"),
     "--log-format": _flag("how to read the log: a table, a UR RTDE recording (timestamp, actual_q_i, actual_qd_i, "
-                          "actual_current_i; joint i is the URDF's i-th), a ROS bag/MCAP; default auto: a bag by its "
-                          "file, an RTDE recording by its header, else a table", choices=FORMATS, default="auto"),
+                          "actual_current_i; joint i is the URDF's i-th), a rostopic echo -p or PlotJuggler CSV of a "
+                          "JointState topic, a ROS bag/MCAP; default auto: a bag by its file, the others by their "
+                          "header, else a table", choices=FORMATS, default="auto"),
     "--topic": _flag("a bag's topic (default /joint_states, else its one joint-state topic)"),
     "--map": _flag("our column names for the log's, e.g. q_shoulder_pan_joint=joint1_pos, or a TOML file of such "
                    "lines (may be repeated)", metavar="OURS=THEIRS,...|FILE.toml", action="append"),
