@@ -1,29 +1,29 @@
-"""Where a log comes from: a table, a UR RTDE recording or a ROS bag, read into one shape.
+"""Where a log comes from: a table, a UR RTDE recording, a ROS CSV export or a ROS bag, read into one shape.
 
-==============  =================================================================================
-format          what is read, and how its columns become ours
-==============  =================================================================================
-``table``       a delimited table (:func:`~course_dynamics.tools.tables.read_table`): comma,
-                semicolon, tab or whitespace; our column names, or a map to them
-``ur-rtde``     a UR controller's RTDE recording (``record.py`` writes it space separated):
-                ``timestamp`` → t, ``actual_q_i`` → Θ, ``actual_qd_i`` → Θ̇ and
-                ``actual_current_i`` → the motor currents, i = 0, 1, … the URDF's i-th joint
-``rostopic``    ``rostopic echo -p`` of a ``sensor_msgs/JointState`` topic: ``field.header.stamp`` (ns; ``%time``,
-                the receive time, when unstamped) → t from the log's start, ``field.positionK``,
-                ``field.velocityK``, ``field.effortK`` → Θ, Θ̇ and the measured torque of the joint named
-                in ``field.nameK``, matched to the URDF by name; other columns (``field.header.frame_id``,
-                empty) are not read
-``plotjuggler`` PlotJuggler's CSV export: ``__time`` (s since the epoch) → t from the log's start,
-                ``<topic>/<joint>/position``, ``…/velocity``, ``…/effort`` → Θ, Θ̇ and the measured
-                torque by joint name; an empty cell is a series without a sample at that time, and a
-                row missing one of the columns read is left out
-``bag``         a ROS 1 bag, a ROS 2 bag (sqlite3 or MCAP) or an MCAP file: ``sensor_msgs/JointState``
-                matched by joint name (``effort`` is the measured torque) or Franka's
-                ``franka_msgs/FrankaState`` (``q``, ``dq``, ``tau_J``) (:mod:`~course_dynamics.tools.bags`)
-``auto``        a bag by its file; a table whose header has ``timestamp`` and ``actual_q_0`` … is
-                an RTDE recording, ``%time`` and ``field.name0`` a rostopic CSV, ``__time`` first a
-                PlotJuggler CSV; any other table is a table
-==============  =================================================================================
+================  =================================================================================
+format            what is read, and how its columns become ours
+================  =================================================================================
+``table``         a delimited table (:func:`~course_dynamics.tools.tables.read_table`): comma,
+                  semicolon, tab or whitespace; our column names, or a map to them
+``ur-rtde``       a UR controller's RTDE recording (``record.py`` writes it space separated):
+                  ``timestamp`` → t, ``actual_q_i`` → Θ, ``actual_qd_i`` → Θ̇ and
+                  ``actual_current_i`` → the motor currents, i = 0, 1, … the URDF's i-th joint
+``rostopic``      ``rostopic echo -p`` of a ``sensor_msgs/JointState`` topic: ``field.header.stamp`` (ns; ``%time``,
+                  the receive time, when unstamped) → t from the log's start, ``field.positionK``,
+                  ``field.velocityK``, ``field.effortK`` → Θ, Θ̇ and the measured torque of the joint named
+                  in ``field.nameK``, matched to the URDF by name; other columns (``field.header.frame_id``,
+                  empty) are not read
+``plotjuggler``   PlotJuggler's CSV export: ``__time`` (s since the epoch) → t from the log's start,
+                  ``<topic>/<joint>/position``, ``…/velocity``, ``…/effort`` → Θ, Θ̇ and the measured
+                  torque by joint name; an empty cell is a series without a sample at that time, and a
+                  row missing one of the columns read is left out
+``bag``           a ROS 1 bag, a ROS 2 bag (sqlite3 or MCAP) or an MCAP file: ``sensor_msgs/JointState``
+                  matched by joint name (``effort`` is the measured torque) or Franka's
+                  ``franka_msgs/FrankaState`` (``q``, ``dq``, ``tau_J``) (:mod:`~course_dynamics.tools.bags`)
+``auto``          a bag by its file; a table whose header has ``timestamp`` and ``actual_q_0`` … is
+                  an RTDE recording, ``%time`` and ``field.name0`` a rostopic CSV, ``__time`` first a
+                  PlotJuggler CSV; any other table is a table
+================  =================================================================================
 
 Every source gives a :class:`LogSource`: the log's own columns, the map from our names to them
 that its format implies (an explicit map from the user overrides it entry by entry), and how to
