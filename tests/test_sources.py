@@ -332,3 +332,10 @@ def test_a_ros_export_of_another_robot_or_a_table_with_an_empty_cell_is_refused(
     assert_one_line_error(code, err, "gap.csv: line 3, column 'q_theta1': empty cell")
     code, _, err = run(capsys, "torques", "ur5", "--log", str(plain), "--log-format", "plotjuggler")
     assert_one_line_error(code, err, "not a PlotJuggler CSV (its first column must be __time)")
+    twice = tmp_path / "two_topics.csv"
+    twice.write_text("__time,/joint_states/elbow_joint/position,/joint_states_desired/elbow_joint/position\n"
+                     "1700000000.000512,0.100000000,0.100000000\n")
+    code, _, err = run(capsys, "torques", "ur5", "--log", str(twice))
+    assert_one_line_error(code, err, "columns '/joint_states/elbow_joint/position' and "
+                                     "'/joint_states_desired/elbow_joint/position' are both the position of joint "
+                                     "'elbow_joint' (two topics)")

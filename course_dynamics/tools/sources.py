@@ -199,7 +199,10 @@ def _plotjuggler(model: Model, table: Table, where: str):
         head, _, field = name.rpartition("/")
         joint = head.rpartition("/")[2]
         if field in ROS_SIGNALS.values() and joint and name not in table.text:
-            found.setdefault(joint, {})[field] = name
+            other = found.setdefault(joint, {}).setdefault(field, name)
+            if other != name:
+                raise InputError(f"{where}: columns '{other}' and '{name}' are both the {field} of joint '{joint}' "
+                                 f"(two topics): export one of them")
     implied, notes = _matched(model, found, where, "PlotJuggler CSV")
     source = as_source(table)
     read = [table.header.index(c) for c in ["__time", *implied.values()]]
