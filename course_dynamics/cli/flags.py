@@ -109,6 +109,9 @@ FLAGS: dict[str, dict] = {
     # torques
     "--columns": _flag("list the log's columns and which of them would be used, then stop", action="store_true"),
     "--with-state": _flag("also write q_, qd_, qdd_ columns (as used)", action="store_true"),
+    "--retime": _flag("find the smallest k such that the motion played k times slower (qd/k, qdd/k^2) is within "
+                      "every limit less --margin; --out then writes the retimed log (t, q_, qd_, qdd_, tau_)",
+                      action="store_true"),
     "--payload": _flag("a payload of MASS kg fixed to LINK (default: the tip, the last link on the last moving body, "
                        "e.g. ur5's tool0), its centre of mass at CX,CY,CZ m in the link's frame (may be repeated)",
                        metavar="MASS[@LINK][,CX,CY,CZ]", action="append"),
@@ -123,8 +126,8 @@ FLAGS: dict[str, dict] = {
                         default=40),
     "--max-iterations": _flag("of the optimisation (default 100; 0 keeps the random "
                               "start)", type=int, default=100),
-    "--margin": _flag("share of every limit the optimisation keeps clear of (default 0.05)", type=float,
-                      default=0.05),
+    "--margin": _flag("share of every limit kept clear of (default 0.05): by excite's optimisation, by torques "
+                      "--retime", type=float, default=0.05),
     # identify
     "--friction-fit": _flag("which joint friction to identify: viscous F_v qd, Coulomb F_c sgn(qd), both (default) "
                             "or none; what is not identified stays as the URDF's <dynamics>", choices=FRICTION_MODELS,

@@ -26,6 +26,7 @@ module               job
 ``excitationcost``   an excitation's memory and time estimated before it starts; its evaluations in batches
 ``loads``            payloads and external wrenches
 ``limits``           effort and velocity limits: peaks, shares, violations
+``retiming``         a motion played uniformly slower until it is within its limits: the smallest time scaling
 ``trace``            the Newton–Euler iterations link by link, for teaching
 ``variants``         each student's own variant of a course robot, and their states
 ``lint``             a URDF's physics checked as written: findings by class, link or joint, severity and fix

@@ -13,6 +13,7 @@ from ...tools.limits import seconds
 from ...tools.loads import Payload, Wrench, payload_link
 from ...tools.columns import merged_map, plan_columns
 from ...tools.logs import torques_from_log
+from ...tools.retiming import retime, retimed_log
 from ..options import (
     UsageError,
     add_all,
@@ -44,14 +45,17 @@ DESCRIPTION = (
     "when the log holds measured torques (or currents and --torque-constant), the residual of our model against "
     "them. --out writes the torques as CSV (- for standard output), which animate --log and simulate --torque-log "
     "read; --plot draws them; --json prints the report (exceeded, joints, violations, uncertain, notes, "
-    "residuals). Exit 0 within the limits, 1 when a limit is exceeded, 2 on bad input.")
+    "residuals). --retime finds the smallest k such that the motion played k times slower is within every limit "
+    "less --margin, prints it with the new duration (or the joint whose gravity and Coulomb friction alone exceed "
+    "a limit, which no k lowers) and makes --out the retimed log. Exit 0 within the limits, 1 when a limit is "
+    "exceeded (by the motion as logged), 2 on bad input.")
 
 
 def add_arguments(parser) -> None:
     add_robot_argument(parser)
     add_log_arguments(parser)
     add_differentiation_arguments(parser)
-    add_all(parser, "--out", "--columns", "--with-state")
+    add_all(parser, "--out", "--columns", "--with-state", "--retime", "--margin")
     add_friction_arguments(parser)
     add_all(parser, "--payload", "--payload-size", "--wrench", "--plot", "--json", "--quiet", "--no-compile")
 
@@ -141,6 +145,8 @@ def run(args) -> int:
     joint_friction, payloads, wrenches = friction(args, model), payload_arguments(args), wrench_arguments(args)
     for w in wrenches:
         model.frame(w.link)
+    if args.margin != 0.05 and not args.retime:
+        raise UsageError("--margin is the share of the limits --retime keeps clear of: give --retime")
     if args.out == io.STDOUT and args.json:
         raise UsageError("--out - and --json both want standard output; write the CSV to a file")
     if args.plot:
@@ -181,33 +187,41 @@ def run(args) -> int:
                                                                             joint_friction)]
     comments = [f"course-dynamics torques {model.name} from {args.log}"] + extra if extra else []
     report = result.report
+    timing = retime(result, joint_friction, args.margin) if args.retime else None
+    if timing is not None and timing.k is not None:
+        retimed = retimed_log(result, timing.k, joint_friction, wrenches)
+        header, data = retimed.table(with_state=True)
+        comments = [f"course-dynamics torques {model.name} from {args.log}, retimed", one_line(timing.describe())]
+        comments += extra
     # strict JSON of every figure: a result beyond floating-point range is an error before any file is written
     document = render.json_text(dict(robot=model.name, log=str(args.log), rows=len(result.t), out=args.out,
                                      plot=args.plot, notes=list(result.notes), **report.record(),
-                                     residuals=None if result.residuals is None else result.residuals.record()))
+                                     residuals=None if result.residuals is None else result.residuals.record(),
+                                     **({} if timing is None else dict(retiming=timing.record()))))
     step = float(np.median(np.diff(result.t))) if len(result.t) > 1 else 0.0
     if step > SLOW_SAMPLES:
         warnings.warn(f"the samples are {step:g} s apart; if t is not in seconds, give --time-unit",
                       CourseDynamicsWarning)
     if args.out == io.STDOUT and not args.json:
-        _print_report(result, sys.stderr)  # before the CSV: a reader that stops early (| head) still sees it
+        _print_report(result, sys.stderr, timing)  # before the CSV: a reader that stops early (| head) still sees it
     if args.plot:
         from ...output.plotting import plot_torques
 
         plot_torques(result, args.plot)
-    if args.out:
+    if args.out and not (timing is not None and timing.k is None):   # no k: no retimed log to write
         io.write_csv(args.out, header, data, comments=comments)
     if args.json:
         sys.stdout.write(document + "\n")
         return 1 if report.exceeded else 0
     if args.out != io.STDOUT:
-        _print_report(result, sys.stdout)
-    if args.out and args.out != io.STDOUT:
-        print(f"wrote {len(result.t)} rows of joint torques to {args.out}", file=sys.stderr)
+        _print_report(result, sys.stdout, timing)
+    if args.out and args.out != io.STDOUT and not (timing is not None and timing.k is None):
+        what = "the retimed log" if timing is not None else "joint torques"
+        print(f"wrote {len(result.t)} rows of {what} to {args.out}", file=sys.stderr)
     return 1 if report.exceeded else 0
 
 
-def _print_report(result, stream) -> None:
+def _print_report(result, stream, timing=None) -> None:
     report, model = result.report, result.model
     for note in result.notes:
         print(f"note: {one_line(note)}", file=stream)
@@ -242,6 +256,8 @@ def _print_report(result, stream) -> None:
               file=stream)
     else:
         print("every joint stays within its limits", file=stream)
+    if timing is not None:
+        print(timing.describe() if timing.k is not None else f"cannot retime: {timing.describe()}", file=stream)
 
 
 def _limit(value) -> str:
