@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -223,6 +224,16 @@ def test_a_clock_that_jitters_or_drifts_within_the_tolerance_is_read(capsys, tmp
         write_csv(log, header, [t] + list(MOTION.q.T), fmt="{:.12g}")
         code, _, err = run(capsys, "torques", "ur5", "--log", str(log))
         assert code == 0, err
+
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+
+
+@pytest.mark.parametrize("export, clock", [("ur5_rostopic.csv", "a rostopic CSV's stamps are read as nanoseconds"),
+                                           ("ur5_plotjuggler.csv", "a PlotJuggler CSV's __time is in seconds")])
+def test_a_ros_export_knows_its_clock_and_refuses_a_time_unit(capsys, export, clock):
+    code, _, err = run(capsys, "torques", "ur5", "--log", str(EXAMPLES / export), "--time-unit", "ns")
+    assert_one_line_error(code, err, f"{clock}; --time-unit is for tables")
 
 
 def test_units_that_cannot_be_right_are_refused(capsys, tmp_path, rtde):

@@ -85,8 +85,11 @@ class Motion:
 def check_time_unit(source: LogSource, time_unit: str) -> None:
     if time_unit not in TIME_UNITS:
         raise InputError(f"unknown time unit '{time_unit}' (choose from {', '.join(TIME_UNITS)})")
-    if time_unit != "s" and source.format in ("bag", "ur-rtde"):
-        raise InputError(f"{source.where}: a {source.format} log's times are in seconds; --time-unit is for tables")
+    clocks = {"bag": "a bag log's times are in seconds", "ur-rtde": "a ur-rtde log's times are in seconds",
+              "rostopic": "a rostopic CSV's stamps are read as nanoseconds",
+              "plotjuggler": "a PlotJuggler CSV's __time is in seconds"}
+    if time_unit != "s" and source.format in clocks:
+        raise InputError(f"{source.where}: {clocks[source.format]}; --time-unit is for tables")
 
 
 def planned_columns(model: Model, log, *, columns: Mapping[str, str] | None = None,
