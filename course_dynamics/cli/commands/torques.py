@@ -14,8 +14,10 @@ from ...tools.loads import Payload, Wrench, payload_link
 from ...tools.columns import merged_map, plan_columns
 from ...tools.logs import torques_from_log
 from ...tools.retiming import retime, retimed_log
+from ..flags import FLAGS
 from ..options import (
     UsageError,
+    add,
     add_all,
     add_differentiation_arguments,
     add_friction_arguments,
@@ -55,7 +57,8 @@ def add_arguments(parser) -> None:
     add_robot_argument(parser)
     add_log_arguments(parser)
     add_differentiation_arguments(parser)
-    add_all(parser, "--out", "--columns", "--with-state", "--retime", "--margin")
+    add_all(parser, "--out", "--columns", "--with-state", "--retime")
+    add(parser, "--margin", default=None)  # given or not: only --retime uses it
     add_friction_arguments(parser)
     add_all(parser, "--payload", "--payload-size", "--wrench", "--plot", "--json", "--quiet", "--no-compile")
 
@@ -145,8 +148,9 @@ def run(args) -> int:
     joint_friction, payloads, wrenches = friction(args, model), payload_arguments(args), wrench_arguments(args)
     for w in wrenches:
         model.frame(w.link)
-    if args.margin != 0.05 and not args.retime:
+    if args.margin is not None and not args.retime:
         raise UsageError("--margin is the share of the limits --retime keeps clear of: give --retime")
+    margin = FLAGS["--margin"]["default"] if args.margin is None else args.margin
     if args.out == io.STDOUT and args.json:
         raise UsageError("--out - and --json both want standard output; write the CSV to a file")
     if args.plot:
@@ -187,7 +191,7 @@ def run(args) -> int:
                                                                             joint_friction)]
     comments = [f"course-dynamics torques {model.name} from {args.log}"] + extra if extra else []
     report = result.report
-    timing = retime(result, joint_friction, args.margin) if args.retime else None
+    timing = retime(result, joint_friction, margin) if args.retime else None
     if timing is not None and timing.k is not None:
         retimed = retimed_log(result, timing.k, joint_friction, wrenches)
         header, data = retimed.table(with_state=True)
