@@ -9,6 +9,7 @@ from helpers import assert_agrees, tip_frame, urdf_of
 
 from course_dynamics import load_robot
 from course_dynamics.core.cartesian import (
+    ROW_NAMES,
     SingularityError,
     cartesian_dynamics,
     jacobian,
@@ -118,3 +119,63 @@ def test_non_square_task_and_unknown_names():
         jacobian(model, [0.3, 0.5], "hand")
     with pytest.raises(ValueError, match="unknown task row 'w'"):
         jacobian(model, [0.3, 0.5], "tool", rows=["w"])
+
+
+@pytest.mark.parametrize("name", sorted(SQUARE_TASKS))
+def test_6_105_with_B_x_and_C_x_agrees_with_pinocchio(name):
+    """τ = Jᵀ M_x Ẍ + B_x[Θ̇Θ̇] + C_x[Θ̇²] + G (6.105) against Pinocchio's M Θ̈ + C Θ̇ + G with Θ̈ = J⁻¹(Ẍ − J̇ Θ̇), J
+    and J̇ Pinocchio's (getFrameJacobian, getFrameJacobianTimeVariation); and B_x[Θ̇Θ̇] + C_x[Θ̇²] = Jᵀ V_x."""
+    from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
+
+    from course_dynamics import gravity_torques, load_urdf
+    from course_dynamics.core.cartesian import cartesian_configuration_space_terms
+    from course_dynamics.core.lagrange import velocity_pairs
+
+    model = load_urdf(urdf_of(name))
+    oracle = PinocchioOracle(urdf_of(name), model.joint_names)
+    q, qd, _ = random_states(model, 40, seed=105)
+    x_ddot = np.random.default_rng(105).uniform(-2.0, 2.0, (len(q), model.n))  # m/s², rad/s²
+    frame, rows = SQUARE_TASKS[name]
+    indices = list(range(6)) if rows is None else [ROW_NAMES.index(r) for r in rows]
+    checked = 0
+    for k in range(len(q)):
+        J = oracle.frame_jacobian(q[k], frame)[indices]
+        if np.linalg.cond(J) > 1e4:
+            continue  # Θ̈ = J⁻¹(…) amplifies round-off by cond(J); the agreement below is 1e-9 relative
+        checked += 1
+        J_dot = oracle.frame_jacobian_dot(q[k], qd[k], frame)[indices]
+        theta_ddot = np.linalg.solve(J, x_ddot[k] - J_dot @ qd[k])  # (6.97)
+        tau_ref = oracle.M(q[k]) @ theta_ddot + oracle.C(q[k], qd[k]) @ qd[k] + oracle.G(q[k])
+        Bx, Cx = cartesian_configuration_space_terms(model, q[k], frame, rows=rows)
+        assert Bx.shape == (model.n, model.n * (model.n - 1) // 2) and Cx.shape == (model.n, model.n)
+        products = np.array([qd[k][i] * qd[k][j] for i, j in velocity_pairs(model.n)])  # [Θ̇Θ̇] (6.64)
+        velocity = Bx @ products + Cx @ qd[k] ** 2
+        terms = cartesian_dynamics(model, q[k], qd[k], frame, rows=rows)
+        tau = J.T @ terms.Mx @ x_ddot[k] + velocity + gravity_torques(model, q[k])  # (6.105)
+        scale = np.abs(oracle.M(q[k])).max() * (1 + np.abs(qd[k]).max() ** 2 + np.abs(theta_ddot).max())
+        assert_agrees(tau, tau_ref, scale, rtol=1e-9, what=f"{name} τ by (6.105), state {k}")
+        Mx_ref = np.linalg.inv(J @ np.linalg.solve(oracle.M(q[k]), J.T))
+        assert_agrees(velocity, oracle.C(q[k], qd[k]) @ qd[k] - J.T @ Mx_ref @ J_dot @ qd[k], scale, rtol=1e-9,
+                      what=f"{name} B_x[Θ̇Θ̇] + C_x[Θ̇²] = V − Jᵀ M_x J̇ Θ̇, state {k}")
+    assert checked >= 20, f"{name}: only {checked} well-conditioned states"
+
+
+def test_B_x_and_C_x_differ_from_B_and_C():
+    """(6.105)'s B_x, C_x are not (6.63)'s B, C: they carry −M J⁻¹ J̇ Θ̇. Example 6.6 in frame {3}:
+    J̇ Θ̇ = (l₁c₂, −l₁s₂)ᵀ θ̇₁θ̇₂ has no square, so C_x = C and B_x = B − M J⁻¹ (l₁c₂, −l₁s₂)ᵀ; in base
+    coordinates J̇ also turns with the tool and C_x ≠ C."""
+    from course_dynamics.core.cartesian import cartesian_configuration_space_terms
+    from course_dynamics.core.lagrange import configuration_space_terms
+
+    model = load_robot("two_link")
+    q = np.array([0.4, 0.9])  # rad
+    l1, s2, c2 = 0.5, np.sin(q[1]), np.cos(q[1])  # m
+    B, C = configuration_space_terms(model, q)
+    Bx, Cx = cartesian_configuration_space_terms(model, q, "tool", "frame", ("x", "y"))
+    terms = cartesian_dynamics(model, q, [0.0, 0.0], "tool", "frame", ("x", "y"))
+    M = textbook.two_link(q, [0.0, 0.0], **textbook.COURSE_PARAMETERS["two_link"])[0]
+    np.testing.assert_allclose(Bx[:, 0], B[:, 0] - M @ np.linalg.solve(terms.J, [l1 * c2, -l1 * s2]), rtol=1e-12)
+    np.testing.assert_allclose(Cx, C, rtol=1e-12, atol=1e-15)
+    assert np.abs(Bx - B).max() > 0.1
+    Bx_base, Cx_base = cartesian_configuration_space_terms(model, q, "tool", "base", ("x", "z"))
+    assert np.abs(Cx_base - C).max() > 0.1

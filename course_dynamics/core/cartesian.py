@@ -9,7 +9,20 @@ code           Craig        meaning (shape, unit)
 ``Mx``         M_x(Θ)       J⁻ᵀ M J⁻¹ (6.99), Cartesian mass matrix
 ``Vx``         V_x(Θ, Θ̇)    J⁻ᵀ (V − M J⁻¹ J̇ Θ̇) (6.99)
 ``Gx``         G_x(Θ)       J⁻ᵀ G (6.99)
+``Bx``         B_x(Θ)       Coriolis coefficients of (6.105), joint torques
+                            (n, n(n−1)/2), N·m per (rad/s)²
+``Cx``         C_x(Θ)       centrifugal coefficients of (6.105), joint torques
+                            (n, n), N·m per (rad/s)²
 =============  ===========  ===================================================
+
+Craig's (6.105) writes (6.104) with the velocity terms in joint space,
+
+    τ = Jᵀ(Θ) M_x(Θ) Ẍ + B_x(Θ)[Θ̇Θ̇] + C_x(Θ)[Θ̇²] + G(Θ)   (6.105)
+
+where B_x[Θ̇Θ̇] + C_x[Θ̇²] = Jᵀ V_x = V − M J⁻¹ J̇ Θ̇ are joint torques (not a force
+at the tool) and G is the joint-space gravity (Jᵀ G_x = G). Both V and J̇ Θ̇ are
+quadratic in Θ̇, so Jᵀ V_x = Σⱼₖ Tᵢⱼₖ θ̇ⱼθ̇ₖ with Tᵢⱼₖ = Γᵢⱼₖ − (M J⁻¹ ∂J/∂θₖ)ᵢⱼ,
+split as (6.63) splits V (:func:`~course_dynamics.core.lagrange.split_velocity_products`).
 
 ``expressed_in="base"`` gives the Jacobian in base-frame coordinates (Pinocchio's
 LOCAL_WORLD_ALIGNED); ``"frame"`` gives it in the frame's own coordinates, as
@@ -25,6 +38,7 @@ import numpy as np
 from ..base.errors import CourseDynamicsError, InputError
 from .algebra import Dual
 from .dynamics import gravity_torques, mass_matrix, velocity_torques
+from .lagrange import christoffel_symbols, split_velocity_products
 from .kinematics import (
     frame_placement_entries,
     placement_entries,
@@ -294,6 +308,27 @@ def operational_space_terms(J_inv, J_dot, M, V, G, theta_dot):
     return Mx, Vx, Gx
 
 
+def _square_jacobian(model: Model, q: np.ndarray, frame: str, expressed_in: str, rows, max_condition: float,
+                     caller: str) -> tuple[list[int], np.ndarray, float]:
+    """The task rows, J and cond(J) at one numeric state, refused unless J is square and well conditioned."""
+    if q.ndim != 1 or q.dtype == object:
+        raise InputError(f"{caller} takes one numeric state")
+    indices = row_indices(rows)
+    if len(indices) != model.n:
+        raise InputError(
+            f"the task has {len(indices)} rows but robot '{model.name}' has {model.n} joints: "
+            f"(6.99) needs a square Jacobian; choose {model.n} rows"
+        )
+    J = jacobian(model, q, frame, expressed_in, indices)
+    condition = float(np.linalg.cond(J))
+    if not condition <= max_condition:
+        raise SingularityError(
+            f"the Jacobian of frame '{frame}' is singular at q = {q.tolist()} "
+            f"(condition number {condition:.3g} > {max_condition:g})"
+        )
+    return indices, J, condition
+
+
 def cartesian_dynamics(model: Model, q, qd, frame: str, expressed_in: str = "base", rows=None,
                        max_condition: float = MAX_CONDITION) -> CartesianTerms:
     """M_x, V_x, G_x of (6.99) at one numeric state, for a square task Jacobian.
@@ -340,21 +375,7 @@ def cartesian_dynamics(model: Model, q, qd, frame: str, expressed_in: str = "bas
     array([3., 1.])
     """
     q, qd = as_state(model, q, "q"), as_state(model, qd, "qd")
-    if q.ndim != 1 or q.dtype == object:
-        raise InputError("cartesian_dynamics takes one numeric state")
-    indices = row_indices(rows)
-    if len(indices) != model.n:
-        raise InputError(
-            f"the task has {len(indices)} rows but robot '{model.name}' has {model.n} joints: "
-            f"(6.99) needs a square Jacobian; choose {model.n} rows"
-        )
-    J = jacobian(model, q, frame, expressed_in, indices)
-    condition = float(np.linalg.cond(J))
-    if not condition <= max_condition:
-        raise SingularityError(
-            f"the Jacobian of frame '{frame}' is singular at q = {q.tolist()} "
-            f"(condition number {condition:.3g} > {max_condition:g})"
-        )
+    indices, J, condition = _square_jacobian(model, q, frame, expressed_in, rows, max_condition, "cartesian_dynamics")
     J_dot = jacobian_dot(model, q, qd, frame, expressed_in, indices)
     M, V, G = mass_matrix(model, q), velocity_torques(model, q, qd), gravity_torques(model, q)
     Mx, Vx, Gx = operational_space_terms(np.linalg.inv(J), J_dot, M, V, G, qd)
@@ -362,5 +383,70 @@ def cartesian_dynamics(model: Model, q, qd, frame: str, expressed_in: str = "bas
                           Mx=Mx, Vx=Vx, Gx=Gx, condition=condition)
 
 
-__all__ = ["CartesianTerms", "EXPRESSED_IN", "MAX_CONDITION", "ROW_NAMES", "SingularityError", "cartesian_dynamics",
-           "jacobian", "jacobian_dot", "operational_space_terms"]
+def cartesian_configuration_space_terms(model: Model, q, frame: str, expressed_in: str = "base", rows=None,
+                                        max_condition: float = MAX_CONDITION) -> tuple[np.ndarray, np.ndarray]:
+    """Craig's B_x(Θ) and C_x(Θ) of (6.105): B_x[Θ̇Θ̇] + C_x[Θ̇²] = Jᵀ V_x = V − M J⁻¹ J̇ Θ̇, joint torques.
+
+    With them τ = Jᵀ M_x Ẍ + B_x[Θ̇Θ̇] + C_x[Θ̇²] + G (6.105), G the joint-space gravity. The coefficients
+    Tᵢⱼₖ = Γᵢⱼₖ − (M J⁻¹ ∂J/∂θₖ)ᵢⱼ of Jᵀ V_x are split as (6.63) splits V (module docstring); ∂J/∂θₖ is J̇ at
+    Θ̇ = eₖ, exact. In general B_x ≠ B and C_x ≠ C: the difference is the torque that keeps the tool on
+    Ẍ's course while the joints move.
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    q : array_like, shape (n,)
+        Joint positions Θ, rad (m for a prismatic joint).
+    frame : str
+        A URDF link (``model.frame_names``): the frame whose origin is the task point.
+    expressed_in : {"base", "frame"}, optional
+        The coordinates of J: the base frame's (the default) or the frame's own.
+    rows : sequence of int or str, optional
+        The task rows, by index or name (:data:`ROW_NAMES`); all six by default; n of them.
+    max_condition : float, optional
+        The largest condition number of J taken (:data:`MAX_CONDITION`).
+
+    Returns
+    -------
+    tuple of (numpy.ndarray, numpy.ndarray)
+        B_x(Θ), shape (n, n(n−1)/2), columns in :func:`~course_dynamics.core.lagrange.velocity_pairs` order
+        ([Θ̇Θ̇] (6.64)), and C_x(Θ), shape (n, n) ([Θ̇²] (6.65)); joint torques per (rad/s)², N·m·s² (kg·m²
+        between revolute joints).
+
+    Raises
+    ------
+    InputError
+        If the selected rows do not make J square (k ≠ n), the state is a batch or symbolic, or
+        ``expressed_in`` or a row is unknown.
+    StateError
+        If ``q`` is not a finite array of the model's n joints.
+    ModelError
+        If the robot has no link ``frame``.
+    SingularityError
+        If cond(J) exceeds ``max_condition``.
+
+    Examples
+    --------
+    >>> from course_dynamics import load_robot
+    >>> Bx, Cx = cartesian_configuration_space_terms(load_robot("two_link"), [0.0, np.pi / 2], "tool", "frame",
+    ...                                              ("x", "y"))
+    >>> Bx.round(3).tolist()   # B − M J⁻¹ (l₁c₂, −l₁s₂)ᵀ = (−0.4, 0)ᵀ + (0.2, 0.2)ᵀ, kg·m²: J̇Θ̇ = (l₁c₂, −l₁s₂)ᵀ θ̇₁θ̇₂
+    [[-0.2], [0.2]]
+    >>> (Cx.round(3) + 0.0).tolist()   # in frame {3}, J̇Θ̇ has no θ̇ᵢ² term: C_x = C here
+    [[0.0, -0.2], [0.2, 0.0]]
+    """
+    q = as_state(model, q, "q")
+    indices, J, _ = _square_jacobian(model, q, frame, expressed_in, rows, max_condition,
+                                     "cartesian_configuration_space_terms")
+    n = model.n
+    dJ = np.array([jacobian_dot(model, q, unit, frame, expressed_in, indices) for unit in np.eye(n)])  # ∂J/∂θₖ
+    M_J_inv = np.linalg.solve(J.T, mass_matrix(model, q).T).T  # M J⁻¹
+    T = christoffel_symbols(model, q) - np.einsum("ir,krj->ijk", M_J_inv, dJ)  # Jᵀ V_x = Σⱼₖ Tᵢⱼₖ θ̇ⱼθ̇ₖ
+    Bx, Cx = split_velocity_products(T, n)  # (6.105), split as (6.63)
+    return np.array(Bx, dtype=float).reshape(n, n * (n - 1) // 2), np.array(Cx, dtype=float)
+
+
+__all__ = ["CartesianTerms", "EXPRESSED_IN", "MAX_CONDITION", "ROW_NAMES", "SingularityError",
+           "cartesian_configuration_space_terms", "cartesian_dynamics", "jacobian", "jacobian_dot",
+           "operational_space_terms"]

@@ -444,14 +444,46 @@ def configuration_space_terms(model: Model, q) -> tuple[np.ndarray, np.ndarray]:
     ([[-0.4], [0.0]], [[0.0, -0.2], [0.2, 0.0]])
     """
     q = as_state(model, q, "q")
-    Gamma = _christoffel_entries(model, entries(q))
     n = model.n
-    pairs = velocity_pairs(n)
-    B = [[Gamma[i][j][k] + Gamma[i][k][j] for j, k in pairs] for i in range(n)]
-    C = [[Gamma[i][j][j] for j in range(n)] for i in range(n)]
+    B, C = split_velocity_products(_christoffel_entries(model, entries(q)), n)
     layout = layout_of(q)
-    return layout.assemble(B, (n, len(pairs))), layout.assemble(C, (n, n))
+    return layout.assemble(B, (n, n * (n - 1) // 2)), layout.assemble(C, (n, n))
+
+
+def split_velocity_products(T, n: int) -> tuple[list, list]:
+    """Craig's split (6.63) of Σⱼₖ Tᵢⱼₖ θ̇ⱼθ̇ₖ into B [Θ̇Θ̇] + C [Θ̇²]: Bᵢ,(ⱼ,ₖ) = Tᵢⱼₖ + Tᵢₖⱼ, Cᵢⱼ = Tᵢⱼⱼ.
+
+    The one place the split is made: B(Θ), C(Θ) of (6.63) from the Christoffel symbols
+    (:func:`configuration_space_terms`), and B_x(Θ), C_x(Θ) of (6.105)
+    (:func:`~course_dynamics.core.cartesian.cartesian_configuration_space_terms`). T need not be symmetric in j, k.
+
+    Parameters
+    ----------
+    T : array_like or nested sequence, shape (m, n, n)
+        The coefficients: row i of the quadratic form is Σⱼₖ T[i][j][k] θ̇ⱼθ̇ₖ; floats, numpy batches or sympy
+        expressions (any scalar the algebra runs on).
+    n : int
+        The number of joints.
+
+    Returns
+    -------
+    tuple of (list, list)
+        B as m rows of n(n−1)/2 entries, columns in :func:`velocity_pairs` order, and C as m rows of n entries;
+        the units of T (N·m per (rad/s)² for a torque row between revolute joints).
+
+    Examples
+    --------
+
+    >>> B, C = split_velocity_products([[[1.0, 2.0], [3.0, 4.0]]], 2)   # θ̇₁² + 5 θ̇₁θ̇₂ + 4 θ̇₂²
+    >>> B, C
+    ([[5.0]], [[1.0, 4.0]])
+    """
+    pairs = velocity_pairs(n)
+    B = [[T[i][j][k] + T[i][k][j] for j, k in pairs] for i in range(len(T))]  # (6.63), (6.64)
+    C = [[T[i][j][j] for j in range(n)] for i in range(len(T))]  # (6.63), (6.65)
+    return B, C
 
 
 __all__ = ["christoffel_symbols", "configuration_space_terms", "coriolis_matrix", "gravity_torques", "inverse_dynamics",
-           "kinetic_energy", "link_kinetic_energies", "mass_matrix", "velocity_pairs", "velocity_torques"]
+           "kinetic_energy", "link_kinetic_energies", "mass_matrix", "split_velocity_products", "velocity_pairs",
+           "velocity_torques"]
