@@ -1,10 +1,12 @@
-"""course_dynamics/tools/limits.py: peaks, RMS, shares of the limits and violation intervals."""
+"""course_dynamics/tools/limits.py: peaks, RMS, shares of the limits and violation intervals; and
+course_dynamics/teaching/limits.py, the time limit of a check in a student's kernel."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
 from course_dynamics import load_robot
+from course_dynamics.teaching.limits import CheckTimeout, time_limit
 from course_dynamics.tools.limits import MERGE_GAP, limits_report
 
 
@@ -76,3 +78,35 @@ def test_a_peak_within_the_uncertainty_of_the_rates_is_reported_apart():
     assert report.record()["uncertain"][1]["band"] == 2.0
     plain = limits_report(model, t, np.zeros_like(tau), tau)          # no σ: the nominal verdict, no band
     assert len(plain.violations) == 2 and plain.uncertain == () and plain.peak_band is None
+
+
+def _endless():
+    while True:
+        pass
+
+
+def _swallowing():
+    while True:  # a bare except around the loop: the time limit raises again inside the handler
+        try:
+            while True:
+                pass
+        except BaseException:
+            pass
+
+
+@pytest.mark.parametrize("student", [_endless, _swallowing])
+def test_a_timed_out_check_leaves_no_exception_behind(student):
+    """After the timeout, the kernel handles no exception: a later error does not carry it as its context."""
+    import signal
+    import sys
+
+    before = signal.getsignal(signal.SIGALRM)
+    with pytest.raises(CheckTimeout):
+        with time_limit(0.2):
+            student()
+    assert sys.exc_info() == (None, None, None)
+    try:
+        1 / 0
+    except ZeroDivisionError as later:
+        assert later.__context__ is None
+    assert signal.getsignal(signal.SIGALRM) is before

@@ -5,6 +5,12 @@ and from then on at every line and opcode of code outside this package, so that 
 cannot swallow it: the next raise comes from inside its own handler. Code stuck inside one C call (a huge
 integer power) is not interrupted until the call returns; the kernel's interrupt button still stops it.
 
+Once the block has ended, the timeout is gone from the kernel: no later exception carries it as its
+``__context__``. So it is never raised where the interpreter would lose track of the exception being handled:
+at the first instruction of an ``except`` handler (``PUSH_EXC_INFO``, whose cleanup would restore the timeout
+itself as the exception handled before), in the frames the block runs in, nor in :mod:`contextlib`'s
+``__exit__`` that ends the block.
+
 >>> with time_limit(5):
 ...     total = sum(range(10))
 >>> total
@@ -13,6 +19,7 @@ integer power) is not interrupted until the call returns; the kernel's interrupt
 from __future__ import annotations
 
 import contextlib
+import dis
 import signal
 import sys
 import threading
@@ -24,6 +31,7 @@ class CheckTimeout(BaseException):
 
 
 OURS = str(Path(__file__).resolve().parents[1])  # the package: the time limit never fires in its own frames
+HANDLER_START = dis.opmap["PUSH_EXC_INFO"]  # raised here, the handler's cleanup would keep the timeout as handled
 
 
 @contextlib.contextmanager
@@ -49,12 +57,19 @@ def time_limit(seconds: int):
         yield
         return
 
+    outside, frame = [], sys._getframe(1)
+    while frame is not None:  # the frames the block runs in (contextlib's, the caller's and above): never raised in
+        outside.append(frame)
+        frame = frame.f_back
+
     def theirs(frame) -> bool:
-        return not frame.f_code.co_filename.startswith(OURS)
+        code = frame.f_code
+        return (not code.co_filename.startswith(OURS) and code.co_filename != contextlib.__file__
+                and not any(frame is f for f in outside))
 
     def trace(frame, event, arg):
         frame.f_trace_opcodes = True  # a one-line loop (while True: pass) has no new line, but opcodes
-        if event in ("line", "opcode") and theirs(frame):
+        if event in ("line", "opcode") and theirs(frame) and frame.f_code.co_code[frame.f_lasti] != HANDLER_START:
             raise CheckTimeout
         return trace
 
@@ -71,12 +86,12 @@ def time_limit(seconds: int):
         yield
     finally:
         signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, previous)
-        sys.settrace(None)
+        sys.settrace(None)  # before signal.signal, which is Python code (signal.py) the trace would raise in
         frame = sys._getframe()
         while frame is not None:
             frame.f_trace, frame.f_trace_opcodes = None, False
             frame = frame.f_back
+        signal.signal(signal.SIGALRM, previous)
 
 
 __all__ = ["CheckTimeout", "time_limit"]
