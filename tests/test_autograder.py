@@ -292,6 +292,46 @@ def test_setup_stops_on_an_old_python_with_one_line(bundle, tmp_path):
         "Ubuntu 24.04 base image in the autograder's settings"]
 
 
+def _closed_python(tmp_path: Path) -> Path:
+    """A working Python 3.11+ in a folder only its owner can enter, as pyenv's under root's home."""
+    home = tmp_path / "home"
+    (home / "bin").mkdir(parents=True)
+    home.chmod(0o700)
+    python = home / "bin" / "python3"
+    python.write_text(f"#!/bin/sh\nexec {interpreter()} \"$@\"\n")
+    python.chmod(0o755)
+    return python
+
+
+def test_setup_chooses_a_python_others_can_run_over_the_one_on_path(bundle, tmp_path):
+    closed = _closed_python(tmp_path)
+    env = {k: v for k, v in os.environ.items() if k != "COURSE_DYNAMICS_PYTHON"}
+    env["PATH"] = f"{closed.parent}:{env['PATH']}"
+    done = subprocess.run(["bash", str(bundle["root"] / "source" / "setup.sh"), "--check-python"], env=env,
+                          capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0, done.stderr
+    chosen = done.stdout.strip()
+    assert chosen != str(closed) and chosen.startswith(("/usr/bin/", "/usr/local/bin/"))
+    assert subprocess.run([chosen, "-c", "import sys; assert sys.version_info >= (3, 11)"]).returncode == 0
+
+
+def test_setup_stops_before_installing_on_a_python_others_cannot_run(bundle, tmp_path):
+    closed = _closed_python(tmp_path)
+    root = unpack(bundle["zip"])
+    try:
+        done = setup(root, str(closed))
+        made = (root / "grader-env").exists()
+    finally:
+        shutil.rmtree(root, ignore_errors=True)
+    lines = done.stderr.strip().splitlines()
+    if os.geteuid() == 0:  # only root's submissions run as another user, who must be able to start the Python
+        assert done.returncode == 2 and not made
+        assert len(lines) == 1 and lines[0].startswith(f"error: {closed} is under /") and \
+            "set COURSE_DYNAMICS_PYTHON to a Python 3.11 or newer outside root's home" in lines[0], lines
+    else:
+        assert done.returncode == 0 and made, done.stderr
+
+
 def test_the_bundle_is_never_written_over(bundle, capsys):
     before = bundle["zip"].read_bytes()
     assert main(["grade", str(bundle["folder"] / "hw.toml"), "--gradescope", str(bundle["zip"])]) == 2

@@ -8,9 +8,14 @@ beside them; the results go to ``/autograder/results/results.json``.
 ===========================  ===================================================
 in the zip                   what it is
 ===========================  ===================================================
-``setup.sh``                 checks for Python >= 3.11 (stops with one line
-                             naming the image otherwise), makes the grader's
-                             environment ``/autograder/grader-env`` with the
+``setup.sh``                 chooses a Python >= 3.11 that an unprivileged user
+                             can run (``COURSE_DYNAMICS_PYTHON``, else
+                             ``/usr/bin/python3``, ``/usr/local/bin/python3``, …,
+                             then the ``python3`` on PATH), stopping with one line
+                             before it installs anything when there is none
+                             (``setup.sh --check-python`` only prints it);
+                             makes the grader's environment
+                             ``/autograder/grader-env`` with the
                              bundled wheel and its dependencies, then runs
                              :func:`prepare`
 ``run_autograder``           runs :func:`run` in the grader's environment
@@ -79,20 +84,67 @@ ISOLATION_WORDS = {
 
 SETUP = r"""#!/usr/bin/env bash
 # course-dynamics autograder: Gradescope runs this once, as root, when it builds the autograder's image.
+# `setup.sh --check-python` only prints the Python it would use (or why there is none) and installs nothing.
 set -euo pipefail
 AUTOGRADER="${AUTOGRADER:-/autograder}"
 SOURCE="$AUTOGRADER/source"
-PYTHON="${COURSE_DYNAMICS_PYTHON:-python3}"
-recent() { "$PYTHON" -c 'import sys, venv, ensurepip; sys.exit(sys.version_info < (3, 11))' 2>/dev/null; }
-if ! recent && [ -z "${COURSE_DYNAMICS_OFFLINE:-}" ] && command -v apt-get >/dev/null; then
+recent() { "$1" -c 'import sys, venv, ensurepip; sys.exit(sys.version_info < (3, 11))' 2>/dev/null; }
+# As root, a submission may run as an unprivileged user (where bubblewrap cannot start): the Python and its standard
+# library must be readable by others, and every folder above them searchable (a Python under root's home is not).
+closed_folder() {
+    [ "$(id -u)" = 0 ] || return 1
+    local target part where
+    for target in "$(readlink -f -- "$1")" \
+        "$(readlink -f -- "$("$1" -c 'import sysconfig; print(sysconfig.get_paths()["stdlib"])')")"; do
+        where=""
+        IFS=/ read -ra parts <<< "${target#/}"
+        for part in "${parts[@]}"; do
+            where="$where/$part"
+            local mode; mode="$(stat -L -c %A -- "$where")"
+            if [ "$where" = "$target" ] && [ -f "$where" ]; then
+                [ "${mode:7:1}" = r ] && [ "${mode:9:1}" = x ] || { echo "$where"; return 0; }
+            elif [ "${mode:9:1}" != x ] && [ "${mode:9:1}" != t ]; then
+                echo "$where"; return 0
+            fi
+        done
+    done
+    return 1
+}
+candidates() {
+    if [ -n "${COURSE_DYNAMICS_PYTHON:-}" ]; then echo "$COURSE_DYNAMICS_PYTHON"; return; fi
+    echo /usr/bin/python3; echo /usr/local/bin/python3
+    for minor in 14 13 12 11; do echo "/usr/bin/python3.$minor"; echo "/usr/local/bin/python3.$minor"; done
+    command -v python3 || true
+}
+choose() {  # the first recent Python others can run; else the reason, on standard error, and status 1
+    local python closed="" first=""
+    while read -r python; do
+        [ -n "$python" ] && command -v "$python" >/dev/null || continue
+        first="${first:-$python}"
+        recent "$python" || continue
+        if folder="$(closed_folder "$python")"; then closed="${closed:-$python:$folder}"; continue; fi
+        echo "$python"; return 0
+    done < <(candidates)
+    if [ -n "$closed" ]; then
+        echo "error: ${closed%%:*} is under ${closed#*:}, which other users cannot read, so a submission run as an" \
+            "unprivileged user could not start it; set COURSE_DYNAMICS_PYTHON to a Python 3.11 or newer outside" \
+            "root's home (such as /usr/bin/python3)" >&2
+    else
+        echo "error: course-dynamics needs Python 3.11 or newer with venv;" \
+            "this image has $("${first:-python3}" --version 2>&1 || echo no python3):" \
+            "choose the Ubuntu 24.04 base image in the autograder's settings" >&2
+    fi
+    return 1
+}
+if [ "${1:-}" = --check-python ]; then
+    choose || exit 2
+    exit 0
+fi
+if ! PYTHON="$(choose 2>/dev/null)" && [ -z "${COURSE_DYNAMICS_PYTHON:-}" ] && [ -z "${COURSE_DYNAMICS_OFFLINE:-}" ] \
+        && command -v apt-get >/dev/null; then
     apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq python3 python3-venv >/dev/null
 fi
-if ! recent; then
-    echo "error: course-dynamics needs Python 3.11 or newer with venv;" \
-        "this image has $("$PYTHON" --version 2>&1 || echo no python3):" \
-        "choose the Ubuntu 24.04 base image in the autograder's settings" >&2
-    exit 2
-fi
+PYTHON="$(choose)" || exit 2  # before anything is installed
 "$PYTHON" -m venv "$AUTOGRADER/grader-env"
 GRADER="$AUTOGRADER/grader-env/bin/python"
 if [ -n "${COURSE_DYNAMICS_DEPENDENCIES:-}" ]; then
