@@ -157,6 +157,19 @@ FLAGS: dict[str, dict] = {
                         metavar="K"),
     "--perturbation": _flag("standard deviation of the ensemble's perturbation of q0, rad or m (default 1e-6)",
                             type=float, default=1e-6),
+    # detect
+    "--gain": _flag("the momentum observer's gain K, 1/s, one value or one per joint (default 100): the residual "
+                    "follows an external torque with time constant 1/K; a larger K detects sooner and lets more "
+                    "of the rates' and torques' noise through", metavar="K|K1,K2,..."),
+    "--threshold": _flag("the residual above which a joint is in contact, N m, one value or one per joint (default: "
+                         "6 sigma of the residual's own noise above its median)", metavar="T|T1,T2,..."),
+    "--noise-window": _flag("measure the residual's noise on this many seconds at the start of the log, after the "
+                            "observer has settled (default: over the whole log, robustly)", type=float,
+                            metavar="SECONDS"),
+    "--min-duration": _flag("the shortest contact event, s (default 0.005): shorter crossings are noise",
+                            type=float, default=0.005, metavar="SECONDS"),
+    "--link": _flag("a URDF link: each contact's wrench there, from the external torques through the Jacobian "
+                    "transpose (force only when fewer than six joints move the link)", metavar="LINK"),
     # trace, derive
     "--symbolic": _flag("symbolic trace in q_<joint>, qd_<joint>, qdd_<joint>", action="store_true"),
     "--symbols": _flag("parameters kept symbolic: m<i>, l<i> (link length), lc<i> (distance to the link's centre of "

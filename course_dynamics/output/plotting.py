@@ -3,7 +3,8 @@
 :func:`plot_trajectory` draws one run (Θ(t), Θ̇(t), E(t)); :func:`plot_ensemble`
 draws how far the members of an ensemble drift from the first one;
 :func:`plot_torques` draws τ(t) per joint against its effort limit (also as a
-self-contained HTML page with the limits table). Files are written whole or not
+self-contained HTML page with the limits table); :func:`plot_residuals` draws a
+momentum observer's r(t) with its thresholds and contact events. Files are written whole or not
 at all (:mod:`course_dynamics.output.io`).
 """
 from __future__ import annotations
@@ -422,6 +423,76 @@ def plot_torques(result, path, title: str = "") -> None:
     _save(torque_figure(result, title), path)
 
 
+def residual_figure(found, title: str = ""):
+    """r(t) of a :class:`~course_dynamics.tools.collisions.Detection`, one panel per measured joint, its threshold
+    as dashed lines and the contact events shaded.
+
+    Parameters
+    ----------
+    found : Detection
+        What :func:`~course_dynamics.tools.collisions.detect` found: r of shape (K, n), N·m (N for a prismatic
+        joint).
+    title : str, optional
+        The figure's title; by default the robot's joints and a key.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel per measured joint.
+
+    Raises
+    ------
+    InputError
+        If more than :data:`MAX_PANELS` joints were measured.
+    """
+    if len(found.measured) > MAX_PANELS:
+        raise InputError(f"--plot draws one panel per joint, at most {MAX_PANELS}: {len(found.measured)} joints were "
+                         "measured; leave out --plot (the CSV and --json hold every joint)")
+    plt = pyplot()
+    n = len(found.measured)
+    figure, axes = plt.subplots(n, 1, sharex=True, figsize=(8, 1.2 + 1.3 * n), constrained_layout=True, squeeze=False)
+    for axis, name in zip(axes[:, 0], found.measured):
+        j = found.joints.index(name)
+        theta = found.threshold[j]
+        for e in found.events:
+            axis.axvspan(e.start, e.end, color="tab:red", alpha=0.2, linewidth=0)
+        axis.axhline(theta, color="0.4", linestyle="--", linewidth=0.8)
+        axis.axhline(-theta, color="0.4", linestyle="--", linewidth=0.8)
+        axis.plot(found.t, found.r[:, j], color=f"C{j}", linewidth=0.9)
+        peaks = [p for e in found.events for joint, p in zip(e.joints, e.peak) if joint == name]
+        peak = f"; peak in a contact {max(peaks, key=abs):+.3g}" if peaks else ""
+        axis.set_title(f"{name}: K {found.gain[j]:.3g} 1/s, threshold {theta:.3g}{peak}", fontsize="small", loc="left")
+        axis.set_ylabel(f"r {name}", fontsize="small")
+        axis.grid(alpha=0.3)
+    axes[-1, 0].set_xlabel("t (s)")
+    figure.suptitle(title or "momentum observer: r(t), the external joint torques (N m, or N)")
+    figure.text(0.5, 0.0, "dashed: the thresholds; shaded: the contact events", ha="center", va="bottom",
+                fontsize="small")
+    return figure
+
+
+def plot_residuals(found, path, title: str = "") -> None:
+    """Draw the observer's r(t) with thresholds and events (:func:`residual_figure`) to ``path``: PNG, SVG or HTML.
+
+    Parameters
+    ----------
+    found : Detection
+        What :func:`~course_dynamics.tools.collisions.detect` found.
+    path : str or pathlib.Path
+        The file to write: ``.png``, ``.svg`` or ``.html``.
+    title : str, optional
+        The figure's (and page's) title.
+
+    Raises
+    ------
+    InputError
+        If the suffix is none of these, too many joints were measured, or ``path`` cannot be written.
+    """
+    fmt = plot_format(path, FIGURE_FORMATS)
+    data = figure_file(residual_figure(found, title), fmt, title)
+    (io.write_text(path, data.decode("utf-8")) if fmt == "html" else io.write_bytes(path, data))
+
+
 __all__ = ["FIGURE_FORMATS", "MAX_PANELS", "PLOT_FORMATS", "check_panels", "ensemble_figure", "figure_bytes",
-           "figure_file", "plot_ensemble", "plot_format", "plot_torques", "plot_trajectory", "pyplot", "torque_figure",
-           "torques_page", "trajectory_figure"]
+           "figure_file", "plot_ensemble", "plot_format", "plot_residuals", "plot_torques", "plot_trajectory", "pyplot",
+           "residual_figure", "torque_figure", "torques_page", "trajectory_figure"]

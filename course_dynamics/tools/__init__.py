@@ -20,6 +20,7 @@ module               job
 ``differentiation``  Θ̇ and Θ̈ from noisy samples, the window chosen from the noise
 ``logs``             from a log to torques: the steps above, then payloads, limits and residuals
 ``residuals``        the model against the robot: measured torques next to ours
+``collisions``       collisions and external torques from a log: the generalized-momentum observer
 ``identification``   inertial and friction parameters from a log: least squares, then physically consistent
 ``consistency``      the physically consistent step of an identification (cvxpy), its solvers' warnings as ours
 ``excitation``       a trajectory within the limits that makes the parameters identifiable

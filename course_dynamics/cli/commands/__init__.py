@@ -11,6 +11,7 @@ module                 ``course-dynamics …``
 ``lint``               a URDF's physics checked, each finding with its class, severity and fix
 ``terms``              τ, M, C, V and G at one state
 ``torques``            the joint torques a logged trajectory needs, and a limits report
+``detect``             collisions and external torques in a log, by the momentum observer
 ``excite``             an excitation trajectory for identification
 ``identify``           the inertial and friction parameters a log shows, as a URDF
 ``cartesian``          operational-space dynamics Mx, Vx, Gx (6.99) of a frame
@@ -28,5 +29,5 @@ module                 ``course-dynamics …``
 """
 
 # In the order ``course-dynamics --help`` lists them.
-COMMANDS = ("info", "lint", "terms", "torques", "excite", "identify", "cartesian", "simulate", "trace", "derive",
-            "animate", "validate", "crosscheck", "report", "grade", "student_notebooks", "publish_notebooks")
+COMMANDS = ("info", "lint", "terms", "torques", "detect", "excite", "identify", "cartesian", "simulate", "trace",
+            "derive", "animate", "validate", "crosscheck", "report", "grade", "student_notebooks", "publish_notebooks")
