@@ -256,8 +256,9 @@ check("tau_spatial_arm")
 #
 # ### Exercise 3.5 — (6.32) from (6.15) and (5.45)
 # Link i+1 turns relative to link i by θ̇ᵢ₊₁ about its Ẑ, so ⁱ⁺¹ωᵢ₊₁ = ⁱ⁺¹ᵢR ⁱωᵢ + θ̇ᵢ₊₁Ẑ (the velocity
-# propagation of (5.45)). Differentiate it with the rule (6.15) — {A} the frame of link i+1, {B} link i, {C} the
-# joint's rotation — and write `omega_dot_propagation(R, w, wd, qd, qdd)` returning ⁱ⁺¹ω̇ᵢ₊₁, with R = ⁱ⁺¹ᵢR,
+# propagation of (5.45)). Differentiate it with the rule (6.15) — {A} the base {0} (an inertial frame), {B} link i,
+# {C} link i+1, which turns relative to {B} by the joint's rotation — then write the result in frame i+1's axes, and
+# write `omega_dot_propagation(R, w, wd, qd, qdd)` returning ⁱ⁺¹ω̇ᵢ₊₁, with R = ⁱ⁺¹ᵢR,
 # w = ⁱωᵢ, wd = ⁱω̇ᵢ, qd = θ̇ᵢ₊₁, qdd = θ̈ᵢ₊₁ (numbers). The notes' "from (5.45)" line is misprinted (notebook 9).
 
 # %%
@@ -275,8 +276,8 @@ check("omega_dot_propagation")
 # ### Exercise 3.6 — (6.34) from (6.12)
 # (The notes restate (6.5) on the way with ᴮV̇_Q where the velocity ᴮV_Q belongs; for a point fixed in link i both
 # vanish, and (6.12) is all that is needed.)
-# The origin of frame i+1 is a point fixed in link i, at ⁱPᵢ₊₁. Apply (6.12) in frame i and rotate the result
-# into frame i+1: `v_dot_propagation(R, w, wd, vd, P)` returns ⁱ⁺¹v̇ᵢ₊₁ from R = ⁱ⁺¹ᵢR, w = ⁱωᵢ, wd = ⁱω̇ᵢ,
+# The origin of frame i+1 is a point fixed in link i, at ⁱPᵢ₊₁. Apply (6.12) with {A} the base and {B} link i, in
+# frame i's axes, and rotate the result into frame i+1: `v_dot_propagation(R, w, wd, vd, P)` returns ⁱ⁺¹v̇ᵢ₊₁ from R = ⁱ⁺¹ᵢR, w = ⁱωᵢ, wd = ⁱω̇ᵢ,
 # vd = ⁱv̇ᵢ and P = ⁱPᵢ₊₁.
 
 # %%

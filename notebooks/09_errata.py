@@ -47,7 +47,7 @@ plt.show()
 
 # %% [markdown]
 # ## Found on a second reading
-# The table's last seven rows: five misprints found by reading the notes again, line by line, and two entries of the
+# Rows from "the (5.45) line" on: five misprints found by reading the notes again, line by line, and two entries of the
 # worked example now evaluated where the printed and the corrected forms differ.
 # * **The (5.45) line** of the derivation of (6.32) prints ${}^{i+1}\dot\omega_{i+1} = {}^{i+1}_iR\,\dot\omega_i +
 #   \dot\theta_{i+1}\,{}^{i+1}\hat Z_{i+1}$. (5.45) propagates angular *velocities*,
@@ -58,14 +58,25 @@ plt.show()
 # * **(6.43), in words**: "the joint torque is the Z component of the vector representing the inertial torque". The
 #   equation is right, τᵢ = ⁱnᵢᵀ ⁱẐᵢ, with ⁱnᵢ the moment link i−1 exerts on link i; the inertial torque of these
 #   notes is ⁱNᵢ (6.37), and its Z component is not the joint torque.
-# * **The (6.63) legend** defines B_x and C_x, the Cartesian coefficients of (6.105); (6.63) has the joint-space B(Θ)
-#   and C(Θ), whose B[Θ̇Θ̇] + C[Θ̇²] is V(Θ, Θ̇). B_x[Θ̇Θ̇] + C_x[Θ̇²] is V_x, a force at the tool.
+# * **The (6.63) legend** defines B_x and C_x, the coefficients of (6.105); (6.63) has the joint-space B(Θ) and C(Θ),
+#   whose B[Θ̇Θ̇] + C[Θ̇²] is V(Θ, Θ̇). Craig's (6.105), τ = Jᵀ M_x Ẍ + B_x[Θ̇Θ̇] + C_x[Θ̇²] + G, has joint torques in
+#   B_x and C_x too, but B_x[Θ̇Θ̇] + C_x[Θ̇²] = Jᵀ V_x = V − Jᵀ M_x J̇ Θ̇: the torque that also keeps the tool on its
+#   course while the joints move. It is not V (`cartesian_configuration_space_terms` computes B_x and C_x).
+# * **(6.105)** prints M where M_x belongs and G_x, a force at the tool, where the joint-space G = Jᵀ G_x belongs.
+# * **Setting {A} = {i+1}** before (6.34) names the wrong frame: (6.12) gives an acceleration relative to {A}, and
+#   the origin of {i+1} does not move relative to {i+1}; {A} is the base {0}, and the result is then written in
+#   {i+1}'s axes. **The prismatic remark** after (6.32), ⁱωᵢ = θ̇ᵢ = 0, stops a sliding link from turning with its
+#   parent: a prismatic joint adds no rotation, ⁱ⁺¹ωᵢ₊₁ = ⁱ⁺¹ᵢR ⁱωᵢ, but ⁱωᵢ is not 0.
+# * **(6.69)** writes Iᵢ without its C: about the frame origin, the rotational term counts the centre of mass's motion
+#   a second time; k needs ᶜⁱIᵢ. **(6.73)** writes P_Cᵢ without its ⁰: ⁱP_Cᵢ is a constant of the link, and u would
+#   not change with Θ.
 # * **(6.117)** prints ½Θ̈(Δt)Δt². Read as (6.116) reads Θ̈(Δt), a product, that is ½Θ̈Δt³; the step of uniformly
 #   accelerated motion is ½Θ̈(t)Δt², as in the notes' own S(t) = S₀ + V₀t + ½at². Released from rest, the printed
 #   step moves the double pendulum a hundredth of the distance (Δt = 0.01 s).
 # * The worked example's **¹N₁** and **²v̇₂**: ¹N₁'s formula keeps the
 #   general indices and, as (6.50) does, an inertia about the frame origin; for the two-link arm's point masses both
 #   forms give 0, so it is evaluated on the Panda's first link. ²v̇₂ = ²R² v̇_C₁ has the identity ²₂R where ²₁R belongs.
+# * The last four rows: a frame, an index or a superscript that changes a number.
 #
 # Five have no numeric reading; the tests check each as corrected: the frame with its origin at ᴬP_c in the notes'
 # box is {C}, not {A}; (6.2) differentiates ᴬΩ_B, the angular velocity of the frame {B}, not of a point Q; the
@@ -141,5 +152,5 @@ check("inward_force")
 # %% [markdown]
 # **Correct as printed** (checked the same way, in the project's tests): (6.1), (6.5), (6.7), (6.8), (6.12), (6.13),
 # (6.15), the inertia definitions and example 6.2, (6.32)–(6.42), (6.44), (6.53), (6.59)–(6.62), (6.64),
-# (6.69)–(6.77), (6.91)–(6.99), (6.104), (6.115), (6.116). `reference/equations.py` names the test and the notebook
+# (6.71), (6.75), (6.77), (6.91)–(6.99), (6.104), (6.115), (6.116). `reference/equations.py` names the test and the notebook
 # cell of every label.

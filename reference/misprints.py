@@ -20,7 +20,7 @@ import sympy
 
 from course_dynamics import inverse_dynamics, load_robot, newton_euler_links, robot_path
 from course_dynamics.core import lagrange
-from course_dynamics.core.cartesian import cartesian_dynamics, jacobian
+from course_dynamics.core.cartesian import cartesian_configuration_space_terms, cartesian_dynamics, jacobian
 from course_dynamics.core.kinematics import joint_transforms
 from course_dynamics.grading.slips import Slip
 from course_dynamics.core.state import entries
@@ -197,15 +197,19 @@ def demonstrations() -> list[Misprint]:
     terms = cartesian_dynamics(arm, q6, qd6, "tool", expressed_in="frame", rows=["x", "y"])
     x_ddot = terms.J @ qdd6 + terms.J_dot @ qd6
     tau6 = two_link.tau(q6, qd6, qdd6)
-    printed = terms.J.T @ two_link.M(q6) @ x_ddot + terms.Vx + terms.Gx
+    Bx, Cx = cartesian_configuration_space_terms(arm, q6, "tool", expressed_in="frame", rows=["x", "y"])
+    velocity = Bx @ [qd6[0] * qd6[1]] + Cx @ qd6**2  # B_x[Θ̇Θ̇] + C_x[Θ̇²], joint torques
+    printed = terms.J.T @ two_link.M(q6) @ x_ddot + velocity + terms.Gx  # M for M_x, G_x for G
+    corrected = terms.J.T @ terms.Mx @ x_ddot + velocity + two_link.G(q6)  # Craig's (6.105)
     found.append(Misprint("(6.105)", "two-link τ from a Cartesian acceleration", "Pinocchio's rnea",
-                          _relative(printed, tau6), _relative(terms.joint_torques(x_ddot), tau6)))
+                          _relative(printed, tau6), _relative(corrected, tau6)))
 
     m, w, l = 2.0, 0.3, 0.5  # example 6.1's product of inertia about the corner: m w l / 4 by the integral
     found.append(Misprint("parallel-axis theorem, products", "box ᴬI_xy about its corner", "the exact integral",
                           _relative(0.0 - m * (w / 2) * (l / 2), m * w * l / 4),
                           _relative(0.0 + m * (w / 2) * (l / 2), m * w * l / 4)))
     found.extend(second_reading())
+    found.extend(frames_and_superscripts())
     return found
 
 
@@ -243,10 +247,10 @@ def second_reading() -> list[Misprint]:
     q6, qd6 = np.array([0.4, 0.9]), np.array([0.7, -1.2])  # rad, rad/s: example 6.6's state
     B, C = lagrange.configuration_space_terms(arm, q6)
     products = np.array([qd6[j] * qd6[k] for j, k in lagrange.velocity_pairs(arm.n)])  # [Θ̇Θ̇] (6.64)
-    Vx = cartesian_dynamics(arm, q6, qd6, "tool", expressed_in="frame", rows=["x", "y"]).Vx  # B_x[Θ̇Θ̇] + C_x[Θ̇²]
+    Bx, Cx = cartesian_configuration_space_terms(arm, q6, "tool", expressed_in="frame", rows=["x", "y"])  # (6.105)
     V = two_link.V(q6, qd6)
     found.append(Misprint("(6.63) legend", "two-link velocity terms of (6.63)", "Pinocchio's nonLinearEffects − G",
-                          _relative(Vx, V), _relative(B @ products + C @ qd6**2, V)))
+                          _relative(Bx @ products + Cx @ qd6**2, V), _relative(B @ products + C @ qd6**2, V)))
 
     pendulum = load_robot("double_pendulum_continuous")
     swing = PinocchioOracle(robot_path("double_pendulum_continuous"), pendulum.joint_names)
@@ -276,6 +280,69 @@ def second_reading() -> list[Misprint]:
     found.append(Misprint("worked example, ²v̇₂", "two-link ²v̇₂ from ¹v̇_C₁", "Pinocchio's RNEA data",
                           _relative(np.eye(3) @ ref2["v_dot_c"][0], ref2["v_dot"][1]),  # ²R² = ²₂R, the identity
                           _relative(R21 @ ref2["v_dot_c"][0], ref2["v_dot"][1])))
+    return found
+
+
+def frames_and_superscripts() -> list[Misprint]:
+    """The misprints of a frame, an index or a superscript that change a number: (6.34)'s {A} = {i+1}, the
+    prismatic remark after (6.32), (6.69)'s Iᵢ without its C, (6.73)'s P_Cᵢ without its ⁰ (errata.md)."""
+    found = []
+
+    ur5 = load_robot("ur5")
+    oracle = PinocchioOracle(robot_path("ur5"), ur5.joint_names)
+    q, qd, qdd = (x[0] for x in random_states(ur5, 1, seed=5))
+    c = pinocchio_chain(oracle, q, qd, qdd)
+    Z = np.array([b.axis for b in ur5.bodies])  # each joint's axis in its own frame
+    printed, corrected = [], []
+    for k in range(1, ur5.n):  # links 2 … n: a link's parent is a link, whose ⁱv̇ᵢ Pinocchio gives
+        R_AB, Q = c["R_up"][k].T, c["P_up"][k]  # ⁱ⁺¹ᵢR; ᴮQ = ⁱPᵢ₊₁, the origin of {i+1} (fixed in {i})
+        Omega, Omega_dot = -qd[k] * Z[k], -qdd[k] * Z[k]  # {B} = {i} turning relative to {A} = {i+1}
+        RQ = R_AB @ Q
+        V_dot_Borg = -(np.cross(Omega_dot, RQ) + np.cross(Omega, np.cross(Omega, RQ)))  # {i}'s origin, −ᴬ_BR ᴮQ
+        printed.append(V_dot_Borg + np.cross(Omega_dot, RQ) + np.cross(Omega, np.cross(Omega, RQ)))  # (6.12)
+        w, w_dot, v_dot = c["omega"][k - 1], c["omega_dot"][k - 1], c["v_dot"][k - 1]
+        corrected.append(R_AB @ (v_dot + np.cross(w_dot, Q) + np.cross(w, np.cross(w, Q))))  # (6.34), {A} = {0}
+    found.append(Misprint("setting {A} = {i+1} before (6.34)", "UR5 ⁱ⁺¹v̇ᵢ₊₁ by (6.12), links 2–6",
+                          "Pinocchio's RNEA data", _relative(printed, c["v_dot"][1:]),
+                          _relative(corrected, c["v_dot"][1:])))
+
+    rp = load_robot("rp_arm")  # joint 2 is prismatic
+    slider = PinocchioOracle(robot_path("rp_arm"), rp.joint_names)
+    c2 = pinocchio_chain(slider, np.array([0.6, 0.45]), np.array([1.3, -0.7]), np.array([-0.5, 0.8]))
+    R21 = c2["R_up"][1].T
+    found.append(Misprint("the prismatic remark after (6.32)", "RP arm ²ω₂, ²ω̇₂ (prismatic joint 2)",
+                          "Pinocchio's RNEA data",
+                          _relative([np.zeros(3), R21 @ c2["omega_dot"][0]], [c2["omega"][1], c2["omega_dot"][1]]),
+                          _relative([R21 @ c2["omega"][0], R21 @ c2["omega_dot"][0]],
+                                    [c2["omega"][1], c2["omega_dot"][1]])))
+
+    oracle.link_quantities(q, qd, qdd)  # fills Pinocchio's velocities and placements at this state
+    ids = [oracle.model.getJointId(name) for name in oracle.joint_names]
+    k_printed = k_corrected = 0.0
+    for j in ids:
+        body, v = oracle.model.inertias[j], oracle.data.v[j]
+        lever, w = body.lever, v.angular
+        v_c = v.linear + np.cross(w, lever)  # v_Cᵢ, in frame i's axes
+        I_origin = body.inertia + body.mass * (lever @ lever * np.eye(3) - np.outer(lever, lever))  # ⁱIᵢ, no C
+        k_printed += 0.5 * body.mass * v_c @ v_c + 0.5 * w @ I_origin @ w  # (6.69) as printed
+        k_corrected += 0.5 * body.mass * v_c @ v_c + 0.5 * w @ body.inertia @ w  # (6.69) with ᶜⁱIᵢ
+    energy = oracle.kinetic_energy(q, qd)
+    found.append(Misprint("(6.69)", "UR5 kinetic energy k", "Pinocchio's computeKineticEnergy",
+                          _relative(k_printed, energy), _relative(k_corrected, energy)))
+
+    g = np.array([0.0, 0.0, -9.81])  # ⁰g, m/s²
+    q_other = random_states(ur5, 2, seed=73)[0][1]
+
+    def u(at, in_base: bool) -> float:  # (6.73) with u_ref = 0, P_Cᵢ in the base (⁰P_Cᵢ) or in frame i (ⁱP_Cᵢ)
+        oracle.frame_placement(at, ur5.bodies[0].name)  # Pinocchio's forward kinematics fills its oMi
+        levers = [oracle.data.oMi[j].act(oracle.model.inertias[j].lever) if in_base
+                  else oracle.model.inertias[j].lever for j in ids]
+        return sum(-oracle.model.inertias[j].mass * g @ P for j, P in zip(ids, levers))
+
+    rise = oracle.potential_energy(q_other) - oracle.potential_energy(q)  # u_ref cancels in a difference
+    found.append(Misprint("(6.73)", "UR5 potential energy u(Θ₂) − u(Θ₁)", "Pinocchio's computePotentialEnergy",
+                          _relative(u(q_other, False) - u(q, False), rise),
+                          _relative(u(q_other, True) - u(q, True), rise)))
     return found
 
 

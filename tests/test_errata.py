@@ -423,16 +423,27 @@ def test_example_6_6_jacobian(example_6_6):
     np.testing.assert_allclose(terms.J_dot, J_dot_printed, atol=1e-12)
 
 
-def test_6_105_applies_J_transpose_to_every_term(example_6_6):
-    """Printed τ = Jᵀ M Ẍ + B_x + C_x + G_x; correct τ = Jᵀ (M_x Ẍ + V_x + G_x) (6.104)."""
+def test_6_105_has_M_x_and_the_joint_space_gravity(example_6_6):
+    """Printed τ = Jᵀ M Ẍ + B_x[Θ̇Θ̇] + C_x[Θ̇²] + G_x; Craig's (6.105) is τ = Jᵀ M_x Ẍ + B_x[Θ̇Θ̇] + C_x[Θ̇²] + G, with
+    B_x, C_x joint torques (B_x[Θ̇Θ̇] + C_x[Θ̇²] = Jᵀ V_x) and G = Jᵀ G_x; it equals (6.104),
+    τ = Jᵀ (M_x Ẍ + V_x + G_x).
+    Each printed slip alone (M for M_x, G_x for G) is refused."""
+    from course_dynamics import gravity_torques, mass_matrix
+    from course_dynamics.core.cartesian import cartesian_configuration_space_terms
+
     model, q, qd, qdd, terms = example_6_6
     tau = inverse_dynamics(model, q, qd, qdd)
     x_ddot = terms.J @ qdd + terms.J_dot @ qd  # (6.97)
-    np.testing.assert_allclose(terms.joint_torques(x_ddot), tau, rtol=1e-10)
-    from course_dynamics import mass_matrix
-
-    printed = terms.J.T @ mass_matrix(model, q) @ x_ddot + terms.Vx + terms.Gx
-    assert np.abs(printed - tau).max() > 1.0
+    np.testing.assert_allclose(terms.joint_torques(x_ddot), tau, rtol=1e-10)  # (6.104)
+    Bx, Cx = cartesian_configuration_space_terms(model, q, "tool", expressed_in="frame", rows=["x", "y"])
+    velocity = Bx @ [qd[0] * qd[1]] + Cx @ qd**2
+    np.testing.assert_allclose(velocity, terms.J.T @ terms.Vx, rtol=1e-10)
+    M, G = mass_matrix(model, q), gravity_torques(model, q)
+    np.testing.assert_allclose(terms.J.T @ terms.Mx @ x_ddot + velocity + G, tau, rtol=1e-10)  # (6.105), corrected
+    scale = np.abs(tau).max()  # N·m
+    assert np.abs(terms.J.T @ M @ x_ddot + velocity + terms.Gx - tau).max() > 0.1 * scale  # as printed
+    assert np.abs(terms.J.T @ M @ x_ddot + velocity + G - tau).max() > 1e-2 * scale  # M where M_x belongs
+    assert np.abs(terms.J.T @ terms.Mx @ x_ddot + velocity + terms.Gx - tau).max() > 0.1 * scale  # G_x for G
 
 
 # ---------------------------------------------------------------- simulation (6.115)

@@ -63,8 +63,8 @@ def test_symbolic_two_link_is_craig_6_60_to_6_62():
     c1, c2, s2, c12 = sympy.cos(t1), sympy.cos(t2), sympy.sin(t2), sympy.cos(t1 + t2)
     tau1 = (m2 * l2**2 * (tdd1 + tdd2) + m2 * l1 * l2 * c2 * (2 * tdd1 + tdd2) + (m1 + m2) * l1**2 * tdd1
             - m2 * l1 * l2 * s2 * td2**2 - 2 * m2 * l1 * l2 * s2 * td1 * td2
-            + m2 * l2 * g * c12 + (m1 + m2) * l1 * g * c1)  # (6.60)
-    tau2 = m2 * l1 * l2 * c2 * tdd1 + m2 * l1 * l2 * s2 * td1**2 + m2 * l2 * g * c12 + m2 * l2**2 * (tdd1 + tdd2)  # (6.60)
+            + m2 * l2 * g * c12 + (m1 + m2) * l1 * g * c1)  # (6.59) with (6.60)–(6.62)
+    tau2 = m2 * l1 * l2 * c2 * tdd1 + m2 * l1 * l2 * s2 * td1**2 + m2 * l2 * g * c12 + m2 * l2**2 * (tdd1 + tdd2)  # (6.59)
     for ours, craig in zip(tau, (tau1, tau2)):
         assert sympy.simplify(sympy.expand_trig(ours - craig)) == 0
 

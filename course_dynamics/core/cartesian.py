@@ -431,7 +431,7 @@ def cartesian_configuration_space_terms(model: Model, q, frame: str, expressed_i
     >>> from course_dynamics import load_robot
     >>> Bx, Cx = cartesian_configuration_space_terms(load_robot("two_link"), [0.0, np.pi / 2], "tool", "frame",
     ...                                              ("x", "y"))
-    >>> Bx.round(3).tolist()   # B − M J⁻¹ (l₁c₂, −l₁s₂)ᵀ = (−0.4, 0)ᵀ + (0.2, 0.2)ᵀ, kg·m²: J̇Θ̇ = (l₁c₂, −l₁s₂)ᵀ θ̇₁θ̇₂
+    >>> Bx.round(3).tolist()   # J̇Θ̇ = (l₁c₂, −l₁s₂)ᵀ θ̇₁θ̇₂: B − M J⁻¹ (l₁c₂, −l₁s₂)ᵀ = (−0.4, 0)ᵀ + (0.2, 0.2)ᵀ
     [[-0.2], [0.2]]
     >>> (Cx.round(3) + 0.0).tolist()   # in frame {3}, J̇Θ̇ has no θ̇ᵢ² term: C_x = C here
     [[0.0, -0.2], [0.2, 0.0]]
