@@ -110,13 +110,19 @@ def test_the_closed_forms_that_answer_exercises_are_shown_with_the_solutions_onl
         assert len(student_version(source, stem).cells) == len(source.cells) - len(marked)
 
 
-def test_nbgrader_metadata_marks_solutions_and_checks():
-    notebook = student_version(read_notebook(NOTEBOOKS[0]), NOTEBOOKS[0].stem)
-    marked = [c.metadata["nbgrader"] for c in notebook.cells if "nbgrader" in c.metadata]
-    solutions = [m for m in marked if m["solution"]]
-    graded = [m for m in marked if m["grade"]]
-    assert len(solutions) >= 2 and len(graded) == len(solutions)
-    assert len({m["grade_id"] for m in marked}) == len(marked)
+@pytest.mark.parametrize("version", [student_version, solution_version])
+def test_nbgrader_metadata_marks_solutions_and_checks_with_no_points(version):
+    """Check cells run in the student's kernel, where they can be made to pass: read-only, no grade, no points."""
+    for path in NOTEBOOKS:
+        notebook = version(read_notebook(path), path.stem)
+        marked = [c.metadata["nbgrader"] for c in notebook.cells if "nbgrader" in c.metadata]
+        solutions = [m for m in marked if m["solution"]]
+        checks = [c.metadata["nbgrader"] for c in notebook.cells
+                  if c.cell_type == "code" and c.source.startswith("check(") and "nbgrader" in c.metadata]
+        assert len(solutions) >= 2 and len(checks) == len(solutions), path.name
+        assert all(m["locked"] and not m["grade"] and "points" not in m for m in checks), path.name
+        assert not [m for m in marked if m["grade"] or "points" in m], path.name
+        assert len({m["grade_id"] for m in marked}) == len(marked), path.name
 
 
 def test_student_notebooks_command_writes_the_course(tmp_path, capsys):

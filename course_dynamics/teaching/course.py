@@ -12,8 +12,10 @@ replaces every solution region by ``pass  # YOUR CODE HERE`` at the same
 indentation, so the notebook still runs and the check reports "not done yet",
 and leaves out the cells marked :data:`SOLUTIONS_ONLY` (the library showing an
 exercise's answer, which the version with solutions keeps);
-both versions carry nbgrader's cell metadata (solution cells, graded check
-cells), so an instructor can also use nbgrader.
+both versions carry nbgrader's cell metadata (solution cells, and check cells
+read-only and worth no points), so an instructor can also use nbgrader. A check
+runs in the student's own kernel, where it can be made to pass: marks come from
+``course-dynamics grade``, which runs each submission in a sandbox.
 """
 from __future__ import annotations
 
@@ -165,7 +167,8 @@ def strip_solutions(source: str) -> str:
 
 
 def _nbgrader(notebook, stem: str) -> None:
-    """nbgrader metadata: cells with a solution are solution cells, the check cell after each is graded."""
+    """nbgrader metadata: cells with a solution are solution cells; the check cell after each is read-only, with
+    no points (it runs in the student's kernel, where it can be made to pass: marks come from ``grade``)."""
     exercise = 0
     for cell in notebook.cells:
         if cell.cell_type != "code":
@@ -175,8 +178,8 @@ def _nbgrader(notebook, stem: str) -> None:
             cell.metadata["nbgrader"] = {"grade": False, "grade_id": f"{stem}-exercise-{exercise}", "locked": False,
                                          "schema_version": 3, "solution": True, "task": False}
         elif "check(" in cell.source and exercise:
-            cell.metadata["nbgrader"] = {"grade": True, "grade_id": f"{stem}-check-{exercise}", "locked": True,
-                                         "points": 1, "schema_version": 3, "solution": False, "task": False}
+            cell.metadata["nbgrader"] = {"grade": False, "grade_id": f"{stem}-check-{exercise}", "locked": True,
+                                         "schema_version": 3, "solution": False, "task": False}
 
 
 def _for_student(notebook, student: str | None) -> None:

@@ -19,8 +19,9 @@ returns a :class:`Verdict`, which the notebook shows:
   scale, wrong entries; for a formula (sympy) where it differs.
 
 Under nbgrader's autograder (``NBGRADER_EXECUTION=autograde``) a wrong or
-missing answer raises ``AssertionError`` with the same feedback, so check cells
-can carry points.
+missing answer raises ``AssertionError`` with the same feedback. Check cells carry
+no points: they run in the student's own kernel, where they can be made to pass;
+marks come from ``course-dynamics grade``.
 """
 from __future__ import annotations
 
