@@ -68,6 +68,7 @@ from .tables import joint_columns, stack_joint_columns
 ROWS_AT_A_TIME = 2**15
 MAX_MEASURED = 1e7          # N m: the largest industrial joints take about 1e5
 RATE_UNITS_RATIO = 3.0      # a logged Θ̇ this many times larger or smaller than dΘ/dt is in other units
+RATE_CHECK_SPAN = 0.05      # s: dΘ/dt for that check is a difference over at most this time
 
 
 @dataclass(frozen=True)
@@ -307,7 +308,9 @@ def _check_rate_units(model, plan, q, qd, step, where) -> None:
     """A logged Θ̇ must be the rate of the logged Θ: one in deg/s, or a t in other units, is refused by name."""
     if step <= 0 or len(q) < 20:  # a handful of rows cannot tell units apart (and other checks speak first)
         return
-    stride = max(1, len(q) // 200)                      # differences over several samples: little noise
+    # differences over several samples (little noise), but within a short time: a stride of a sizeable part of a
+    # long log's period would compare the logged rate with an aliased slope
+    stride = max(1, min(len(q) // 200, int(RATE_CHECK_SPAN / (2 * step))))
     for i, j in enumerate(model.joint_names):
         if f"qd_{j}" not in plan.read or f"q_{j}" not in plan.read:
             continue
