@@ -465,9 +465,8 @@ def residual_figure(found, title: str = ""):
         axis.set_ylabel(f"r {name}", fontsize="small")
         axis.grid(alpha=0.3)
     axes[-1, 0].set_xlabel("t (s)")
-    figure.suptitle(title or "momentum observer: r(t), the external joint torques (N m, or N)")
-    figure.text(0.5, 0.0, "dashed: the thresholds; shaded: the contact events", ha="center", va="bottom",
-                fontsize="small")
+    figure.suptitle((title or "momentum observer") + "\nr(t) -> the external joint torques (N m, or N); dashed: the "
+                    "thresholds; shaded: the contact events")
     return figure
 
 

@@ -41,8 +41,8 @@ deviation (:func:`residual_noise`; k = :data:`SIGMAS`), robust to the contacts t
 quiet stretch after the observer has settled (5/K) or over the whole log. An event lasts until every
 joint is back under half its threshold (hysteresis) and counts once it has lasted
 :data:`MIN_DURATION`. With ``link``, the wrench the surroundings exert on that link
-is the least-squares solution of r = Jᵀ F over the event once the observer has settled, each joint's
-rows weighted by one over its threshold (:func:`contact_wrench`).
+is the least-squares solution of r = Jᵀ F over the event, Jᵀ F passed through the observer's own update
+(no lag), each joint's rows weighted by one over its threshold (:func:`contact_wrench`).
 
 >>> import numpy as np
 >>> from course_dynamics import load_robot
@@ -106,9 +106,11 @@ class ContactEvent:
         When r was largest against the thresholds, s.
     force : tuple of float, optional
         With a link: the force the surroundings exert on it, base coordinates (3,), N: one least-squares fit over
-        the event from 5/K after its start (the observer settled), or at ``peak_t`` in a shorter event.
+        the event (:func:`contact_wrench`), or at ``peak_t`` in a shorter event.
     moment : tuple of float, optional
         With a link whose Jacobian resolves it: the moment about the link's origin (3,), N·m; None otherwise.
+    condition : float, optional
+        With a link: the condition number of the wrench's least-squares fit.
     """
 
     start: float
@@ -119,6 +121,7 @@ class ContactEvent:
     peak_t: float
     force: tuple[float, ...] | None = None
     moment: tuple[float, ...] | None = None
+    condition: float | None = None
 
     def record(self) -> dict:
         """The event, JSON-ready.
@@ -130,7 +133,7 @@ class ContactEvent:
         """
         return {"start": self.start, "end": self.end, "detected": self.detected, "peak_t": self.peak_t,
                 "peak": dict(zip(self.joints, self.peak)), "force": None if self.force is None else list(self.force),
-                "moment": None if self.moment is None else list(self.moment)}
+                "moment": None if self.moment is None else list(self.moment), "condition": self.condition}
 
 
 @dataclass(frozen=True)
@@ -446,13 +449,15 @@ def wrench_components(model: Model, link: str, measured) -> int:
     return 6 if len(moving) >= 6 else 3
 
 
-def contact_wrench(model: Model, q, tau_ext, link: str, measured, components: int = 6, weights=None):
+def contact_wrench(model: Model, q, tau_ext, link: str, measured, components: int = 6, weights=None, t=None,
+                   gain=None):
     """The one wrench at ``link`` whose Jᵀ F best gives ``tau_ext`` at every state, by least squares on the
     measured joints' rows stacked over the states (a contact's wrench held over them).
 
     With ``components`` 3, the force alone (a contact at the link's origin): τ_ext = J_vᵀ f. Stacking the states
-    keeps the estimate sound where one state's Jᵀ is near-singular (a wrist singularity), which a state-by-state
-    pseudo-inverse would turn into noise.
+    keeps the estimate sound where one state's Jᵀ is near-singular (a wrist singularity). With ``t`` and ``gain``,
+    ``tau_ext`` is the observer's r and each column of Jᵀ goes through the same update first (from zero at the first
+    state, whose first 5/K are then left out of the fit): the fit has no lag.
 
     Parameters
     ----------
@@ -461,7 +466,7 @@ def contact_wrench(model: Model, q, tau_ext, link: str, measured, components: in
     q : array_like, shape (n,) or (N, n)
         Joint positions Θ, rad (m).
     tau_ext : array_like, shape (n,) or (N, n)
-        External joint torques, N·m (N).
+        External joint torques (or the residual r), N·m (N).
     link : str
         A URDF link.
     measured : sequence of str
@@ -470,6 +475,10 @@ def contact_wrench(model: Model, q, tau_ext, link: str, measured, components: in
         6 for force and moment, 3 for force only (:func:`wrench_components`).
     weights : array_like, shape (n,), optional
         Each joint's row weight (one over its noise); equal by default.
+    t : array_like, shape (N,), optional
+        The states' times, s: with ``gain``, fit r through the observer's update.
+    gain : array_like, shape (n,), optional
+        K per joint, 1/s.
 
     Returns
     -------
@@ -477,24 +486,34 @@ def contact_wrench(model: Model, q, tau_ext, link: str, measured, components: in
         On the robot, base coordinates, N.
     moment : numpy.ndarray, shape (3,), or None
         About the link's origin, base coordinates, N·m; None with ``components`` 3.
+    condition : float
+        The condition number of the stacked (weighted) least-squares matrix: large means a direction of F the
+        torques hardly see.
     """
     rows = [model.joint_names.index(j) for j in measured]
     w = np.ones(model.n) if weights is None else np.asarray(weights, dtype=float)
-    J = np.asarray(jacobian(model, q, link)).reshape(-1, 6, model.n)[:, :components, rows]
-    tau = np.asarray(tau_ext, dtype=float).reshape(-1, model.n)[:, rows]
-    A = (np.swapaxes(J, 1, 2) * w[rows][:, None]).reshape(-1, components)             # τ_ext = Jᵀ F, stacked
-    F = np.linalg.lstsq(A, (tau * w[rows]).reshape(-1), rcond=None)[0]
-    return F[:3], (F[3:] if components == 6 else None)
+    Jt = np.swapaxes(np.asarray(jacobian(model, q, link)).reshape(-1, 6, model.n)[:, :components], 1, 2)  # (N, n, c)
+    if t is not None:
+        Jt = np.stack([observer_update(t, Jt[:, :, c], gain) for c in range(components)], axis=2)
+    settled = slice(None) if t is None else np.asarray(t) >= np.asarray(t)[0] + SETTLING / float(np.min(gain))
+    A = (Jt[settled][:, rows] * w[rows][:, None]).reshape(-1, components)               # τ_ext = Jᵀ F, stacked
+    b = (np.asarray(tau_ext, dtype=float).reshape(-1, model.n)[settled][:, rows] * w[rows]).reshape(-1)
+    F = np.linalg.lstsq(A, b, rcond=None)[0]
+    return F[:3], (F[3:] if components == 6 else None), float(np.linalg.cond(A))
 
 
 def _with_wrench(model, log, r, event, link, measured, components, gain, weights) -> ContactEvent:
-    """The event with its wrench: over the event once the observer has settled, or at its peak."""
-    rows = np.flatnonzero((log.t >= event.start + SETTLING / gain) & (log.t <= event.end))
-    if not len(rows):
-        rows = np.flatnonzero(log.t == event.peak_t)
-    force, moment = contact_wrench(model, log.q[rows], r[rows], link, measured, components, weights)
+    """The event with its wrench, fitted through the observer's update from the event's start to 5/K before its
+    end (the push's own end is in the last 5/K), or at its peak for a shorter event."""
+    rows = np.flatnonzero((log.t >= event.start) & (log.t <= event.end - SETTLING / float(np.min(gain))))
+    if np.count_nonzero(log.t[rows] >= event.start + SETTLING / float(np.min(gain))):
+        force, moment, condition = contact_wrench(model, log.q[rows], r[rows], link, measured, components, weights,
+                                                  log.t[rows], gain)
+    else:
+        row = np.flatnonzero(log.t == event.peak_t)
+        force, moment, condition = contact_wrench(model, log.q[row], r[row], link, measured, components, weights)
     return ContactEvent(event.start, event.end, event.detected, event.joints, event.peak, event.peak_t,
-                        tuple(map(float, force)), None if moment is None else tuple(map(float, moment)))
+                        tuple(map(float, force)), None if moment is None else tuple(map(float, moment)), condition)
 
 
 def detect(model: Model, table, *, gain=DEFAULT_GAIN, threshold=None, window: float | None = None,
@@ -576,7 +595,9 @@ def detect(model: Model, table, *, gain=DEFAULT_GAIN, threshold=None, window: fl
     if link is not None:
         components = wrench_components(model, link, measured)
     r = momentum_residual(model, log.t, log.q, log.qd, log.measured, K, friction, compiled)
-    notes = list(log.notes)
+    notes = [n for n in log.notes if not n.startswith("qdd:")]          # Θ̈ is never used here
+    if not any(n.startswith("qd:") for n in notes):                         # nor how its edges were fitted
+        notes = [n for n in notes if not n.startswith("edges:")]
     sigma = np.full(model.n, np.nan)
     if threshold is None:
         level, noise = residual_noise(log.t, r, K, window)
@@ -596,8 +617,7 @@ def detect(model: Model, table, *, gain=DEFAULT_GAIN, threshold=None, window: fl
             notes.append(f"link '{link}': fewer than six measured joints move it, so the wrench is a force at its "
                          "origin (no moment)")
         weights = 1 / np.nan_to_num(theta, nan=1.0)                       # rows by their noise
-        events = tuple(_with_wrench(model, log, r, e, link, measured, components, float(np.min(K)), weights)
-                       for e in events)
+        events = tuple(_with_wrench(model, log, r, e, link, measured, components, K, weights) for e in events)
     return Detection(t=log.t, r=r, joints=model.joint_names, measured=measured, gain=K, threshold=theta, sigma=sigma,
                      events=tuple(events), link=link, notes=tuple(notes))
 

@@ -133,14 +133,15 @@ def _print_report(found, model, stream) -> None:
         return
     wrench = found.link is not None
     header = ["event", "start (s)", "end (s)", "detected", "peak tau_ext per joint"]
-    rows = [header + (["force (N)", "moment (N m)"] if wrench else [])]
+    rows = [header + (["force (N)", "moment (N m)", "cond"] if wrench else [])]
     for number, e in enumerate(found.events, 1):
         peaks = ", ".join(f"{j} {value:+.3g}" for j, value in zip(e.joints, e.peak))
         row = [str(number), f"{e.start:.4f}", f"{e.end:.4f}", f"{e.detected:.4f}", peaks]
         if wrench:
             row += [" ".join(f"{x:+.3g}" for x in e.force),
-                    "-" if e.moment is None else " ".join(f"{x:+.3g}" for x in e.moment)]
+                    "-" if e.moment is None else " ".join(f"{x:+.3g}" for x in e.moment), f"{e.condition:.3g}"]
         rows.append(row)
-    print(render.text_table(rows, align="<>>><" + ("<<" if wrench else "")), file=stream)
-    where = f"; the wrench is what the surroundings exert on {found.link}, base coordinates" if wrench else ""
+    print(render.text_table(rows, align="<>>><" + ("<<>" if wrench else "")), file=stream)
+    where = (f"; the wrench is what the surroundings exert on {found.link}, base coordinates (moment about its "
+             "origin; cond: the fit's condition number)") if wrench else ""
     print(f"{len(found.events)} contact event{'s' if len(found.events) > 1 else ''} found{where}", file=stream)
