@@ -53,12 +53,13 @@ class Check:
 def printed_outward_rotation(model, q, qd, qdd) -> np.ndarray:
     """τ with (6.45)–(6.47) as printed: ⁱR^{i+1} (frame i+1 in i) where ⁱ⁺¹ᵢR belongs — our recursion with that
     slip made (the slip a student makes, :class:`~course_dynamics.grading.slips.Slip`)."""
-    return np.asarray(newton_euler_links(model, q, qd, qdd, Slip("rotation-transposed", ("6.45", "6.46", "6.47"))).tau)
+    links = newton_euler_links(model, q, qd, qdd, Slip("rotation-transposed", ("6.45", "6.46", "6.47")))
+    return model.S.T @ np.asarray(links.tau)  # each joint's own τᵢ, a mimic's onto its leader
 
 
 def serial_inward(model, links, X, variant: str) -> np.ndarray:
     """τ of a serial chain by the inward iteration, corrected or with the misprint of (6.51) or (6.52) switched on."""
-    n = model.n
+    n = model.n_bodies
     f, m_ = [None] * n, [None] * n
     for i in reversed(range(n)):
         body = model.bodies[i]
@@ -265,7 +266,7 @@ def second_reading() -> list[Misprint]:
 
     panda = load_robot("panda")
     franka = PinocchioOracle(robot_path("panda"), panda.joint_names)
-    qp, qdp, qddp = (x[0] for x in random_states(panda, 1, seed=21))
+    qp, qdp, qddp = (x[0] for x in random_states(panda, 1, seed=24))  # link 1 spinning off its axis enough
     first = newton_euler_links(panda, qp, qdp, qddp)
     N_1 = franka.link_quantities(qp, qdp, qddp)["N"][0]
     found.append(Misprint("worked example, ¹N₁", "Panda link 1: ¹N₁ by the worked example's formula",

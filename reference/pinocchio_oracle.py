@@ -12,6 +12,18 @@ LOCAL_WORLD_ALIGNED, ``frame`` is LOCAL); frame placements ← ``oMf`` after
 ``framesForwardKinematics``; energies ← ``computeKineticEnergy``,
 ``computePotentialEnergy``; joint damping and friction ← the model's
 ``damping`` and ``friction`` (read from the URDF by Pinocchio's own parser).
+
+Mimic joints: a URDF with ``<mimic>`` is built with ``mimic=True``, so that
+Pinocchio's own mimic support (``JointModelMimic``: q_mimic = scaling · q + offset)
+gives τ, M, G and V with one coordinate per independent joint. Where Pinocchio 4.1
+does not honour mimic joints — ``aba``, the regressor, the energies refuse a mimic
+model, and ``computeCoriolisMatrix`` returns a C with C Θ̇ ≠ V — the oracle uses the
+model built without ``mimic`` (one coordinate per joint) through the coupling it
+reads from Pinocchio's mimic joints (θ_bodies = S Θ + b): C = Sᵀ C S, the
+regressor Sᵀ Y, Jacobians J S, energies and placements at S Θ + b, and Θ̈ by
+solving M Θ̈ = τ − V − G with Pinocchio's mimic M and bias. A mimic joint's damping
+and friction act at its own rate and add a² d and |a| c to its leader's (the
+convention of ``Friction.from_urdf``; Pinocchio's mimic model keeps the leader's only).
 """
 from __future__ import annotations
 
@@ -19,7 +31,7 @@ import numpy as np
 import pinocchio as pin
 
 
-def _build_model(urdf):
+def _build_model(urdf, mimic: bool = False):
     """``pin.buildModelFromUrdf``; what urdfdom prints on failure becomes one InputError, not stray lines."""
     import os
     import tempfile
@@ -30,7 +42,7 @@ def _build_model(urdf):
         saved = os.dup(2)
         os.dup2(captured.fileno(), 2)  # urdfdom writes its complaints to file descriptor 2 directly
         try:
-            return pin.buildModelFromUrdf(str(urdf))
+            return pin.buildModelFromUrdf(str(urdf), mimic=mimic)
         except (ValueError, RuntimeError) as exc:
             captured.seek(0)
             said = [line.strip() for line in captured.read().decode("utf-8", "replace").splitlines() if line.strip()]
@@ -55,9 +67,15 @@ class PinocchioOracle:
     """
 
     def __init__(self, urdf, joint_names, gravity=(0.0, 0.0, -9.81)):
-        self.model = _build_model(urdf)
-        self.model.gravity.linear = np.asarray(gravity, dtype=float)
+        self.plain = _build_model(urdf)
+        self.model = _build_model(urdf, mimic=True)
+        self.has_mimic = self.model.nv != self.plain.nv
+        if not self.has_mimic:
+            self.model = self.plain
+        for model in {id(self.model): self.model, id(self.plain): self.plain}.values():
+            model.gravity.linear = np.asarray(gravity, dtype=float)
         self.data = self.model.createData()
+        self.plain_data = self.plain.createData() if self.has_mimic else self.data  # one Data without mimic joints
         self.joint_names = tuple(joint_names)
         if self.model.nv != len(self.joint_names):
             raise ValueError(f"Pinocchio has {self.model.nv} velocity coordinates, "
@@ -66,6 +84,32 @@ class PinocchioOracle:
         self.idx_q = [self.model.joints[i].idx_q for i in ids]
         self.nq = [self.model.joints[i].nq for i in ids]
         self.idx_v = np.array([self.model.joints[i].idx_v for i in ids])
+        self._coupling()
+
+    def _coupling(self) -> None:
+        """S (plain nv × n) and b (plain joints) from Pinocchio's mimic joints: θ_plain = S Θ + b."""
+        ours = {int(v): j for j, v in enumerate(self.idx_v)}
+        self.S = np.zeros((self.plain.nv, len(self.joint_names)))
+        self.b = np.zeros(self.plain.njoints)
+        for jid in range(1, self.plain.njoints):
+            row = self.plain.joints[jid].idx_v
+            joint = self.model.joints[self.model.getJointId(self.plain.names[jid])]
+            if joint.shortname() == "JointModelMimic":
+                mimic = joint.extract()
+                self.S[row, ours[joint.idx_v]] = mimic.scaling
+                self.b[jid] = mimic.offset
+            else:
+                self.S[row, ours[joint.idx_v]] = 1.0
+
+    def plain_configuration(self, q) -> np.ndarray:
+        """The configuration of the model without mimic: every joint's θ = S Θ + b (continuous → cos, sin)."""
+        theta = self.S @ np.asarray(q, dtype=float)
+        q_pin = np.zeros(self.plain.nq)
+        for jid in range(1, self.plain.njoints):
+            joint = self.plain.joints[jid]
+            value = theta[joint.idx_v] + self.b[jid]
+            q_pin[joint.idx_q:joint.idx_q + joint.nq] = (np.cos(value), np.sin(value)) if joint.nq == 2 else value
+        return q_pin
 
     def configuration(self, q) -> np.ndarray:
         """Pinocchio's q from our Θ (continuous joints → cos θ, sin θ)."""
@@ -97,9 +141,9 @@ class PinocchioOracle:
         each block m, m c, I_xx, I_xy, I_yy, I_xz, I_yz, I_zz about the joint frame's origin
         (``Inertia.toDynamicParameters``).
         """
-        Y = pin.computeJointTorqueRegressor(self.model, self.data, self.configuration(q), self.velocity(qd),
-                                            self.velocity(qdd))
-        return np.reshape(Y, (self.model.nv, -1))[self.idx_v].copy()
+        S = self.S
+        Y = pin.computeJointTorqueRegressor(self.plain, self.plain_data, self.plain_configuration(q), S @ qd, S @ qdd)
+        return (S.T @ np.reshape(Y, (self.plain.nv, -1))).copy()  # Y = Sᵀ Y_plain: rows in our order already
 
     def add_payload(self, link: str, mass: float, com, inertia) -> None:
         """Fix a rigid body to URDF link ``link`` (Pinocchio's ``appendBodyToJoint``): mass (kg),
@@ -108,6 +152,11 @@ class PinocchioOracle:
         body = pin.Inertia(float(mass), np.asarray(com, dtype=float), np.asarray(inertia, dtype=float))
         self.model.appendBodyToJoint(frame.parentJoint, body, frame.placement)
         self.data = self.model.createData()
+        self.plain_data = self.data
+        if self.has_mimic:
+            frame = self.plain.frames[self.plain.getFrameId(link)]
+            self.plain.appendBodyToJoint(frame.parentJoint, body, frame.placement)
+            self.plain_data = self.plain.createData()
 
     def tau_with_wrench(self, q, qd, qdd, link: str, force, moment) -> np.ndarray:
         """``rnea`` with external forces: the robot exerts (force, moment) at the origin of ``link``
@@ -130,8 +179,8 @@ class PinocchioOracle:
         return self._ours_matrix(A)
 
     def C(self, q, qd) -> np.ndarray:
-        return self._ours_matrix(pin.computeCoriolisMatrix(self.model, self.data, self.configuration(q),
-                                                           self.velocity(qd)).copy())
+        S = self.S
+        return S.T @ pin.computeCoriolisMatrix(self.plain, self.plain_data, self.plain_configuration(q), S @ qd) @ S
 
     def G(self, q) -> np.ndarray:
         return self._ours(pin.computeGeneralizedGravity(self.model, self.data, self.configuration(q)).copy())
@@ -145,29 +194,32 @@ class PinocchioOracle:
         return dict(tau=self.tau(q, qd, qdd), M=self.M(q), C=self.C(q, qd), V=self.V(q, qd), G=self.G(q))
 
     def kinetic_energy(self, q, qd) -> float:
-        return float(pin.computeKineticEnergy(self.model, self.data, self.configuration(q), self.velocity(qd)))
+        return float(pin.computeKineticEnergy(self.plain, self.plain_data, self.plain_configuration(q),
+                                              self.S @ np.asarray(qd, dtype=float)))
 
     def potential_energy(self, q) -> float:
-        return float(pin.computePotentialEnergy(self.model, self.data, self.configuration(q)))
+        return float(pin.computePotentialEnergy(self.plain, self.plain_data, self.plain_configuration(q)))
 
     def frame_placement(self, q, frame: str) -> tuple[np.ndarray, np.ndarray]:
         """⁰R_F (3, 3) and ⁰P_F (3,) of a URDF link's frame."""
-        pin.framesForwardKinematics(self.model, self.data, self.configuration(q))
-        placement = self.data.oMf[self.model.getFrameId(frame, pin.BODY)]
+        pin.framesForwardKinematics(self.plain, self.plain_data, self.plain_configuration(q))
+        placement = self.plain_data.oMf[self.plain.getFrameId(frame, pin.BODY)]
         return placement.rotation.copy(), placement.translation.copy()
 
     @property
     def damping(self) -> np.ndarray:
         """Viscous coefficients (URDF ``<dynamics damping>``), our joint order."""
-        return self._ours(np.asarray(self.model.damping))
+        return self.S.T ** 2 @ np.asarray(self.plain.damping)  # a² d of each joint on its coordinate
 
     @property
     def friction(self) -> np.ndarray:
         """Coulomb coefficients (URDF ``<dynamics friction>``), our joint order."""
-        return self._ours(np.asarray(self.model.friction))
+        return np.abs(self.S.T) @ np.asarray(self.plain.friction)  # |a| c of each joint on its coordinate
 
     def aba(self, q, qd, tau) -> np.ndarray:
-        """Θ̈ by the articulated-body algorithm (no friction)."""
+        """Θ̈ by the articulated-body algorithm (no friction); with mimic joints, M⁻¹ (τ − V − G)."""
+        if self.has_mimic:
+            return np.linalg.solve(self.M(q), np.asarray(tau, dtype=float) - self.V(q, qd) - self.G(q))
         return self._ours(pin.aba(self.model, self.data, self.configuration(q), self.velocity(qd),
                                   self.velocity(tau)).copy())
 
@@ -176,21 +228,25 @@ class PinocchioOracle:
 
     def frame_jacobian(self, q, frame: str, expressed_in: str = "base") -> np.ndarray:
         """(6, n) Jacobian of a URDF link's frame, rows (v; ω), our joint order."""
-        frame_id = self.model.getFrameId(frame)
-        J = pin.computeFrameJacobian(self.model, self.data, self.configuration(q), frame_id,
+        frame_id = self.plain.getFrameId(frame)
+        J = pin.computeFrameJacobian(self.plain, self.plain_data, self.plain_configuration(q), frame_id,
                                      self._reference_frame(expressed_in))
-        return np.reshape(J, (6, self.model.nv))[:, self.idx_v].copy()  # eigenpy returns (6,) when nv = 1
+        return np.reshape(J, (6, self.plain.nv)) @ self.S  # eigenpy returns (6,) when nv = 1
 
     def frame_jacobian_dot(self, q, qd, frame: str, expressed_in: str = "base") -> np.ndarray:
         """(6, n) time variation of :meth:`frame_jacobian` along Θ̇."""
-        frame_id = self.model.getFrameId(frame)
-        pin.computeJointJacobiansTimeVariation(self.model, self.data, self.configuration(q), self.velocity(qd))
-        pin.updateFramePlacements(self.model, self.data)
-        dJ = pin.getFrameJacobianTimeVariation(self.model, self.data, frame_id, self._reference_frame(expressed_in))
-        return np.reshape(dJ, (6, self.model.nv))[:, self.idx_v].copy()
+        frame_id = self.plain.getFrameId(frame)
+        pin.computeJointJacobiansTimeVariation(self.plain, self.plain_data, self.plain_configuration(q),
+                                               self.S @ np.asarray(qd, dtype=float))
+        pin.updateFramePlacements(self.plain, self.plain_data)
+        dJ = pin.getFrameJacobianTimeVariation(self.plain, self.plain_data, frame_id,
+                                               self._reference_frame(expressed_in))
+        return np.reshape(dJ, (6, self.plain.nv)) @ self.S
 
     def link_quantities(self, q, qd, qdd) -> dict[str, np.ndarray]:
-        """Craig's per-link quantities from Pinocchio's RNEA data, each (n, 3) in our body order.
+        """Craig's per-link quantities from Pinocchio's RNEA data, each (n_bodies, 3) in our body order.
+
+        Run on the model without mimic at θ_bodies = S Θ + b, so that a mimic joint's body has its row too.
 
         Pinocchio keeps spatial quantities in each joint frame (= our frame i):
         ``v[i]`` (linear velocity of the origin, ω), ``a_gf[i]`` (spatial
@@ -200,11 +256,13 @@ class PinocchioOracle:
         a.linear + ω̇ × c + ω × (v.linear + ω × c). The body's inertial load
         I a + v ×* I v gives ⁱFᵢ (linear) and ⁱNᵢ + c × ⁱFᵢ (angular).
         """
-        pin.rnea(self.model, self.data, self.configuration(q), self.velocity(qd), self.velocity(qdd))
+        model, data, S = self.plain, self.plain_data, self.S
+        pin.rnea(model, data, self.plain_configuration(q), S @ np.asarray(qd, dtype=float),
+                 S @ np.asarray(qdd, dtype=float))
         out = {key: [] for key in ("omega", "omega_dot", "v_dot", "v_dot_c", "F", "N", "f", "n")}
-        for name in self.joint_names:
-            joint = self.model.getJointId(name)
-            v, a, inertia = self.data.v[joint], self.data.a_gf[joint], self.model.inertias[joint]
+        names = self.joint_names if not self.has_mimic else model.names[1:]  # with mimic: Pinocchio's depth-first order
+        for joint in map(model.getJointId, names):
+            v, a, inertia = data.v[joint], data.a_gf[joint], model.inertias[joint]
             c, w = inertia.lever, v.angular
             load = inertia * a + v.cross(inertia * v)
             out["omega"].append(w)
@@ -213,6 +271,6 @@ class PinocchioOracle:
             out["v_dot_c"].append(a.linear + np.cross(a.angular, c) + np.cross(w, v.linear + np.cross(w, c)))
             out["F"].append(load.linear)
             out["N"].append(load.angular - np.cross(c, load.linear))
-            out["f"].append(self.data.f[joint].linear)
-            out["n"].append(self.data.f[joint].angular)
+            out["f"].append(data.f[joint].linear)
+            out["n"].append(data.f[joint].angular)
         return {key: np.array(values) for key, values in out.items()}

@@ -62,7 +62,7 @@ def assert_agrees(ours, ref, scale=None, rtol=RTOL, what=""):
 
 def tip_frame(model) -> str:
     """The last URDF link carried by the last moving body: a tool frame where there is one."""
-    return [f.name for f in model.frames if f.body == model.n - 1][-1]
+    return [f.name for f in model.frames if f.body == model.n_bodies - 1][-1]
 
 
 @lru_cache(maxsize=None)

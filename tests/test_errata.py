@@ -197,7 +197,7 @@ def test_the_frame_at_the_centre_of_mass_is_C_not_A():
 def panda():
     model = load_robot("panda")
     oracle = PinocchioOracle(robot_path("panda"), model.joint_names)
-    q, qd, qdd = random_states(model, 1, seed=21)
+    q, qd, qdd = random_states(model, 1, seed=24)  # a state where link 1 spins off its axis enough to tell (6.50) apart
     return model, oracle, q[0], qd[0], qdd[0]
 
 

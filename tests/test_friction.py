@@ -42,7 +42,9 @@ def test_defaults_come_from_urdf_dynamics():
     friction = Friction.from_urdf(model)
     np.testing.assert_array_equal(friction.viscous, oracle.damping)
     np.testing.assert_array_equal(friction.coulomb, oracle.friction)
-    assert friction.viscous[-1] == 0.3  # <dynamics damping="0.3"/> on panda_finger_joint2
+    # <dynamics damping="0.3"/> on both fingers: panda_finger_joint2 mimics joint1 (multiplier 1), so its damping
+    # acts on joint1's coordinate too
+    assert friction.viscous[-1] == 0.6 and model.joint_names[-1] == "panda_finger_joint1"
     np.testing.assert_array_equal(Friction.none(model).coulomb, 0)
 
 

@@ -16,7 +16,7 @@ def test_body_placements_agree_with_pinocchio_frames(robot):
     """⁰ᵢR and ⁰Pᵢ of every body, batched, against Pinocchio's oMf of the body's URDF link."""
     name, model, oracle, (q, _, _) = robot
     placed = forward_kinematics(model, q[:20])
-    assert placed.R.shape == (20, model.n, 3, 3) and placed.P.shape == (20, model.n, 3)
+    assert placed.R.shape == (20, model.n_bodies, 3, 3) and placed.P.shape == (20, model.n_bodies, 3)
     for k in range(20):
         for i, body in enumerate(model.bodies):
             R_ref, P_ref = oracle.frame_placement(q[k], body.name)

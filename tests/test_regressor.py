@@ -26,8 +26,9 @@ RTOL_TAU = 1e-10  # Y π against our own τ
 
 
 def pinocchio_columns(model, oracle) -> np.ndarray:
-    """Pinocchio's regressor columns in our order: body i is Pinocchio's joint of the same name, 10 columns each."""
-    ids = [oracle.model.getJointId(name) for name in model.joint_names]
+    """Pinocchio's regressor columns in our order: body i is Pinocchio's joint of the same name, 10 columns each
+    (a mimic joint's body has its own ten, in the model built without mimic)."""
+    ids = [oracle.plain.getJointId(body.joint) for body in model.bodies]
     return np.concatenate([np.arange(10 * (j - 1), 10 * j) for j in ids])
 
 
@@ -50,8 +51,8 @@ def perturbed(model, seed: int):
 def test_parameters_are_pinocchios(robot):
     """π in Pinocchio's order is ``Inertia.toDynamicParameters`` of each joint's body, fixed links merged alike."""
     name, model, oracle, _ = robot
-    ids = [oracle.model.getJointId(joint) for joint in model.joint_names]
-    theirs = np.concatenate([oracle.model.inertias[j].toDynamicParameters() for j in ids])
+    ids = [oracle.plain.getJointId(body.joint) for body in model.bodies]
+    theirs = np.concatenate([oracle.plain.inertias[j].toDynamicParameters() for j in ids])
     assert_agrees(parameters(model), theirs, rtol=1e-14, what=f"{name} π")
 
 
@@ -73,7 +74,7 @@ def test_regressor_agrees_with_pinocchio(robot):
     name, model, oracle, (q, qd, qdd) = robot
     columns = pinocchio_columns(model, oracle)
     batch = regressor(model, q, qd, qdd)
-    assert batch.shape == (len(q), model.n, 10 * model.n)
+    assert batch.shape == (len(q), model.n, 10 * model.n_bodies)
     for k in range(len(q)):
         assert_agrees(batch[k], oracle.regressor(q[k], qd[k], qdd[k])[:, columns], what=f"{name} Y, state {k}")
 
@@ -82,7 +83,7 @@ def test_batch_equals_single_states(robot):
     _, model, _, (q, qd, qdd) = robot
     batch = regressor(model, q[:10], qd[:10], qdd[:10])
     single = np.array([regressor(model, q[k], qd[k], qdd[k]) for k in range(10)])
-    assert single.shape == (10, model.n, 10 * model.n)
+    assert single.shape == (10, model.n, 10 * model.n_bodies)
     np.testing.assert_allclose(batch, single, rtol=1e-14, atol=1e-14)
 
 
@@ -115,7 +116,7 @@ def test_base_parameters_reproduce_Y_pi(robot):
     name, model, oracle, (q, qd, qdd) = robot
     base = base_parameters(model, seed=7)
     Y = regressor(model, q, qd, qdd)
-    pi = np.random.default_rng(3).standard_normal(10 * model.n)  # need not be physical
+    pi = np.random.default_rng(3).standard_normal(10 * model.n_bodies)  # need not be physical
     np.testing.assert_allclose(base.regressor(Y) @ base.values(pi), Y @ pi, rtol=1e-9, atol=1e-9 * np.abs(Y @ pi).max())
     W = base.regressor(Y).reshape(-1, base.rank)
     singular = np.linalg.svd(W / np.linalg.norm(W, axis=0), compute_uv=False)

@@ -17,7 +17,8 @@ def test_every_named_robot_exists_and_loads(name):
 def test_example_robot_data_robots():
     assert load_robot("ur5").n == 6
     panda = load_robot("panda")
-    assert panda.n == 9 and panda.joint_names[-2:] == ("panda_finger_joint1", "panda_finger_joint2")
+    # panda_finger_joint2 mimics panda_finger_joint1: 8 coordinates, 9 moving bodies
+    assert panda.n == 8 and panda.n_bodies == 9 and panda.joint_names[-1] == "panda_finger_joint1"
     continuous = load_robot("double_pendulum_continuous")
     assert [b.joint_type for b in continuous.bodies] == ["continuous", "continuous"]
 

@@ -49,7 +49,8 @@ def coriolis_matrix_entries(model: Model, theta: list, theta_dot: list) -> list:
     placements = placement_entries(model, theta)
     s = motion_axes(model, placements)
     inertia = body_inertias(model, placements)
-    n = model.n
+    n = model.n_bodies
+    theta_dot = model.body_entries(theta_dot, False)  # S Θ̇ (mimic joints)
     v = []
     for k, body in enumerate(model.bodies):
         own = (theta_dot[k] * s[k][0], theta_dot[k] * s[k][1])
@@ -76,7 +77,7 @@ def coriolis_matrix_entries(model: Model, theta: list, theta_dot: list) -> list:
         while k >= 0:
             C[k][j] = power(s[k], f[j])  # k an ancestor of j
             k = model.bodies[k].parent
-    return C
+    return model.coordinate_matrix(C)  # C = Sᵀ C_bodies S (mimic joints)
 
 
 def _neg(force):

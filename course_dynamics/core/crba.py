@@ -41,7 +41,7 @@ def composite_inertias(model: Model, bodies: list) -> list:
     [3.0, 1.0]
     """
     composite = list(bodies)
-    for i in reversed(range(model.n)):
+    for i in reversed(range(model.n_bodies)):
         for c in model.children[i]:
             composite[i] = composite[i] + composite[c]
     return composite
@@ -58,7 +58,7 @@ def mass_matrix_entries(model: Model, theta: list) -> list:
     placements = placement_entries(model, theta)
     s = motion_axes(model, placements)
     composite = composite_inertias(model, body_inertias(model, placements))
-    n = model.n
+    n = model.n_bodies
     M = [[0] * n for _ in range(n)]
     for i in range(n):
         F = composite[i].times(s[i])  # Fᵢ = Iᶜᵢ sᵢ
@@ -66,7 +66,7 @@ def mass_matrix_entries(model: Model, theta: list) -> list:
         while k >= 0:
             M[k][i] = M[i][k] = power(s[k], F)  # Mₖᵢ = sₖᵀ Fᵢ
             k = model.bodies[k].parent
-    return M
+    return model.coordinate_matrix(M)  # M = Sᵀ M_bodies S (mimic joints)
 
 
 def mass_matrix(model: Model, q) -> np.ndarray:

@@ -16,6 +16,14 @@ does not model stiction (the static friction of (6.113)). A joint released
 at rest under a torque smaller than c therefore starts to move, and a Coulomb
 joint crossing θ̇ = 0 chatters at the step size. ``smoothing`` > 0 replaces
 sgn(θ̇) by tanh(θ̇ / smoothing), a common regularisation that removes the chatter.
+
+A mimic joint (θₖ = a θⱼ + b) has no coordinate: its damping vₖ and friction cₖ act at
+its own rate a θ̇ⱼ and map onto the leader's coordinate through Sᵀ, so they add to the
+leader's coefficients in :meth:`Friction.from_urdf`, exactly for sgn:
+
+    Fⱼ = (vⱼ + a² vₖ) θ̇ⱼ + (cⱼ + |a| cₖ) sgn(θ̇ⱼ)
+
+(with smoothing, the tanh is taken of the leader's rate).
 """
 from __future__ import annotations
 
@@ -69,7 +77,8 @@ class Friction:
 
     @classmethod
     def from_urdf(cls, model: Model, smoothing: float = 0.0) -> "Friction":
-        """Viscous = URDF damping, Coulomb = URDF friction, joint by joint.
+        """Viscous = URDF damping, Coulomb = URDF friction, joint by joint; a mimic joint's onto its leader's
+        coordinate (module docstring).
 
         Parameters
         ----------
@@ -89,8 +98,11 @@ class Friction:
         >>> Friction.from_urdf(load_robot("two_link")).viscous.shape
         (2,)
         """
-        return cls(viscous=[b.damping for b in model.bodies], coulomb=[b.friction for b in model.bodies],
-                   smoothing=smoothing)
+        viscous, coulomb = np.zeros(model.n), np.zeros(model.n)
+        for body, (j, a, _) in zip(model.bodies, model.coupling):
+            viscous[j] += a * a * float(body.damping)  # Sᵀ (v (S θ̇)): a² v
+            coulomb[j] += abs(a) * float(body.friction)  # Sᵀ (c sgn(a θ̇)) = |a| c sgn(θ̇)
+        return cls(viscous=viscous, coulomb=coulomb, smoothing=smoothing)
 
     @classmethod
     def none(cls, model: Model) -> "Friction":

@@ -88,7 +88,7 @@ def joint_transforms(model: Model, theta: list) -> JointTransforms:
     ([0.0, 0.0, 0.3], [0.4, 0.0, 0.0])
     """
     R, P = [], []
-    for body, q in zip(model.bodies, theta):
+    for body, q in zip(model.bodies, model.body_entries(theta)):  # θ_bodies = S Θ + b (mimic joints)
         R_i, P_i = kind_of(body).transform(body, q)
         R.append(R_i)
         P.append(P_i)
@@ -164,14 +164,17 @@ def point_jacobian_columns(model: Model, placements: BasePlacements, body: int, 
     [[0.0, 0.55, 0.0], [0.0, 0.0, -0.55], [0.0, 0.0, -0.15]]
     """
     zero = Vec3(0, 0, 0)
-    cols = [(zero, zero)] * model.n
+    cols = [(zero, zero)] * model.n_bodies
     j = body
     while j >= 0:
         joint = model.bodies[j]
         z = placements.R[j] @ joint.axis_v  # ⁰Ẑⱼ
         cols[j] = kind_of(joint).point_column(z, point, placements.P[j])
         j = joint.parent
-    return cols
+    if not model.has_mimic:
+        return cols
+    # J = J_bodies S: a mimic body's column joins its leader's, scaled by the multiplier
+    return list(zip(model.coordinate_entries([v for v, _ in cols]), model.coordinate_entries([w for _, w in cols])))
 
 
 @dataclass(frozen=True)
@@ -233,7 +236,7 @@ def forward_kinematics(model: Model, q) -> Placements:
     q = as_state(model, q, "q")
     layout = layout_of(q)
     placed = placement_entries(model, entries(q))
-    n = model.n
+    n = model.n_bodies
     return Placements(
         R=layout.assemble([r.rows for r in placed.R], (n, 3, 3)),
         P=layout.assemble([tuple(p) for p in placed.P], (n, 3)),

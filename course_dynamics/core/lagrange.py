@@ -352,7 +352,7 @@ def link_kinetic_energies(model: Model, q, qd) -> np.ndarray:
         for (v_j, w_j), rate in zip(cols, theta_dot):
             v_c, w = v_c + rate * v_j, w + rate * w_j
         energies.append(body.mass_s * dot(v_c, v_c) / 2 + dot(w, I_base @ w) / 2)  # (6.69)
-    return layout_of(q, qd).assemble(energies, (model.n,))
+    return layout_of(q, qd).assemble(energies, (model.n_bodies,))
 
 
 def kinetic_energy(model: Model, q, qd) -> np.ndarray:

@@ -22,6 +22,9 @@ name                meaning (shape, unit)
 ``velocity``        the joint's speed limit (rad/s or m/s), inf where none is given
 ``damping``         viscous friction coefficient from ``<dynamics damping>``
 ``friction``        Coulomb friction from ``<dynamics friction>`` (N·m or N)
+``mimic``           the joint whose coordinate drives joint i (URDF ``<mimic joint>``), "" for none
+``multiplier, offset``  θᵢ = multiplier · θ_mimic + offset (URDF ``<mimic>``)
+``S, b``            the coupling θ_bodies = S Θ + b, shape (n_bodies, n) and (n_bodies,)
 ``gravity``         g: gravitational acceleration in the base frame (3,), m/s²
 ==================  =============================================================
 
@@ -31,6 +34,20 @@ it along ``axis`` by dᵢ, so ᵖᵢR = R0 and ᵖPᵢ(dᵢ) = P + R0 · axis ·
 
 One gravity convention, stated once: the base accelerates upward, ⁰v̇₀ = −g
 (Craig's trick), so that gravity loads every link through the recursion.
+
+Mimic joints: Θ has one coordinate per independent joint (n of them); a body whose
+joint mimics another moves with it. The coupling is linear, θ_bodies = S Θ + b, S
+holding a 1 in each independent body's own column and the multiplier in a mimic
+body's leader's column (chains of mimics composed), b the offsets. The recursions
+run per body and this module is the one place that maps between the two, by the
+chain rule with S constant:
+
+    θ_bodies = S Θ + b,  θ̇_bodies = S Θ̇,  θ̈_bodies = S Θ̈     (:meth:`Model.body_entries`)
+    τ = Sᵀ τ_bodies,  G = Sᵀ G_bodies,  V = Sᵀ V_bodies         (:meth:`Model.coordinate_entries`)
+    M = Sᵀ M_bodies S,  C = Sᵀ C_bodies S                       (:meth:`Model.coordinate_matrix`)
+    J = J_bodies S                                              (:meth:`Model.coordinate_entries` on columns)
+
+Without mimic joints S is the identity and each map returns its argument.
 """
 from __future__ import annotations
 
@@ -108,11 +125,18 @@ class Body:
         The Coulomb friction of ``<dynamics friction>``, N·m (N).
     parent_link : str, optional
         The URDF parent link of the joint (which may be merged into body ``parent``).
+    mimic : str, optional
+        The joint this one mimics (URDF ``<mimic joint>``); "" (the default) for a joint with its own coordinate.
+    multiplier : float, optional
+        θᵢ = multiplier · θ_mimic + offset; 1 by default.
+    offset : float, optional
+        As ``multiplier``, rad (m for a prismatic joint); 0 by default.
 
     Raises
     ------
     ModelError
-        If a vector or matrix has the wrong shape, or ``joint_type`` is not one the dynamics takes.
+        If a vector or matrix has the wrong shape, ``joint_type`` is not one the dynamics takes, or a mimic's
+        multiplier or offset is not finite.
 
     Examples
     --------
@@ -140,8 +164,14 @@ class Body:
     damping: float = 0.0
     friction: float = 0.0
     parent_link: str = ""
+    mimic: str = ""
+    multiplier: float = 1.0
+    offset: float = 0.0
 
     def __post_init__(self):
+        if not (np.isfinite(self.multiplier) and np.isfinite(self.offset)):
+            raise ModelError(f"joint '{self.joint}': mimic multiplier {self.multiplier} and offset {self.offset} "
+                             "must be finite")
         for name, shape in (("R0", (3, 3)), ("P", (3,)), ("axis", (3,)), ("p_com", (3,)), ("I_com", (3, 3))):
             object.__setattr__(self, name, _frozen_array(getattr(self, name), shape, f"body '{self.name}' {name}"))
         if self.joint_type not in JOINT_TYPES:
@@ -242,7 +272,9 @@ class Model:
     """A fixed-base robot: moving bodies in topological order (parents first).
 
     ``joint_names[j]`` is the joint whose coordinate is Θ[j]; Θ has one entry
-    per moving joint (rad for revolute and continuous, m for prismatic).
+    per independent moving joint (rad for revolute and continuous, m for prismatic).
+    A mimic joint's body moves with its leader's coordinate (module docstring):
+    ``n`` counts coordinates, ``n_bodies`` bodies.
 
     Parameters
     ----------
@@ -262,7 +294,8 @@ class Model:
     Raises
     ------
     ModelError
-        If a body's parent does not come before it, or ``gravity`` is not of shape (3,).
+        If a body's parent does not come before it, ``gravity`` is not of shape (3,), or a mimic joint names no
+        moving joint of the robot or its mimics form a cycle (naming the joint).
 
     Examples
     --------
@@ -287,41 +320,203 @@ class Model:
         for i, body in enumerate(self.bodies):
             if not -1 <= body.parent < i:
                 raise ModelError(f"body '{body.name}': parent index {body.parent} does not come before it")
+        if self.has_mimic:
+            self.coupling  # noqa: B018 (resolved now: a missing leader or a cycle is refused when built)
+            for j in np.flatnonzero(self.lower > self.upper):
+                raise ModelError(f"joint '{self.joint_names[j]}': its limits and those of the joints that mimic it "
+                                 f"leave no position (lower {self.lower[j]:g} > upper {self.upper[j]:g})")
 
     @property
     def n(self) -> int:
-        """Number of joint coordinates, n."""
+        """Number of joint coordinates n: the independent joints (a mimic joint has none of its own)."""
+        return len(self.coordinates)
+
+    @property
+    def n_bodies(self) -> int:
+        """Number of moving bodies, mimic joints' included."""
         return len(self.bodies)
 
     @property
     def joint_names(self) -> tuple[str, ...]:
-        """The joints, in the order of Θ's entries."""
-        return tuple(body.joint for body in self.bodies)
+        """The independent joints, in the order of Θ's entries."""
+        return tuple(self.bodies[k].joint for k in self.coordinates)
+
+    @property
+    def coordinate_bodies(self) -> tuple[Body, ...]:
+        """The body of each coordinate Θ[j] (its joint's type, limits and axis)."""
+        return tuple(self.bodies[k] for k in self.coordinates)
+
+    @cached_property
+    def coordinates(self) -> tuple[int, ...]:
+        """The index of the body of each coordinate Θ[j]: every body whose joint mimics none."""
+        return tuple(k for k, body in enumerate(self.bodies) if not body.mimic)
+
+    @cached_property
+    def coupling(self) -> tuple[tuple[int, float, float], ...]:
+        """(j, a, b) for each body k: θₖ = a Θ[j] + b, chains of mimics composed; (k's coordinate, 1, 0) for an
+        independent body."""
+        by_joint = {body.joint: k for k, body in enumerate(self.bodies)}
+        column = {k: j for j, k in enumerate(self.coordinates)}
+        coupling = []
+        for k, body in enumerate(self.bodies):
+            a, b, seen = 1.0, 0.0, [body.joint]
+            while self.bodies[k].mimic:
+                leader = self.bodies[k].mimic
+                if leader not in by_joint:
+                    raise ModelError(f"joint '{self.bodies[k].joint}' mimics joint '{leader}', which is not a "
+                                     f"moving joint of robot '{self.name}'")
+                if leader in seen:
+                    raise ModelError(f"joint '{body.joint}': its mimics form a cycle ({' -> '.join(seen + [leader])})")
+                a, b = a * self.bodies[k].multiplier, a * self.bodies[k].offset + b  # θ = a (m θ_l + o) + b
+                seen.append(leader)
+                k = by_joint[leader]
+            coupling.append((column[k], a, b))
+        return tuple(coupling)
+
+    @property
+    def has_mimic(self) -> bool:
+        """True when some body moves with another joint's coordinate."""
+        return len(self.coordinates) != len(self.bodies)
+
+    @cached_property
+    def S(self) -> np.ndarray:
+        """S, shape (n_bodies, n): θ̇_bodies = S Θ̇ (module docstring)."""
+        S = np.zeros((self.n_bodies, self.n))
+        for k, (j, a, _) in enumerate(self.coupling):
+            S[k, j] = a
+        S.setflags(write=False)
+        return S
+
+    @cached_property
+    def b(self) -> np.ndarray:
+        """b, shape (n_bodies,), rad or m: θ_bodies = S Θ + b (module docstring)."""
+        b = np.array([offset for _, _, offset in self.coupling], dtype=float)
+        b.setflags(write=False)
+        return b
+
+    def body_entries(self, theta: list, offset: bool = True) -> list:
+        """θ_bodies = S Θ + b (``offset``) or S Θ̇ for rates: one scalar per body from one per coordinate.
+
+        Parameters
+        ----------
+        theta : list
+            One scalar per coordinate (float, (N,) array, sympy expression, dual or traced number).
+        offset : bool, optional
+            Add b (positions); False for velocities and accelerations.
+
+        Returns
+        -------
+        list
+            One scalar per body; ``theta`` itself for a robot without mimic joints.
+
+        Examples
+        --------
+        >>> from course_dynamics import load_robot
+        >>> load_robot("two_link").body_entries([0.1, 0.2])
+        [0.1, 0.2]
+        """
+        if not self.has_mimic:
+            return theta
+        out = []
+        for j, a, b in self.coupling:
+            value = theta[j] if a == 1 else a * theta[j]
+            out.append(value + b if offset and b != 0 else value)
+        return out
+
+    def coordinate_entries(self, values: list) -> list:
+        """Sᵀ v: one scalar per coordinate from one per body (torques, Jacobian columns; anything a float scales).
+
+        Parameters
+        ----------
+        values : list
+            One value per body.
+
+        Returns
+        -------
+        list
+            One per coordinate, Σₖ Sₖⱼ vₖ; ``values`` itself for a robot without mimic joints.
+
+        Examples
+        --------
+        >>> from course_dynamics import load_robot
+        >>> load_robot("two_link").coordinate_entries([1.5, 2.5])
+        [1.5, 2.5]
+        """
+        if not self.has_mimic:
+            return values
+        out = [None] * self.n
+        for (j, a, _), value in zip(self.coupling, values):
+            term = value if a == 1 else a * value
+            out[j] = term if out[j] is None else out[j] + term
+        return out
+
+    def coordinate_matrix(self, matrix: list) -> list:
+        """Sᵀ A S, nested (n, n), from a nested (n_bodies, n_bodies) A such as M or C of the bodies.
+
+        Parameters
+        ----------
+        matrix : list of list
+            A[k][l] over bodies.
+
+        Returns
+        -------
+        list of list
+            (Sᵀ A S)[i][j]; ``matrix`` itself for a robot without mimic joints.
+
+        Examples
+        --------
+        >>> from course_dynamics import load_robot
+        >>> load_robot("two_link").coordinate_matrix([[1.0, 2.0], [3.0, 4.0]])
+        [[1.0, 2.0], [3.0, 4.0]]
+        """
+        if not self.has_mimic:
+            return matrix
+        columns = [self.coordinate_entries([row[c] for row in matrix]) for c in range(self.n_bodies)]  # (SᵀA)ᵀ
+        rows = [self.coordinate_entries([columns[c][i] for c in range(self.n_bodies)]) for i in range(self.n)]
+        return rows
 
     @cached_property
     def children(self) -> tuple[tuple[int, ...], ...]:
         """The indices of the bodies whose parent is body i, for each body i (``children[i]``)."""
-        return tuple(tuple(j for j, b in enumerate(self.bodies) if b.parent == i) for i in range(self.n))
+        return tuple(tuple(j for j, b in enumerate(self.bodies) if b.parent == i) for i in range(self.n_bodies))
+
+    def _mimic_ranges(self, name: str) -> list:
+        """For each coordinate, the ranges of its leader's ``name`` limit and each mimic's mapped back (Θ units)."""
+        ranges = [[] for _ in range(self.n)]
+        for body, (j, a, b) in zip(self.bodies, self.coupling):
+            if name == "position":
+                lo, hi = body.lower, body.upper
+                if a != 0 and (np.isfinite(lo) or np.isfinite(hi)):
+                    ends = sorted(((lo - b) / a, (hi - b) / a))
+                    ranges[j].append(ends)
+            elif a != 0:
+                ranges[j].append(body.velocity / abs(a))
+        return ranges
 
     @cached_property
     def lower(self) -> np.ndarray:
-        """Lower position limits, shape (n,), rad or m; −inf where the URDF gives none."""
-        return np.array([b.lower for b in self.bodies], dtype=float)
+        """Lower position limits, shape (n,), rad or m; −inf where the URDF gives none.
+
+        A coordinate with mimics gets the interval where every joint it drives is within its limits.
+        """
+        return np.array([max([lo for lo, _ in r], default=-np.inf) for r in self._mimic_ranges("position")])
 
     @cached_property
     def upper(self) -> np.ndarray:
-        """Upper position limits, shape (n,), rad or m; inf where the URDF gives none."""
-        return np.array([b.upper for b in self.bodies], dtype=float)
+        """Upper position limits, shape (n,), rad or m; inf where the URDF gives none (as :attr:`lower`)."""
+        return np.array([min([hi for _, hi in r], default=np.inf) for r in self._mimic_ranges("position")])
 
     @cached_property
     def effort(self) -> np.ndarray:
-        """Torque (N·m) or force (N) limits, inf where the URDF gives none."""
-        return np.array([b.effort for b in self.bodies], dtype=float)
+        """Torque (N·m) or force (N) limits, inf where the URDF gives none: the independent joint's own (its
+        actuator drives the mimics too)."""
+        return np.array([b.effort for b in self.coordinate_bodies], dtype=float)
 
     @cached_property
     def velocity(self) -> np.ndarray:
-        """Speed limits (rad/s or m/s), inf where the URDF gives none."""
-        return np.array([b.velocity for b in self.bodies], dtype=float)
+        """Speed limits (rad/s or m/s), inf where the URDF gives none; a coordinate with mimics gets the
+        smallest of its own and each mimic's divided by |multiplier|."""
+        return np.array([min(r, default=np.inf) for r in self._mimic_ranges("velocity")], dtype=float)
 
     @property
     def frame_names(self) -> tuple[str, ...]:

@@ -221,7 +221,7 @@ EXACT = Operations()
 class OutwardPass:
     """Result of the outward iteration: per-body kinematics and inertial loads.
 
-    Each field is a list of n :class:`~course_dynamics.core.algebra.Vec3`, body i's in frame i.
+    Each field is a list of n_bodies :class:`~course_dynamics.core.algebra.Vec3`, body i's in frame i.
 
     Parameters
     ----------
@@ -269,7 +269,9 @@ class InwardPass:
     n : list of Vec3
         ⁱnᵢ, the moment on link i from its parent, frame i, N·m (6.52).
     tau : list
-        τᵢ, N·m (N for a prismatic joint) (6.53), one scalar per joint.
+        τ = Sᵀ τ_bodies, N·m (N for a prismatic joint), one scalar per coordinate (per joint without mimic joints).
+    tau_bodies : list
+        τᵢ (6.53), one scalar per body: each joint's own torque, a mimic joint's included.
 
     Examples
     --------
@@ -286,6 +288,7 @@ class InwardPass:
     f: list
     n: list
     tau: list
+    tau_bodies: list
 
 
 def outward_iteration(model: Model, X: JointTransforms, theta_dot: list, theta_ddot: list, gravity: Vec3,
@@ -299,9 +302,10 @@ def outward_iteration(model: Model, X: JointTransforms, theta_dot: list, theta_d
     X : JointTransforms
         The joint transforms at Θ (:func:`~course_dynamics.core.kinematics.joint_transforms`).
     theta_dot : list
-        Θ̇, one scalar per joint (float, (N,) array or sympy expression), rad/s (m/s).
+        Θ̇, one scalar per coordinate (float, (N,) array or sympy expression), rad/s (m/s); a mimic joint's
+        body moves at S Θ̇ (:meth:`~course_dynamics.core.model.Model.body_entries`).
     theta_ddot : list
-        Θ̈, one scalar per joint, rad/s² (m/s²).
+        Θ̈, one scalar per coordinate, rad/s² (m/s²).
     gravity : Vec3
         g in the base frame, m/s².
     ops : Operations, optional
@@ -325,6 +329,7 @@ def outward_iteration(model: Model, X: JointTransforms, theta_dot: list, theta_d
     """
     zero = Vec3(0, 0, 0)
     omega, omega_dot, v_dot, v_dot_c, F, N = [], [], [], [], [], []
+    theta_dot, theta_ddot = model.body_entries(theta_dot, False), model.body_entries(theta_ddot, False)  # S Θ̇, S Θ̈
     for i, body in enumerate(model.bodies):
         p, z, qd, qdd = body.parent, body.axis_v, theta_dot[i], theta_ddot[i]
         if p < 0:
@@ -383,8 +388,8 @@ def inward_iteration(model: Model, X: JointTransforms, out: OutwardPass, ops: Op
     >>> [round(t, 6) for t in back.tau], len(back.f)                # τᵢ = ⁱnᵢᵀ ⁱẐᵢ (6.53)
     ([18.158634, 3.539519], 2)
     """
-    f, n, tau = [None] * model.n, [None] * model.n, [None] * model.n
-    for i in reversed(range(model.n)):
+    f, n, tau = [None] * model.n_bodies, [None] * model.n_bodies, [None] * model.n_bodies
+    for i in reversed(range(model.n_bodies)):
         body = model.bodies[i]
         f_i = out.F[i]  # (6.51), children added below
         n_i = out.N[i] + ops.cross(body.p_com_v, out.F[i], "6.52")  # (6.52), children added below
@@ -394,7 +399,7 @@ def inward_iteration(model: Model, X: JointTransforms, out: OutwardPass, ops: Op
             n_i = n_i + R @ n[c] + ops.moment_arm(X.P[c], R @ f[c], "6.52")  # (6.52)
         f[i], n[i] = f_i, n_i
         tau[i] = dot(f_i, body.axis_v) if body.is_prismatic else dot(n_i, body.axis_v)  # (6.44) / (6.53)
-    return InwardPass(f, n, tau)
+    return InwardPass(f, n, model.coordinate_entries(tau), tau)  # τ = Sᵀ τ_bodies (mimic joints)
 
 
 def torque_entries(model: Model, X: JointTransforms, theta_dot: list, theta_ddot: list, gravity: Vec3) -> list:
@@ -454,31 +459,32 @@ def inverse_dynamics(model: Model, q, qd, qdd) -> np.ndarray:
 class LinkQuantities:
     """Every intermediate quantity of one Newton–Euler evaluation, per link.
 
-    Vectors have shape (n, 3) for one state or (N, n, 3) for a batch; each is
-    expressed in its own link's frame (Craig's ⁱ(·)ᵢ). ``tau`` has shape (n,)
-    or (N, n).
+    Vectors have shape (n_bodies, 3) for one state or (N, n_bodies, 3) for a batch (one row per body, a
+    mimic joint's included; n_bodies = n without mimic joints); each is expressed in its own link's frame
+    (Craig's ⁱ(·)ᵢ). ``tau`` has shape (n_bodies,) or (N, n_bodies): each joint's own τᵢ (6.53), before a
+    mimic's is mapped onto its leader (:func:`inverse_dynamics` gives τ = Sᵀ τ_bodies).
 
     Parameters
     ----------
     joints : tuple of str
-        The joints, in model order.
-    omega : numpy.ndarray, shape (n, 3) or (N, n, 3)
+        The bodies' joints, in model order.
+    omega : numpy.ndarray, shape (n_bodies, 3) or (N, n_bodies, 3)
         ⁱωᵢ, rad/s.
-    omega_dot : numpy.ndarray, shape (n, 3) or (N, n, 3)
+    omega_dot : numpy.ndarray, shape (n_bodies, 3) or (N, n_bodies, 3)
         ⁱω̇ᵢ, rad/s².
-    v_dot : numpy.ndarray, shape (n, 3) or (N, n, 3)
+    v_dot : numpy.ndarray, shape (n_bodies, 3) or (N, n_bodies, 3)
         ⁱv̇ᵢ, m/s², with the −g base lift.
-    v_dot_c : numpy.ndarray, shape (n, 3) or (N, n, 3)
+    v_dot_c : numpy.ndarray, shape (n_bodies, 3) or (N, n_bodies, 3)
         ⁱv̇_Cᵢ, m/s².
-    F : numpy.ndarray, shape (n, 3) or (N, n, 3)
+    F : numpy.ndarray, shape (n_bodies, 3) or (N, n_bodies, 3)
         ⁱFᵢ, N.
-    N : numpy.ndarray, shape (n, 3) or (N, n, 3)
+    N : numpy.ndarray, shape (n_bodies, 3) or (N, n_bodies, 3)
         ⁱNᵢ, N·m.
-    f : numpy.ndarray, shape (n, 3) or (N, n, 3)
+    f : numpy.ndarray, shape (n_bodies, 3) or (N, n_bodies, 3)
         ⁱfᵢ, N.
-    n : numpy.ndarray, shape (n, 3) or (N, n, 3)
+    n : numpy.ndarray, shape (n_bodies, 3) or (N, n_bodies, 3)
         ⁱnᵢ, N·m.
-    tau : numpy.ndarray, shape (n,) or (N, n)
+    tau : numpy.ndarray, shape (n_bodies,) or (N, n_bodies)
         τᵢ, N·m (N for a prismatic joint).
 
     Examples
@@ -545,13 +551,13 @@ def newton_euler_links(model: Model, q, qd, qdd, ops: Operations = EXACT) -> Lin
     back = inward_iteration(model, X, out, ops)
 
     def per_link(vectors):
-        return layout.assemble([tuple(v) for v in vectors], (model.n, 3))
+        return layout.assemble([tuple(v) for v in vectors], (model.n_bodies, 3))
 
     return LinkQuantities(
-        joints=model.joint_names,
+        joints=tuple(body.joint for body in model.bodies),
         omega=per_link(out.omega), omega_dot=per_link(out.omega_dot), v_dot=per_link(out.v_dot),
         v_dot_c=per_link(out.v_dot_c), F=per_link(out.F), N=per_link(out.N),
-        f=per_link(back.f), n=per_link(back.n), tau=layout.assemble(back.tau, (model.n,)),
+        f=per_link(back.f), n=per_link(back.n), tau=layout.assemble(back.tau_bodies, (model.n_bodies,)),
     )
 
 

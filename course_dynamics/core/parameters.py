@@ -212,7 +212,7 @@ def check_symbolic_size(model: Model) -> None:
 def _resolve(model: Model, name: str, known: dict) -> str:
     if name in known:
         return name
-    if model.n == 1 and f"{name}1" in known:
+    if model.n_bodies == 1 and f"{name}1" in known:
         return f"{name}1"  # the pendulum's m, l
     raise SymbolError(f"unknown symbol '{name}' for robot '{model.name}'; known: {', '.join(sorted(known))}")
 
@@ -256,7 +256,7 @@ def symbolic_model(model: Model, symbols=()) -> tuple[Model, dict[str, object]]:
     known = parameter_values(model)
     resolved = {_resolve(model, name, known): symbol for name, symbol in table.items()}
     bodies, frames = list(exact.bodies), list(exact.frames)
-    for i in range(model.n):
+    for i in range(model.n_bodies):
         number = i + 1
         body = bodies[i]
         changes = {}

@@ -101,7 +101,7 @@ def parameter_names(model: Model) -> list[str]:
     >>> parameter_names(load_robot("pendulum"))
     ['m_1', 'mcx_1', 'mcy_1', 'mcz_1', 'Ixx_1', 'Ixy_1', 'Iyy_1', 'Ixz_1', 'Iyz_1', 'Izz_1']
     """
-    return [f"{name}_{i}" for i in range(1, model.n + 1) for name in PARAMETER_NAMES]
+    return [f"{name}_{i}" for i in range(1, model.n_bodies + 1) for name in PARAMETER_NAMES]
 
 
 def parameter_symbols(model: Model) -> list[str]:
@@ -124,7 +124,7 @@ def parameter_symbols(model: Model) -> list[str]:
     >>> parameter_symbols(load_robot("two_link"))[10:14]
     ['m₂', 'm₂c₂,x', 'm₂c₂,y', 'm₂c₂,z']
     """
-    numbers = [str(i).translate(SUBSCRIPTS) for i in range(1, model.n + 1)]
+    numbers = [str(i).translate(SUBSCRIPTS) for i in range(1, model.n_bodies + 1)]
     return [symbol.format(i=number) for number in numbers for symbol in PARAMETER_SYMBOLS]
 
 
@@ -229,8 +229,8 @@ def with_parameters(model: Model, pi) -> Model:
     m c = (0.6, 0, 0) kg m has no centre of mass; a mass must be > 0 (or 0 with m c = 0, a massless body)
     """
     pi = np.asarray(pi)
-    if pi.shape != (10 * model.n,):
-        raise ModelError(f"robot '{model.name}' has {model.n} bodies, so π has {10 * model.n} entries, "
+    if pi.shape != (10 * model.n_bodies,):
+        raise ModelError(f"robot '{model.name}' has {model.n_bodies} bodies, so π has {10 * model.n_bodies} entries, "
                          f"got shape {pi.shape}")
     values = pi.astype(float).tolist() if pi.dtype != object else list(pi)
     bodies = tuple(_body_from(body, i + 1, values[10 * i:10 * i + 10]) for i, body in enumerate(model.bodies))
@@ -276,9 +276,10 @@ def regressor(model: Model, q, qd, qdd) -> np.ndarray:
     """
     q, qd, qdd = as_state(model, q, "q"), as_state(model, qd, "qd"), as_state(model, qdd, "qdd")
     batch = layout_of(q, qd, qdd).batch
-    count = 10 * model.n
+    count = 10 * model.n_bodies
     seeds = np.eye(count).reshape((count, count) + (1,) * len(batch))  # e_k, broadcasting over the batch
-    seeded = with_parameters(model, np.array([Dual(a, seeds[k]) for k, a in enumerate(SEED * model.n)], dtype=object))
+    seeded = with_parameters(model, np.array([Dual(a, seeds[k]) for k, a in enumerate(SEED * model.n_bodies)],
+                                             dtype=object))
     tau = torque_entries(seeded, joint_transforms(model, entries(q)), entries(qd), entries(qdd), model.gravity_v)
     Y = np.stack([np.broadcast_to(t.b if isinstance(t, Dual) else 0.0, (count,) + batch) for t in tau])
     return np.moveaxis(Y, (0, 1), (-2, -1)).copy()
@@ -286,7 +287,7 @@ def regressor(model: Model, q, qd, qdd) -> np.ndarray:
 
 def _stacked(model: Model, samples: int, seed: int) -> np.ndarray:
     q, qd, qdd = random_states(model, samples, seed)
-    return regressor(model, q, qd, qdd).reshape(-1, 10 * model.n)
+    return regressor(model, q, qd, qdd).reshape(-1, 10 * model.n_bodies)
 
 
 def _grouping(W: np.ndarray, independent, acting) -> np.ndarray:

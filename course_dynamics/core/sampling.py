@@ -58,7 +58,7 @@ def sampling_bounds(model: Model) -> tuple[np.ndarray, np.ndarray]:
     with np.errstate(over="ignore"):
         free = ~(np.isfinite(lower) & np.isfinite(upper) & (lower < upper) & np.isfinite(upper - lower))
     lower[free], upper[free] = -np.pi, np.pi
-    prismatic = np.array([body.is_prismatic for body in model.bodies], dtype=bool)
+    prismatic = np.array([body.is_prismatic for body in model.coordinate_bodies], dtype=bool)
     nearest, window = np.clip(0.0, lower, upper), 10.0 * reach(model)
     lower = np.where(prismatic, np.maximum(lower, nearest - window), lower)
     upper = np.where(prismatic, np.minimum(upper, nearest + window), upper)

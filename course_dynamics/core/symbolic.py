@@ -310,7 +310,7 @@ def derive(model: Model, symbols=(), method: str = "newton-euler", simplify: boo
     B = [[form(sympy.expand(v).coeff(qd[j], 1).coeff(qd[k], 1)) for j, k in pairs] for v in V]
     C = [[form(sympy.expand(v).coeff(qd[j], 2)) for j in range(n)] for v in V]
     return Derivation(
-        joints=model.joint_names, prismatic=tuple(b.is_prismatic for b in model.bodies), method=method,
+        joints=model.joint_names, prismatic=tuple(b.is_prismatic for b in model.coordinate_bodies), method=method,
         q=tuple(q), qd=tuple(qd), qdd=tuple(qdd), parameters=parameters,
         tau=[form(t) for t in tau], M=[[form(x) for x in row] for row in M], V=[form(v) for v in V],
         G=[form(x) for x in G], B=B, C=C, pairs=pairs,

@@ -9,8 +9,13 @@ What is read, and how (see the site's "Known limits" for what is not):
   and its children hang from that body; links fixed to the base are ignored;
 * any unit axis (it is normalised; a zero axis is an error), joint origins and
   inertial frames with rpy, full inertia tensors, links without ``<inertial>``;
-* ``<mimic>`` is ignored: every joint has its own coordinate, as in Pinocchio's
-  default ``buildModelFromUrdf``;
+* ``<mimic joint multiplier offset>`` is honoured: the mimic joint's body moves with
+  θ = multiplier · θ_leader + offset and has no coordinate of its own (Θ holds the
+  independent joints only, as Pinocchio's ``buildModelFromUrdf(..., mimic=True)``);
+  its torque maps onto the leader through Sᵀ (:mod:`course_dynamics.core.model`).
+  A mimic of a mimic is composed; a mimic naming no joint, a fixed joint, itself
+  through a cycle, or with a non-finite multiplier or offset is refused naming the
+  joint. A ``<mimic>`` on a fixed joint moves nothing and is not read;
 * ``<dynamics damping friction>`` is kept on the body for the friction models.
 
 Every problem raises :class:`~course_dynamics.base.errors.ModelError` with one line naming the file and the
@@ -63,14 +68,16 @@ def load_urdf(path, gravity=STANDARD_GRAVITY, allow_nonphysical_inertia: bool = 
     Returns
     -------
     Model
-        The robot: one body per moving joint, parents first, fixed links merged; every link a frame.
+        The robot: one body per moving joint, parents first, fixed links merged; every link a frame; one
+        coordinate per moving joint that mimics none.
 
     Raises
     ------
     ModelError
         For a missing or malformed file, an unsupported joint, a kinematic loop,
         several roots, two joints with one name, a non-physical inertial, a zero
-        axis or a non-finite value.
+        axis, a non-finite value, or a ``<mimic>`` that cannot be honoured (naming no
+        moving joint, a cycle of mimics).
 
     Examples
     --------
@@ -151,9 +158,35 @@ def load_urdf(path, gravity=STANDARD_GRAVITY, allow_nonphysical_inertia: bool = 
             pending.append((child.child, body, T, child))
     if not specs:
         raise ModelError(f"{where}: no revolute, continuous or prismatic joint: nothing moves")
+    _check_mimics(where, robot.joints)
     bodies = [_body(where, spec, lump) for spec, lump in zip(specs, lumps)]
-    return Model(name=robot.name, bodies=tuple(bodies), gravity=gravity, source=where, base_link=roots[0],
-                 frames=tuple(frames))
+    try:
+        return Model(name=robot.name, bodies=tuple(bodies), gravity=gravity, source=where, base_link=roots[0],
+                     frames=tuple(frames))
+    except ModelError as exc:
+        raise ModelError(f"{where}: {exc}") from None
+
+
+def _check_mimics(where: str, joints) -> None:
+    """Each moving joint's ``<mimic>`` names another moving joint, with a finite multiplier and offset."""
+    kinds = {joint.name: joint.type for joint in joints}
+    for joint in joints:
+        if joint.mimic is None or joint.type == "fixed":
+            continue
+        leader = joint.mimic.joint
+        if not leader:
+            raise ModelError(f"{where}: joint '{joint.name}': <mimic> names no joint")
+        if leader not in kinds:
+            raise ModelError(f"{where}: joint '{joint.name}' mimics joint '{leader}', which the URDF does not define")
+        if kinds[leader] == "fixed":
+            raise ModelError(f"{where}: joint '{joint.name}' mimics joint '{leader}', a fixed joint (it has no "
+                             "coordinate to follow)")
+        if leader == joint.name:
+            raise ModelError(f"{where}: joint '{joint.name}' mimics itself")
+        for name in ("multiplier", "offset"):
+            value = float(getattr(joint.mimic, name))
+            if not math.isfinite(value):
+                raise ModelError(f"{where}: joint '{joint.name}': <mimic {name}=\"{value}\"> must be finite")
 
 
 #: The largest URDF file read, in bytes (64 MiB). A 1 000-joint chain is under 1 MiB; anything far larger is
@@ -504,11 +537,13 @@ def _body(where: str, spec: dict, lump: list) -> Body:
     friction = float(dynamics.friction or 0.0) if dynamics is not None else 0.0
     mass, p_com, I_com = _combine(lump)
     T = spec["T"]
+    mimic = joint.mimic if joint.mimic is not None else None
     return Body(
         name=spec["link"], joint=joint.name, joint_type=joint.type, parent=spec["parent"],
         R0=T[:3, :3], P=T[:3, 3], axis=axis / norm, mass=mass, p_com=p_com, I_com=I_com,
         lower=lower, upper=upper, effort=effort, velocity=velocity, damping=damping, friction=friction,
-        parent_link=joint.parent,
+        parent_link=joint.parent, mimic=mimic.joint if mimic else "",
+        multiplier=float(mimic.multiplier) if mimic else 1.0, offset=float(mimic.offset) if mimic else 0.0,
     )
 
 

@@ -59,7 +59,7 @@ def consistent_fit(model, R, sigma, theta_urdf, kinds, sizes, prior_weight, min_
     except ImportError:
         raise InputError("identification needs cvxpy and clarabel: install course-dynamics[identify] "
                          "(pip install 'course-dynamics[identify]')") from None
-    P, n_rigid = len(theta_urdf), 10 * model.n
+    P, n_rigid = len(theta_urdf), 10 * model.n_bodies
     weighted = (R / sigma[:, None, None]).reshape(-1, P + 1)
     Rw = np.linalg.qr(weighted, mode="r")                  # ‖W (Y θ − τ)‖ = ‖Rw[:, :P] θ − Rw[:, P]‖
     A, z = Rw[:P, :P], Rw[:P, P]
@@ -74,7 +74,7 @@ def consistent_fit(model, R, sigma, theta_urdf, kinds, sizes, prior_weight, min_
     d = cp.Variable(P)
     theta = theta_urdf + cp.multiply(scale, d)
     constraints = []
-    for i in range(model.n):
+    for i in range(model.n_bodies):
         p = theta[10 * i:10 * i + 10]
         J = cp.Variable((4, 4), PSD=True)
         trace = p[4] + p[6] + p[9]

@@ -267,7 +267,7 @@ def _factors(model, log, rows, columns, target, measured, progress) -> np.ndarra
     ‖Yⱼ θ − τⱼ‖ = ‖R_j[:, :P] θ − R_j[:, P]‖. R_j has as many rows as the samples so far, at most
     P + 1: a short log costs what its samples do. ``progress`` moves after each joint's QR.
     """
-    P = 10 * model.n + len(columns)
+    P = 10 * model.n_bodies + len(columns)
     R = np.zeros((len(measured), 0, P + 1))
     for start in range(0, len(rows), ROWS_AT_A_TIME):
         block = rows[start:start + ROWS_AT_A_TIME]
@@ -325,7 +325,8 @@ def _typical(model, theta_urdf, theta_wls, kinds, where) -> dict:
     """The values a parameter of each kind typically has: the URDF's masses, first moments and inertias, the
     weighted fit's friction coefficients; a mass of 1 kg, 0.1 m and (0.1 m)² per kg where the URDF has none."""
     estimate = dict(zip(where, theta_wls))
-    values = {kind: [abs(x) for k, x in enumerate(theta_urdf) if kinds[k] == kind and x != 0 and k < 10 * model.n]
+    rigid = 10 * model.n_bodies
+    values = {kind: [abs(x) for k, x in enumerate(theta_urdf) if kinds[k] == kind and x != 0 and k < rigid]
               for kind in ("m", "h", "I")}
     mass = np.sqrt(np.mean(np.square(values["m"]))) if values["m"] else 1.0
     values = {"m": values["m"] or [mass], "h": values["h"] or [0.1 * mass], "I": values["I"] or [0.01 * mass]}
@@ -427,7 +428,7 @@ def identify(model: Model, log: JointLog, friction: str = "both", holdout: float
     split = t[0] + (1 - holdout) * (t[-1] - t[0])
     train = np.flatnonzero(t < split) if holdout > 0 else np.arange(len(t))
     test = np.flatnonzero(t >= split) if holdout > 0 else np.arange(0)
-    n_rigid = 10 * model.n
+    n_rigid = 10 * model.n_bodies
     check_memory(memory_needed(model.n, n_rigid + len(columns), len(train), len(measured)),
                  f"{where}: identifying robot '{model.name}' ({model.n} joints, {n_rigid + len(columns)} parameters) "
                  f"from {len(train)} samples of {len(measured)} measured joints",

@@ -104,7 +104,7 @@ def payload_link(model: Model, payload: Payload) -> str:
     """
     if payload.link is not None:
         return payload.link
-    return [f.name for f in model.frames if f.body == model.n - 1][-1]
+    return [f.name for f in model.frames if f.body == model.n_bodies - 1][-1]
 
 
 def with_payload(model: Model, payload: Payload) -> Model:

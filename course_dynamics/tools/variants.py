@@ -194,8 +194,8 @@ def robot_variant(robot: str, student: str) -> Variant:
         raise InputError(f"robot '{robot}': only the course robots ({', '.join(COURSE_ROBOTS)}) have student variants")
     model = load_robot(robot)
     rng = rng_for(student, f"robot {robot}")
-    lengths = rng.uniform(*LENGTHS, model.n)
-    masses = rng.uniform(*MASSES, model.n)
+    lengths = rng.uniform(*LENGTHS, model.n_bodies)
+    masses = rng.uniform(*MASSES, model.n_bodies)
     bodies = []
     for i, body in enumerate(model.bodies):
         own, parents = lengths[i], (lengths[body.parent] if body.parent >= 0 else 1.0)

@@ -194,7 +194,7 @@ def model_key(model: Model) -> str:
     digest = hashlib.sha256(code_fingerprint())
     description = [model.name, model.gravity.tolist(), [
         [b.joint, b.joint_type, b.parent, b.R0.tolist(), b.P.tolist(), b.axis.tolist(), float(b.mass), b.p_com.tolist(),
-         b.I_com.tolist()] for b in model.bodies]]
+         b.I_com.tolist(), b.mimic, b.multiplier, b.offset] for b in model.bodies]]
     digest.update(json.dumps(description).encode())
     return digest.hexdigest()
 

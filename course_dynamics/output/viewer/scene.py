@@ -71,7 +71,7 @@ def body_placements(model: Model, q: np.ndarray) -> np.ndarray:
     """
     placements = forward_kinematics(model, np.atleast_2d(q))
     K = placements.R.shape[0]
-    T = np.zeros((K, model.n, 4, 4))
+    T = np.zeros((K, model.n_bodies, 4, 4))
     T[..., :3, :3], T[..., :3, 3], T[..., 3, 3] = placements.R, placements.P, 1.0
     return T
 
@@ -119,7 +119,7 @@ def tip_frame(model: Model) -> str:
     str
         The link's name.
     """
-    return [f.name for f in model.frames if f.body == model.n - 1][-1]
+    return [f.name for f in model.frames if f.body == model.n_bodies - 1][-1]
 
 
 def animate(vis, model: Model, t: np.ndarray, q: np.ndarray, tau: np.ndarray | None = None,
