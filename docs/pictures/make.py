@@ -10,6 +10,9 @@ torques.png         the PNG that ``torques ur5 --log examples/ur5_log.csv --map 
                     --out tau.csv --plot tau.png`` writes (exit 0 or 1: 1 only says a limit is exceeded)
 residual.png        the PNG of ``torques ur5 --log examples/ur5_joint_states.mcap --plot r.png``: the log holds
                     measured torques, so each joint's panel draws them beside ours, with the residual's RMS and R²
+detect.png          the PNG of ``detect ur5 --log examples/ur5_collision.csv`` with the log's friction (``--viscous
+                    …``, ``--coulomb …``, ``--friction-width 0.01``) and ``--plot contact.png`` (exit 1: a contact is
+                    found): the observer's r(t) per joint, its thresholds and the push shaded
 feedback.png        the HTML feedback page (1100 px wide, its top 1400 px at most) of the student whose grading
                     names a mistake (a ``[slip-name]``), after ``grade examples/grading/assignment.toml alice.py bob.py
                     --out grades``
@@ -158,6 +161,10 @@ def main() -> None:
 
         run(work, "torques", "ur5", "--log", "examples/ur5_joint_states.mcap", "--plot", "r.png")
         save((work / "r.png").read_bytes(), "residual.png")
+
+        run(work, "detect", "ur5", "--log", "examples/ur5_collision.csv", "--viscous", "2,2,1,0.5,0.5,0.5",
+            "--coulomb", "3,3,2,1,1,1", "--friction-width", "0.01", "--plot", "contact.png", ok=(1,))
+        save((work / "contact.png").read_bytes(), "detect.png")
 
         run(work, "grade", "examples/grading/assignment.toml", "examples/grading/submissions/alice.py",
             "examples/grading/submissions/bob.py", "--out", "grades")

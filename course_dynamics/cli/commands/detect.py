@@ -132,10 +132,11 @@ def _print_report(found, model, stream) -> None:
         print("no contact found", file=stream)
         return
     wrench = found.link is not None
-    header = ["event", "start (s)", "end (s)", "detected", "peak tau_ext per joint"]
+    header = ["event", "start (s)", "end (s)", "detected", "peak tau_ext, joint by joint (- under its threshold)"]
     rows = [header + (["force (N)", "moment (N m)", "cond"] if wrench else [])]
     for number, e in enumerate(found.events, 1):
-        peaks = ", ".join(f"{j} {value:+.3g}" for j, value in zip(e.joints, e.peak))
+        peak = dict(zip(e.joints, e.peak))
+        peaks = " ".join(f"{peak[j]:+.3g}" if j in peak else "-" for j in found.measured)
         row = [str(number), f"{e.start:.4f}", f"{e.end:.4f}", f"{e.detected:.4f}", peaks]
         if wrench:
             row += [" ".join(f"{x:+.3g}" for x in e.force),
