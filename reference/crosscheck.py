@@ -55,7 +55,13 @@ CONVENTIONS = {
     "frictionloss": "MuJoCo turns the URDF's joint friction into friction-loss constraint forces",
     "armature": "the engine adds rotor inertia to M's diagonal (MuJoCo's dof_armature, Pinocchio's armature)",
     "mimic joints as equality constraints": "MuJoCo's importer couples a <mimic> joint to its leader by an "
-                                            "equality constraint, whose force it adds to τ and Θ̈",
+                                            "equality constraint, whose force it adds to τ and Θ̈ (none at states "
+                                            "that keep the coupling, as those given here do)",
+    "mimic joints coupled here": "the engine gives a <mimic> joint a coordinate of its own (PyBullet ignores "
+                                 "<mimic>; MuJoCo holds it by the equality constraint): it is given each state at "
+                                 "θ = multiplier · θ_leader + offset, its τ, G and bias are mapped onto the leaders by "
+                                 "Sᵀ, M by Sᵀ M S, and Θ̈ solves (Sᵀ M S) Θ̈ = τ − Sᵀ bias; course_dynamics and "
+                                 "Pinocchio (mimic=True) honour <mimic> themselves",
     "joint limits": "MuJoCo applies joint-limit constraint forces at a state at or beyond a limit",
     "massless links": "PyBullet gives a link without <inertial> 1 kg and unit inertia; here it is given an explicit "
                       "zero one",
@@ -264,7 +270,7 @@ def first_parting(engine: Engine, ours: Engine, q, tolerance: float, joints=None
 
     theirs, mine = moments(engine.bodies(q)), moments(ours.bodies(q))
     scale = [max(float(np.abs(mine[j][k]).max()) for j in mine) for k in range(3)]
-    for joint in ours.model.joint_names if joints is None else joints:
+    for joint in [b.joint for b in ours.model.bodies] if joints is None else joints:
         for k in range(3):
             if relative_error(theirs[joint][k], mine[joint][k], scale[k]) > tolerance:
                 return joint
@@ -284,7 +290,7 @@ def _rotated(engine: Engine, ours: Engine, q, joint: str, tolerance: float) -> b
 
 
 def _fixed_joints(model) -> int:
-    return max(0, len(model.frames) - 1 - model.n)
+    return max(0, len(model.frames) - 1 - model.n_bodies)
 
 
 def _representation(engine: Engine, model, states) -> list[dict]:
@@ -292,8 +298,12 @@ def _representation(engine: Engine, model, states) -> list[dict]:
     out = []
     if engine.name in ("mujoco", "pybullet") and _fixed_joints(model):
         out.append({"name": "fixed joints merged", "size": f"{_fixed_joints(model)} links held by fixed joints"})
-    if engine.joint_order != list(model.joint_names):
+    if engine.joint_order != [b.joint for b in model.bodies]:
         out.append({"name": "joint order", "size": "its order: " + ", ".join(engine.joint_order)})
+    if engine.name in ("mujoco", "pybullet") and model.has_mimic:
+        coupled = [f"{b.joint} = {a:g}·{model.joint_names[j]} {'-' if c < 0 else '+'} {abs(c):g}"
+                   for b, (j, a, c) in zip(model.bodies, model.coupling) if b.mimic]
+        out.append({"name": "mimic joints coupled here", "size": ", ".join(coupled)})
     continuous = getattr(engine, "continuous", [])
     if continuous:
         out.append({"name": "continuous joints as cos/sin", "size": ", ".join(continuous)})
@@ -369,11 +379,11 @@ def _compared(engine: Engine, model, urdf, version: str, states, tolerance: floa
     if check.first_joint is None:
         check.explained = False
         return check
-    check.first_link = model.bodies[model.joint_names.index(check.first_joint)].name
+    check.first_link = next(b.name for b in model.bodies if b.joint == check.first_joint)
     as_placed = Engine(with_inertias_of(engine, model, states[0][0]))
     _, against_placed, _ = _evaluate(engine, ours, states, reference=as_placed)
     if all(v <= tolerance for v in against_placed.values()):  # the engine's inertias are the whole difference
-        differing = [j for j in model.joint_names if first_parting(engine, ours, states[0][0], tolerance, [j])]
+        differing = [b.joint for b in model.bodies if first_parting(engine, ours, states[0][0], tolerance, [b.joint])]
         if engine.name in ("mujoco", "pybullet") and set(differing) <= _nonphysical(urdf):
             name = "inertia refused"
         elif (max(residual.values()) <= ROTATING_ENGINES.get(engine.name, 0.0)
@@ -389,7 +399,7 @@ def _compared(engine: Engine, model, urdf, version: str, states, tolerance: floa
                 difference = getattr(ours, t)(*_arguments(t, q, qd, qdd, tau)) - getattr(as_placed, t)(
                     *_arguments(t, q, qd, qdd, tau))
                 sizes[t] = max(sizes[t], float(np.abs(difference).max()))
-        links = [model.bodies[model.joint_names.index(j)].name for j in differing]
+        links = [b.name for b in model.bodies if b.joint in differing]
         check.conventions.append({"name": name, "size": sizes, "detail": "the inertia of " + ", ".join(links)})
         check.residual, check.first_link, check.first_joint = against_placed, None, None
         return check

@@ -170,22 +170,43 @@ class Engine:
 
 class LoadedVariants(Engine):
     """An engine holding the URDF loaded several ways (as given, then with its own additions turned off one by
-    one): the terms are those of the first, ``_term(k, …)`` of the k-th."""
+    one): the terms are those of the first, ``_term(k, …)`` of the k-th.
+
+    ``_term`` works on one coordinate per moving joint of the file, a mimic joint's included (``body_joints``,
+    our body order); :meth:`_at` gives it our states at θ = S Θ + b and maps what it returns onto our coordinates
+    by Sᵀ (Sᵀ M S for M), and Θ̈ as the solution of (Sᵀ M S) Θ̈ = τ − Sᵀ bias (the convention "mimic joints
+    coupled here").
+    """
+
+    def __init__(self, model):
+        super().__init__(model)
+        self.body_joints = [body.joint for body in model.bodies]
+
+    def _at(self, term: str, k: int, *state):
+        if not self.model.has_mimic:
+            return getattr(self, f"_{term}")(k, *state)
+        S, b = self.model.S, self.model.b
+        if term == "forward":
+            q, qd, tau = state
+            return np.linalg.solve(self._at("M", k, q), np.asarray(tau, dtype=float) - self._at("bias", k, q, qd))
+        q, *rates = (np.asarray(x, dtype=float) for x in state)
+        value = getattr(self, f"_{term}")(k, S @ q + b, *(S @ rate for rate in rates))
+        return S.T @ value @ S if term == "M" else S.T @ value
 
     def tau(self, q, qd, qdd):
-        return self._tau(0, q, qd, qdd)
+        return self._at("tau", 0, q, qd, qdd)
 
     def M(self, q):
-        return self._M(0, q)
+        return self._at("M", 0, q)
 
     def G(self, q):
-        return self._G(0, q)
+        return self._at("G", 0, q)
 
     def bias(self, q, qd):
-        return self._bias(0, q, qd)
+        return self._at("bias", 0, q, qd)
 
     def forward(self, q, qd, tau):
-        return self._forward(0, q, qd, tau)
+        return self._at("forward", 0, q, qd, tau)
 
 
 class PinocchioEngine(Engine):
@@ -206,7 +227,7 @@ class PinocchioEngine(Engine):
             self.oracle = PinocchioOracle(urdf, model.joint_names, model.gravity)
         except (InputError, ValueError, RuntimeError) as exc:  # urdfdom's and Pinocchio's C++ exceptions
             raise EngineRefused(str(exc).split(": ", 1)[-1]) from None
-        pin_model = self.oracle.model
+        pin_model = self.oracle.plain
         self.joint_order = [pin_model.names[j] for j in range(1, pin_model.njoints)]
         self.continuous = [name for name, nq in zip(model.joint_names, self.oracle.nq) if nq == 2]
 
@@ -240,11 +261,13 @@ class PinocchioEngine(Engine):
     def bodies(self, q):
         import pinocchio as pin
 
-        pin.forwardKinematics(self.oracle.model, self.oracle.data, self.oracle.configuration(q))
+        plain, data = self.oracle.plain, self.oracle.plain_data  # every moving joint's body, a mimic's included
+        pin.forwardKinematics(plain, data, self.oracle.plain_configuration(q))
         out = {}
-        for name in self.model.joint_names:
-            joint = self.oracle.model.getJointId(name)
-            placement, inertia = self.oracle.data.oMi[joint], self.oracle.model.inertias[joint]
+        for body in self.model.bodies:
+            name = body.joint
+            joint = plain.getJointId(name)
+            placement, inertia = data.oMi[joint], plain.inertias[joint]
             R = placement.rotation
             out[name] = (float(inertia.mass), placement.translation + R @ inertia.lever,
                          _world_inertia(R, np.asarray(inertia.inertia)))
@@ -303,15 +326,17 @@ class MujocoEngine(LoadedVariants):
         else:
             self.bounded = None
         names = [raw.joint(j).name for j in range(raw.njnt)]
-        missing = [name for name in model.joint_names if name not in names]
+        missing = [name for name in self.body_joints if name not in names]
         if missing:
             raise EngineRefused(f"no joint {', '.join(missing)} in MuJoCo's model")
-        joints = [names.index(name) for name in model.joint_names]
-        self.joint_order = [name for name in names if name in model.joint_names]
+        joints = [names.index(name) for name in self.body_joints]
+        self.joint_order = [name for name in names if name in self.body_joints]
         self.qpos = np.array([raw.jnt_qposadr[j] for j in joints])
         self.dof = np.array([raw.jnt_dofadr[j] for j in joints])
         if armature is not None:
-            raw.dof_armature[self.dof] = armature  # as MuJoCo's users set it: the URDF cannot say it
+            own = np.zeros(model.n_bodies)  # on each coordinate's own joint (a mimic joint has no rotor of its own)
+            own[list(model.coordinates)] = armature
+            raw.dof_armature[self.dof] = own  # as MuJoCo's users set it: the URDF cannot say it
         raw.opt.gravity[:] = model.gravity
         self.models = [raw]
         for addition in self.ADDITIONS:  # each plain model drops one more of MuJoCo's additions
@@ -385,15 +410,12 @@ class MujocoEngine(LoadedVariants):
     def _G(self, k, q):
         return self._bias(k, q, np.zeros(len(self.dof)))
 
-    def _at(self, term: str, k: int, *state):
-        return getattr(self, f"_{term}")(k, *state)
-
     def parts(self, term, *state):
         values = [self._at(term, k, *state) for k in range(len(self.models))]
         return {addition: values[k] - values[k + 1] for k, addition in enumerate(self.ADDITIONS)}
 
     def bodies(self, q):
-        m, d = self._state(0, q)
+        m, d = self._state(0, self.model.S @ np.asarray(q, dtype=float) + self.model.b)
         self.mj.mj_kinematics(m, d)
         lumps: dict[int, list] = {}
         for b, owner in self.body_owner.items():
@@ -402,7 +424,7 @@ class MujocoEngine(LoadedVariants):
                 lumps.setdefault(owner, []).append((float(m.body_mass[b]), d.xipos[b].copy(),
                                                     _world_inertia(R, np.diag(m.body_inertia[b]))))
         by_joint = {m.joint(j).name: int(m.jnt_bodyid[j]) for j in range(m.njnt)}
-        return {name: _lump(lumps[by_joint[name]]) for name in self.model.joint_names}
+        return {name: _lump(lumps[by_joint[name]]) for name in self.body_joints}
 
 
 def load_engine(name: str, model, urdf, armature=None) -> Engine:

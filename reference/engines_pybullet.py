@@ -86,11 +86,11 @@ class PybulletEngine(LoadedVariants):
                  for j in range(pybullet.getNumJoints(body, physicsClientId=self.client))]
         self.infos = infos
         movable = [info[1].decode() for info in infos if info[2] != pybullet.JOINT_FIXED]
-        missing = [name for name in model.joint_names if name not in movable]
-        if missing or len(movable) != model.n:
-            raise EngineRefused(f"its movable joints {movable} are not ours {list(model.joint_names)}")
+        missing = [name for name in self.body_joints if name not in movable]
+        if missing or len(movable) != model.n_bodies:
+            raise EngineRefused(f"its movable joints {movable} are not ours {self.body_joints}")
         self.joint_order = movable
-        self.order = np.array([movable.index(name) for name in model.joint_names])
+        self.order = np.array([movable.index(name) for name in self.body_joints])
         self.index = {info[1].decode(): info[0] for info in infos}
         self.axis_length = {info[1].decode(): float(np.linalg.norm(info[13])) if info[2] == pybullet.JOINT_PRISMATIC
                             else 1.0 for info in infos}
@@ -119,7 +119,7 @@ class PybulletEngine(LoadedVariants):
             self.pb.disconnect(physicsClientId=self.client)
 
     def _theirs(self, x) -> list:
-        out = np.zeros(self.model.n)
+        out = np.zeros(self.model.n_bodies)
         out[self.order] = x
         return out.tolist()
 
@@ -138,10 +138,10 @@ class PybulletEngine(LoadedVariants):
         return self._call(k, self.pb.calculateMassMatrix, q)[np.ix_(self.order, self.order)]
 
     def _bias(self, k, q, qd):
-        return self._tau(k, q, qd, np.zeros(self.model.n))
+        return self._tau(k, q, qd, np.zeros(self.model.n_bodies))
 
     def _G(self, k, q):
-        return self._bias(k, q, np.zeros(self.model.n))
+        return self._bias(k, q, np.zeros(self.model.n_bodies))
 
     def _forward(self, k, q, qd, tau):
         return np.linalg.solve(self._M(k, q), np.asarray(tau) - self._bias(k, q, qd))
@@ -149,12 +149,12 @@ class PybulletEngine(LoadedVariants):
     def parts(self, term, *state):
         if len(self.bodies_loaded) == 1:
             return {}
-        values = [getattr(self, f"_{term}")(k, *state) for k in range(2)]
+        values = [self._at(term, k, *state) for k in range(2)]
         return {"massless links": values[0] - values[1]}
 
     def bodies(self, q):
         pb, body, client = self.pb, self.bodies_loaded[-1], self.client  # massless links as the URDF says
-        for name, value in zip(self.model.joint_names, q):
+        for name, value in zip(self.body_joints, self.model.S @ np.asarray(q, dtype=float) + self.model.b):
             # resetJointState slides a prismatic joint along its axis as written, of whatever length
             pb.resetJointState(body, self.index[name], float(value) / self.axis_length[name], physicsClientId=client)
         owner = {-1: -1}
@@ -172,7 +172,7 @@ class PybulletEngine(LoadedVariants):
             R = np.reshape(pb.getMatrixFromQuaternion(state[1]), (3, 3))
             lumps.setdefault(owner[link], []).append((float(dynamics[0]), np.asarray(state[0]),
                                                       _world_inertia(R, np.diag(dynamics[2]))))
-        return {name: _lump(lumps[self.index[name]]) for name in self.model.joint_names}
+        return {name: _lump(lumps[self.index[name]]) for name in self.body_joints}
 
 
 __all__ = ["MAX_LINKS", "PybulletEngine"]

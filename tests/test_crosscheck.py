@@ -152,11 +152,23 @@ def test_armature_is_named_with_its_size_on_the_mass_matrix(tmp_path):
     assert "armature" not in conventions(by_engine(check)["pybullet"])
 
 
-def test_mimic_joints_become_an_equality_constraint_in_mujoco(tmp_path):
-    check = crosscheck(write(tmp_path, arm(extra='<mimic joint="shoulder" multiplier="1" offset="0"/>')),
-                       samples=SAMPLES)
+def test_mimic_joints_are_coupled_for_the_engines_that_give_them_a_coordinate(tmp_path):
+    """course_dynamics and Pinocchio honour <mimic>; MuJoCo's equality constraint holds the coupling (no force at
+    states that keep it), PyBullet ignores it: both are given θ = multiplier · θ_leader + offset and mapped back."""
+    path = write(tmp_path, arm(extra='<mimic joint="shoulder" multiplier="-0.5" offset="0.2"/>'))
+    check = crosscheck(path, samples=SAMPLES)
     agrees(check)
-    assert conventions(by_engine(check)["mujoco"])["mimic joints as equality constraints"]["size"]["tau"] > 0
+    assert [e.status for e in check.engines] == ["compared"] * 3
+    for name in ("mujoco", "pybullet"):
+        assert conventions(by_engine(check)[name])["mimic joints coupled here"]["size"] == \
+            "elbow = -0.5·shoulder + 0.2"
+    held = conventions(by_engine(check)["mujoco"]).get("mimic joints as equality constraints", {"size": {}})
+    assert max(held["size"].values(), default=0.0) <= 1e-12  # round-off at most: the states keep the coupling
+    assert "mimic joints coupled here" not in conventions(by_engine(check)["pinocchio"])
+    mujoco = engines.load_engine("mujoco", load_urdf(path), path)
+    apart = np.array([0.3, 0.9])  # the elbow away from −0.5 · 0.3 + 0.2: the constraint pulls it back
+    equality = mujoco._tau(3, apart, np.zeros(2), np.zeros(2)) - mujoco._tau(4, apart, np.zeros(2), np.zeros(2))
+    assert np.abs(equality).max() > 0
 
 
 def test_a_joint_limit_reached_is_a_constraint_force_in_mujoco(tmp_path):

@@ -39,7 +39,7 @@ def test_kinetic_energy_is_the_quadratic_form(robot):
     k = lagrange.kinetic_energy(model, q, qd)
     quadratic = 0.5 * np.einsum("ki,kij,kj->k", qd, dynamics.mass_matrix(model, q), qd)
     np.testing.assert_allclose(k, quadratic, rtol=1e-12, atol=1e-15)
-    assert lagrange.link_kinetic_energies(model, q, qd).shape == q.shape
+    assert lagrange.link_kinetic_energies(model, q, qd).shape == q.shape[:-1] + (model.n_bodies,)
 
 
 def test_gravity_is_the_gradient_of_potential_energy(robot):
