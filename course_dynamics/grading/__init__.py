@@ -9,6 +9,8 @@ module           job
 ===============  ================================================================
 ``assignment``   the assignment TOML file: robot, states, tolerance, limits, points
 ``plan``         the calls a submission is asked, our answers, and its answers as terms
+``robots``       interface = "robot": the practice robot and hidden ones of its shape, as plain data
+``uploads``      what a student hands in (a .py, a notebook's code cells) and their id on the roster
 ``harness``      the only code of ours next to student code: imports it, calls it, watches it
 ``integrity``    the audit hook in the submission's interpreter and its signed channel: what it tries
 ``launcher``     starts the sandbox with limits, as a fresh standard-library process
@@ -22,6 +24,7 @@ module           job
 ``slips``        the recursion's operations with one slip a student makes, in the equations it names
 ``mistakes``     the mistakes students make, each made on purpose by our own code
 ``diagnosis``    the named mistakes: small checks over one answer, each with its advice
+``numbers``      whose numbers: right dynamics of another robot, and the parameters that differ
 ``score``        the one scorer of a term, used by the grader and the notebooks
 ``similarity``   near-identical submissions, compared without running them
 ``grade``        a whole class: inspect, run, score

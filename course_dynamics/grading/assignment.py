@@ -19,12 +19,15 @@ from ..base.errors import InputError
 from ..core.model import STANDARD_GRAVITY, Model
 from ..core.robots import COURSE_ROBOTS, load, robot_names
 from ..core.urdf import InertiaWarning
-from ..tools.variants import check_student_id, rng_for, robot_variant
+from ..tools.variants import check_student_id, read_roster, rng_for, robot_variant
 
 #: The terms an assignment can grade, in the order they are graded and shown (τ, M(Θ), V(Θ, Θ̇), G(Θ),
 #: C(Θ, Θ̇)).
 TERMS = ("tau", "M", "V", "G", "C")
 PARTIAL_CREDIT = ("states", "none")
+#: How graded functions receive the robot: ``"functions"`` (``tau(q, qd, qdd)``, the robot's numbers the student's own)
+#: or ``"robot"`` (``tau(robot, q, qd, qdd)``, called on the practice robot and on hidden robots of its shape).
+INTERFACES = ("functions", "robot")
 DEFAULT_FORBIDDEN = ("pinocchio", "course_dynamics", "course_dynamics_reference")
 MAX_SAMPLES = 1000
 MIN_MEMORY = 256  # MiB: Python with numpy needs about this much address space
@@ -64,6 +67,17 @@ partial_credit = "states"
 # gradescope_student = "email"  # in the Gradescope bundle (`grade THIS_FILE --gradescope autograder.zip`), the
 #                               # user field of submission_metadata.json that names the student: "email" (its
 #                               # local part, the default), or another field such as "sid" or "id"
+
+# interface = "robot"       # every graded function takes the robot as plain data first: tau(robot, q, qd, qdd),
+#                           # M(robot, q), ... (`grade THIS_FILE --handout ID` prints its keys); graded on the
+#                           # robot above and on hidden robots of its shape (other lengths, masses, inertias,
+#                           # axes), new ones for every file, so a closed form worked out for one robot, or code
+#                           # generated for it, fails. The default "functions": tau(q, qd, qdd) for this robot.
+
+# roster = "roster.csv"     # a CSV file (next to this one) whose 'id' column lists the students: a submission's id
+#                           # (its file name, or on Gradescope the e-mail's local part) is matched to it exactly,
+#                           # else ignoring case and a "+tag" when that names one student; one on no roster
+#                           # scores 0 with status "not on roster". Without a roster, ids are taken as given.
 
 # variant = "per-student"   # each student (the submission's file name) on their own variant of the course robot
 #                           # and states, as `student-notebooks --student ID` gives them; `grade THIS_FILE
@@ -126,6 +140,10 @@ class Assignment:
         The user field of Gradescope's submission metadata that names the student.
     states : str
         ``"per-file"`` (states seeded by the seed and the file's text) or ``"shared"`` (the seed's states for all).
+    interface : str
+        ``"functions"`` (``tau(q, qd, qdd)``) or ``"robot"`` (``tau(robot, q, qd, qdd)``, on hidden robots too).
+    roster : tuple of str or None
+        The roster's student ids; None when the assignment names no roster.
     """
 
     source: Path
@@ -146,6 +164,8 @@ class Assignment:
     flags_in_feedback: bool = False  # a student's feedback lists its integrity flags
     gradescope_student: str = "email"  # the user field of Gradescope's metadata that names the student
     states: str = "per-file"  # "shared": every submission on the seed's states
+    interface: str = "functions"  # "robot": the robot is every graded function's first argument
+    roster: tuple[str, ...] | None = None  # the roster's ids, None without one
 
     def for_student(self, student: str, where: str = "") -> Assignment:
         """The assignment as ``student`` is graded: with ``variant = "per-student"``, on their own variant of the
@@ -217,7 +237,7 @@ class Assignment:
 
 KEYS = {"robot", "samples", "seed", "tolerance", "time_limit", "memory_limit", "output_limit", "forbidden_imports",
         "allowed_imports", "partial_credit", "points", "gravity", "allow_nonphysical_inertia", "variant",
-        "flags_in_feedback", "gradescope_student", "states"}
+        "flags_in_feedback", "gradescope_student", "states", "interface", "roster"}
 STATES = ("per-file", "shared")
 VARIANTS = ("same", "per-student")
 
@@ -324,6 +344,16 @@ def load_assignment(path) -> Assignment:
     states = data.get("states", "per-file")
     if states not in STATES:
         raise InputError(f"{path}: states must be one of {', '.join(STATES)}, got {states!r}")
+    interface = data.get("interface", "functions")
+    if interface not in INTERFACES:
+        raise InputError(f"{path}: interface must be one of {', '.join(INTERFACES)}, got {interface!r}")
+    roster = data.get("roster")
+    if roster is not None:
+        if not isinstance(roster, str) or not roster:
+            raise InputError(f"{path}: roster must name a CSV file next to the assignment, got {roster!r}")
+        if not (path.parent / roster).is_file():
+            raise InputError(f"{path}: roster '{roster}' is no file next to the assignment")
+        roster = tuple(read_roster(path.parent / roster))
     samples, memory = number("samples", 40, int), number("memory_limit", 1024, int)
     if samples > MAX_SAMPLES:
         raise InputError(f"{path}: samples must be at most {MAX_SAMPLES}, got {samples}")
@@ -337,8 +367,9 @@ def load_assignment(path) -> Assignment:
         tolerance=number("tolerance", 1e-6), time_limit=number("time_limit", 20.0),
         memory_limit=memory, output_limit=number("output_limit", 1_000_000, int),
         forbidden_imports=tuple(forbidden), allowed_imports=tuple(allowed), partial_credit=partial, variant=variant,
-        flags_in_feedback=show_flags, gradescope_student=field_name, states=states,
+        flags_in_feedback=show_flags, gradescope_student=field_name, states=states, interface=interface,
+        roster=roster,
     )
 
 
-__all__ = ["EXAMPLE", "TERMS", "Assignment", "load_assignment"]
+__all__ = ["EXAMPLE", "INTERFACES", "TERMS", "Assignment", "load_assignment"]

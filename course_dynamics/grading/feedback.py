@@ -46,7 +46,7 @@ from ..output.folders import write_folder, written_by
 from .assignment import Assignment
 from .grade import SubmissionGrade
 from .harness import FLAGS
-from .similarity import Comparison, Pair
+from .similarity import GENERATED, Comparison, Pair
 
 #: The most bytes a feedback file (Markdown or HTML) has; a longer one is cut.
 MAX_FEEDBACK_BYTES = 1_000_000
@@ -271,10 +271,16 @@ def similar_html(pair: Pair, assignment: Assignment, comparison: Comparison) -> 
     str
         The page: both sources, their lines numbered, the shared lines marked.
     """
-    title = f"{pair.first.student} and {pair.second.student}: {pair.score:.0%} of the smaller submission shared"
+    generated = pair.second.student.startswith(GENERATED)
+    title = (f"{pair.first.student} and the code course-dynamics generates for their robot "
+             f"({pair.second.student.removeprefix(GENERATED).strip()}): {pair.score:.0%} of the submission shared"
+             if generated else
+             f"{pair.first.student} and {pair.second.student}: {pair.score:.0%} of the smaller submission shared")
+    lead = ("The package writes this code for the student's robot (course-dynamics derive, a compiled model): "
+            "pasted in, it answers for the student; a lead, not a verdict; read both." if generated else
+            "Two students who worked from the same lecture can be alike: a lead, not a verdict; read both.")
     body = [page.heading(title),
-            page.paragraph(f"{assignment.source.name}; {_compared(comparison)}; marked lines hold shared runs. Two "
-                           "students who worked from the same lecture can be alike: a lead, not a verdict; read both."),
+            page.paragraph(f"{assignment.source.name}; {_compared(comparison)}; marked lines hold shared runs. {lead}"),
             page.table([(_marked_source(pair, pair.first), _marked_source(pair, pair.second))],
                        header=(pair.first.student, pair.second.student), css="side-by-side")]
     return page.page(title, body)
@@ -284,12 +290,14 @@ def _similar_section(comparison: Comparison | None) -> list:
     if comparison is None:
         return []
     rows = [(page.link(f"{quote(p.first.student)}.html", p.first.student),
+             p.second.student if p.second.student.startswith(GENERATED) else
              page.link(f"{quote(p.second.student)}.html", p.second.student), f"{p.score:.0%}",
              page.link(similar_name(k), "side by side")) for k, p in enumerate(comparison.pairs)]
     return [page.heading("Similar submissions", 2),
             page.paragraph(f"Pairs whose code is near-identical, {_compared(comparison)}: listed from a score of "
-                           f"{comparison.threshold:g}, the share of the smaller submission the other holds too. "
-                           "Leads to read, not verdicts."),
+                           f"{comparison.threshold:g}, the share of the smaller submission the other holds too; "
+                           "a submission beside \"generated: …\" holds that share of the code course-dynamics "
+                           "writes for its robot (flag generated-code). Leads to read, not verdicts."),
             page.table(rows, header=("student", "student", "shared", "compare")) if rows
             else page.paragraph(f"None at a score of {comparison.threshold:g} or more.")]
 

@@ -25,7 +25,13 @@ status                meaning
 ``output limit``      it printed more than the assignment's output_limit
 ``invalid result``    what came back is not what the harness writes (a
                       submission that wrote on the results channel itself)
+``not on roster``     the assignment names a roster, and the student's id
+                      matches no one on it (:func:`~.uploads.roster_match`)
 ====================  =========================================================
+
+With the assignment's ``interface = "robot"``, a submission runs twice: on the practice robot (what it prints is
+its feedback's) and on the hidden robots of :mod:`~course_dynamics.grading.robots` (what it prints there is only
+counted); each term scores the states of all of them, and its feedback shows the practice robot's alone.
 
 Everything a submission's process sends back is read as hostile
 (:mod:`~course_dynamics.grading.results`): one bad submission affects only its
@@ -37,8 +43,9 @@ import ast
 import os
 import re
 import signal
+import tempfile
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -50,9 +57,11 @@ from .diagnosis import Diagnosis
 from .environment import submission_environment
 from .harness import FLAGS
 from .plan import Expected, Plan, expected_terms, make_plan
+from .robots import combined, hidden_assignments, robot_record
 from .sandbox import Limits, check_sandbox, run_submission
 from .score import score_outcome
-from .similarity import Comparison, fingerprints, read_starter, similar_pairs
+from .similarity import GENERATED, Comparison, fingerprints, generated_pairs, read_starter, similar_pairs
+from .uploads import read_notebook, roster_match
 
 MAX_SOURCE_BYTES = 1_000_000
 FEEDBACK_OUTPUT = 20_000  # characters of a submission's printed output kept in its feedback
@@ -160,7 +169,8 @@ SOURCE_REFUSALS = Refusals(unreadable="cannot read the file: {reason}", not_a_fi
 
 def read_source(path: Path) -> tuple[str | None, str]:
     """(source, "") for a readable UTF-8 file of at most MAX_SOURCE_BYTES, read without blocking on a FIFO
-    (:func:`~course_dynamics.base.files.read_small`); (None, why not) otherwise.
+    (:func:`~course_dynamics.base.files.read_small`), or a notebook's code cells (:func:`~.uploads.read_notebook`);
+    (None, why not) otherwise.
 
     Parameters
     ----------
@@ -172,6 +182,8 @@ def read_source(path: Path) -> tuple[str | None, str]:
     tuple of (str or None, str)
         The source and an empty reason, or None and why it cannot be read.
     """
+    if path.suffix == ".ipynb":
+        return read_notebook(path)[:2]
     try:
         data = read_small(path, MAX_SOURCE_BYTES, "submission", refusals=SOURCE_REFUSALS)
     except InputError as exc:
@@ -221,8 +233,9 @@ def _ended(run, assignment: Assignment) -> tuple[str, str] | None:
     """(status, message) for a run that did not produce usable results, or that broke a limit."""
     if run.timed_out:
         return "timeout", f"still running after {Limits(assignment.time_limit).wall_seconds:g} s of wall-clock time"
-    if run.output_bytes > assignment.output_limit:
-        return "output limit", f"printed {run.output_bytes} bytes; the limit is {assignment.output_limit}"
+    if run.output_bytes > assignment.output_limit:  # before the results: a print in a loop is the likely cause
+        return "output limit", (f"printed {run.output_bytes} bytes; the limit is {assignment.output_limit}: remove the "
+                                "print calls (or print less) and submit again")
     if run.invalid:
         return "invalid result", f"the results that came back cannot be used: {run.invalid}"
     if run.results is not None:
@@ -248,7 +261,7 @@ def _ended(run, assignment: Assignment) -> tuple[str, str] | None:
 
 def grade_submission(assignment: Assignment, plan: Plan, expected: Expected, path: Path, bwrap: str | None,
                      environment=None, user: tuple[int, int] | None = None, student: str | None = None,
-                     read: tuple[str | None, str] | None = None) -> SubmissionGrade:
+                     read: tuple[str | None, str] | None = None, others: list | None = None) -> SubmissionGrade:
     """Grade one file (as ``student``, default its stem): inspect, run in the sandbox, score every term.
 
     Without ``bwrap``, a ``user`` (uid, gid) is the unprivileged user the submission runs as (sandbox.run_submission).
@@ -274,6 +287,9 @@ def grade_submission(assignment: Assignment, plan: Plan, expected: Expected, pat
         The student's name; the file's stem when None.
     read : tuple of (str or None, str) or None
         What :func:`read_source` read of the file; read here when None.
+    others : list of tuple or None
+        With ``interface = "robot"``, (assignment, plan, expected) on each hidden robot
+        (:func:`~course_dynamics.grading.robots.hidden_assignments`).
 
     Returns
     -------
@@ -288,11 +304,14 @@ def grade_submission(assignment: Assignment, plan: Plan, expected: Expected, pat
         grade.status, grade.message = problem
         grade.ran = False
         return grade
-    harness_plan = {"module": str(path), "forbidden": list(assignment.forbidden_imports),
-                    "functions": plan.harness_functions()}
     limits = Limits(time_limit=assignment.time_limit, memory_limit=assignment.memory_limit,
                     output_limit=assignment.output_limit)
-    run = run_submission(path, harness_plan, limits, bwrap, environment, user)
+    harness_plan = {"module": str(path), "forbidden": list(assignment.forbidden_imports),
+                    "available": ["numpy", *assignment.allowed_imports], "time_limit": assignment.time_limit,
+                    "wall_seconds": limits.wall_seconds}
+    on_robots = assignment.interface == "robot"
+    graded = [(assignment, plan, expected)]
+    run = run_submission(path, _calls(harness_plan, graded, on_robots), limits, bwrap, environment, user)
     grade.stdout = (run.stdout + run.stderr)[:FEEDBACK_OUTPUT]
     grade.notes += run.notes
     grade.flags = run.flags
@@ -301,7 +320,50 @@ def grade_submission(assignment: Assignment, plan: Plan, expected: Expected, pat
         grade.status, grade.message = ended
         return grade
     grade.diagnoses = score_outcome(run.results, assignment, plan, expected)
+    if on_robots and others:  # what it prints on the hidden robots is counted, never shown: their numbers stay ours
+        hidden = run_submission(path, _calls(harness_plan, others, True), limits, bwrap, environment, user)
+        grade.flags += [flag for flag in hidden.flags if flag not in grade.flags]
+        ended = _ended(hidden, assignment)
+        if ended is not None:
+            grade.status = ended[0]
+            grade.message = ("on the hidden robots of the assignment's shape, which your code is graded on too: "
+                             + (ended[1] if ended[0] in OUR_MESSAGES else ended[0]))
+            return grade
+        per_robot = [score_outcome(outcome, *other) for outcome, other in zip(_split(hidden.results, others), others)]
+        grade.diagnoses = [combined(d, [scored[i] for scored in per_robot], assignment.partial_credit)
+                           for i, d in enumerate(grade.diagnoses)]
     return grade
+
+
+OUR_MESSAGES = ("timeout", "memory", "output limit", "forbidden import")  # statuses whose message holds no answer
+
+
+def _calls(harness_plan: dict, graded: list, on_robots: bool) -> dict:
+    """The harness's plan for the plans of ``graded`` (assignment, plan, expected), one after the other; with
+    ``on_robots``, each call's robot."""
+    functions, robot_of = {}, {}
+    for index, (_, plan, _) in enumerate(graded):
+        for name, calls in plan.harness_functions().items():
+            functions.setdefault(name, []).extend(calls)
+            robot_of.setdefault(name, []).extend([index] * len(calls))
+    if not on_robots:
+        return dict(harness_plan, functions=functions)
+    return dict(harness_plan, functions=functions, robot_of=robot_of,
+                robots=[robot_record(assignment.robot) for assignment, _, _ in graded])
+
+
+def _split(results: dict, graded: list) -> list[dict]:
+    """The harness's outcome for the plans of ``graded`` one after the other, split into one outcome per plan."""
+    taken: dict[str, int] = {}
+    outcomes = []
+    for _, plan, _ in graded:
+        answered = {}
+        for name in plan.harness_functions():
+            records = results.get("results", {}).get(name, [])
+            count, start = len(plan.calls_of(name)), taken.get(name, 0)
+            answered[name], taken[name] = records[start:start + count], start + count
+        outcomes.append(dict(results, results=answered))
+    return outcomes
 
 
 RESERVED_NAMES = ("summary", "gradebook")  # the class's own files in the output folder
@@ -371,9 +433,11 @@ def student_names(paths) -> list[str]:
     return list(names)
 
 
-def similar_submissions(paths, threshold: float, starter=None) -> Comparison:
+def similar_submissions(paths, threshold: float, starter=None, assignment: Assignment | None = None) -> Comparison:
     """Near-identical pairs among the submission files (similarity.similar_pairs), read without running them;
-    ``starter`` is the path of the starter code given to everyone, or None.
+    ``starter`` is the path of the starter code given to everyone, or None. With an ``assignment`` of the default
+    interface, each file is also compared with the code the package generates for its student's robot
+    (similarity.generated_pairs): those pairs come after the others.
 
     Parameters
     ----------
@@ -383,6 +447,9 @@ def similar_submissions(paths, threshold: float, starter=None) -> Comparison:
         The similarity from which a pair is listed, 0 to 1.
     starter : str or os.PathLike or None
         The starter code, whose text does not count as shared.
+    assignment : Assignment or None
+        The assignment, whose robot (or each student's) the generated code is written for; None compares the
+        submissions with each other only.
 
     Returns
     -------
@@ -400,7 +467,35 @@ def similar_submissions(paths, threshold: float, starter=None) -> Comparison:
         source, _ = read_source(path)
         if source is not None:
             found.append(fingerprints(path.stem, source, given))
-    return Comparison(tuple(similar_pairs(found, threshold)), threshold, Path(starter).name if starter else None)
+    pairs = similar_pairs(found, threshold)
+    if assignment is not None and assignment.interface == "functions":
+        robots = {}
+        for submission in found:
+            student = roster_match(submission.student, assignment.roster)[0] if assignment.roster is not None \
+                else submission.student
+            if student is not None:
+                robots[submission.student] = assignment.for_student(student).robot
+        pairs += generated_pairs([s for s in found if s.student in robots], robots, threshold)
+    return Comparison(tuple(pairs), threshold, Path(starter).name if starter else None)
+
+
+def generated_flags(grades: list[SubmissionGrade], comparison: Comparison | None) -> None:
+    """Add the ``generated-code`` flag to every grade whose submission is a pair with generated code (a flag, never a
+    score).
+
+    Parameters
+    ----------
+    grades : list of SubmissionGrade
+        The class's grades, changed in place.
+    comparison : Comparison or None
+        The similarity's pairs (:func:`similar_submissions`), None when it was not asked for.
+    """
+    for pair in comparison.pairs if comparison is not None else ():
+        if pair.second.student.startswith(GENERATED):
+            for grade in grades:
+                if grade.student == pair.first.student:
+                    grade.flags.append(("generated-code", f"{pair.second.student.removeprefix(GENERATED).strip()}, "
+                                                          f"{pair.score:.2f} of its code"))
 
 
 def _planned(assignment: Assignment):
@@ -455,27 +550,48 @@ def grade_class(assignment: Assignment, paths, sandbox: bool = True, jobs: int |
     names = list(students) if students is not None else student_names(paths)
     bwrap = check_sandbox() if sandbox else None
     environment = environment or submission_environment(assignment.allowed_imports)
+    on_roster = {name: roster_match(name, assignment.roster) if assignment.roster is not None else (name, "")
+                 for name in names}
     for path, name in zip(paths, names):
-        assignment.for_student(name, str(path))  # a per-student assignment refuses an unusable id before any runs
+        if on_roster[name][0] is not None:  # a per-student assignment refuses an unusable id before any runs
+            assignment.for_student(on_roster[name][0], str(path))
     jobs = jobs or max(1, min(len(paths), os.cpu_count() or 1))
 
     def one(path_and_name):
         path, name = path_and_name
-        read = read_source(path)  # unreadable: check_source gives its status, on the assignment's own states
-        graded = assignment.for_submission(name, read[0].encode(), str(path)) if read[0] is not None else assignment
+        student, unknown = on_roster[name]
+        if student is None:  # never a silent random variant
+            grade = SubmissionGrade(student=name, path=path, status="not on roster", message=unknown,
+                                    max_total=assignment.total_points, ran=False)
+        else:
+            with tempfile.TemporaryDirectory(prefix="course-dynamics-upload-") as folder:
+                grade = _one(path, name, student, Path(folder))
+        if progress is not None:
+            progress(1)
+        return grade
+
+    def _one(path: Path, name: str, student: str, folder: Path) -> SubmissionGrade:
+        source, problem, notes = read_notebook(path) if path.suffix == ".ipynb" else (*read_source(path), [])
+        run_path = path.resolve()
+        if path.suffix == ".ipynb" and source is not None:  # its code cells, as the one file the sandbox runs
+            run_path = folder / f"{path.stem}.py"
+            run_path.write_text(source, encoding="utf-8")
+        # unreadable: check_source gives its status, on the assignment's own states
+        graded = assignment.for_submission(student, source.encode(), str(path)) if source is not None else assignment
         graded, plan, expected = _planned(graded)
+        others = [_planned(a) for a in hidden_assignments(graded)] if graded.interface == "robot" else None
         # A student's 1e308 overflows in the comparison: inf, which the diagnosis reports (numpy's error
         # state is per thread, so the command line's does not reach the pool's threads).
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-            grade = grade_submission(graded, plan, expected, path.resolve(), bwrap, environment, user, name, read)
+            grade = grade_submission(graded, plan, expected, run_path, bwrap, environment, user, name,
+                                     (source, problem), others)
         grade.path = path
-        if progress is not None:
-            progress(1)
+        grade.notes[:0] = notes
         return grade
 
     with ThreadPoolExecutor(max_workers=jobs) as pool:
         return list(pool.map(one, zip(paths, names)))
 
 
-__all__ = ["SubmissionGrade", "grade_class", "grade_submission", "inspect_source", "read_source", "similar_submissions",
-           "student_names"]
+__all__ = ["SubmissionGrade", "generated_flags", "grade_class", "grade_submission", "inspect_source", "read_source",
+           "similar_submissions", "student_names"]

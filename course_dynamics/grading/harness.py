@@ -26,14 +26,18 @@ the harness opens no file but the submission's and writes the results with ``os.
 instructor, never a score: a submission can hide a flag by going below Python, and the sandbox, not the hook, is what
 keeps it in.
 
-Plan: ``{"module": path, "path": [folders], "forbidden": [names], "nonce": text,
-"functions": {name: [[arg, …], …]}}``
-where each argument is a list of floats (one state vector).
+Plan: ``{"module": path, "path": [folders], "forbidden": [names], "available": [names], "nonce": text,
+"time_limit": s, "wall_seconds": s, "functions": {name: [[arg, …], …]}}``
+where each argument is a list of floats (one state vector); with ``"robots": [robot, …]`` and
+``"robot_of": {name: [index, …]}`` (the assignment's ``interface = "robot"``), each call's first argument is
+``robots[index]`` as plain data (:func:`robot_data`). ``available`` names the packages a submission may import
+(an import of another says so); ``time_limit`` and ``wall_seconds`` are the run's limits, at which the harness
+itself reports a ``timeout`` naming the function and line of the submission that was running.
 
 Results: ``{"status", "message", "defined", "forbidden_attempts",
 "results": {name: [{"value": nested floats} or {"error": text}, …]}}``.
 Statuses: ``ok``, ``syntax error``, ``forbidden import``, ``exited``,
-``memory``, ``file access``, ``crashed``.
+``memory``, ``file access``, ``crashed``, ``timeout``.
 """
 from __future__ import annotations
 
@@ -43,6 +47,7 @@ import importlib.abc
 import importlib.util
 import json
 import os
+import signal
 import sys
 import traceback
 
@@ -54,12 +59,14 @@ except ImportError:
 #: The functions a submission may define, in the order they are graded.
 FUNCTIONS = ("tau", "M", "V", "G", "C")
 #: The statuses the harness writes (``ok``, or what ended the submission's run).
-STATUSES = ("ok", "syntax error", "forbidden import", "exited", "memory", "file access", "crashed")
+STATUSES = ("ok", "syntax error", "forbidden import", "exited", "memory", "file access", "crashed", "timeout")
 #: The most numbers one returned value may hold to be sent back (nor more than n × n for n joints).
 MAX_VALUES = 10_000  # a returned array larger than this is reported, not sent back (nor one over n × n values)
 #: The most dimensions one returned value may have to be sent back (M and C have two).
 MAX_DIMENSIONS = 3   # nor one of more dimensions (M and C have two)
 FILE_ERRORS = (errno.EROFS, errno.EACCES, errno.EPERM)
+WALL_MARGIN = 2.0  # s: the harness reports a wall-clock timeout this long before the grader kills the run
+AVAILABLE = {"packages": ("numpy",)}  # what a submission may import besides the standard library (the plan's)
 
 
 def _integrity():
@@ -129,7 +136,21 @@ def _where(exc: BaseException, path: str) -> str:
         if frame.f_code.co_filename == path:
             line = f" (line {number})"
     text = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
-    return f"{type(exc).__name__}{': ' + text[:300] if text else ''}{line}"
+    found = f"{type(exc).__name__}{': ' + text[:300] if text else ''}{line}"
+    if isinstance(exc, ModuleNotFoundError) and not isinstance(exc, ForbiddenImport):
+        found += (f": a submission's Python has the standard library and {', '.join(AVAILABLE['packages'])}, "
+                  "nothing else")
+    return found
+
+
+def _place(frame, path: str) -> str:
+    """Where the submission was when time ran out: "in tau (line 12)", from the innermost frame of its file."""
+    while frame is not None and frame.f_code.co_filename != path:
+        frame = frame.f_back
+    if frame is None:
+        return ""
+    name = frame.f_code.co_name
+    return f", {'while the file was being imported' if name == '<module>' else f'in {name}'} (line {frame.f_lineno})"
 
 
 def _value(result, limit: int = MAX_VALUES):
@@ -151,7 +172,49 @@ def _value(result, limit: int = MAX_VALUES):
     return {"value": array.tolist(), "shape": list(array.shape)}
 
 
-def evaluate(namespace, functions: dict, path: str = "") -> dict:
+def robot_data(robot: dict) -> dict:
+    """A robot as a submission of ``interface = "robot"`` receives it: plain data, numpy arrays and numbers.
+
+    ``{"gravity": (3,), "joints": [...], "links": [...]}``, joint i of ``joints`` moving link i of ``links``:
+
+    ===========  ==================================================================================
+    joint key    value
+    ===========  ==================================================================================
+    ``name``     the joint's name
+    ``parent``   the index of the link it hangs from, -1 for the fixed base
+    ``type``     ``"revolute"`` or ``"prismatic"``
+    ``axis``     (3,): its unit axis Ẑ in its own frame i
+    ``xyz``      (3,): the origin of frame i in its parent's frame at θ = 0, m
+    ``rpy``      (3,): the rotation of frame i in its parent's (URDF roll, pitch, yaw: R = Rz Ry Rx), rad
+    ``origin``   (4, 4): the same placement as one homogeneous transform
+    ===========  ==================================================================================
+
+    A link has ``name``, ``mass`` (kg), ``com`` ((3,), the centre of mass in frame i, m) and ``inertia``
+    ((3, 3), about the centre of mass, axes of frame i, kg·m²). ``gravity`` is g in the base frame, m/s².
+    Every call gets its own copy, so a function that changes it changes nothing for the next.
+
+    Parameters
+    ----------
+    robot : dict
+        The robot as the plan sends it (lists of floats).
+
+    Returns
+    -------
+    dict
+        The same with numpy arrays for every vector and matrix.
+    """
+    def array(value):
+        return np.array(value, dtype=float)
+
+    return {"gravity": array(robot["gravity"]),
+            "joints": [{"name": str(j["name"]), "parent": int(j["parent"]), "type": str(j["type"]),
+                        "axis": array(j["axis"]), "xyz": array(j["xyz"]), "rpy": array(j["rpy"]),
+                        "origin": array(j["origin"])} for j in robot["joints"]],
+            "links": [{"name": str(link["name"]), "mass": float(link["mass"]), "com": array(link["com"]),
+                       "inertia": array(link["inertia"])} for link in robot["links"]]}
+
+
+def evaluate(namespace, functions: dict, path: str = "", robots=None, robot_of=None) -> dict:
     """Call each function of ``namespace`` named in ``functions`` on its argument lists.
 
     ``namespace`` is a module or a dict (a notebook's globals). Returns
@@ -165,6 +228,11 @@ def evaluate(namespace, functions: dict, path: str = "") -> dict:
         Per function name, its argument lists (each argument a list of floats).
     path : str
         The submission's file, whose line an error names.
+    robots : list of dict or None
+        With ``interface = "robot"``, the robots as the plan sends them; each call's first argument is one of
+        them as :func:`robot_data` makes it.
+    robot_of : dict of str to list of int or None
+        Per function name, the index in ``robots`` of each call's robot.
 
     Returns
     -------
@@ -185,10 +253,12 @@ def evaluate(namespace, functions: dict, path: str = "") -> dict:
         if not callable(function):
             continue
         records = []
-        for arguments in calls:
+        which = (robot_of or {}).get(name, ())
+        for index, arguments in enumerate(calls):
             limit = len(arguments[0]) ** 2 if arguments else 1  # as results.results_cap counts
+            given = [robot_data(robots[which[index]])] if robots is not None else []
             try:
-                records.append(_value(function(*(np.array(a, dtype=float) for a in arguments)), limit))
+                records.append(_value(function(*given, *(np.array(a, dtype=float) for a in arguments)), limit))
             except (SystemExit, MemoryError, KeyboardInterrupt):
                 raise
             except Exception as exc:  # the student's function failed on this call: a finding, not our failure
@@ -211,6 +281,7 @@ def run(plan: dict) -> dict:
         The results document (module docstring), its ``status`` one of :data:`STATUSES`.
     """
     path = plan["module"]
+    AVAILABLE["packages"] = tuple(str(name) for name in plan.get("available", ("numpy",)))
     guard = ImportGuard(plan.get("forbidden", ()))
     outcome = {"status": "ok", "message": "", "defined": [], "results": {}, "forbidden_attempts": guard.attempts}
     try:
@@ -228,7 +299,7 @@ def run(plan: dict) -> dict:
     sys.modules["submission"] = module
     try:
         exec(code, module.__dict__)
-        outcome.update(evaluate(module, plan["functions"], path))
+        outcome.update(evaluate(module, plan["functions"], path, plan.get("robots"), plan.get("robot_of")))
     except ForbiddenImport as exc:
         outcome.update(status="forbidden import", message=str(exc))
     except SystemExit as exc:
@@ -257,15 +328,41 @@ def main() -> None:
     global np
     results_fd, flags_fd = int(sys.argv[1]), int(sys.argv[2])
     write, close, digest, audit = os.write, os.close, hashlib.sha256, sys.audit  # whatever the submission rebinds
+    setitimer, dumps, finishing = signal.setitimer, json.dumps, []
     plan = json.loads(sys.stdin.read())
     sys.stdin.close()
     sys.path[:0] = plan.get("path", [])
     sys.dont_write_bytecode = True  # a cache write into Python's folders would be the harness's, not a flag
     import numpy as np
+
+    def finish(outcome: dict) -> None:  # the results, bound to the channel's closing line, then the end
+        if finishing:  # a second signal while the results are written
+            return
+        finishing.append(True)
+        setitimer(signal.ITIMER_REAL, 0)
+        data = dumps(outcome).encode()
+        audit(END_EVENT, digest(data).hexdigest())  # the closing line, bound to these very results
+        while data:  # os.write, as it was before the submission ran: no file opened after arming
+            data = data[write(results_fd, data):]
+        close(results_fd)
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(0)  # no student atexit handler runs after the results are written
+
+    def out_of_time(signum, frame):  # CPU (SIGXCPU) or wall clock (our alarm): say where the submission was
+        limit = (f"used more than {plan.get('time_limit', 0):g} s of CPU time" if signum == signal.SIGXCPU else
+                 f"still running after {plan.get('wall_seconds', 0):g} s of wall-clock time")
+        finish({"status": "timeout", "message": limit + _place(frame, plan["module"]), "defined": [], "results": {},
+                "forbidden_attempts": []})
+
+    signal.signal(signal.SIGXCPU, out_of_time)  # before arming: the hook knows them as the harness's
+    if float(plan.get("wall_seconds", 0)) > 2 * WALL_MARGIN:
+        signal.signal(signal.SIGALRM, out_of_time)
+        setitimer(signal.ITIMER_REAL, float(plan["wall_seconds"]) - WALL_MARGIN)
     writable = [os.getcwd()]  # not /tmp, even the sandbox's private one: a probe writes there first
     own = [os.path.dirname(os.path.abspath(plan["module"])), os.getcwd()]
     sys.addaudithook(integrity.integrity_hook(flags_fd, own, _library(plan), writable, plan.pop("nonce", ""),
-                                              plan.get("forbidden", ()), [__file__], main.__code__))
+                                              plan.get("forbidden", ()), [__file__], main.__code__, finish.__code__))
     # Only the interpreter holds the hook now, and only the hook the key: the nonce is gone from the plan.
     outcome = run(plan)
     imported = []
@@ -273,14 +370,7 @@ def main() -> None:
     if imported and outcome["status"] == "ok":
         outcome.update(status="forbidden import", message=f"tried to import {', '.join(imported)}",
                        forbidden_attempts=list(dict.fromkeys([*outcome["forbidden_attempts"], *imported])))
-    data = json.dumps(outcome).encode()
-    audit(END_EVENT, digest(data).hexdigest())  # the closing line, bound to these very results
-    while data:  # os.write, as it was before the submission ran: no file opened after arming
-        data = data[write(results_fd, data):]
-    close(results_fd)
-    sys.stdout.flush()
-    sys.stderr.flush()
-    os._exit(0)  # no student atexit handler runs after the results are written
+    finish(outcome)
 
 
 def _library(plan: dict) -> list[str]:
@@ -297,7 +387,7 @@ def _library(plan: dict) -> list[str]:
 
 
 __all__ = ["FUNCTIONS", "MAX_DIMENSIONS", "MAX_VALUES", "STATUSES", "ForbiddenImport", "ImportGuard", "evaluate",
-           "main", "run"]
+           "main", "robot_data", "run"]
 
 
 if __name__ == "__main__":

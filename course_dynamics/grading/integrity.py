@@ -34,6 +34,8 @@ FLAGS = {
                 "or raised its closing event",
     "import-outside": "imported a module from a folder outside the interpreter's path as the harness set it up",
     "channel-closed": "the integrity channel was closed, redirected or written to by the submission",
+    "generated-code": "holds the code course-dynamics itself writes for the student's robot (derive's closed forms, "
+                      "a compiled model's module), found by the grader's similarity check, not by the hook",
 }
 #: The most lines the hook writes per flag code, ``tampered`` excepted (each distinct attempt once).
 MAX_FLAG_LINES = 50  # lines the hook writes at most per code but tampered (each distinct attempt once)
@@ -104,7 +106,8 @@ def tag(key: bytes, body: bytes) -> bytes:
     return hmac.digest(key, body, "sha256").hex()[:TAG_CHARS].encode()
 
 
-def integrity_hook(fd: int, own, library, writable, nonce: str, forbidden=(), harness=(), closer=None):
+def integrity_hook(fd: int, own, library, writable, nonce: str, forbidden=(), harness=(), closer=None,
+                   interrupter=None):
     """The audit hook behind the integrity flags (module docstring); the harness ends its channel with END_EVENT.
 
     Each attempt is one tagged line on ``fd``, written before the attempt proceeds, once per distinct attempt and at
@@ -134,6 +137,9 @@ def integrity_hook(fd: int, own, library, writable, nonce: str, forbidden=(), ha
         The harness's files.
     closer : code or None
         The code that alone may raise :data:`END_EVENT` and :data:`IMPORTS_EVENT`.
+    interrupter : code or None
+        The harness's code that may also raise :data:`END_EVENT` with the submission's frames below it: the
+        time-out handler, whose signal lands wherever the submission is (it reports a timeout, and nothing else).
 
     Returns
     -------
@@ -154,10 +160,11 @@ def integrity_hook(fd: int, own, library, writable, nonce: str, forbidden=(), ha
     private = dict(globals(), __builtins__=dict(vars(builtins)), sys=space(**vars(sys)),
                    os=space(**dict(vars(os), path=space(**path))))
     private["_STATE"] = {"key": [first_key(nonce)], "counts": {}, "written": set(), "seen": [], "imports": set()}
-    return types.FunctionType(_integrity_hook.__code__, private)(fd, own, library, writable, forbidden, harness, closer)
+    return types.FunctionType(_integrity_hook.__code__, private)(fd, own, library, writable, forbidden, harness, closer,
+                                                                 interrupter)
 
 
-def _integrity_hook(fd, own, library, writable, forbidden, harness_files, closer):
+def _integrity_hook(fd, own, library, writable, forbidden, harness_files, closer, interrupter):
     """integrity_hook's body, run with its private globals; its state (the key, the counts) is their ``_STATE``.
 
     The submission's code is every code object the interpreter did not hold when the hook was made (``known``: every
@@ -364,7 +371,8 @@ def _integrity_hook(fd, own, library, writable, forbidden, harness_files, closer
                 guards()
                 raiser = getframe(1)  # 0 is the hook, 1 the frame that raised the event
                 if event in (END_EVENT, IMPORTS_EVENT):
-                    if raiser.f_code is not closer or whose(raiser) != "":
+                    interrupted = event == END_EVENT and interrupter is not None and raiser.f_code is interrupter
+                    if not interrupted and (raiser.f_code is not closer or whose(raiser) != ""):
                         write("tampered", f"raised the harness's event {event}")
                     elif event == IMPORTS_EVENT and type(args[0]) is list:
                         args[0].extend(sorted(_STATE["imports"]))

@@ -15,6 +15,18 @@ the threshold and the smaller has at least :data:`MIN_GRAMS` fingerprints of
 its own. Independent implementations of one algorithm share short runs, not
 long ones: :data:`GRAM` is long enough that they score low (see the tests).
 
+A function of a math module is one token however it is spelled (``np.sin``, ``numpy.sin``,
+``math.sin``, ``sin`` imported from either): a closed form pasted with another prefix is
+the same code.
+
+Each submission is also compared with what the package itself writes for the student's
+robot (:func:`generated_code`: ``derive``'s closed forms, whose JSON, Markdown and LaTeX
+formats hold the same expressions, written out as Python with the joint variables as names
+and as indices, for robots of at most :data:`GENERATED_JOINTS` joints; and the compiled
+model's module, :mod:`course_dynamics.core.compiled`). A submission whose own fingerprints
+the generated code holds at the threshold's share is a pair with it (:func:`generated_pairs`)
+and carries the ``generated-code`` flag.
+
 ======================  =========================================================
 name                    meaning
 ======================  =========================================================
@@ -22,6 +34,8 @@ name                    meaning
 :class:`Fingerprints`   one submission's fingerprints and the lines each covers
 :func:`fingerprints`    a submission's source to its fingerprints
 :func:`similar_pairs`   every pair at or above the threshold, highest first
+:func:`generated_code`  the Python the package writes for a robot
+:func:`generated_pairs` each submission that is mostly generated code, with it
 ======================  =========================================================
 """
 from __future__ import annotations
@@ -29,11 +43,18 @@ from __future__ import annotations
 import ast
 import hashlib
 import itertools
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..base.errors import InputError
 from ..base.files import read_small
+from ..core.compiled import model_key
+from ..core.compiled.codegen import module_source
+from ..core.compiled.tracing import trace_programs
+from ..core.model import Model
+from ..core.symbolic import derive
+from ..output.render import derivation_record
 
 #: Tokens per fingerprint.
 GRAM = 16
@@ -46,6 +67,11 @@ COMMON_CLASS = 10
 MAX_TOKENS = 200_000  # tokens read of one file (a dynamics answer has a few thousand)
 MAX_STARTER_BYTES = 1_000_000  # as a submission may have
 CONTEXTS = (ast.Load, ast.Store, ast.Del)
+MATH_MODULES = ("numpy", "math", "cmath", "sympy")  # np.sin, math.sin and a bare sin are one token
+#: The most joints of a robot whose ``derive`` closed forms are compared (a 3-joint arm takes minutes to derive).
+GENERATED_JOINTS = 2
+#: The name of generated code in a pair, before what generated it.
+GENERATED = "generated:"
 
 
 @dataclass(frozen=True)
@@ -161,6 +187,11 @@ def _tokens(node: ast.AST, own: set[str], imported: dict[str, str]):
         if isinstance(node, (*CONTEXTS, ast.Pass)) or _is_docstring(node):
             continue
         line = getattr(node, "lineno", line)
+        if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name) \
+                and imported.get(node.value.id, "").split(".")[0] in MATH_MODULES:
+            yield "Name", line  # np.sin as a bare sin
+            yield node.attr, line
+            continue
         yield type(node).__name__, line
         if isinstance(node, ast.Name):
             yield ("name" if node.id in own else imported.get(node.id, node.id)), line
@@ -289,5 +320,85 @@ def similar_pairs(submissions: list[Fingerprints], threshold: float = THRESHOLD)
     return sorted(pairs, key=lambda p: (-p.score, p.first.student, p.second.student))
 
 
-__all__ = ["COMMON_CLASS", "GRAM", "MIN_GRAMS", "THRESHOLD", "Comparison", "Fingerprints", "Pair", "fingerprints",
-           "read_starter", "similar_pairs"]
+def _closed_form_module(record: dict, n: int, indices: bool) -> str:
+    """derive's closed forms (its JSON record) as one Python function per term, the joint variables as names or
+    as indices (q[0])."""
+    joints = record["joints"]
+    names = {f"{kind}_{joint}": f"{kind}[{j}]" for j, joint in enumerate(joints) for kind in ("q", "qd", "qdd")}
+    pattern = re.compile(r"\b(" + "|".join(sorted(map(re.escape, names), key=len, reverse=True)) + r")\b")
+
+    def text(expression: str) -> str:
+        return pattern.sub(lambda m: names[m.group(1)], expression) if indices else expression
+
+    def rows(value) -> str:
+        return "[" + ", ".join(rows(v) if isinstance(v, list) else text(v) for v in value) + "]"
+
+    lines = ["from math import cos, sin", ""]
+    for term, arguments in (("tau", "q, qd, qdd"), ("M", "q"), ("V", "q, qd"), ("G", "q"), ("C", "q, qd")):
+        lines.append(f"def {term}({arguments}):")
+        if not indices:
+            for kind in arguments.split(", "):
+                lines.append(f"    {', '.join(f'{kind}_{joint}' for joint in joints)}{',' if n == 1 else ''} = {kind}")
+        lines += [f"    return {rows(record[term])}", ""]
+    return "\n".join(lines)
+
+
+def generated_code(model: Model) -> dict[str, str]:
+    """What the package writes for ``model`` (module docstring), as Python sources by what wrote them.
+
+    Parameters
+    ----------
+    model : Model
+        The student's robot.
+
+    Returns
+    -------
+    dict of str to str
+        Per generator (``"compiled model"``, ``"derive (joint names)"``, ``"derive (indices)"``), its source.
+    """
+    sources = {"compiled model": module_source(model, trace_programs(model), model_key(model))}
+    if model.n <= GENERATED_JOINTS:
+        record = derivation_record(derive(model))
+        for label, indices in (("joint names", False), ("indices", True)):
+            sources[f"derive ({label})"] = _closed_form_module(record, model.n, indices)
+    return sources
+
+
+def generated_pairs(submissions: list[Fingerprints], robots: dict[str, Model], threshold: float = THRESHOLD) -> list:
+    """Each submission whose own fingerprints the code generated for its robot holds at ``threshold``'s share, as a
+    pair with the closest generated source (named ``generated: <what wrote it>``).
+
+    Parameters
+    ----------
+    submissions : list of Fingerprints
+        The class's submissions (less the starter).
+    robots : dict of str to Model
+        Each student's robot.
+    threshold : float
+        The share from which a submission is listed, 0 to 1.
+
+    Returns
+    -------
+    list of Pair
+        The submission first, the generated code second; highest score first.
+    """
+    generated: dict[str, list[Fingerprints]] = {}
+    pairs = []
+    for submission in submissions:
+        model = robots[submission.student]
+        key = model_key(model)
+        if key not in generated:
+            generated[key] = [fingerprints(f"{GENERATED} {label}", source)
+                              for label, source in generated_code(model).items()]
+        if len(submission.grams) < MIN_GRAMS:
+            continue
+        best = max(generated[key], key=lambda g: len(submission.grams.keys() & g.grams.keys()))
+        shared = frozenset(submission.grams.keys() & best.grams.keys())
+        if len(shared) / len(submission.grams) >= threshold:
+            pairs.append(Pair(submission, best, len(shared) / len(submission.grams), shared))
+    return sorted(pairs, key=lambda p: (-p.score, p.first.student))
+
+
+__all__ = ["COMMON_CLASS", "GENERATED", "GENERATED_JOINTS", "GRAM", "MIN_GRAMS", "THRESHOLD", "Comparison",
+           "Fingerprints", "Pair", "fingerprints", "generated_code", "generated_pairs", "read_starter",
+           "similar_pairs"]

@@ -35,7 +35,7 @@ def run(args) -> int:
     )
     from ...grading.feedback import OWNER, other_students, output_names, similar_name
     from ...grading.similarity import THRESHOLD
-    from ...grading.grade import similar_submissions, student_names
+    from ...grading.grade import generated_flags, similar_submissions, student_names
     from ...output import io
     from ...output.folders import check_folder
 
@@ -60,7 +60,7 @@ def run(args) -> int:
         raise UsageError(f"{out}: exists and is not a directory")
     io.check_writable(out / "gradebook.csv") if out.is_dir() else io.check_writable(out)
     assignment = load_assignment(args.assignment)
-    comparison = similar_submissions(args.submissions, threshold, args.starter) if compare else None
+    comparison = similar_submissions(args.submissions, threshold, args.starter, assignment) if compare else None
     check_folder(out, output_names(student_names(args.submissions), comparison), OWNER)  # before any student code runs
     if not args.no_sandbox:
         check_sandbox()  # before any output: no sandbox is an error, not a quiet downgrade
@@ -68,6 +68,7 @@ def run(args) -> int:
     grades = grade_class(assignment, args.submissions, sandbox=not args.no_sandbox, jobs=args.jobs,
                          progress=progress.update)
     progress.close()
+    generated_flags(grades, comparison)
     earlier = other_students(out, student_names(args.submissions))
     write_outputs(out, grades, assignment, comparison)
     if args.json:
