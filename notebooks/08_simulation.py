@@ -13,8 +13,8 @@
 import numpy as np
 import matplotlib.pyplot as plt
 
-from course_dynamics import load_robot, robot_path
-from course_dynamics.teaching.exercises import check, hint
+from course_dynamics import gravity_torques, load_robot, mass_matrix, robot_path, velocity_torques
+from course_dynamics.teaching.exercises import check, hint, my_robot
 from course_dynamics.core.forward_dynamics import forward_dynamics
 from course_dynamics.tools.simulation import simulate
 from course_dynamics.output.viewer import show
@@ -36,7 +36,27 @@ q, qd = np.array([2.0, 0.0]), np.array([0.0, 0.0])
 print("Θ̈ at release =", forward_dynamics(pendulum, q, qd, [0.0, 0.0]).round(4), "rad/s²")
 
 # %% [markdown]
-# ### Exercise 8.1 — one step of the notes' scheme
+# ### Exercise 8.1 — the accelerations
+# On your own two-link arm, `arm = my_robot("two_link").model`, write `forward_accelerations(q, qd, tau)`
+# returning Θ̈ of (6.115) without friction, from the library's M(Θ) (`mass_matrix(arm, q)`), V(Θ, Θ̇)
+# (`velocity_torques(arm, q, qd)`) and G(Θ) (`gravity_torques(arm, q)`): solve the linear system rather than invert
+# M. (Calling `forward_dynamics` would pass this check, but not the grader.)
+
+# %%
+arm = my_robot("two_link").model
+
+
+def forward_accelerations(q, qd, tau):
+    ### BEGIN SOLUTION
+    return np.linalg.solve(mass_matrix(arm, q), tau - velocity_torques(arm, q, qd) - gravity_torques(arm, q))
+    ### END SOLUTION
+
+
+# %%
+check("forward_accelerations")
+
+# %% [markdown]
+# ### Exercise 8.2 — one step of the notes' scheme
 # Write `euler_step(q, qd, qdd, dt)` returning the pair (Θ(t + Δt), Θ̇(t + Δt)) of (6.117) and (6.116): the
 # position and velocity one step later, with the acceleration held at Θ̈(t) over the step (arrays in, arrays out;
 # Δt in s).
@@ -52,7 +72,7 @@ def euler_step(q, qd, qdd, dt):
 check("euler_step")
 
 # %% [markdown]
-# ### Exercise 8.2 — semi-implicit Euler
+# ### Exercise 8.3 — semi-implicit Euler
 # The same step in the other order, and simpler: update Θ̇ first, as (6.116) does, then move Θ over Δt at the
 # *new* velocity alone (no Θ̈ term). Write `semi_implicit_step(q, qd, qdd, dt)` returning the new (Θ, Θ̇).
 
@@ -87,6 +107,39 @@ ax.set_title("Double pendulum: energy error against step size")
 ax.legend()
 ax.grid(alpha=0.3, which="both")
 plt.show()
+
+# %% [markdown]
+# ## A joint that hits its limit
+# A URDF's joint limits are where the mechanism stops the joint. `simulate(..., limits="report")` only says when a
+# joint passes one and goes on through it; `limits="stop"` stops the joint there by an impulse through M (the
+# velocity projected, in the metric of M, onto the motions that keep the stopped joints still) and holds it while
+# the motion pushes into the limit. That impulse can only take kinetic energy, never add it: a stop is an
+# inelastic collision. The RRR arm released from rest falls until its second joint reaches its upper limit:
+
+# %%
+rrr = load_robot("rrr_arm")
+free = simulate(rrr, [0.0, 0.3, 1.0], np.zeros(3), duration=2.0, dt=1e-3, limits="report")
+stopped = simulate(rrr, [0.0, 0.3, 1.0], np.zeros(3), duration=2.0, dt=1e-3, limits="stop")
+print(free.events[0])
+for stop in stopped.stops[:3]:
+    print(stop.sentence())
+taken = sum(stop.energy for stop in stopped.stops)
+print(f"{len(stopped.stops)} stops took {-taken:.4f} J; E(end) − E(0) = {stopped.energy[-1] - stopped.energy[0]:.4f} J")
+figure, ax = plt.subplots(figsize=(6.8, 3.8))
+ax.plot(free.t, free.energy, label='limits="report": passes through the limit')
+ax.plot(stopped.t, stopped.energy, label='limits="stop": stopped by an impulse')
+for stop in stopped.stops:
+    ax.axvline(stop.t, color="tab:red", alpha=0.3, linewidth=0.8)
+ax.set_xlabel("t (s)")
+ax.set_ylabel("E = k + u (J)")
+ax.set_title("RRR arm falling onto a joint limit: each stop (red) takes energy")
+ax.legend()
+ax.grid(alpha=0.3)
+plt.show()
+
+# %% [markdown]
+# The energy is constant between stops (no torque, no friction) and drops at each one by what the stop's impulse
+# took, so E(end) − E(0) is the sum of the stops' energies.
 
 # %% [markdown]
 # ## Chaos: an ensemble of nearly equal starts

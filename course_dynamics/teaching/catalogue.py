@@ -275,6 +275,12 @@ def _semi_implicit(q, qd, qdd, dt):
     return q + qd_next * dt, qd_next
 
 
+def _forward_accelerations(q, qd, tau):
+    from ..core.forward_dynamics import forward_dynamics
+
+    return forward_dynamics(_robot("two_link"), q, qd, tau)  # (6.115), the student's own arm
+
+
 @dataclass(frozen=True)
 class Exercise:
     """How to check one exercise: ``kind`` is "term" (a robot function graded like the grader does),
@@ -434,6 +440,12 @@ EXERCISES: dict[str, Exercise] = {
         "the rigid-body torque plus what the joints' friction needs",
         "friction added to (6.59), as the notes' section on friction says (Craig's (6.114))",
         "τ = M Θ̈ + V + G + F(Θ̇)")),
+    "forward_accelerations": Exercise(
+        "function", reference=_forward_accelerations,
+        inputs=lambda rng: [rng.uniform(-np.pi, np.pi, 2), rng.uniform(-2, 2, 2), rng.uniform(-30, 30, 2)], hints=(
+            "the equations of motion solved for the accelerations, on your own two-link arm",
+            "(6.115) without friction: M(Θ) Θ̈ = τ − V(Θ, Θ̇) − G(Θ)",
+            "M, V and G of my_robot(\"two_link\").model at (Θ, Θ̇), then solve the linear system for Θ̈")),
     "euler_step": Exercise("function", reference=_euler,
                            inputs=lambda rng: [*rng.standard_normal((3, 2)), float(rng.uniform(0.001, 0.05))],
                            hints=("one step of Taylor series in Δt", "(6.116) for Θ̇, (6.117) for Θ",
