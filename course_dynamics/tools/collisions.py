@@ -11,7 +11,7 @@ code                symbol         meaning (shape, unit)
 ``beta``            β              β = τ_m − F + Cᵀ(Θ,Θ̇) Θ̇ − G(Θ) (K, n)
 ``gain``            K              the observer's gain per joint (n,), 1/s
 ``r``               r              the residual (K, n), N·m: r → τ_ext
-``threshold``       θ              per joint: |r| above it is a contact (n,), N·m
+``threshold``       θ              per joint: ``|r|`` above it is a contact (n,), N·m
 ==================  =============  ===================================================
 
 The robot moves by M Θ̈ + C Θ̇ + G + F = τ_m + τ_ext, where τ_ext is what the surroundings
@@ -35,8 +35,8 @@ p's derivative integrates to Δp exactly, β by the trapezoid rule, and r's own 
     d_k = (p_k − p_{k−1}) / Δt_k − (β_{k−1} + β_k) / 2                       (step)
     r_k = e^{−K Δt_k} r_{k−1} + (1 − e^{−K Δt_k}) d_k,   r_0 = 0              (update)
 
-A contact is where some joint's |r| exceeds its threshold θ: given (:func:`detect`'s ``threshold``),
-or k σ above the residual's own level, θ = |median r| + k σ with σ = 1.4826 × the median absolute
+A contact is where some joint's ``|r|`` exceeds its threshold θ: given (:func:`detect`'s ``threshold``),
+or k σ above the residual's own level, θ = ``|median r|`` + k σ with σ = 1.4826 × the median absolute
 deviation (:func:`residual_noise`; k = :data:`SIGMAS`), robust to the contacts themselves, over a
 quiet stretch after the observer has settled (5/K) or over the whole log. An event lasts until every
 joint is back under half its threshold (hysteresis) and counts once it has lasted
@@ -73,11 +73,11 @@ from .sources import as_source
 
 #: The observer's gain K by default, 1/s (a time constant of 10 ms).
 DEFAULT_GAIN = 100.0
-#: k of the threshold θ = |median r| + k σ: at 6 σ Gaussian noise crosses it once in about 5e8 samples.
+#: k of the threshold θ = ``|median r|`` + k σ (Gaussian noise crosses 6 σ once in about 5e8 samples).
 SIGMAS = 6.0
-#: The shortest event, s: a crossing shorter than this is noise.
+#: The shortest event in seconds (a shorter crossing is noise).
 MIN_DURATION = 0.005
-#: An event ends when every joint's |r| is under this share of its threshold.
+#: An event ends when every joint's ``|r|`` is under this share of its threshold.
 RELEASE = 0.5
 #: The smallest threshold, as a share of the joint's largest measured torque (a noise-free log has σ = 0).
 THRESHOLD_FLOOR = 1e-3
@@ -99,9 +99,9 @@ class ContactEvent:
     detected : float
         When the event had lasted :data:`MIN_DURATION` (the earliest a detector could say so), s.
     joints : tuple of str
-        The joints whose |r| exceeded their threshold.
+        The joints whose ``|r|`` exceeded their threshold.
     peak : tuple of float
-        Per joint of ``joints``, r at its largest |r| in the event (the external torque), N·m (N).
+        Per joint of ``joints``, r at its largest ``|r|`` in the event (the external torque), N·m (N).
     peak_t : float
         When r was largest against the thresholds, s.
     force : tuple of float, optional
@@ -376,7 +376,7 @@ def residual_noise(t, r, gain, window: float | None = None) -> tuple[np.ndarray,
 
 
 def contact_events(t, r, threshold, joints, min_duration: float = MIN_DURATION) -> tuple[ContactEvent, ...]:
-    """The contacts in r(t): from a joint's |r| over its threshold until every joint is under half of it.
+    """The contacts in r(t): from a joint's ``|r|`` over its threshold until every joint is under half of it.
 
     Parameters
     ----------
@@ -537,7 +537,7 @@ def detect(model: Model, table, *, gain=DEFAULT_GAIN, threshold=None, window: fl
     window : float, optional
         The quiet stretch σ is measured on, s; None for the whole log.
     sigmas : float
-        k of θ = |level| + k σ.
+        k of θ = ``|level|`` + k σ.
     min_duration : float
         The shortest event, s.
     link : str, optional
