@@ -179,8 +179,7 @@ def test_franka_states_give_the_arm_joints_in_order(tmp_path, panda, fmt):
     path = bagmakers.write_franka(tmp_path / "panda", fmt, model.joint_names, t, q, qd, tau)
     log = read_bag(path, model.joint_names, topic=FRANKA_TOPIC)
     assert_columns(log, expected_columns(model.joint_names[:7], t, q, qd, tau))
-    assert log.notes == (f"{FRANKA_STATE} holds the arm's joints only; left out: panda_finger_joint1, "
-                         "panda_finger_joint2",)
+    assert log.notes == (f"{FRANKA_STATE} holds the arm's joints only; left out: panda_finger_joint1",)
     # franka_state_controller's JointState of the same samples: effort is the same measured τ_J
     joint_states = read_bag(path, model.joint_names, topic=FRANKA_JOINT_STATES)
     assert_columns(joint_states, expected_columns(model.joint_names[:7], t, q, qd, tau))

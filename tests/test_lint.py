@@ -95,7 +95,7 @@ SHIPPED = {
     "pendulum": [("point-mass", "bob")],
     "rp_arm": [], "rrr_arm": [], "spatial_arm": [], "ur5": [],
     # Panda: a damping of 0.003 per arm joint and 0.3 per finger (used only with --friction urdf), and its second
-    # finger mimics the first: read as an independent joint, which the finding says.
+    # finger mimics the first: honoured (no coordinate of its own), which the note says.
     "panda": [("damping-friction", f"panda_joint{i}") for i in range(1, 8)]
     + [("damping-friction", "panda_finger_joint1"), ("mimic-joint", "panda_finger_joint2"),
        ("damping-friction", "panda_finger_joint2")],
@@ -151,8 +151,8 @@ def test_the_shipped_robots_lint_without_an_error_and_with_the_findings_reviewed
 
 def test_panda_mimic_finding_says_how_it_is_read():
     finding = next(f for f in lint_urdf(robot_path("panda")).findings if f.rule == "mimic-joint")
-    assert "independent joint, as Pinocchio does by default" in finding.message
-    assert "panda_finger_joint1" in finding.message
+    assert "honoured, it moves with that joint's coordinate and has none of its own" in finding.message
+    assert "panda_finger_joint1" in finding.message and finding.severity == "note"
 
 
 @pytest.mark.parametrize("case", [c for c in BAD_URDFS if c != "malformed XML"])

@@ -301,3 +301,22 @@ def test_a_noisy_500_hz_ur5_log_gives_every_peak_torque_within_5_percent(rates):
     assert any("chosen from the" in n and "noise" in n for n in result.notes)
     covered = np.abs(result.tau - exact) <= 2 * result.tau_sigma        # the ± of the report: 2 σ_τ
     assert covered.mean() > 0.9                                          # measured 0.94 both ways (Gaussian: 0.95)
+
+
+def test_a_mimic_joints_own_column_is_checked_not_read(tmp_path):
+    """Panda's second finger mimics the first: its logged position is compared with the coupling and never read."""
+    from course_dynamics.tools.sources import open_log
+
+    model = load_robot("panda")
+    t = np.arange(0.0, 1.0, 0.01)
+    q = 0.02 + 0.01 * np.outer(np.sin(3 * t), np.ones(model.n))
+    names = ["t"] + [f"q_{j}" for j in model.joint_names] + ["q_panda_finger_joint2"]
+    for shift, expected in ((0.0, "within 0.001 throughout): not read"), (0.01, "off by 0.01 at line 53")):
+        second = q[:, 7] + shift * (t > 0.505)
+        path = tmp_path / f"fingers{shift}.csv"
+        rows = np.column_stack([t, q, second])
+        path.write_text(",".join(names) + "\n" + "\n".join(",".join(repr(float(x)) for x in r) for r in rows) + "\n")
+        log = joint_log(model, open_log(path, model))
+        said = [note for note in log.notes if "q_panda_finger_joint2" in note]
+        assert len(said) == 1 and "mimics 'panda_finger_joint1'" in said[0] and expected in said[0], said
+        np.testing.assert_allclose(log.q, q, rtol=0, atol=1e-15)  # the leader's column, as logged

@@ -76,7 +76,7 @@ def test_the_same_motion_as_rtde_and_as_a_plain_csv_gives_the_same_torques(capsy
 
 def test_an_rtde_recording_of_another_arm_or_no_recording_is_refused(capsys, rtde, tmp_path):
     code, _, err = run(capsys, "torques", "panda", "--log", str(rtde), "--log-format", "ur-rtde")
-    assert_one_line_error(code, err, "the recording has 6 joints (actual_q_0 … actual_q_5), robot 'panda' has 9")
+    assert_one_line_error(code, err, "the recording has 6 joints (actual_q_0 … actual_q_5), robot 'panda' has 8")
     plain = tmp_path / "plain.csv"
     write_csv(plain, ["t", "a"], [MOTION.t, MOTION.q[:, 0]])
     code, _, err = run(capsys, "torques", "ur5", "--log", str(plain), "--log-format", "ur-rtde")
@@ -146,9 +146,10 @@ def test_a_franka_bag_gives_the_arms_torques_and_their_residual(capsys, tmp_path
     motion = multisine(panda, duration=1.0, rate=1000.0, seed=2, start=50.0)
     q, qd = motion.q[:, :7], motion.qd[:, :7]
     fingers = {f"q_{j}=0.02" for j in panda.joint_names[7:]}
-    tau = inverse_dynamics(panda, np.column_stack([q, np.full((len(q), 2), 0.02)]),
-                           np.column_stack([qd, np.zeros((len(q), 2))]), np.column_stack([motion.qdd[:, :7],
-                                                                                        np.zeros((len(q), 2))]))[:, :7]
+    fingers_held = (len(q), panda.n - 7)  # the first finger (the second mimics it), held at 0.02 m
+    tau = inverse_dynamics(panda, np.column_stack([q, np.full(fingers_held, 0.02)]),
+                           np.column_stack([qd, np.zeros(fingers_held)]), np.column_stack([motion.qdd[:, :7],
+                                                                                         np.zeros(fingers_held)]))[:, :7]
     bag = write_franka(tmp_path / "franka", "ros1", arm, motion.t, q, qd, tau)
     for topic in (FRANKA_TOPIC, FRANKA_JOINT_STATES):
         columns, report = _torques_csv(capsys, tmp_path, "panda", bag, "--topic", topic, "--set", ",".join(sorted(fingers)))

@@ -53,8 +53,9 @@ def test_our_loader_reads_back_the_identified_model(written):
     expected = inverse_dynamics(identified, q, qd, qdd)
     assert_agrees(inverse_dynamics(back, q, qd, qdd), expected, what=f"{name} tau")
     np.testing.assert_allclose(parameters(back), parameters(identified), rtol=1e-12, atol=1e-15)
-    np.testing.assert_array_equal([b.damping for b in back.bodies], friction.viscous)
-    np.testing.assert_array_equal([b.friction for b in back.bodies], friction.coulomb)
+    # per coordinate, a mimic joint's (none written) on its leader's
+    np.testing.assert_array_equal(Friction.from_urdf(back).viscous, friction.viscous)
+    np.testing.assert_array_equal(Friction.from_urdf(back).coulomb, friction.coulomb)
 
 
 def test_pinocchio_reads_the_identified_model(written):
@@ -234,3 +235,22 @@ def test_crlf_lines_a_bom_and_one_byte_encodings_are_kept(tmp_path, encoding, de
     assert back.bodies[1].name == "glied2ä"
     np.testing.assert_allclose(parameters(back), parameters(identified), rtol=1e-12, atol=1e-15)
     np.testing.assert_array_equal([b.damping for b in back.bodies], FRICTION.viscous)
+
+
+def test_mimic_joints_are_written_back(tmp_path):
+    """model_urdf writes each <mimic>; an identified URDF keeps the file's and puts a coordinate's friction on its
+    own joint (none on the mimic, whose coefficients act on the leader's coordinate): both read back the same."""
+    from helpers import DATA
+
+    from course_dynamics.output.urdf_writer import checked_identified_urdf, model_urdf
+
+    model = load_urdf(DATA / "mimic.urdf")
+    (tmp_path / "written.urdf").write_bytes(model_urdf(model))
+    written = load_urdf(tmp_path / "written.urdf")
+    assert written.coupling == model.coupling and written.joint_names == model.joint_names
+    friction = Friction(viscous=[0.5, 0.6, 0.7], coulomb=[0.1, 0.2, 0.3])
+    (tmp_path / "identified.urdf").write_bytes(checked_identified_urdf(model, friction, source=DATA / "mimic.urdf"))
+    back = load_urdf(tmp_path / "identified.urdf")
+    assert back.coupling == model.coupling
+    np.testing.assert_array_equal(Friction.from_urdf(back).viscous, friction.viscous)
+    np.testing.assert_array_equal(Friction.from_urdf(back).coulomb, friction.coulomb)

@@ -247,9 +247,9 @@ def identified_urdf(raw: bytes, identified: Model, friction: Friction | None = N
         if inertial is not None:
             edits.append((inertial.start, inertial.end, MERGED_NOTE))
     if friction is not None:
-        for i, body in enumerate(identified.bodies):
+        for body, (damping, coulomb) in zip(identified.bodies, _body_friction(identified, friction)):
             joint, dynamics = layout.joints[body.joint]
-            values = {"damping": _number(friction.viscous[i]), "friction": _number(friction.coulomb[i])}
+            values = {"damping": _number(damping), "friction": _number(coulomb)}
             if dynamics is not None:  # its other attributes (a simulator's) stay
                 edits += _set_attributes(raw, dynamics, values)
             elif not joint.empty:
@@ -257,6 +257,14 @@ def identified_urdf(raw: bytes, identified: Model, friction: Friction | None = N
                 edits.append(_before_end_tag(raw, joint, text.encode(), newline))
     edits.append((layout.root.start, layout.root.start, HEADER_NOTE.rstrip(b"\n") + newline))
     return _applied(raw, edits)
+
+
+def _body_friction(model: Model, friction: Friction) -> list[tuple[float, float]]:
+    """(damping, friction) to write on each body's joint: a coordinate's on its own joint, none on a joint that
+    mimics another (its coefficients act on its leader's coordinate, where they were identified)."""
+    own = {k: j for j, k in enumerate(model.coordinates)}
+    return [(float(friction.viscous[own[k]]), float(friction.coulomb[own[k]])) if k in own else (0.0, 0.0)
+            for k in range(model.n_bodies)]
 
 
 def _shown(value) -> str:
@@ -305,14 +313,17 @@ def check_reads_back(text: bytes, identified: Model, friction: Friction | None, 
 
     if back.joint_names != identified.joint_names:
         refuse("the moving joints", ", ".join(back.joint_names), ", ".join(identified.joint_names))
+    if back.coupling != identified.coupling:
+        refuse("the mimic joints", str(back.coupling), str(identified.coupling))
+    written = _body_friction(identified, friction) if friction is not None else None
     for i, (got, body) in enumerate(zip(back.bodies, identified.bodies)):
         for what, value, expected in (("mass", got.mass, body.mass), ("centre of mass", got.p_com, body.p_com),
                                       ("inertia", got.I_com, body.I_com)):
             if got.name != body.name or not np.allclose(value, expected, rtol=READBACK_RTOL, atol=READBACK_ATOL):
                 refuse(f"link '{body.name}': {what}", _shown(value), _shown(expected))
         if friction is not None:
-            for what, value, expected in (("damping", got.damping, friction.viscous[i]),
-                                          ("friction", got.friction, friction.coulomb[i])):
+            for what, value, expected in (("damping", got.damping, written[i][0]),
+                                          ("friction", got.friction, written[i][1])):
                 if value != float(expected):
                     refuse(f"joint '{body.joint}': {what}", _shown(value), _shown(expected))
 
@@ -382,7 +393,7 @@ def write_identified_urdf(path, identified: Model, friction: Friction | None = N
 
 def model_urdf(model: Model, comment: str = "") -> bytes:
     """A URDF written from the model alone: one link per body (its ``<inertial>``), one joint per body (origin,
-    axis, limits, friction), and each frame fixed to a body as a fixed joint and an empty link.
+    axis, limits, friction, ``<mimic>``), and each frame fixed to a body as a fixed joint and an empty link.
 
     For robots made in memory (a student's variant of a course robot): loading the text gives the same model,
     numbers and all (``repr`` digits); visuals, meshes and comments of any original file are not carried over.
@@ -434,6 +445,9 @@ def model_urdf(model: Model, comment: str = "") -> bytes:
                   f'    <axis xyz="{xyz(body.axis)}"/>'] + ([limits] if limits else [])
         if body.damping or body.friction:
             lines.append(f'    <dynamics damping="{_number(body.damping)}" friction="{_number(body.friction)}"/>')
+        if body.mimic:
+            lines.append(f'    <mimic joint="{body.mimic}" multiplier="{_number(body.multiplier)}" '
+                         f'offset="{_number(body.offset)}"/>')
         lines.append("  </joint>")
     names = {body.name for body in model.bodies} | {base}
     for frame in model.frames:

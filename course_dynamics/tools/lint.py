@@ -461,8 +461,9 @@ def _joints(robot: Robot):
         if joint.mimic is not None:
             known = any(other.name == joint.mimic for other in robot.joints)
             yield Finding("mimic-joint", "joint", joint.name, f"{owner} mimics joint '{joint.mimic}'"
-                          + ("" if known else " (which is not defined)") + ": course-dynamics treats it as an "
-                          "independent joint, as Pinocchio does by default", line)
+                          + (": honoured, it moves with that joint's coordinate and has none of its own, as "
+                             "Pinocchio's mimic=True reads it" if known else
+                             " (which is not defined): course-dynamics refuses to load it"), line)
         if joint.type in MOVING and (joint.damping or joint.friction):
             yield Finding("damping-friction", "joint", joint.name, f"{owner}: damping {joint.damping:g}, friction "
                           f"{joint.friction:g}", line)

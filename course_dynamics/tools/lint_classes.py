@@ -140,9 +140,10 @@ CLASSES: dict[str, LintClass] = _classes(
      "Write the axis as a unit vector in the joint's frame."),
     ("axis-not-unit", "warning", "a joint axis that is not a unit vector",
      "Normalise it: URDF asks for a unit vector; read normalised here, as Pinocchio, MuJoCo and PyBullet read it."),
-    ("mimic-joint", "warning", "a <mimic> joint",
-     "Give the joint, in every state, the value its <mimic> implies (multiplier * q + offset of the joint it "
-     "follows): it has its own coordinate and torque here."),
+    ("mimic-joint", "note", "a <mimic> joint, honoured: it has no coordinate of its own",
+     "Give states and logs one value per independent joint: the mimic joint follows multiplier * q + offset of "
+     "the joint it names, and its torque acts on that joint's; engines that ignore <mimic> (PyBullet) give it a "
+     "coordinate of its own."),
     ("damping-friction", "note", "a joint <dynamics damping friction> that engines treat differently",
      f"Know where it counts: course-dynamics uses it only with --friction urdf; {NO_FRICTION_ENGINES}."),
 )

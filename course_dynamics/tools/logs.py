@@ -266,11 +266,12 @@ def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[
     plan, renamed, samples = planned.plan, planned.values, planned.samples
     plan.require_positions(where)
     check_values(planned)
+    mimic_notes = _mimic_notes(model, source, renamed, samples)
     t = log_times(planned, dt, time_unit)
     if not plan.has_time and (resample is not None or split_gaps):
         raise InputError("resampling and splitting at gaps need the log's own times (a t column)")
 
-    notes = list(source.notes)
+    notes = list(source.notes) + mimic_notes
     segments = ((0, samples),)
     step = float(dt) if dt is not None else (float(np.median(np.diff(t))) if samples > 1 else 0.0)
     if plan.derived or resample is not None:
@@ -302,6 +303,36 @@ def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[
     measured, measured_from, more = _measured(model, plan, renamed, samples, torque_constants, where)
     return JointLog(t=t, q=q, qd=qd, qdd=qdd, notes=tuple(notes + more), measured=measured,
                     measured_from=measured_from, segments=segments, sigma_qdd=sigma_qdd)
+
+
+#: How far (rad or m) a mimic joint's own logged position may stray from multiplier · q_leader + offset before a
+#: note says so: well above encoder noise, well below a coupling that does not hold.
+MIMIC_TOLERANCE = 1e-3
+
+
+def _mimic_notes(model, source, renamed: dict, samples: int) -> list[str]:
+    """A mimic joint's position in the log, where it has one, checked against its leader's (it is never read)."""
+    notes = []
+    for body, (j, a, b) in zip(model.bodies, model.coupling):
+        name = f"q_{body.joint}"
+        column = source.mimics.get(name, name if source.format == "table" else None)
+        leader = renamed.get(f"q_{model.joint_names[j]}")
+        if not body.mimic or column not in source.columns or leader is None:
+            continue
+        logged = np.asarray(source.columns[column], dtype=float)
+        if logged.shape != (samples,):
+            continue
+        gap = np.abs(logged - (a * np.asarray(leader, dtype=float) + b))
+        worst = int(np.nanargmax(gap)) if np.isfinite(gap).any() else 0
+        coupling = f"{a:g} * q_{model.joint_names[j]} {'-' if b < 0 else '+'} {abs(b):g}"
+        if not np.all(gap <= MIMIC_TOLERANCE):
+            notes.append(f"{column} (joint '{body.joint}' mimics '{model.joint_names[j]}') is not "
+                         f"{coupling}: off by {gap[worst]:.3g} at {source.line(worst)}; it is not read, the joint "
+                         "follows the coupling")
+        else:
+            notes.append(f"{column}: joint '{body.joint}' mimics '{model.joint_names[j]}' ({coupling}, within "
+                         f"{MIMIC_TOLERANCE:g} throughout): not read")
+    return notes
 
 
 def _check_rate_units(model, plan, q, qd, step, where) -> None:

@@ -70,6 +70,9 @@ class LogSource:
         What the reader should know of how the log was read.
     words : dict
         A text column → (line, its first cell), for messages.
+    mimics : dict
+        ``q_<joint>`` of a joint that mimics another → the log's column: not read (the joint follows its leader),
+        only checked against the coupling (:func:`~course_dynamics.tools.logs.joint_log`).
     """
 
     columns: dict
@@ -80,6 +83,7 @@ class LogSource:
     text: tuple[str, ...] = ()                     # columns that hold words, not numbers (ignored unless used)
     notes: tuple[str, ...] = ()
     words: dict = field(default_factory=dict)      # a text column → (line, its first cell), for messages
+    mimics: dict = field(default_factory=dict)     # q_<mimic joint> → the log's column: checked, not read
 
     def not_numbers(self, column: str, ours: str) -> InputError:
         """The error for a text column read as one of ours.
@@ -159,8 +163,8 @@ def _from_start(columns: dict, name: str, scale: float, where: str) -> None:
     columns[name] = (t - t[0]) * scale
 
 
-def _matched(model: Model, found: dict, where: str, kind: str) -> tuple[dict, list[str]]:
-    """Ours → theirs from {joint: {field: column}}; the notes on the joints left out."""
+def _matched(model: Model, found: dict, where: str, kind: str) -> tuple[dict, list[str], dict]:
+    """Ours → theirs from {joint: {field: column}}; the notes on the joints left out; the mimic joints' positions."""
     joints = [j for j in model.joint_names if j in found]
     if not joints:
         raise InputError(f"{where}: none of the {kind}'s joints ({', '.join(list(found)[:8]) or 'none'}) is one of "
@@ -168,10 +172,11 @@ def _matched(model: Model, found: dict, where: str, kind: str) -> tuple[dict, li
     implied = {f"{ours}_{j}": found[j][field] for j in joints for ours, field in ROS_SIGNALS.items()
                if field in found[j]}
     notes = [f"read as a {kind} (joints matched to the URDF by name)"]
-    others = [j for j in found if j not in model.joint_names]
+    mimics = {b.joint for b in model.bodies if b.mimic}
+    others = [j for j in found if j not in model.joint_names and j not in mimics]
     if others:
         notes.append(f"joints that the robot does not have, ignored: {', '.join(others)}")
-    return implied, notes
+    return implied, notes, {f"q_{j}": found[j]["position"] for j in found if j in mimics and "position" in found[j]}
 
 
 def _rostopic(model: Model, table: Table, where: str):
@@ -183,13 +188,13 @@ def _rostopic(model: Model, table: Table, where: str):
             found[name] = {field: f"field.{field}{k}" for field in ROS_SIGNALS.values()
                            if f"field.{field}{k}" in table.header and f"field.{field}{k}" not in table.text}
         k += 1
-    implied, notes = _matched(model, found, where, "rostopic CSV")
+    implied, notes, mimics = _matched(model, found, where, "rostopic CSV")
     columns = as_source(table).columns
     stamped = "field.header.stamp" in columns and np.all(columns["field.header.stamp"] > 0)
     clock = "field.header.stamp" if stamped else "%time"
     _from_start(columns, clock, 1e-9, where)
     notes.append(f"t: {clock} (ns), from the log's start")
-    return {"t": clock, **implied}, columns, notes
+    return {"t": clock, **implied}, columns, notes, mimics
 
 
 def _plotjuggler(model: Model, table: Table, where: str):
@@ -203,7 +208,7 @@ def _plotjuggler(model: Model, table: Table, where: str):
             if other != name:
                 raise InputError(f"{where}: columns '{other}' and '{name}' are both the {field} of joint '{joint}' "
                                  f"(two topics): export one of them")
-    implied, notes = _matched(model, found, where, "PlotJuggler CSV")
+    implied, notes, mimics = _matched(model, found, where, "PlotJuggler CSV")
     source = as_source(table)
     read = [table.header.index(c) for c in ["__time", *implied.values()]]
     full = ~np.isnan(table.data[:, read]).any(axis=1)
@@ -215,7 +220,7 @@ def _plotjuggler(model: Model, table: Table, where: str):
                      f"(first: line {int(table.lines[~full][0])})")
     _from_start(columns, "__time", 1.0, where)
     notes.append("t: __time (s), from the log's start")
-    return {"t": "__time", **implied}, columns, notes, table.lines[full]
+    return {"t": "__time", **implied}, columns, notes, table.lines[full], mimics
 
 
 def open_log(path, model: Model, *, format: str = "auto", topic: str | None = None,
@@ -259,8 +264,10 @@ def open_log(path, model: Model, *, format: str = "auto", topic: str | None = No
     if format == "bag" or (format == "auto" and bag):
         if decimal is not None:
             raise InputError(f"{path}: a bag has no decimal separator to choose (--decimal is for tables)")
-        log = read_bag(path, tuple(model.joint_names), topic=topic)
-        return LogSource(dict(log.columns), log.where, "bag", notes=tuple(log.notes))
+        mimics = tuple(b.joint for b in model.bodies if b.mimic)
+        log = read_bag(path, tuple(model.joint_names) + mimics, topic=topic)
+        return LogSource(dict(log.columns), log.where, "bag", notes=tuple(log.notes),
+                         mimics={f"q_{j}": f"q_{j}" for j in mimics if f"q_{j}" in log.columns})
     if topic is not None:
         raise InputError(f"{path}: --topic is for bags; this log is read as a table")
     if bag:
@@ -271,15 +278,15 @@ def open_log(path, model: Model, *, format: str = "auto", topic: str | None = No
         if not _looks_like_rostopic(table.header):
             raise InputError(f"{path}: not a rostopic CSV (it needs the columns %time, field.name0, "
                              f"field.position0, …)")
-        implied, columns, notes = _rostopic(model, table, str(path))
+        implied, columns, notes, mimics = _rostopic(model, table, str(path))
         return replace(as_source(table), columns=columns, where=str(path), format="rostopic", implied=implied,
-                       notes=tuple(notes))
+                       notes=tuple(notes), mimics=mimics)
     if format == "plotjuggler" or (format == "auto" and not ours and _looks_like_plotjuggler(table.header)):
         if not _looks_like_plotjuggler(table.header):
             raise InputError(f"{path}: not a PlotJuggler CSV (its first column must be __time)")
-        implied, columns, notes, lines = _plotjuggler(model, table, str(path))
+        implied, columns, notes, lines, mimics = _plotjuggler(model, table, str(path))
         return replace(as_source(table), columns=columns, lines=lines, where=str(path), format="plotjuggler",
-                       implied=implied, notes=tuple(notes))
+                       implied=implied, notes=tuple(notes), mimics=mimics)
     if table.blanks:   # only a recorder's export has cells without a sample: refused as before, where they are
         table = read_table(path, decimal=decimal)
     kind, implied, notes = "table", {}, ()
