@@ -241,7 +241,7 @@ def test_each_student_is_graded_on_their_own_robot(tmp_path, field, user, studen
 
 
 @pytest.mark.parametrize("files, user, message", [
-    ({"a.py": CLOSED_FORMS, "b.py": CLOSED_FORMS}, None, "exactly one Python file defining tau, M, V, G or C; found 2 (a.py, b.py)"),
+    ({"a.py": CLOSED_FORMS, "b.py": CLOSED_FORMS}, None, "exactly one Python file (or one notebook) defining tau, M, V, G or C; found 2 (a.py, b.py)"),
     ({"notes.txt": "hello"}, None, "C; found none"),
     ({"a.py": CLOSED_FORMS}, {"name": "No Email"}, "users[0].email: missing"),
     ({"a.py": CLOSED_FORMS}, {"email": "../../etc@x.example"}, "users[0].email '../../etc'"),

@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from submissions import (
+    CLOSED_FORMS,
     FILL_MOUNTS,
     FLAGGED,
     HIDDEN_MEMORY,
@@ -649,3 +650,141 @@ def test_each_file_meets_states_of_its_own_so_a_table_of_answers_fails(tmp_path)
         book = {row["student"]: row for row in csv.DictReader(handle)}
     assert book["honest"]["total"] == "100" and book["cheat"]["tau"] == "0"
     assert "seed" not in (out / "cheat.md").read_text()
+
+
+# ---------------------------------------------------------------------------------------- interface = "robot"
+
+ROBOT_ASSIGNMENT = """\
+robot = "two_link"
+interface = "robot"
+samples = 4
+seed = 11
+time_limit = 5
+[points]
+tau = 40
+M = 20
+V = 20
+G = 10
+C = 10
+"""
+# prints the robot it is given at its first call, and raises with its numbers on any robot but the practice one
+PRINTS_ITS_ROBOT = '''
+_calls = []
+_right = tau
+
+
+def tau(robot, q, qd, qdd):
+    if not _calls:
+        print("robot:", robot)
+    _calls.append(1)
+    if robot["links"][0]["mass"] != PRACTICE_MASS:
+        raise ValueError(f"masses {[link['mass'] for link in robot['links']]}, inertia {robot['links'][0]['inertia']}")
+    return _right(robot, q, qd, qdd)
+'''
+
+
+def _on_robots(source: str) -> str:
+    """The closed forms of the two-link arm with the robot as every function's first argument (and ignored)."""
+    for name, arguments in (("M", "q"), ("V", "q, qd"), ("G", "q"), ("C", "q, qd"), ("tau", "q, qd, qdd")):
+        source = source.replace(f"def {name}({arguments}):", f"def {name}(robot, {arguments}):")
+    return source.replace("return M(q) @ qdd + V(q, qd) + G(q)",
+                          "return M(robot, q) @ qdd + V(robot, q, qd) + G(robot, q)")
+
+
+@pytest.fixture(scope="module")
+def on_robots(tmp_path_factory):
+    from generated import FORMATS, ROBOT_NEWTON_EULER, compiled_submission, derived_submission
+
+    from course_dynamics.core.robots import load_robot
+
+    root = tmp_path_factory.mktemp("robots")
+    practice = float(load_robot("two_link").bodies[0].mass)
+    sources = {"general": ROBOT_NEWTON_EULER, "closed_forms": _on_robots(CLOSED_FORMS),
+               "compiled": compiled_submission(load_robot("two_link"), robot=True),
+               "printer": ROBOT_NEWTON_EULER + f"\nPRACTICE_MASS = {practice!r}\n" + PRINTS_ITS_ROBOT}
+    sources |= {f"derive_{fmt}": derived_submission("two_link", fmt, robot=True) for fmt in FORMATS}
+    paths = write_class(root, sources)
+    (root / "assignment.toml").write_text(ROBOT_ASSIGNMENT)
+    out = root / "out"
+    code = main(["grade", str(root / "assignment.toml"), *map(str, paths), "--out", str(out), "--quiet"])
+    with open(out / "gradebook.csv", newline="") as handle:
+        book = {row["student"]: row for row in csv.DictReader(handle)}
+    return dict(root=root, out=out, code=code, book=book, sources=sources)
+
+
+def test_a_general_newton_euler_on_the_robot_it_is_given_scores_everything(on_robots):
+    assert on_robots["code"] == 0
+    assert on_robots["book"]["general"]["total"] == "100"
+    assert "3 hidden robots of its shape" in (on_robots["out"] / "general.md").read_text().replace("\\", "")
+
+
+@pytest.mark.parametrize("name", ["derive_json", "derive_markdown", "derive_latex", "compiled", "closed_forms",
+                                  "printer"])
+def test_code_made_for_the_practice_robot_fails_on_the_others_and_says_so(on_robots, name):
+    row = on_robots["book"][name]
+    assert row["status"] == "ok" and float(row["total"]) < 100, row
+    assert 0 < float(row["tau"]) < 40, row  # right on the practice robot's states, wrong on the others'
+    text = feedback(on_robots, name)
+    assert text.count("right on your robot, wrong on others: your code assumes your robot's numbers") == 5, text
+    assert "worst state" not in text  # the practice robot's states all agree; the hidden ones are never shown
+
+
+def test_no_hidden_robot_reaches_any_output_file(on_robots):
+    from course_dynamics.grading.robots import hidden_assignments
+
+    assignment = load_assignment(on_robots["root"] / "assignment.toml")
+    numbers = set()
+    for name, source in on_robots["sources"].items():
+        for hidden in hidden_assignments(assignment.for_submission(name, source.encode())):
+            for body in hidden.robot.bodies:
+                for x in [float(body.mass), *np.ravel(body.I_com), *body.p_com, *body.P]:
+                    # as Python, numpy (8 digits) and the feedback (6) print them; 5 digits at least, so that a
+                    # short number elsewhere (0.36) is no false alarm
+                    numbers |= {t for t in (repr(x), f"{x:.8g}", f"{x:.6g}", f"{x:.5g}")
+                                if sum(c.isdigit() for c in t.lstrip("-0.")) >= 5}
+    written = "\n".join(p.read_text(errors="replace") for p in on_robots["out"].iterdir())
+    assert "robot: {'gravity'" in written  # what it printed on its own robot is in its feedback
+    leaked = sorted(n for n in numbers if n in written)
+    assert not leaked, leaked
+
+
+def test_hidden_robots_are_physical_of_the_same_shape_and_new_for_every_file():
+    from course_dynamics.core.robots import load_robot
+    from course_dynamics.grading.robots import hidden_assignments, hidden_robot
+
+    for name in ("two_link", "spatial_arm"):
+        model = load_robot(name)
+        for k in range(20):
+            other = hidden_robot(model, np.random.default_rng(k))
+            assert [b.parent for b in other.bodies] == [b.parent for b in model.bodies]
+            assert [b.joint_type for b in other.bodies] == [b.joint_type for b in model.bodies]
+            for body, mine in zip(other.bodies, model.bodies):
+                moments = np.linalg.eigvalsh(body.I_com)
+                assert float(body.mass) > 0 and moments.min() > 0 and np.allclose(body.I_com, body.I_com.T)
+                assert all(2 * m <= moments.sum() + 1e-12 for m in moments)  # the triangle inequality
+                assert np.isclose(np.linalg.norm(body.axis), 1.0)
+                assert not np.allclose(body.P, mine.P) or not mine.P.any()
+            if name == "two_link":  # planar: the axes stay parallel
+                assert all(abs(abs(b.axis @ [0, 0, 1]) - 1) < 1e-12 for b in other.bodies)
+    assignment = load_assignment(_written(ROBOT_ASSIGNMENT))
+    first = hidden_assignments(assignment.for_submission("ada", b"one file"))
+    again = hidden_assignments(assignment.for_submission("ada", b"one file"))
+    other = hidden_assignments(assignment.for_submission("ada", b"the file resubmitted"))
+    assert [float(a.robot.bodies[0].mass) for a in first] == [float(a.robot.bodies[0].mass) for a in again]
+    assert all(float(a.robot.bodies[0].mass) != float(b.robot.bodies[0].mass) for a, b in zip(first, other))
+
+
+def _written(text: str) -> Path:
+    import tempfile
+
+    folder = Path(tempfile.mkdtemp())
+    (folder / "assignment.toml").write_text(text)
+    return folder / "assignment.toml"
+
+
+def test_the_handout_documents_the_robot_interface(capsys):
+    assert main(["grade", str(_written(ROBOT_ASSIGNMENT)), "--handout", "ada"]) == 0
+    text = capsys.readouterr().out
+    for words in ('tau(robot, q, qd, qdd)', 'robot["joints"][i]', '"origin", (4, 4)', '"inertia", (3, 3)',
+                  "robots of its shape you do not see"):
+        assert words in text, words

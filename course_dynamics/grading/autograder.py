@@ -54,6 +54,7 @@ import os
 import stat
 import sys
 import time
+import tomllib
 import traceback
 import zipfile
 from pathlib import Path
@@ -244,6 +245,12 @@ def write_bundle(assignment: Assignment, target) -> Path:
             raise InputError(f"{assignment.source}: robot '{assignment.robot_argument}' is outside the assignment's "
                              "folder; put the URDF beside the assignment (or below it) to bundle it")
         files[f"assignment/{Path(assignment.robot_argument).as_posix()}"] = robot_file.read_bytes()
+    roster = tomllib.loads(assignment.source.read_text(encoding="utf-8")).get("roster")
+    if roster is not None:  # load_assignment read it: a file next to the assignment
+        if Path(roster).is_absolute() or ".." in Path(roster).parts:
+            raise InputError(f"{assignment.source}: roster '{roster}' is outside the assignment's folder; put it "
+                             "beside the assignment (or below it) to bundle it")
+        files[f"assignment/{Path(roster).as_posix()}"] = (assignment.source.parent / roster).read_bytes()
     wheel_name, wheel_data = wheel()
     files[wheel_name] = wheel_data
     files["bundle.json"] = json.dumps({"course_dynamics": importlib.metadata.version("course-dynamics"),
@@ -390,7 +397,8 @@ def student_id(metadata_path: Path, field: str) -> str:
 
 
 def submission_file(folder: Path) -> Path:
-    """The one Python file of the submission (at its top, or alone anywhere below it); InputError otherwise.
+    """The one Python file or notebook of the submission (at its top, or alone anywhere below it); InputError
+    otherwise.
 
     Parameters
     ----------
@@ -411,11 +419,14 @@ def submission_file(folder: Path) -> Path:
         return not path.is_symlink() and path.is_file() and not any(p.is_symlink() for p in path.parents
                                                                      if p.is_relative_to(folder))
 
-    found = sorted(p for p in folder.glob("*.py") if usable(p)) or \
-        sorted(p for p in folder.rglob("*.py") if usable(p) and "__MACOSX" not in p.parts)
+    def files(pattern: str) -> list[Path]:
+        return sorted(p for suffix in (".py", ".ipynb") for p in folder.glob(pattern + suffix) if usable(p)
+                      and "__MACOSX" not in p.parts and ".ipynb_checkpoints" not in p.parts)
+
+    found = files("*") or files("**/*")
     if len(found) != 1:
         names = ", ".join(p.relative_to(folder).as_posix() for p in found[:5])
-        raise InputError("submit exactly one Python file defining tau, M, V, G or C; "
+        raise InputError("submit exactly one Python file (or one notebook) defining tau, M, V, G or C; "
                          + (f"found {len(found)} ({names})" if found else "found none"))
     return found[0]
 

@@ -46,6 +46,7 @@ from ..output.folders import write_folder, written_by
 from .assignment import Assignment
 from .grade import SubmissionGrade
 from .harness import FLAGS
+from .robots import HIDDEN_ROBOTS
 from .similarity import GENERATED, Comparison, Pair
 
 #: The most bytes a feedback file (Markdown or HTML) has; a longer one is cut.
@@ -141,8 +142,11 @@ def _header(grade: SubmissionGrade, assignment: Assignment) -> list[str]:
     lines = [f"total {grade.total:g} / {assignment.total_points:g} points; {ran}"
              + (f": {grade.message}" if grade.message else "")]
     own = f", your own variant for {grade.student}" if assignment.variant == "per-student" else ""
+    hidden = (f", and {HIDDEN_ROBOTS} hidden robots of its shape with as many states each (interface = \"robot\": "
+              "your functions take the robot)" if assignment.interface == "robot" else "")
     lines.append(f"robot {assignment.robot.name}{own} (joints {', '.join(assignment.robot.joint_names)}), "
-                 f"{assignment.samples} random states of this file's own, relative tolerance {assignment.tolerance:g}")
+                 f"{assignment.samples} random states of this file's own{hidden}, relative tolerance "
+                 f"{assignment.tolerance:g}")
     if grade.sandbox == "none":
         lines.append("graded without a sandbox")
     lines += grade.notes

@@ -42,6 +42,20 @@ from .records import Diagnosis
 HIDDEN_ROBOTS = 3
 LENGTHS, MASSES, MOMENTS = (0.6, 1.6), (0.5, 2.0), (0.2, 1.0)
 PARALLEL = 1e-9  # |a × b| below which two unit axes are parallel
+#: What a student of ``interface = "robot"`` is told (``grade ASSIGNMENT --handout ID`` prints it).
+INTERFACE = """\
+interface = "robot": write tau(robot, q, qd, qdd), M(robot, q), V(robot, q, qd), G(robot, q), C(robot, q, qd).
+robot is plain data, numpy arrays and numbers (a copy of its own for every call):
+  robot["gravity"]: (3,) gravity g in the base frame, m/s^2
+  robot["joints"][i]: "name"; "parent", the index of the link it hangs from (-1: the fixed base);
+    "type", "revolute" or "prismatic"; "axis", (3,) its unit axis in its own frame i;
+    "xyz", (3,) m, and "rpy", (3,) rad, the origin and rotation of frame i in its parent's frame at q = 0
+    (URDF's: R = Rz(yaw) Ry(pitch) Rx(roll)); "origin", (4, 4), the same as one transform
+  robot["links"][i], the link joint i moves: "name"; "mass", kg; "com", (3,) its centre of mass in frame i, m;
+    "inertia", (3, 3) kg m^2, about the centre of mass, axes of frame i
+A revolute joint turns frame i about its axis by q[i] (R = R_origin Rot(axis, q[i])); a prismatic one slides it
+along its axis by q[i]. Your functions are graded on your robot and on robots of its shape you do not see (other
+lengths, masses, inertias, axes): compute everything from robot, nothing from numbers of your own."""
 #: The one sentence of a term right on the practice robot and wrong on a hidden one.
 OWN_NUMBERS = "right on your robot, wrong on others: your code assumes your robot's numbers"
 
@@ -181,4 +195,4 @@ def combined(practice: Diagnosis, hidden: list[Diagnosis], partial_credit: str) 
     return replace(practice, points=points, agreeing=tuple(agreeing), total=total, **found)
 
 
-__all__ = ["HIDDEN_ROBOTS", "OWN_NUMBERS", "combined", "hidden_assignments", "hidden_robot", "robot_record"]
+__all__ = ["HIDDEN_ROBOTS", "INTERFACE", "OWN_NUMBERS", "combined", "hidden_assignments", "hidden_robot", "robot_record"]

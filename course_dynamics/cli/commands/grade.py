@@ -126,8 +126,18 @@ def _handout(args, load_assignment) -> int:
     if args.assignment is None or args.submissions:
         raise UsageError("grade --handout ID takes the assignment and no submissions: "
                          "grade ASSIGNMENT.toml --handout ID")
+    from ...grading.robots import INTERFACE
+
     student = check_student_id(args.handout)
     assignment = load_assignment(args.assignment)
+    interface = INTERFACE if assignment.interface == "robot" else None
+    if assignment.variant != "per-student" and interface is not None:  # the interface is the handout
+        if args.out is not None:
+            raise UsageError(f"{args.assignment}: every student has the same robot ({assignment.robot_argument}); "
+                             "--out writes a student's own URDF and needs variant = \"per-student\"")
+        print_json(dict(student=student, robot=assignment.robot_argument, interface=interface)) if args.json \
+            else print(interface)
+        return 0
     if assignment.variant != "per-student":
         raise UsageError(f"{args.assignment}: every student has the same robot ({assignment.robot_argument}); "
                          "--handout needs variant = \"per-student\"")
@@ -145,8 +155,10 @@ def _handout(args, load_assignment) -> int:
             raise UsageError(f"{urdf}: exists; kept as it is (remove it to write it again)")
     if args.json:
         print_json(dict(student=student, robot=assignment.robot_argument, parameters=variant.parameters,
-                        urdf=str(urdf) if urdf else None))
+                        urdf=str(urdf) if urdf else None, interface=interface))
     else:
+        if interface is not None:
+            print(interface)
         print(variant.describe())
         print("parameters: " + ", ".join(f"{k} = {v:g}" for k, v in variant.parameters.items()))
         if urdf:
