@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from submissions import CLOSED_FORMS, SPATIAL_SLIPS, spatial_newton_euler
+from submissions import CLOSED_FORMS, SPATIAL_SLIPS, closed_forms, spatial_newton_euler
 
 from course_dynamics.core.newton_euler import EXACT, newton_euler_links
 from course_dynamics.grading.slips import SLIP_EQUATIONS, Slip, slips
@@ -67,7 +67,21 @@ EXPECTED = {  # the student's slip → the code and the words of the equations n
     "gravity-sign": ("gravity-sign", "in the base acceleration ⁰v̇₀"),
     "degrees": ("degrees", "(positions read as degrees)"),
     "joints-swapped": ("joints-swapped", "wrong order"),
+    "gravity-frame-unrotated": ("gravity-frame", "in (6.49) (⁰g used in frame i as it is"),
+    "gravity-frame-rotated": ("gravity-frame", "in (6.49) (⁰g rotated by ⁰ᵢR, not by its transpose"),
+    "com-wrong-link": ("com-wrong-link", "in every equation where it appears, (6.48) and (6.52)"),
+    "tau-from-N": ("tau-wrong-moment", "in (6.53) (τᵢ read from ⁱNᵢ, the inertial moment"),
+    "tau-from-child": ("tau-wrong-moment", "in (6.53) (τᵢ read from the child's ⁱ⁺¹nᵢ₊₁"),
+    "notes-6.48": ("notes-6.48", "in (6.48) (with the parent's ⁱω̇ᵢ for ⁱ⁺¹ω̇ᵢ₊₁)"),
+    "notes-worked-F1": ("notes-6.48", "in (6.48) (with ⁱ⁺¹Pᵢ₊₁ = 0 for ⁱ⁺¹P_Cᵢ₊₁)"),
+    "notes-6.50": ("notes-6.50", "in (6.50)"),
+    "notes-6.51": ("notes-6.51", "in (6.51)"),
+    "notes-6.52": ("notes-6.52", "in (6.52)"),
 }
+# On the two-link arm (point masses, ᶜI = 0; parallel joint axes) these change nothing (tested below); and τ read
+# from ⁱNᵢ = 0 is zero everywhere, what a function not written yet returns (tests/test_score.py).
+HARMLESS_ON_TWO_LINK = ("cross-reversed", "gyroscopic-missing", "notes-6.50", "notes-6.51")
+TWO_LINK_SLIPS = [slip for slip in EXPECTED if slip not in HARMLESS_ON_TWO_LINK + ("tau-from-N",)]
 
 
 @pytest.fixture(scope="module")
@@ -75,7 +89,7 @@ def graded_slips(tmp_path_factory):
     """Every slip of SPATIAL_SLIPS handed in as a student's file and graded in the sandbox on the spatial arm."""
     folder = tmp_path_factory.mktemp("slips")
     paths = []
-    for slip in [""] + list(SPATIAL_SLIPS):
+    for slip in ["", "gravity-per-link"] + list(SPATIAL_SLIPS):
         path = folder / f"{slip or 'right'}.py"
         path.write_text(spatial_newton_euler(SPATIAL, slip))
         paths.append(path)
@@ -85,6 +99,85 @@ def graded_slips(tmp_path_factory):
 
 def test_the_right_recursion_gets_full_marks(graded_slips):
     assert graded_slips["right"].total == 1.0
+    assert graded_slips["gravity-per-link"].total == 1.0  # gravity link by link, rotated by ⁰ᵢRᵀ: right too
+
+
+@pytest.fixture(scope="module")
+def graded_two_link_slips(tmp_path_factory):
+    """The same slips, written into the same student's recursion with the two-link arm's numbers, graded on it."""
+    folder = tmp_path_factory.mktemp("two_link_slips")
+    arm = load_robot("two_link")
+    paths = []
+    for slip in ["", *TWO_LINK_SLIPS, *HARMLESS_ON_TWO_LINK]:
+        path = folder / f"{slip or 'right'}.py"
+        path.write_text(spatial_newton_euler(arm, slip))
+        paths.append(path)
+    assignment = Assignment(folder / "a.toml", "two_link", arm, {"tau": 1.0}, samples=12, seed=4)
+    return {g.path.stem: g for g in grade_class(assignment, paths)}
+
+
+@pytest.mark.parametrize("slip", TWO_LINK_SLIPS)
+def test_grade_names_each_slip_on_the_two_link_arm(graded_two_link_slips, slip):
+    code, where = EXPECTED[slip]
+    [diagnosis] = graded_two_link_slips[slip].diagnoses
+    assert diagnosis.points < 1 and code in diagnosis.tags, diagnosis.findings  # a state at rest may agree
+    [finding] = [f for f in diagnosis.findings if f.startswith(f"[{code}]")]
+    assert where in finding
+
+
+def test_slips_that_change_nothing_on_the_two_link_arm_get_full_marks(graded_two_link_slips):
+    """ᶜI = 0 for the two-link arm's point masses, and its joint axes are parallel: the stray inertia of (6.51), the
+    tensor about the origin in ω × I ω (ω along Z, a principal axis of ⁱIᵢ), the gyroscopic term and the order of
+    ⁱ⁺¹ᵢR ⁱωᵢ × θ̇ᵢ₊₁Ẑ (parallel vectors) leave τ right; on the spatial arm each is named."""
+    assert graded_two_link_slips["right"].total == 1.0
+    for slip in HARMLESS_ON_TWO_LINK:
+        assert graded_two_link_slips[slip].total == 1.0
+
+
+@pytest.mark.parametrize("slip", TWO_LINK_SLIPS)
+def test_the_notebook_check_names_each_slip_on_the_two_link_arm(slip):
+    namespace = {}
+    exec(compile(spatial_newton_euler(my_robot("two_link").model, slip), "student.py", "exec"), namespace)
+    verdict = check("tau_two_link", namespace["tau"])
+    code, where = EXPECTED[slip]
+    assert verdict.status == "wrong" and any(line.startswith(f"[{code}]") and where in line for line in verdict.lines)
+
+
+@pytest.mark.parametrize("variant", ["6.51", "6.52"])
+def test_the_notes_slips_are_the_errata_s_printed_equations(variant):
+    """The slip ``notes-6.51`` / ``notes-6.52`` of the one recursion is the printed equation that reference/misprints.py
+    evaluates for the errata, by its own serial inward iteration (a second path, tied here)."""
+    from reference.misprints import serial_inward
+
+    from course_dynamics.core.kinematics import joint_transforms
+    from course_dynamics.core.state import entries
+
+    ur5 = load_robot("ur5")
+    q, qd, qdd = np.array([0.3, -1.1, 0.8, 0.4, -0.6, 1.2]), np.full(6, 0.7), np.linspace(-1, 1, 6)
+    printed = serial_inward(ur5, newton_euler_links(ur5, q, qd, qdd), joint_transforms(ur5, entries(q)), variant)
+    slipped = newton_euler_links(ur5, q, qd, qdd, Slip(f"notes-{variant}", (variant,))).tau
+    assert np.allclose(slipped, printed, rtol=1e-12, atol=1e-12)
+    assert relative_error(slipped, newton_euler_links(ur5, q, qd, qdd).tau) > 1e-3
+
+
+def test_the_notes_6_65_is_named_in_V_and_in_tau(tmp_path):
+    """V written by (6.63) as B[Θ̇Θ̇] + C[Θ̇²] with the notes' printed [Θ̇²] = [θ̇₁² θ̇₁²]."""
+    path = tmp_path / "student.py"
+    path.write_text(closed_forms(
+        "\ndef V(q, qd):\n    h = m2 * l1 * l2 * np.sin(q[1])\n    B = np.array([[-2 * h], [0.0]])\n"
+        "    C = np.array([[0.0, -h], [h, 0.0]])\n    squares = np.array([qd[0] ** 2, qd[0] ** 2])  # (6.65)\n"
+        "    return B @ np.array([qd[0] * qd[1]]) + C @ squares\n"))
+    assignment = Assignment(tmp_path / "a.toml", "two_link", load_robot("two_link"), {"V": 1.0, "tau": 1.0},
+                            samples=12, seed=2)
+    [graded] = grade_class(assignment, [path])
+    for diagnosis in graded.diagnoses:
+        assert "notes-6.65" in diagnosis.tags, (diagnosis.term, diagnosis.findings)
+    p = my_robot("two_link").parameters
+    namespace = {}
+    exec(compile(path.read_text().replace("m1, m2, l1, l2, g = 2.0, 1.0, 0.5, 0.4, 9.81",
+                                          f"m1, m2, l1, l2, g = {p['m1']}, {p['m2']}, {p['l1']}, {p['l2']}, {p['g']}"),
+                 "student.py", "exec"), namespace)
+    assert any(line.startswith("[notes-6.65]") for line in check("V_two_link", namespace["V"]).lines)
 
 
 @pytest.mark.parametrize("slip", list(SPATIAL_SLIPS))

@@ -30,8 +30,11 @@ per joint) and sympy symbols: see :mod:`course_dynamics.core.algebra`.
 The iterations are written against a few named operations (:class:`Operations`),
 one for each place in (6.45)–(6.53) where the equations could be written
 otherwise: the rotation into a child's frame and into a parent's, the cross
-product, the acceleration of a point, the gyroscopic and moment-arm terms, the
-inertia about the centre of mass, and the base acceleration. :data:`EXACT`, the
+product, the acceleration of a point, the angular acceleration and the centre
+of mass (6.48) uses, the inertial force (6.49), the inertia each term of (6.50)
+multiplies and its gyroscopic term, the link's own moment, the child's force and
+its moment arm in (6.51)–(6.52), the moment τ is read from (6.53), and the base
+acceleration. :data:`EXACT`, the
 default, is the chapter's; every other use of the recursion (compiled
 programs, batches, symbols, the regressor) runs the exact set.
 """
@@ -144,6 +147,68 @@ class Operations:
         """
         return point_acceleration(v_dot, omega_dot, omega, P)
 
+    def link_angular_acceleration(self, own: Vec3, parent: Vec3, equation: str) -> Vec3:
+        """The link's own angular acceleration ⁱ⁺¹ω̇ᵢ₊₁ where an equation asks for it (as (6.48) does); its parent's
+        ⁱω̇ᵢ is given so that another set of operations may take that one instead.
+
+        Parameters
+        ----------
+        own : Vec3
+            ⁱ⁺¹ω̇ᵢ₊₁, rad/s².
+        parent : Vec3
+            ⁱω̇ᵢ, the parent's, in the parent's frame, rad/s² (zero for the base).
+        equation : str
+            The equation that asks for it, such as ``"6.48"``.
+
+        Returns
+        -------
+        Vec3
+            ``own``.
+        """
+        return own
+
+    def centre_of_mass(self, model: Model, i: int, equation: str) -> Vec3:
+        """ⁱP_Cᵢ, link i's centre of mass in frame i, where (6.48) and (6.52) use it.
+
+        Parameters
+        ----------
+        model : Model
+            The robot.
+        i : int
+            The body.
+        equation : str
+            The equation that asks for it, such as ``"6.48"``.
+
+        Returns
+        -------
+        Vec3
+            ⁱP_Cᵢ, m.
+        """
+        return model.bodies[i].p_com_v
+
+    def inertial_force(self, model: Model, X: JointTransforms, i: int, v_dot_c: Vec3, gravity: Vec3) -> Vec3:
+        """ⁱFᵢ = mᵢ ⁱv̇_Cᵢ (6.49): gravity is already in ⁱv̇_Cᵢ, lifted once at the base (:meth:`base_acceleration`).
+
+        Parameters
+        ----------
+        model : Model
+            The robot.
+        X : JointTransforms
+            The joint transforms at Θ.
+        i : int
+            The body.
+        v_dot_c : Vec3
+            ⁱv̇_Cᵢ, m/s².
+        gravity : Vec3
+            g in the base frame, m/s² (unused here: another set of operations may add it link by link).
+
+        Returns
+        -------
+        Vec3
+            ⁱFᵢ, N.
+        """
+        return model.bodies[i].mass_s * v_dot_c
+
     def gyroscopic(self, omega: Vec3, I: Mat3, equation: str) -> Vec3:
         """ω × ᶜI ω, the gyroscopic term of (6.50).
 
@@ -163,32 +228,104 @@ class Operations:
         """
         return self.cross(omega, I @ omega, equation)
 
-    def moment_arm(self, P: Vec3, f: Vec3, equation: str) -> Vec3:
-        """ⁱPᵢ₊₁ × ⁱfᵢ₊₁, the moment of a child's force about frame i's origin in (6.52).
+    def link_moment(self, model: Model, i: int, out: "OutwardPass", equation: str) -> Vec3:
+        """ⁱNᵢ, link i's own inertial moment, where (6.52) adds it.
+
+        Parameters
+        ----------
+        model : Model
+            The robot.
+        i : int
+            The body.
+        out : OutwardPass
+            The outward iteration's result.
+        equation : str
+            The equation that asks for it, ``"6.52"``.
+
+        Returns
+        -------
+        Vec3
+            ⁱNᵢ, N·m.
+        """
+        return out.N[i]
+
+    def carried_force(self, model: Model, i: int, R: Mat3, f: Vec3, equation: str) -> Vec3:
+        """ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁, a child's force carried into frame i, as (6.51) adds it.
+
+        Parameters
+        ----------
+        model : Model
+            The robot.
+        i : int
+            The parent body.
+        R : Mat3
+            ⁱᵢ₊₁R, from :meth:`into_parent`.
+        f : Vec3
+            ⁱ⁺¹fᵢ₊₁, in the child's frame, N.
+        equation : str
+            The equation that asks for it, ``"6.51"``.
+
+        Returns
+        -------
+        Vec3
+            ⁱfᵢ₊₁, N.
+        """
+        return R @ f
+
+    def moment_arm(self, P: Vec3, R: Mat3, f: Vec3, equation: str) -> Vec3:
+        """ⁱPᵢ₊₁ × ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁, the moment of a child's force about frame i's origin in (6.52).
 
         Parameters
         ----------
         P : Vec3
             ⁱPᵢ₊₁, the child's origin in frame i, m.
+        R : Mat3
+            ⁱᵢ₊₁R, from :meth:`into_parent`.
         f : Vec3
-            ⁱfᵢ₊₁, the child's force in frame i, N.
+            ⁱ⁺¹fᵢ₊₁, the child's force in its own frame, N.
         equation : str
-            The equation that asks for it, such as ``"6.47"``.
+            The equation that asks for it, such as ``"6.52"``.
 
         Returns
         -------
         Vec3
             The moment, N·m.
         """
-        return self.cross(P, f, equation)
+        return self.cross(P, R @ f, equation)
 
-    def inertia(self, body: Body) -> Mat3:
-        """ᶜI, the inertia tensor about the centre of mass, in the body's frame (kg·m²).
+    def joint_moment(self, model: Model, i: int, n: list, out: "OutwardPass", equation: str) -> Vec3:
+        """ⁱnᵢ, the moment whose component along the joint axis is τᵢ (6.53).
+
+        Parameters
+        ----------
+        model : Model
+            The robot.
+        i : int
+            The body.
+        n : list of Vec3
+            ⁱnᵢ of every body done so far (link i's and its descendants'), N·m.
+        out : OutwardPass
+            The outward iteration's result.
+        equation : str
+            The equation that asks for it, ``"6.53"``.
+
+        Returns
+        -------
+        Vec3
+            ⁱnᵢ, N·m.
+        """
+        return n[i]
+
+    def inertia(self, body: Body, term: str = "I ω̇") -> Mat3:
+        """ᶜI, the inertia tensor about the centre of mass, in the body's frame (kg·m²), as each term of (6.50)
+        multiplies it.
 
         Parameters
         ----------
         body : Body
             The body.
+        term : str, optional
+            The term of (6.50) that asks for it: ``"I ω̇"`` or ``"ω × I ω"``.
 
         Returns
         -------
@@ -347,14 +484,14 @@ def outward_iteration(model: Model, X: JointTransforms, theta_dot: list, theta_d
         v = ops.into_child(X, i, "6.47") @ ops.point_acceleration(v_dot_p, omega_dot_p, omega_p, X.P[i], "6.47")
         if body.is_prismatic:
             v = v + cross(2 * w, qd * z) + qdd * z  # (6.35)
-        v_c = ops.point_acceleration(v, w_dot, w, body.p_com_v, "6.48")  # (6.48)
-        I = ops.inertia(body)
+        w_dot_c, P_c = ops.link_angular_acceleration(w_dot, omega_dot_p, "6.48"), ops.centre_of_mass(model, i, "6.48")
+        v_c = ops.point_acceleration(v, w_dot_c, w, P_c, "6.48")  # (6.48)
         omega.append(w)
         omega_dot.append(w_dot)
         v_dot.append(v)
         v_dot_c.append(v_c)
-        F.append(body.mass_s * v_c)  # (6.49)
-        N.append(I @ w_dot + ops.gyroscopic(w, I, "6.50"))  # (6.50)
+        F.append(ops.inertial_force(model, X, i, v_c, gravity))  # (6.49)
+        N.append(ops.inertia(body) @ w_dot + ops.gyroscopic(w, ops.inertia(body, "ω × I ω"), "6.50"))  # (6.50)
     return OutwardPass(omega, omega_dot, v_dot, v_dot_c, F, N)
 
 
@@ -392,13 +529,15 @@ def inward_iteration(model: Model, X: JointTransforms, out: OutwardPass, ops: Op
     for i in reversed(range(model.n_bodies)):
         body = model.bodies[i]
         f_i = out.F[i]  # (6.51), children added below
-        n_i = out.N[i] + ops.cross(body.p_com_v, out.F[i], "6.52")  # (6.52), children added below
+        P_c = ops.centre_of_mass(model, i, "6.52")
+        n_i = ops.link_moment(model, i, out, "6.52") + ops.cross(P_c, out.F[i], "6.52")  # (6.52), children below
         for c in model.children[i]:
-            f_i = f_i + ops.into_parent(X, c, "6.51") @ f[c]  # (6.51)
+            f_i = f_i + ops.carried_force(model, i, ops.into_parent(X, c, "6.51"), f[c], "6.51")  # (6.51)
             R = ops.into_parent(X, c, "6.52")
-            n_i = n_i + R @ n[c] + ops.moment_arm(X.P[c], R @ f[c], "6.52")  # (6.52)
+            n_i = n_i + R @ n[c] + ops.moment_arm(X.P[c], R, f[c], "6.52")  # (6.52)
         f[i], n[i] = f_i, n_i
-        tau[i] = dot(f_i, body.axis_v) if body.is_prismatic else dot(n_i, body.axis_v)  # (6.44) / (6.53)
+        n_z = ops.joint_moment(model, i, n, out, "6.53")
+        tau[i] = dot(f_i, body.axis_v) if body.is_prismatic else dot(n_z, body.axis_v)  # (6.44) / (6.53)
     return InwardPass(f, n, model.coordinate_entries(tau), tau)  # τ = Sᵀ τ_bodies (mimic joints)
 
 

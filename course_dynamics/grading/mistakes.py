@@ -10,10 +10,15 @@ made by                        mistakes
 =============================  ==============================================================
 the recursion with one slip    ``rotation-transposed``, ``cross-reversed``, ``centripetal-missing``,
                                ``gyroscopic-missing``, ``inertia-about-origin``,
-                               ``moment-arm-missing``, ``gravity-sign``; each wherever the
+                               ``moment-arm-missing``, ``gravity-sign``, ``gravity-frame``,
+                               ``com-wrong-link``, ``tau-wrong-moment``, and the lecture notes'
+                               misprints copied into code, ``notes-6.48``, ``notes-6.50``,
+                               ``notes-6.51``, ``notes-6.52``; each wherever the
                                expression appears, in one iteration, or in one equation alone
                                (a :class:`~course_dynamics.grading.slips.Slip` of
                                :func:`~course_dynamics.grading.slips.slips`)
+the (6.63) form                ``notes-6.65``: V = B[Θ̇Θ̇] + C[Θ̇²] with the notes' misprinted
+                               [Θ̇²] = [θ̇₁² θ̇₁² …] (robots of 2 to :data:`CLOSED_FORM_JOINTS` joints)
 closed form, one substitution  ``sin-cos-swapped`` (every sin read as cos and back),
                                ``c1-c12-swapped`` (cos θᵢ exchanged with the cosine of a sum such as
                                cos(θ₁ + θ₂)): for robots of up to :data:`CLOSED_FORM_JOINTS` joints,
@@ -27,7 +32,7 @@ halved, seen in V's (6.63) coefficients), ``joints-swapped`` and, for G,
 ``gravity-sign`` as the opposite sign.
 
 >>> sorted(MISTAKES)[:3]
-['c1-c12-swapped', 'centripetal-missing', 'coriolis-half']
+['c1-c12-swapped', 'centripetal-missing', 'com-wrong-link']
 """
 from __future__ import annotations
 
@@ -37,6 +42,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..core.joints import kind_of
+from ..core.lagrange import configuration_space_terms, velocity_pairs
 from ..core.model import Model
 from ..core.newton_euler import EXACT, Operations, newton_euler_links
 from ..core.sampling import relative_error
@@ -93,7 +99,46 @@ MISTAKES = {
         "term ⁱPᵢ₊₁ × ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁ of (6.52)"),
     "gravity-sign": Mistake(
         "gravity with the wrong sign",
-        "In Craig's recursion the base accelerates upward, ⁰v̇₀ = −g, so that G(Θ) holds the arm up against gravity"),
+        "In Craig's recursion the base accelerates upward, ⁰v̇₀ = −g, so that G(Θ) holds the arm up against gravity "
+        "(the notes' pendulum equation m l² ω̇ − m g l sin θ = 0 has this sign slip: it is m l² θ̈ + m g l sin θ)"),
+    "gravity-frame": Mistake(
+        "gravity added link by link in the wrong frame",
+        "⁰g is a vector of the base frame: in frame i it is ⁱ₀R ⁰g with ⁱ₀R = ⁰ᵢRᵀ, the transpose of frame i's "
+        "orientation ⁰ᵢR. Craig avoids the rotation altogether: gravity enters once, as the base's upward "
+        "acceleration ⁰v̇₀ = −g, and (6.47) carries it into every frame"),
+    "com-wrong-link": Mistake(
+        "another link's centre of mass",
+        "Each link's (6.48) and (6.52) use its own centre of mass ⁱP_Cᵢ, in its own frame i: check the index of "
+        "Pc, since Python's Pc[i - 1] is link i−1's (and Pc[-1], for link 1, the last link's)"),
+    "tau-wrong-moment": Mistake(
+        "τ read from the wrong moment",
+        "τᵢ = ⁱnᵢᵀ ⁱẐᵢ (6.53): the moment ⁱnᵢ that link i−1 exerts on link i, which (6.52) gives after adding the "
+        "children's moments, not the inertial moment ⁱNᵢ of (6.50) (the notes' words at (6.43) say so, the "
+        "equation does not), and not the child's ⁱ⁺¹nᵢ₊₁"),
+    "notes-6.48": Mistake(
+        "(6.48) as the lecture notes misprint it",
+        "The notes print (6.48) with ω̇ᵢ and ⁱ⁺¹Pᵢ₊₁; the centre of mass of link i+1 accelerates with link i+1's own "
+        "angular acceleration about its own centre of mass: ⁱ⁺¹v̇_Cᵢ₊₁ = ⁱ⁺¹ω̇ᵢ₊₁ × ⁱ⁺¹P_Cᵢ₊₁ + ⁱ⁺¹ωᵢ₊₁ × "
+        "(ⁱ⁺¹ωᵢ₊₁ × ⁱ⁺¹P_Cᵢ₊₁) + ⁱ⁺¹v̇ᵢ₊₁ (reference/errata.md). The worked example's ¹F₁ = m₁ ¹v̇₁ and its "
+        "²v̇_C₂ with ¹ω̇₁ are the same misprint"),
+    "notes-6.50": Mistake(
+        "(6.50) as the lecture notes misprint it",
+        "The notes print the gyroscopic term of (6.50) with ⁱ⁺¹Iᵢ₊₁, the tensor about the frame origin; both terms "
+        "use ᶜⁱIᵢ about the centre of mass: ⁱNᵢ = ᶜⁱIᵢ ⁱω̇ᵢ + ⁱωᵢ × ᶜⁱIᵢ ⁱωᵢ (reference/errata.md; the worked "
+        "example's ¹N₁ has the same slip)"),
+    "notes-6.51": Mistake(
+        "(6.51) as the lecture notes misprint it",
+        "The notes print (6.51) with a stray inertia tensor before the rotation; a force is only rotated: "
+        "ⁱfᵢ = ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁ + ⁱFᵢ, as (6.41) (reference/errata.md)"),
+    "notes-6.52": Mistake(
+        "(6.52) as the lecture notes misprint it",
+        "The notes print (6.52) with the child's Nᵢ₊₁, ⁱPᵢ × ⁱFᵢ and the identity ⁱ⁺¹R^{i+1}; it is link i's own "
+        "ⁱNᵢ, the lever ⁱP_Cᵢ of its centre of mass and the rotation ⁱᵢ₊₁R: ⁱnᵢ = ⁱNᵢ + ⁱᵢ₊₁R ⁱ⁺¹nᵢ₊₁ + "
+        "ⁱP_Cᵢ × ⁱFᵢ + ⁱPᵢ₊₁ × ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁, as (6.42) (reference/errata.md)"),
+    "notes-6.65": Mistake(
+        "(6.65) as the lecture notes misprint it",
+        "The notes print [Θ̇²] = [θ̇₁² θ̇₁² … θ̇ₙ²]; it is the vector of every joint's squared rate, [θ̇₁² θ̇₂² … "
+        "θ̇ₙ²]ᵀ, so that C(Θ)[Θ̇²] in (6.63) multiplies column j of C by θ̇ⱼ² (reference/errata.md)"),
     "coriolis-half": Mistake(
         "half the Coriolis coefficient",
         "The sum Σⱼₖ Γᵢⱼₖ θ̇ⱼθ̇ₖ holds each product θ̇ⱼθ̇ₖ (j ≠ k) twice, so Craig's B is 2Γᵢⱼₖ (6.63), as in the "
@@ -226,16 +271,32 @@ def mistaken_terms(model: Model, q, qd, qdd) -> dict[str, dict[tuple[str, str], 
         for key, terms in _terms_by_closed_form(model, q, qd, qdd).items():
             for term, value in terms.items():
                 made[term][key] = value
+    if 1 < model.n <= CLOSED_FORM_JOINTS:
+        right = _terms_by_recursion(model, q, qd, qdd, EXACT)
+        V = _printed_6_65(model, q, qd)
+        made["V"]["notes-6.65", "(every centrifugal coefficient times θ̇₁²)"] = V
+        made["tau"]["notes-6.65", "(every centrifugal coefficient times θ̇₁²)"] = right["tau"] - right["V"] + V
     return made
+
+
+def _printed_6_65(model: Model, q, qd) -> np.ndarray:
+    """V = B(Θ)[Θ̇Θ̇] + C(Θ)[Θ̇²] (6.63) with [Θ̇²] = [θ̇₁² θ̇₁² … θ̇ₙ²] as the notes print (6.65): the second
+    entry θ̇₁² where θ̇₂² belongs, every other entry right (the notes' row ends in θ̇ₙ²)."""
+    B, C = configuration_space_terms(model, q)
+    products = np.stack([qd[..., j] * qd[..., k] for j, k in velocity_pairs(model.n)], axis=-1)
+    squares = qd**2
+    squares[..., 1] = qd[..., 0] ** 2
+    return np.einsum("...ij,...j->...i", B, products) + np.einsum("...ij,...j->...i", C, squares)
 
 
 # ---------------------------------------------------------------------------------------- the checks that name them
 def matching_mistakes(answer: Answer) -> dict[str, list[str]]:
-    """The mistakes whose answers agree with the student's: code → the variants that do, the commonest code first."""
+    """The mistakes whose answers agree with the student's: code → the variants that do, the commonest code first.
+    A mistake whose answer is zero everywhere (G with τ read from ⁱNᵢ) names nothing: zeros are said as zeros."""
     made = answer.reference.mistakes.get(answer.term, {}) if answer.reference is not None else {}
     found: dict[str, list[str]] = {}
     for (code, variant), values in made.items():
-        if answer.agrees_with(values):
+        if np.any(values) and answer.agrees_with(values):
             found.setdefault(code, []).append(variant)
     return {code: found[code] for code in sorted(found, key=lambda code: code != "gravity-sign")}
 
@@ -248,35 +309,61 @@ def described(found: dict[str, list[str]]) -> str:
             + "; or, equally, with this one: ".join(said))
 
 
+def explained(found: dict[str, list[str]]) -> str:
+    """The mistakes found (:func:`matching_mistakes`), in words, then each one's advice.
+
+    Parameters
+    ----------
+    found : dict of str to list of str
+        Each mistake's code and the variants of it that agree with the answer.
+
+    Returns
+    -------
+    str
+        "[code] matches the right answer computed with this slip: … . Advice."
+    """
+    return described(found) + ". " + " ".join(_sentence(MISTAKES[c].advice) for c in found)
+
+
 def named_mistake(answer: Answer) -> Finding | None:
     """Agrees with our answers made with a mistake (:data:`MISTAKES`); where several give the same answer (G alone
     cannot tell gravity's sign from reversed moments), all are named, the commonest first."""
     found = matching_mistakes(answer)
-    return None if not found else Finding(described(found) + ". " + " ".join(_sentence(MISTAKES[c].advice)
-                                                                             for c in found), tuple(found), True)
+    return None if not found else Finding(explained(found), tuple(found), True)
 
 
 def _sentence(text: str) -> str:
     return text + ("" if text.endswith(".") else ".")
 
 
+#: How close a wrong answer must be to one of our mistaken answers to be called "closest to" it: the median over the
+#: states of the largest entry's difference, relative to that mistaken answer's own size, at most CLOSE (5 %), and
+#: ten times nearer it than the right answer.
+CLOSE = 0.05
+OWN_SIZE_FLOOR = 1e-3  # a mistaken answer near zero is measured against a thousandth of the term's scale, not against 0
+
+
 def closest_mistake(answer: Answer) -> Finding | None:
-    """Much nearer one of our mistaken answers than the right one, without agreeing: that mistake and another?"""
+    """Within :data:`CLOSE` of one of our mistaken answers (relative to its own size) and ten times nearer it than
+    the right one, without agreeing: that mistake and another? When none is that close, a plain sentence says so
+    (no mistake is named for being merely the least far)."""
     made = answer.reference.mistakes.get(answer.term, {}) if answer.reference is not None else {}
     if not made or not answer.usable:
         return None
 
-    def distance(candidates):
-        return float(np.median([relative_error(answer.values[k], candidates[k], answer.scales[k])
+    def distance(candidates, own_size: bool):
+        return float(np.median([relative_error(answer.values[k], candidates[k],
+                                               OWN_SIZE_FLOOR * answer.scales[k] if own_size else answer.scales[k])
                                 for k in answer.usable]))
 
-    right = distance(answer.expected)
-    (code, variant), nearest = min(((key, distance(values)) for key, values in made.items()), key=lambda x: x[1])
-    if nearest > min(0.1, right / 10):
-        return None
+    right = distance(answer.expected, False)
+    (code, variant), nearest = min(((key, distance(values, True)) for key, values in made.items()), key=lambda x: x[1])
+    if nearest > min(CLOSE, right / 10):
+        return Finding(f"no mistake the grader names is within {CLOSE:.0%} of it: more than one thing is wrong, or "
+                       "something else; the entries and the worst state below show where", ())
     return Finding(f"closest to [{code}] {MISTAKES[code].words}{' ' + variant if variant else ''} (relative error "
-                   f"{nearest:.1g} from that, {right:.1g} from the right answer): that mistake and another?",
-                   (f"closest to {code}",))
+                   f"{nearest:.1g} from that, {right:.1g} from the right answer, within {CLOSE:.0%}): that mistake "
+                   "and another?", (f"closest to {code}",))
 
 
-__all__ = ["CLOSED_FORM_JOINTS", "MISTAKES", "Mistake", "mistaken_terms"]
+__all__ = ["CLOSE", "CLOSED_FORM_JOINTS", "MISTAKES", "Mistake", "mistaken_terms"]

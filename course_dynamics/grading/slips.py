@@ -18,7 +18,31 @@ code                      the mistake                    equations it can be mad
                           not ᶜⁱIᵢ about the COM
 ``moment-arm-missing``    ⁱPᵢ₊₁ × ⁱfᵢ₊₁ left out          (6.52)
 ``gravity-sign``          ⁰v̇₀ = +g, not −g               ⁰v̇₀
+``gravity-frame``         gravity added link by link     (6.49), ⁰v̇₀ = 0
+                          with ⁰g not rotated into
+                          frame i, or rotated by ⁰ᵢR
+``com-wrong-link``        link i−1's ⁱ⁻¹P_Cᵢ₋₁ for        (6.48) (6.52)
+                          ⁱP_Cᵢ (``Pc[i - 1]``)
+``tau-wrong-moment``      τᵢ = ⁱNᵢᵀ Ẑᵢ, the inertial       (6.53)
+                          moment (the notes' words at
+                          (6.43)), or the child's nᵢ₊₁
+``notes-6.48``            (6.48) as printed: the           (6.48)
+                          parent's ω̇ᵢ, or ⁱ⁺¹Pᵢ₊₁ = 0
+``notes-6.50``            (6.50) as printed: ⁱIᵢ about     (6.50)
+                          the origin in ω × I ω only
+``notes-6.51``            (6.51) as printed: ⁱIᵢ ⁱᵢ₊₁R     (6.51)
+                          ⁱ⁺¹fᵢ₊₁ + ⁱFᵢ
+``notes-6.52``            (6.52) as printed: ⁱNᵢ₊₁, no    (6.52)
+                          ⁱP_Cᵢ × ⁱFᵢ, ⁱ⁺¹fᵢ₊₁ unrotated
 ========================  =============================  ================================
+
+A slip with ``variant`` (``gravity-frame``, ``tau-wrong-moment``, ``notes-6.48``) is
+made in one of the ways :data:`SLIP_VARIANTS` lists. The ``notes-…`` slips are
+the lecture notes' misprints (``reference/errata.md``) copied into code: the
+notes' (6.45)–(6.47) print the rotation the wrong way round, which is
+``rotation-transposed`` in those equations; the worked example's ¹F₁ = m₁ ¹v̇₁
+and ¹N₁ are ``notes-6.48`` (ⁱ⁺¹Pᵢ₊₁ = 0) and ``notes-6.50``; its ²v̇_C₂ with
+¹ω̇₁ is ``notes-6.48`` with the parent's ω̇.
 """
 from __future__ import annotations
 
@@ -27,6 +51,8 @@ from dataclasses import dataclass
 from ..core.algebra import Mat3, Vec3, cross
 from ..core.inertia import parallel_axis
 from ..core.newton_euler import Operations
+
+ZERO = Vec3(0, 0, 0)
 
 #: Each slip's code and the equations of chapter 6 it can be made in (``"base"`` for ⁰v̇₀), as the table above.
 SLIP_EQUATIONS = {
@@ -37,6 +63,21 @@ SLIP_EQUATIONS = {
     "inertia-about-origin": ("6.50",),
     "moment-arm-missing": ("6.52",),
     "gravity-sign": ("base",),
+    "gravity-frame": ("6.49",),
+    "com-wrong-link": ("6.48", "6.52"),
+    "tau-wrong-moment": ("6.53",),
+    "notes-6.48": ("6.48",),
+    "notes-6.50": ("6.50",),
+    "notes-6.51": ("6.51",),
+    "notes-6.52": ("6.52",),
+}
+#: The ways a slip with variants is made: code → variant → its words.
+SLIP_VARIANTS = {
+    "gravity-frame": {"unrotated": "⁰g used in frame i as it is, not rotated into it by ⁱ₀R = ⁰ᵢRᵀ",
+                      "rotated": "⁰g rotated by ⁰ᵢR, not by its transpose ⁱ₀R"},
+    "tau-wrong-moment": {"N": "τᵢ read from ⁱNᵢ, the inertial moment, not from ⁱnᵢ",
+                   "child": "τᵢ read from the child's ⁱ⁺¹nᵢ₊₁, not from ⁱnᵢ"},
+    "notes-6.48": {"parent": "with the parent's ⁱω̇ᵢ for ⁱ⁺¹ω̇ᵢ₊₁", "origin": "with ⁱ⁺¹Pᵢ₊₁ = 0 for ⁱ⁺¹P_Cᵢ₊₁"},
 }
 OUTWARD, INWARD = ("6.45", "6.46", "6.47", "6.48", "6.49", "6.50"), ("6.51", "6.52", "6.53")
 
@@ -58,19 +99,25 @@ class Slip(Operations):
         The mistake, a key of :data:`SLIP_EQUATIONS`.
     equations : tuple of str
         The equations it is made in, among those :data:`SLIP_EQUATIONS` gives the code.
+    variant : str, optional
+        How it is made, a key of :data:`SLIP_VARIANTS` for the code (for the codes that have variants).
 
     Raises
     ------
     ValueError
-        If ``code`` is no slip, or ``equations`` are not all equations it can be made in.
+        If ``code`` is no slip, ``equations`` are not all equations it can be made in, or ``variant`` is not one
+        of the code's.
     """
 
     code: str
     equations: tuple[str, ...]
+    variant: str = ""
 
     def __post_init__(self):
         if self.code not in SLIP_EQUATIONS or not set(self.equations) <= set(SLIP_EQUATIONS[self.code]):
             raise ValueError(f"no slip '{self.code}' in {self.equations} (slips: {SLIP_EQUATIONS})")
+        if self.variant not in SLIP_VARIANTS.get(self.code, {"": ""}):
+            raise ValueError(f"slip '{self.code}' has no variant '{self.variant}' (variants: {SLIP_VARIANTS})")
 
     def made(self, code: str, equation: str) -> bool:
         """Whether this slip makes mistake ``code`` in ``equation``.
@@ -93,11 +140,12 @@ class Slip(Operations):
     def where(self) -> str:
         """The equations in words, such as "(6.47) and (6.48)" or "every equation where it appears, …"."""
         every = SLIP_EQUATIONS[self.code]
+        how = f" ({SLIP_VARIANTS[self.code][self.variant]})" if self.variant else ""
         if self.equations == ("base",):
             return "the base acceleration ⁰v̇₀"
         if len(every) > 1 and set(self.equations) == set(every):
-            return "every equation where it appears, " + _listed(self.equations)
-        return _listed(self.equations)
+            return "every equation where it appears, " + _listed(self.equations) + how
+        return _listed(self.equations) + how
 
     # The operations, each with this slip's mistake where it is made.
 
@@ -202,19 +250,22 @@ class Slip(Operations):
             The term, N·m.
         """
         if self.made("gyroscopic-missing", equation):
-            return Vec3(0, 0, 0)
+            return ZERO
         return super().gyroscopic(omega, I, equation)
 
-    def moment_arm(self, P, f, equation):
-        """ⁱPᵢ₊₁ × ⁱfᵢ₊₁, the moment of a child's force about frame i's origin in (6.52); zero with
-        ``moment-arm-missing``.
+    def moment_arm(self, P, R, f, equation):
+        """ⁱPᵢ₊₁ × ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁, the moment of a child's force about frame i's origin in (6.52); zero with
+        ``moment-arm-missing``; with ``notes-6.52`` the force left in the child's frame (ⁱ⁺¹R^{i+1} read as the
+        identity).
 
         Parameters
         ----------
         P : Vec3
             The child's origin ⁱPᵢ₊₁, m.
+        R : Mat3
+            ⁱᵢ₊₁R.
         f : Vec3
-            The child's force ⁱfᵢ₊₁, N.
+            The child's force ⁱ⁺¹fᵢ₊₁ in its own frame, N.
         equation : str
             The equation the moment is used in.
 
@@ -224,25 +275,30 @@ class Slip(Operations):
             The moment, N·m.
         """
         if self.made("moment-arm-missing", equation):
-            return Vec3(0, 0, 0)
-        return super().moment_arm(P, f, equation)
+            return ZERO
+        if self.made("notes-6.52", equation):
+            return cross(P, f)
+        return super().moment_arm(P, R, f, equation)
 
-    def inertia(self, body):
-        """ᶜI, the inertia tensor about the centre of mass; with ``inertia-about-origin``, ⁱI about the frame origin.
+    def inertia(self, body, term="I ω̇"):
+        """ᶜI, the inertia tensor about the centre of mass; with ``inertia-about-origin``, ⁱI about the frame origin;
+        with ``notes-6.50`` that one in the term ω × I ω only.
 
         Parameters
         ----------
         body : Body
             The link.
+        term : str, optional
+            The term of (6.50) that asks for it: ``"I ω̇"`` or ``"ω × I ω"``.
 
         Returns
         -------
         Mat3
             The inertia tensor in the body's frame, kg·m².
         """
-        if self.made("inertia-about-origin", "6.50"):
+        if self.made("inertia-about-origin", "6.50") or (self.made("notes-6.50", "6.50") and term == "ω × I ω"):
             return Mat3.of(parallel_axis(body.I_com, body.mass, body.p_com))
-        return super().inertia(body)
+        return super().inertia(body, term)
 
     def base_acceleration(self, gravity):
         """⁰v̇₀ = −g; with ``gravity-sign``, +g.
@@ -257,7 +313,165 @@ class Slip(Operations):
         Vec3
             The base's acceleration ⁰v̇₀, m/s².
         """
+        if self.code == "gravity-frame":
+            return ZERO  # gravity is added link by link instead (:meth:`inertial_force`)
         return gravity if self.made("gravity-sign", "base") else super().base_acceleration(gravity)
+
+    def link_angular_acceleration(self, own, parent, equation):
+        """ⁱ⁺¹ω̇ᵢ₊₁ in (6.48); with ``notes-6.48`` (variant ``parent``), the parent's ⁱω̇ᵢ as the notes print it.
+
+        Parameters
+        ----------
+        own : Vec3
+            ⁱ⁺¹ω̇ᵢ₊₁, rad/s².
+        parent : Vec3
+            ⁱω̇ᵢ, in the parent's frame, rad/s².
+        equation : str
+            The equation it is used in.
+
+        Returns
+        -------
+        Vec3
+            The angular acceleration used, rad/s².
+        """
+        return parent if self.made("notes-6.48", equation) and self.variant == "parent" else own
+
+    def centre_of_mass(self, model, i, equation):
+        """ⁱP_Cᵢ; with ``com-wrong-link`` link i−1's (``Pc[i - 1]``: link 1 takes the last link's); with
+        ``notes-6.48`` (variant ``origin``) in (6.48), and ``notes-6.52`` in (6.52), the frame origin ⁱPᵢ = 0 the
+        notes print.
+
+        Parameters
+        ----------
+        model : Model
+            The robot.
+        i : int
+            The body.
+        equation : str
+            The equation it is used in.
+
+        Returns
+        -------
+        Vec3
+            The centre of mass used, m.
+        """
+        if self.made("com-wrong-link", equation):
+            return model.bodies[i - 1].p_com_v
+        if (self.made("notes-6.48", equation) and self.variant == "origin") or self.made("notes-6.52", equation):
+            return ZERO
+        return super().centre_of_mass(model, i, equation)
+
+    def inertial_force(self, model, X, i, v_dot_c, gravity):
+        """ⁱFᵢ = mᵢ ⁱv̇_Cᵢ; with ``gravity-frame``, mᵢ (ⁱv̇_Cᵢ − g) with the base not lifted and g in the wrong frame.
+
+        Parameters
+        ----------
+        model : Model
+            The robot.
+        X : JointTransforms
+            The joint transforms at Θ.
+        i : int
+            The body.
+        v_dot_c : Vec3
+            ⁱv̇_Cᵢ, m/s².
+        gravity : Vec3
+            ⁰g, m/s².
+
+        Returns
+        -------
+        Vec3
+            ⁱFᵢ, N.
+        """
+        if not self.made("gravity-frame", "6.49"):
+            return super().inertial_force(model, X, i, v_dot_c, gravity)
+        g = gravity
+        if self.variant == "rotated":
+            R0, k = X.R[i], model.bodies[i].parent
+            while k >= 0:  # ⁰ᵢR = ⁰₁R ¹₂R … ⁱ⁻¹ᵢR
+                R0, k = X.R[k] @ R0, model.bodies[k].parent
+            g = R0 @ gravity
+        return model.bodies[i].mass_s * (v_dot_c - g)
+
+    def link_moment(self, model, i, out, equation):
+        """ⁱNᵢ in (6.52); with ``notes-6.52``, the children's ⁱ⁺¹Nᵢ₊₁ as printed (in their own frames; none at the tip).
+
+        Parameters
+        ----------
+        model : Model
+            The robot.
+        i : int
+            The body.
+        out : OutwardPass
+            The outward iteration's result.
+        equation : str
+            The equation it is used in.
+
+        Returns
+        -------
+        Vec3
+            The moment used, N·m.
+        """
+        if self.made("notes-6.52", equation):
+            total = ZERO
+            for c in model.children[i]:
+                total = total + out.N[c]
+            return total
+        return super().link_moment(model, i, out, equation)
+
+    def carried_force(self, model, i, R, f, equation):
+        """ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁ in (6.51); with ``notes-6.51``, times the inertia tensor ᶜⁱIᵢ the notes print before it.
+
+        Parameters
+        ----------
+        model : Model
+            The robot.
+        i : int
+            The parent body.
+        R : Mat3
+            ⁱᵢ₊₁R.
+        f : Vec3
+            ⁱ⁺¹fᵢ₊₁, N.
+        equation : str
+            The equation it is used in.
+
+        Returns
+        -------
+        Vec3
+            The force added, as the slip has it.
+        """
+        if self.made("notes-6.51", equation):
+            return model.bodies[i].I_com_m @ (R @ f)
+        return super().carried_force(model, i, R, f, equation)
+
+    def joint_moment(self, model, i, n, out, equation):
+        """ⁱnᵢ, read for τᵢ (6.53); with ``tau-wrong-moment``, ⁱNᵢ (variant ``N``) or the child's ⁱ⁺¹nᵢ₊₁ (``child``).
+
+        Parameters
+        ----------
+        model : Model
+            The robot.
+        i : int
+            The body.
+        n : list of Vec3
+            ⁱnᵢ of the bodies done so far, N·m.
+        out : OutwardPass
+            The outward iteration's result.
+        equation : str
+            The equation it is used in.
+
+        Returns
+        -------
+        Vec3
+            The moment read, N·m.
+        """
+        if not self.made("tau-wrong-moment", equation):
+            return super().joint_moment(model, i, n, out, equation)
+        if self.variant == "N":
+            return out.N[i]
+        total = ZERO
+        for c in model.children[i]:
+            total = total + n[c]  # as stored, in the child's frame: n[i + 1] @ z
+        return total
 
 
 def _listed(equations) -> str:
@@ -281,9 +495,10 @@ def slips() -> tuple[Slip, ...]:
     for code, every in SLIP_EQUATIONS.items():
         groups = [every] + [tuple(e for e in every if e in part) for part in (OUTWARD, INWARD)] + [(e,) for e in every]
         for group in groups:
-            if group and Slip(code, group) not in made:
-                made.append(Slip(code, group))
+            for variant in SLIP_VARIANTS.get(code, {"": ""}):
+                if group and Slip(code, group, variant) not in made:
+                    made.append(Slip(code, group, variant))
     return tuple(made)
 
 
-__all__ = ["SLIP_EQUATIONS", "Slip", "slips"]
+__all__ = ["SLIP_EQUATIONS", "SLIP_VARIANTS", "Slip", "slips"]
