@@ -10,6 +10,7 @@ by key, as in grading; each check is then called on the record directly, and
 from __future__ import annotations
 
 import dataclasses
+import re
 from pathlib import Path
 
 import numpy as np
@@ -173,7 +174,7 @@ def test_zeros_are_not_written_yet_rather_than_a_mistake(setting):
 
 def test_masses_counted_twice_are_a_constant_factor(setting):
     M = answer_of(setting, "M", M=lambda q: mass_matrix(HEAVY, q))
-    assert "constant factor 2:" in found(diagnosis.constant_factor, M).text
+    assert "constant factor of about 2.0:" in found(diagnosis.constant_factor, M).text
     assert score(M).tags == ("constant factor",)
 
 
@@ -283,3 +284,92 @@ def test_returned_terms_read_a_direct_function_by_its_state_key(setting):
     returned = returned_terms(answers, plan, "G")
     assert returned.source == "direct" and all(v.tolist() == [1.0, 1.0] for v in returned.values)
     assert returned_terms(answers, plan, "M").source == "missing"
+
+
+# ---------------------------------------------------------------------------------------- messages that do not mislead
+GRAVITY_FORGOTTEN = ("w, wd, vd = np.zeros(3), np.zeros(3), np.array([0.0, g, 0.0])",
+                     "w, wd, vd = np.zeros(3), np.zeros(3), np.zeros(3)")
+MISBRACKETED = ("np.cross(w, np.cross(w, P[i]))", "np.cross(np.cross(w, w), P[i])")  # ω × ω = 0: no centripetal term
+
+
+def test_a_term_derived_from_the_student_s_tau_is_never_not_written_yet(tmp_path):
+    """Only τ is written; M, V and G are derived from it. Gravity forgotten, τ read from ⁱNᵢ (zero on point
+    masses) and a misbracketed ω × (ω × P) give derived terms that are zero: the feedback says where they come from
+    and what τ leaves out, or names the mistake, and never asks whether they are written."""
+    from submissions import NEWTON_EULER
+
+    sources = {"gravity": NEWTON_EULER.replace(*GRAVITY_FORGOTTEN),
+               "from_N": NEWTON_EULER.replace("out[i] = n @ z", "out[i] = np.zeros(3) @ z  # ⁱNᵢ = 0 here"),
+               "bracket": NEWTON_EULER.replace(*MISBRACKETED).replace("np.cross(w, np.cross(w, Pc[i]))",
+                                                                       "np.cross(np.cross(w, w), Pc[i])")}
+    for name, source in sources.items():
+        assert source != NEWTON_EULER
+        (tmp_path / f"{name}.py").write_text(source)
+    assignment = Assignment(tmp_path / "a.toml", "two_link", MODEL, {t: 1.0 for t in ("tau", "M", "V", "G")},
+                            samples=8, seed=11)
+    grades = {g.student: {d.term: d for d in g.diagnoses}
+              for g in grade_class(assignment, [tmp_path / f"{n}.py" for n in sources])}
+    for name, terms in grades.items():
+        for term in ("M", "V", "G"):
+            assert not any("not written yet" in f for f in terms[term].findings), (name, term, terms[term].findings)
+    assert grades["from_N"]["tau"].findings == ("returns zeros everywhere: not written yet?",)  # τ itself: its own
+    assert grades["from_N"]["M"].tags == ("zero part",)
+    assert "your τ leaves out the gravity torques" in grades["gravity"]["G"].findings[0]
+    assert grades["bracket"]["tau"].tags == ("centripetal-missing",)  # named on τ; V derived from it is zero
+    assert grades["bracket"]["V"].tags == ("zero part",) and "τ's own feedback" in grades["bracket"]["V"].findings[0]
+
+
+def test_a_zero_term_derived_from_tau_says_what_tau_leaves_out():
+    """The spatial arm's τ without gravity: G derived from it is zero, which no named mistake gives there."""
+    spatial = load_robot("spatial_arm")
+    assignment = Assignment(Path("zero.toml"), "spatial_arm", spatial, {"G": 1.0}, samples=6, seed=2)
+    plan = make_plan(assignment)
+    weightless = spatial.with_gravity(np.zeros(3))
+    outcome = evaluate({"tau": lambda q, qd, qdd: inverse_dynamics(weightless, q, qd, qdd)}, plan.harness_functions())
+    [G] = score_outcome(outcome, assignment, plan, expected_terms(assignment, plan))
+    assert G.tags == ("zero part",) and G.findings[0].startswith(
+        "G, derived from your τ (derived from tau), is zero on every state: your τ leaves out the gravity torques")
+
+
+def test_closest_to_a_mistake_only_within_its_stated_closeness(setting):
+    """A V far too small is near every small mistaken V (degrees make V tiny) in absolute terms: no "closest to",
+    since closeness is measured against the mistaken answer's own size (mistakes.CLOSE)."""
+    from course_dynamics.grading.mistakes import CLOSE, closest_mistake
+
+    V = answer_of(setting, "V", V=lambda q, qd: 0.01 * (1.2 + np.cos(q[0])) * velocity_torques(MODEL, q, qd))
+    finding = closest_mistake(V)
+    assert CLOSE == 0.05 and not finding.text.startswith("closest to")
+    assert finding.text.startswith("no mistake the grader names is within 5% of it") and finding.tags == ()
+    assert not any("closest to" in f for f in score(V).findings)
+    near = answer_of(setting, "tau", tau=lambda q, qd, qdd: 1.001 * inverse_dynamics(FLIPPED, q, qd, qdd)
+                     + 1e-4 * np.sin(q))  # [gravity-sign] and a little more
+    assert closest_mistake(near).text.startswith("closest to [gravity-sign]")
+
+
+@pytest.mark.parametrize("factor", [0.998981, 0.656, 1.0537])
+def test_a_factor_is_never_shown_to_more_than_two_significant_digits(setting, factor):
+    """Dividing by the factor printed must not make the answer pass: in the grader, the notebook and a formula."""
+    M = answer_of(setting, "M", M=lambda q: factor * mass_matrix(MODEL, q))
+    [finding] = score(M).findings
+    shown = re.search(r"about (\d+(?:\.\d+)?)( %)?", finding).group(1)
+    assert len(re.sub(r"^0\.0*|\.", "", shown).rstrip("0") or "0") <= 2, finding
+    printed = float(shown)
+    k = 1 + printed / 100 * (1 if factor > 1 else -1) if "%" in finding else printed
+    fixed = answer_of(setting, "M", M=lambda q: factor * mass_matrix(MODEL, q) / k)
+    assert not fixed.correct  # the printed number is too rough to divide by
+    from submissions import CLOSED_FORMS
+    namespace = {}
+    exec(compile(CLOSED_FORMS, "student.py", "exec"), namespace)
+    from course_dynamics.teaching.exercises import my_robot
+    from course_dynamics.core.dynamics import mass_matrix as ours
+    arm = my_robot("two_link").model
+    verdict = check("M_two_link", lambda q: factor * ours(arm, q))
+    assert str(factor) not in verdict.text() and f"{factor:.3g}" not in verdict.text()
+
+
+def test_a_formula_s_factor_is_shown_to_two_digits_too():
+    from course_dynamics.teaching.exercises import symbols
+
+    m, l, theta_dot = symbols("m", "l", "theta_dot")
+    verdict = check("k_pendulum", 0.998981 * m * l**2 * theta_dot**2 / 2)
+    assert "times 1.0" in verdict.text() and "0.998981" not in verdict.text() and "0.999" not in verdict.text()

@@ -16,11 +16,16 @@ check                              the answer …
 not_defined †                      does not exist: no function, no τ to derive it from
 raised_an_error, wrong_shape       is an exception, has the wrong shape,
 not_finite                         holds NaN or inf (on some states)
-returns_zeros †, opposite_sign †   returns zeros; agrees with −ours everywhere (and the mistakes that do too)
+returns_zeros †, opposite_sign †   (its own function) returns zeros; agrees with −ours everywhere (and the
+                                   mistakes that do too)
 named_mistake †                    agrees with ours made with a mistake of ``mistakes``
+derived_zeros †                    (derived from τ) is zero: τ leaves that part out
+other_parameters †                 is the right dynamics of another robot: the textbook's, another variant's, or
+                                   the handout's with other inertial parameters (``numbers``)
 constant_factor †                  ≈ k · ours for one k ≠ 1
 transposed †, joints_swapped       agrees with ours transposed, or joints permuted;
-closest_mistake                    much nearer one mistaken answer than the right one
+closest_mistake                    within 5 % of one mistaken answer and ten times nearer it than the right one
+                                   (``mistakes.CLOSE``); else says no known mistake is that close
 tau_parts, InPart(…)               (τ) which of its parts G, M, V are right; a check on one
 wrong_entries                      which entries disagree
 not_symmetric                      (M) differs from its transpose
@@ -47,7 +52,8 @@ from itertools import permutations
 import numpy as np
 
 from ..core.sampling import relative_error, term_scales
-from .mistakes import MISTAKES, closest_mistake, described, matching_mistakes, named_mistake
+from .mistakes import MISTAKES, closest_mistake, matching_mistakes, named_mistake
+from .numbers import other_parameters
 from .records import TERM_NAMES, Answer, Diagnosis, Finding
 
 SIGNATURES = {"tau": "tau(q, qd, qdd)", "M": "M(q)", "V": "V(q, qd)", "G": "G(q)", "C": "C(q, qd)"}
@@ -121,10 +127,32 @@ def opposite_sign(answer: Answer) -> Finding | None:
                    ("opposite sign", *found), conclusive=True)
 
 
+def _all_zero(answer: Answer) -> bool:
+    return bool(answer.usable) and not any(np.any(answer.values[k] != 0) for k in answer.usable)
+
+
 def returns_zeros(answer: Answer) -> Finding | None:
-    if not answer.usable or any(np.any(answer.values[k] != 0) for k in answer.usable):
+    """The student's own function returned zeros on every state: not written yet? A term derived from their τ is
+    never said to be (:func:`derived_zeros`)."""
+    if answer.source != "direct" or not _all_zero(answer):
         return None
     return Finding("returns zeros everywhere: not written yet?", ("zeros",), conclusive=True)
+
+
+DERIVED_PARTS = {"G": "the gravity torques: is gravity in the base acceleration ⁰v̇₀ = −g (or in each Fᵢ)?",
+                 "M": "the inertia terms: does Θ̈ reach (6.46) and (6.47)?",
+                 "V": "the velocity terms: do Θ̇ and ω reach (6.45)–(6.48) and (6.50)?",
+                 "C": "the velocity terms: do Θ̇ and ω reach (6.45)–(6.48) and (6.50)?"}
+
+
+def derived_zeros(answer: Answer) -> Finding | None:
+    """A term derived from the student's τ is zero on every state, and no named mistake explains it: their τ leaves
+    that part out."""
+    if answer.source == "direct" or answer.term not in DERIVED_PARTS or not _all_zero(answer):
+        return None
+    return Finding(f"{answer.label or answer.name}, derived from your τ ({answer.source}), is zero on every state: "
+                   f"your τ leaves out {DERIVED_PARTS[answer.term]} (τ's own feedback names the mistake, where one "
+                   "fits)", ("zero part",), conclusive=True)
 
 
 def constant_factor(answer: Answer) -> Finding | None:
@@ -136,12 +164,58 @@ def constant_factor(answer: Answer) -> Finding | None:
     loose = 10 * answer.tolerance
     if abs(factor) < 1e-6 or abs(factor - 1) <= loose or not answer.agrees_with(factor * ours, loose):
         return None
+    way = "smaller" if factor < 1 else "larger"
     if abs(factor - 1) < 0.02:  # 9.8 for 9.81, a length rounded: not a missing ½ or 2
-        return Finding(f"is the right answer times {factor:.6g}, within 2 % of it everywhere: a constant rounded or "
-                       "typed differently (g = 9.8 for 9.81? a length or a mass)?",
+        return Finding(f"is the right answer times one constant, about {percent(abs(factor - 1))} {way} everywhere: a "
+                       "constant rounded or typed differently (g = 9.8 for 9.81? a length or a mass)?",
                        ("constant factor",), conclusive=True)
-    return Finding(f"is the right answer times a constant factor {factor:.6g}: a missing or extra factor such as ½, 2, "
-                   "a mass or a length squared?", ("constant factor",), conclusive=True)
+    if abs(factor - 1) < 0.1:  # two digits of a factor this near 1 say little: the difference instead
+        return Finding(f"is the right answer times one constant, about {percent(abs(factor - 1))} {way} everywhere: "
+                       "a mass or a length different from your handout's?", ("constant factor",), conclusive=True)
+    return Finding(f"is the right answer times a constant factor of about {significant(factor)}: a missing or extra "
+                   "factor such as ½, 2, a mass or a length squared?", ("constant factor",), conclusive=True)
+
+
+#: The most significant digits a number that relates a student's answer to ours is printed with: dividing by it
+#: must never make a wrong answer pass.
+SHOWN_DIGITS = 2
+
+
+def significant(x: float, digits: int = SHOWN_DIGITS) -> str:
+    """``x`` to at most ``digits`` significant digits (:data:`SHOWN_DIGITS`), as a factor is shown to a student.
+
+    >>> significant(0.998981), significant(0.656), significant(2.0)
+    ('1.0', '0.66', '2.0')
+
+    Parameters
+    ----------
+    x : float
+        The number.
+    digits : int, optional
+        The most significant digits shown.
+
+    Returns
+    -------
+    str
+        Its text.
+    """
+    return f"{float(x):#.{min(digits, SHOWN_DIGITS)}g}".rstrip(".")
+
+
+def percent(x: float) -> str:
+    """A small relative difference as a percentage to one significant digit, such as "0.1 %".
+
+    Parameters
+    ----------
+    x : float
+        The difference, relative (0.001 is 0.1 %).
+
+    Returns
+    -------
+    str
+        Its text.
+    """
+    return f"{100 * float(x):.1g} %"
 
 
 def transposed(answer: Answer) -> Finding | None:
@@ -306,7 +380,8 @@ class InPart:
 SCREENS = (not_defined, raised_an_error, wrong_shape, not_finite)
 #: The checks :func:`diagnose` runs by default when some comparable state disagrees, in order (module docstring).
 CHECKS = (
-    returns_zeros, opposite_sign, named_mistake, constant_factor, transposed, joints_swapped, closest_mistake,
+    returns_zeros, opposite_sign, named_mistake, derived_zeros, other_parameters, constant_factor, transposed,
+    joints_swapped, closest_mistake,
     tau_parts, InPart("G", named_mistake, "in τ's gravity part, "), InPart("M", wrong_entries, "in τ's inertia part, "),
     InPart("V", coriolis_without_factor_2),  # a named mistake first, then what is wrong where
     InPart("V", wrong_coefficients),
@@ -341,4 +416,4 @@ def diagnose(answer: Answer, checks=CHECKS) -> list[Finding]:
     return found
 
 
-__all__ = ["CHECKS", "SCREENS", "Answer", "Diagnosis", "Finding", "diagnose"]
+__all__ = ["CHECKS", "SCREENS", "SHOWN_DIGITS", "Answer", "Diagnosis", "Finding", "diagnose", "percent", "significant"]

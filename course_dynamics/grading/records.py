@@ -16,8 +16,8 @@ import numpy as np
 
 from ..core.sampling import relative_error
 
-# Plan, Expected and VelocityProbe (grading/plan.py) appear in annotations only, never evaluated: the plan imports
-# the mistakes, which read these records.
+# Plan, Expected and VelocityProbe (grading/plan.py) and Handout (grading/numbers.py) appear in annotations only,
+# never evaluated: the plan imports the mistakes, which read these records.
 TERM_NAMES = {"tau": "τ", "M": "M", "V": "V", "G": "G", "C": "C"}
 VALUE_SCALE = 1e-12  # the floor of the relative error of a value that is no function of the robot
 
@@ -60,6 +60,8 @@ class Answer:
         τ's gravity, inertia and velocity parts, each an Answer of its own.
     reveal : bool
         Whether the feedback may show our values (not in a student's notebook).
+    handout : Handout or None
+        The student's robot and the robots they may have used instead (:mod:`~course_dynamics.grading.numbers`).
     """
 
     expected: np.ndarray
@@ -76,6 +78,7 @@ class Answer:
     coefficients: VelocityProbe | None = None
     parts: Mapping[str, Answer] = field(default_factory=dict)
     reveal: bool = True  # whether the feedback may show our values (not in a student's notebook)
+    handout: Handout | None = None
 
     @classmethod
     def single(cls, expected, value, tolerance: float, reveal: bool = True) -> Answer:

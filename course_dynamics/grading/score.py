@@ -28,6 +28,7 @@ import numpy as np
 from ..core.sampling import term_scales
 from .assignment import Assignment
 from .diagnosis import Answer, Diagnosis, diagnose
+from .numbers import Handout
 from .plan import Answers, Expected, Plan, returned_coefficients, returned_terms
 
 DERIVED_C_TOLERANCE = 1e-7  # central differences reach about 1e-8
@@ -128,7 +129,7 @@ def scales_at(plan: Plan, reference: Expected, term: str, gravity) -> tuple[floa
 
 
 def term_answer(term: str, answers: Answers, plan: Plan, reference: Expected, assignment: Assignment,
-                from_tau: bool = False, reveal: bool = True) -> Answer:
+                from_tau: bool = False, reveal: bool = True, handout: Handout | None = None) -> Answer:
     """The student's ``term`` next to ours: from their function of that name, else (or with ``from_tau``) derived
     from their τ; τ comes with its parts G, M, V (derived from it), V with its (6.63) coefficients.
 
@@ -148,6 +149,8 @@ def term_answer(term: str, answers: Answers, plan: Plan, reference: Expected, as
         Derive the term from the student's τ even when they define a function of that name.
     reveal : bool
         Whether the feedback may show our values.
+    handout : Handout or None
+        The student's robot and the robots they may have used instead; the assignment's robot alone when None.
 
     Returns
     -------
@@ -158,20 +161,23 @@ def term_answer(term: str, answers: Answers, plan: Plan, reference: Expected, as
     tolerance = assignment.tolerance
     if returned.source == "derived from tau" and term == "C":
         tolerance = max(tolerance, DERIVED_C_TOLERANCE)
+    model = assignment.robot
+    if handout is None:  # in a class graded per student, the roster's robots are the ones a student may have used
+        roster = getattr(assignment, "roster", None) if assignment.variant == "per-student" else None
+        handout = Handout(model, assignment.robot_argument, classmates=tuple(roster or ()))
     parts = {}
     if term == "tau" and returned.available and not from_tau:
-        parts = {key: term_answer(key, answers, plan, reference, assignment, True, reveal) for key in PARTS}
-    model = assignment.robot
+        parts = {key: term_answer(key, answers, plan, reference, assignment, True, reveal, handout) for key in PARTS}
     return Answer(reference.terms[term], tuple(returned.values), tuple(returned.errors),
                   scales_at(plan, reference, term, model.gravity), tolerance, term=term,
                   label=PART_LABELS.get(term, "") if from_tau else "", source=returned.source,
                   joints=tuple(model.joint_names), plan=plan, reference=reference,
                   coefficients=returned_coefficients(answers, plan, reference, from_tau) if term == "V" else None,
-                  parts=parts, reveal=reveal)
+                  parts=parts, reveal=reveal, handout=handout)
 
 
 def score_outcome(outcome: dict, assignment: Assignment, plan: Plan, reference: Expected,
-                  reveal: bool = True) -> list[Diagnosis]:
+                  reveal: bool = True, handout: Handout | None = None) -> list[Diagnosis]:
     """Every graded term of ``outcome`` (the harness's ``defined`` and ``results``) scored, in the assignment's order:
     what ``grade`` and the notebooks' term exercises both call (``reveal`` False: the feedback shows none of our
     values, as in a student's notebook).
@@ -189,6 +195,9 @@ def score_outcome(outcome: dict, assignment: Assignment, plan: Plan, reference: 
         Our answers at those states.
     reveal : bool
         Whether the feedback may show our values.
+    handout : Handout or None
+        The student's robot and the robots they may have used instead (:mod:`~course_dynamics.grading.numbers`);
+        the assignment's robot alone when None.
 
     Returns
     -------
@@ -196,7 +205,8 @@ def score_outcome(outcome: dict, assignment: Assignment, plan: Plan, reference: 
         One per graded term, in the assignment's order.
     """
     answers = Answers.read(outcome, plan)
-    return [score(term_answer(term, answers, plan, reference, assignment, reveal=reveal), assignment.points[term],
+    return [score(term_answer(term, answers, plan, reference, assignment, reveal=reveal, handout=handout),
+                  assignment.points[term],
                   assignment.partial_credit) for term in assignment.terms]
 
 

@@ -37,9 +37,10 @@ import numpy as np
 
 from ..core.newton_euler import newton_euler_links
 from ..grading.assignment import Assignment
-from ..grading.diagnosis import Answer
+from ..grading.diagnosis import Answer, significant
 from ..grading.harness import FUNCTIONS, evaluate
 from ..grading.mistakes import MISTAKES
+from ..grading.numbers import Handout
 from ..grading.plan import expected_terms, make_plan
 from ..grading.score import score, score_outcome
 from ..grading.slips import slips
@@ -70,14 +71,15 @@ def show_values(on: bool = True) -> None:
 
 
 def hint(name: str, level: int = 1) -> str:
-    """Hint ``level`` (1, 2, …) of exercise ``name``: which idea, then which equation, then the formula, last.
+    """Hint ``level`` (1, 2, …) of exercise ``name``: which idea, then which equation, then the method, last (never
+    the answer itself).
 
     Parameters
     ----------
     name : str
         The exercise.
     level : int, optional
-        The tier, from 1; a level past the last gives the last (the formula), and one that is not a number
+        The tier, from 1; a level past the last gives the last (the method), and one that is not a number
         gives the first.
 
     Returns
@@ -93,7 +95,7 @@ def hint(name: str, level: int = 1) -> str:
     Examples
     --------
     >>> print(hint("k_pendulum", 3))
-    hint 3 of 3: ½ m v² with v = l θ̇
+    hint 3 of 3: ½ m v², v its speed
     """
     if name not in EXERCISES:
         raise KeyError(f"no exercise named {name!r} (exercises: {', '.join(EXERCISES)})")
@@ -240,7 +242,7 @@ def check(name: str, answer=MISSING) -> Verdict:
             verdict.numbers_of = student()
     if verdict.status == "wrong" and exercise.hints:
         verdict.lines.append(f"a hint, if you want one: hint({name!r}) (there are {len(exercise.hints)}, "
-                             "the formula last)")
+                             "the method step by step last)")
     if os.environ.get("NBGRADER_EXECUTION") == "autograde" and verdict.status != "right":
         raise AssertionError(verdict.text())
     return verdict
@@ -296,7 +298,8 @@ def _check_term(name: str, exercise: Exercise, function) -> Verdict:
         return Verdict(name, "not done", [f"`{name}` does not return anything yet: write its body"])
     outcome = evaluate({exercise.term: function}, {k: v for k, v in calls.items() if k in FUNCTIONS},
                        getattr(getattr(function, "__code__", None), "co_filename", "<your answer>"))
-    [result] = score_outcome(outcome, assignment, plan, expected_terms(assignment, plan), _REVEAL["values"])
+    handout = Handout(assignment.robot, exercise.robot, student())  # the robots they may have used instead
+    [result] = score_outcome(outcome, assignment, plan, expected_terms(assignment, plan), _REVEAL["values"], handout)
     if result.correct:
         return Verdict(name, "right", [f"agrees with course_dynamics on all {result.total} random states"])
     return Verdict(name, "wrong", [f"agrees on {result.agreed} of {result.total} random states", *result.findings]
@@ -509,8 +512,9 @@ def _check_formula(name: str, exercise: Exercise, answer) -> Verdict:
     elif expected != 0:
         ratio = sympy.simplify(answer / expected)
         if ratio.is_number:
+            shown = ratio if ratio.is_Rational else significant(float(ratio))  # never digits to divide by
             problems.append("has the opposite sign" if ratio == -1 else "is zero" if ratio == 0
-                            else f"is the right expression times {ratio}")
+                            else f"is the right expression times {shown}")
     rng = np.random.default_rng(1)
     point = {v: float(rng.uniform(0.5, 1.5)) for v in variables}
     value = np.array(sympy.N(answer.subs(point)), dtype=float)
