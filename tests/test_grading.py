@@ -788,3 +788,122 @@ def test_the_handout_documents_the_robot_interface(capsys):
     for words in ('tau(robot, q, qd, qdd)', 'robot["joints"][i]', '"origin", (4, 4)', '"inertia", (3, 3)',
                   "robots of its shape you do not see"):
         assert words in text, words
+
+
+# ---------------------------------------------------------------------------------------- what is not dynamics
+
+def _notebook(*cells: str) -> str:
+    return json.dumps({"nbformat": 4, "nbformat_minor": 5, "metadata": {},
+                       "cells": [{"cell_type": "markdown", "metadata": {}, "source": ["# My dynamics\n"]}]
+                       + [{"cell_type": "code", "metadata": {}, "execution_count": k, "outputs": [],
+                           "source": cell.splitlines(keepends=True)} for k, cell in enumerate(cells, start=1)]})
+
+
+NOT_DYNAMICS = {
+    # name: (file name, source, status, words the feedback must contain)
+    "stuck": ("stuck.py", "import numpy as np\n\n\ndef tau(q, qd, qdd):\n    while True:\n        pass\n", "timeout",
+              ["used more than 1 s of CPU time, in tau (line "]),
+    "stuck_at_import": ("stuck_at_import.py", "x = 0\nwhile True:\n    x += 1\n", "timeout",
+                        ["CPU time, while the file was being imported (line "]),
+    "asleep": ("asleep.py", "import time\n\n\ndef tau(q, qd, qdd):\n    time.sleep(1000)\n", "timeout",
+               ["wall-clock time, in tau (line 5)"]),
+    "talker": ("talker.py", CLOSED_FORMS.replace("def tau(q, qd, qdd):\n", "def tau(q, qd, qdd):\n    print(q, qd, qdd, 'x' * 1000)\n"),
+               "output limit", ["remove the print calls (or print less) and submit again"]),
+    "scipy_user": ("scipy_user.py", "import scipy.linalg\n" + CLOSED_FORMS, "crashed",
+                   ["No module named 'scipy' (line 1): a submission's Python has the standard library and numpy, "
+                    "nothing else"]),
+    "notebook": ("notebook.ipynb", _notebook("%matplotlib inline\nimport numpy as np", CLOSED_FORMS,
+                                             "!pip install scipy\ntau(np.zeros(2), np.zeros(2), np.zeros(2))"), "ok",
+                 ["graded from the notebook's code cells", "IPython lines are not Python and were not run (cell 2: "
+                  "%matplotlib inline; cell 4: !pip install scipy)"]),
+    "broken_notebook": ("broken_notebook.ipynb", '{"cells": [{"cell_type": "code", "source": 7}]}', "not python",
+                        ["cell 1's source is not text", "export the notebook as one Python file"]),
+    "deep_notebook": ("deep_notebook.ipynb", "[" * 100_000 + "]" * 100_000, "not python",
+                      ["not valid JSON", "nbconvert --to script"]),
+}
+
+
+@pytest.fixture(scope="module")
+def not_dynamics(tmp_path_factory):
+    root = tmp_path_factory.mktemp("not-dynamics")
+    paths = []
+    for name, (file_name, source, _, _) in NOT_DYNAMICS.items():
+        (root / file_name).write_text(source)
+        paths.append(root / file_name)
+    (root / "assignment.toml").write_text(ASSIGNMENT.replace("output_limit = 100000", "output_limit = 20000"))
+    out = root / "out"
+    code = main(["grade", str(root / "assignment.toml"), *map(str, paths), "--out", str(out), "--quiet"])
+    with open(out / "gradebook.csv", newline="") as handle:
+        book = {row["student"]: row for row in csv.DictReader(handle)}
+    return dict(out=out, code=code, book=book)
+
+
+@pytest.mark.parametrize("name", sorted(NOT_DYNAMICS))
+def test_a_failure_that_is_not_dynamics_says_what_to_do(not_dynamics, name):
+    _, _, status, words = NOT_DYNAMICS[name]
+    assert not_dynamics["code"] == 0
+    row = not_dynamics["book"][name]
+    assert row["status"] == status, row
+    assert float(row["total"]) == (100.0 if status == "ok" else 0.0)
+    text = feedback(not_dynamics, name)
+    for word in words:
+        assert word in text, (word, text)
+    assert row["flags"] == "", row  # the harness's own timeout report is no tampering
+
+
+ROSTER_ASSIGNMENT = """\
+robot = "two_link"
+variant = "per-student"
+roster = "roster.csv"
+samples = 4
+time_limit = 5
+[points]
+tau = 100
+"""
+
+
+def test_a_roster_matches_ids_and_a_student_not_on_it_scores_zero_saying_so(tmp_path):
+    from submissions import spatial_newton_euler
+
+    (tmp_path / "roster.csv").write_text("id,name\nada,Ada Lovelace\ngrace.h,Grace Hopper\nalan+1,Alan\nalan+2,Al\n")
+    (tmp_path / "assignment.toml").write_text(ROSTER_ASSIGNMENT)
+    assignment = load_assignment(tmp_path / "assignment.toml")
+    assert assignment.roster == ("ada", "grace.h", "alan+1", "alan+2")
+    files = {"Ada+hw1": spatial_newton_euler(assignment.for_student("ada").robot),  # case and +tag: ada
+             "GRACE.H": spatial_newton_euler(assignment.for_student("grace.h").robot),
+             "eve": spatial_newton_euler(assignment.for_student("eve").robot),  # her own variant, yet no one's
+             "alan": spatial_newton_euler(assignment.for_student("alan+1").robot)}  # two Alans: ambiguous
+    for name, source in files.items():
+        (tmp_path / f"{name}.py").write_text(source)
+    out = tmp_path / "out"
+    assert main(["grade", str(tmp_path / "assignment.toml"), *(str(tmp_path / f"{n}.py") for n in files), "--out",
+                 str(out), "--quiet"]) == 0
+    with open(out / "gradebook.csv", newline="") as handle:
+        book = {row["student"]: row for row in csv.DictReader(handle)}
+    assert book["Ada+hw1"]["total"] == "100" and book["GRACE.H"]["total"] == "100"
+    assert book["eve"]["status"] == "not on roster" and book["eve"]["total"] == "0"
+    assert "not on the roster: no student 'eve' is on this assignment's roster" in (out / "eve.md").read_text()
+    assert book["alan"]["status"] == "not on roster"
+    assert "could be any of alan+1, alan+2" in (out / "alan.md").read_text().replace("\\", "")
+
+
+def test_without_a_roster_ids_stay_as_given():
+    from course_dynamics.grading.uploads import roster_match
+
+    assignment = load_assignment(_written(ASSIGNMENT))
+    assert assignment.roster is None
+    assert roster_match("Ada", ["ada"]) == ("ada", "") and roster_match("ada", ["Ada", "ADA+x"])[0] == "Ada"
+    assert roster_match("bob", ["ada"])[0] is None
+
+
+@pytest.mark.parametrize("line, message", [
+    ('roster = "missing.csv"', "roster 'missing.csv' is no file next to the assignment"),
+    ("roster = 3", "roster must name a CSV file next to the assignment, got 3"),
+    ('interface = "objects"', "interface must be one of functions, robot, got 'objects'"),
+])
+def test_bad_roster_or_interface_keys_are_one_clear_line(tmp_path, capsys, line, message):
+    (tmp_path / "a.toml").write_text(line + "\n" + ASSIGNMENT)
+    (tmp_path / "s.py").write_text(CLOSED_FORMS)
+    assert main(["grade", str(tmp_path / "a.toml"), str(tmp_path / "s.py"), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: ") and message in err and len(err.strip().splitlines()) == 1, err
