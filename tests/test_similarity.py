@@ -128,3 +128,32 @@ def test_imported_names_are_compared_and_pass_is_nothing():
     found = scores({"cos": cosines, "log": logs, "padded": padded})
     assert found[frozenset(("cos", "padded"))] == 1.0
     assert found[frozenset(("cos", "log"))] < found[frozenset(("cos", "padded"))]
+
+
+def test_code_the_package_generates_for_the_robot_is_flagged_with_a_side_by_side_page(tmp_path, capsys):
+    """derive's closed forms (each format, pasted by hand) and the compiled model's module: flagged, never scored
+    down; a student's own Newton-Euler is not."""
+    from generated import FORMATS, compiled_submission, derived_submission
+
+    (tmp_path / "a.toml").write_text('robot = "two_link"\nsamples = 3\n[points]\ntau = 100\n')
+    sources = {f"derive_{fmt}": derived_submission("two_link", fmt) for fmt in FORMATS}
+    sources["numpy_prefixed"] = sources["derive_json"].replace("from numpy import cos, sin\n", "").replace(
+        "sin(", "np.sin(").replace("cos(", "np.cos(")
+    sources |= {"compiled": compiled_submission(load("two_link")), "own": NEWTON_EULER}
+    for name, text in sources.items():
+        (tmp_path / f"{name}.py").write_text(text)
+    out = tmp_path / "out"
+    assert main(["grade", str(tmp_path / "a.toml"), *(str(tmp_path / f"{n}.py") for n in sources), "--out", str(out),
+                 "--similarity", "--json"]) == 0
+    record = json.loads(capsys.readouterr().out)
+    flags = {s["student"]: s["flags"] for s in record["students"]}
+    totals = {s["student"]: s["total"] for s in record["students"]}
+    assert all(flags[n] == ["generated-code"] for n in sources if n != "own"), flags
+    assert flags["own"] == [] and set(totals.values()) == {100.0}  # a flag never changes a score
+    pages = {tuple(p["students"]): p["page"] for p in record["similar"]}
+    assert ("compiled", "generated: compiled model") in pages and ("derive_latex", "generated: derive (joint names)") \
+        in pages, pages
+    page = (out / pages["compiled", "generated: compiled model"]).read_text()
+    assert "the code course-dynamics generates for their robot" in page and "<mark>" in page
+    with open(out / "gradebook.csv") as handle:
+        assert "generated-code" in handle.read()
