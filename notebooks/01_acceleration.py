@@ -14,10 +14,10 @@
 # %%
 import numpy as np
 import matplotlib.pyplot as plt
+import sympy
 from scipy.spatial.transform import Rotation
 
-from course_dynamics.core.algebra import Vec3, point_acceleration as library_point_acceleration
-from course_dynamics.teaching.exercises import check, given, hint
+from course_dynamics.teaching.exercises import check, given, hint, my_robot
 
 # %% [markdown]
 # ## Linear acceleration
@@ -36,8 +36,9 @@ from course_dynamics.teaching.exercises import check, given, hint
 # ${}^BV_Q = {}^B\dot V_Q = 0$, and what remains is (6.12): a tangential term in ${}^A\dot\Omega_B$ and a
 # centripetal term in ${}^A\Omega_B$ twice (exercise 1.1).
 #
-# A moving frame to test it on: {B} turns about a fixed oblique axis $\hat k$ by $\theta(t) = 0.7t + 0.4t^2$ while
-# its origin follows a curve; Q is fixed in {B}.
+# A moving frame to try it on: {B} turns about a fixed oblique axis $\hat k$ by $\theta(t) = 0.7t + 0.4t^2$ while
+# its origin follows a curve; Q is fixed in {B}. Its acceleration, by exact differentiation of ᴬP_Q(t) (sympy),
+# is what (6.12) must give and what finite differences approach.
 
 # %%
 axis = np.array([1.0, 2.0, 2.0]) / 3.0             # unit axis of rotation in {A}
@@ -60,25 +61,32 @@ t0 = 1.3
 R = Rotation.from_rotvec(axis * theta(t0)).as_matrix()
 Omega, Omega_dot = axis * (0.7 + 0.8 * t0), axis * 0.8          # ᴬΩ_B (rad/s), ᴬΩ̇_B (rad/s²)
 origin_acceleration = np.array([0.0, -0.8 * np.sin(2 * t0), 0.2])  # ᴬV̇_BORG, m/s²
-P = R @ Q_in_B
-by_6_12 = np.array(tuple(library_point_acceleration(*(Vec3.of(x) for x in (origin_acceleration, Omega_dot, Omega, P)))))
+P = R @ Q_in_B                                                   # ᴬ_BR ᴮQ, m
+
+s = sympy.Symbol("t")
+k = sympy.Matrix([1, 2, 2]) / 3
+K = sympy.Matrix([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+angle = sympy.Rational(7, 10) * s + sympy.Rational(2, 5) * s**2
+R_of_t = sympy.eye(3) + sympy.sin(angle) * K + (1 - sympy.cos(angle)) * K * K   # Rodrigues' formula
+P_of_t = sympy.Matrix([s / 2, sympy.sin(2 * s) / 5, s**2 / 10]) + R_of_t * sympy.Matrix(Q_in_B)
+exact = np.array(P_of_t.diff(s, 2).subs(s, t0).evalf(20), dtype=float).ravel()    # ᴬV̇_Q, m/s²
 h = 1e-4
 by_differences = (position(t0 + h) - 2 * position(t0) + position(t0 - h)) / h**2
-print("(6.12):                 ", by_6_12.round(6), "m/s²")
+print("exact differentiation:  ", exact.round(6), "m/s²")
 print("finite differences:     ", by_differences.round(6), "m/s²")
 
 # %% [markdown]
 # How close the finite difference comes depends on its step: the truncation error falls as h², until round-off,
-# which grows as 1/h², takes over. The formula is the limit the differences approach.
+# which grows as 1/h², takes over. The exact value is the limit the differences approach.
 
 # %%
 steps = np.logspace(-6, -0.5, 40)
-errors = [np.abs((position(t0 + s) - 2 * position(t0) + position(t0 - s)) / s**2 - by_6_12).max() for s in steps]
+errors = [np.abs((position(t0 + d) - 2 * position(t0) + position(t0 - d)) / d**2 - exact).max() for d in steps]
 figure, ax = plt.subplots(figsize=(6.5, 3.6))
 ax.loglog(steps, errors, "o-", markersize=3)
 ax.set_xlabel("finite-difference step h (s)")
-ax.set_ylabel("|difference − (6.12)| (m/s²)")
-ax.set_title("Central differences converge to (6.12), then round-off takes over")
+ax.set_ylabel("|difference − exact| (m/s²)")
+ax.set_title("Central differences converge to the exact ᴬV̇_Q, then round-off takes over")
 ax.grid(alpha=0.3, which="both")
 plt.show()
 
@@ -88,7 +96,9 @@ plt.show()
 # `point_acceleration(v_dot, omega_dot, omega, P)` returns the acceleration of the point Q (m/s²) from the
 # acceleration `v_dot` of {B}'s origin, {B}'s angular acceleration `omega_dot` and angular velocity `omega`, and
 # Q's position `P` relative to that origin — all 3-vectors (numpy arrays). `np.cross` computes a cross product;
-# `hint("point_acceleration", 1)` and on help if you are stuck.
+# `hint("point_acceleration", 1)` and on help if you are stuck. The check runs your function on your own robot
+# (`my_robot("spatial_arm")`, notebook 3's arm): each link's frame at states of yours, Q its centre of mass, where
+# (6.12) gives the link's ⁱv̇_Cᵢ.
 
 # %%
 def point_acceleration(v_dot, omega_dot, omega, P):
@@ -99,6 +109,12 @@ def point_acceleration(v_dot, omega_dot, omega, P):
 
 # %%
 check("point_acceleration")
+
+# %% [markdown]
+# Your function on the moving frame above (with ᴬ_BR ᴮQ as P, its axes are {A}'s): it should print the exact value.
+
+# %%
+print("your (6.12):", point_acceleration(origin_acceleration, Omega_dot, Omega, P), " exact:", exact.round(6))
 
 # %% [markdown]
 # ## Angular acceleration
@@ -133,7 +149,8 @@ check("omega_dot_C")
 # a function `moving_point(Vd_org, R, Omega, Omega_dot, Q, V_Q, Vd_Q)` returning ᴬV̇_Q (m/s²): `Vd_org` is
 # ᴬV̇_BORG, `R` is ᴬ_BR, `Omega` and `Omega_dot` are ᴬΩ_B and ᴬΩ̇_B, and `Q`, `V_Q`, `Vd_Q` are ᴮQ, ᴮV_Q and
 # ᴮV̇_Q — numpy arrays (R 3 × 3, the others 3 numbers). Count how often a term in both Ω and V_Q appears: the
-# check knows the notes' version.
+# check knows the notes' version. It runs your function on your own spatial arm: {A} its base, {B} one of its
+# links at a state of yours, Q a point moving in that link.
 
 # %%
 def moving_point(Vd_org, R, Omega, Omega_dot, Q, V_Q, Vd_Q):

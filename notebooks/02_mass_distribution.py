@@ -71,10 +71,16 @@ I_corner = sympy.Matrix(inertia.parallel_axis(inertia.box(m, w, l, h), m, (w / 2
 check("I_corner")
 
 # %% [markdown]
-# Example 6.1's results, I_xx = m/3 (l² + h²) and I_xy = m w l / 4, are entries of this matrix (I_xy with a minus
-# sign, as the tensor holds −I_xy):
+# Example 6.1 integrates two entries of this matrix, I_xx and I_xy: compare yours with the notes' (the tensor holds
+# −I_xy off the diagonal).
+
+# %% [markdown]
+# (with the solutions only)
+#
+# The library's products of inertia of the box about its corner, I_xy, I_xz and I_yz:
 
 # %%
+# (with the solutions only)
 products = inertia.products_of_inertia(inertia.parallel_axis(inertia.box(m, w, l, h), m, (w / 2, l / 2, h / 2)))
 print("I_xy, I_xz, I_yz =", [sympy.factor(p) for p in products])
 

@@ -251,7 +251,8 @@ check("tau_spatial_arm")
 #
 # Each line of the outward iteration is an acceleration rule of notebook 1 applied to two neighbouring links, and
 # each line of the inward one a force or moment balance. Derive them yourself; each check runs your function on
-# random inputs (rotations, vectors, rates) and names a slip it recognises. Below, `R` is always a 3 × 3 rotation
+# your own spatial arm, `my_robot("spatial_arm")` — the rotations, vectors and rates of its links, one joint at a
+# time, at states of yours — and names a slip it recognises. Below, `R` is always a 3 × 3 rotation
 # matrix, vectors are numpy arrays of 3 numbers, and the joint axis is Ẑ = (0, 0, 1) of the frame it belongs to.
 #
 # ### Exercise 3.5 — (6.32) from (6.15) and (5.45)
@@ -327,7 +328,8 @@ check("inward_moment")
 # When joint i+1 slides by dᵢ₊₁ along its Ẑ, link i+1 turns with link i (ⁱ⁺¹ωᵢ₊₁ = ⁱ⁺¹ᵢR ⁱωᵢ), and its origin is
 # a point *moving* in link i: (6.10) adds two terms to (6.34). Write `prismatic_joint(R, w, wd, vd, P, d_dot,
 # d_ddot, f)` returning the pair (ⁱ⁺¹v̇ᵢ₊₁, τᵢ₊₁): the acceleration of frame i+1's origin, and the joint's force
-# from f = ⁱ⁺¹fᵢ₊₁ (6.44).
+# from f = ⁱ⁺¹fᵢ₊₁ (6.44). The check puts a sliding joint, with rates of yours, in place of one of your spatial
+# arm's joints.
 
 # %%
 def prismatic_joint(R, w, wd, vd, P, d_dot, d_ddot, f):

@@ -17,7 +17,7 @@ import matplotlib.pyplot as plt
 from IPython.display import Markdown, display
 
 from course_dynamics import coriolis_matrix, gravity_torques, load_robot, mass_matrix, velocity_torques
-from course_dynamics.teaching.exercises import check, hint, my_robot
+from course_dynamics.teaching.exercises import check, given, hint, my_robot
 from course_dynamics.output.render import derivation_text, trace_latex
 from course_dynamics.core.symbolic import derive
 from course_dynamics.tools.trace import trace
@@ -124,19 +124,26 @@ check("V_two_link")
 
 # %% [markdown]
 # **Predict first.** Before you write G, decide for your arm: with the arm stretched out horizontally, Θ = (0, 0),
-# is G₁ positive or negative? And with the elbow folded straight back over link 1, Θ = (0, π)? Write your two
-# answers, and why, in the cell below as a comment; then run it. (G is the torque that holds the arm still against
-# gravity; a positive torque turns a link counter-clockwise, from X₀ towards Y₀.)
+# is G₁ positive or negative? And in your pose below — link 1 raised by your θ₁ above the horizontal, link 2
+# pointing straight back, horizontally, θ₂ = π − θ₁? Your arm's numbers (above) decide the second one. Write your
+# two answers, and why, in the cell below as a comment; then run it. (G is the torque that holds the arm still
+# against gravity; a positive torque turns a link counter-clockwise, from X₀ towards Y₀.)
 
 # %%
-# my prediction for Θ = (0, 0): …   and for Θ = (0, π): …
+theta1 = given("predict_G")["theta1"]   # rad, your own
+print(f"your pose: θ₁ = {theta1} rad, θ₂ = π − θ₁")
+
+# %%
+# my prediction for Θ = (0, 0): …   and for my pose: …
 your_arm = my_robot("two_link").model
-for pose in ([0.0, 0.0], [0.0, np.pi]):
+for pose in ([0.0, 0.0], [theta1, np.pi - theta1]):
     print(f"Θ = ({pose[0]:g}, {pose[1]:.4g}): G₁ = {gravity_torques(your_arm, pose)[0]:.4f} N·m")
 
 # %% [markdown]
-# Did the folded pose surprise you? Folded back, link 2's mass sits at l₁ − l₂ along X₀ from joint 1 and link 1's
-# at l₁: G₁ turns negative only if m₂(l₂ − l₁) outweighs m₁l₁. Your `G_two_link` must give the same two numbers.
+# Did your pose surprise you? With link 2 pointing back, its mass sits at l₁ cos θ₁ − l₂ along X₀ from joint 1 and
+# link 1's at l₁ cos θ₁: G₁ = g((m₁ + m₂) l₁ cos θ₁ − m₂ l₂) turns negative once m₂l₂ outweighs (m₁ + m₂) l₁ cos θ₁
+# — for some of your classmates' arms in their poses it does, for others not. Your `G_two_link` must give the same
+# two numbers.
 
 # %%
 def G_two_link(q):

@@ -18,10 +18,7 @@ from IPython.display import Markdown, display
 from course_dynamics.core import lagrange
 from course_dynamics import load_robot
 from course_dynamics.teaching.exercises import check, hint, symbols, time_functions
-from course_dynamics.output.render import derivation_text
 from course_dynamics.tools.simulation import simulate
-from course_dynamics.core.parameters import joint_symbols, symbolic_model
-from course_dynamics.core.symbolic import canonical, derive
 
 # %% [markdown]
 # ## The equations
@@ -166,6 +163,10 @@ check("C_rp_arm")
 
 # %%
 # (with the solutions only)
+from course_dynamics.core.parameters import joint_symbols, symbolic_model
+from course_dynamics.core.symbolic import canonical, derive
+from course_dynamics.output.render import derivation_text
+
 rp, parameters = symbolic_model(load_robot("rp_arm"), ("m1", "m2", "l1", "Izz1", "Izz2", "g"))
 q, qd, qdd = joint_symbols(rp)
 k1, k2 = lagrange.link_kinetic_energies(rp, q, qd)
@@ -176,9 +177,16 @@ display(Markdown(derivation_text(derive(load_robot("rp_arm"), ("m1", "m2", "l1",
 # %% [markdown]
 # ## The same equations as Newton–Euler
 # Two derivations that share no code — one balances forces link by link, one differentiates energies — give
-# identical expressions (compared in an exact normal form):
+# identical expressions. Your check of exercise 5.4 made that comparison: your Lagrangian equations against the
+# Newton–Euler recursion on symbols, in an exact normal form.
+
+# %% [markdown]
+# (with the solutions only)
+#
+# The library's two derivations of example 6.5, compared:
 
 # %%
+# (with the solutions only)
 by_lagrange = derive(load_robot("rp_arm"), ("m1", "m2", "l1", "Izz1", "Izz2", "g"), method="lagrange")
 by_newton_euler = derive(load_robot("rp_arm"), ("m1", "m2", "l1", "Izz1", "Izz2", "g"), method="newton-euler")
 same = all(sympy.expand(canonical(a, by_lagrange.q) - canonical(b, by_lagrange.q)) == 0

@@ -42,7 +42,8 @@ plt.show()
 # %% [markdown]
 # ### Exercise 7.1 — the combined model
 # Write `friction_torque(qd, v, c)`: (6.112) for arrays of joint velocities qd, viscous coefficients v and Coulomb
-# coefficients c (one per joint).
+# coefficients c (one per joint). The check runs it with your own arm's coefficients, those of
+# `given("tau_with_friction")` below, at joint velocities of yours (some of them 0).
 
 # %%
 def friction_torque(qd, v, c):
@@ -77,21 +78,28 @@ plt.show()
 
 # %% [markdown]
 # ### Exercise 7.2 — the torque with friction at one state
-# Your exercise uses your own two-link arm, not the section's arm of the plot above: its numbers are below, and
-# `your_arm` is its model. At your state `given("tau_with_friction")` (q, qd, qdd and the viscous and Coulomb
+# Your exercise uses your own two-link arm, not the section's arm of the plot above: its numbers are below, read
+# into `m1, m2, l1, l2, g`. At your state `given("tau_with_friction")` (q, qd, qdd and the viscous and Coulomb
 # coefficients of both joints), compute your arm's joint torques including friction, (6.114), as
-# `tau_with_friction` (2 numbers, N·m). `inverse_dynamics(your_arm, q, qd, qdd)` gives the rigid-body part.
+# `tau_with_friction` (2 numbers, N·m): the rigid-body part M Θ̈ + V + G from the closed forms you wrote in
+# notebook 4 (6.60)–(6.62), with your numbers, then the friction of (6.112) with yours.
 
 # %%
 print(my_robot("two_link").describe())
-your_arm = my_robot("two_link").model
+mine = my_robot("two_link").parameters
+m1, m2, l1, l2, g = (mine[name] for name in ("m1", "m2", "l1", "l2", "g"))   # kg, m, m/s²
 state = given("tau_with_friction")
 print(state)
 
 # %%
 ### BEGIN SOLUTION
-tau_with_friction = inverse_dynamics(your_arm, state["q"], state["qd"], state["qdd"]) + (
-    state["coulomb"] * np.sign(state["qd"]) + state["viscous"] * state["qd"])
+q, qd, qdd = state["q"], state["qd"], state["qdd"]
+c1, c2, s2, c12 = np.cos(q[0]), np.cos(q[1]), np.sin(q[1]), np.cos(q[0] + q[1])
+M = np.array([[l2**2 * m2 + 2 * l1 * l2 * m2 * c2 + l1**2 * (m1 + m2), l2**2 * m2 + l1 * l2 * m2 * c2],
+              [l2**2 * m2 + l1 * l2 * m2 * c2, l2**2 * m2]])
+V = np.array([-m2 * l1 * l2 * s2 * qd[1] ** 2 - 2 * m2 * l1 * l2 * s2 * qd[0] * qd[1], m2 * l1 * l2 * s2 * qd[0] ** 2])
+G = np.array([m2 * l2 * g * c12 + (m1 + m2) * l1 * g * c1, m2 * l2 * g * c12])
+tau_with_friction = M @ qdd + V + G + state["coulomb"] * np.sign(qd) + state["viscous"] * qd
 ### END SOLUTION
 
 # %%

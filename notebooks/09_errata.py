@@ -137,7 +137,8 @@ check("I_xy_corner")
 # ### Exercise 9.2 — the inward force, corrected
 # The notes print (6.51) as ⁱfᵢ = ⁱIᵢ₊₁ ⁱR^{i+1} fᵢ₊₁ + Fᵢ, with a stray inertia tensor. Write the corrected
 # `inward_force(R, f_next, F)`: the force on link i from link i−1, given R = ⁱᵢ₊₁R (the orientation of frame i+1
-# in frame i, a 3 × 3 array), f_next = ⁱ⁺¹fᵢ₊₁ and F = ⁱFᵢ (3-vectors).
+# in frame i, a 3 × 3 array), f_next = ⁱ⁺¹fᵢ₊₁ and F = ⁱFᵢ (3-vectors). The check runs it on your own spatial arm
+# (`my_robot("spatial_arm")`, notebook 3's), link by link, at states of yours.
 
 # %%
 def inward_force(R, f_next, F):

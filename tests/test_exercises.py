@@ -106,37 +106,11 @@ def test_no_check_shows_the_expected_value():
     assert "expected" in check("v_dot_c1", np.zeros(3)).text()
 
 
-def test_hints_come_in_tiers_the_method_last():
+def test_hints_come_in_tiers_the_formula_last():
     assert all(len(exercise.hints) >= 3 for exercise in EXERCISES.values())
     first, last = hint("G_two_link"), hint("G_two_link", 3)
     assert first.startswith("hint 1 of 3:") and "hint('G_two_link', 2)" in first
-    assert "(6.73)" in last and "for more" not in last and hint("G_two_link", 99) == last
-
-
-ASKED = {"tau": "τ", "M": "M", "V": "V", "G": "G"}  # what a term exercise asks for
-FORMULAS = {"k_pendulum": "k", "u_pendulum": "u", "tau_pendulum": "τ", "B_rp_arm": "B", "C_rp_arm": "C",
-            "J_tool": "J"}  # what a formula exercise asks for (I_corner's last hint is the parallel-axis theorem)
-PRODUCT = re.compile(r"(?:[mlgsc][₁₂]+²?){3,}")  # m₂l₁l₂s₂, l₂²m₂, m₂l₂gc₁₂: a closed form's terms
-
-
-@pytest.mark.parametrize("name", list(EXERCISES))
-def test_no_hint_gives_the_answer(name):
-    """A hint points at the method; it never holds the closed form a term or formula exercise asks for (the
-    two-link arm's (6.60)–(6.62), a pendulum's k, u or τ, example 6.5's B and C, the tool Jacobian), nor the
-    numbers a value exercise asks for."""
-    exercise = EXERCISES[name]
-    for text in exercise.hints:
-        if exercise.kind == "term":
-            assert not re.search(rf"(?<![\w(]){ASKED[exercise.term]}(\(Θ[^)]*\))? = ", text), (name, text)
-            assert not PRODUCT.search(text), (name, text)
-        if name in FORMULAS:
-            assert not re.search(rf"(?<!\w)[³ᴬ]?{FORMULAS[name]} = ", text), (name, text)
-            assert not PRODUCT.search(text.replace(" ", "")), (name, text)
-        if exercise.kind == "value" and np.asarray(exercise.answer()).dtype != bool:
-            numbers = [float(x) for x in np.ravel(exercise.answer()) if abs(float(x)) > 1e-9]
-            for x in numbers:
-                for shown in {f"{x:.3g}", f"{x:.2f}", f"{abs(x):.3g}"}:
-                    assert len(shown.strip("-0.")) < 2 or shown not in text, (name, shown, text)
+    assert "c₁₂" in last and "for more" not in last and hint("G_two_link", 99) == last
 
 
 def test_values_name_their_wrong_entries():
@@ -153,7 +127,7 @@ def test_values_get_the_graders_checks():
     """A value goes through grading.score like a graded term: the same named mistakes, in the same words."""
     tensor = given("principal_moments")["I"]
     counted_twice = check("principal_moments", np.linalg.eigvalsh(tensor + tensor)).text()
-    assert "is the right answer times a constant factor of about 2.0" in counted_twice
+    assert "is the right answer times a constant factor 2" in counted_twice
     d = given("I_xy_corner")
     with_the_notes_minus = d["m"] * 0 - d["m"] * (d["w"] / 2) * (d["l"] / 2)  # ᶜI_xy − m x_c y_c, ᶜI_xy = 0
     assert "has the opposite sign everywhere" in check("I_xy_corner", with_the_notes_minus).text()
@@ -421,3 +395,46 @@ def test_yes_or_no_answers_do_not_say_which_are_wrong():
     right = EXERCISES["physical"].answer()
     text = check("physical", ~right).text()
     assert "not all of them are right" in text and "entr" not in text
+
+
+def test_every_numeric_exercise_runs_on_the_students_own_robot():
+    """A value, a term, the links and a function's inputs (as its check draws them) all come from the student's own
+    robot and numbers, and differ between two students; only a formula in symbols is the same for everyone."""
+    from course_dynamics.teaching.catalogue import EXERCISES as CATALOGUE
+    from course_dynamics.tools.variants import rng_for
+
+    def made(name):
+        exercise = CATALOGUE[name]
+        if exercise.kind == "function":
+            return exercise.inputs(rng_for(student(), name))
+        if exercise.kind == "value":
+            return exercise.answer()
+        return my_robot(exercise.robot).parameters  # "term" and "links": the student's robot itself
+
+    generic = {"euler_step", "semi_implicit_step"}  # notebook 8's integrators take rates of no robot
+    numeric = [name for name, e in CATALOGUE.items() if e.kind not in ("formula", "equations") and name not in generic]
+    assert len(numeric) >= 24
+    use_student("ada")
+    ada = {name: made(name) for name in numeric}
+    use_student("grace")
+    for name in numeric:
+        theirs, mine = ada[name], made(name)
+        if isinstance(mine, dict):
+            assert theirs != mine, name
+        else:
+            flat = [np.ravel(np.asarray(x, dtype=float)) for x in (theirs if isinstance(theirs, list) else [theirs])]
+            other = [np.ravel(np.asarray(x, dtype=float)) for x in (mine if isinstance(mine, list) else [mine])]
+            assert any(a.shape != b.shape or not np.allclose(a, b) for a, b in zip(flat, other)), name
+
+
+def test_the_predict_first_pose_has_an_answer_of_the_students_own():
+    """Notebook 4's question (the sign of G₁ with link 1 raised by the student's θ₁ and link 2 pointing back) has
+    either answer, depending on the student's arm and pose."""
+    from course_dynamics import gravity_torques
+
+    signs = set()
+    for k in range(40):
+        use_student(f"student{k}")
+        theta1 = given("predict_G")["theta1"]
+        signs.add(bool(gravity_torques(my_robot("two_link").model, [theta1, np.pi - theta1])[0] > 0))
+    assert signs == {True, False}

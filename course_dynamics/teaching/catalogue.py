@@ -8,8 +8,7 @@ notebook without a student id works for :data:`~course_dynamics.tools.variants.C
 whose robots differ from the worked examples' too.
 
 Hints come in tiers (the ``hints`` of an :class:`Exercise`): which term or idea, then which
-equation, then, last, the method step by step: never the answer the exercise asks for (its closed
-form or its value).
+equation, then the formula itself, last.
 
 >>> use_student("ada")
 >>> bool((given("v_dot_c1")["q"] == given("v_dot_c1")["q"]).all()), my_robot("two_link").student
@@ -32,7 +31,7 @@ from ..core.newton_euler import EXACT, Operations, inverse_dynamics, newton_eule
 from ..core.regressor import base_parameters, parameter_names, regressor
 from ..core.robots import load_robot
 from ..core.symbolic import derive
-from .propagation import Z, inward_moment, moving_point, omega_dot_next, prismatic, random_inputs, v_dot_next
+from .propagation import Z, chain_quantities, inward_moment, moving_point, omega_dot_next, prismatic, v_dot_next
 from ..tools.variants import COURSE_STUDENT, Variant, check_student_id, rng_for, robot_variant
 
 _STUDENT = {"id": COURSE_STUDENT}
@@ -135,6 +134,7 @@ GIVEN = {
                                 "l": round(float(rng.uniform(0.2, 0.8)), 2),
                                 "h": round(float(rng.uniform(0.05, 0.2)), 2)},
     "Y_mcx2": _state,
+    "predict_G": lambda rng: {"theta1": round(float(rng.uniform(1.0, 1.5)), 2)},  # rad: link 1 raised, link 2 back
     "links_spatial_arm": lambda rng: _state(rng, 3, -2.0, 2.0),
 }
 
@@ -288,7 +288,7 @@ class Exercise:
     "links" (every quantity of both iterations, link by link, at the exercise's given state), "equations"
     (equations of motion derived by hand in θ(t), term by term: :mod:`~course_dynamics.teaching.derivations`),
     "function" (compared on random inputs with ``reference``), "value" or "formula"; ``hints`` in tiers, the
-    method last (never the answer).
+    formula last.
 
     Parameters
     ----------
@@ -312,8 +312,7 @@ class Exercise:
         A formula may differ from the answer by anything that does not depend on these (a potential energy's
         constant).
     hints : tuple of str, optional
-        The hints in tiers: which term or idea, then which equation, then the method step by step (for a function
-        exercise, the equation it implements); never the answer a formula, value or term exercise asks for.
+        The hints in tiers: which term or idea, then which equation, then the formula itself.
     mistakes : tuple of tuple, optional
         The slips students make, each (code, the reference with that slip, its words): an answer that matches
         one is told which.
@@ -339,8 +338,15 @@ class Exercise:
     slipped: Callable | None = None
 
 
-def _random_vectors(count: int):
-    return lambda rng: [rng.standard_normal(3) for _ in range(count)]
+def _own(draw):
+    """Inputs ``draw(links, i, rng)``: the student's spatial arm at a state of theirs (its
+    :func:`~course_dynamics.teaching.propagation.chain_quantities`) and a link i that has a child."""
+    def inputs(rng):
+        model = _robot("spatial_arm")
+        state = _state(rng, model.n, -2.0, 2.0)
+        return draw(chain_quantities(model, state["q"], state["qd"], state["qdd"]), int(rng.integers(model.n - 1)), rng)
+
+    return inputs
 
 
 NEWTON_EULER_HINTS = (
@@ -357,7 +363,7 @@ EXERCISES: dict[str, Exercise] = {
     "point_acceleration": Exercise(
         "function",
         reference=lambda v, wd, w, p: np.array(tuple(point_acceleration(*(Vec3.of(x) for x in (v, wd, w, p))))),
-        inputs=_random_vectors(4), hints=(
+        inputs=_own(lambda L, i, rng: [L.v_dot[i], L.omega_dot[i], L.omega[i], L.p_com[i]]), hints=(
             "three parts: the frame's own acceleration, one from ω̇ and one from ω",
             "(6.12): a point fixed in a moving frame",
             "v̇ + ω̇ × P + ω × (ω × P)")),
@@ -387,22 +393,21 @@ EXERCISES: dict[str, Exercise] = {
     "M_two_link": Exercise("term", term="M", hints=(
         "column j of M is the torque of unit Θ̈ⱼ without gravity or velocity",
         "(6.60): M₁₁, M₁₂ = M₂₁, M₂₂ of the two-link arm",
-        "τ with Θ̇ = 0, g = 0 and Θ̈ = e₁, then e₂, gives M's columns: masses times lengths squared, some with c₂")),
+        "M = [[l₂²m₂ + 2l₁l₂m₂c₂ + l₁²(m₁ + m₂), l₂²m₂ + l₁l₂m₂c₂], [l₂²m₂ + l₁l₂m₂c₂, l₂²m₂]]")),
     "V_two_link": Exercise("term", term="V", hints=(
         "V has a Coriolis term in θ̇₁θ̇₂ and centrifugal terms in θ̇ⱼ²",
         "(6.61), and the factor 2 of the Coriolis term (6.63)",
-        "τ(Θ, Θ̇, 0) − G: each term is m₂, l₁, l₂ and s₂ times two joint rates, θ̇₁θ̇₂ with Craig's factor 2")),
+        "V = (−m₂l₁l₂s₂θ̇₂² − 2m₂l₁l₂s₂θ̇₁θ̇₂, m₂l₁l₂s₂θ̇₁²)")),
     "G_two_link": Exercise("term", term="G", hints=(
         "G holds each link up: the weight of every link outboard of the joint times its horizontal moment arm",
         "(6.62), with c₁ for link 1's direction and c₁₂ for link 2's",
-        "∂u/∂Θ (6.73), each mass's height written with θ₁ and θ₁ + θ₂; joint 2 holds up link 2 only")),
+        "G = (m₂l₂gc₁₂ + (m₁ + m₂)l₁gc₁, m₂l₂gc₁₂)")),
     "k_pendulum": Exercise("formula", lambda: _pendulum("k"), variables=("m", "l", "g", "theta", "theta_dot"), hints=(
-        "the kinetic energy of a point mass moving on a circle", "(6.69) for a point mass", "½ m v², v its speed")),
+        "the kinetic energy of a point mass moving on a circle", "(6.69) for a point mass", "½ m v² with v = l θ̇")),
     "u_pendulum": Exercise("formula", lambda: _pendulum("u"), variables=("m", "l", "g", "theta", "theta_dot"),
                            constant_in=("theta",), hints=(
         "the height of the mass as a function of θ; θ = 0 hangs straight down",
-        "(6.73): the potential energy −m gᵀ P_C, plus any constant",
-        "P_C(θ) with θ = 0 straight down, g pointing down")),
+        "(6.73): u = −m gᵀ P_C (plus any constant)", "u = −m g l cos θ")),
     "tau_pendulum": Exercise("formula", lambda: _pendulum("tau"), time_functions=("theta",), mistakes=(
         ("gravity-sign", lambda: _pendulum("tau") - 2 * _pendulum("gravity"),
          "gravity with the wrong sign: with it, the pendulum would fall away from hanging (the notes print it so)"),
@@ -410,7 +415,7 @@ EXERCISES: dict[str, Exercise] = {
          "only −∂L/∂θ: d/dt ∂L/∂θ̇ is not zero, since θ̇ changes in time (write θ as a function of t)")),
                              variables=("m", "l", "g", "theta", "theta_dot", "theta_ddot"), hints=(
         "the Lagrangian L = k − u (6.75), differentiated", "(6.77): d/dt ∂L/∂θ̇ − ∂L/∂θ = τ",
-        "d/dt of ∂L/∂θ̇ with θ(t); then check gravity's sign: hanging at rest needs no torque (the notes' is wrong)")),
+        "τ = m l² θ̈ + m g l sin θ")),
     "lagrange_rp_arm": Exercise("equations", lambda: rp_arm_equations()[0], robot="rp_arm", hints=(
         "write k and u with θ₁ and d₂ as functions of t, then differentiate L = k − u with the chain rule",
         "(6.77) for each joint: d/dt ∂L/∂θ̇ᵢ − ∂L/∂θᵢ = τᵢ, as example 6.5 does",
@@ -421,21 +426,21 @@ EXERCISES: dict[str, Exercise] = {
         ("coriolis-half", lambda: __import__("sympy").Matrix(rp_arm_equations()[2]) / 2,
          "half the Coriolis coefficient: d/dt (m₂d₂²θ̇₁) brings 2m₂d₂ḋ₂θ̇₁, and B holds all of it"),), hints=(
         "B multiplies the products θ̇ⱼθ̇ₖ (j < k): the RP arm has one, θ̇₁ḋ₂", "(6.63)–(6.64)",
-        "collect example 6.5's τ terms in θ̇₁ḋ₂: one column, a row per joint, the whole coefficient (6.63)")),
+        "B = [[2m₂d₂], [0]]: the Coriolis term of τ₁ divided by θ̇₁ḋ₂")),
     "C_rp_arm": Exercise("formula", lambda: __import__("sympy").Matrix(rp_arm_equations()[3]),
                          variables=("m2", "d2"), hints=(
-        "C multiplies the squares θ̇ⱼ²", "(6.63) and (6.65)", "Cᵢⱼ: the coefficient of θ̇ⱼ² in example 6.5's τᵢ")),
+        "C multiplies the squares θ̇ⱼ²", "(6.63) and (6.65)", "C = [[0, 0], [−m₂d₂, 0]]")),
     "J_tool": Exercise("formula", _J_tool, variables=("l1", "l2", "theta2"), hints=(
         "column j is the tip's velocity when only θ̇ⱼ = 1, written in frame {3}",
         "the velocity propagation of Craig (5.66), ending in frame {3}",
-        "ω and v propagated to frame {3} ((5.45), (5.47)); read off θ̇₁'s and θ̇₂'s coefficients in ³v")),
+        "³J = [[l₁s₂, 0], [l₁c₂ + l₂, l₂]]")),
     "Mx_value": Exercise("value", _Mx_value, hints=(
         "the mass the tip feels, in Cartesian directions", "(6.99): M_x from M and the Jacobian of frame {3}",
         "M_x = J⁻ᵀ M J⁻¹")),
     "friction_torque": Exercise(
         "function", reference=lambda qd, v, c: c * np.sign(qd) + v * qd,
-        inputs=lambda rng: [rng.standard_normal(3) * (rng.uniform(size=3) > 0.2), rng.uniform(0, 1, 3),
-                            rng.uniform(0, 1, 3)], hints=(  # some rates exactly 0: sgn(0) = 0
+        inputs=lambda rng: [rng.uniform(-2, 2, 2).round(2) * (rng.uniform(size=2) > 0.2),  # some at rest: sgn(0) = 0
+                            given("tau_with_friction")["viscous"], given("tau_with_friction")["coulomb"]], hints=(
             "one part grows with speed, one opposes motion with a fixed size",
             "viscous and Coulomb friction together (Craig's (6.112))",
             "c sgn(θ̇) + v θ̇")),
@@ -459,7 +464,8 @@ EXERCISES: dict[str, Exercise] = {
         "the same two updates in the other order", "the new Θ̇ first, then Θ with the new Θ̇",
         "Θ̇' = Θ̇ + Θ̈Δt, Θ' = Θ + Θ̇'Δt")),
     "omega_dot_propagation": Exercise(
-        "function", reference=omega_dot_next, inputs=random_inputs("R", "v", "v", "s", "s"), hints=(
+        "function", reference=omega_dot_next, inputs=_own(lambda L, i, rng: [
+            L.R_up[i + 1].T, L.omega[i], L.omega_dot[i], float(L.qd[i + 1]), float(L.qdd[i + 1])]), hints=(
             "differentiate (6.45) in time: the rotation turns with link i, the joint axis with link i+1",
             "(6.15) for two frames, with the rotation of (5.45) carrying ⁱω̇ᵢ into frame i+1",
             "ⁱ⁺¹ω̇ᵢ₊₁ = ⁱ⁺¹ᵢR ⁱω̇ᵢ + ⁱ⁺¹ᵢR ⁱωᵢ × θ̇ᵢ₊₁ ⁱ⁺¹Ẑᵢ₊₁ + θ̈ᵢ₊₁ ⁱ⁺¹Ẑᵢ₊₁ (6.32)"),
@@ -472,7 +478,8 @@ EXERCISES: dict[str, Exercise] = {
                                                                               lambda a, b: np.cross(b, a)),
                    "the cross product in the wrong order: ⁱ⁺¹ᵢR ⁱωᵢ × θ̇ᵢ₊₁Ẑ"))),
     "v_dot_propagation": Exercise(
-        "function", reference=v_dot_next, inputs=random_inputs("R", "v", "v", "v", "v"), hints=(
+        "function", reference=v_dot_next, inputs=_own(lambda L, i, rng: [
+            L.R_up[i + 1].T, L.omega[i], L.omega_dot[i], L.v_dot[i], L.P_up[i + 1]]), hints=(
             "the origin of frame i+1 is a point fixed in link i",
             "(6.12) for that point, then rotated into frame i+1: (6.34)",
             "ⁱ⁺¹v̇ᵢ₊₁ = ⁱ⁺¹ᵢR (ⁱω̇ᵢ × ⁱPᵢ₊₁ + ⁱωᵢ × (ⁱωᵢ × ⁱPᵢ₊₁) + ⁱv̇ᵢ)"),
@@ -482,7 +489,7 @@ EXERCISES: dict[str, Exercise] = {
                    "the rotation used the wrong way: R is ⁱ⁺¹ᵢR"))),
     "v_dot_com": Exercise(
         "function", reference=lambda w, wd, vd, P_c: v_dot_next(np.eye(3), w, wd, vd, P_c),
-        inputs=random_inputs("v", "v", "v", "v"), hints=(
+        inputs=_own(lambda L, i, rng: [L.omega[i + 1], L.omega_dot[i + 1], L.v_dot[i + 1], L.p_com[i + 1]]), hints=(
             "the centre of mass is a point fixed in link i, and everything is written in frame i",
             "(6.12) with {A} = {B} = frame i: (6.36)", "ⁱv̇_Cᵢ = ⁱω̇ᵢ × ⁱP_Cᵢ + ⁱωᵢ × (ⁱωᵢ × ⁱP_Cᵢ) + ⁱv̇ᵢ"),
         mistakes=(("centripetal-missing", lambda w, wd, vd, P_c: v_dot_next(np.eye(3), w, wd, vd, P_c, 0.0),
@@ -492,7 +499,8 @@ EXERCISES: dict[str, Exercise] = {
                   ("cross-reversed", lambda w, wd, vd, P_c: vd - np.cross(wd, P_c) - np.cross(w, np.cross(w, P_c)),
                    "both cross products in the wrong order (a × b = −b × a)"))),
     "inward_moment": Exercise(
-        "function", reference=inward_moment, inputs=random_inputs("R", "v", "v", "v", "v", "v", "v"), hints=(
+        "function", reference=inward_moment, inputs=_own(lambda L, i, rng: [
+            L.R_up[i + 1], L.N[i], L.n[i + 1], L.p_com[i], L.F[i], L.P_up[i + 1], L.f[i + 1]]), hints=(
             "the moments on link i about the origin of frame i: its own, its child's, and those of the forces",
             "(6.38)–(6.39) balanced for link i, written in frame i: (6.42)",
             "ⁱnᵢ = ⁱNᵢ + ⁱᵢ₊₁R ⁱ⁺¹nᵢ₊₁ + ⁱP_Cᵢ × ⁱFᵢ + ⁱPᵢ₊₁ × ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁"),
@@ -506,7 +514,9 @@ EXERCISES: dict[str, Exercise] = {
                   ("cross-reversed", lambda R, N, n, P_c, F, P, f: N + R @ n + np.cross(F, P_c) + np.cross(R @ f, P),
                    "the moments of the forces in the wrong order: r × F, the arm first (a × b = −b × a)"))),
     "prismatic_joint": Exercise(
-        "function", reference=prismatic, inputs=random_inputs("R", "v", "v", "v", "v", "s", "s", "v"), hints=(
+        "function", reference=prismatic, inputs=_own(lambda L, i, rng: [  # a slider in place of joint i + 1
+            L.R_up[i + 1].T, L.omega[i], L.omega_dot[i], L.v_dot[i], L.P_up[i + 1], *rng.uniform(-2, 2, 2).round(2),
+            L.f[i + 1]]), hints=(
             "a sliding joint adds a velocity ḋ along Ẑ in a turning frame: a Coriolis term, and no rotation",
             "(6.35) for ⁱ⁺¹v̇ᵢ₊₁ ((6.34) plus two terms from (6.10)), and (6.44) for the joint's force",
             "ⁱ⁺¹v̇ᵢ₊₁ = ⁱ⁺¹ᵢR(ⁱω̇ᵢ × ⁱPᵢ₊₁ + ⁱωᵢ × (ⁱωᵢ × ⁱPᵢ₊₁) + ⁱv̇ᵢ) + 2 ⁱ⁺¹ωᵢ₊₁ × ḋᵢ₊₁Ẑ + d̈ᵢ₊₁Ẑ with "
@@ -514,7 +524,9 @@ EXERCISES: dict[str, Exercise] = {
         mistakes=(("coriolis-half", lambda *a: prismatic(*a, coriolis=1.0),
                    "the Coriolis term 2ω × ḋẐ without its 2"),)),
     "moving_point": Exercise(
-        "function", reference=moving_point, inputs=random_inputs("v", "R", "v", "v", "v", "v", "v"), hints=(
+        "function", reference=moving_point, inputs=_own(lambda L, i, rng: [  # {A} the base, {B} link i
+            L.R_base[i] @ L.v_dot[i], L.R_base[i], L.R_base[i] @ L.omega[i], L.R_base[i] @ L.omega_dot[i],
+            *rng.uniform(-0.3, 0.3, (3, 3)).round(2)]), hints=(
             "a point that moves in a moving frame: five parts, one of them from both motions at once",
             "(6.10), differentiated from (6.7)–(6.8); the notes print one term too many",
             "ᴬV̇_Q = ᴬV̇_BORG + ᴬ_BR ᴮV̇_Q + 2 ᴬΩ_B × ᴬ_BR ᴮV_Q + ᴬΩ̇_B × ᴬ_BR ᴮQ + ᴬΩ_B × (ᴬΩ_B × ᴬ_BR ᴮQ)"),
@@ -528,8 +540,7 @@ EXERCISES: dict[str, Exercise] = {
         "ᴬI_xy = ᶜI_xy + m x_c y_c (the notes print −)")),
     "inward_force": Exercise(
         "function", reference=lambda R, f_next, F: R @ f_next + F,
-        inputs=lambda rng: [np.linalg.qr(rng.standard_normal((3, 3)))[0], rng.standard_normal(3),
-                            rng.standard_normal(3)],
+        inputs=_own(lambda L, i, rng: [L.R_up[i + 1], L.f[i + 1], L.F[i]]),
         hints=("link i carries its own inertial force and what link i+1 pushes back with",
                "(6.51), in frame i", "ⁱfᵢ = ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁ + ⁱFᵢ")),
     "Y_mcx2": Exercise("value", _Y_mcx2, hints=(

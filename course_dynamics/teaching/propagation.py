@@ -12,6 +12,7 @@ function               rule                                                     
 ``inward_moment``      ⁱnᵢ = ⁱNᵢ + ⁱᵢ₊₁R ⁱ⁺¹nᵢ₊₁ + ⁱP_Cᵢ × ⁱFᵢ + ⁱPᵢ₊₁ × ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁  (6.42)
 ``prismatic``          (6.34) + 2 ⁱ⁺¹ωᵢ₊₁ × ḋẐ + d̈Ẑ, and τ = fᵀẐ                        (6.35), (6.44)
 ``moving_point``       ᴬV̇_Q of a point moving in a moving frame                         (6.10)
+``chain_quantities``   a robot's own inputs for them: both iterations, link by link     (6.45)–(6.53)
 =====================  ===============================================================  ==============
 
 >>> import numpy as np
@@ -20,16 +21,16 @@ function               rule                                                     
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
+from ..base.errors import InputError
+from ..core.kinematics import joint_transforms
+from ..core.model import Model
+from ..core.newton_euler import newton_euler_links
+
 Z = np.array([0.0, 0.0, 1.0])
-
-
-def random_rotation(rng) -> np.ndarray:
-    """A random rotation matrix (proper: determinant +1)."""
-    from scipy.spatial.transform import Rotation
-
-    return Rotation.from_rotvec(rng.uniform(-1.5, 1.5, 3)).as_matrix()
 
 
 def omega_dot_next(R, w, wd, qd, qdd, cross=np.cross):  # (6.32): ⁱ⁺¹ᵢR ⁱω̇ᵢ + ⁱ⁺¹ᵢR ⁱωᵢ × θ̇ Ẑ + θ̈ Ẑ
@@ -185,14 +186,80 @@ def moving_point(Vd_org, R, Omega, Omega_dot, Q, V_Q, Vd_Q, coriolis=2.0):  # (6
             + np.cross(Omega, np.cross(Omega, R @ Q)))
 
 
-def random_inputs(*kinds):
-    """Random inputs: "R" a rotation, "v" a 3-vector, "s" a number."""
-    def draw(rng):
-        return [random_rotation(rng) if k == "R" else rng.standard_normal(3) if k == "v"
-                else float(rng.standard_normal())
-                for k in kinds]
+@dataclass(frozen=True)
+class ChainQuantities:
+    """Both iterations of a serial chain at one state, per link (index i is link i + 1), each in its own frame.
 
-    return draw
+    Parameters
+    ----------
+    R_up, R_base : numpy.ndarray, shape (n, 3, 3)
+        ᵖᵢR, the orientation of frame i in its parent, and ⁰ᵢR, in the base.
+    P_up, p_com : numpy.ndarray, shape (n, 3)
+        ᵖPᵢ, the origin of frame i in its parent, and ⁱP_Cᵢ, link i's centre of mass, m.
+    omega, omega_dot, v_dot, v_dot_c : numpy.ndarray, shape (n, 3)
+        ⁱωᵢ (rad/s), ⁱω̇ᵢ (rad/s²), ⁱv̇ᵢ and ⁱv̇_Cᵢ (m/s², with the −g base lift).
+    F, N, f, n : numpy.ndarray, shape (n, 3)
+        ⁱFᵢ (N), ⁱNᵢ (N·m), ⁱfᵢ (N), ⁱnᵢ (N·m).
+    qd, qdd : numpy.ndarray, shape (n,)
+        Θ̇ (rad/s) and Θ̈ (rad/s²) of the state.
+    """
+
+    R_up: np.ndarray
+    R_base: np.ndarray
+    P_up: np.ndarray
+    p_com: np.ndarray
+    omega: np.ndarray
+    omega_dot: np.ndarray
+    v_dot: np.ndarray
+    v_dot_c: np.ndarray
+    F: np.ndarray
+    N: np.ndarray
+    f: np.ndarray
+    n: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
 
 
-__all__ = ["inward_moment", "moving_point", "omega_dot_next", "prismatic", "v_dot_next"]
+def chain_quantities(model: Model, q, qd, qdd) -> ChainQuantities:
+    """The inputs the homework's functions take, from a robot's own links: both iterations at one state.
+
+    Parameters
+    ----------
+    model : Model
+        A serial chain (each body the child of the one before).
+    q, qd, qdd : array_like, shape (n,)
+        Θ (rad), Θ̇ (rad/s), Θ̈ (rad/s²); m, m/s, m/s² for a prismatic joint.
+
+    Returns
+    -------
+    ChainQuantities
+        The rotations, offsets and every quantity of (6.45)–(6.53), link by link.
+
+    Raises
+    ------
+    InputError
+        If the robot is not a serial chain.
+
+    Examples
+    --------
+    >>> from course_dynamics import load_robot
+    >>> chain = chain_quantities(load_robot("two_link"), [0.0, 0.0], [1.0, 0.0], [0.0, 0.0])
+    >>> chain.omega[1].tolist(), chain.P_up[1].tolist()   # link 2 turns with link 1; joint 2 at l₁ along X₁
+    ([0.0, 0.0, 1.0], [0.5, 0.0, 0.0])
+    """
+    if [body.parent for body in model.bodies] != list(range(-1, len(model.bodies) - 1)):
+        raise InputError(f"robot '{model.name}' is not a serial chain: its links' quantities have no single order")
+    links = newton_euler_links(model, q, qd, qdd)
+    X = joint_transforms(model, [float(x) for x in np.asarray(q, dtype=float)])
+    R_up = np.array([np.array(R.rows, dtype=float) for R in X.R])
+    R_base = [R_up[0]]
+    for R in R_up[1:]:
+        R_base.append(R_base[-1] @ R)  # ⁰ᵢR = ⁰ₚR ᵖᵢR
+    return ChainQuantities(R_up=R_up, R_base=np.array(R_base), P_up=np.array([tuple(P) for P in X.P], dtype=float),
+                           p_com=np.array([b.p_com for b in model.bodies]), omega=links.omega,
+                           omega_dot=links.omega_dot, v_dot=links.v_dot, v_dot_c=links.v_dot_c, F=links.F, N=links.N,
+                           f=links.f, n=links.n, qd=np.asarray(qd, dtype=float), qdd=np.asarray(qdd, dtype=float))
+
+
+__all__ = ["ChainQuantities", "chain_quantities", "inward_moment", "moving_point", "omega_dot_next", "prismatic",
+           "v_dot_next"]
