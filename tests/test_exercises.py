@@ -106,11 +106,37 @@ def test_no_check_shows_the_expected_value():
     assert "expected" in check("v_dot_c1", np.zeros(3)).text()
 
 
-def test_hints_come_in_tiers_the_formula_last():
+def test_hints_come_in_tiers_the_method_last():
     assert all(len(exercise.hints) >= 3 for exercise in EXERCISES.values())
     first, last = hint("G_two_link"), hint("G_two_link", 3)
     assert first.startswith("hint 1 of 3:") and "hint('G_two_link', 2)" in first
-    assert "c₁₂" in last and "for more" not in last and hint("G_two_link", 99) == last
+    assert "(6.73)" in last and "for more" not in last and hint("G_two_link", 99) == last
+
+
+ASKED = {"tau": "τ", "M": "M", "V": "V", "G": "G"}  # what a term exercise asks for
+FORMULAS = {"k_pendulum": "k", "u_pendulum": "u", "tau_pendulum": "τ", "B_rp_arm": "B", "C_rp_arm": "C",
+            "J_tool": "J"}  # what a formula exercise asks for (I_corner's last hint is the parallel-axis theorem)
+PRODUCT = re.compile(r"(?:[mlgsc][₁₂]+²?){3,}")  # m₂l₁l₂s₂, l₂²m₂, m₂l₂gc₁₂: a closed form's terms
+
+
+@pytest.mark.parametrize("name", list(EXERCISES))
+def test_no_hint_gives_the_answer(name):
+    """A hint points at the method; it never holds the closed form a term or formula exercise asks for (the
+    two-link arm's (6.60)–(6.62), a pendulum's k, u or τ, example 6.5's B and C, the tool Jacobian), nor the
+    numbers a value exercise asks for."""
+    exercise = EXERCISES[name]
+    for text in exercise.hints:
+        if exercise.kind == "term":
+            assert not re.search(rf"(?<![\w(]){ASKED[exercise.term]}(\(Θ[^)]*\))? = ", text), (name, text)
+            assert not PRODUCT.search(text), (name, text)
+        if name in FORMULAS:
+            assert not re.search(rf"(?<!\w)[³ᴬ]?{FORMULAS[name]} = ", text), (name, text)
+            assert not PRODUCT.search(text.replace(" ", "")), (name, text)
+        if exercise.kind == "value" and np.asarray(exercise.answer()).dtype != bool:
+            numbers = [float(x) for x in np.ravel(exercise.answer()) if abs(float(x)) > 1e-9]
+            for x in numbers:
+                for shown in {f"{x:.3g}", f"{x:.2f}", f"{abs(x):.3g}"}:
+                    assert len(shown.strip("-0.")) < 2 or shown not in text, (name, shown, text)
 
 
 def test_values_name_their_wrong_entries():
@@ -127,7 +153,7 @@ def test_values_get_the_graders_checks():
     """A value goes through grading.score like a graded term: the same named mistakes, in the same words."""
     tensor = given("principal_moments")["I"]
     counted_twice = check("principal_moments", np.linalg.eigvalsh(tensor + tensor)).text()
-    assert "is the right answer times a constant factor 2" in counted_twice
+    assert "is the right answer times a constant factor of about 2.0" in counted_twice
     d = given("I_xy_corner")
     with_the_notes_minus = d["m"] * 0 - d["m"] * (d["w"] / 2) * (d["l"] / 2)  # ᶜI_xy − m x_c y_c, ᶜI_xy = 0
     assert "has the opposite sign everywhere" in check("I_xy_corner", with_the_notes_minus).text()

@@ -8,7 +8,8 @@ notebook without a student id works for :data:`~course_dynamics.tools.variants.C
 whose robots differ from the worked examples' too.
 
 Hints come in tiers (the ``hints`` of an :class:`Exercise`): which term or idea, then which
-equation, then the formula itself, last.
+equation, then, last, the method step by step: never the answer the exercise asks for (its closed
+form or its value).
 
 >>> use_student("ada")
 >>> bool((given("v_dot_c1")["q"] == given("v_dot_c1")["q"]).all()), my_robot("two_link").student
@@ -288,7 +289,7 @@ class Exercise:
     "links" (every quantity of both iterations, link by link, at the exercise's given state), "equations"
     (equations of motion derived by hand in θ(t), term by term: :mod:`~course_dynamics.teaching.derivations`),
     "function" (compared on random inputs with ``reference``), "value" or "formula"; ``hints`` in tiers, the
-    formula last.
+    method last (never the answer).
 
     Parameters
     ----------
@@ -312,7 +313,8 @@ class Exercise:
         A formula may differ from the answer by anything that does not depend on these (a potential energy's
         constant).
     hints : tuple of str, optional
-        The hints in tiers: which term or idea, then which equation, then the formula itself.
+        The hints in tiers: which term or idea, then which equation, then the method step by step (for a function
+        exercise, the equation it implements); never the answer a formula, value or term exercise asks for.
     mistakes : tuple of tuple, optional
         The slips students make, each (code, the reference with that slip, its words): an answer that matches
         one is told which.
@@ -393,21 +395,22 @@ EXERCISES: dict[str, Exercise] = {
     "M_two_link": Exercise("term", term="M", hints=(
         "column j of M is the torque of unit Θ̈ⱼ without gravity or velocity",
         "(6.60): M₁₁, M₁₂ = M₂₁, M₂₂ of the two-link arm",
-        "M = [[l₂²m₂ + 2l₁l₂m₂c₂ + l₁²(m₁ + m₂), l₂²m₂ + l₁l₂m₂c₂], [l₂²m₂ + l₁l₂m₂c₂, l₂²m₂]]")),
+        "τ with Θ̇ = 0, g = 0 and Θ̈ = e₁, then e₂, gives M's columns: masses times lengths squared, some with c₂")),
     "V_two_link": Exercise("term", term="V", hints=(
         "V has a Coriolis term in θ̇₁θ̇₂ and centrifugal terms in θ̇ⱼ²",
         "(6.61), and the factor 2 of the Coriolis term (6.63)",
-        "V = (−m₂l₁l₂s₂θ̇₂² − 2m₂l₁l₂s₂θ̇₁θ̇₂, m₂l₁l₂s₂θ̇₁²)")),
+        "τ(Θ, Θ̇, 0) − G: each term is m₂, l₁, l₂ and s₂ times two joint rates, θ̇₁θ̇₂ with Craig's factor 2")),
     "G_two_link": Exercise("term", term="G", hints=(
         "G holds each link up: the weight of every link outboard of the joint times its horizontal moment arm",
         "(6.62), with c₁ for link 1's direction and c₁₂ for link 2's",
-        "G = (m₂l₂gc₁₂ + (m₁ + m₂)l₁gc₁, m₂l₂gc₁₂)")),
+        "∂u/∂Θ (6.73), each mass's height written with θ₁ and θ₁ + θ₂; joint 2 holds up link 2 only")),
     "k_pendulum": Exercise("formula", lambda: _pendulum("k"), variables=("m", "l", "g", "theta", "theta_dot"), hints=(
-        "the kinetic energy of a point mass moving on a circle", "(6.69) for a point mass", "½ m v² with v = l θ̇")),
+        "the kinetic energy of a point mass moving on a circle", "(6.69) for a point mass", "½ m v², v its speed")),
     "u_pendulum": Exercise("formula", lambda: _pendulum("u"), variables=("m", "l", "g", "theta", "theta_dot"),
                            constant_in=("theta",), hints=(
         "the height of the mass as a function of θ; θ = 0 hangs straight down",
-        "(6.73): u = −m gᵀ P_C (plus any constant)", "u = −m g l cos θ")),
+        "(6.73): the potential energy −m gᵀ P_C, plus any constant",
+        "P_C(θ) with θ = 0 straight down, g pointing down")),
     "tau_pendulum": Exercise("formula", lambda: _pendulum("tau"), time_functions=("theta",), mistakes=(
         ("gravity-sign", lambda: _pendulum("tau") - 2 * _pendulum("gravity"),
          "gravity with the wrong sign: with it, the pendulum would fall away from hanging (the notes print it so)"),
@@ -415,7 +418,7 @@ EXERCISES: dict[str, Exercise] = {
          "only −∂L/∂θ: d/dt ∂L/∂θ̇ is not zero, since θ̇ changes in time (write θ as a function of t)")),
                              variables=("m", "l", "g", "theta", "theta_dot", "theta_ddot"), hints=(
         "the Lagrangian L = k − u (6.75), differentiated", "(6.77): d/dt ∂L/∂θ̇ − ∂L/∂θ = τ",
-        "τ = m l² θ̈ + m g l sin θ")),
+        "d/dt of ∂L/∂θ̇ with θ(t); then check gravity's sign: hanging at rest needs no torque (the notes' is wrong)")),
     "lagrange_rp_arm": Exercise("equations", lambda: rp_arm_equations()[0], robot="rp_arm", hints=(
         "write k and u with θ₁ and d₂ as functions of t, then differentiate L = k − u with the chain rule",
         "(6.77) for each joint: d/dt ∂L/∂θ̇ᵢ − ∂L/∂θᵢ = τᵢ, as example 6.5 does",
@@ -426,14 +429,14 @@ EXERCISES: dict[str, Exercise] = {
         ("coriolis-half", lambda: __import__("sympy").Matrix(rp_arm_equations()[2]) / 2,
          "half the Coriolis coefficient: d/dt (m₂d₂²θ̇₁) brings 2m₂d₂ḋ₂θ̇₁, and B holds all of it"),), hints=(
         "B multiplies the products θ̇ⱼθ̇ₖ (j < k): the RP arm has one, θ̇₁ḋ₂", "(6.63)–(6.64)",
-        "B = [[2m₂d₂], [0]]: the Coriolis term of τ₁ divided by θ̇₁ḋ₂")),
+        "collect example 6.5's τ terms in θ̇₁ḋ₂: one column, a row per joint, the whole coefficient (6.63)")),
     "C_rp_arm": Exercise("formula", lambda: __import__("sympy").Matrix(rp_arm_equations()[3]),
                          variables=("m2", "d2"), hints=(
-        "C multiplies the squares θ̇ⱼ²", "(6.63) and (6.65)", "C = [[0, 0], [−m₂d₂, 0]]")),
+        "C multiplies the squares θ̇ⱼ²", "(6.63) and (6.65)", "Cᵢⱼ: the coefficient of θ̇ⱼ² in example 6.5's τᵢ")),
     "J_tool": Exercise("formula", _J_tool, variables=("l1", "l2", "theta2"), hints=(
         "column j is the tip's velocity when only θ̇ⱼ = 1, written in frame {3}",
         "the velocity propagation of Craig (5.66), ending in frame {3}",
-        "³J = [[l₁s₂, 0], [l₁c₂ + l₂, l₂]]")),
+        "ω and v propagated to frame {3} ((5.45), (5.47)); read off θ̇₁'s and θ̇₂'s coefficients in ³v")),
     "Mx_value": Exercise("value", _Mx_value, hints=(
         "the mass the tip feels, in Cartesian directions", "(6.99): M_x from M and the Jacobian of frame {3}",
         "M_x = J⁻ᵀ M J⁻¹")),
