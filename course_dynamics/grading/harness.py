@@ -66,7 +66,7 @@ MAX_VALUES = 10_000  # a returned array larger than this is reported, not sent b
 MAX_DIMENSIONS = 3   # nor one of more dimensions (M and C have two)
 FILE_ERRORS = (errno.EROFS, errno.EACCES, errno.EPERM)
 WALL_MARGIN = 2.0  # s: the harness reports a wall-clock timeout this long before the grader kills the run
-AVAILABLE = {"packages": ("numpy",)}  # what a submission may import besides the standard library (the plan's)
+AVAILABLE = {"packages": None}  # in grading, what a submission may import besides the standard library (the plan's)
 
 
 def _integrity():
@@ -137,7 +137,7 @@ def _where(exc: BaseException, path: str) -> str:
             line = f" (line {number})"
     text = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
     found = f"{type(exc).__name__}{': ' + text[:300] if text else ''}{line}"
-    if isinstance(exc, ModuleNotFoundError) and not isinstance(exc, ForbiddenImport):
+    if isinstance(exc, ModuleNotFoundError) and AVAILABLE["packages"] is not None:  # not in a notebook's kernel
         found += (f": a submission's Python has the standard library and {', '.join(AVAILABLE['packages'])}, "
                   "nothing else")
     return found
