@@ -176,8 +176,8 @@ def constant_factor(answer: Answer) -> Finding | None:
                    "factor such as ½, 2, a mass or a length squared?", ("constant factor",), conclusive=True)
 
 
-#: The most significant digits a number that relates a student's answer to ours is printed with: dividing by it
-#: must never make a wrong answer pass.
+#: The most significant digits a number that relates a student's answer to ours is printed with, so that dividing
+#: by it never makes a wrong answer pass.
 SHOWN_DIGITS = 2
 
 

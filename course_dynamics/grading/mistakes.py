@@ -336,9 +336,9 @@ def _sentence(text: str) -> str:
     return text + ("" if text.endswith(".") else ".")
 
 
-#: How close a wrong answer must be to one of our mistaken answers to be called "closest to" it: the median over the
-#: states of the largest entry's difference, relative to that mistaken answer's own size, at most CLOSE (5 %), and
-#: ten times nearer it than the right answer.
+#: How close a wrong answer must be to one of our mistaken answers to be called "closest to" it, the median over the
+#: states of the largest entry's difference relative to that mistaken answer's own size being at most CLOSE (5 %),
+#: and ten times nearer it than the right answer.
 CLOSE = 0.05
 OWN_SIZE_FLOOR = 1e-3  # a mistaken answer near zero is measured against a thousandth of the term's scale, not against 0
 

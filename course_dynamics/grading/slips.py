@@ -71,7 +71,7 @@ SLIP_EQUATIONS = {
     "notes-6.51": ("6.51",),
     "notes-6.52": ("6.52",),
 }
-#: The ways a slip with variants is made: code → variant → its words.
+#: The ways a slip with variants is made, code → variant → its words.
 SLIP_VARIANTS = {
     "gravity-frame": {"unrotated": "⁰g used in frame i as it is, not rotated into it by ⁱ₀R = ⁰ᵢRᵀ",
                       "rotated": "⁰g rotated by ⁰ᵢR, not by its transpose ⁱ₀R"},
