@@ -451,7 +451,7 @@ def test_6_105_has_M_x_and_the_joint_space_gravity(example_6_6):
 def test_6_115_solves_the_joint_space_equation_with_friction(panda):
     """The notes derive (6.115) "from (6.104)"; it solves (6.59) with friction added, τ = M Θ̈ + V + G + F (Craig's
     (6.114)). Θ̈ = M⁻¹ [τ − V − G − F] with Pinocchio's M, V, G is Pinocchio's aba on τ − F, on the Panda, whose
-    nine joints leave (6.104) undefined: no task of at most six rows gives it a square J to invert in (6.99)."""
+    eight coordinates leave (6.104) undefined: no task of at most six rows gives it a square J to invert in (6.99)."""
     from course_dynamics.core.forward_dynamics import forward_dynamics
     from course_dynamics.core.friction import Friction
 

@@ -328,7 +328,7 @@ class Model:
 
     @property
     def n(self) -> int:
-        """Number of joint coordinates n: the independent joints (a mimic joint has none of its own)."""
+        """Number of joint coordinates n, one per independent joint (a mimic joint has none of its own)."""
         return len(self.coordinates)
 
     @property
@@ -348,13 +348,13 @@ class Model:
 
     @cached_property
     def coordinates(self) -> tuple[int, ...]:
-        """The index of the body of each coordinate Θ[j]: every body whose joint mimics none."""
+        """The index of the body of each coordinate Θ[j], every body whose joint mimics none."""
         return tuple(k for k, body in enumerate(self.bodies) if not body.mimic)
 
     @cached_property
     def coupling(self) -> tuple[tuple[int, float, float], ...]:
-        """(j, a, b) for each body k: θₖ = a Θ[j] + b, chains of mimics composed; (k's coordinate, 1, 0) for an
-        independent body."""
+        """(j, a, b) for each body k, so that θₖ = a Θ[j] + b, chains of mimics composed (k's coordinate, 1 and
+        0 for an independent body)."""
         by_joint = {body.joint: k for k, body in enumerate(self.bodies)}
         column = {k: j for j, k in enumerate(self.coordinates)}
         coupling = []
@@ -380,7 +380,7 @@ class Model:
 
     @cached_property
     def S(self) -> np.ndarray:
-        """S, shape (n_bodies, n): θ̇_bodies = S Θ̇ (module docstring)."""
+        """S, shape (n_bodies, n), with θ̇_bodies = S Θ̇ (module docstring)."""
         S = np.zeros((self.n_bodies, self.n))
         for k, (j, a, _) in enumerate(self.coupling):
             S[k, j] = a
@@ -389,7 +389,7 @@ class Model:
 
     @cached_property
     def b(self) -> np.ndarray:
-        """b, shape (n_bodies,), rad or m: θ_bodies = S Θ + b (module docstring)."""
+        """b, shape (n_bodies,), rad or m, with θ_bodies = S Θ + b (module docstring)."""
         b = np.array([offset for _, _, offset in self.coupling], dtype=float)
         b.setflags(write=False)
         return b
@@ -508,7 +508,7 @@ class Model:
 
     @cached_property
     def effort(self) -> np.ndarray:
-        """Torque (N·m) or force (N) limits, inf where the URDF gives none: the independent joint's own (its
+        """Torque (N·m) or force (N) limits, inf where the URDF gives none; the independent joint's own (its
         actuator drives the mimics too)."""
         return np.array([b.effort for b in self.coordinate_bodies], dtype=float)
 
