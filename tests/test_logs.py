@@ -320,3 +320,23 @@ def test_a_mimic_joints_own_column_is_checked_not_read(tmp_path):
         said = [note for note in log.notes if "q_panda_finger_joint2" in note]
         assert len(said) == 1 and "mimics 'panda_finger_joint1'" in said[0] and expected in said[0], said
         np.testing.assert_allclose(log.q, q, rtol=0, atol=1e-15)  # the leader's column, as logged
+
+
+def test_a_joint_states_bag_with_both_fingers_reads_the_first(tmp_path):
+    """ROS joint_states of a Panda list both fingers: the second (a mimic) is checked against the first, not read."""
+    import bagmakers
+
+    from course_dynamics.tools.sources import open_log
+
+    model = load_robot("panda")
+    t = np.arange(0.0, 1.0, 0.01)
+    q = 0.02 + 0.01 * np.outer(np.sin(3 * t), np.ones(model.n))
+    both = np.column_stack([q, q[:, 7]])  # every moving joint, the second finger at the first's position
+    names = model.joint_names + ("panda_finger_joint2",)
+    path = bagmakers.write_joint_states(tmp_path / "fingers", "ros1", names, t, both, np.zeros_like(both),
+                                        np.zeros_like(both))
+    log = joint_log(model, open_log(path, model))
+    said = [note for note in log.notes if "q_panda_finger_joint2" in note]
+    assert len(said) == 1 and "within 0.001 throughout): not read" in said[0], log.notes
+    assert not any("does not have" in note and "panda_finger_joint2" in note for note in log.notes)
+    np.testing.assert_allclose(log.q, q, rtol=0, atol=1e-15)

@@ -104,6 +104,24 @@ def test_every_path_agrees(robot):
         assert_agrees(fast.forward_dynamics(q, qd, tau), qdd, what=f"{name} compiled forward dynamics")
 
 
+def test_the_evaluator_compiled_or_not_agrees(robot):
+    """``implementation(model, compiled=True)`` and ``compiled=False`` on a mimic robot, with friction."""
+    from course_dynamics.core.evaluator import implementation
+
+    name, model, _, (q, qd, qdd) = robot
+    runs = [implementation(model, compiled=flag) for flag in (False, True)]
+    friction = Friction.from_urdf(model)
+    tau = runs[0].inverse_dynamics(q, qd, qdd)
+    scale = np.abs(runs[0].mass_matrix(q)).max() * (1 + np.abs(qd).max() ** 2 + np.abs(qdd).max())
+    assert_agrees(runs[1].inverse_dynamics(q, qd, qdd), tau, scale, what=f"{name} tau")
+    assert_agrees(runs[1].mass_matrix(q), runs[0].mass_matrix(q), what=f"{name} M")
+    assert_agrees(runs[1].coriolis_matrix(q, qd), runs[0].coriolis_matrix(q, qd), scale, what=f"{name} C")
+    assert_agrees(runs[1].bias(q, qd), runs[0].bias(q, qd), scale, what=f"{name} bias")
+    for run in runs:
+        assert_agrees(run.forward_dynamics(q, qd, tau + friction.torques(qd), friction), qdd,
+                      what=f"{name} forward dynamics with friction")
+
+
 def _pinocchio_parameters(oracle) -> np.ndarray:
     return np.concatenate([oracle.plain.inertias[j].toDynamicParameters() for j in range(1, oracle.plain.njoints)])
 
