@@ -21,7 +21,7 @@ A mimic joint (θₖ = a θⱼ + b) has no coordinate: its damping vₖ and fric
 its own rate a θ̇ⱼ and map onto the leader's coordinate through Sᵀ, so they add to the
 leader's coefficients in :meth:`Friction.from_urdf`, exactly for sgn:
 
-    Fⱼ = (vⱼ + a² vₖ) θ̇ⱼ + (cⱼ + |a| cₖ) sgn(θ̇ⱼ)
+    Fⱼ = (vⱼ + a² vₖ) θ̇ⱼ + (cⱼ + abs(a) cₖ) sgn(θ̇ⱼ)
 
 (with smoothing, the tanh is taken of the leader's rate).
 """

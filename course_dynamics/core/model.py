@@ -23,7 +23,8 @@ name                meaning (shape, unit)
 ``damping``         viscous friction coefficient from ``<dynamics damping>``
 ``friction``        Coulomb friction from ``<dynamics friction>`` (N·m or N)
 ``mimic``           the joint whose coordinate drives joint i (URDF ``<mimic joint>``), "" for none
-``multiplier, offset``  θᵢ = multiplier · θ_mimic + offset (URDF ``<mimic>``)
+``multiplier``      θᵢ = multiplier · θ_mimic + offset (URDF ``<mimic>``)
+``offset``          the offset of that coupling (rad or m)
 ``S, b``            the coupling θ_bodies = S Θ + b, shape (n_bodies, n) and (n_bodies,)
 ``gravity``         g: gravitational acceleration in the base frame (3,), m/s²
 ==================  =============================================================
@@ -515,7 +516,7 @@ class Model:
     @cached_property
     def velocity(self) -> np.ndarray:
         """Speed limits (rad/s or m/s), inf where the URDF gives none; a coordinate with mimics gets the
-        smallest of its own and each mimic's divided by |multiplier|."""
+        smallest of its own and each mimic's divided by the multiplier's size."""
         return np.array([min(r, default=np.inf) for r in self._mimic_ranges("velocity")], dtype=float)
 
     @property
