@@ -184,7 +184,7 @@ def test_no_stop_adds_energy(name, integrator):
     assert np.all(stop.q >= lower) and np.all(stop.q <= upper)
 
 
-def test_the_issue_panda_keeps_its_energy():
+def test_a_panda_stopped_at_its_limits_keeps_its_energy():
     """The Panda released from (0, 0, 0, −1.5, 0, 1.5, 0.7, 0.02) with no torque: under 'stop' the energy
     never rises above the start (zeroing a joint's rate instead had taken it from 90.7 J to 659.8 J)."""
     model = load_robot("panda")

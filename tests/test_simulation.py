@@ -6,6 +6,7 @@ import pytest
 
 from course_dynamics import inverse_dynamics, load_robot, robot_path
 from course_dynamics.core.forward_dynamics import forward_dynamics
+from course_dynamics.cli.commands import simulate as simulate_command
 from course_dynamics.core.friction import Friction
 from course_dynamics.tools.simulation import (
     SimulationError,
@@ -229,7 +230,7 @@ def test_a_start_beyond_a_limit_is_refused_under_stop():
         simulate(load_robot("rp_arm"), [0.0, 0.9], [0.0, 0.0], duration=0.1, dt=0.01, limits="stop")
 
 
-def test_the_cli_stops_the_issue_panda_without_adding_energy(capsys, tmp_path):
+def test_the_cli_stops_a_panda_at_its_limits_without_adding_energy(capsys, tmp_path, monkeypatch):
     """`simulate panda --limits stop` from the Panda start that used to gain 570 J: the JSON's energy never rises
     above the start plus the integrator's drift under --limits report, each stop is listed with its time, joints
     and the kinetic energy it took (≤ 0), and the text output says the same."""
@@ -255,11 +256,10 @@ def test_the_cli_stops_the_issue_panda_without_adding_energy(capsys, tmp_path):
     assert first["joints"] == ["panda_joint2"] and first["sides"] == ["upper"] and first["limits"] == [1.7628]
     assert 0.4 < first["t"] < 0.55 and first["energy"] == first["kinetic_after"] - first["kinetic_before"] < -10
     assert summary["stops_energy"] == pytest.approx(sum(stop["energy"] for stop in summary["stops"]), rel=1e-12)
+    assert len(summary["stops"]) == 9      # the fingers move as one (the second mimics the first)
+    monkeypatch.setattr(simulate_command, "STOPS_SHOWN", 5)
     code, out, _ = run(capsys, *common[:-1], "--limits", "stop", "--out", str(tmp_path / "stop.csv"))
     lines = out.splitlines()
-    assert lines[1].startswith(f"{len(summary['stops'])} joint stops took {-summary['stops_energy']:.6g} J")
+    assert lines[1].startswith(f"9 joint stops took {-summary['stops_energy']:.6g} J")
     assert "joint 'panda_joint2' stopped at its upper limit 1.7628 (kinetic energy" in lines[2]
-    if len(summary["stops"]) > 10:
-        assert lines[-1] == f"  … and {len(summary['stops']) - 10} more (--json lists every stop)"
-    else:  # the fingers move as one (the second mimics the first): 9 stops, each listed
-        assert len(lines) == 2 + len(summary["stops"]) and lines[-1].startswith("  t = ")
+    assert len(lines) == 2 + 5 + 1 and lines[-1] == "  … and 4 more (--json lists every stop)"
