@@ -71,7 +71,20 @@ def test_the_same_motion_as_rtde_and_as_a_plain_csv_gives_the_same_torques(capsy
         code, _, _ = run(capsys, "torques", "ur5", "--log", str(log), "--out", str(target))
         assert code == 0
         results.append(read_table(target).data)
+    results[1][:, 0] -= MOTION.t[0]          # the recorder's clock is read from the log's start, a table's t as it is
     np.testing.assert_allclose(results[0], results[1], rtol=1e-9, atol=1e-9 * np.abs(results[1]).max())
+
+
+def test_an_rtde_recordings_times_are_from_its_start_with_the_start_stamp_in_a_note(capsys, tmp_path):
+    path = tmp_path / "late.csv"
+    t = MOTION.t - MOTION.t[0] + 3021.5
+    write_ur_rtde(path, t, MOTION.q, MOTION.qd)
+    source = open_log(path, UR5)
+    np.testing.assert_allclose(source.columns["timestamp"], t - 3021.5, rtol=0, atol=1e-9)
+    assert "t: timestamp (s), from the log's start (stamp 3021.500000 s)" in source.notes
+    code, _, _ = run(capsys, "torques", "ur5", "--log", str(path), "--out", str(tmp_path / "tau.csv"))
+    written = read_table(tmp_path / "tau.csv").data[:, 0]
+    assert code == 0 and written[0] == 0 and written[-1] == pytest.approx(t[-1] - t[0], abs=1e-9)
 
 
 def test_an_rtde_recording_of_another_arm_or_no_recording_is_refused(capsys, rtde, tmp_path):
@@ -262,7 +275,8 @@ def test_a_measured_torque_no_robot_could_make_is_refused_before_any_file_is_wri
     write_csv(log, header, [MOTION.t] + list(MOTION.q.T) + list(MOTION.qd.T) + list(tau.T), fmt="{:.12g}")
     out = tmp_path / "o.csv"
     code, _, err = run(capsys, "torques", "ur5", "--log", str(log), "--out", str(out), "--plot", str(tmp_path / "p.html"))
-    assert_one_line_error(code, err, "row 101: a measured torque of 1e+160 (joint 3) is beyond any robot's")
+    assert_one_line_error(code, err, "line 102, column 'tau_meas_elbow_joint': a measured torque of 1e+160 is beyond "
+                          "any robot's")
     assert not out.exists() and not (tmp_path / "p.html").exists()
 
 

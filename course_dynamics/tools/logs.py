@@ -24,8 +24,10 @@ least squares to a window of samples around each one, differentiated exactly.
 It smooths as it differentiates, which plain finite differences of a measured
 signal do not (they amplify its noise by 1/Δt, and Θ̈ by 1/Δt²). The window
 (odd, in samples) is ``window``; by default the odd count nearest to 20 ms of
-samples, and at least 7. The samples must be on an even clock; dropped samples
+samples, and at least 7. What is differentiated must be on an even clock; dropped samples
 are filled, a log can be resampled and long gaps split (:mod:`~course_dynamics.tools.resampling`).
+The caller states what it needs (``needs``): Θ̈ (the torques), or Θ̇ alone (the momentum observer); a log that
+holds what is needed is taken on its own stamps, however uneven, and nothing is filled.
 What was differentiated, filled or resampled is said in :attr:`TorqueLog.notes`, and
 the CLI writes it at the top of its output. When the log holds measured torques (or
 currents and their torque constants), the ``residuals`` of a :class:`TorqueLog` compare them with ours
@@ -193,33 +195,39 @@ def _measured(model: Model, plan, renamed: dict, samples: int, torque_constants,
         measured = np.full((samples, model.n), np.nan)
         for j in with_tau:
             measured[:, model.joint_names.index(j)] = renamed[f"tau_meas_{j}"]
-        return _plausible(measured, where), "tau_meas", notes
+        return measured, "tau_meas", notes
     if with_current and torque_constants is not None:
         measured = np.full((samples, model.n), np.nan)
         for j in with_current:
             i = model.joint_names.index(j)
             measured[:, i] = k[i] * renamed[f"current_{j}"]
-        return _plausible(measured, where), "currents times torque constants", notes
+        return measured, "currents times torque constants", notes
     if with_current:
         notes.append("motor currents are logged: give torque constants (--torque-constant k1,...) to compare them "
                      "with the torques")
     return None, "", notes
 
 
-def _plausible(measured: np.ndarray, where: str) -> np.ndarray:
-    """Measured torques no robot could produce are a mistake (units, a corrupt cell), never a residual."""
-    big = np.abs(np.nan_to_num(measured)) > MAX_MEASURED
-    if big.any():
-        row, joint = np.argwhere(big)[0]
-        raise InputError(f"{where}: row {row + 1}: a measured torque of {measured[row, joint]:.3g} (joint {joint + 1}) "
-                         f"is beyond any robot's ({MAX_MEASURED:g} N m); check the log's units and torque constants")
-    return measured
+def _check_plausible(model: Model, plan, renamed: dict, torque_constants, source) -> None:
+    """Measured torques no robot could produce are a mistake (units, a corrupt cell), never a residual: checked on the
+    logged samples, before any is filled or resampled, naming the file's line and the log's column."""
+    k = None if torque_constants is None else np.asarray(torque_constants, dtype=float).reshape(-1)
+    checked = [(f"tau_meas_{j}", 1.0) for j in plan.measured("tau_meas")]
+    if not checked and k is not None and k.shape == (model.n,):
+        checked = [(f"current_{j}", k[model.joint_names.index(j)]) for j in plan.measured("current")]
+    for name, scale in checked:
+        torque = scale * np.asarray(renamed[name], dtype=float)
+        big = np.flatnonzero(np.abs(np.nan_to_num(torque)) > MAX_MEASURED)
+        if len(big):
+            raise InputError(f"{source.where}: {source.line(int(big[0]))}, column '{plan.read.get(name, name)}': a "
+                             f"measured torque of {torque[big[0]]:.3g} is beyond any robot's ({MAX_MEASURED:g} N m); "
+                             "check the log's units and torque constants")
 
 
 def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[str, str] | None = None,
               window: int | None = None, constants: Mapping[str, float] | None = None,
               time_unit: str = "s", resample: float | None = None, split_gaps: bool = False,
-              torque_constants=None) -> JointLog:
+              torque_constants=None, needs: str = "qdd") -> JointLog:
     """Θ, Θ̇, Θ̈ of ``model``'s joints from a log (module docstring).
 
     Parameters
@@ -246,6 +254,9 @@ def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[
         Differentiate the pieces between long gaps apart instead of refusing them.
     torque_constants : array_like, shape (n,), optional
         Turn logged motor currents into measured torques, N·m/A.
+    needs : str
+        What the caller uses: ``"qdd"`` (Θ̈ read or differentiated, on an even clock) or ``"qd"`` (Θ̇ alone: Θ̈ is
+        not formed (NaN where not read), and a log with Θ̇ is taken on its own stamps, uneven or not).
 
     Returns
     -------
@@ -259,6 +270,8 @@ def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[
         columns mapped to one of the log's, t not increasing, a gap or an uneven step it cannot fill, a bad
         ``dt``, time unit or window.
     """
+    if needs not in ("qd", "qdd"):
+        raise ValueError(f"needs is 'qd' or 'qdd', not {needs!r}")
     source = as_source(table)
     where, line = source.where, source.line
     check_time_unit(source, time_unit)
@@ -266,6 +279,7 @@ def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[
     plan, renamed, samples = planned.plan, planned.values, planned.samples
     plan.require_positions(where)
     check_values(planned)
+    _check_plausible(model, plan, renamed, torque_constants, source)
     mimic_notes = _mimic_notes(model, source, renamed, samples)
     t = log_times(planned, dt, time_unit)
     if not plan.has_time and (resample is not None or split_gaps):
@@ -274,9 +288,11 @@ def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[
     notes = list(source.notes) + mimic_notes
     segments = ((0, samples),)
     step = float(dt) if dt is not None else (float(np.median(np.diff(t))) if samples > 1 else 0.0)
-    if plan.derived or resample is not None:
+    derived = tuple(d for d in plan.derived if needs == "qdd" or d.order == 1)   # what must be differentiated
+    if derived or resample is not None:
         if samples < 2:
-            raise InputError(f"{where}: one row cannot be differentiated (give qd_ and qdd_ columns)")
+            raise InputError(f"{where}: one row cannot be differentiated (give qd_{' and qdd_' * (needs == 'qdd')} "
+                             "columns)")
         clock = even_clock(t, renamed, resample=resample, split_gaps=split_gaps, where=where, line=line)
         t, renamed, segments, step = clock.t, clock.columns, clock.segments, clock.step
         notes += clock.notes
@@ -291,11 +307,11 @@ def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[
         i = model.joint_names.index(j)
         if j not in derived_qd:
             qd[:, i] = renamed[f"qd_{j}"]
-        if j not in derived_qdd:
-            qdd[:, i] = renamed[f"qdd_{j}"]
+        qdd[:, i] = np.nan if j in derived_qdd else renamed[f"qdd_{j}"]
     sigma_qdd = np.zeros_like(q)
-    if plan.derived:  # a motion to differentiate (a full-state log may list unrelated states)
+    if derived or needs == "qd":  # a motion to differentiate or to follow (a full-state log may list unrelated states)
         _check_rate_units(model, plan, q, qd, step, where)
+    if derived:
         sigma_qdd, found = _differentiate(model, plan, q, qd, qdd, segments, step, window, where)
         notes += found
     for name, value in plan.constants.items():

@@ -6,7 +6,7 @@ format            what is read, and how its columns become ours
 ``table``         a delimited table (:func:`~course_dynamics.tools.tables.read_table`): comma,
                   semicolon, tab or whitespace; our column names, or a map to them
 ``ur-rtde``       a UR controller's RTDE recording (``record.py`` writes it space separated):
-                  ``timestamp`` → t, ``actual_q_i`` → Θ, ``actual_qd_i`` → Θ̇ and
+                  ``timestamp`` (s of the controller's uptime) → t from the log's start, ``actual_q_i`` → Θ, ``actual_qd_i`` → Θ̇ and
                   ``actual_current_i`` → the motor currents, i = 0, 1, … the URDF's i-th joint
 ``rostopic``      ``rostopic echo -p`` of a ``sensor_msgs/JointState`` topic: ``field.header.stamp`` (ns; ``%time``,
                   the receive time, when unstamped) → t from the log's start, ``field.positionK``,
@@ -27,7 +27,8 @@ format            what is read, and how its columns become ours
 
 Every source gives a :class:`LogSource`: the log's own columns, the map from our names to them
 that its format implies (an explicit map from the user overrides it entry by entry), and how to
-name a row in messages. What happens next — which columns are used (:mod:`~course_dynamics.tools.columns`),
+name a row in messages. A recorder's clock (of the epoch, of the controller's uptime) is read from the log's start,
+and a note gives the stamp it started at; a table's own ``t`` is taken as it is. What happens next — which columns are used (:mod:`~course_dynamics.tools.columns`),
 the clock (:mod:`~course_dynamics.tools.resampling`), the derivatives — is the same for all.
 """
 from __future__ import annotations
@@ -155,12 +156,13 @@ def _looks_like_plotjuggler(header) -> bool:
     return bool(header) and header[0] == "__time"
 
 
-def _from_start(columns: dict, name: str, scale: float, where: str) -> None:
-    """The time column ``name`` in s from its first row (a clock of the epoch, in 1/``scale`` s)."""
+def _from_start(columns: dict, name: str, scale: float, where: str, unit: str) -> str:
+    """The time column ``name`` in s from its first row (a recorder's clock, in 1/``scale`` s); the note saying so."""
     t = columns[name]
     if np.isnan(t[0]):
         raise InputError(f"{where}: column '{name}' has no time in its first row")
     columns[name] = (t - t[0]) * scale
+    return f"t: {name} ({unit}), from the log's start (stamp {t[0] * scale:.6f} s)"
 
 
 def _matched(model: Model, found: dict, where: str, kind: str) -> tuple[dict, list[str], dict]:
@@ -192,8 +194,7 @@ def _rostopic(model: Model, table: Table, where: str):
     columns = as_source(table).columns
     stamped = "field.header.stamp" in columns and np.all(columns["field.header.stamp"] > 0)
     clock = "field.header.stamp" if stamped else "%time"
-    _from_start(columns, clock, 1e-9, where)
-    notes.append(f"t: {clock} (ns), from the log's start")
+    notes.append(_from_start(columns, clock, 1e-9, where, "ns"))
     return {"t": clock, **implied}, columns, notes, mimics
 
 
@@ -218,8 +219,7 @@ def _plotjuggler(model: Model, table: Table, where: str):
     if not full.all():
         notes.append(f"rows without a sample of every column read, left out: {int((~full).sum())} of {len(full)} "
                      f"(first: line {int(table.lines[~full][0])})")
-    _from_start(columns, "__time", 1.0, where)
-    notes.append("t: __time (s), from the log's start")
+    notes.append(_from_start(columns, "__time", 1.0, where, "s"))
     return {"t": "__time", **implied}, columns, notes, table.lines[full], mimics
 
 
@@ -290,13 +290,16 @@ def open_log(path, model: Model, *, format: str = "auto", topic: str | None = No
     if table.blanks:   # only a recorder's export has cells without a sample: refused as before, where they are
         table = read_table(path, decimal=decimal)
     kind, implied, notes = "table", {}, ()
+    source = as_source(table)
     if format == "ur-rtde" or (format == "auto" and _looks_like_rtde(table.header) and not ours):
         implied = rtde_map(model, table.header, str(path))
         kind = "ur-rtde"
         if format == "auto":
             notes = ("read as a UR RTDE recording (timestamp, actual_q_i, actual_qd_i, actual_current_i: joint i is "
                      "the URDF's i-th)",)
-    return replace(as_source(table), where=str(path), format=kind, implied=implied, notes=notes)
+        if len(source.columns["timestamp"]):
+            notes += (_from_start(source.columns, "timestamp", 1.0, str(path), "s"),)
+    return replace(source, where=str(path), format=kind, implied=implied, notes=notes)
 
 
 def _words(table: Table) -> dict:
