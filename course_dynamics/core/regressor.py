@@ -285,9 +285,15 @@ def regressor(model: Model, q, qd, qdd) -> np.ndarray:
     return np.moveaxis(Y, (0, 1), (-2, -1)).copy()
 
 
-def _stacked(model: Model, samples: int, seed: int) -> np.ndarray:
+def _stacked(model: Model, samples: int, seed: int, held=None) -> np.ndarray:
+    """Y over random states, (samples n, 10 n); coordinates ``held`` (index → value) stay at their values at rest
+    and their rows are left out (their joints are fixed joints)."""
     q, qd, qdd = random_states(model, samples, seed)
-    return regressor(model, q, qd, qdd).reshape(-1, 10 * model.n_bodies)
+    held = dict(held or {})
+    for j, value in held.items():
+        q[:, j], qd[:, j], qdd[:, j] = value, 0.0, 0.0
+    rows = [j for j in range(model.n) if j not in held]
+    return regressor(model, q, qd, qdd)[:, rows, :].reshape(-1, 10 * model.n_bodies)
 
 
 def _grouping(W: np.ndarray, independent, acting) -> np.ndarray:
@@ -496,7 +502,7 @@ def _symbolic_beta(base: BaseParameters, exact: Model, digits: int) -> list:
     return [flat[j * width:(j + 1) * width] for j in range(base.rank)]
 
 
-def base_parameters(model: Model, samples: int = SAMPLES, seed: int = 0) -> BaseParameters:
+def base_parameters(model: Model, samples: int = SAMPLES, seed: int = 0, held=None) -> BaseParameters:
     """The base parameters: rank r, independent columns and β, from Y stacked over ``samples`` random states.
 
     States from :func:`~course_dynamics.core.sampling.random_states` (``seed``); method and
@@ -511,6 +517,9 @@ def base_parameters(model: Model, samples: int = SAMPLES, seed: int = 0) -> Base
         The number of random states stacked (:data:`SAMPLES`).
     seed : int, optional
         Their seed.
+    held : mapping of int to float, optional
+        Coordinates held at a value (rad or m) as by a fixed joint: they stay there, at rest, and their torques
+        are not rows (a body moved by no other coordinate is then lumped into its parent's combinations).
 
     Returns
     -------
@@ -537,7 +546,7 @@ def base_parameters(model: Model, samples: int = SAMPLES, seed: int = 0) -> Base
     π_b5 = mcx_2 = 0
     π_b6 = mcy_2 = 0
     """
-    W = _stacked(model, samples, seed)
+    W = _stacked(model, samples, seed, held)
     scale = np.linalg.norm(W, axis=0)
     acting = np.flatnonzero(scale > ZERO_COLUMN * scale.max())
     unit = W[:, acting] / scale[acting]

@@ -5,7 +5,9 @@ file              holds
 ================  ===============================================================================
 ``report.html``   one page (:mod:`~course_dynamics.output.page`): the held-out residuals, the
                   base parameters before and after with their standard errors, every body's
-                  parameters, friction, what the log does not excite, and the figure inline
+                  parameters, what the log determined of each and what stayed at the URDF's
+                  (with the bodies that moved far), friction, what the log does not excite,
+                  and the figure inline
 ``report.md``     the same tables in Markdown (names escaped), the figure as a link
 ``report.json``   :meth:`~course_dynamics.tools.identification.Identification.record`, with the
                   URDF and log named
@@ -93,6 +95,18 @@ def body_rows(result: Identification) -> list[list[str]]:
 BODY_HEADER = ("body (link)", "mass (kg)", "centre of mass in frame i (m)", "principal moments about it (kg m²)")
 
 
+def seen_rows(result: Identification) -> list[list[str]]:
+    """Per body: the parameters the log determined, saw only in combination, and left at the URDF's, the body's
+    divergence from the URDF's, and what moved far."""
+    return [[b["body"], ", ".join(b["determined"]) or "–", ", ".join(b["in_combination"]) or "–",
+             ", ".join(b["kept"]) or "–", _number(b["divergence"], 3), "; ".join(b["warnings"]) or "–"]
+            for b in result.bodies]
+
+
+SEEN_HEADER = ("body (link)", "determined by the log", "seen only in combination", "kept at the URDF's",
+               "divergence d(J‖J₀)", "moved far")
+
+
 def friction_rows(result: Identification) -> list[list[str]]:
     old, new = result.original_friction, result.friction
     return [[joint, f"{_number(old.viscous[j])} → {_number(new.viscous[j])}",
@@ -145,6 +159,7 @@ def _sections(result: Identification):
     return [("Held-out residuals (measured − predicted)", RESIDUAL_HEADER, residual_rows(result)),
             ("Base parameters", BASE_HEADER, base_rows(result)),
             ("Bodies", BODY_HEADER, body_rows(result)),
+            ("What the log determined, body by body", SEEN_HEADER, seen_rows(result)),
             ("Friction", FRICTION_HEADER, friction_rows(result))]
 
 
@@ -154,6 +169,8 @@ def _excitation(result: Identification) -> list[str]:
     if result.never_act:
         lines.append("no motion can reveal (they stay at the URDF's values unless a body's consistency needs "
                      f"them to move): {', '.join(result.never_act)}")
+    lines += [f"a physical constraint is active: {line}" for line in result.active]
+    lines += [f"warning: moved far from the URDF: {line}" for line in result.far]
     return lines + list(result.notes)
 
 

@@ -3,9 +3,9 @@
 They may import :mod:`course_dynamics.base`, :mod:`course_dynamics.core` and each other; never
 output, grading, teaching or the command line.
 
-===================  ==========================================================================================
+===================  ================================================================================================
 module               job
-===================  ==========================================================================================
+===================  ================================================================================================
 ``simulation``       forward dynamics in time (6.115)–(6.117): integrators, ensembles
 ``joint_stops``      joint limits as unilateral constraints: a stop's impulse through M, a held joint's reaction
 ``tables``           reading delimited tables as robots and people write them
@@ -23,6 +23,7 @@ module               job
 ``collisions``       collisions and external torques from a log: the generalized-momentum observer
 ``identification``   inertial and friction parameters from a log: least squares, then physically consistent
 ``consistency``      the physically consistent step of an identification (cvxpy), its solvers' warnings as ours
+``plausibility``     is an identified body plausible: its mass against the URDF's, its centre of mass within its link
 ``excitation``       a trajectory within the limits that makes the parameters identifiable
 ``excitationcost``   an excitation's memory and time estimated before it starts; its evaluations in batches
 ``loads``            payloads and external wrenches
@@ -35,7 +36,7 @@ module               job
 ``lint_geometry``    the linter's checks of an inertia against the link's shapes (density, reach, units)
 ``lint_inertia``     the linter's checks of each link's mass and inertia tensor, by the loader's rule
 ``lint_scale``       the linter's checks that need no shapes: masses and inertias against joints and effort limits
-===================  ==========================================================================================
+===================  ================================================================================================
 """
 
 __all__: list[str] = []  # a package of modules: it re-exports nothing

@@ -1,48 +1,214 @@
 """The physically consistent fit of an identification (step 3 of :mod:`course_dynamics.tools.identification`).
 
-The estimate minimises ‖W (Y θ − τ_meas)‖² + λ c² Σ ((θₖ − θₖ,URDF) / sₖ)² subject to
-J(πᵢ) ⪰ 0 and mᵢ ≥ m_min for every body and F_v, F_c ≥ 0, with cvxpy (Clarabel, SCS if that
-fails). What the solvers warn (an inaccurate solution) comes out as a
-:class:`~course_dynamics.base.errors.CourseDynamicsWarning`: one ``warning:`` line on the command line.
+==================  =============  ====================================================================
+code                symbol         meaning (shape, unit)
+==================  =============  ====================================================================
+``A``, ``z``        A, z           the weighted data: ‖W (Y θ − τ_meas)‖ = ‖A θ − z‖ (P, P), (P,)
+``scale``           S              the size a change of each parameter of θ is measured in (P,):
+                                   mᵢ, mᵢ ℓᵢ, mᵢ ℓᵢ² for body i (ℓᵢ its link's extent), the first
+                                   fit's friction coefficients
+``V_E``, ``V_N``    V_E, V_N       the right singular vectors of A S whose singular values are at least
+                                   (below) ``threshold`` of the largest: what the log sees (does not)
+``J``, ``J0``       Jᵢ, Jᵢ₀        body i's pseudo-inertia, identified and the URDF's (4, 4)
+==================  =============  ====================================================================
+
+The estimate is θ = θ_URDF + S (V_E a + V_N b), and (a, b) minimise
+
+    ‖A θ − z‖² / N + λ Σᵢ d(Jᵢ ‖ Jᵢ₀) + ρ ‖b‖²,   d(J ‖ J₀) = −log det(J₀⁻¹ J) + tr(J₀⁻¹ J) − 4
+
+with Jᵢ ⪰ 0, mᵢ ≥ m_min,i and the friction coefficients ≥ 0 (N: the weighted torques fitted, so
+the data term is the mean squared residual in units of each joint's noise). d is the log-determinant
+(Bregman) divergence of Lee, Wensing and Park (IEEE T-RO 2020): zero at J₀, infinite as J
+becomes singular, and the same for a body whatever its frame or units. It acts on the bodies only:
+friction has no prior. ρ = :data:`HOLD` keeps what the log does not see where the URDF has it; then
+b is dropped (θ = θ_URDF + S V_E a, so that part is exactly the URDF's) unless a body would then
+not be physical, and those bodies are named. A URDF body with a singular J₀ (a point mass, a rod)
+is held toward J₀ + ε mᵢ diag(ℓᵢ², ℓᵢ², ℓᵢ², 1), ε = :data:`SINGULAR_EPSILON`.
+
+cvxpy solves it (Clarabel, SCS if that fails); what the solvers warn (an inaccurate solution) comes
+out as a :class:`~course_dynamics.base.errors.CourseDynamicsWarning`: one ``warning:`` line on the
+command line.
 """
 from __future__ import annotations
 
 import warnings
+from dataclasses import dataclass
 
 import numpy as np
 
 from ..base.errors import CourseDynamicsWarning, InputError
 from ..core.regressor import TENSOR
 
+#: ρ: the cost, per squared unit of scale, of moving what the log does not see (against a data term near 1).
+HOLD = 1e-6
+#: ε: a URDF body's singular pseudo-inertia is held toward J₀ + ε mᵢ diag(ℓᵢ², ℓᵢ², ℓᵢ², 1).
+SINGULAR_EPSILON = 1e-3
+PHYSICAL_TOLERANCE = 1e-10   # an eigenvalue of J above −this share of its largest counts as ≥ 0
 
-def consistent_fit(model, R, sigma, theta_urdf, kinds, sizes, prior_weight, min_mass):
-    """The physically consistent θ (module docstring, step 3): (θ, solver).
+
+@dataclass(frozen=True)
+class ConsistentFit:
+    """What :func:`consistent_fit` found.
+
+    Parameters
+    ----------
+    theta : numpy.ndarray, shape (P,)
+        The consistent estimate θ.
+    solver : str
+        ``"clarabel"`` or ``"scs"`` (with `` (inaccurate)`` if the solver said so).
+    shares : numpy.ndarray, shape (F,)
+        The singular values of A S on the free parameters, as shares of the largest (0 for the null space).
+    seen : numpy.ndarray, shape (P,)
+        Per parameter, the share of its unit change (in scale units) that lies in what the log sees, 0 to 1
+        (0 for a parameter that is not free).
+    active : tuple of str
+        The physical constraints the estimate rests on, by name (a body held physical by moving what the log
+        does not see, a mass at its least, a friction coefficient at 0).
+    moved : float
+        How far what the log does not see moved, in scale units (0 when it stayed at the URDF's).
+    divergence : numpy.ndarray, shape (n_bodies,)
+        d(Jᵢ ‖ Jᵢ₀) of each body (0 for a body that is not free).
+    """
+
+    theta: np.ndarray
+    solver: str
+    shares: np.ndarray
+    seen: np.ndarray
+    active: tuple[str, ...]
+    moved: float
+    divergence: np.ndarray
+
+
+def pseudo_inertia(p) -> np.ndarray:
+    """J of one body's ten parameters (m, h, I about the origin, as
+    :data:`~course_dynamics.core.regressor.PARAMETER_NAMES` orders them).
+
+    J = [[Σ, h], [hᵀ, m]] with Σ = ∫ r rᵀ dm = ½ tr(I) 1 − I. J ⪰ 0 holds exactly for real bodies:
+    it implies m ≥ 0, an inertia about the centre of mass that is positive semi-definite and
+    obeys the triangle inequality.
+
+    Parameters
+    ----------
+    p : array_like, shape (10,)
+        m (kg), h = m c (kg·m), then Ixx, Ixy, Iyy, Ixz, Iyz, Izz about the body's frame origin (kg·m²).
+
+    Returns
+    -------
+    numpy.ndarray, shape (4, 4)
+        The pseudo-inertia J, kg·m² (Σ), kg·m (h) and kg (m).
+
+    Examples
+    --------
+    >>> from course_dynamics import load_robot
+    >>> from course_dynamics.core.regressor import parameters
+    >>> J = pseudo_inertia(parameters(load_robot("two_link"))[10:20])   # a point mass, 1 kg at (0.4, 0, 0)
+    >>> J.round(3).tolist()
+    [[0.16, 0.0, 0.0, 0.4], [0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0], [0.4, 0.0, 0.0, 1.0]]
+    """
+    p = np.asarray(p, dtype=float)
+    inertia = p[np.array(TENSOR)]
+    J = np.empty((4, 4))
+    J[:3, :3] = 0.5 * np.trace(inertia) * np.eye(3) - inertia
+    J[:3, 3] = J[3, :3] = p[1:4]
+    J[3, 3] = p[0]
+    return J
+
+
+def divergence(J, J0) -> float:
+    """d(J ‖ J₀) = −log det(J₀⁻¹ J) + tr(J₀⁻¹ J) − 4 (module docstring); ∞ unless J ≻ 0.
+
+    Parameters
+    ----------
+    J, J0 : array_like, shape (4, 4)
+        Two pseudo-inertias, J₀ positive definite.
+
+    Returns
+    -------
+    float
+        The divergence, ≥ 0, 0 only at J = J₀.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> J0 = np.diag([0.01, 0.01, 0.01, 1.0])
+    >>> divergence(J0, J0), round(divergence(2 * J0, J0), 4)   # doubling a body costs 4 (1 − log 2)
+    (0.0, 1.2274)
+    """
+    M = np.linalg.solve(np.asarray(J0, float), np.asarray(J, float))
+    sign, logdet = np.linalg.slogdet(M)
+    return float(np.inf) if sign <= 0 else max(float(-logdet + np.trace(M) - 4.0), 0.0)
+
+
+def _basis() -> np.ndarray:
+    """B (10, 4, 4) with J(p) = Σₖ pₖ Bₖ."""
+    return np.stack([pseudo_inertia(e) for e in np.eye(10)])
+
+
+def prior_pseudo_inertia(p, mass_scale: float, length: float) -> np.ndarray:
+    """Jᵢ₀ the divergence is taken from: the URDF's, plus ε m diag(ℓ², ℓ², ℓ², 1) where it is (nearly) singular.
+
+    Parameters
+    ----------
+    p : array_like, shape (10,)
+        The body's URDF parameters (:func:`pseudo_inertia`).
+    mass_scale : float
+        m, the body's mass scale, kg.
+    length : float
+        ℓ, its link's extent, m.
+
+    Returns
+    -------
+    numpy.ndarray, shape (4, 4)
+        J₀, positive definite.
+    """
+    J0 = pseudo_inertia(p)
+    lowest = np.linalg.eigvalsh(J0).min()
+    floor = SINGULAR_EPSILON * mass_scale * min(length**2, 1.0)
+    if lowest >= floor:
+        return J0
+    return J0 + SINGULAR_EPSILON * mass_scale * np.diag([length**2, length**2, length**2, 1.0])
+
+
+def _is_physical(p, min_mass) -> bool:
+    values = np.linalg.eigvalsh(pseudo_inertia(p))
+    return values.min() >= -PHYSICAL_TOLERANCE * max(values.max(), 1e-300) and p[0] >= min_mass * (1 - 1e-9)
+
+
+def consistent_fit(model, R, sigma, count, theta_urdf, free, scale, lengths, names, prior_weight, threshold,
+                   min_mass) -> ConsistentFit:
+    """The physically consistent θ (module docstring).
 
     Parameters
     ----------
     model : Model
-        The robot whose bodies the first 10 n entries of θ describe.
+        The robot whose bodies the first 10 n_bodies entries of θ describe.
     R : numpy.ndarray, shape (m, r, P + 1)
         Per measured joint, the triangular factor of [Yⱼ | τⱼ] (the fit's data, P parameters).
     sigma : numpy.ndarray, shape (m,)
         Each measured joint's torque noise σⱼ, N·m (N for a prismatic joint): the weights are 1/σⱼ.
+    count : int
+        N, the number of weighted torques R stands for (samples times measured joints).
     theta_urdf : numpy.ndarray, shape (P,)
-        The URDF's θ: the prior and the starting point.
-    kinds : sequence of str
-        The kind of each entry of θ: ``"m"``, ``"h"``, ``"I"``, ``"viscous"`` or ``"coulomb"``.
-    sizes : dict
-        {kind: the values a parameter of that kind typically has}, the scale sₖ of its changes.
+        The URDF's θ: the prior, and the value of what the log does not see.
+    free : numpy.ndarray of bool, shape (P,)
+        The entries that may change (a held joint's body and friction are not free).
+    scale : numpy.ndarray, shape (P,)
+        S, the size a change of each entry is measured in (positive).
+    lengths : numpy.ndarray, shape (n_bodies,)
+        ℓᵢ, each link's extent, m.
+    names : sequence of str
+        The names of θ's entries, for the constraints named.
     prior_weight : float
-        λ ≥ 0, the weight of the URDF's values as a share of what the data say.
-    min_mass : numpy.ndarray, shape (n,)
+        λ ≥ 0, the weight of the divergence against the mean squared weighted residual.
+    threshold : float
+        The share of the largest singular value of A S below which a direction counts as not seen.
+    min_mass : numpy.ndarray, shape (n_bodies,)
         The least mass of each body, kg.
 
     Returns
     -------
-    theta : numpy.ndarray, shape (P,)
-        The consistent estimate: J(πᵢ) ⪰ 0, mᵢ ≥ m_min and friction coefficients ≥ 0.
-    solver : str
-        The solver that found it, ``"clarabel"`` or ``"scs"`` (``"scs (inaccurate)"`` if it said so).
+    ConsistentFit
+        The estimate, the solver, what the log sees and the constraints the estimate rests on.
 
     Raises
     ------
@@ -61,30 +227,77 @@ def consistent_fit(model, R, sigma, theta_urdf, kinds, sizes, prior_weight, min_
                          "(pip install 'course-dynamics[identify]')") from None
     P, n_rigid = len(theta_urdf), 10 * model.n_bodies
     weighted = (R / sigma[:, None, None]).reshape(-1, P + 1)
+    count = max(float(count), 1.0)
     Rw = np.linalg.qr(weighted, mode="r")                  # ‖W (Y θ − τ)‖ = ‖Rw[:, :P] θ − Rw[:, P]‖
-    A, z = Rw[:P, :P], Rw[:P, P]
-    norms = np.sum(A**2, axis=0)
-    scale = np.ones(P)       # θ = θ_URDF + scale d: d is a change of the size a parameter of its kind has
-    for kind in set(kinds):
-        typical = np.sqrt(np.mean(np.asarray(sizes[kind]) ** 2))
-        scale[[k for k in range(P) if kinds[k] == kind]] = typical if typical > 0 else 1.0
-    prior = prior_weight * float(np.mean(norms * scale**2))   # what such a change typically does to the fit
+    A, z = Rw[:, :P], Rw[:, P]
+    F = np.flatnonzero(free)
+    As = A[:, F] * scale[F]
+    _, s, Vt = np.linalg.svd(As, full_matrices=True)
+    shares = np.zeros(len(F))
+    shares[:len(s)] = s / s[0] if len(s) and s[0] > 0 else 0.0
+    seen_rows = shares >= threshold
+    VE, VN = Vt[seen_rows].T, Vt[~seen_rows].T
+    seen = np.zeros(P)
+    seen[F] = np.sum(VE**2, axis=1)
     residual = z - A @ theta_urdf
-    size = max(float(np.linalg.norm(residual)), 1e-300)  # the URDF's misfit: the objective starts at 1
-    d = cp.Variable(P)
-    theta = theta_urdf + cp.multiply(scale, d)
-    constraints = []
-    for i in range(model.n_bodies):
-        p = theta[10 * i:10 * i + 10]
-        J = cp.Variable((4, 4), PSD=True)
-        trace = p[4] + p[6] + p[9]
-        constraints += [J[a, b] == (0.5 * trace if a == b else 0) - p[TENSOR[a][b]]
-                        for a in range(3) for b in range(a, 3)]
-        constraints += [J[a, 3] == p[1 + a] for a in range(3)] + [J[3, 3] == p[0], p[0] >= min_mass[i]]
-    if P > n_rigid:
-        constraints.append(theta[n_rigid:] >= 0)
-    objective = cp.sum_squares((A * scale / size) @ d - residual / size) + prior / size**2 * cp.sum_squares(d)
-    problem = cp.Problem(cp.Minimize(objective), constraints)
+    embed = np.zeros((P, len(F)))
+    embed[F, np.arange(len(F))] = scale[F]
+    a = cp.Variable(VE.shape[1]) if VE.shape[1] else None
+    b = cp.Variable(VN.shape[1]) if VN.shape[1] else None
+    parts = ([VE @ a] if a is not None else []) + ([VN @ b] if b is not None else [])
+    x = parts[0] + parts[1] if len(parts) == 2 else parts[0]
+    theta = theta_urdf + embed @ x
+    basis, bodies = _basis(), [i for i in range(model.n_bodies) if free[10 * i:10 * i + 10].any()]
+    priors = {i: prior_pseudo_inertia(theta_urdf[10 * i:10 * i + 10], scale[10 * i], lengths[i]) for i in bodies}
+    friction = [k for k in F if k >= n_rigid]
+
+    def physical(theta, logdet):
+        """The constraints, and Σ d(Jᵢ ‖ Jᵢ₀) less its constants when ``logdet``."""
+        constraints, penalty = [], 0
+        for i in bodies:
+            p = theta[10 * i:10 * i + 10]
+            J = cp.Variable((4, 4), PSD=True)
+            constraints += [J == sum(p[k] * basis[k] for k in range(10)), p[0] >= min_mass[i]]
+            if logdet:
+                penalty = penalty - cp.log_det(J) + cp.trace(np.linalg.inv(priors[i]) @ J)
+        if friction:
+            constraints.append(theta[friction] >= 0)
+        return constraints, penalty
+
+    constraints, penalty = physical(theta, prior_weight > 0)
+    objective = cp.sum_squares(A @ embed @ (VE @ a) - residual) / count if a is not None else 0
+    if bodies and prior_weight > 0:
+        objective = objective + prior_weight * penalty
+    if b is not None:
+        objective = objective + HOLD * cp.sum_squares(b)
+    solver = _solve(cp.Problem(cp.Minimize(objective), constraints), model.name)
+    a_value = a.value if a is not None else np.zeros(0)
+    kept = theta_urdf + embed @ (VE @ a_value)
+    unphysical = [i for i in bodies if not _is_physical(kept[10 * i:10 * i + 10], min_mass[i])]
+    active, moved = [], 0.0
+    if unphysical and b is not None:   # the least move of what the log does not see that makes every body physical
+        fixed = theta_urdf + embed @ (VE @ a_value + VN @ b)
+        constraints, _ = physical(fixed, False)
+        _solve(cp.Problem(cp.Minimize(cp.sum_squares(b)), constraints), model.name)
+        moved = float(np.linalg.norm(b.value))
+        kept = theta_urdf + embed @ (VE @ a_value + VN @ b.value)
+        change = (kept - theta_urdf - embed @ (VE @ a_value)) / scale
+        active = [f"body '{model.bodies[i].name}': physical only with what the log does not see moved by "
+                  f"{float(np.linalg.norm(change[10 * i:10 * i + 10])):.3g} (in its scale)" for i in unphysical]
+    for i in bodies:
+        if free[10 * i] and kept[10 * i] <= min_mass[i] * (1 + 1e-6):
+            active.append(f"body '{model.bodies[i].name}': mass at its least, {min_mass[i]:.4g} kg")
+    active += [f"{names[k]} at 0" for k in friction if kept[k] <= 1e-9 * scale[k]]
+    spent = np.zeros(model.n_bodies)
+    for i in bodies:
+        spent[i] = divergence(pseudo_inertia(kept[10 * i:10 * i + 10]), priors[i])
+    return ConsistentFit(theta=kept, solver=solver, shares=shares, seen=seen, active=tuple(active), moved=moved,
+                         divergence=spent)
+
+
+def _solve(problem, robot: str) -> str:
+    import cvxpy as cp
+
     for solver, options in (("CLARABEL", {}), ("SCS", {"eps": 1e-9, "max_iters": 200_000})):
         try:
             with warnings.catch_warnings(record=True) as said:  # cvxpy's warnings, as ours: one line each
@@ -94,13 +307,13 @@ def consistent_fit(model, R, sigma, theta_urdf, kinds, sizes, prior_weight, min_
             continue
         finally:
             for warning in said:
-                warnings.warn(f"robot '{model.name}', the physically consistent fit ({solver.lower()}): "
+                warnings.warn(f"robot '{robot}', the physically consistent fit ({solver.lower()}): "
                               f"{warning.message}", CourseDynamicsWarning)
-        if problem.status in ("optimal", "optimal_inaccurate") and d.value is not None:
-            accuracy = "" if problem.status == "optimal" else " (inaccurate)"
-            return theta_urdf + scale * d.value, solver.lower() + accuracy
-    raise InputError(f"robot '{model.name}': the physically consistent fit found no solution (Clarabel and SCS: "
+        if problem.status in ("optimal", "optimal_inaccurate") and problem.value is not None:
+            return solver.lower() + ("" if problem.status == "optimal" else " (inaccurate)")
+    raise InputError(f"robot '{robot}': the physically consistent fit found no solution (Clarabel and SCS: "
                      f"{problem.status}); the log may not move the joints enough")
 
 
-__all__ = ["consistent_fit"]
+__all__ = ["HOLD", "SINGULAR_EPSILON", "ConsistentFit", "consistent_fit", "divergence", "prior_pseudo_inertia",
+           "pseudo_inertia"]

@@ -67,56 +67,27 @@ from ..core.inertia import physical_problems
 from ..core.model import Model
 from ..core.regressor import (TENSOR, BaseParameters, base_parameters, parameter_names, parameters, regressor,
                                with_parameters)
-from .consistency import consistent_fit
+from .consistency import consistent_fit, pseudo_inertia
 from .logs import JointLog
+from .plausibility import far_moves, link_extents
 
 #: Which friction :func:`identify` can identify (both parts, the viscous or the Coulomb part only, or none).
 FRICTION_MODELS = ("both", "viscous", "coulomb", "none")
 SYMBOLS = {"viscous": "Fv", "coulomb": "Fc"}   # friction coefficients are named Fv_<joint>, Fc_<joint>
 ROWS_AT_A_TIME = 2048         # samples per regressor block: (2048, n, 10 n) floats, 6 MB for a UR5
-#: λ by default (step 3).
-PRIOR_WEIGHT = 1e-6           # λ: the URDF counts as a millionth of what the log says
+#: λ by default (step 3): the weight of the bodies' divergence from the URDF against the mean squared residual.
+PRIOR_WEIGHT = 1e-3
+#: What the log does not see: a direction whose singular value (in scale units) is below this share of the largest.
+UNSEEN = 1e-3
+#: A joint whose position spans at most this (rad or m) in the log is held: a fixed joint for the fit.
+HELD = 1e-4
+SEEN_SPLIT = 0.01             # a parameter is determined when ≥ 99 % of it is seen, kept when ≤ 1 %
 #: m_min by default, as this share of the URDF's mass of each body (at least :data:`MIN_MASS`).
 MIN_MASS_SHARE = 0.01         # m_min: 1 % of the URDF's mass of the body (MIN_MASS for a massless one)
 #: The least m_min of a body, kg.
 MIN_MASS = 1e-6               # kg
 UNEXCITED = 1e-3              # a direction whose singular value is below this share of the largest
 NOISE_FLOOR = 1e-9            # σⱼ at least this share of the RMS measured torque (noise-free data)
-
-
-def pseudo_inertia(p) -> np.ndarray:
-    """J of one body's ten parameters (m, h, I about the origin, as
-    :data:`~course_dynamics.core.regressor.PARAMETER_NAMES` orders them).
-
-    J = [[Σ, h], [hᵀ, m]] with Σ = ∫ r rᵀ dm = ½ tr(I) 1 − I. J ⪰ 0 holds exactly for real bodies:
-    it implies m ≥ 0, an inertia about the centre of mass that is positive semi-definite and
-    obeys the triangle inequality.
-
-    Parameters
-    ----------
-    p : array_like, shape (10,)
-        m (kg), h = m c (kg·m), then Ixx, Ixy, Iyy, Ixz, Iyz, Izz about the body's frame origin (kg·m²).
-
-    Returns
-    -------
-    numpy.ndarray, shape (4, 4)
-        The pseudo-inertia J, kg·m² (Σ), kg·m (h) and kg (m).
-
-    Examples
-    --------
-    >>> from course_dynamics import load_robot
-    >>> from course_dynamics.core.regressor import parameters
-    >>> J = pseudo_inertia(parameters(load_robot("two_link"))[10:20])   # a point mass, 1 kg at (0.4, 0, 0)
-    >>> J.round(3).tolist()
-    [[0.16, 0.0, 0.0, 0.4], [0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0], [0.4, 0.0, 0.0, 1.0]]
-    """
-    p = np.asarray(p, dtype=float)
-    inertia = p[np.array(TENSOR)]
-    J = np.empty((4, 4))
-    J[:3, :3] = 0.5 * np.trace(inertia) * np.eye(3) - inertia
-    J[:3, 3] = J[3, :3] = p[1:4]
-    J[3, 3] = p[0]
-    return J
 
 
 @dataclass(frozen=True)
@@ -183,7 +154,26 @@ class Identification:
         The solver of the consistent fit, as
         :func:`~course_dynamics.tools.consistency.consistent_fit` names it.
     notes : tuple of str
-        What the reader should know (joints left out).
+        What the reader should know (joints left out, joints held).
+    held : tuple of str
+        The joints held still in the log (a fixed joint for the fit; their bodies are the URDF's).
+    scale : numpy.ndarray, shape (P,)
+        The size a change of each parameter is measured in (:mod:`~course_dynamics.tools.consistency`).
+    threshold : float
+        The share of the largest singular value below which a direction counts as not seen.
+    shares : numpy.ndarray
+        The singular values of the weighted regressor in scale units (free parameters), shares of the largest.
+    seen : numpy.ndarray, shape (P,)
+        Per parameter, the share of it the log sees, 0 (kept at the URDF's) to 1 (determined by the log).
+    active : tuple of str
+        The physical constraints the estimate rests on, by name.
+    moved : float
+        How far what the log does not see moved to keep the bodies physical, scale units (0: it did not).
+    far : tuple of str
+        Bodies that moved far: a mass more than doubled or halved, a centre of mass outside its link.
+    bodies : tuple of dict
+        Per body: the parameters ``determined``, seen ``in_combination``, ``kept`` at the URDF's, its
+        ``divergence`` from the URDF's and its ``warnings``.
     """
 
     model: Model
@@ -211,6 +201,15 @@ class Identification:
     rms_after: np.ndarray
     solver: str
     notes: tuple[str, ...] = ()
+    held: tuple[str, ...] = ()
+    scale: np.ndarray | None = None
+    threshold: float = 0.0
+    shares: np.ndarray | None = None
+    seen: np.ndarray | None = None
+    active: tuple[str, ...] = ()
+    moved: float = 0.0
+    far: tuple[str, ...] = ()
+    bodies: tuple[dict, ...] = ()
 
     def record(self) -> dict:
         """A JSON-ready summary (no arrays of samples).
@@ -240,6 +239,8 @@ class Identification:
             "base_definitions": self.base.describe().splitlines(),
             "unexcited": [{"singular_value_share": s, "combination": c} for s, c in self.unexcited],
             "never_act": list(self.never_act), "notes": list(self.notes),
+            "held": list(self.held), "unseen_threshold": self.threshold, "active_constraints": list(self.active),
+            "unseen_moved": self.moved, "far": list(self.far), "bodies": [dict(b) for b in self.bodies],
         }
 
 
@@ -321,27 +322,33 @@ def _weighted_fit(R, counts, where):
     return sigma, theta, np.sqrt(np.maximum(np.diag(covariance), 0.0)), S / S[0], Vt
 
 
-def _typical(model, theta_urdf, theta_wls, kinds, where) -> dict:
-    """The values a parameter of each kind typically has: the URDF's masses, first moments and inertias, the
-    weighted fit's friction coefficients; a mass of 1 kg, 0.1 m and (0.1 m)² per kg where the URDF has none."""
+def _scales(model, lengths, theta_wls, columns, where) -> np.ndarray:
+    """S: body i's mᵢ, mᵢ ℓᵢ, mᵢ ℓᵢ² (the URDF's mass, or the bodies' RMS mass for a massless one), and each friction
+    kind's RMS coefficient in the weighted fit (1 without one)."""
+    masses = np.array([float(b.mass) for b in model.bodies])
+    typical = np.sqrt(np.mean(masses[masses > 0] ** 2)) if np.any(masses > 0) else 1.0
+    masses = np.where(masses > 0, masses, typical)
+    scale = np.concatenate([m * np.array([1.0, *[l] * 3, *[l * l] * 6]) for m, l in zip(masses, lengths)])
     estimate = dict(zip(where, theta_wls))
-    rigid = 10 * model.n_bodies
-    values = {kind: [abs(x) for k, x in enumerate(theta_urdf) if kinds[k] == kind and x != 0 and k < rigid]
-              for kind in ("m", "h", "I")}
-    mass = np.sqrt(np.mean(np.square(values["m"]))) if values["m"] else 1.0
-    values = {"m": values["m"] or [mass], "h": values["h"] or [0.1 * mass], "I": values["I"] or [0.01 * mass]}
+    n_rigid = 10 * model.n_bodies
+    friction = np.ones(len(columns))
     for kind in ("viscous", "coulomb"):
-        values[kind] = [abs(estimate.get(k, 0.0)) for k in range(len(kinds)) if kinds[k] == kind] or [1.0]
-    return values
+        ks = [k for k, (c, _) in enumerate(columns) if c == kind]
+        values = np.array([abs(estimate.get(n_rigid + k, 0.0)) for k in ks])
+        size = np.sqrt(np.mean(values**2)) if len(values) else 0.0
+        friction[ks] = size if size > 0 else 1.0
+    return np.concatenate([scale, friction])
 
 
-def _physical(pi: np.ndarray, model: Model, min_mass) -> np.ndarray:
-    """π with every body's J ⪰ 0 exactly (the solver's round-off clipped), so that loaders accept it."""
+def _physical(pi: np.ndarray, model: Model, min_mass, bodies) -> np.ndarray:
+    """π with every body of ``bodies`` J ⪰ 0 exactly (the solver's round-off clipped), so that loaders accept it."""
     pi = pi.copy()
-    for i, body in enumerate(model.bodies):
+    for i in bodies:
+        body = model.bodies[i]
         J = pseudo_inertia(pi[10 * i:10 * i + 10])
         values, vectors = np.linalg.eigh(J)
-        J = (vectors * np.maximum(values, 1e-12 * max(values.max(), 0.0))) @ vectors.T
+        if values.min() < 1e-12 * max(values.max(), 0.0):
+            J = (vectors * np.maximum(values, 1e-12 * max(values.max(), 0.0))) @ vectors.T
         mass = max(J[3, 3], min_mass[i] * (1 - 1e-9))
         inertia = np.trace(J[:3, :3]) * np.eye(3) - J[:3, :3]
         upper = ((0, 0), (0, 1), (1, 1), (0, 2), (1, 2), (2, 2))   # Ixx, Ixy, Iyy, Ixz, Iyz, Izz
@@ -350,6 +357,20 @@ def _physical(pi: np.ndarray, model: Model, min_mass) -> np.ndarray:
         if problems:
             raise InputError(f"body '{body.name}': the identified inertia {problems[0]} (a solver failure)")
     return pi
+
+
+def _body_summary(model, names, seen, fit, far) -> list[dict]:
+    """Per body: the parameters the log determined (alone), saw only in combination, and left at the URDF's."""
+    rows = []
+    for i, body in enumerate(model.bodies):
+        block = range(10 * i, 10 * i + 10)
+        rows.append({"body": body.name,
+                     "determined": [names[k] for k in block if seen[k] >= 1 - SEEN_SPLIT],
+                     "in_combination": [names[k] for k in block if SEEN_SPLIT < seen[k] < 1 - SEEN_SPLIT],
+                     "kept": [names[k] for k in block if seen[k] <= SEEN_SPLIT],
+                     "divergence": float(fit.divergence[i]) if np.isfinite(fit.divergence[i]) else None,
+                     "warnings": [line for line in far if line.startswith(f"body '{body.name}':")]})
+    return rows
 
 
 def _kind(k: int, n_rigid: int, columns) -> str:
@@ -369,7 +390,7 @@ def _combination(vector, names) -> str:
 
 def identify(model: Model, log: JointLog, friction: str = "both", holdout: float = 0.2,
              prior_weight: float = PRIOR_WEIGHT, min_mass=None, progress=None,
-             where: str = "the log") -> Identification:
+             where: str = "the log", threshold: float = UNSEEN) -> Identification:
     """The parameters ``log`` shows ``model`` really has (module docstring).
 
     Parameters
@@ -390,6 +411,9 @@ def identify(model: Model, log: JointLog, friction: str = "both", holdout: float
         Called as ``progress(done, total)`` (samples) while the regressor is computed.
     where : str
         How messages name the log (its file).
+    threshold : float
+        The share of the largest singular value (scale units) below which a direction counts as not seen by the
+        log: it stays at the URDF's value.
 
     Returns
     -------
@@ -413,11 +437,18 @@ def identify(model: Model, log: JointLog, friction: str = "both", holdout: float
         raise InputError(f"the held-out share must be at least 0 and less than 1, got {holdout}")
     if not (np.isfinite(prior_weight) and prior_weight >= 0):
         raise InputError(f"the prior weight must be a non-negative number, got {prior_weight}")
-    measured = [] if log.measured is None else [j for j in range(model.n) if np.all(np.isfinite(log.measured[:, j]))]
-    if not measured:
+    has_torque = [] if log.measured is None else [j for j in range(model.n)
+                                                   if np.all(np.isfinite(log.measured[:, j]))]
+    if not has_torque:
         raise InputError(f"{where} holds no measured torques: identification needs them, as tau_meas_<joint> columns "
                          f"(tau_meas_{model.joint_names[0]}, …), a bag's effort, Franka's tau_J, or current_<joint> "
                          "columns with torque constants")
+    held = {j: float(log.q[0, j]) for j in range(model.n) if np.ptp(log.q[:, j]) <= HELD}
+    measured = [j for j in has_torque if j not in held]
+    if not measured:
+        raise InputError(f"{where}: no joint with a measured torque moves in the log (each spans at most {HELD:g}): "
+                         "there is nothing to identify")
+    held_bodies = [k for k, (j, _, _) in enumerate(model.coupling) if j in held]
     columns = _friction_columns(friction, measured)
     identified = {(kind, j) for kind, j in columns}
     urdf_friction = Friction.from_urdf(model)
@@ -433,7 +464,7 @@ def identify(model: Model, log: JointLog, friction: str = "both", holdout: float
                  f"{where}: identifying robot '{model.name}' ({model.n} joints, {n_rigid + len(columns)} parameters) "
                  f"from {len(train)} samples of {len(measured)} measured joints",
                  ": take a robot with fewer joints, or identify less friction (--friction-fit)")
-    base = base_parameters(model)
+    base = base_parameters(model, held=held) if held else base_parameters(model)
     fitted = list(base.independent) + [n_rigid + k for k in range(len(columns))]
     if len(train) * len(measured) < 2 * len(fitted):
         raise InputError(f"{where}: the fitted part has {len(train)} samples of {len(measured)} measured joints, too "
@@ -441,21 +472,26 @@ def identify(model: Model, log: JointLog, friction: str = "both", holdout: float
     R = _factors(model, log, train, columns, target, measured, progress)
     counts = np.full(len(measured), float(len(train)))
     sigma, theta_wls, error, shares, directions = _weighted_fit(R, counts, fitted)
-    kinds = [_kind(k, n_rigid, columns) for k in range(n_rigid + len(columns))]
     theta_urdf = np.concatenate([parameters(model), [getattr(urdf_friction, kind)[j] for kind, j in columns]])
     masses = np.array([b.mass for b in model.bodies], dtype=float)
     min_mass = np.maximum(MIN_MASS_SHARE * masses, MIN_MASS) if min_mass is None else np.asarray(min_mass, float)
-    typical = _typical(model, theta_urdf, theta_wls, kinds, fitted)
-    theta, solver = consistent_fit(model, R, sigma, theta_urdf, kinds, typical, prior_weight, min_mass)
-    pi = _physical(theta[:n_rigid], model, min_mass)
-    theta = np.concatenate([pi, np.maximum(theta[n_rigid:], 0.0)])
+    names = tuple(parameter_names(model)) + tuple(f"{SYMBOLS[kind]}_{model.joint_names[j]}" for kind, j in columns)
+    lengths = link_extents(model)
+    scale = _scales(model, lengths, theta_wls, columns, fitted)
+    free = np.ones(len(theta_urdf), dtype=bool)
+    for k in held_bodies:
+        free[10 * k:10 * k + 10] = False
+    fit = consistent_fit(model, R, sigma, len(train) * len(measured), theta_urdf, free, scale, lengths, names,
+                         prior_weight, threshold, min_mass)
+    moving = [i for i in range(model.n_bodies) if i not in held_bodies]
+    pi = _physical(fit.theta[:n_rigid], model, min_mass, moving)
+    theta, solver = np.concatenate([pi, np.maximum(fit.theta[n_rigid:], 0.0)]), fit.solver
     found = with_parameters(model, pi)
     viscous, coulomb = fixed.viscous.copy(), fixed.coulomb.copy()
     for (kind, j), value in zip(columns, theta[n_rigid:]):
         (viscous if kind == "viscous" else coulomb)[j] = value
     found_friction = Friction(viscous=viscous, coulomb=coulomb)
 
-    names = tuple(parameter_names(model)) + tuple(f"{SYMBOLS[kind]}_{model.joint_names[j]}" for kind, j in columns)
     base_names = tuple(f"π_b{k + 1}" for k in range(base.rank)) + names[n_rigid:]
 
     def base_values(th):
@@ -469,7 +505,10 @@ def identify(model: Model, log: JointLog, friction: str = "both", holdout: float
     rms_before, rms_after = (_per_joint(model, measured, np.sqrt(np.mean((log.measured[test] - tau) ** 2, axis=0))
                                         if len(test) else None) for tau in (before, after))
     notes = tuple(f"joint '{model.joint_names[j]}' has no measured torque: its rows are left out"
-                  for j in range(model.n) if j not in measured)
+                  for j in range(model.n) if j not in has_torque)
+    notes += tuple(f"joint '{model.joint_names[j]}' is held at {value:.6g} in the log: a fixed joint for the fit, "
+                   f"its body left as the URDF has it" for j, value in held.items())
+    far = tuple(far_moves(model, found, lengths))
     return Identification(
         model=found, friction=found_friction, original=model, original_friction=urdf_friction, friction_model=friction,
         names=names, pi_urdf=theta_urdf, pi=theta, base=base, base_names=base_names, base_urdf=base_values(theta_urdf),
@@ -477,7 +516,10 @@ def identify(model: Model, log: JointLog, friction: str = "both", holdout: float
         unexcited=unexcited, never_act=never_act, sigma=_per_joint(model, measured, sigma, packed=True),
         split_t=float(split),
         samples=(len(train), len(test)), held_out=(t[test], log.measured[test], before, after),
-        rms_before=rms_before, rms_after=rms_after, solver=solver, notes=notes)
+        rms_before=rms_before, rms_after=rms_after, solver=solver, notes=notes,
+        held=tuple(model.joint_names[j] for j in held), scale=scale, threshold=threshold, shares=fit.shares,
+        seen=fit.seen, active=fit.active, moved=fit.moved, far=far,
+        bodies=tuple(_body_summary(model, names, fit.seen, fit, far)))
 
 
 def _per_joint(model: Model, measured, values, packed: bool = False) -> np.ndarray:

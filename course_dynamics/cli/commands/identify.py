@@ -29,8 +29,11 @@ DESCRIPTION = (
     "with --torque-constant - and find the masses, centres of mass, inertias and joint friction (viscous, Coulomb; "
     "--friction-fit) that explain it: weighted least squares on the base parameters (the combinations the torques "
     "can tell apart), then a physically consistent estimate (every body's pseudo-inertia positive semi-definite, "
-    "masses positive, friction non-negative; cvxpy with Clarabel) that keeps what the log does not excite at the "
-    "URDF's values. The last --holdout share of the log is kept out of the fit and predicted by both models. The "
+    "masses positive, friction non-negative; cvxpy with Clarabel) regularised by each body's log-determinant "
+    "divergence from the URDF's pseudo-inertia (--prior-weight); the directions the log does not see (singular "
+    "values below 1e-3 of the largest, each parameter in its body's scale) stay at the URDF's values, and so do the "
+    "bodies of joints held still (--set). Friction has no prior: the log finds it."
+    " The last --holdout share of the log is kept out of the fit and predicted by both models. The "
     "identified URDF is the input URDF with each moving link's <inertial> and each joint's <dynamics damping "
     "friction> identified (links merged into a moving body by fixed joints lose their <inertial>; everything else "
     "is kept as it was; the text is read back before it is written, and one that would read back otherwise than "
@@ -150,6 +153,15 @@ def _print_summary(result, log, stream) -> None:
     rows = residual_rows(result)
     if held:
         print(render.text_table([list(RESIDUAL_HEADER)] + rows, align="<>>>>"), file=stream)
+    for body in result.bodies:
+        if body["kept"] or body["in_combination"]:
+            print(f"body {body['body']}: determined by the log {', '.join(body['determined']) or 'nothing alone'}; "
+                  f"seen only in combination {', '.join(body['in_combination']) or 'none'}; "
+                  f"kept at the URDF's {', '.join(body['kept']) or 'none'}", file=stream)
+    for line in result.active:
+        print(f"note: a physical constraint is active: {line}", file=stream)
+    for line in result.far:
+        print(f"warning: moved far from the URDF: {line}", file=stream)
     for share, combination in result.unexcited[:SHOWN]:
         print(f"warning: hardly excited by the log (singular value {share:.2g} of the largest): {combination}; "
               "it stays near the URDF's values", file=stream)
