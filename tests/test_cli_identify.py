@@ -244,3 +244,33 @@ def test_the_solvers_warnings_are_one_warning_line_of_ours(capsys, tmp_path, log
     assert set(line for line in err.splitlines() if "inaccurate" in line) == {   # once per problem solved
         "warning: robot 'ur5', the physically consistent fit (clarabel): Solution may be inaccurate. Try another solver."}
     assert "UserWarning" not in err and "warnings.warn" not in err
+
+
+def test_a_joint_set_constant_is_a_fixed_joint_its_body_untouched(capsys, tmp_path):
+    """UR5 logged with wrist 3 held at 0.3 rad and no column for it: ``--set q_wrist_3_joint=0.3`` makes it a fixed
+    joint; the written URDF's wrist_3_link is the URDF's, nothing warns about it, the condition number is sane."""
+    from logmakers import multisine, noisy, write_csv
+    from test_identification import NOISE_QD, NOISE_TAU, true_torques
+
+    ur5 = load_robot("ur5")
+    true, friction = true_robot(ur5)
+    motion = multisine(ur5, duration=10.0, rate=100.0, seed=1)
+    for signal, value in ((motion.q, 0.3), (motion.qd, 0.0), (motion.qdd, 0.0)):
+        signal[:, 5] = value
+    tau = true_torques(true, friction, motion)
+    measured = noisy(tau, NOISE_TAU * np.sqrt(np.mean(tau**2, axis=0)), 2)
+    qd = noisy(motion.qd, NOISE_QD, 4)
+    columns = {"t": motion.t}
+    for j, joint in enumerate(ur5.joint_names[:5]):
+        columns |= {f"q_{joint}": motion.q[:, j], f"qd_{joint}": qd[:, j], f"tau_meas_{joint}": measured[:, j]}
+    write_csv(tmp_path / "held.csv", list(columns), list(columns.values()))
+    out = tmp_path / "identified.urdf"
+    code, stdout, err = run(capsys, "identify", "ur5", "--log", str(tmp_path / "held.csv"), "--set",
+                            "q_wrist_3_joint=0.3", "--out", str(out), "--json")
+    assert code == 0, err
+    document = json.loads(stdout)
+    assert document["held"] == ["wrist_3_joint"] and document["condition_number"] < 1e3
+    assert not any("_6" in u["combination"] for u in document["unexcited"]) and document["far"] == []
+    back, urdf = load_urdf(out).bodies[5], ur5.bodies[5]
+    assert back.mass == urdf.mass and np.array_equal(back.p_com, urdf.p_com) and np.array_equal(back.I_com, urdf.I_com)
+    assert (back.damping, back.friction) == (urdf.damping, urdf.friction)

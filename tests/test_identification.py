@@ -322,3 +322,17 @@ def test_a_joint_held_still_is_a_fixed_joint_and_its_body_is_left_as_the_urdf_ha
     assert wrist.mass == urdf.mass and np.array_equal(wrist.p_com, urdf.p_com) and np.array_equal(wrist.I_com, urdf.I_com)
     assert not any("_6" in combination for _, combination in found.unexcited)
     assert found.condition_number < 1e3 and "Fv_wrist_3_joint" not in found.names
+
+
+def test_bodies_that_move_far_are_named():
+    """With no divergence and every direction free (threshold 0), the directions the log cannot see run off (kg by
+    the hundred on a 17 kg arm) and each such body is named; at the defaults every body stays plausible."""
+    ur5 = load_robot("ur5")
+    true, friction = true_robot(ur5)
+    log = joint_log(ur5, log_columns(ur5, true, friction, duration=10.0)[0])
+    loose = identify(ur5, log, prior_weight=0.0, threshold=0.0)
+    named = {line.split("'")[1] for line in loose.far}
+    heavy = {b.name for b, b0 in zip(loose.model.bodies, ur5.bodies) if not 0.5 <= b.mass / b0.mass <= 2}
+    assert heavy and heavy <= named
+    assert {b["body"] for b in loose.record()["bodies"] if b["warnings"]} == named
+    assert identify(ur5, log).far == ()

@@ -287,7 +287,8 @@ def consistent_fit(model, R, sigma, count, theta_urdf, free, scale, lengths, nam
     for i in bodies:
         if free[10 * i] and kept[10 * i] <= min_mass[i] * (1 + 1e-6):
             active.append(f"body '{model.bodies[i].name}': mass at its least, {min_mass[i]:.4g} kg")
-    active += [f"{names[k]} at 0" for k in friction if kept[k] <= 1e-9 * scale[k]]
+    at_zero = [names[k] for k in friction if kept[k] <= 1e-9 * scale[k]]
+    active += [f"friction at 0: {', '.join(at_zero)}"] if at_zero else []
     spent = np.zeros(model.n_bodies)
     for i in bodies:
         spent[i] = divergence(pseudo_inertia(kept[10 * i:10 * i + 10]), priors[i])

@@ -21,13 +21,15 @@ The steps, on the samples of a :class:`~course_dynamics.tools.logs.JointLog` (Θ
 2. ordinary least squares on the base parameters (and friction) gives each joint's residual σⱼ;
    weighted least squares with weights 1/σⱼ gives the estimate, its standard errors
    (the diagonal of s² (Yᵀ W² Y)⁻¹) and the condition number of W Y_b with unit-norm columns;
-3. the physically consistent estimate (cvxpy, Clarabel, SCS if that fails) minimises
-   ‖W (Y θ − τ_meas)‖² + λ c² Σ ((θₖ − θₖ,URDF) / sₖ)² subject to J(πᵢ) ⪰ 0 and mᵢ ≥ m_min for
-   every body and F_v, F_c ≥ 0. sₖ is the size parameters of θₖ's kind have (the URDF's masses,
-   first moments, inertias; the first fit's friction coefficients) and c² = mean ‖W Yₖ‖² sₖ² what
-   such a change does to the fit, so λ = ``prior_weight`` is a share of what the data say;
-   combinations the log does not excite stay at the URDF's values (a joint that never moves keeps
-   the URDF's friction);
+3. the physically consistent estimate (:mod:`~course_dynamics.tools.consistency`: cvxpy, Clarabel,
+   SCS if that fails) minimises the mean squared weighted residual plus λ Σᵢ d(Jᵢ ‖ Jᵢ₀), the
+   log-determinant divergence of each body's pseudo-inertia from the URDF's (λ = ``prior_weight``),
+   subject to J(πᵢ) ⪰ 0, mᵢ ≥ m_min and F_v, F_c ≥ 0; only the directions the log sees move (a
+   singular value of the weighted regressor, each parameter in its body's scale, at least
+   ``threshold`` of the largest): the rest stays at the URDF's values unless a body would then not be
+   physical (``active`` names it). Friction has no prior. A joint held still in the log (its
+   position spanning at most :data:`HELD`) is a fixed joint: its body keeps the URDF's parameters,
+   its rows and friction are left out, and the base parameters are those of the robot with it fixed;
 4. the held-out part is predicted by the URDF and by the identified model (their RMS residuals).
 
 Friction that is not identified (``friction="viscous"``: the Coulomb part) is the URDF's
@@ -76,9 +78,9 @@ FRICTION_MODELS = ("both", "viscous", "coulomb", "none")
 SYMBOLS = {"viscous": "Fv", "coulomb": "Fc"}   # friction coefficients are named Fv_<joint>, Fc_<joint>
 ROWS_AT_A_TIME = 2048         # samples per regressor block: (2048, n, 10 n) floats, 6 MB for a UR5
 #: λ by default (step 3): the weight of the bodies' divergence from the URDF against the mean squared residual.
-PRIOR_WEIGHT = 1e-3
+PRIOR_WEIGHT = 1e-5
 #: What the log does not see: a direction whose singular value (in scale units) is below this share of the largest.
-UNSEEN = 1e-3
+UNSEEN = 1e-4
 #: A joint whose position spans at most this (rad or m) in the log is held: a fixed joint for the fit.
 HELD = 1e-4
 SEEN_SPLIT = 0.01             # a parameter is determined when ≥ 99 % of it is seen, kept when ≤ 1 %

@@ -31,7 +31,7 @@ DESCRIPTION = (
     "can tell apart), then a physically consistent estimate (every body's pseudo-inertia positive semi-definite, "
     "masses positive, friction non-negative; cvxpy with Clarabel) regularised by each body's log-determinant "
     "divergence from the URDF's pseudo-inertia (--prior-weight); the directions the log does not see (singular "
-    "values below 1e-3 of the largest, each parameter in its body's scale) stay at the URDF's values, and so do the "
+    "values below 1e-4 of the largest, each parameter in its body's scale) stay at the URDF's values, and so do the "
     "bodies of joints held still (--set). Friction has no prior: the log finds it."
     " The last --holdout share of the log is kept out of the fit and predicted by both models. The "
     "identified URDF is the input URDF with each moving link's <inertial> and each joint's <dynamics damping "
