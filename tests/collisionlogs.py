@@ -6,6 +6,10 @@ pushes with force :data:`PUSH` N (on the robot, base coordinates) at ``tool0`` f
 ``pulses``, so τ_ext = Jᵀ F and the measured torques are τ_m = M Θ̈ + V + G + F(Θ̇) − τ_ext. The recorder
 adds white noise of the stated σ to Θ, Θ̇ and τ_m.
 
+:func:`reversal_log` is a second recorder's: one sine per joint, so that every joint reverses about twice a second,
+at 500 Hz, with Coulomb friction and noise in proportion to each joint's torque (little on the wrist), as an
+independent generator built on Pinocchio wrote it; with the friction known it has no contact to find.
+
 ``python tests/collisionlogs.py`` writes ``examples/ur5_collision.csv`` again (``tests/test_collisions.py`` checks
 the committed file is what :func:`write_example` writes today).
 """
@@ -62,18 +66,19 @@ def motion_at(model, t, seed=0):
 
 
 def collision_log(duration=4.0, pulses=((2.0, 0.3),), seed=0, noise=True, friction=FRICTION, force=PUSH,
-                  jitter=JITTER, model=None) -> CollisionLog:
-    """A UR5 (or ``model``) log of ``duration`` s at :data:`RATE` with the contacts ``pulses`` (module docstring)."""
+                  jitter=JITTER, model=None, link=LINK, rate=RATE) -> CollisionLog:
+    """A UR5 (or ``model``) log of ``duration`` s at ``rate`` with the contacts ``pulses`` at ``link`` (module
+    docstring)."""
     model = load_robot("ur5") if model is None else model
     rng = np.random.default_rng(seed + 100)
-    ticks = np.arange(int(round(duration * RATE)) + 1) / RATE
+    ticks = np.arange(int(round(duration * rate)) + 1) / rate
     t = ticks + (rng.uniform(-jitter, jitter, len(ticks)) if jitter else 0.0)
     t[0] = 0.0
     q, qd, qdd = motion_at(model, t, seed)
     F = np.zeros((len(t), 6))
     for start, length in pulses:
         F[(t >= start) & (t < start + length), :3] = force
-    tau_ext = np.einsum("kji,kj->ki", jacobian(model, q, LINK), F)                  # τ_ext = Jᵀ F
+    tau_ext = np.einsum("kji,kj->ki", jacobian(model, q, link), F)                  # τ_ext = Jᵀ F
     tau = inverse_dynamics(model, q, qd, qdd) - tau_ext
     if friction is not None:
         tau = tau + friction.torques(qd)
@@ -81,6 +86,29 @@ def collision_log(duration=4.0, pulses=((2.0, 0.3),), seed=0, noise=True, fricti
         return CollisionLog(t, q, qd, tau, tau_ext, q, qd)
     return CollisionLog(t, noisy(q, SIGMA_Q, seed + 1), noisy(qd, SIGMA_QD, seed + 2), noisy(tau, SIGMA_TAU, seed + 3),
                         tau_ext, q, qd)
+
+
+def reversal_log(duration=20.0, seed=7, pulses=(), jitter=8e-5) -> CollisionLog:
+    """The UR5 at 500 Hz (stamps ``jitter`` s off their ticks at most) on q = q₀ + 0.4 sin(ω t + φ), ω/2π = 0.3 …
+    1.1 Hz per joint, with :data:`FRICTION`, a push of :data:`PUSH` at :data:`LINK` for each (start, length) of
+    ``pulses``, and noise of 1e-5 rad, 1e-3 rad/s and 1 % of each joint's RMS torque (at least 0.01 N m)."""
+    model = load_robot("ur5")
+    rng = np.random.default_rng(seed)
+    ticks = np.arange(int(round(duration * 500.0)) + 1) / 500.0
+    t = ticks + rng.uniform(-jitter, jitter, len(ticks))
+    t[0] = 0.0
+    w = 2 * np.pi * np.array([0.3, 0.45, 0.5, 0.7, 0.8, 1.1])
+    angle = np.outer(t, w) + rng.uniform(0, 2 * np.pi, 6)
+    q0 = np.array([0.3, -1.2, 1.3, -1.5, -1.5, 0.2])
+    q, qd, qdd = q0 + 0.4 * np.sin(angle), 0.4 * w * np.cos(angle), -0.4 * w**2 * np.sin(angle)
+    F = np.zeros((len(t), 6))
+    for start, length in pulses:
+        F[(t >= start) & (t < start + length), :3] = PUSH
+    tau_ext = np.einsum("kji,kj->ki", jacobian(model, q, LINK), F)                  # τ_ext = Jᵀ F
+    tau = inverse_dynamics(model, q, qd, qdd) + FRICTION.torques(qd) - tau_ext
+    sigma_tau = 0.01 * np.maximum(np.sqrt(np.mean(tau**2, axis=0)), 1.0)
+    return CollisionLog(t, q + rng.normal(0, 1e-5, q.shape), qd + rng.normal(0, 1e-3, qd.shape),
+                        tau + rng.normal(0, 1, tau.shape) * sigma_tau, tau_ext, q, qd)
 
 
 def write_log(path, log: CollisionLog, joints, measured=True) -> Path:

@@ -2,11 +2,14 @@
 from __future__ import annotations
 
 import json
+import re
+from pathlib import Path
 
 import numpy as np
 import pytest
-from collisionlogs import EXAMPLE, FRICTION, PUSH, collision_log, write_log
+from collisionlogs import EXAMPLE, FRICTION, PUSH, collision_log, reversal_log, write_log
 from helpers import assert_one_line_error, run
+from logmakers import write_ur_rtde
 
 from course_dynamics import load_robot
 from course_dynamics.tools.tables import read_table
@@ -78,7 +81,9 @@ def test_a_given_threshold_and_gain_are_used(capsys):
 
 @pytest.mark.parametrize("extra, fragments", [
     (("--link", "no_such_link"), ("no link or frame 'no_such_link'",)),
-    (("--link", "upper_arm_link"), ("upper_arm_link' is moved by 2 joint",)),
+    (("--link", "shoulder_link"), ("link 'shoulder_link': no joint with a measured torque moves its origin",)),
+    (("--min-duration", "-1"), ("--min-duration must be a non-negative number of seconds, got '-1'",)),
+    (("--min-duration", "nan"), ("--min-duration must be a non-negative number of seconds, got 'nan'",)),
     (("--gain", "0"), ("--gain must be positive",)),
     (("--gain", "1,2"), ("--gain takes one value or one per joint: 2 given",)),
     (("--threshold", "-1"), ("--threshold must be positive",)),
@@ -102,3 +107,87 @@ def test_nothing_is_written_on_bad_input(capsys, tmp_path):
     out = tmp_path / "r.csv"
     code, _, _ = run(capsys, *detect("--link", "nowhere", "--out", str(out)))
     assert code == 2 and not out.exists()
+
+
+@pytest.mark.parametrize("robot, link, axis", [("two_link", "tool", "y of world"), ("rrr_arm", "forearm", "(")])
+def test_a_link_seen_in_part_gets_the_force_it_sees_and_the_rest_named(capsys, tmp_path, robot, link, axis):
+    """A planar arm's force in its plane; theta3 turns rrr_arm's forearm about its origin: two of three directions."""
+    model = load_robot(robot)
+    log = collision_log(duration=1.0, pulses=((0.4, 0.3),), seed=3, noise=False, model=model, link=link,
+                        friction=None)
+    path = write_log(tmp_path / f"{robot}.csv", log, model.joint_names)
+    code, out, _ = run(capsys, "detect", robot, "--log", str(path), "--link", link, "--threshold", "0.001")
+    assert code == 1 and f"event 1: no measured joint sees the force along {axis}" in out
+    code, out, _ = run(capsys, "detect", robot, "--log", str(path), "--link", link, "--threshold", "0.001", "--json")
+    (event,) = json.loads(out)["events"]
+    assert len(event["unseen"]) == 1 and np.isfinite(event["condition"]) and event["moment"] is None
+    u = np.array(event["unseen"][0])
+    seen = np.subtract(PUSH, u * (u @ PUSH))
+    assert np.linalg.norm(np.subtract(event["force"], seen)) < 0.01 * np.linalg.norm(seen)
+
+
+def test_a_jittering_clock_is_taken_as_it_is_where_nothing_is_differentiated(capsys, tmp_path):
+    """Stamps ±0.2 ms off a 500 Hz clock: detect (which needs no derivative) reads them; torques, which
+    differentiates the rates, still asks for --resample."""
+    path = write_log(tmp_path / "jitter.csv", reversal_log(4.0, seed=1, pulses=((2.0, 0.05),), jitter=2e-4),
+                     UR5.joint_names)
+    code, out, _ = run(capsys, *detect("--json", log=path))
+    (event,) = json.loads(out)["events"]
+    assert code == 1 and 2.0 <= event["start"] <= event["detected"] <= 2.02
+    code, _, err = run(capsys, "torques", "ur5", "--log", str(path))
+    assert_one_line_error(code, err, "the samples are not on one clock; --resample HZ puts them on one")
+
+
+def test_a_huge_torque_beside_a_dropped_sample_is_named_at_its_line(capsys, tmp_path):
+    log = collision_log(duration=1.0, pulses=())
+    keep = np.arange(len(log.t)) != 100            # a dropped sample: the huge value is on line 102 (after the header)
+    tau = log.tau.copy()
+    tau[101, 0] = 1e300
+    header = ["t"] + [f"{k}_{j}" for k in ("q", "qd", "tau_meas") for j in UR5.joint_names]
+    path = tmp_path / "huge.csv"
+    path.write_text(",".join(header) + "\n" + "\n".join(",".join(f"{x:.10g}" for x in row) for row in
+                                                        np.column_stack([log.t, log.q, log.qd, tau])[keep]) + "\n")
+    fragment = "line 102, column 'tau_meas_shoulder_pan_joint': a measured torque of 1e+300 is beyond any robot's"
+    for command in (detect(log=path), ("torques", "ur5", "--log", str(path))):
+        code, _, err = run(capsys, *command)
+        assert_one_line_error(code, err, f"{path}: {fragment}")
+
+
+def test_short_logs_and_gains_name_what_to_change(capsys, tmp_path):
+    log = collision_log(duration=1.0, pulses=())
+    rows = {}
+    for count in (1, 2, 10):
+        rows[count] = write_log(tmp_path / f"rows{count}.csv", collision_log(duration=(count - 1) / 250, pulses=()),
+                                UR5.joint_names)
+    for count in (1, 2):
+        code, _, err = run(capsys, *detect(log=rows[count]))
+        assert_one_line_error(code, err, f"rows{count}.csv: the quiet stretch", "--gain")
+        assert "qdd" not in err and "at least 5" not in err
+    code, _, err = run(capsys, *detect("--gain", "1e-6", log=rows[10]))
+    assert_one_line_error(code, err, "rows10.csv: the quiet stretch from 5e+06 s", "holds 0 of the log's 10 samples",
+                          "a larger gain (--gain, 1/s) settles sooner, or give a longer log")
+    path = write_log(tmp_path / "second.csv", log, UR5.joint_names)
+    code, out, _ = run(capsys, *detect("--noise-window", "1e9", log=path))
+    assert code == 0 and "note: thresholds: |median r| + 6 sigma of r over the whole log" in out
+    assert "(the quiet window, 1e+09 s, is longer than the" in out
+    code, out, _ = run(capsys, *detect("--gain", "1e12", log=path))
+    assert code in (0, 1) and "note: gain K = 1e+12 1/s is more than one over the sample step" in out
+
+
+def test_an_rtde_recordings_events_are_from_its_start(capsys, tmp_path):
+    log = collision_log(duration=4.0, pulses=((2.0, 0.3),), seed=0)
+    k = np.array([13.0, 13.0, 9.3, 4.5, 4.5, 4.5])
+    path = tmp_path / "robot_data.csv"
+    write_ur_rtde(path, log.t + 3021.5, log.q, log.qd, current=log.tau / k)
+    code, out, _ = run(capsys, *detect("--torque-constant", ",".join(map(str, k)), log=path))
+    assert code == 1 and "note: t: timestamp (s), from the log's start (stamp 3021.500000 s)" in out
+    row = next(line for line in out.splitlines() if line.startswith("1 "))
+    assert 2.0 <= float(row.split()[1]) < 2.02
+
+
+def test_the_guide_says_how_soon_the_example_push_is_found(capsys):
+    guide = (Path(__file__).resolve().parent.parent / "docs" / "guides" / "engineer-detect.md").read_text()
+    said = float(re.search(r"the push is found (\d+) ms after it starts", guide).group(1))
+    code, out, _ = run(capsys, *detect("--json"))
+    (event,) = json.loads(out)["events"]
+    assert said == round(1000 * (event["detected"] - 2.0))

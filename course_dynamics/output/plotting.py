@@ -456,8 +456,12 @@ def residual_figure(found, title: str = ""):
         theta = found.threshold[j]
         for e in found.events:
             axis.axvspan(e.start, e.end, color="tab:red", alpha=0.2, linewidth=0)
-        axis.axhline(theta, color="0.4", linestyle="--", linewidth=0.8)
-        axis.axhline(-theta, color="0.4", linestyle="--", linewidth=0.8)
+        if found.band is None:
+            axis.axhline(theta, color="0.4", linestyle="--", linewidth=0.8)
+            axis.axhline(-theta, color="0.4", linestyle="--", linewidth=0.8)
+        else:   # the threshold with the friction model's band at each sample
+            axis.plot(found.t, theta + found.band[:, j], color="0.4", linestyle="--", linewidth=0.8)
+            axis.plot(found.t, -theta - found.band[:, j], color="0.4", linestyle="--", linewidth=0.8)
         axis.plot(found.t, found.r[:, j], color=f"C{j}", linewidth=0.9)
         peaks = [p for e in found.events for joint, p in zip(e.joints, e.peak) if joint == name]
         peak = f"; peak in a contact {max(peaks, key=abs):+.3g}" if peaks else ""

@@ -12,6 +12,8 @@ code                symbol         meaning (shape, unit)
 ``gain``            K              the observer's gain per joint (n,), 1/s
 ``r``               r              the residual (K, n), N·m: r → τ_ext
 ``threshold``       θ              per joint: ``|r|`` above it is a contact (n,), N·m
+``band``            θ_F(t)         what the friction model may be off by, filtered like r (K, n), N·m
+``unseen``                         force directions no measured joint sees at a link (m, 3), base
 ==================  =============  ===================================================
 
 The robot moves by M Θ̈ + C Θ̇ + G + F = τ_m + τ_ext, where τ_ext is what the surroundings
@@ -38,11 +40,25 @@ p's derivative integrates to Δp exactly, β by the trapezoid rule, and r's own 
 A contact is where some joint's ``|r|`` exceeds its threshold θ: given (:func:`detect`'s ``threshold``),
 or k σ above the residual's own level, θ = ``|median r|`` + k σ with σ = 1.4826 × the median absolute
 deviation (:func:`residual_noise`; k = :data:`SIGMAS`), robust to the contacts themselves, over a
-quiet stretch after the observer has settled (5/K) or over the whole log. An event lasts until every
-joint is back under half its threshold (hysteresis) and counts once it has lasted
-:data:`MIN_DURATION`. With ``link``, the wrench the surroundings exert on that link
-is the least-squares solution of r = Jᵀ F over the event, Jᵀ F passed through the observer's own update
-(no lag), each joint's rows weighted by one over its threshold (:func:`contact_wrench`).
+quiet stretch after the observer has settled (5/K) or over the whole log. With friction, F(Θ̇) is evaluated at
+the measured rate, whose noise σ_Θ̇ (estimated from the log, :func:`~course_dynamics.tools.differentiation.noise_level`)
+makes the model wrong by up to δ_k = max ``|F(v) − F(Θ̇_k)|`` over ``|v − Θ̇_k|`` ≤ k σ_Θ̇: near a reversal, where
+the Coulomb term may be anything between ±F_c, a burst the noise σ of r does not hold. δ enters β, so r carries it
+through the same filter, and the threshold at each sample is θ + θ_F(t) (:func:`friction_band`):
+
+    θ_F = observer_update(t, δ, K)                                          (band)
+
+An event lasts until every joint is back under half its threshold (hysteresis) and counts once it has lasted
+:data:`MIN_DURATION`.
+
+With ``link``, the wrench the surroundings exert on that link (:func:`contact_wrench`) is fitted in what the
+measured joints can see: the whole wrench where their Jᵀ has rank 6 at every state of the event; otherwise the
+force alone, a contact at the link's origin, in the directions its J_vᵀ sees (its rank at the state that sees
+least, singular values within :data:`RANK_TOLERANCE` of the largest), the others named as not seen. The fit has no
+lag for a contact of any length: from the event's start s, r_k − e^{−K (t_k − t_s)} r_s is Jᵀ F passed through the
+observer's own update from zero, over the rows while the contact lasts (up to its peak, and to the event's end
+less the time r takes to decay from its peak to half the threshold), each joint's rows weighted by one over its
+threshold.
 
 >>> import numpy as np
 >>> from course_dynamics import load_robot
@@ -68,6 +84,7 @@ from ..core.cartesian import jacobian
 from ..core.evaluator import implementation
 from ..core.friction import Friction
 from ..core.model import Model
+from .differentiation import noise_level
 from .logs import ROWS_AT_A_TIME, joint_log
 from .sources import as_source
 
@@ -79,6 +96,8 @@ SIGMAS = 6.0
 MIN_DURATION = 0.005
 #: An event ends when every joint's ``|r|`` is under this share of its threshold.
 RELEASE = 0.5
+#: A direction of a link's wrench is seen when its singular value is at least this share of the largest.
+RANK_TOLERANCE = 1e-6
 #: The smallest threshold, as a share of the joint's largest measured torque (a noise-free log has σ = 0).
 THRESHOLD_FLOOR = 1e-3
 MAD_TO_SIGMA = 1.4826   # σ of Gaussian noise from its median absolute deviation
@@ -106,11 +125,14 @@ class ContactEvent:
         When r was largest against the thresholds, s.
     force : tuple of float, optional
         With a link: the force the surroundings exert on it, base coordinates (3,), N: one least-squares fit over
-        the event (:func:`contact_wrench`), or at ``peak_t`` in a shorter event.
+        the event (:func:`contact_wrench`); no component along ``unseen``.
     moment : tuple of float, optional
         With a link whose Jacobian resolves it: the moment about the link's origin (3,), N·m; None otherwise.
     condition : float, optional
-        With a link: the condition number of the wrench's least-squares fit.
+        With a link: the condition number of the wrench's least-squares fit, on the directions it resolves.
+    unseen : tuple of tuple of float
+        With a link: unit force directions, base coordinates, that no measured joint sees (their component is not
+        in ``force``).
     """
 
     start: float
@@ -122,6 +144,7 @@ class ContactEvent:
     force: tuple[float, ...] | None = None
     moment: tuple[float, ...] | None = None
     condition: float | None = None
+    unseen: tuple[tuple[float, ...], ...] = ()
 
     def record(self) -> dict:
         """The event, JSON-ready.
@@ -129,11 +152,13 @@ class ContactEvent:
         Returns
         -------
         dict
-            start, end, detected, peak_t (s), peak (joint → N·m), force (N) and moment (N·m) or None.
+            start, end, detected, peak_t (s), peak (joint → N·m), force (N) and moment (N·m) or None, condition,
+            unseen (unit directions).
         """
         return {"start": self.start, "end": self.end, "detected": self.detected, "peak_t": self.peak_t,
                 "peak": dict(zip(self.joints, self.peak)), "force": None if self.force is None else list(self.force),
-                "moment": None if self.moment is None else list(self.moment), "condition": self.condition}
+                "moment": None if self.moment is None else list(self.moment), "condition": self.condition,
+                "unseen": [list(u) for u in self.unseen]}
 
 
 @dataclass(frozen=True)
@@ -162,6 +187,8 @@ class Detection:
         The link the events' wrenches are at.
     notes : tuple of str
         What was derived or assumed, in words.
+    band : numpy.ndarray, shape (K, n), optional
+        θ_F(t), added to ``threshold`` at each sample (friction the rates' noise leaves unknown), N·m (N).
     """
 
     t: np.ndarray
@@ -174,6 +201,7 @@ class Detection:
     events: tuple[ContactEvent, ...]
     link: str | None = None
     notes: tuple[str, ...] = ()
+    band: np.ndarray | None = None
 
     def table(self) -> tuple[list[str], np.ndarray]:
         """Header and rows of r(t): ``t`` and ``r_<joint>`` for each measured joint.
@@ -335,7 +363,7 @@ def momentum_residual(model: Model, t, q, qd, tau, gain=DEFAULT_GAIN, friction: 
     return observer_update(t, d, K)
 
 
-def residual_noise(t, r, gain, window: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+def residual_noise(t, r, gain, window: float | None = None, where: str = "the log") -> tuple[np.ndarray, np.ndarray]:
     """The residual's level and noise per joint, robustly: its median and σ = 1.4826 MAD.
 
     Over ``window`` seconds after the observer has settled (5/K from the start), or over the whole log after
@@ -351,6 +379,8 @@ def residual_noise(t, r, gain, window: float | None = None) -> tuple[np.ndarray,
         K per joint, 1/s.
     window : float, optional
         The quiet stretch's length, s; None for the whole log.
+    where : str
+        The log's name in messages.
 
     Returns
     -------
@@ -367,10 +397,11 @@ def residual_noise(t, r, gain, window: float | None = None) -> tuple[np.ndarray,
     begin = t[0] + SETTLING / float(np.min(gain))
     quiet = (t >= begin) & (t <= begin + window) if window is not None else t >= begin
     if np.count_nonzero(quiet) < 10:
-        raise InputError(f"the quiet stretch from {begin - t[0]:.3g} s (the observer's settling, 5/K) "
+        raise InputError(f"{where}: the quiet stretch from {begin - t[0]:.3g} s (the observer's settling, 5/K) "
                          + (f"for {window:g} s " if window is not None else "to the log's end ")
-                         + f"holds {np.count_nonzero(quiet)} samples: at least 10 are needed"
-                         + ("; give a longer window" if window is not None else ""))
+                         + f"holds {np.count_nonzero(quiet)} of the log's {len(t)} samples: at least 10 are needed; "
+                         + ("a longer window (--noise-window), " if window is not None else "")
+                         + "a larger gain (--gain, 1/s) settles sooner, or give a longer log")
     level = np.median(r[quiet], axis=0)
     return level, MAD_TO_SIGMA * np.median(np.abs(r[quiet] - level), axis=0)
 
@@ -384,8 +415,8 @@ def contact_events(t, r, threshold, joints, min_duration: float = MIN_DURATION) 
         Sample times, s.
     r : numpy.ndarray, shape (K, n)
         The residual, N·m (N); NaN columns are ignored.
-    threshold : numpy.ndarray, shape (n,)
-        θ per joint, N·m (N).
+    threshold : numpy.ndarray, shape (n,) or (K, n)
+        θ per joint, or per sample and joint, N·m (N).
     joints : sequence of str
         The joints' names.
     min_duration : float
@@ -417,8 +448,55 @@ def contact_events(t, r, threshold, joints, min_duration: float = MIN_DURATION) 
     return tuple(events)
 
 
-def wrench_components(model: Model, link: str, measured) -> int:
-    """How many wrench components the torques of the ``measured`` joints resolve at ``link``: 6, or 3 (force only).
+def friction_band(t, qd, friction: Friction, gain, sigmas: float = SIGMAS) -> np.ndarray:
+    """θ_F(t): what evaluating F at the measured, noisy Θ̇ may have got wrong, through the observer's filter (band).
+
+    δ_k = max ``|F(v) − F(Θ̇_k)|`` over ``|v − Θ̇_k|`` ≤ k σ_Θ̇ (F is monotone in each rate, so the ends of that
+    interval bound it), σ_Θ̇ each joint's rate noise estimated from the log.
+
+    Parameters
+    ----------
+    t : numpy.ndarray, shape (K,)
+        Sample times, s.
+    qd : numpy.ndarray, shape (K, n)
+        The measured rates Θ̇, rad/s (m/s).
+    friction : Friction
+        The friction model subtracted from the measured torques.
+    gain : numpy.ndarray, shape (n,)
+        K per joint, 1/s.
+    sigmas : float
+        k: how many σ_Θ̇ the true rate may be from the measured one.
+
+    Returns
+    -------
+    numpy.ndarray, shape (K, n)
+        θ_F, N·m (N), non-negative.
+    """
+    qd = np.asarray(qd, dtype=float)
+    spread = sigmas * (noise_level(qd) if len(qd) >= 5 else np.zeros(qd.shape[1]))
+    model_at = friction.torques(qd)
+    delta = np.maximum(np.abs(friction.torques(qd + spread) - model_at),
+                       np.abs(friction.torques(qd - spread) - model_at))
+    return observer_update(t, delta, gain)
+
+
+def _ranks(A: np.ndarray) -> np.ndarray:
+    """The rank of each (m, c) matrix of a stack (N, m, c): singular values within RANK_TOLERANCE of the largest."""
+    if A.shape[1] == 0:
+        return np.zeros(len(A), dtype=int)
+    s = np.linalg.svd(A, compute_uv=False)
+    return np.count_nonzero(s > RANK_TOLERANCE * np.maximum(s[:, :1], np.finfo(float).tiny), axis=1)
+
+
+def _transposed(model: Model, q, link: str, measured) -> np.ndarray:
+    """The measured joints' rows of Jᵀ at ``link``, (N, m, 6): force columns, then moment columns."""
+    rows = [model.joint_names.index(j) for j in measured]
+    J = np.asarray(jacobian(model, q, link)).reshape(-1, 6, model.n)
+    return np.swapaxes(J, 1, 2)[:, rows]
+
+
+def wrench_components(model: Model, link: str, measured, q=None) -> int:
+    """How much of a wrench at ``link`` the torques of the ``measured`` joints resolve at every state of ``q``.
 
     Parameters
     ----------
@@ -428,36 +506,66 @@ def wrench_components(model: Model, link: str, measured) -> int:
         A URDF link.
     measured : sequence of str
         The joints with measured torques.
+    q : array_like, shape (n,) or (N, n), optional
+        The states; the zero position by default.
 
     Returns
     -------
     int
-        6 when at least six measured joints move the link, 3 when three to five do.
+        6 when Jᵀ has rank 6 at every state (force and moment); otherwise the rank of J_vᵀ at the state that sees
+        least (1 to 3): the components of a force at the link's origin that can be resolved.
 
     Raises
     ------
     ModelError
         If the robot has no link ``link``.
     InputError
-        If fewer than three measured joints move the link.
+        If no measured joint moves the link's origin at some state.
     """
-    J = jacobian(model, np.zeros(model.n), link)
-    moving = [j for i, j in enumerate(model.joint_names) if j in measured and np.any(J[:, i] != 0)]
-    if len(moving) < 3:
-        raise InputError(f"link '{link}' is moved by {len(moving)} joint(s) with measured torques "
-                         f"({', '.join(moving) or 'none'}): their torques cannot resolve a force at it (3 components)")
-    return 6 if len(moving) >= 6 else 3
+    Jt = _transposed(model, np.zeros(model.n) if q is None else q, link, measured)
+    scaled = Jt / np.maximum(np.linalg.norm(Jt, axis=1, keepdims=True), np.finfo(float).tiny)   # units apart
+    if np.all(_ranks(scaled) == 6):
+        return 6
+    seen = int(_ranks(Jt[:, :, :3]).min())
+    if seen == 0:
+        moving = [j for j, column in zip(measured, np.abs(Jt[:, :, :3]).max(axis=(0, 2))) if column > 0]
+        raise InputError(f"link '{link}': no joint with a measured torque moves its origin "
+                         f"({', '.join(moving) + ' only turn it' if moving else 'none moves it'}): their torques "
+                         "resolve no component of a force there")
+    return seen
 
 
-def contact_wrench(model: Model, q, tau_ext, link: str, measured, components: int = 6, weights=None, t=None,
-                   gain=None):
+@dataclass(frozen=True)
+class Wrench:
+    """A wrench fitted at a link (:func:`contact_wrench`).
+
+    Parameters
+    ----------
+    force : numpy.ndarray, shape (3,)
+        On the robot, base coordinates, N: no component along ``unseen``.
+    moment : numpy.ndarray, shape (3,), optional
+        About the link's origin, base coordinates, N·m; None when only the force is resolved.
+    condition : float
+        The condition number of the (weighted) least-squares fit on the directions it resolves.
+    unseen : numpy.ndarray, shape (m, 3)
+        Unit force directions, base coordinates, that no measured joint sees (m = 0 to 2).
+    """
+
+    force: np.ndarray
+    moment: np.ndarray | None
+    condition: float
+    unseen: np.ndarray
+
+
+def contact_wrench(model: Model, q, tau_ext, link: str, measured, weights=None, t=None, gain=None) -> Wrench:
     """The one wrench at ``link`` whose Jᵀ F best gives ``tau_ext`` at every state, by least squares on the
-    measured joints' rows stacked over the states (a contact's wrench held over them).
+    measured joints' rows stacked over the states (a contact's wrench held over them), in what they can see.
 
-    With ``components`` 3, the force alone (a contact at the link's origin): τ_ext = J_vᵀ f. Stacking the states
-    keeps the estimate sound where one state's Jᵀ is near-singular (a wrist singularity). With ``t`` and ``gain``,
-    ``tau_ext`` is the observer's r and each column of Jᵀ goes through the same update first (from zero at the first
-    state, whose first 5/K are then left out of the fit): the fit has no lag.
+    The components are :func:`wrench_components`' at these states: the whole wrench, or a force at the link's
+    origin in the directions J_vᵀ sees, fitted on the stacked matrix's leading singular directions. Stacking the
+    states keeps the estimate sound where one state's Jᵀ is near-singular (a wrist singularity). With ``t`` and
+    ``gain``, ``tau_ext`` is the observer's r over a contact that lasts from the first state on: r − e^{−K (t −
+    t₀)} r₀ is fitted by each column of Jᵀ passed through the same update from zero, which has no lag.
 
     Parameters
     ----------
@@ -471,8 +579,6 @@ def contact_wrench(model: Model, q, tau_ext, link: str, measured, components: in
         A URDF link.
     measured : sequence of str
         The joints whose rows are used.
-    components : int
-        6 for force and moment, 3 for force only (:func:`wrench_components`).
     weights : array_like, shape (n,), optional
         Each joint's row weight (one over its noise); equal by default.
     t : array_like, shape (N,), optional
@@ -482,38 +588,75 @@ def contact_wrench(model: Model, q, tau_ext, link: str, measured, components: in
 
     Returns
     -------
-    force : numpy.ndarray, shape (3,)
-        On the robot, base coordinates, N.
-    moment : numpy.ndarray, shape (3,), or None
-        About the link's origin, base coordinates, N·m; None with ``components`` 3.
-    condition : float
-        The condition number of the stacked (weighted) least-squares matrix: large means a direction of F the
-        torques hardly see.
+    Wrench
+        The force, the moment (or None), the fit's condition number and the directions not seen.
+
+    Raises
+    ------
+    InputError
+        If no measured joint moves the link's origin at some state.
     """
     rows = [model.joint_names.index(j) for j in measured]
-    w = np.ones(model.n) if weights is None else np.asarray(weights, dtype=float)
-    Jt = np.swapaxes(np.asarray(jacobian(model, q, link)).reshape(-1, 6, model.n)[:, :components], 1, 2)  # (N, n, c)
+    components = wrench_components(model, link, measured, q)
+    c = 6 if components == 6 else 3
+    Jt = _transposed(model, q, link, measured)[:, :, :c]                                  # (N, m, c)
+    b = np.asarray(tau_ext, dtype=float).reshape(-1, model.n)[:, rows]
     if t is not None:
-        Jt = np.stack([observer_update(t, Jt[:, :, c], gain) for c in range(components)], axis=2)
-    settled = slice(None) if t is None else np.asarray(t) >= np.asarray(t)[0] + SETTLING / float(np.min(gain))
-    A = (Jt[settled][:, rows] * w[rows][:, None]).reshape(-1, components)               # τ_ext = Jᵀ F, stacked
-    b = (np.asarray(tau_ext, dtype=float).reshape(-1, model.n)[settled][:, rows] * w[rows]).reshape(-1)
-    F = np.linalg.lstsq(A, b, rcond=None)[0]
-    return F[:3], (F[3:] if components == 6 else None), float(np.linalg.cond(A))
+        t, K = np.asarray(t, dtype=float), np.asarray(gain, dtype=float)[rows]
+        Jt = np.stack([observer_update(t, Jt[:, :, i], K) for i in range(c)], axis=2)     # Jᵀ through (update)
+        b = b - np.exp(-K * (t - t[0])[:, None]) * b[0]                                   # r less its start's decay
+    w = np.ones(len(rows)) if weights is None else np.asarray(weights, dtype=float)[rows]
+    A = (Jt * w[:, None]).reshape(-1, c)                                                  # τ_ext = Jᵀ F, stacked
+    scale = np.maximum(np.linalg.norm(A, axis=0), np.finfo(float).tiny) if c == 6 else np.ones(c)
+    U, s, Vt = np.linalg.svd(A / scale, full_matrices=False)
+    k = components if c == 3 else 6
+    x = Vt[:k].T @ ((U[:, :k].T @ (b * w).reshape(-1)) / s[:k]) / scale                   # in the seen directions
+    return Wrench(x[:3], x[3:] if c == 6 else None, float(s[0] / s[k - 1]), Vt[k:c, :3].copy())
 
 
-def _with_wrench(model, log, r, event, link, measured, components, gain, weights) -> ContactEvent:
-    """The event with its wrench, fitted through the observer's update from the event's start to 5/K before its
-    end (the push's own end is in the last 5/K), or at its peak for a shorter event."""
-    rows = np.flatnonzero((log.t >= event.start) & (log.t <= event.end - SETTLING / float(np.min(gain))))
-    if np.count_nonzero(log.t[rows] >= event.start + SETTLING / float(np.min(gain))):
-        force, moment, condition = contact_wrench(model, log.q[rows], r[rows], link, measured, components, weights,
-                                                  log.t[rows], gain)
-    else:
-        row = np.flatnonzero(log.t == event.peak_t)
-        force, moment, condition = contact_wrench(model, log.q[row], r[row], link, measured, components, weights)
+def _contact_rows(log, r, event, theta, gain) -> np.ndarray:
+    """The rows of an event while the contact lasts: from its start to its peak and to its end less the time
+    r takes to decay from each joint's largest ``|r|`` to half its threshold, e^{−K τ} = RELEASE θ / ``|r|``."""
+    inside = np.flatnonzero((log.t >= event.start) & (log.t <= event.end))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ratio = np.nan_to_num(np.abs(r[inside]) / theta).max(axis=0)
+        decay = np.where(ratio > RELEASE, np.log(ratio / RELEASE) / gain, 0.0).max()
+    last = max(int(np.flatnonzero(log.t == event.peak_t)[0]), int(np.searchsorted(log.t, event.end - decay,
+                                                                                    side="right")) - 1)
+    return np.arange(inside[0], min(max(last, inside[0] + 1), len(log.t) - 1) + 1)
+
+
+def _with_wrench(model, log, r, event, link, measured, gain, theta) -> ContactEvent:
+    """The event with its wrench, fitted through the observer's update over the rows of the contact."""
+    rows = _contact_rows(log, r, event, theta, gain)
+    fit = contact_wrench(model, log.q[rows], r[rows], link, measured, 1 / np.nan_to_num(theta, nan=1.0),
+                         log.t[rows], gain)
     return ContactEvent(event.start, event.end, event.detected, event.joints, event.peak, event.peak_t,
-                        tuple(map(float, force)), None if moment is None else tuple(map(float, moment)), condition)
+                        tuple(map(float, fit.force)), None if fit.moment is None else tuple(map(float, fit.moment)),
+                        fit.condition, tuple(tuple(map(float, u)) for u in fit.unseen))
+
+
+def unseen_words(model: Model, unseen) -> str:
+    """Directions not seen, in words: ``z of base_link`` for a base axis, else the unit vector in base coordinates.
+
+    Parameters
+    ----------
+    model : Model
+        The robot (its base link names the frame).
+    unseen : array_like, shape (m, 3)
+        Unit directions, base coordinates.
+
+    Returns
+    -------
+    str
+        The directions joined by ``and``; empty for none.
+    """
+    words = []
+    for u in np.asarray(unseen, dtype=float).reshape(-1, 3):
+        axis = int(np.argmax(np.abs(u)))
+        words.append(f"{'xyz'[axis]} of {model.base_link}" if abs(u[axis]) > 1 - 1e-6 else
+                     "(" + ", ".join(f"{x:+.3f}" for x in u * np.sign(u[axis])) + f") in {model.base_link}")
+    return " and ".join(words)
 
 
 def detect(model: Model, table, *, gain=DEFAULT_GAIN, threshold=None, window: float | None = None,
@@ -579,49 +722,62 @@ def detect(model: Model, table, *, gain=DEFAULT_GAIN, threshold=None, window: fl
     """
     source = as_source(table)
     K = _positive(gain, model.n, "gain", model.joint_names)
-    if not (np.isfinite(sigmas) and sigmas > 0) or not (np.isfinite(min_duration) and min_duration >= 0):
-        raise InputError("the threshold's sigmas must be positive and the shortest event's duration not negative")
+    if not (np.isfinite(sigmas) and sigmas > 0):
+        raise InputError(f"sigmas: the threshold's multiple of the noise must be a positive number, got {sigmas:g}")
+    if not (np.isfinite(min_duration) and min_duration >= 0):
+        raise InputError(f"min_duration: the shortest event must be a non-negative number of seconds, got "
+                         f"{min_duration:g}")
     if window is not None and not (np.isfinite(window) and window > 0):
         raise InputError(f"the quiet window must be a positive number of seconds, got {window:g}")
-    components = None
     if link is not None:
         model.frame(link)
     log = joint_log(model, source, dt=dt, columns=columns, window=smooth, constants=constants, time_unit=time_unit,
-                    resample=resample, split_gaps=split_gaps, torque_constants=torque_constants)
+                    resample=resample, split_gaps=split_gaps, torque_constants=torque_constants, needs="qd")
     if log.measured is None:
         raise InputError(f"{source.where}: no measured torques: the observer needs tau_meas_<joint> columns (a bag's "
                          "effort), or motor currents with their torque constants")
     measured = tuple(j for i, j in enumerate(model.joint_names) if np.all(np.isfinite(log.measured[:, i])))
     if link is not None:
-        components = wrench_components(model, link, measured)
+        wrench_components(model, link, measured, log.q[::max(1, len(log.t) // 200)])   # refused if nothing is seen
     r = momentum_residual(model, log.t, log.q, log.qd, log.measured, K, friction, compiled)
     notes = [n for n in log.notes if not n.startswith("qdd:")]          # Θ̈ is never used here
     if not any(n.startswith("qd:") for n in notes):                         # nor how its edges were fitted
         notes = [n for n in notes if not n.startswith("edges:")]
+    if len(log.t) > 1 and float(K.max()) * float(np.median(np.diff(log.t))) > 1:
+        notes.append(f"gain K = {float(K.max()):g} 1/s is more than one over the sample step "
+                     f"({float(np.median(np.diff(log.t))):.3g} s): r follows each step's momentum change unfiltered")
     sigma = np.full(model.n, np.nan)
     if threshold is None:
-        level, noise = residual_noise(log.t, r, K, window)
+        level, noise = residual_noise(log.t, r, K, window, source.where)
         theta = np.abs(level) + sigmas * noise
         floor = THRESHOLD_FLOOR * np.nan_to_num(np.abs(log.measured).max(axis=0)) if len(log.t) else 0.0
         theta = np.maximum(theta, np.maximum(floor, np.finfo(float).tiny))
         sigma = noise
+        settled = log.t[-1] - log.t[0] - SETTLING / float(np.min(K))
+        long_window = window is not None and window > settled
         notes.append(f"thresholds: |median r| + {sigmas:g} sigma of r "
-                     + (f"over {window:g} s" if window is not None else "over the whole log")
-                     + f" after the observer settled ({SETTLING:g}/K)")
+                     + (f"over {window:g} s" if window is not None and not long_window else "over the whole log")
+                     + f" after the observer settled ({SETTLING:g}/K)"
+                     + (f" (the quiet window, {window:g} s, is longer than the {settled:.3g} s left)"
+                        if long_window else ""))
     else:
         theta = _positive(threshold, model.n, "threshold", model.joint_names)
     theta = np.where([j in measured for j in model.joint_names], theta, np.nan)
-    events = contact_events(log.t, r, theta, model.joint_names, min_duration)
+    band = None
+    if friction is not None:
+        band = friction_band(log.t, log.qd, friction, K, sigmas)
+        notes.append(f"friction: each threshold grows by what F may be off by where the rate is within {sigmas:g} "
+                     "sigma of the rate noise of a change in F (Coulomb's sign near a reversal), filtered as r is")
+    events = contact_events(log.t, r, theta if band is None else theta + band, model.joint_names, min_duration)
     if link is not None:
-        if components == 3:
-            notes.append(f"link '{link}': fewer than six measured joints move it, so the wrench is a force at its "
-                         "origin (no moment)")
-        weights = 1 / np.nan_to_num(theta, nan=1.0)                       # rows by their noise
-        events = tuple(_with_wrench(model, log, r, e, link, measured, components, K, weights) for e in events)
+        events = tuple(_with_wrench(model, log, r, e, link, measured, K, theta) for e in events)
+        if wrench_components(model, link, measured, log.q[::max(1, len(log.t) // 200)]) < 6:
+            notes.append(f"link '{link}': the measured joints cannot resolve a moment there, so the wrench is a "
+                         "force at its origin, in the directions they see")
     return Detection(t=log.t, r=r, joints=model.joint_names, measured=measured, gain=K, threshold=theta, sigma=sigma,
-                     events=tuple(events), link=link, notes=tuple(notes))
+                     events=tuple(events), link=link, notes=tuple(notes), band=band)
 
 
-__all__ = ["DEFAULT_GAIN", "MIN_DURATION", "RELEASE", "SIGMAS", "THRESHOLD_FLOOR", "ContactEvent", "Detection",
-           "contact_events", "contact_wrench", "detect", "momentum_residual", "momentum_terms", "observer_update",
-           "residual_noise", "wrench_components"]
+__all__ = ["DEFAULT_GAIN", "MIN_DURATION", "RANK_TOLERANCE", "RELEASE", "SIGMAS", "THRESHOLD_FLOOR", "ContactEvent",
+           "Detection", "Wrench", "contact_events", "contact_wrench", "detect", "friction_band", "momentum_residual",
+           "momentum_terms", "observer_update", "residual_noise", "unseen_words", "wrench_components"]

@@ -6,8 +6,9 @@ format            what is read, and how its columns become ours
 ``table``         a delimited table (:func:`~course_dynamics.tools.tables.read_table`): comma,
                   semicolon, tab or whitespace; our column names, or a map to them
 ``ur-rtde``       a UR controller's RTDE recording (``record.py`` writes it space separated):
-                  ``timestamp`` (s of the controller's uptime) → t from the log's start, ``actual_q_i`` → Θ, ``actual_qd_i`` → Θ̇ and
-                  ``actual_current_i`` → the motor currents, i = 0, 1, … the URDF's i-th joint
+                  ``timestamp`` (s of the controller's uptime) → t from the log's start, ``actual_q_i`` → Θ,
+                  ``actual_qd_i`` → Θ̇ and ``actual_current_i`` → the motor currents, i = 0, 1, … the URDF's
+                  i-th joint
 ``rostopic``      ``rostopic echo -p`` of a ``sensor_msgs/JointState`` topic: ``field.header.stamp`` (ns; ``%time``,
                   the receive time, when unstamped) → t from the log's start, ``field.positionK``,
                   ``field.velocityK``, ``field.effortK`` → Θ, Θ̇ and the measured torque of the joint named
@@ -27,9 +28,10 @@ format            what is read, and how its columns become ours
 
 Every source gives a :class:`LogSource`: the log's own columns, the map from our names to them
 that its format implies (an explicit map from the user overrides it entry by entry), and how to
-name a row in messages. A recorder's clock (of the epoch, of the controller's uptime) is read from the log's start,
-and a note gives the stamp it started at; a table's own ``t`` is taken as it is. What happens next — which columns are used (:mod:`~course_dynamics.tools.columns`),
-the clock (:mod:`~course_dynamics.tools.resampling`), the derivatives — is the same for all.
+name a row in messages. A recorder's clock (of the epoch, of the controller's uptime) is read from the
+log's start, and a note gives the stamp it started at; a table's own ``t`` is taken as it is. What happens
+next — which columns are used (:mod:`~course_dynamics.tools.columns`), the clock
+(:mod:`~course_dynamics.tools.resampling`), the derivatives — is the same for all.
 """
 from __future__ import annotations
 

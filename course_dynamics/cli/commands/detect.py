@@ -30,10 +30,15 @@ DESCRIPTION = (
     "of (tau_meas - F + C^T qd - G + r)), p = M qd, which needs no accelerations and follows tau_ext, the torque "
     "the surroundings apply to each joint, with time constant 1/K. Friction (--friction, --viscous, --coulomb) is "
     "subtracted from the measured torques. A contact is where a joint's |r| exceeds its threshold (--threshold, "
-    "or 6 sigma of the residual's own noise above its median, over --noise-window or the whole log) and lasts "
-    "until every joint is under half of it, for at least --min-duration. Prints each event (start, end, the "
-    "joints, the peak external torque per joint) and, with --link, the wrench the surroundings exert on that link "
-    "at the event's peak (tau_ext = J^T F, least squares; force only when fewer than six joints move the link). "
+    "or 6 sigma of the residual's own noise above its median, over --noise-window or the whole log; with friction, "
+    "plus what the friction model may be off by where the rate is within 6 sigma of its noise of a change, filtered "
+    "as r is) and lasts until every joint is under half of it, for at least --min-duration. The log's stamps are "
+    "taken as they are (nothing is differentiated when it has rates), and times are from its start. Prints each "
+    "event (start, end, the joints, the peak external torque per joint) and, with --link, the wrench the "
+    "surroundings exert on that link while the contact lasts: tau_ext = J^T F by least squares, J^T passed through "
+    "the observer's own update so that the fit has no lag, for short contacts and long; the whole wrench where the "
+    "measured joints' J^T has rank 6, otherwise the force at the link's origin in the directions they see, the "
+    "others named. "
     "--out writes r(t) as CSV (t, r_<joint>), --plot draws it with the thresholds and the events shaded, --json "
     "prints rows, gain, threshold, sigma, link, events and notes. Exit 0 when no contact is found, 1 when one is, "
     "2 on bad input.")
@@ -52,6 +57,8 @@ def run(args) -> int:
     from ...tools.collisions import DEFAULT_GAIN, detect
 
     model = load_robot_argument(args)
+    if not args.min_duration >= 0 or args.min_duration == float("inf"):
+        raise UsageError(f"--min-duration must be a non-negative number of seconds, got '{args.min_duration:g}'")
     joint_friction = friction(args, model)
     gain = DEFAULT_GAIN if args.gain is None else _per_joint(args.gain, "--gain", model)
     threshold = None if args.threshold is None else _per_joint(args.threshold, "--threshold", model)
@@ -118,6 +125,8 @@ def _per_joint(text, option, model):
 
 
 def _print_report(found, model, stream) -> None:
+    from ...tools.collisions import unseen_words
+
     for note in found.notes:
         print(f"note: {one_line(note)}", file=stream)
     print(f"robot {model.name}: {len(found.t)} samples over {found.t[-1] - found.t[0]:.6g} s; momentum observer "
@@ -143,6 +152,10 @@ def _print_report(found, model, stream) -> None:
                     "-" if e.moment is None else " ".join(f"{x:+.3g}" for x in e.moment), f"{e.condition:.3g}"]
         rows.append(row)
     print(render.text_table(rows, align="<>>><" + ("<<>" if wrench else "")), file=stream)
+    for number, e in enumerate(found.events, 1):
+        if wrench and e.unseen:
+            print(f"event {number}: no measured joint sees the force along {unseen_words(model, e.unseen)}; the force "
+                  "shown is its component across", file=stream)
     where = (f"; the wrench is what the surroundings exert on {found.link}, base coordinates (moment about its "
              "origin; cond: the fit's condition number)") if wrench else ""
     print(f"{len(found.events)} contact event{'s' if len(found.events) > 1 else ''} found{where}", file=stream)
