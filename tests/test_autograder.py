@@ -240,6 +240,23 @@ def test_each_student_is_graded_on_their_own_robot(tmp_path, field, user, studen
         shutil.rmtree(root, ignore_errors=True)
 
 
+def test_a_gradescope_email_is_matched_to_the_bundled_roster(tmp_path):
+    (tmp_path / "roster.csv").write_text("id\nada\ngrace.h\n")
+    (tmp_path / "own.toml").write_text(PER_STUDENT.format(field='roster = "roster.csv"\n'))
+    assert main(["grade", str(tmp_path / "own.toml"), "--gradescope", str(tmp_path / "own.zip")]) == 0
+    with zipfile.ZipFile(tmp_path / "own.zip") as archive:
+        assert "assignment/roster.csv" in archive.namelist()
+    root = unpack(tmp_path / "own.zip")
+    try:
+        assert setup(root, interpreter()).returncode == 0
+        ada = spatial_newton_euler(load_assignment(tmp_path / "own.toml").for_student("ada").robot)
+        assert submit(root, {"arm.py": ada}, email="Ada+hw1@uni.example")["score"] == 100.0
+        results = submit(root, {"arm.py": ada}, email="eve@uni.example")
+        assert results["score"] == 0.0 and "not on the roster: no student 'eve'" in results["output"], results
+    finally:
+        shutil.rmtree(root, ignore_errors=True)
+
+
 @pytest.mark.parametrize("files, user, message", [
     ({"a.py": CLOSED_FORMS, "b.py": CLOSED_FORMS}, None, "exactly one Python file (or one notebook) defining tau, M, V, G or C; found 2 (a.py, b.py)"),
     ({"notes.txt": "hello"}, None, "C; found none"),

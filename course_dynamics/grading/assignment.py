@@ -25,8 +25,8 @@ from ..tools.variants import check_student_id, read_roster, rng_for, robot_varia
 #: C(Θ, Θ̇)).
 TERMS = ("tau", "M", "V", "G", "C")
 PARTIAL_CREDIT = ("states", "none")
-#: How graded functions receive the robot: ``"functions"`` (``tau(q, qd, qdd)``, the robot's numbers the student's own)
-#: or ``"robot"`` (``tau(robot, q, qd, qdd)``, called on the practice robot and on hidden robots of its shape).
+#: The ways graded functions receive the robot, ``"functions"`` (``tau(q, qd, qdd)``, the robot's numbers the
+#: student's own) and ``"robot"`` (``tau(robot, q, qd, qdd)``, called on the practice robot and on hidden robots).
 INTERFACES = ("functions", "robot")
 DEFAULT_FORBIDDEN = ("pinocchio", "course_dynamics", "course_dynamics_reference")
 MAX_SAMPLES = 1000

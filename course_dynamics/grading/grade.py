@@ -512,7 +512,10 @@ def grade_class(assignment: Assignment, paths, sandbox: bool = True, jobs: int |
     :class:`~course_dynamics.grading.sandbox.SandboxError`, never a silent downgrade. ``students`` name the
     submissions (default: their file stems); ``user`` and ``environment`` are as in :func:`grade_submission`
     (default environment: numpy and the assignment's allowed packages from this installation). Each file is
-    graded on states of its own (:meth:`~course_dynamics.grading.assignment.Assignment.for_submission`).
+    graded on states of its own (:meth:`~course_dynamics.grading.assignment.Assignment.for_submission`), with
+    ``interface = "robot"`` on hidden robots of its own too; a notebook from its code cells; with a ``roster``, as
+    the roster's id its name matches (:func:`~course_dynamics.grading.uploads.roster_match`), and one that matches
+    none is ``not on roster`` without running.
 
     Parameters
     ----------

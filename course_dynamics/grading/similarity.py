@@ -27,16 +27,16 @@ model's module, :mod:`course_dynamics.core.compiled`). A submission whose own fi
 the generated code holds at the threshold's share is a pair with it (:func:`generated_pairs`)
 and carries the ``generated-code`` flag.
 
-======================  =========================================================
-name                    meaning
-======================  =========================================================
-:class:`Comparison`     the pairs of a class, with the threshold and the starter
-:class:`Fingerprints`   one submission's fingerprints and the lines each covers
-:func:`fingerprints`    a submission's source to its fingerprints
-:func:`similar_pairs`   every pair at or above the threshold, highest first
-:func:`generated_code`  the Python the package writes for a robot
-:func:`generated_pairs` each submission that is mostly generated code, with it
-======================  =========================================================
+=========================  ======================================================
+name                       meaning
+=========================  ======================================================
+:class:`Comparison`        the pairs of a class, with the threshold and the starter
+:class:`Fingerprints`      one submission's fingerprints and the lines each covers
+:func:`fingerprints`       a submission's source to its fingerprints
+:func:`similar_pairs`      every pair at or above the threshold, highest first
+:func:`generated_code`     the Python the package writes for a robot
+:func:`generated_pairs`    each submission that is mostly generated code, with it
+=========================  ======================================================
 """
 from __future__ import annotations
 

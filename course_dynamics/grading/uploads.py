@@ -3,7 +3,7 @@
 A Jupyter notebook (``.ipynb``) is graded from its code cells, joined in order into one Python
 file, each cell after a ``# In[k]:`` line (the line numbers of its feedback count in that
 file). The notebook is read as hostile JSON: at most :data:`MAX_NOTEBOOK_BYTES`, integers of
-at most :data:`MAX_DIGITS` digits, every cell checked; anything else is a ``not python`` status
+at most 18 digits, every cell checked; anything else is a ``not python`` status
 saying what is wrong and how to export one ``.py`` instead. A line of IPython's own (a magic
 ``%timeit …`` or ``%%time``, a shell ``!pip …``) is no Python: it becomes ``pass`` with a note.
 
