@@ -20,10 +20,12 @@ with Jᵢ ⪰ 0, mᵢ ≥ m_min,i and the friction coefficients ≥ 0 (N: the we
 the data term is the mean squared residual in units of each joint's noise). d is the log-determinant
 (Bregman) divergence of Lee, Wensing and Park (IEEE T-RO 2020): zero at J₀, infinite as J
 becomes singular, and the same for a body whatever its frame or units. It acts on the bodies only:
-friction has no prior. ρ = :data:`HOLD` keeps what the log does not see where the URDF has it; then
-b is dropped (θ = θ_URDF + S V_E a, so that part is exactly the URDF's) unless a body would then
-not be physical, and those bodies are named. A URDF body with a singular J₀ (a point mass, a rod)
-is held toward J₀ + ε mᵢ diag(ℓᵢ², ℓᵢ², ℓᵢ², 1), ε = :data:`SINGULAR_EPSILON`.
+friction has no prior. The data term sees a alone (what the log does not see cannot fit its noise);
+b is nearly free (ρ = :data:`HOLD`), so the constraints never bend a. Then b is dropped: θ =
+θ_URDF + S V_E a, what the log does not see exactly the URDF's. If a body is then not physical,
+b is the least ‖b‖ that makes every body physical again (a second, small problem), and those
+bodies are named. A URDF body with a singular J₀ (a point mass, a rod) is held toward
+J₀ + ε mᵢ diag(ℓᵢ², ℓᵢ², ℓᵢ², 1), ε = :data:`SINGULAR_EPSILON`.
 
 cvxpy solves it (Clarabel, SCS if that fails); what the solvers warn (an inaccurate solution) comes
 out as a :class:`~course_dynamics.base.errors.CourseDynamicsWarning`: one ``warning:`` line on the
@@ -39,9 +41,9 @@ import numpy as np
 from ..base.errors import CourseDynamicsWarning, InputError
 from ..core.regressor import TENSOR
 
-#: ρ: the cost, per squared unit of scale, of moving what the log does not see (against a data term near 1).
+#: The weight ρ of ‖b‖², per squared unit of scale, against a data term near 1 (small, so b is nearly free).
 HOLD = 1e-6
-#: ε: a URDF body's singular pseudo-inertia is held toward J₀ + ε mᵢ diag(ℓᵢ², ℓᵢ², ℓᵢ², 1).
+#: The ε of a URDF body's singular pseudo-inertia, held toward J₀ + ε mᵢ diag(ℓᵢ², ℓᵢ², ℓᵢ², 1).
 SINGULAR_EPSILON = 1e-3
 PHYSICAL_TOLERANCE = 1e-10   # an eigenvalue of J above −this share of its largest counts as ≥ 0
 

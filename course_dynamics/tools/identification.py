@@ -28,7 +28,7 @@ The steps, on the samples of a :class:`~course_dynamics.tools.logs.JointLog` (Θ
    singular value of the weighted regressor, each parameter in its body's scale, at least
    ``threshold`` of the largest): the rest stays at the URDF's values unless a body would then not be
    physical (``active`` names it). Friction has no prior. A joint held still in the log (its
-   position spanning at most :data:`HELD`) is a fixed joint: its body keeps the URDF's parameters,
+   position spanning at most ``HELD`` = 1e-4 rad or m) is a fixed joint: its body keeps the URDF's parameters,
    its rows and friction are left out, and the base parameters are those of the robot with it fixed;
 4. the held-out part is predicted by the URDF and by the identified model (their RMS residuals).
 
@@ -77,11 +77,11 @@ from .plausibility import far_moves, link_extents
 FRICTION_MODELS = ("both", "viscous", "coulomb", "none")
 SYMBOLS = {"viscous": "Fv", "coulomb": "Fc"}   # friction coefficients are named Fv_<joint>, Fc_<joint>
 ROWS_AT_A_TIME = 2048         # samples per regressor block: (2048, n, 10 n) floats, 6 MB for a UR5
-#: λ by default (step 3): the weight of the bodies' divergence from the URDF against the mean squared residual.
+#: The default λ of step 3, the weight of the bodies' divergence from the URDF against the mean squared residual.
 PRIOR_WEIGHT = 1e-5
-#: What the log does not see: a direction whose singular value (in scale units) is below this share of the largest.
+#: A direction whose singular value (in scale units) is below this share of the largest is not seen by the log.
 UNSEEN = 1e-4
-#: A joint whose position spans at most this (rad or m) in the log is held: a fixed joint for the fit.
+#: A joint whose position spans at most this (rad or m) in the log is held, a fixed joint for the fit.
 HELD = 1e-4
 SEEN_SPLIT = 0.01             # a parameter is determined when ≥ 99 % of it is seen, kept when ≤ 1 %
 #: m_min by default, as this share of the URDF's mass of each body (at least :data:`MIN_MASS`).
