@@ -12,9 +12,9 @@ what a hidden robot    how (factors drawn per link)
 =====================  ===================================================================
 tree, joint types      the practice robot's: parents, revolute or prismatic, joint limits
 lengths                ᵖPᵢ × λ and ⁱP_Cᵢ × λ', λ, λ' ∈ [0.6, 1.6] (directions kept)
-joint axes             a planar robot (every axis parallel in the base frame at Θ = 0)
-                       keeps its axes, each with a random sign; any other gets random
-                       unit axes
+joint axes             a planar robot (in the base frame at Θ = 0, its revolute axes
+                       parallel, its prismatic ones perpendicular to them) keeps its
+                       axes, each with a random sign; any other gets random unit axes
 masses                 mᵢ × μ, μ ∈ [0.5, 2]
 inertia tensors        a new body: second moments (x, y, z) ∈ [0.2, 1] × mᵢ ℓᵢ², ℓᵢ the
                        link's length scale, turned by a random rotation; its principal
@@ -61,13 +61,18 @@ OWN_NUMBERS = "right on your robot, wrong on others: your code assumes your robo
 
 
 def _planar(model: Model) -> bool:
-    """Whether every joint axis is parallel to the first in the base frame at Θ = 0."""
-    rotations, axes = [], []
+    """Whether the robot moves in a plane: in the base frame at Θ = 0, every revolute axis parallel to the first
+    and every prismatic axis perpendicular to it (a robot of prismatic joints alone keeps its axes too)."""
+    rotations, revolute, prismatic = [], [], []
     for body in model.bodies:
         R = (rotations[body.parent] if body.parent >= 0 else np.eye(3)) @ np.asarray(body.R0, dtype=float)
         rotations.append(R)
-        axes.append(R @ np.asarray(body.axis, dtype=float))
-    return all(np.linalg.norm(np.cross(axes[0], a)) < PARALLEL for a in axes)
+        (prismatic if body.is_prismatic else revolute).append(R @ np.asarray(body.axis, dtype=float))
+    if not revolute:
+        return True
+    normal = revolute[0]
+    return all(np.linalg.norm(np.cross(normal, a)) < PARALLEL for a in revolute) and \
+        all(abs(normal @ a) < PARALLEL for a in prismatic)
 
 
 def hidden_robot(model: Model, rng: np.random.Generator) -> Model:
