@@ -200,4 +200,5 @@ def combined(practice: Diagnosis, hidden: list[Diagnosis], partial_credit: str) 
     return replace(practice, points=points, agreeing=tuple(agreeing), total=total, **found)
 
 
-__all__ = ["HIDDEN_ROBOTS", "INTERFACE", "OWN_NUMBERS", "combined", "hidden_assignments", "hidden_robot", "robot_record"]
+__all__ = ["HIDDEN_ROBOTS", "INTERFACE", "OWN_NUMBERS", "combined", "hidden_assignments", "hidden_robot",
+           "robot_record"]
