@@ -134,9 +134,10 @@ FLAGS: dict[str, dict] = {
                             default="both"),
     "--holdout": _flag("the share of the log's time, at its end, kept out of the fit to judge it (default 0.2; 0 "
                        "fits everything)", type=float, default=0.2, metavar="FRACTION"),
-    "--prior-weight": _flag("the weight of the URDF's values against the log's, as a share of what the log says "
-                            "(default 1e-6): larger keeps poorly excited parameters nearer the URDF", type=float,
-                            metavar="LAMBDA"),
+    "--prior-weight": _flag("the weight of each body's log-determinant divergence from the URDF's pseudo-inertia "
+                            "against the mean squared residual in units of the noise (default 1e-5): larger keeps "
+                            "weakly excited bodies nearer the URDF; what the log does not see stays at the URDF "
+                            "whatever it is", type=float, metavar="LAMBDA"),
     # cartesian
     "--frame": _flag("URDF link name of the task frame"),
     "--rows": _flag(f"task rows among {','.join(ROW_NAMES)} (default all six)"),
@@ -184,9 +185,11 @@ FLAGS: dict[str, dict] = {
                           "assignment, this course-dynamics as a wheel) to ZIP and exit; upload it as the "
                           "assignment's autograder (Ubuntu 24.04 base image)", metavar="ZIP"),
     "--handout": _flag("print the numbers of student ID's robot (an assignment with variant = \"per-student\") and, "
-                       "with --out DIR, write its URDF there; grades nothing", metavar="ID"),
+                       "with --out DIR, write its URDF there; with interface = \"robot\", first the keys of the "
+                       "robot every graded function takes; grades nothing", metavar="ID"),
     "--similarity": _flag("add the near-identical pairs of submissions to the summary, each with a side-by-side page: "
-                          "compared on the syntax tree (names, comments, formatting set aside). A lead, not a "
+                          "compared on the syntax tree (names, comments, formatting set aside), and with the code "
+                          "course-dynamics generates for each student's robot (flag generated-code). A lead, not a "
                           "verdict", action="store_true"),
     "--similarity-threshold": _flag("list pairs from SCORE, the share of the smaller submission the other holds "
                                     "(default 0.8; implies --similarity)", type=float, metavar="SCORE"),
