@@ -29,7 +29,7 @@ DESCRIPTION = (
     "any format torques --log reads) and run the generalized-momentum observer on it: r = K (p - p(0) - integral "
     "of (tau_meas - F + C^T qd - G + r)), p = M qd, which needs no accelerations and follows tau_ext, the torque "
     "the surroundings apply to each joint, with time constant 1/K. Friction (--friction, --viscous, --coulomb) is "
-    "subtracted from the measured torques. A contact is where a joint's |r| exceeds its threshold (--threshold, "
+    "subtracted from the measured torques. A contact is where a joint's r exceeds its threshold in size (--threshold, "
     "or 6 sigma of the residual's own noise above its median, over --noise-window or the whole log; with friction, "
     "plus what the friction model may be off by where the rate is within 6 sigma of its noise of a change, filtered "
     "as r is) and lasts until every joint is under half of it, for at least --min-duration. The log's stamps are "
