@@ -883,6 +883,8 @@ def test_a_roster_matches_ids_and_a_student_not_on_it_scores_zero_saying_so(tmp_
     assert book["Ada+hw1"]["total"] == "100" and book["GRACE.H"]["total"] == "100"
     assert book["eve"]["status"] == "not on roster" and book["eve"]["total"] == "0"
     assert "not on the roster: no student 'eve' is on this assignment's roster" in (out / "eve.md").read_text()
+    assert "variant" not in (out / "eve.md").read_text()          # graded on no robot, so none is named
+    assert "your own variant for ada (" in (out / "Ada+hw1.md").read_text().replace("\\", "")   # the roster's id
     assert book["alan"]["status"] == "not on roster"
     assert "could be any of alan+1, alan+2" in (out / "alan.md").read_text().replace("\\", "")
 

@@ -141,12 +141,13 @@ def _header(grade: SubmissionGrade, assignment: Assignment) -> list[str]:
     ran = "ran, and each term is graded below" if grade.status == "ok" else f"status {grade.status}"
     lines = [f"total {grade.total:g} / {assignment.total_points:g} points; {ran}"
              + (f": {grade.message}" if grade.message else "")]
-    own = f", your own variant for {grade.student}" if assignment.variant == "per-student" else ""
-    hidden = (f", and {HIDDEN_ROBOTS} hidden robots of its shape with as many states each (interface = \"robot\": "
-              "your functions take the robot)" if assignment.interface == "robot" else "")
-    lines.append(f"robot {assignment.robot.name}{own} (joints {', '.join(assignment.robot.joint_names)}), "
-                 f"{assignment.samples} random states of this file's own{hidden}, relative tolerance "
-                 f"{assignment.tolerance:g}")
+    if grade.variant:  # graded on a robot: which one (a file on no roster was graded on none)
+        own = f", your own variant for {grade.variant}" if assignment.variant == "per-student" else ""
+        hidden = (f", and {HIDDEN_ROBOTS} hidden robots of its shape with as many states each (interface = "
+                  "\"robot\": your functions take the robot)" if assignment.interface == "robot" else "")
+        lines.append(f"robot {assignment.robot.name}{own} (joints {', '.join(assignment.robot.joint_names)}), "
+                     f"{assignment.samples} random states of this file's own{hidden}, relative tolerance "
+                     f"{assignment.tolerance:g}")
     if grade.sandbox == "none":
         lines.append("graded without a sandbox")
     lines += grade.notes

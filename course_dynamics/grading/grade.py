@@ -95,6 +95,9 @@ class SubmissionGrade:
         Integrity flags (code, detail): leads for the instructor, never a score.
     ran : bool
         False when it was refused from its source alone (not run, so not watched for flags either).
+    variant : str
+        The roster's id whose robot it was graded on (the name as the roster spells it), ``""`` when it was not
+        graded on any.
     """
 
     student: str
@@ -108,6 +111,7 @@ class SubmissionGrade:
     notes: list[str] = field(default_factory=list)
     flags: list[tuple[str, str]] = field(default_factory=list)  # integrity flags (code, detail): leads, not a score
     ran: bool = True  # False: refused from its source alone (not run, so not watched for flags either)
+    variant: str = ""
 
     @property
     def flag_codes(self) -> list[str]:
@@ -298,7 +302,7 @@ def grade_submission(assignment: Assignment, plan: Plan, expected: Expected, pat
     """
     isolation = "bubblewrap" if bwrap else "unprivileged-user" if user is not None else "none"
     grade = SubmissionGrade(student=student or path.stem, path=path, status="ok", max_total=assignment.total_points,
-                            sandbox=isolation)
+                            sandbox=isolation, variant=student or path.stem)
     problem = check_source(*(read or read_source(path)), path.name, assignment)
     if problem is not None:
         grade.status, grade.message = problem
@@ -588,7 +592,7 @@ def grade_class(assignment: Assignment, paths, sandbox: bool = True, jobs: int |
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
             grade = grade_submission(graded, plan, expected, run_path, bwrap, environment, user, name,
                                      (source, problem), others)
-        grade.path = path
+        grade.path, grade.variant = path, student
         grade.notes[:0] = notes
         return grade
 
