@@ -170,7 +170,8 @@ FLAGS: dict[str, dict] = {
     "--min-duration": _flag("the shortest contact event, s (default 0.005): shorter crossings are noise",
                             type=float, default=0.005, metavar="SECONDS"),
     "--link": _flag("a URDF link: each contact's wrench there, from the external torques through the Jacobian "
-                    "transpose (force only when fewer than six joints move the link)", metavar="LINK"),
+                    "transpose (the whole wrench where the measured joints' J^T has rank 6, else the force at its "
+                    "origin in the directions they see, the others named)", metavar="LINK"),
     # trace, derive
     "--symbolic": _flag("symbolic trace in q_<joint>, qd_<joint>, qdd_<joint>", action="store_true"),
     "--symbols": _flag("parameters kept symbolic: m<i>, l<i> (link length), lc<i> (distance to the link's centre of "
