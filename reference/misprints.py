@@ -68,8 +68,8 @@ def serial_inward(model, links, X, variant: str) -> np.ndarray:
         if i + 1 < n:
             R = np.array(X.R[i + 1].rows, dtype=float)
             P = np.array(tuple(X.P[i + 1]), dtype=float)
-            if variant == "6.51":  # ⁱfᵢ = ⁱI ⁱR f + F: the stray inertia factor
-                f_i = body.I_com @ R @ f[i + 1] + F
+            if variant == "6.51":  # ⁱfᵢ = ⁱIᵢ₊₁ ⁱR f + F: the stray inertia factor, link i+1's tensor as printed
+                f_i = model.bodies[i + 1].I_com @ R @ f[i + 1] + F
             else:
                 f_i = R @ f[i + 1] + F
             if variant == "6.52":  # N_{i+1}, ⁱPᵢ × Fᵢ (= 0) and ⁱ⁺¹R^{i+1} (= 1) as printed

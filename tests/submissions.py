@@ -74,6 +74,37 @@ def tau(q, qd, qdd):
 '''
 
 
+# The two-link arm's recursion written from the notes' worked example, with one of its misprints copied (and
+# gravity left out, or G returning round-off): the student's slip, then the text replaced and what replaces it.
+WORKED_EXAMPLE_SLIPS = {
+    # ¹F₁ = m₁ ¹v̇₁ on link 1 only
+    "example-F1-m1-v1": [("F.append(m[i] * (np.cross(wd, Pc[i]) + np.cross(w, np.cross(w, Pc[i])) + vd))",
+                          "F.append(m[i] * (vd if i == 0 else np.cross(wd, Pc[i]) + np.cross(w, np.cross(w, Pc[i])) "
+                          "+ vd))")],
+    # ²v̇₂ = ²R² ¹v̇_C₁ with ²R² read as the identity
+    "example-v2-identity": [("        vd = Rt @ (np.cross(wd, P[i]) + np.cross(w, np.cross(w, P[i])) + vd)\n",
+                             "        vd = Rt @ (np.cross(wd, P[i]) + np.cross(w, np.cross(w, P[i])) + vd) if i == 0 "
+                             "else F[0] / m[0]\n")],
+    # ¹v̇_C₁ = (−l₁θ̇₁² + g s₁, l₁θ̈₁ + g s₁, 0) as printed, g s₁ in its y component too
+    "example-gs1-twice": [("F.append(m[i] * (np.cross(wd, Pc[i]) + np.cross(w, np.cross(w, Pc[i])) + vd))",
+                           "vc = np.cross(wd, Pc[i]) + np.cross(w, np.cross(w, Pc[i])) + vd\n"
+                           "        if i == 0:\n"
+                           "            vc = np.array([-l1 * qd[0] ** 2 + g * np.sin(q[0]), l1 * qdd[0] + g * np.sin(q[0]), 0.0])\n"
+                           "        F.append(m[i] * vc)")],
+    "no-gravity": [("m1, m2, l1, l2, g = 2.0, 1.0, 0.5, 0.4, 9.81", "m1, m2, l1, l2, g = 2.0, 1.0, 0.5, 0.4, 0.0")],
+    "G-round-off": [("    return out\n", "    return out\n\n\ndef G(q):\n    return np.full(2, 1e-13)\n")],
+}
+
+
+def worked_example(slip: str) -> str:
+    """NEWTON_EULER with one of WORKED_EXAMPLE_SLIPS made."""
+    text = NEWTON_EULER
+    for old, new in WORKED_EXAMPLE_SLIPS[slip]:
+        assert old in text, old
+        text = text.replace(old, new)
+    return text
+
+
 def closed_forms(change: str = "", remove: tuple[str, ...] = ()) -> str:
     """The closed forms with some functions removed and ``change`` appended (later definitions win)."""
     text = CLOSED_FORMS
@@ -588,10 +619,16 @@ SPATIAL_SLIPS = {
     "notes-6.50": [("N.append(I @ wd + np.cross(w, I @ w))",
                     "I_o = I + m[i] * (np.dot(Pc[i], Pc[i]) * np.eye(3) - np.outer(Pc[i], Pc[i]))\n"
                     "        N.append(I @ wd + np.cross(w, I_o @ w))")],
-    "notes-6.51": [("f = R_next @ f + F[i]", "f = np.array(Ic[i]) @ R_next @ f + F[i]")],
+    "notes-6.51": [("f = R_next @ f + F[i]",  # ⁱIᵢ₊₁ as printed: link i+1's tensor (none is needed at the tip)
+                    "f = (np.array(Ic[i + 1]) if i + 1 < n_links else np.eye(3)) @ R_next @ f + F[i]")],
     "notes-6.52": [("n = N[i] + R_next @ n + np.cross(Pc[i], F[i]) + np.cross(P_next, R_next @ f)",
                     "N_next = N[i + 1] if i + 1 < n_links else np.zeros(3)\n"
                     "        n = N_next + R_next @ n + np.cross(np.zeros(3), F[i]) + np.cross(P_next, f)")],
+    # one of (6.52)'s three misprints copied, the other two terms right
+    "notes-6.52-N": [("n = N[i] + R_next", "n = (N[i + 1] if i + 1 < n_links else np.zeros(3)) + R_next")],
+    "notes-6.52-PxF": [("np.cross(Pc[i], F[i])", "np.cross(np.array(P[i]), F[i])")],
+    "notes-6.52-identity": [("np.cross(P_next, R_next @ f)", "np.cross(P_next, f)")],
+    "first-moment-missing": [(" + np.cross(Pc[i], F[i])", "")],
 }
 # Gravity added link by link and rotated into each frame the right way, ⁱg = ⁰ᵢRᵀ ⁰g: right, as Craig's lift is.
 GRAVITY_PER_LINK = [SPATIAL_SLIPS["gravity-frame-rotated"][0], SPATIAL_SLIPS["gravity-frame-rotated"][1],

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from submissions import CLOSED_FORMS, SPATIAL_SLIPS, closed_forms, spatial_newton_euler
+from submissions import CLOSED_FORMS, SPATIAL_SLIPS, closed_forms, spatial_newton_euler, worked_example
 
 from course_dynamics.core.newton_euler import EXACT, newton_euler_links
 from course_dynamics.grading.slips import SLIP_EQUATIONS, Slip, slips
@@ -76,11 +76,20 @@ EXPECTED = {  # the student's slip → the code and the words of the equations n
     "notes-worked-F1": ("notes-6.48", "in (6.48) (with ⁱ⁺¹Pᵢ₊₁ = 0 for ⁱ⁺¹P_Cᵢ₊₁)"),
     "notes-6.50": ("notes-6.50", "in (6.50)"),
     "notes-6.51": ("notes-6.51", "in (6.51)"),
-    "notes-6.52": ("notes-6.52", "in (6.52)"),
+    "notes-6.52": ("notes-6.52", "in (6.52) (all three misprints"),
+    "notes-6.52-N": ("notes-6.52", "in (6.52) (one of its misprints: the child's ⁱ⁺¹Nᵢ₊₁ for ⁱNᵢ)"),
+    "notes-6.52-PxF": ("notes-6.52", "in (6.52) (one of its misprints: ⁱPᵢ × ⁱFᵢ with Pᵢ the joint's offset"),
+    "notes-6.52-identity": ("notes-6.52", "in (6.52) (one of its misprints: ⁱ⁺¹R^{i+1} = 1"),
+    "first-moment-missing": ("first-moment-missing", "in (6.52)"),
 }
+# On the two-link arm ⁰g lies along every joint axis: gravity added unrotated is gravity left out, the simpler
+# mistake, which is named; and its rotations are about parallel axes, so (6.52)'s unrotated force is any rotation of
+# (6.52) left out, named as that (whose advice names the notes' misprint).
+ON_TWO_LINK = {"gravity-frame-unrotated": ("gravity-missing", "in the base acceleration ⁰v̇₀"),
+               "notes-6.52-identity": ("rotation-identity", "(6.52)")}
 # On the two-link arm (point masses, ᶜI = 0; parallel joint axes) these change nothing (tested below); and τ read
 # from ⁱNᵢ = 0 is zero everywhere, what a function not written yet returns (tests/test_score.py).
-HARMLESS_ON_TWO_LINK = ("cross-reversed", "gyroscopic-missing", "notes-6.50", "notes-6.51")
+HARMLESS_ON_TWO_LINK = ("cross-reversed", "gyroscopic-missing", "notes-6.50", "notes-6.51", "notes-6.52-N")
 TWO_LINK_SLIPS = [slip for slip in EXPECTED if slip not in HARMLESS_ON_TWO_LINK + ("tau-from-N",)]
 
 
@@ -118,7 +127,7 @@ def graded_two_link_slips(tmp_path_factory):
 
 @pytest.mark.parametrize("slip", TWO_LINK_SLIPS)
 def test_grade_names_each_slip_on_the_two_link_arm(graded_two_link_slips, slip):
-    code, where = EXPECTED[slip]
+    code, where = ON_TWO_LINK.get(slip, EXPECTED[slip])
     [diagnosis] = graded_two_link_slips[slip].diagnoses
     assert diagnosis.points < 1 and code in diagnosis.tags, diagnosis.findings  # a state at rest may agree
     [finding] = [f for f in diagnosis.findings if f.startswith(f"[{code}]")]
@@ -139,7 +148,7 @@ def test_the_notebook_check_names_each_slip_on_the_two_link_arm(slip):
     namespace = {}
     exec(compile(spatial_newton_euler(my_robot("two_link").model, slip), "student.py", "exec"), namespace)
     verdict = check("tau_two_link", namespace["tau"])
-    code, where = EXPECTED[slip]
+    code, where = ON_TWO_LINK.get(slip, EXPECTED[slip])
     assert verdict.status == "wrong" and any(line.startswith(f"[{code}]") and where in line for line in verdict.lines)
 
 
@@ -224,6 +233,11 @@ def test_closed_form_slips_are_named_in_G_and_in_tau(tmp_path, code):
     [graded] = grade_class(assignment, [path])
     for diagnosis in graded.diagnoses:
         assert code in diagnosis.tags, (diagnosis.term, diagnosis.findings)
+    # M and V right: τ's error is G's, not "that mistake and another" (c₁ ↔ c₁₂ is in G alone: τ is that slip's)
+    [tau] = [d for d in graded.diagnoses if d.term == "tau"]
+    said = {"sin-cos-swapped": "τ's error is all in the gravity part G", "c1-c12-swapped": "matches"}[code]
+    assert tau.findings[0].startswith(f"[{code}] {said}"), tau.findings
+    assert not any("another?" in f for f in tau.findings)
     p = my_robot("two_link").parameters  # the notebook checks the student's own arm: their numbers
     namespace = {}
     exec(compile(path.read_text().replace("m1, m2, l1, l2, g = 2.0, 1.0, 0.5, 0.4, 9.81",
@@ -249,3 +263,62 @@ def test_closed_form_slips_are_made_on_the_closed_form():
     s1, s12 = np.sin(q[:, 0]), np.sin(q[:, 0] + q[:, 1])
     by_hand = 9.81 * np.stack([3.0 * 0.5 * s1 + 1.0 * 0.4 * s12, 1.0 * 0.4 * s12], axis=-1)
     assert np.allclose(made["sin-cos-swapped", ""], by_hand, rtol=1e-12)
+
+
+WORKED_EXAMPLE = {  # the worked example's misprints copied into the two-link recursion: τ's finding starts so
+    "example-F1-m1-v1": "[notes-6.48] matches the right answer computed with this slip: (6.48) as the lecture notes "
+                        "misprint it in (6.48) (with ⁱ⁺¹Pᵢ₊₁ = 0 for ⁱ⁺¹P_Cᵢ₊₁) on link 1 only",
+    "example-v2-identity": "[rotation-identity] matches the right answer computed with this slip: a rotation left out "
+                           "(read as the identity) in (6.47) on link 2 only",
+    "no-gravity": "[gravity-missing] matches the right answer computed with this slip: gravity left out",
+}
+
+
+@pytest.fixture(scope="module")
+def graded_worked_example(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("worked_example")
+    paths = []
+    for slip in [*WORKED_EXAMPLE, "example-gs1-twice", "G-round-off"]:
+        path = folder / f"{slip}.py"
+        path.write_text(worked_example(slip))
+        paths.append(path)
+    assignment = Assignment(folder / "a.toml", "two_link", load_robot("two_link"),
+                            {"tau": 1.0, "M": 1.0, "V": 1.0, "G": 1.0}, samples=12, seed=7)
+    return {g.path.stem: {d.term: d for d in g.diagnoses} for g in grade_class(assignment, paths)}
+
+
+@pytest.mark.parametrize("slip", list(WORKED_EXAMPLE))
+def test_a_misprint_of_the_worked_example_copied_into_one_link_is_named(graded_worked_example, slip):
+    """A printed equation copied into one link's equations only is named, on that link; gravity left out is named
+    as that, not as gravity added in the wrong frame (the same answer on this arm, where ⁰g lies along the axes)."""
+    tau = graded_worked_example[slip]["tau"]
+    assert tau.findings[0].startswith(WORKED_EXAMPLE[slip]), tau.findings
+    assert not any("gravity-frame" in f or "your dynamics are right" in f
+                   for d in graded_worked_example[slip].values() for f in d.findings)
+
+
+@pytest.mark.parametrize("slip", list(WORKED_EXAMPLE))
+def test_the_notebook_check_names_the_worked_example_s_misprints(slip):
+    p = my_robot("two_link").parameters
+    namespace = {}
+    exec(compile(worked_example(slip).replace(
+        "m1, m2, l1, l2, g = 2.0, 1.0, 0.5, 0.4, ", f"m1, m2, l1, l2, g = {p['m1']}, {p['m2']}, {p['l1']}, {p['l2']}, "),
+        "student.py", "exec"), namespace)
+    lines = check("tau_two_link", namespace["tau"]).lines
+    code = WORKED_EXAMPLE[slip].split("]")[0] + "]"
+    assert any(line.startswith(code) for line in lines), lines
+
+
+def test_the_worked_example_s_g_s1_is_no_question_of_typed_numbers(graded_worked_example):
+    """¹v̇_C₁ with g s₁ in its y component is a robot whose link 1 has its centre of mass off the link's line: said
+    as a component in the wrong place, never "check the masses you typed"."""
+    for term in ("tau", "G"):
+        [line] = [f for f in graded_worked_example["example-gs1-twice"][term].findings if "other numbers" in f]
+        assert "mcy_1 = -1 where your handout's numbers give 0" in line
+        assert "a component of a vector written in the wrong place" in line and "Check the masses" not in line
+
+
+def test_a_function_returning_round_off_returns_zeros(graded_worked_example):
+    """G returning 1e-13 everywhere is zeros, not "closest to" a mistake whose G is zero."""
+    G = graded_worked_example["G-round-off"]["G"]
+    assert G.findings == ("returns zeros everywhere: not written yet?",), G.findings

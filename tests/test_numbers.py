@@ -116,11 +116,10 @@ def test_grade_names_the_textbook_s_numbers_and_one_wrong_mass(graded):
         assert any(f.startswith("your dynamics are right, but these are the course robot's own numbers")
                    for f in diagnosis.findings), diagnosis.findings
     for diagnosis in grades["edsger"].diagnoses:
-        if diagnosis.term == "V":  # V = m₂l₁l₂ s₂ (…): one number, so one mass is one constant factor
-            assert "constant factor" in diagnosis.tags
-            continue
-        assert (f"your dynamics are right; your link 2 has m = 1 kg where the handout has {own['edsger']['m2']:.4g} kg"
-                in diagnosis.findings), (diagnosis.term, diagnosis.findings)
+        said = f"your dynamics are right; your link 2 has m = 1 kg where the handout has {own['edsger']['m2']:.4g} kg"
+        if diagnosis.term == "V":  # V = m₂l₁l₂ s₂ (…), a factor alone: τ, M and G tell which parameter it is
+            said += " (as your τ, M and G show)"
+        assert said in diagnosis.findings, (diagnosis.term, diagnosis.findings)
 
 
 def test_numbers_are_named_before_a_constant_factor_but_a_uniform_scale_stays_one():

@@ -249,15 +249,15 @@ class Operations:
         """
         return out.N[i]
 
-    def carried_force(self, model: Model, i: int, R: Mat3, f: Vec3, equation: str) -> Vec3:
+    def carried_force(self, model: Model, c: int, R: Mat3, f: Vec3, equation: str) -> Vec3:
         """ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁, a child's force carried into frame i, as (6.51) adds it.
 
         Parameters
         ----------
         model : Model
             The robot.
-        i : int
-            The parent body.
+        c : int
+            The child body i+1 whose force is carried.
         R : Mat3
             ⁱᵢ₊₁R, from :meth:`into_parent`.
         f : Vec3
@@ -333,6 +333,22 @@ class Operations:
             ᶜI, kg·m².
         """
         return body.I_com_m
+
+    def at(self, i: int) -> "Operations":
+        """The operations link i's equations are written with: these, for every link (another set may differ on
+        some links only, as a slip copied into one link's equations does).
+
+        Parameters
+        ----------
+        i : int
+            The body whose equations the iteration is writing.
+
+        Returns
+        -------
+        Operations
+            This set.
+        """
+        return self
 
     def base_acceleration(self, gravity: Vec3) -> Vec3:
         """⁰v̇₀ = −g: gravity enters once, as an upward acceleration of the base.
@@ -468,30 +484,30 @@ def outward_iteration(model: Model, X: JointTransforms, theta_dot: list, theta_d
     omega, omega_dot, v_dot, v_dot_c, F, N = [], [], [], [], [], []
     theta_dot, theta_ddot = model.body_entries(theta_dot, False), model.body_entries(theta_ddot, False)  # S Θ̇, S Θ̈
     for i, body in enumerate(model.bodies):
-        p, z, qd, qdd = body.parent, body.axis_v, theta_dot[i], theta_ddot[i]
+        p, z, qd, qdd, op = body.parent, body.axis_v, theta_dot[i], theta_ddot[i], ops.at(i)
         if p < 0:
-            omega_p, omega_dot_p, v_dot_p = zero, zero, ops.base_acceleration(gravity)
+            omega_p, omega_dot_p, v_dot_p = zero, zero, op.base_acceleration(gravity)
         else:
             omega_p, omega_dot_p, v_dot_p = omega[p], omega_dot[p], v_dot[p]
-        R = ops.into_child(X, i, "6.46")
+        R = op.into_child(X, i, "6.46")
         if body.is_prismatic:  # a prismatic joint adds no rotation ((6.33) in Craig, unnumbered in the notes)
-            w = ops.into_child(X, i, "6.45") @ omega_p
+            w = op.into_child(X, i, "6.45") @ omega_p
             w_dot = R @ omega_dot_p
         else:
-            w = ops.into_child(X, i, "6.45") @ omega_p + qd * z  # (6.45)
-            w_dot = R @ omega_dot_p + ops.cross(R @ omega_p, qd * z, "6.46") + qdd * z  # (6.46)
+            w = op.into_child(X, i, "6.45") @ omega_p + qd * z  # (6.45)
+            w_dot = R @ omega_dot_p + op.cross(R @ omega_p, qd * z, "6.46") + qdd * z  # (6.46)
         # (6.47)
-        v = ops.into_child(X, i, "6.47") @ ops.point_acceleration(v_dot_p, omega_dot_p, omega_p, X.P[i], "6.47")
+        v = op.into_child(X, i, "6.47") @ op.point_acceleration(v_dot_p, omega_dot_p, omega_p, X.P[i], "6.47")
         if body.is_prismatic:
             v = v + cross(2 * w, qd * z) + qdd * z  # (6.35)
-        w_dot_c, P_c = ops.link_angular_acceleration(w_dot, omega_dot_p, "6.48"), ops.centre_of_mass(model, i, "6.48")
-        v_c = ops.point_acceleration(v, w_dot_c, w, P_c, "6.48")  # (6.48)
+        w_dot_c, P_c = op.link_angular_acceleration(w_dot, omega_dot_p, "6.48"), op.centre_of_mass(model, i, "6.48")
+        v_c = op.point_acceleration(v, w_dot_c, w, P_c, "6.48")  # (6.48)
         omega.append(w)
         omega_dot.append(w_dot)
         v_dot.append(v)
         v_dot_c.append(v_c)
-        F.append(ops.inertial_force(model, X, i, v_c, gravity))  # (6.49)
-        N.append(ops.inertia(body) @ w_dot + ops.gyroscopic(w, ops.inertia(body, "ω × I ω"), "6.50"))  # (6.50)
+        F.append(op.inertial_force(model, X, i, v_c, gravity))  # (6.49)
+        N.append(op.inertia(body) @ w_dot + op.gyroscopic(w, op.inertia(body, "ω × I ω"), "6.50"))  # (6.50)
     return OutwardPass(omega, omega_dot, v_dot, v_dot_c, F, N)
 
 
@@ -527,16 +543,16 @@ def inward_iteration(model: Model, X: JointTransforms, out: OutwardPass, ops: Op
     """
     f, n, tau = [None] * model.n_bodies, [None] * model.n_bodies, [None] * model.n_bodies
     for i in reversed(range(model.n_bodies)):
-        body = model.bodies[i]
+        body, op = model.bodies[i], ops.at(i)
         f_i = out.F[i]  # (6.51), children added below
-        P_c = ops.centre_of_mass(model, i, "6.52")
-        n_i = ops.link_moment(model, i, out, "6.52") + ops.cross(P_c, out.F[i], "6.52")  # (6.52), children below
+        P_c = op.centre_of_mass(model, i, "6.52")
+        n_i = op.link_moment(model, i, out, "6.52") + op.cross(P_c, out.F[i], "6.52")  # (6.52), children below
         for c in model.children[i]:
-            f_i = f_i + ops.carried_force(model, i, ops.into_parent(X, c, "6.51"), f[c], "6.51")  # (6.51)
-            R = ops.into_parent(X, c, "6.52")
-            n_i = n_i + R @ n[c] + ops.moment_arm(X.P[c], R, f[c], "6.52")  # (6.52)
+            f_i = f_i + op.carried_force(model, c, op.into_parent(X, c, "6.51"), f[c], "6.51")  # (6.51)
+            R = op.into_parent(X, c, "6.52")
+            n_i = n_i + R @ n[c] + op.moment_arm(X.P[c], R, f[c], "6.52")  # (6.52)
         f[i], n[i] = f_i, n_i
-        n_z = ops.joint_moment(model, i, n, out, "6.53")
+        n_z = op.joint_moment(model, i, n, out, "6.53")
         tau[i] = dot(f_i, body.axis_v) if body.is_prismatic else dot(n_z, body.axis_v)  # (6.44) / (6.53)
     return InwardPass(f, n, model.coordinate_entries(tau), tau)  # τ = Sᵀ τ_bodies (mimic joints)
 

@@ -16,15 +16,17 @@ check                              the answer …
 not_defined †                      does not exist: no function, no τ to derive it from
 raised_an_error, wrong_shape       is an exception, has the wrong shape,
 not_finite                         holds NaN or inf (on some states)
-returns_zeros †, opposite_sign †   (its own function) returns zeros; agrees with −ours everywhere (and the
-                                   mistakes that do too)
+returns_zeros †, opposite_sign †   (its own function) returns zeros (to round-off); agrees with −ours
+                                   everywhere (and the mistakes that do too)
 named_mistake †                    agrees with ours made with a mistake of ``mistakes``
 derived_zeros †                    (derived from τ) is zero: τ leaves that part out
+error_in_parts †                   (τ) its parts are right but for some, each a named mistake: τ's error is
+                                   all there
 other_parameters †                 is the right dynamics of another robot: the textbook's, another variant's, or
                                    the handout's with other inertial parameters (``numbers``)
 constant_factor †                  ≈ k · ours for one k ≠ 1
 transposed †, joints_swapped       agrees with ours transposed, or joints permuted;
-closest_mistake                    within 5 % of one mistaken answer and ten times nearer it than the right one
+closest_mistake                    less than 5 % from one mistaken answer and ten times nearer it than the right one
                                    (``mistakes.CLOSE``); else says no known mistake is that close
 tau_parts, InPart(…)               (τ) which of its parts G, M, V are right; a check on one
 wrong_entries                      which entries disagree
@@ -52,7 +54,7 @@ from itertools import permutations
 import numpy as np
 
 from ..core.sampling import relative_error, term_scales
-from .mistakes import MISTAKES, closest_mistake, matching_mistakes, named_mistake
+from .mistakes import MISTAKES, closest_mistake, described, matching_mistakes, named_mistake
 from .numbers import other_parameters
 from .records import TERM_NAMES, Answer, Diagnosis, Finding
 
@@ -127,13 +129,20 @@ def opposite_sign(answer: Answer) -> Finding | None:
                    ("opposite sign", *found), conclusive=True)
 
 
+#: An answer whose every entry is below this share of the term's scale (and of our value) is zero: round-off.
+ZERO = 1e-9
+
+
 def _all_zero(answer: Answer) -> bool:
-    return bool(answer.usable) and not any(np.any(answer.values[k] != 0) for k in answer.usable)
+    return bool(answer.usable) and all(
+        float(np.abs(answer.values[k]).max(initial=0.0)) <= ZERO * max(answer.scales[k],
+                                                                        float(np.abs(answer.expected[k]).max()))
+        for k in answer.usable)
 
 
 def returns_zeros(answer: Answer) -> Finding | None:
-    """The student's own function returned zeros on every state: not written yet? A term derived from their τ is
-    never said to be (:func:`derived_zeros`)."""
+    """The student's own function returned zeros on every state (to round-off, :data:`ZERO`): not written yet? A
+    term derived from their τ is never said to be (:func:`derived_zeros`)."""
     if answer.source != "direct" or not _all_zero(answer):
         return None
     return Finding("returns zeros everywhere: not written yet?", ("zeros",), conclusive=True)
@@ -344,6 +353,28 @@ PART_NAMES = {"G": "the gravity part G = τ(Θ, 0, 0)", "M": "the inertia part M
               "V": "the velocity part V = τ(Θ, Θ̇, 0) − G"}
 
 
+def error_in_parts(answer: Answer) -> Finding | None:
+    """τ's parts (G, M, V derived from it) are right but for some, and each of those is a named mistake, and τ is
+    M Θ̈ + V + G of its parts: τ's error is all in those parts (G alone with sin and cos exchanged), never "that
+    mistake and another"."""
+    if not answer.parts or answer.plan is None or not answer.usable:
+        return None
+    wrong = {key: part for key, part in answer.parts.items() if not part.correct}
+    found = {key: matching_mistakes(part) for key, part in wrong.items()}
+    if not wrong or not all(found.values()) or any(len(p.usable) < p.count for p in answer.parts.values()):
+        return None
+    G, M, V = (answer.parts[key] for key in ("G", "M", "V"))
+    assembled = np.stack([M.values[k] @ answer.plan.qdd[k] + V.values[k] + G.values[k] for k in range(answer.count)])
+    if not answer.agrees_with(assembled, min(answer.tolerance, 1e-9)):
+        return None  # τ is not M Θ̈ + V + G of its own parts: something else is wrong too
+    right = [PART_NAMES[key] for key in answer.parts if key not in wrong]
+    where = " and ".join(f"{PART_NAMES[key]} ({TERM_NAMES[key]}): {described(found[key])}" for key in wrong)
+    advice = " ".join(dict.fromkeys(MISTAKES[c].advice.rstrip(".") + "." for codes in found.values() for c in codes))
+    rest = f"; {' and '.join(right)} {'is' if len(right) == 1 else 'are'} right" if right else ""
+    codes = tuple(dict.fromkeys(c for codes in found.values() for c in codes))
+    return Finding(f"{' '.join(f'[{c}]' for c in codes)} τ's error is all in {where}{rest}. {advice}", codes, True)
+
+
 def tau_parts(answer: Answer) -> Finding | None:
     """τ = M Θ̈ + V + G: which of its parts are right, from τ(Θ, 0, 0), τ(Θ, 0, eⱼ) and τ(Θ, Θ̇, 0)."""
     if not answer.parts:
@@ -380,7 +411,8 @@ class InPart:
 SCREENS = (not_defined, raised_an_error, wrong_shape, not_finite)
 #: The checks :func:`diagnose` runs by default when some comparable state disagrees, in order (module docstring).
 CHECKS = (
-    returns_zeros, opposite_sign, named_mistake, derived_zeros, other_parameters, constant_factor, transposed,
+    returns_zeros, opposite_sign, named_mistake, derived_zeros, error_in_parts, other_parameters, constant_factor,
+    transposed,
     joints_swapped, closest_mistake,
     tau_parts, InPart("G", named_mistake, "in τ's gravity part, "), InPart("M", wrong_entries, "in τ's inertia part, "),
     InPart("V", coriolis_without_factor_2),  # a named mistake first, then what is wrong where
@@ -416,4 +448,5 @@ def diagnose(answer: Answer, checks=CHECKS) -> list[Finding]:
     return found
 
 
-__all__ = ["CHECKS", "SCREENS", "SHOWN_DIGITS", "Answer", "Diagnosis", "Finding", "diagnose", "percent", "significant"]
+__all__ = ["CHECKS", "SCREENS", "SHOWN_DIGITS", "ZERO", "Answer", "Diagnosis", "Finding", "diagnose", "percent",
+           "significant"]

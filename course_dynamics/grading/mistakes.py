@@ -8,15 +8,20 @@ grading states, in every variant a student makes it:
 =============================  ==============================================================
 made by                        mistakes
 =============================  ==============================================================
-the recursion with one slip    ``rotation-transposed``, ``cross-reversed``, ``centripetal-missing``,
+the recursion with one slip    ``gravity-missing``, ``gravity-sign``, ``rotation-transposed``,
+                               ``rotation-identity``, ``cross-reversed``, ``centripetal-missing``,
                                ``gyroscopic-missing``, ``inertia-about-origin``,
-                               ``moment-arm-missing``, ``gravity-sign``, ``gravity-frame``,
+                               ``moment-arm-missing``, ``first-moment-missing``, ``gravity-frame``,
                                ``com-wrong-link``, ``tau-wrong-moment``, and the lecture notes'
                                misprints copied into code, ``notes-6.48``, ``notes-6.50``,
                                ``notes-6.51``, ``notes-6.52``; each wherever the
-                               expression appears, in one iteration, or in one equation alone
+                               expression appears, in one iteration, or in one equation alone,
+                               the printed ones on one link alone too
                                (a :class:`~course_dynamics.grading.slips.Slip` of
-                               :func:`~course_dynamics.grading.slips.slips`)
+                               :func:`~course_dynamics.grading.slips.slips`); a slip whose
+                               answers on this robot are the right ones, or those of a simpler
+                               mistake (listed earlier), is dropped: on the two-link arm
+                               gravity added unrotated is gravity left out
 the (6.63) form                ``notes-6.65``: V = B[Θ̇Θ̇] + C[Θ̇²] with the notes' misprinted
                                [Θ̇²] = [θ̇₁² θ̇₁² …] (robots of 2 to :data:`CLOSED_FORM_JOINTS` joints)
 closed form, one substitution  ``sin-cos-swapped`` (every sin read as cos and back),
@@ -72,6 +77,19 @@ class Mistake:
 
 #: Every mistake's code and its :class:`Mistake` (words and advice), as the feedback shows them.
 MISTAKES = {
+    "gravity-missing": Mistake(
+        "gravity left out (is ⁰v̇₀ = −g?)",
+        "Gravity enters Craig's recursion once, as the base's upward acceleration ⁰v̇₀ = −g, and (6.47) carries it "
+        "into every frame; with ⁰v̇₀ = 0 and no gravity anywhere else the arm weighs nothing and G(Θ) = 0"),
+    "rotation-identity": Mistake(
+        "a rotation left out (read as the identity)",
+        "A vector of frame i reaches frame i+1 only through ⁱ⁺¹ᵢR ((6.45)–(6.47)) and comes back through ⁱᵢ₊₁R "
+        "((6.51), (6.52)); the notes' ⁱ⁺¹R^{i+1} in (6.52) and the worked example's ²R² in ²v̇₂ = ²R² ¹v̇_C₁ read "
+        "as ²₂R = 1 leave it out: ²v̇₂ = ²₁R ¹v̇_C₁ (reference/errata.md)"),
+    "first-moment-missing": Mistake(
+        "the moment ⁱP_Cᵢ × ⁱFᵢ left out (every centre of mass at its frame origin)",
+        "The inertial force ⁱFᵢ acts at the centre of mass, so (6.52) adds its moment about frame i's origin, "
+        "ⁱP_Cᵢ × ⁱFᵢ; the notes' ⁱPᵢ × ⁱFᵢ, read with ⁱPᵢ = 0, leaves it out too (reference/errata.md)"),
     "rotation-transposed": Mistake(
         "the rotation used the wrong way round",
         "The outward iteration (6.45)–(6.47) carries vectors from frame i into frame i+1 with ⁱ⁺¹ᵢR, the transpose "
@@ -128,8 +146,8 @@ MISTAKES = {
         "example's ¹N₁ has the same slip)"),
     "notes-6.51": Mistake(
         "(6.51) as the lecture notes misprint it",
-        "The notes print (6.51) with a stray inertia tensor before the rotation; a force is only rotated: "
-        "ⁱfᵢ = ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁ + ⁱFᵢ, as (6.41) (reference/errata.md)"),
+        "The notes print (6.51) with a stray inertia tensor ⁱIᵢ₊₁ (link i+1's, I[i + 1] in code) before the "
+        "rotation; a force is only rotated: ⁱfᵢ = ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁ + ⁱFᵢ, as (6.41) (reference/errata.md)"),
     "notes-6.52": Mistake(
         "(6.52) as the lecture notes misprint it",
         "The notes print (6.52) with the child's Nᵢ₊₁, ⁱPᵢ × ⁱFᵢ and the identity ⁱ⁺¹R^{i+1}; it is link i's own "
@@ -256,8 +274,13 @@ def mistaken_terms(model: Model, q, qd, qdd) -> dict[str, dict[tuple[str, str], 
     """
     q, qd, qdd = (np.asarray(a, dtype=float) for a in (q, qd, qdd))
     made: dict[str, dict[tuple[str, str], np.ndarray]] = {t: {} for t in ("tau", "M", "V", "G")}
-    for slip in slips():
-        for term, value in _terms_by_recursion(model, q, qd, qdd, slip).items():
+    kept = [(("", ""), _terms_by_recursion(model, q, qd, qdd, EXACT))]
+    for slip in slips(model.n_bodies):
+        terms = _terms_by_recursion(model, q, qd, qdd, slip)
+        if any(key[0] != slip.code or key[1] == slip.variant for key, other in kept if _same(terms, other)):
+            continue  # the right answer, a simpler mistake's (listed earlier) or this one made in more places
+        kept.append(((slip.code, slip.variant), terms))  # the same slip's other ways that agree are named together
+        for term, value in terms.items():
             made[term][slip.code, "in " + slip.where] = value
     revolute = np.array([kind_of(b).rotates for b in model.bodies])
     for variant, factor in (("read as degrees", np.pi / 180), ("turned into degrees", 180 / np.pi)):
@@ -277,6 +300,14 @@ def mistaken_terms(model: Model, q, qd, qdd) -> dict[str, dict[tuple[str, str], 
         made["V"]["notes-6.65", "(every centrifugal coefficient times θ̇₁²)"] = V
         made["tau"]["notes-6.65", "(every centrifugal coefficient times θ̇₁²)"] = right["tau"] - right["V"] + V
     return made
+
+
+SAME = 1e-12  # two slips whose every term agrees to this, relative to the term's largest entry, are one on the robot
+
+
+def _same(terms: dict[str, np.ndarray], other: dict[str, np.ndarray]) -> bool:
+    return all(np.allclose(terms[t], other[t], rtol=0, atol=SAME * max(float(np.abs(other[t]).max(initial=0)), 1e-300))
+               for t in terms)
 
 
 def _printed_6_65(model: Model, q, qd) -> np.ndarray:
@@ -337,7 +368,7 @@ def _sentence(text: str) -> str:
 
 
 #: How close a wrong answer must be to one of our mistaken answers to be called "closest to" it, the median over the
-#: states of the largest entry's difference relative to that mistaken answer's own size being at most CLOSE (5 %),
+#: states of the largest entry's difference relative to that mistaken answer's own size being below CLOSE (5 %),
 #: and ten times nearer it than the right answer.
 CLOSE = 0.05
 OWN_SIZE_FLOOR = 1e-3  # a mistaken answer near zero is measured against a thousandth of the term's scale, not against 0
@@ -358,12 +389,23 @@ def closest_mistake(answer: Answer) -> Finding | None:
 
     right = distance(answer.expected, False)
     (code, variant), nearest = min(((key, distance(values, True)) for key, values in made.items()), key=lambda x: x[1])
-    if nearest > min(CLOSE, right / 10):
+    shown = _below(nearest, CLOSE)
+    if not nearest < min(CLOSE, right / 10) or shown is None:
         return Finding(f"no mistake the grader names is within {CLOSE:.0%} of it: more than one thing is wrong, or "
                        "something else; the entries and the worst state below show where", ())
     return Finding(f"closest to [{code}] {MISTAKES[code].words}{' ' + variant if variant else ''} (relative error "
-                   f"{nearest:.1g} from that, {right:.1g} from the right answer, within {CLOSE:.0%}): that mistake "
+                   f"{shown} from that, {right:.1g} from the right answer, less than {CLOSE:.0%}): that mistake "
                    "and another?", (f"closest to {code}",))
+
+
+def _below(x: float, limit: float) -> str | None:
+    """``x`` to one significant digit (two where one would round up to ``limit`` or above), or None when even two
+    digits would print ``limit``: a value shown beside "less than" is less than it."""
+    for digits in (1, 2):
+        text = f"{x:.{digits}g}"
+        if float(text) < limit:
+            return text
+    return None
 
 
 __all__ = ["CLOSE", "CLOSED_FORM_JOINTS", "MISTAKES", "Mistake", "mistaken_terms"]

@@ -25,8 +25,22 @@ and G, when the answer is wrong on every state:
    parameters of :func:`~course_dynamics.core.regressor.base_parameters`)
    that differ, and only those the states determine.
 
+Only a real robot is named: every body of the fitted robot must be physical
+(its mass above :data:`ROUND_OFF` of the robot's largest, its pseudo-inertia
+positive semi-definite to :data:`ROUND_OFF` in the robot's scale, which holds
+the triangle inequality). For one parameter the fitted robot is the handout's
+with that one changed; for the combinations, some robot on the handout's
+kinematics with those combinations must be physical (:func:`physical_robot`
+searches the parameters the states do not determine). An answer no real
+robot gives (a negative inertia, a mass of zero) is no question of numbers,
+and nothing is said of them. A fitted value within :data:`ZERO_BELOW` of its
+scale whose zero fits as well is shown as 0, never as round-off such as 1e-15.
+
 A fit that is the handout's parameters times one number is left to
-``constant_factor`` (a missing ½ looks the same).
+``constant_factor`` (a missing ½ looks the same), and where several single
+parameters explain a term (V of point masses sees one product m₂l₁l₂), the
+student's other terms (``Answer.related``) tell them apart: a parameter that
+explains every one of them is named.
 """
 from __future__ import annotations
 
@@ -43,12 +57,19 @@ from ..core.newton_euler import inverse_dynamics
 from ..core.parameters import parameter_values
 from ..core.regressor import base_parameters, parameters, regressor
 from ..core.robots import COURSE_ROBOTS, load_robot
+from ..tools.consistency import pseudo_inertia
 from ..tools.variants import COURSE_STUDENT, robot_variant
-from .records import Answer, Finding
+from .records import TERM_NAMES, Answer, Finding
 
 #: The relative error, on every state, within which a fitted robot's answer must agree with the student's for the
 #: fit to count as exact (round-off, far below any grading tolerance).
 FIT = 1e-9
+#: A body is physical when its mass is above this share of the robot's largest and its pseudo-inertia J, in units
+#: of that mass and the robot's length (J / m diag(ℓ, ℓ, ℓ, 1)²), has no eigenvalue below −this: round-off allowed.
+ROUND_OFF = 1e-6
+#: A fitted value whose size is below this share of its kind's scale (the robot's largest mass, its length, that
+#: mass times the length squared), and whose zero fits the answer as well, is shown as 0.
+ZERO_BELOW = 1e-4
 LISTED = 6  # differing numbers named one by one
 TERMS = ("tau", "M", "V", "G")
 TEXTBOOK = "the course robot's own numbers (the textbook's, before your robot was varied)"
@@ -175,15 +196,188 @@ def _physical(model: Model) -> Iterator[tuple[int, str, str, float, np.ndarray, 
 
 def _one_parameter(A: np.ndarray, B: np.ndarray, r: np.ndarray) -> float:
     """The δ that minimises ‖A δ + B δ² − r‖ (the roots of its derivative, a cubic)."""
-    if not B.any():
+    if np.linalg.norm(B) <= 1e-12 * np.linalg.norm(A):  # linear in it (a mass), to round-off
         return float(A @ r / (A @ A))
     roots = np.roots([2 * B @ B, 3 * A @ B, A @ A - 2 * B @ r, -A @ r])
     real = [float(x.real) for x in roots if abs(x.imag) <= 1e-9 * max(1.0, abs(x))]
     return min(real, key=lambda d: float(np.linalg.norm(A * d + B * d * d - r)))
 
 
-def _show(x: float) -> str:
-    return f"{x + 0.0:.4g}"
+def _show(x: float, zero: float = 0.0) -> str:
+    """``x`` to four digits; 0 when its size is below ``zero`` (round-off)."""
+    return "0" if abs(x) < zero else f"{x + 0.0:.4g}"
+
+
+@dataclass(frozen=True)
+class Scales:
+    """The sizes a robot's parameters are measured in: its largest mass (kg) and its length (m).
+
+    Parameters
+    ----------
+    mass : float
+        The largest body mass, kg.
+    length : float
+        The largest distance of a joint or a centre of mass from its frame origin, m (1 m when none).
+    """
+
+    mass: float
+    length: float
+
+    @classmethod
+    def of(cls, model: Model) -> "Scales":
+        """The scales of ``model``.
+
+        Parameters
+        ----------
+        model : Model
+            The robot.
+
+        Returns
+        -------
+        Scales
+            Its largest mass and its length.
+        """
+        lengths = [float(np.linalg.norm(v)) for b in model.bodies for v in (b.P, b.p_com)]
+        return cls(max(float(b.mass) for b in model.bodies), max(lengths, default=0.0) or 1.0)
+
+    def unit(self, name: str) -> float:
+        """The scale of a physical parameter named as :func:`_physical` names them (m, centre of mass …, I_C,…).
+
+        Parameters
+        ----------
+        name : str
+            The parameter's name.
+
+        Returns
+        -------
+        float
+            kg, m or kg·m².
+        """
+        return self.mass if name == "m" else self.length if name.startswith("centre") else self.mass * self.length**2
+
+    def normalised(self, J: np.ndarray) -> np.ndarray:
+        """J / m diag(ℓ, ℓ, ℓ, 1)²: a pseudo-inertia in units of the robot's mass and length.
+
+        Parameters
+        ----------
+        J : numpy.ndarray, shape (4, 4)
+            A pseudo-inertia.
+
+        Returns
+        -------
+        numpy.ndarray, shape (4, 4)
+            It, dimensionless.
+        """
+        d = np.array([1 / self.length] * 3 + [1.0])
+        return J * np.outer(d, d) / self.mass
+
+
+def _real(p: np.ndarray, scales: Scales) -> bool:
+    return bool(p[0] > ROUND_OFF * scales.mass
+                and np.linalg.eigvalsh(scales.normalised(pseudo_inertia(p))).min() >= -ROUND_OFF)
+
+
+def physical(pi: np.ndarray, scales: Scales, skip=()) -> bool:
+    """Whether every body of the ten-per-body parameters ``pi`` is a real body, to round-off (module docstring).
+
+    Parameters
+    ----------
+    pi : numpy.ndarray, shape (10 n,)
+        The regressor's parameters, body by body.
+    scales : Scales
+        The robot's scales.
+    skip : collection of int, optional
+        Bodies not held to it (those the handout itself gives no mass, such as a frame of no link).
+
+    Returns
+    -------
+    bool
+        True when every mass is above :data:`ROUND_OFF` of the robot's largest and every pseudo-inertia is
+        positive semi-definite to :data:`ROUND_OFF`.
+    """
+    return all(_real(p, scales) for i, p in enumerate(np.reshape(pi, (-1, 10))) if i not in skip)
+
+
+def unreal_bodies(pi: np.ndarray, scales: Scales) -> tuple[int, ...]:
+    """The bodies of ``pi`` that are no real body (:func:`physical`): in a handout, a frame of no mass.
+
+    Parameters
+    ----------
+    pi : numpy.ndarray, shape (10 n,)
+        The regressor's parameters, body by body.
+    scales : Scales
+        The robot's scales.
+
+    Returns
+    -------
+    tuple of int
+        Those bodies.
+    """
+    return tuple(i for i, p in enumerate(np.reshape(pi, (-1, 10))) if not _real(p, scales))
+
+
+def physical_robot(Y: np.ndarray, pi: np.ndarray, scales: Scales, skip=(), rounds: int = 200) -> bool:
+    """Whether some real robot has the answers Y π: π moved in what Y does not see (its null space) until every
+    body is physical, by cutting planes (each round an LP over the moves and the least eigenvalue t).
+
+    Parameters
+    ----------
+    Y : numpy.ndarray, shape (K, 10 n)
+        The stacked regressor of the answer's states.
+    pi : numpy.ndarray, shape (10 n,)
+        A fit, Y π = the answer.
+    scales : Scales
+        The robot's scales.
+    skip : collection of int, optional
+        Bodies not held to it (:func:`physical`).
+    rounds : int, optional
+        The most LPs solved; undecided after them counts as no.
+
+    Returns
+    -------
+    bool
+        True when a π' with Y π' = Y π has every body physical (:func:`physical`).
+    """
+    from scipy.optimize import linprog
+
+    if physical(pi, scales, skip):
+        return True
+    unit = np.tile([scales.mass] + [scales.mass * scales.length] * 3 + [scales.mass * scales.length**2] * 6,
+                   len(pi) // 10)
+    _, sigma, Vt = np.linalg.svd(Y * unit, full_matrices=True)
+    rank = int(np.sum(sigma > 1e-10 * sigma[0])) if sigma.size else 0
+    null = (Vt[rank:].T * unit[:, None])  # moves of π that change no answer, one per column, each of unit size
+    if null.shape[1] == 0:
+        return False
+    bodies = [i for i in range(len(pi) // 10) if i not in skip]
+
+    def J(i: int, x: np.ndarray) -> np.ndarray:
+        return scales.normalised(pseudo_inertia(x[10 * i:10 * i + 10]))
+
+    cuts = [(i, v) for i in bodies for v in np.eye(4)]
+    for _ in range(rounds):
+        # maximise t: vᵀ J_i(π + N b) v ≥ t for every cut, m_i ≥ ROUND_OFF, |b| ≤ 100 scale units, t ≤ 1
+        rows, bounds = [], []
+        for i, v in cuts:
+            rows.append(([-(v @ J(i, column) @ v) for column in null.T] + [1.0], v @ J(i, pi) @ v))
+        for i in bodies:
+            rows.append(([-column[10 * i] / scales.mass for column in null.T] + [0.0],
+                         pi[10 * i] / scales.mass - 2 * ROUND_OFF))
+        A, b = np.array([r[0] for r in rows]), np.array([r[1] for r in rows])
+        bounds = [(-100.0, 100.0)] * null.shape[1] + [(None, 1.0)]
+        c = np.zeros(null.shape[1] + 1)
+        c[-1] = -1.0
+        solved = linprog(c, A_ub=A, b_ub=b, bounds=bounds, method="highs")
+        if solved.status != 0 or -solved.fun < -ROUND_OFF:
+            return False  # no move makes every body physical, even against these cuts alone
+        moved = pi + null @ solved.x[:-1]
+        if physical(moved, scales, skip):
+            return True
+        for i in bodies:
+            values, vectors = np.linalg.eigh(J(i, moved))
+            if values[0] < -ROUND_OFF:
+                cuts.append((i, vectors[:, 0]))
+    return False
 
 
 def _unit(name: str) -> str:
@@ -199,24 +393,28 @@ def _differences(handout: Model, other: Model) -> str:
     return "; ".join(said[:LISTED]) + more if said else "their numbers differ from your handout's"
 
 
-def _base_differences(model: Model, Y: np.ndarray, pi0: np.ndarray, pi: np.ndarray, term: str) -> str:
-    """The base parameters whose values differ between π₀ and π, among those the stacked Y determines."""
+def _base_differences(model: Model, Y: np.ndarray, pi0: np.ndarray, pi: np.ndarray, term: str) -> tuple[str, bool]:
+    """The base parameters whose values differ between π₀ and π, among those the stacked Y determines, and whether
+    one of them is 0 on the handout (a combination its geometry does not have)."""
     base = base_parameters(model)
     rows = base.describe().splitlines()
     projector = np.linalg.pinv(Y) @ Y
-    said, hidden = [], 0
+    said, hidden, new = [], 0, False
     for row, line in zip(base.beta, rows):
         ours, theirs = float(row @ pi0), float(row @ pi)
-        if np.isclose(ours, theirs, rtol=1e-6, atol=1e-9 * max(1.0, np.abs(pi0).max())):
+        floor = 1e-9 * max(1.0, np.abs(pi0).max())  # round-off, far below any parameter of a robot
+        if np.isclose(ours, theirs, rtol=1e-6, atol=floor):
             continue
         if np.linalg.norm(row - row @ projector) > 1e-6 * np.linalg.norm(row):
             hidden += 1  # this combination is not determined by this term on these states
             continue
-        said.append(f"{line.split(' = ', 1)[1]} = {_show(theirs)} where your handout's numbers give {_show(ours)}")
+        said.append(f"{line.split(' = ', 1)[1]} = {_show(theirs, floor)} where your handout's numbers give "
+                    f"{_show(ours, floor)}")
+        new = new or abs(ours) < floor
     if not said:
-        return ""
+        return "", False
     return ("; ".join(said[:LISTED]) + (f" (and {len(said) - LISTED} more)" if len(said) > LISTED else "")
-            + (" (what else differs, these states of your term cannot tell)" if hidden else ""))
+            + (" (what else differs, these states of your term cannot tell)" if hidden else "")), new
 
 
 def other_parameters(answer: Answer) -> Finding | None:
@@ -252,37 +450,59 @@ def other_parameters(answer: Answer) -> Finding | None:
     r = y - Y @ pi0
     delta = np.linalg.lstsq(Y, r, rcond=None)[0]
 
-    def agrees(change: np.ndarray) -> bool:
-        fitted = np.einsum("...p,p->...", Y_all, pi0 + change)
-        return answer.agrees_with(fitted, min(FIT, answer.tolerance))
+    def agrees(change: np.ndarray, which: Answer = answer, Y_which: np.ndarray = Y_all) -> bool:
+        fitted = np.einsum("...p,p->...", Y_which, pi0 + change)
+        return which.agrees_with(fitted, min(FIT, which.tolerance))
 
     if not agrees(delta):
         return None
+    scales = Scales.of(model)
+    skip = unreal_bodies(pi0, scales)
     y0 = Y @ pi0
     k = float(y @ y0 / (y0 @ y0)) if y0.any() else 0.0
-    if np.allclose(y, k * y0, rtol=0, atol=FIT * np.abs(y0).max()):
-        return None  # the handout's parameters times one number: constant_factor says it
+    factor = bool(np.allclose(y, k * y0, rtol=0, atol=FIT * np.abs(y0).max()))
     found = []
     for i, name, unit, value, dpi, half in _physical(model):
         A, B = Y @ dpi, Y @ half
         if not A.any() and not B.any():
             continue
         d = _one_parameter(A, B, r)
-        if agrees(dpi * d + half * d * d):
-            found.append(f"link {i + 1} has {name} = {_show(value + d)} {unit} where the handout has "
-                         f"{_show(value)} {unit}")
+        if abs(value + d) < ZERO_BELOW * scales.unit(name) and agrees(dpi * -value + half * value * value):
+            d = -value  # round-off about a zero that fits as well: the value is 0
+        change = dpi * d + half * d * d
+        if agrees(change) and physical(pi0 + change, scales, skip):
+            found.append((f"link {i + 1} has {name} = {_show(value + d)} {unit} where the handout has "
+                          f"{_show(value)} {unit}", change))
+    if factor or len(found) > 1:
+        # the student's other terms tell the candidates apart: the one that explains every wrong one of them
+        others = [(a, term_regressor(model, t, a.plan)) for t, a in answer.related.items()
+                  if t in TERMS and a.wrong and a.plan is not None and len(a.usable) == a.count]
+        confirmed = [(text, change) for text, change in found
+                     if others and all(agrees(change, a, Y_a) for a, Y_a in others)]
+        if len(confirmed) == 1:
+            names = [TERM_NAMES[a.term] for a, _ in others]
+            also = names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
+            return Finding(f"your dynamics are right; your {confirmed[0][0]} (as your {also} show"
+                           f"{'s' if len(others) == 1 else ''})", tags, True)
+        if factor:
+            return None  # the handout's parameters times one number: constant_factor says it
     if len(found) == 1:
-        return Finding(f"your dynamics are right; your {found[0]}", tags, True)
+        return Finding(f"your dynamics are right; your {found[0][0]}", tags, True)
     if found:
         return Finding("your dynamics are right, with other inertial parameters that these states cannot pin to one: "
-                       "either your " + ", or your ".join(found), tags, True)
-    combinations = _base_differences(model, Y, pi0, pi0 + delta, term)
+                       "either your " + ", or your ".join(text for text, _ in found), tags, True)
+    if not physical_robot(Y, pi0 + delta, scales, skip):
+        return None  # no real robot gives this answer: not a question of numbers
+    combinations, new = _base_differences(model, Y, pi0, pi0 + delta, term)
     if not combinations:
         return None
+    check = ("Your handout's numbers make some of these 0, which no mass or length typed differently changes: "
+             "look for a component of a vector written in the wrong place (a sin for a cos, an x for a y)" if new else
+             "Check the masses and lengths you typed (a link length enters these combinations too)")
     return Finding("your dynamics are right, with other numbers: on your handout's joint geometry, these "
                    f"combinations of masses, centres of mass (a mass times a length) and inertias differ from your "
-                   f"handout's: {combinations}. Check the masses and lengths you typed (a link length enters these "
-                   "combinations too)", tags, True)
+                   f"handout's: {combinations}. {check}", tags, True)
 
 
-__all__ = ["FIT", "Handout", "other_parameters", "term_regressor"]
+__all__ = ["FIT", "ROUND_OFF", "ZERO_BELOW", "Handout", "Scales", "other_parameters", "physical", "physical_robot",
+           "term_regressor", "unreal_bodies"]

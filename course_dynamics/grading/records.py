@@ -62,6 +62,9 @@ class Answer:
         Whether the feedback may show our values (not in a student's notebook).
     handout : Handout or None
         The student's robot and the robots they may have used instead (:mod:`~course_dynamics.grading.numbers`).
+    related : collections.abc.Mapping of str to Answer
+        The student's other graded terms, each an Answer of its own (what one term alone cannot tell, such as
+        which parameter a factor of V is, they may).
     """
 
     expected: np.ndarray
@@ -79,6 +82,7 @@ class Answer:
     parts: Mapping[str, Answer] = field(default_factory=dict)
     reveal: bool = True  # whether the feedback may show our values (not in a student's notebook)
     handout: Handout | None = None
+    related: Mapping[str, Answer] = field(default_factory=dict)
 
     @classmethod
     def single(cls, expected, value, tolerance: float, reveal: bool = True) -> Answer:

@@ -23,6 +23,8 @@ answer gets the same diagnosis everywhere.
 """
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from ..core.sampling import term_scales
@@ -205,8 +207,10 @@ def score_outcome(outcome: dict, assignment: Assignment, plan: Plan, reference: 
         One per graded term, in the assignment's order.
     """
     answers = Answers.read(outcome, plan)
-    return [score(term_answer(term, answers, plan, reference, assignment, reveal=reveal, handout=handout),
-                  assignment.points[term],
+    made = {term: term_answer(term, answers, plan, reference, assignment, reveal=reveal, handout=handout)
+            for term in assignment.terms}
+    # each answer sees the others: what one term alone cannot tell (which parameter a factor of V is), they may
+    return [score(replace(made[term], related={t: a for t, a in made.items() if t != term}), assignment.points[term],
                   assignment.partial_credit) for term in assignment.terms]
 
 

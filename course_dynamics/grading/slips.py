@@ -10,14 +10,18 @@ that one mistake made, not by a second copy of the algorithm.
 ========================  =============================  ================================
 code                      the mistake                    equations it can be made in
 ========================  =============================  ================================
+``gravity-missing``       ⁰v̇₀ = 0: gravity left out      ⁰v̇₀
+``gravity-sign``          ⁰v̇₀ = +g, not −g               ⁰v̇₀
 ``rotation-transposed``   ᵖᵢR where ⁱₚR belongs          (6.45) (6.46) (6.47) (6.51) (6.52)
+``rotation-identity``     a rotation read as the         (6.45) (6.46) (6.47) (6.51) (6.52)
+                          identity (left out)
 ``cross-reversed``        b × a for a × b                (6.46) (6.47) (6.48) (6.50) (6.52)
 ``centripetal-missing``   ω × (ω × P) left out           (6.47) (6.48)
 ``gyroscopic-missing``    ω × ᶜI ω left out              (6.50)
 ``inertia-about-origin``  ⁱIᵢ about the frame origin,    (6.50)
                           not ᶜⁱIᵢ about the COM
 ``moment-arm-missing``    ⁱPᵢ₊₁ × ⁱfᵢ₊₁ left out          (6.52)
-``gravity-sign``          ⁰v̇₀ = +g, not −g               ⁰v̇₀
+``first-moment-missing``  ⁱP_Cᵢ × ⁱFᵢ left out           (6.52)
 ``gravity-frame``         gravity added link by link     (6.49), ⁰v̇₀ = 0
                           with ⁰g not rotated into
                           frame i, or rotated by ⁰ᵢR
@@ -30,19 +34,26 @@ code                      the mistake                    equations it can be mad
                           parent's ω̇ᵢ, or ⁱ⁺¹Pᵢ₊₁ = 0
 ``notes-6.50``            (6.50) as printed: ⁱIᵢ about     (6.50)
                           the origin in ω × I ω only
-``notes-6.51``            (6.51) as printed: ⁱIᵢ ⁱᵢ₊₁R     (6.51)
-                          ⁱ⁺¹fᵢ₊₁ + ⁱFᵢ
-``notes-6.52``            (6.52) as printed: ⁱNᵢ₊₁, no    (6.52)
-                          ⁱP_Cᵢ × ⁱFᵢ, ⁱ⁺¹fᵢ₊₁ unrotated
+``notes-6.51``            (6.51) as printed: ⁱIᵢ₊₁        (6.51)
+                          ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁ + ⁱFᵢ, link i+1's
+                          tensor (``I[i + 1]``)
+``notes-6.52``            (6.52) as printed: ⁱNᵢ₊₁,       (6.52)
+                          ⁱPᵢ × ⁱFᵢ, ⁱ⁺¹fᵢ₊₁ unrotated;
+                          all three, or one of them
 ========================  =============================  ================================
 
-A slip with ``variant`` (``gravity-frame``, ``tau-wrong-moment``, ``notes-6.48``) is
-made in one of the ways :data:`SLIP_VARIANTS` lists. The ``notes-…`` slips are
-the lecture notes' misprints (``reference/errata.md``) copied into code: the
-notes' (6.45)–(6.47) print the rotation the wrong way round, which is
-``rotation-transposed`` in those equations; the worked example's ¹F₁ = m₁ ¹v̇₁
-and ¹N₁ are ``notes-6.48`` (ⁱ⁺¹Pᵢ₊₁ = 0) and ``notes-6.50``; its ²v̇_C₂ with
-¹ω̇₁ is ``notes-6.48`` with the parent's ω̇.
+A slip with ``variant`` (``gravity-frame``, ``tau-wrong-moment``, ``notes-6.48``,
+``notes-6.52``) is made in one of the ways :data:`SLIP_VARIANTS` lists. The
+``notes-…`` slips are the lecture notes' misprints (``reference/errata.md``)
+copied into code: the notes' (6.45)–(6.47) print the rotation the wrong way
+round, which is ``rotation-transposed`` in those equations; the worked
+example's ¹F₁ = m₁ ¹v̇₁ and ¹N₁ are ``notes-6.48`` (ⁱ⁺¹Pᵢ₊₁ = 0) and
+``notes-6.50`` on link 1; its ²v̇_C₂ with ¹ω̇₁ is ``notes-6.48`` with the
+parent's ω̇ on link 2, and its ²v̇₂ = ²R² ¹v̇_C₁ is ``rotation-identity`` in
+(6.47) on link 2. A slip with ``links`` is made in those links' equations only
+(:meth:`Slip.at`), as a printed equation copied into one place is:
+:func:`slips` makes the printed equations' slips (:data:`PER_LINK`) on each
+link alone too.
 """
 from __future__ import annotations
 
@@ -50,19 +61,25 @@ from dataclasses import dataclass
 
 from ..core.algebra import Mat3, Vec3, cross
 from ..core.inertia import parallel_axis
-from ..core.newton_euler import Operations
+from ..core.newton_euler import EXACT, Operations
 
 ZERO = Vec3(0, 0, 0)
+IDENTITY = Mat3(((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)))
 
 #: Each slip's code and the equations of chapter 6 it can be made in (``"base"`` for ⁰v̇₀), as the table above.
+#: The simpler mistakes come first: where two slips give the same answers on a robot, the first is named
+#: (:func:`~course_dynamics.grading.mistakes.mistaken_terms`).
 SLIP_EQUATIONS = {
+    "gravity-missing": ("base",),
+    "gravity-sign": ("base",),
     "rotation-transposed": ("6.45", "6.46", "6.47", "6.51", "6.52"),
+    "rotation-identity": ("6.45", "6.46", "6.47", "6.51", "6.52"),
     "cross-reversed": ("6.46", "6.47", "6.48", "6.50", "6.52"),
     "centripetal-missing": ("6.47", "6.48"),
     "gyroscopic-missing": ("6.50",),
     "inertia-about-origin": ("6.50",),
     "moment-arm-missing": ("6.52",),
-    "gravity-sign": ("base",),
+    "first-moment-missing": ("6.52",),
     "gravity-frame": ("6.49",),
     "com-wrong-link": ("6.48", "6.52"),
     "tau-wrong-moment": ("6.53",),
@@ -77,8 +94,16 @@ SLIP_VARIANTS = {
                       "rotated": "⁰g rotated by ⁰ᵢR, not by its transpose ⁱ₀R"},
     "tau-wrong-moment": {"N": "τᵢ read from ⁱNᵢ, the inertial moment, not from ⁱnᵢ",
                    "child": "τᵢ read from the child's ⁱ⁺¹nᵢ₊₁, not from ⁱnᵢ"},
-    "notes-6.48": {"parent": "with the parent's ⁱω̇ᵢ for ⁱ⁺¹ω̇ᵢ₊₁", "origin": "with ⁱ⁺¹Pᵢ₊₁ = 0 for ⁱ⁺¹P_Cᵢ₊₁"},
+    "notes-6.48": {"origin": "with ⁱ⁺¹Pᵢ₊₁ = 0 for ⁱ⁺¹P_Cᵢ₊₁", "parent": "with the parent's ⁱω̇ᵢ for ⁱ⁺¹ω̇ᵢ₊₁"},
+    "notes-6.52": {"": "all three misprints: ⁱNᵢ₊₁, ⁱPᵢ × ⁱFᵢ with ⁱPᵢ = 0, and ⁱ⁺¹R^{i+1} = 1",
+                   "N": "one of its misprints: the child's ⁱ⁺¹Nᵢ₊₁ for ⁱNᵢ",
+                   "PxF": "one of its misprints: ⁱPᵢ × ⁱFᵢ with Pᵢ the joint's offset (the code's P[i]) for "
+                          "ⁱP_Cᵢ × ⁱFᵢ",
+                   "identity": "one of its misprints: ⁱ⁺¹R^{i+1} = 1, the child's force unrotated in its moment"},
 }
+#: The slips of equations as the notes print them, which a student copies into one link's equations as readily as
+#: into every link's (the worked example's are on one link): :func:`slips` makes these on each link alone too.
+PER_LINK = ("rotation-identity", "notes-6.48", "notes-6.50", "notes-6.51", "notes-6.52")
 OUTWARD, INWARD = ("6.45", "6.46", "6.47", "6.48", "6.49", "6.50"), ("6.51", "6.52", "6.53")
 
 
@@ -101,23 +126,43 @@ class Slip(Operations):
         The equations it is made in, among those :data:`SLIP_EQUATIONS` gives the code.
     variant : str, optional
         How it is made, a key of :data:`SLIP_VARIANTS` for the code (for the codes that have variants).
+    links : tuple of int, optional
+        The bodies (0 for link 1) whose equations it is made in; every link's when empty.
 
     Raises
     ------
     ValueError
-        If ``code`` is no slip, ``equations`` are not all equations it can be made in, or ``variant`` is not one
-        of the code's.
+        If ``code`` is no slip, ``equations`` are not all equations it can be made in, ``variant`` is not one
+        of the code's, or a link is negative.
     """
 
     code: str
     equations: tuple[str, ...]
     variant: str = ""
+    links: tuple[int, ...] = ()
 
     def __post_init__(self):
         if self.code not in SLIP_EQUATIONS or not set(self.equations) <= set(SLIP_EQUATIONS[self.code]):
             raise ValueError(f"no slip '{self.code}' in {self.equations} (slips: {SLIP_EQUATIONS})")
         if self.variant not in SLIP_VARIANTS.get(self.code, {"": ""}):
             raise ValueError(f"slip '{self.code}' has no variant '{self.variant}' (variants: {SLIP_VARIANTS})")
+        if any(i < 0 for i in self.links):
+            raise ValueError(f"slip '{self.code}' on links {self.links}: bodies count from 0")
+
+    def at(self, i: int) -> Operations:
+        """The operations link i's equations are written with: this slip on its links, the chapter's elsewhere.
+
+        Parameters
+        ----------
+        i : int
+            The body.
+
+        Returns
+        -------
+        Operations
+            This slip, or :data:`~course_dynamics.core.newton_euler.EXACT`.
+        """
+        return self if not self.links or i in self.links else EXACT
 
     def made(self, code: str, equation: str) -> bool:
         """Whether this slip makes mistake ``code`` in ``equation``.
@@ -140,17 +185,20 @@ class Slip(Operations):
     def where(self) -> str:
         """The equations in words, such as "(6.47) and (6.48)" or "every equation where it appears, …"."""
         every = SLIP_EQUATIONS[self.code]
-        how = f" ({SLIP_VARIANTS[self.code][self.variant]})" if self.variant else ""
+        how = f" ({SLIP_VARIANTS[self.code][self.variant]})" if self.code in SLIP_VARIANTS else ""
+        links = "" if not self.links else " on link" + ("s " if len(self.links) > 1 else " ") + \
+            _listed([str(i + 1) for i in self.links], "") + " only"
         if self.equations == ("base",):
             return "the base acceleration ⁰v̇₀"
         if len(every) > 1 and set(self.equations) == set(every):
-            return "every equation where it appears, " + _listed(self.equations) + how
-        return _listed(self.equations) + how
+            return "every equation where it appears, " + _listed(self.equations) + how + links
+        return _listed(self.equations) + how + links
 
     # The operations, each with this slip's mistake where it is made.
 
     def into_child(self, X, i, equation):
-        """ⁱₚR, the rotation from the parent's frame into frame i; with ``rotation-transposed``, ᵖᵢR.
+        """ⁱₚR, the rotation from the parent's frame into frame i; with ``rotation-transposed``, ᵖᵢR; with
+        ``rotation-identity``, the identity.
 
         Parameters
         ----------
@@ -166,10 +214,13 @@ class Slip(Operations):
         Mat3
             The rotation.
         """
+        if self.made("rotation-identity", equation):
+            return IDENTITY
         return X.R[i] if self.made("rotation-transposed", equation) else X.R_T[i]
 
     def into_parent(self, X, c, equation):
-        """The rotation from child c's frame into its parent's; with ``rotation-transposed``, its transpose.
+        """The rotation from child c's frame into its parent's; with ``rotation-transposed``, its transpose; with
+        ``rotation-identity``, the identity.
 
         Parameters
         ----------
@@ -185,6 +236,8 @@ class Slip(Operations):
         Mat3
             The rotation.
         """
+        if self.made("rotation-identity", equation):
+            return IDENTITY
         return X.R_T[c] if self.made("rotation-transposed", equation) else X.R[c]
 
     def cross(self, a: Vec3, b: Vec3, equation: str) -> Vec3:
@@ -255,8 +308,8 @@ class Slip(Operations):
 
     def moment_arm(self, P, R, f, equation):
         """ⁱPᵢ₊₁ × ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁, the moment of a child's force about frame i's origin in (6.52); zero with
-        ``moment-arm-missing``; with ``notes-6.52`` the force left in the child's frame (ⁱ⁺¹R^{i+1} read as the
-        identity).
+        ``moment-arm-missing``; with ``notes-6.52`` (all three misprints, or ``identity``) the force left in the
+        child's frame (ⁱ⁺¹R^{i+1} read as the identity).
 
         Parameters
         ----------
@@ -276,7 +329,7 @@ class Slip(Operations):
         """
         if self.made("moment-arm-missing", equation):
             return ZERO
-        if self.made("notes-6.52", equation):
+        if self.made("notes-6.52", equation) and self.variant in ("", "identity"):
             return cross(P, f)
         return super().moment_arm(P, R, f, equation)
 
@@ -301,7 +354,8 @@ class Slip(Operations):
         return super().inertia(body, term)
 
     def base_acceleration(self, gravity):
-        """⁰v̇₀ = −g; with ``gravity-sign``, +g.
+        """⁰v̇₀ = −g; with ``gravity-sign``, +g; with ``gravity-missing`` (and ``gravity-frame``, which adds it link
+        by link instead), 0.
 
         Parameters
         ----------
@@ -313,8 +367,8 @@ class Slip(Operations):
         Vec3
             The base's acceleration ⁰v̇₀, m/s².
         """
-        if self.code == "gravity-frame":
-            return ZERO  # gravity is added link by link instead (:meth:`inertial_force`)
+        if self.code == "gravity-frame" or self.made("gravity-missing", "base"):
+            return ZERO  # gravity-frame adds it link by link instead (:meth:`inertial_force`)
         return gravity if self.made("gravity-sign", "base") else super().base_acceleration(gravity)
 
     def link_angular_acceleration(self, own, parent, equation):
@@ -338,8 +392,9 @@ class Slip(Operations):
 
     def centre_of_mass(self, model, i, equation):
         """ⁱP_Cᵢ; with ``com-wrong-link`` link i−1's (``Pc[i - 1]``: link 1 takes the last link's); with
-        ``notes-6.48`` (variant ``origin``) in (6.48), and ``notes-6.52`` in (6.52), the frame origin ⁱPᵢ = 0 the
-        notes print.
+        ``notes-6.48`` (variant ``origin``) in (6.48), ``notes-6.52`` (all three misprints) and
+        ``first-moment-missing`` in (6.52), the frame origin ⁱPᵢ = 0 the notes print; with ``notes-6.52``'s
+        ``PxF``, the joint's offset ᵖPᵢ that a code's ``P[i]`` holds.
 
         Parameters
         ----------
@@ -357,7 +412,11 @@ class Slip(Operations):
         """
         if self.made("com-wrong-link", equation):
             return model.bodies[i - 1].p_com_v
-        if (self.made("notes-6.48", equation) and self.variant == "origin") or self.made("notes-6.52", equation):
+        if self.made("notes-6.52", equation) and self.variant == "PxF":
+            return model.bodies[i].P_v
+        printed_origin = (self.made("notes-6.48", equation) and self.variant == "origin") or (
+            self.made("notes-6.52", equation) and not self.variant)
+        if printed_origin or self.made("first-moment-missing", equation):
             return ZERO
         return super().centre_of_mass(model, i, equation)
 
@@ -393,7 +452,8 @@ class Slip(Operations):
         return model.bodies[i].mass_s * (v_dot_c - g)
 
     def link_moment(self, model, i, out, equation):
-        """ⁱNᵢ in (6.52); with ``notes-6.52``, the children's ⁱ⁺¹Nᵢ₊₁ as printed (in their own frames; none at the tip).
+        """ⁱNᵢ in (6.52); with ``notes-6.52`` (all three misprints, or ``N``), the children's ⁱ⁺¹Nᵢ₊₁ as printed (in
+        their own frames; none at the tip).
 
         Parameters
         ----------
@@ -411,22 +471,23 @@ class Slip(Operations):
         Vec3
             The moment used, N·m.
         """
-        if self.made("notes-6.52", equation):
+        if self.made("notes-6.52", equation) and self.variant in ("", "N"):
             total = ZERO
             for c in model.children[i]:
                 total = total + out.N[c]
             return total
         return super().link_moment(model, i, out, equation)
 
-    def carried_force(self, model, i, R, f, equation):
-        """ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁ in (6.51); with ``notes-6.51``, times the inertia tensor ᶜⁱIᵢ the notes print before it.
+    def carried_force(self, model, c, R, f, equation):
+        """ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁ in (6.51); with ``notes-6.51``, times the inertia tensor ⁱIᵢ₊₁ the notes print before it:
+        link i+1's tensor as given, ᶜIᵢ₊₁ (a code's ``I[i + 1]``).
 
         Parameters
         ----------
         model : Model
             The robot.
-        i : int
-            The parent body.
+        c : int
+            The child body i+1.
         R : Mat3
             ⁱᵢ₊₁R.
         f : Vec3
@@ -440,8 +501,8 @@ class Slip(Operations):
             The force added, as the slip has it.
         """
         if self.made("notes-6.51", equation):
-            return model.bodies[i].I_com_m @ (R @ f)
-        return super().carried_force(model, i, R, f, equation)
+            return model.bodies[c].I_com_m @ (R @ f)
+        return super().carried_force(model, c, R, f, equation)
 
     def joint_moment(self, model, i, n, out, equation):
         """ⁱnᵢ, read for τᵢ (6.53); with ``tau-wrong-moment``, ⁱNᵢ (variant ``N``) or the child's ⁱ⁺¹nᵢ₊₁ (``child``).
@@ -474,22 +535,30 @@ class Slip(Operations):
         return total
 
 
-def _listed(equations) -> str:
-    named = [f"({e})" for e in equations]
+def _listed(items, brackets: str = "()") -> str:
+    named = [f"{brackets[:1]}{e}{brackets[1:]}" for e in items]
     return named[0] if len(named) == 1 else ", ".join(named[:-1]) + " and " + named[-1]
 
 
-def slips() -> tuple[Slip, ...]:
+def slips(bodies: int = 1) -> tuple[Slip, ...]:
     """Every slip the diagnosis tries: each mistake everywhere it can be made, in the outward or the inward
-    iteration only, and in each equation alone.
+    iteration only, and in each equation alone; on a robot of two or more bodies, the printed equations' slips
+    (:data:`PER_LINK`) in each equation alone on each link alone too.
 
     >>> [s.equations for s in slips() if s.code == "centripetal-missing"]
     [('6.47', '6.48'), ('6.47',), ('6.48',)]
+    >>> [(s.variant, s.links) for s in slips(2) if s.code == "notes-6.48"][-2:]
+    [('origin', (1,)), ('parent', (1,))]
+
+    Parameters
+    ----------
+    bodies : int, optional
+        The robot's number of bodies.
 
     Returns
     -------
     tuple of Slip
-        The slips, each once.
+        The slips, each once, the whole robot's before one link's.
     """
     made = []
     for code, every in SLIP_EQUATIONS.items():
@@ -498,7 +567,12 @@ def slips() -> tuple[Slip, ...]:
             for variant in SLIP_VARIANTS.get(code, {"": ""}):
                 if group and Slip(code, group, variant) not in made:
                     made.append(Slip(code, group, variant))
+    if bodies > 1:
+        for code in PER_LINK:
+            for link in range(bodies):
+                for equation in SLIP_EQUATIONS[code]:
+                    made += [Slip(code, (equation,), variant, (link,)) for variant in SLIP_VARIANTS.get(code, {"": ""})]
     return tuple(made)
 
 
-__all__ = ["SLIP_EQUATIONS", "SLIP_VARIANTS", "Slip", "slips"]
+__all__ = ["IDENTITY", "PER_LINK", "SLIP_EQUATIONS", "SLIP_VARIANTS", "Slip", "slips"]
