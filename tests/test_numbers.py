@@ -128,3 +128,52 @@ def test_numbers_are_named_before_a_constant_factor_but_a_uniform_scale_stays_on
     verdict = notebook(of({**p, "m1": 2 * p["m1"], "m2": 2 * p["m2"]}), "tau_two_link")
     assert any("constant factor of about 2.0" in line for line in verdict.lines), verdict.text()
     assert not any(re.match("your dynamics are right", line) for line in verdict.lines)
+
+
+def test_only_a_real_body_is_named():
+    """A fit is a robot only when each body is one: a mass above round-off, a pseudo-inertia positive semi-definite
+    (so an inertia obeying the triangle inequality); a point mass is one, a negative moment or no mass is not."""
+    from course_dynamics.grading.numbers import Scales, physical, physical_robot
+
+    scales = Scales.of(ARM)
+    pi = parameters(ARM).astype(float)
+    assert physical(pi, scales)  # two point masses: J of rank one each
+    negative, massless = pi.copy(), pi.copy()
+    negative[9] -= 0.5  # link 1's I_C,zz = −0.5 kg·m², the worked example's ¹F₁ = m₁ ¹v̇₁ read as numbers
+    massless[0] = 1.11e-15
+    assert not physical(negative, scales) and not physical(massless, scales)
+    # what a term does not see may move: G sees first moments only, so another point mass's h is a real robot
+    h_moved = pi.copy()
+    h_moved[1] *= 1.3
+    Y = np.eye(len(pi))[[1, 11]]  # a "term" that sees link 1's and link 2's mcx alone
+    assert not physical(h_moved, scales) and physical_robot(Y, h_moved, scales)
+    assert not physical_robot(np.eye(len(pi)), negative, scales)  # seen whole: no move makes it real
+
+
+def test_the_worked_example_s_F1_is_not_called_other_numbers():
+    """τ of ¹F₁ = m₁ ¹v̇₁ on link 1 is no real robot's: the fit says nothing of numbers (never I_C,zz = −0.5 kg·m²),
+    nor of M's as a massless link 1 (m = 1.11e-15 kg) or round-off (x = 1.984e-06 m); through every check the slip
+    on link 1 is named."""
+    from pathlib import Path
+
+    from submissions import worked_example
+
+    from course_dynamics.grading.diagnosis import diagnose
+    from course_dynamics.grading.harness import evaluate
+    from course_dynamics.grading.numbers import other_parameters
+    from course_dynamics.grading.plan import Answers, expected_terms, make_plan
+    from course_dynamics.grading.score import score, term_answer
+
+    namespace = {}
+    exec(compile(worked_example("example-F1-m1-v1"), "student.py", "exec"), namespace)
+    assignment = Assignment(Path("f1.toml"), "two_link", ARM, {"tau": 1.0, "M": 1.0}, samples=12, seed=7)
+    plan = make_plan(assignment)
+    answers = Answers.read(evaluate({"tau": namespace["tau"]}, plan.harness_functions()), plan)
+    # M alone is link 1's mass on its joint axis, a real robot (a point mass at x = 0, exactly 0): its fit says so
+    alone = {"tau": [], "M": ["your dynamics are right; your link 1 has centre of mass x = 0 m where the handout has "
+                              "0.5 m"]}
+    for term in ("tau", "M"):
+        answer = term_answer(term, answers, plan, expected_terms(assignment, plan), assignment)
+        assert answer.wrong and [f.text for f in diagnose(answer, (other_parameters,))] == alone[term], term
+        [first, *_] = score(answer).findings
+        assert first.startswith("[notes-6.48]") and "on link 1 only" in first, (term, first)

@@ -373,3 +373,16 @@ def test_a_formula_s_factor_is_shown_to_two_digits_too():
     m, l, theta_dot = symbols("m", "l", "theta_dot")
     verdict = check("k_pendulum", 0.998981 * m * l**2 * theta_dot**2 / 2)
     assert "times 1.0" in verdict.text() and "0.998981" not in verdict.text() and "0.999" not in verdict.text()
+
+
+def test_a_mistake_is_closest_only_below_the_limit_and_never_printed_at_it(setting):
+    """"closest to" holds a relative error below CLOSE, and the number shown beside "less than 5%" is below it:
+    0.0496 would print as 0.05 to one or two digits, so it is shown with three; 0.04999 is not shown at all."""
+    from course_dynamics.grading.mistakes import CLOSE, _below
+
+    assert (_below(0.03, CLOSE), _below(0.0496, CLOSE), _below(0.049996, CLOSE)) == ("0.03", "0.0496", None)
+    near = answer_of(setting, "tau", tau=lambda q, qd, qdd: 1.001 * inverse_dynamics(FLIPPED, q, qd, qdd)
+                     + 1e-4 * np.sin(q))
+    finding = next(f for f in score(near).findings if f.startswith("closest to"))
+    shown = float(finding.split("(relative error ")[1].split(" ")[0])
+    assert shown < CLOSE and "less than 5%" in finding and "within" not in finding

@@ -399,9 +399,9 @@ def closest_mistake(answer: Answer) -> Finding | None:
 
 
 def _below(x: float, limit: float) -> str | None:
-    """``x`` to one significant digit (two where one would round up to ``limit`` or above), or None when even two
-    digits would print ``limit``: a value shown beside "less than" is less than it."""
-    for digits in (1, 2):
+    """``x`` to one significant digit (more, up to three, where fewer would round up to ``limit``), or None when
+    even three would print ``limit``: a value shown beside "less than" is less than it."""
+    for digits in (1, 2, 3):
         text = f"{x:.{digits}g}"
         if float(text) < limit:
             return text

@@ -64,6 +64,7 @@ from ..core.inertia import parallel_axis
 from ..core.newton_euler import EXACT, Operations
 
 ZERO = Vec3(0, 0, 0)
+#: The identity rotation, as ``rotation-identity`` reads a rotation.
 IDENTITY = Mat3(((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)))
 
 #: Each slip's code and the equations of chapter 6 it can be made in (``"base"`` for ⁰v̇₀), as the table above.
