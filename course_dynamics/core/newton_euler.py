@@ -34,8 +34,8 @@ product, the acceleration of a point, the angular acceleration and the centre
 of mass (6.48) uses, the inertial force (6.49), the inertia each term of (6.50)
 multiplies and its gyroscopic term, the link's own moment, the child's force and
 its moment arm in (6.51)–(6.52), the moment τ is read from (6.53), and the base
-acceleration. :data:`EXACT`, the
-default, is the chapter's; every other use of the recursion (compiled
+acceleration; each link's equations take theirs from :meth:`Operations.at`, so that another set may
+differ on one link only. :data:`EXACT`, the default, is the chapter's; every other use of the recursion (compiled
 programs, batches, symbols, the regressor) runs the exact set.
 """
 from __future__ import annotations
