@@ -106,7 +106,7 @@ def write_examples(folder: Path = EXAMPLES) -> dict[str, Path]:
     paths["ur5_plotjuggler"] = write_plotjuggler(folder / "ur5_plotjuggler.csv", ur5.joint_names, motion.t, q, qd, tau)
     panda = load_robot("panda")
     arm = multisine(panda, duration=2.0, rate=50.0, seed=22, start=80.0)   # franka_states at 50 Hz: small
-    state = [np.column_stack([x[:, :7], np.full((len(arm.t), 2), fill)]) for x, fill in
+    state = [np.column_stack([x[:, :7], np.full((len(arm.t), 1), fill)]) for x, fill in
              ((arm.q, 0.02), (arm.qd, 0.0), (arm.qdd, 0.0))]
     tau_j = inverse_dynamics(panda, *state)[:, :7]
     paths["panda_franka.bag"] = write_franka(folder / "panda_franka", "ros1", panda.joint_names,
