@@ -27,6 +27,7 @@ import numpy as np
 from ..core import inertia
 from ..core.algebra import Vec3, point_acceleration
 from ..core.cartesian import cartesian_dynamics
+from ..core.forward_dynamics import forward_dynamics
 from ..core.friction import Friction
 from ..core.newton_euler import EXACT, Operations, inverse_dynamics, newton_euler_links
 from ..core.regressor import base_parameters, parameter_names, regressor
@@ -278,8 +279,6 @@ def _semi_implicit(q, qd, qdd, dt):
 
 
 def _forward_accelerations(q, qd, tau):
-    from ..core.forward_dynamics import forward_dynamics
-
     return forward_dynamics(_robot("two_link"), q, qd, tau)  # (6.115), the student's own arm
 
 
