@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 from submissions import CLOSED_FORMS, SPATIAL_SLIPS, closed_forms, spatial_newton_euler, worked_example
 
+from course_dynamics import gravity_torques
 from course_dynamics.core.newton_euler import EXACT, newton_euler_links
 from course_dynamics.grading.slips import SLIP_EQUATIONS, Slip, slips
 from course_dynamics.core.robots import load_robot
@@ -322,3 +323,17 @@ def test_a_function_returning_round_off_returns_zeros(graded_worked_example):
     """G returning 1e-13 everywhere is zeros, not "closest to" a mistake whose G is zero."""
     G = graded_worked_example["G-round-off"]["G"]
     assert G.findings == ("returns zeros everywhere: not written yet?",), G.findings
+
+
+def test_mistakes_are_made_per_coordinate_on_a_robot_with_a_mimic_joint():
+    """Panda's nine bodies have eight coordinates (the second finger mimics the first): degrees scale Θ's revolute
+    entries, never the prismatic finger's."""
+    panda = load_robot("panda")
+    rng = np.random.default_rng(3)
+    q, qd, qdd = (rng.uniform(-1, 1, (4, panda.n)) * 0.02 for _ in range(3))
+    made = mistaken_terms(panda, q, qd, qdd)
+    degrees = made["G"]["degrees", "(positions read as degrees)"]
+    scaled = q.copy()
+    scaled[:, :7] *= np.pi / 180
+    assert degrees.shape == (4, panda.n)
+    np.testing.assert_allclose(degrees, gravity_torques(panda, scaled), rtol=1e-12, atol=1e-12)

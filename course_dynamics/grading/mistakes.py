@@ -187,7 +187,7 @@ def _unit(j: int, shape) -> np.ndarray:
 def _terms_by_recursion(model: Model, q, qd, qdd, ops: Operations) -> dict[str, np.ndarray]:
     """τ, G, V and M of the recursion run with the operations ``ops``, by differences as the library derives them."""
     def tau(qd_, qdd_):
-        return np.asarray(newton_euler_links(model, q, qd_, qdd_, ops).tau, dtype=float)
+        return np.asarray(newton_euler_links(model, q, qd_, qdd_, ops).tau, dtype=float) @ model.S   # τ = Sᵀ τ_bodies
 
     zero = np.zeros_like(q)
     G = tau(zero, zero)
@@ -282,7 +282,7 @@ def mistaken_terms(model: Model, q, qd, qdd) -> dict[str, dict[tuple[str, str], 
         kept.append(((slip.code, slip.variant), terms))  # the same slip's other ways that agree are named together
         for term, value in terms.items():
             made[term][slip.code, "in " + slip.where] = value
-    revolute = np.array([kind_of(b).rotates for b in model.bodies])
+    revolute = np.array([kind_of(b).rotates for b in model.coordinate_bodies])   # per coordinate Θ[j]
     for variant, factor in (("read as degrees", np.pi / 180), ("turned into degrees", 180 / np.pi)):
         scale = np.where(revolute, factor, 1.0)
         for rates, (q_, qd_, qdd_) in (("positions", (q * scale, qd, qdd)),
