@@ -76,6 +76,9 @@ CONVENTIONS = {
                        "triangle inequality, which PyBullet alters",
     "engine limit": "the engine cannot hold the model: PyBullet's getLinkState fails for a body of more than 128 "
                     "links",
+    "mimic form refused": "Pinocchio's mimic=True cannot build a mimic joint whose leader comes later in the tree, "
+                          "a mimic of a mimic, or a continuous joint coupled to one that is not (configurations of "
+                          "different sizes); course_dynamics honours them (Model.mimic_forms names each)",
 }
 #: The refusals a convention explains: engine → (a phrase of its message, the convention).
 KNOWN_REFUSALS = {
@@ -83,6 +86,7 @@ KNOWN_REFUSALS = {
                ("inertia must have positive eigenvalues", "inertia refused"),
                ("mass and inertia of moving bodies must be larger than mjMINVAL", "inertia refused")),
     "pybullet": (("getLinkState serves a body of at most", "engine limit"),),
+    "pinocchio": (("cannot build mimic joint", "mimic form refused"),),
 }
 #: Engines whose inertias may differ from the URDF's in their axes only, and by how much (relative, per term).
 ROTATING_ENGINES = {"pybullet": 1e-6}

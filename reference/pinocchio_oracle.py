@@ -27,6 +27,8 @@ convention of ``Friction.from_urdf``; Pinocchio's mimic model keeps the leader's
 """
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pinocchio as pin
 
@@ -47,12 +49,30 @@ def _build_model(urdf, mimic: bool = False):
             captured.seek(0)
             said = [line.strip() for line in captured.read().decode("utf-8", "replace").splitlines() if line.strip()]
             reason = said[0] if said else str(exc).splitlines()[0]
+            forms = _mimic_forms(urdf) if mimic else ()
+            if forms:
+                raise InputError(f"{urdf}: Pinocchio {pin.__version__} cannot build mimic joint " + "; ".join(
+                    f"'{joint}' ({why})" for joint, why in forms) + ", a form course_dynamics honours, so there "
+                    "is nothing to compare with") from None
             raise InputError(f"{urdf}: Pinocchio cannot read this URDF ({reason}); our loader is more lenient "
                              "(for example about joints without <limit>), "
                              "so there is nothing to compare with") from None
         finally:
             os.dup2(saved, 2)
             os.close(saved)
+
+
+def _mimic_forms(urdf) -> tuple:
+    """The mimic forms of ``urdf`` Pinocchio cannot build (``Model.mimic_forms``), () when it does not load."""
+    from course_dynamics.base.errors import ModelError
+    from course_dynamics.core.urdf import load_urdf
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # the caller loaded the model already, and warned as it did
+            return load_urdf(urdf, allow_nonphysical_inertia=True).mimic_forms
+    except ModelError:
+        return ()
 
 
 class PinocchioOracle:
@@ -174,7 +194,11 @@ class PinocchioOracle:
         return self._ours(tau.copy())
 
     def M(self, q) -> np.ndarray:
-        A = pin.crba(self.model, self.data, self.configuration(q)).copy()
+        # Pinocchio 4.1's crba on a mimic model whose mimic is in another branch than its leader leaves Data
+        # stale: a second call on one Data gives a wrong M. A fresh Data per call on mimic models; the shared
+        # one without mimic joints.
+        data = self.model.createData() if self.has_mimic else self.data
+        A = pin.crba(self.model, data, self.configuration(q)).copy()
         A = np.triu(A) + np.triu(A, 1).T  # crba fills the upper triangle only
         return self._ours_matrix(A)
 

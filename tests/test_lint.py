@@ -75,6 +75,15 @@ MUTATIONS = {
     "zero-axis": (arm_urdf(axis="0 0 0"), "joint2"),
     "axis-not-unit": (arm_urdf(axis="0 0 2"), "joint2"),
     "mimic-joint": (second(arm_urdf(), LIMIT, LIMIT + '<mimic joint="joint1" multiplier="1"/>'), "joint2"),
+    "mimic-on-fixed": (arm_urdf(extra='<link name="plate"/><joint name="bolt" type="fixed"><parent link="link2"/>'
+                                      '<child link="plate"/><mimic joint="joint1" multiplier="nan"/></joint>'), "bolt"),
+    "mimic-pinocchio-cannot-build": (second(arm_urdf(), LIMIT, LIMIT + '<mimic joint="joint1" multiplier="0.5"/>')
+                                     .replace("</robot>", LINK.format(name="link3", mass="1.0", ixx="0.01",
+                                                                      iyy="0.01", izz="0.01")
+                                              + JOINT.format(name="joint3", type="revolute", parent="link2",
+                                                             child="link3", axis="0 0 1").replace(
+                                                  "</joint>", '<mimic joint="joint2"/></joint>') + "</robot>"),
+                                     "joint3"),
     "damping-friction": (second(arm_urdf(), LIMIT, LIMIT + '<dynamics damping="0.1" friction="0.2"/>'), "joint2"),
     "padded-number": (arm_urdf(mass="1.0 "), "link2"),
     "incomplete-inertial": (second(arm_urdf(), '<mass value="1.0"/>', ""), "link2"),
@@ -139,7 +148,8 @@ def test_each_class_is_named_with_its_link_or_joint(tmp_path, rule):
 # (An inertia with a negative moment that also breaks the triangle
 # inequality is one finding: one per tensor.)
 ALSO = {"no-mass": {"missing-inertial"}, "joint-carries-nothing": {"missing-inertial"},
-        "incomplete-inertial": {"zero-mass"}, "units-slip": {"mass-beyond-effort"}}
+        "incomplete-inertial": {"zero-mass"}, "units-slip": {"mass-beyond-effort"},
+        "mimic-pinocchio-cannot-build": {"mimic-joint"}}
 
 
 @pytest.mark.parametrize("robot", list(robot_names()))
@@ -433,3 +443,26 @@ def test_the_wording_says_what_is_true(tmp_path):
     lines = text.splitlines()
     (finding,) = [f for f in lint_text(tmp_path, text).findings if f.rule == "negative-mass"]
     assert finding.line == lines.index('<link name="link2">') + 1
+
+
+def test_what_the_loader_refuses_about_a_joint_is_on_that_joints_line(tmp_path):
+    """A cycle of mimics: the refusal names joint 'ja' and points at its element, not at <robot>."""
+    lines = ['<?xml version="1.0"?>', '<robot name="cycle">', '<link name="base"/>', LINK1, LINK2,
+             JOINT.format(name="ja", type="revolute", parent="base", child="link1", axis="0 0 1").replace(
+                 "</joint>", '<mimic joint="jb"/></joint>'),
+             JOINT.format(name="jb", type="revolute", parent="link1", child="link2", axis="0 0 1").replace(
+                 "</joint>", '<mimic joint="ja"/></joint>'), "</robot>"]
+    refused = [f for f in lint_text(tmp_path, "\n".join(lines)).findings if f.rule == "refused"]
+    assert [(f.element, f.name, f.line, f.severity) for f in refused] == [("joint", "ja", 6, "error")], refused
+    assert "its mimics form a cycle" in refused[0].message
+
+
+@pytest.mark.parametrize("mimic, fragment", [
+    ('<mimic joint="joint1" multiplier="1e200"/>', "multiplier of 1e+200"),
+    ('<mimic joint="joint1" multiplier="1e308"/>', "multiplier of 1e+308"),
+    ('<mimic joint="joint1" multiplier="2"/><mimic joint="joint1" multiplier="3"/>', "2 <mimic> elements"),
+])
+def test_a_coupling_the_loader_refuses_is_an_error_on_the_mimics_line(tmp_path, capsys, mimic, fragment):
+    (tmp_path / "bad.urdf").write_text(second(arm_urdf(), LIMIT, LIMIT + mimic))
+    code, out, err = run(capsys, "lint", str(tmp_path / "bad.urdf"))
+    assert code == 1 and not err and f"error [refused] joint 'joint2': " in out and fragment in out, out

@@ -314,6 +314,9 @@ def _square_jacobian(model: Model, q: np.ndarray, frame: str, expressed_in: str,
     if q.ndim != 1 or q.dtype == object:
         raise InputError(f"{caller} takes one numeric state")
     indices = row_indices(rows)
+    if model.n > len(ROW_NAMES):
+        raise InputError(f"robot '{model.name}' has {model.n} joints, more than the {len(ROW_NAMES)} task rows: a "
+                         "redundant robot has no Cartesian mass matrix of (6.99), which needs a square Jacobian")
     if len(indices) != model.n:
         raise InputError(
             f"the task has {len(indices)} rows but robot '{model.name}' has {model.n} joints: "

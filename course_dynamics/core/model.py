@@ -64,6 +64,14 @@ from .joints import KINDS
 #: g at the Earth's surface in m/s², pointing down the base frame's z axis (the default of every model).
 STANDARD_GRAVITY = (0.0, 0.0, -9.81)
 JOINT_TYPES = tuple(KINDS)  # what each does: course_dynamics.core.joints
+#: The sizes a mimic coupling θ = a θ_leader + b may have, declared or composed along a chain of mimics: a = 0
+#: (the joint held at b) or 1e-6 ≤ |a| ≤ 1e6, and |b| ≤ 1e6 (rad or m). No gear or linkage ratio is near 1e6;
+#: beyond, the mimic's share of M (a² times its inertia) and its limits mapped onto the leader ((limit − b)/a)
+#: leave the range where they mean anything (a = 1e308 gives limits of ±2e-308 and an M of inf), and an offset
+#: over 1e6 rad is resolved to no better than 1e-10 by a double.
+MIMIC_MULTIPLIER_RANGE = (1e-6, 1e6)
+#: The largest offset of a mimic coupling, declared or composed, rad or m (``MIMIC_MULTIPLIER_RANGE`` says why).
+MAX_MIMIC_OFFSET = 1e6
 
 
 def _frozen_array(values, shape, what: str) -> np.ndarray:
@@ -82,6 +90,17 @@ def _is_numeric(values) -> bool:
     except (TypeError, ValueError):
         return False
     return True
+
+
+def _check_coupling(joint: str, what: str, a: float, b: float) -> None:
+    """Refuse a coupling θ = a θ_leader + b outside ``MIMIC_MULTIPLIER_RANGE`` and ``MAX_MIMIC_OFFSET``."""
+    smallest, largest = MIMIC_MULTIPLIER_RANGE
+    if not (a == 0 or smallest <= abs(a) <= largest):
+        raise ModelError(f"joint '{joint}': {what} gives a multiplier of {a:g}; a coupling needs 0 or "
+                         f"{smallest:g} <= |multiplier| <= {largest:g}")
+    if not abs(b) <= MAX_MIMIC_OFFSET:
+        raise ModelError(f"joint '{joint}': {what} gives an offset of {b:g}; a coupling needs |offset| <= "
+                         f"{MAX_MIMIC_OFFSET:g}")
 
 
 @dataclass(frozen=True)
@@ -137,7 +156,7 @@ class Body:
     ------
     ModelError
         If a vector or matrix has the wrong shape, ``joint_type`` is not one the dynamics takes, or a mimic's
-        multiplier or offset is not finite.
+        multiplier or offset is not finite or outside ``MIMIC_MULTIPLIER_RANGE`` or ``MAX_MIMIC_OFFSET``.
 
     Examples
     --------
@@ -173,6 +192,8 @@ class Body:
         if not (np.isfinite(self.multiplier) and np.isfinite(self.offset)):
             raise ModelError(f"joint '{self.joint}': mimic multiplier {self.multiplier} and offset {self.offset} "
                              "must be finite")
+        if self.mimic:
+            _check_coupling(self.joint, "its <mimic>", self.multiplier, self.offset)
         for name, shape in (("R0", (3, 3)), ("P", (3,)), ("axis", (3,)), ("p_com", (3,)), ("I_com", (3, 3))):
             object.__setattr__(self, name, _frozen_array(getattr(self, name), shape, f"body '{self.name}' {name}"))
         if self.joint_type not in JOINT_TYPES:
@@ -296,7 +317,8 @@ class Model:
     ------
     ModelError
         If a body's parent does not come before it, ``gravity`` is not of shape (3,), or a mimic joint names no
-        moving joint of the robot or its mimics form a cycle (naming the joint).
+        moving joint of the robot, its mimics form a cycle or compose to a coupling outside
+        ``MIMIC_MULTIPLIER_RANGE`` or ``MAX_MIMIC_OFFSET`` (naming the joint).
 
     Examples
     --------
@@ -324,8 +346,11 @@ class Model:
         if self.has_mimic:
             self.coupling  # noqa: B018 (resolved now: a missing leader or a cycle is refused when built)
             for j in np.flatnonzero(self.lower > self.upper):
-                raise ModelError(f"joint '{self.joint_names[j]}': its limits and those of the joints that mimic it "
-                                 f"leave no position (lower {self.lower[j]:g} > upper {self.upper[j]:g})")
+                mimics = [f"'{body.joint}'" for body, (column, _, _) in zip(self.bodies, self.coupling)
+                          if column == j and body.mimic and (np.isfinite(body.lower) or np.isfinite(body.upper))]
+                raise ModelError(f"joint '{self.joint_names[j]}': its limits and those of joint "
+                                 f"{', '.join(mimics)} that mimic{'s' if len(mimics) == 1 else ''} it leave no "
+                                 f"position (lower {self.lower[j]:g} > upper {self.upper[j]:g})")
 
     @property
     def n(self) -> int:
@@ -371,8 +396,29 @@ class Model:
                 a, b = a * self.bodies[k].multiplier, a * self.bodies[k].offset + b  # θ = a (m θ_l + o) + b
                 seen.append(leader)
                 k = by_joint[leader]
+                _check_coupling(body.joint, f"its chain of mimics ({' -> '.join(seen)})", a, b)
             coupling.append((column[k], a, b))
         return tuple(coupling)
+
+    @cached_property
+    def mimic_forms(self) -> tuple[tuple[str, str], ...]:
+        """(joint, why) for each mimic joint of a form honoured here that Pinocchio 4.1's ``mimic=True`` cannot
+        build: its leader later in the tree, a mimic of a mimic, or a continuous joint coupled to one that is
+        not (configurations of different sizes, (cos θ, sin θ) against θ)."""
+        by_joint = {body.joint: k for k, body in enumerate(self.bodies)}
+        forms = []
+        for k, body in enumerate(self.bodies):
+            if not body.mimic:
+                continue
+            leader = self.bodies[by_joint[body.mimic]]
+            if by_joint[body.mimic] > k:
+                forms.append((body.joint, f"its leader '{leader.joint}' comes later in the tree"))
+            elif leader.mimic:
+                forms.append((body.joint, f"its leader '{leader.joint}' is itself a mimic"))
+            elif (body.joint_type == "continuous") != (leader.joint_type == "continuous"):
+                forms.append((body.joint, f"it is {body.joint_type} and its leader '{leader.joint}' "
+                              f"{leader.joint_type}: configurations of different sizes"))
+        return tuple(forms)
 
     @property
     def has_mimic(self) -> bool:
@@ -589,4 +635,4 @@ class Model:
         return replace(self, gravity=np.asarray(gravity, dtype=float))
 
 
-__all__ = ["Body", "Frame", "Model", "STANDARD_GRAVITY"]
+__all__ = ["Body", "Frame", "MAX_MIMIC_OFFSET", "MIMIC_MULTIPLIER_RANGE", "Model", "STANDARD_GRAVITY"]

@@ -14,8 +14,11 @@ What is read, and how (see the site's "Known limits" for what is not):
   independent joints only, as Pinocchio's ``buildModelFromUrdf(..., mimic=True)``);
   its torque maps onto the leader through Sᵀ (:mod:`course_dynamics.core.model`).
   A mimic of a mimic is composed; a mimic naming no joint, a fixed joint, itself
-  through a cycle, or with a non-finite multiplier or offset is refused naming the
-  joint. A ``<mimic>`` on a fixed joint moves nothing and is not read;
+  through a cycle, with a non-finite multiplier or offset, or one (declared or
+  composed) outside ``MIMIC_MULTIPLIER_RANGE`` / ``MAX_MIMIC_OFFSET`` of
+  :mod:`~course_dynamics.core.model`, and a joint with two ``<mimic>`` elements,
+  are refused naming the joint. A ``<mimic>`` on a fixed joint moves nothing and is
+  not read (its values neither);
 * ``<dynamics damping friction>`` is kept on the body for the friction models.
 
 Every problem raises :class:`~course_dynamics.base.errors.ModelError` with one line naming the file and the
@@ -159,8 +162,8 @@ def load_urdf(path, gravity=STANDARD_GRAVITY, allow_nonphysical_inertia: bool = 
     if not specs:
         raise ModelError(f"{where}: no revolute, continuous or prismatic joint: nothing moves")
     _check_mimics(where, robot.joints)
-    bodies = [_body(where, spec, lump) for spec, lump in zip(specs, lumps)]
     try:
+        bodies = [_body(where, spec, lump) for spec, lump in zip(specs, lumps)]
         return Model(name=robot.name, bodies=tuple(bodies), gravity=gravity, source=where, base_link=roots[0],
                      frames=tuple(frames))
     except ModelError as exc:
@@ -225,8 +228,8 @@ def check_numbers(root, where: str) -> None:
     Raises
     ------
     ModelError
-        At the first number URDF does not write (``1_000``, ``heavy``, a wrong count of values, an angle over
-        ``MAX_ANGLE``, a value too small for a double), naming the link or joint.
+        At the first number URDF does not write (``1_000``, ``heavy``, an empty attribute, a wrong count of
+        values, an angle over ``MAX_ANGLE``, a value too small for a double), naming the link or joint.
 
     Examples
     --------
@@ -244,6 +247,9 @@ writes them (ASCII digits, '.', an exponent)
             for attribute, text in element.attrib.items():
                 if not (attribute in NUMERIC_ATTRIBUTES or (element.tag == "mass" and attribute == "value")):
                     continue
+                if not text.strip():
+                    raise ModelError(f"{where}: {_owner(element)}: <{element.tag} {attribute}=\"{text}\">: empty, "
+                                     "a number is expected (or leave the attribute out)")
                 count = VALUE_COUNTS.get(attribute)
                 if count is not None and len(text.split()) != count:
                     raise ModelError(f"{where}: {_owner(element)}: <{element.tag} {attribute}=\"{text[:60]}\">: "
@@ -349,7 +355,8 @@ def read_description(path):
     ------
     ModelError
         Naming the file and the problem: missing, not a regular file, too large, empty, with a DTD, not
-        well-formed XML, a number or namespace URDF does not write, or what yourdfpy refuses.
+        well-formed XML, a number or namespace URDF does not write, a joint with two ``<mimic>``, or what
+        yourdfpy refuses.
 
     Examples
     --------
@@ -367,6 +374,10 @@ def read_description(path):
     root = read_tree(path)
     check_namespaces(root, str(path))
     check_numbers(root, str(path))
+    for joint in root.iter("joint"):
+        if len(joint.findall("mimic")) > 1:   # yourdfpy would keep the first silently
+            raise ModelError(f"{path}: joint '{joint.get('name')}': {len(joint.findall('mimic'))} <mimic> elements; "
+                             "a joint follows at most one joint")
     logging.getLogger("yourdfpy").setLevel(logging.CRITICAL)
     try:
         urdf = yourdfpy.URDF.load(

@@ -233,6 +233,12 @@ def plan_columns(model: Model, theirs: Iterable[str], *, columns: Mapping[str, s
     columns, constants = dict(columns or {}), dict(constants or {})
     ours = ["t"] + joint_columns(KINDS + MEASURED + (APPLIED if applied else ()), model.joint_names)
     for name in list(columns) + list(constants):
+        for k, body in enumerate(model.bodies):
+            prefix = name.removesuffix(f"_{body.joint}")
+            if name not in ours and body.mimic and prefix != name and prefix in KINDS + MEASURED + APPLIED:
+                leader = model.joint_names[model.coupling[k][0]]
+                raise InputError(f"column map: '{name}': joint '{body.joint}' is a mimic of joint '{leader}' and has "
+                                 f"no column of its own; set or map {prefix}_{leader} (it moves with that one)")
         if name not in ours:
             raise InputError(f"column map: '{name}' is none of our columns (t, q_<joint>, qd_<joint>, qdd_<joint>, "
                              f"{'tau_<joint>, ' if applied else ''}tau_meas_<joint>, current_<joint> for joints "

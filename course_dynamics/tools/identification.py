@@ -324,9 +324,11 @@ def _weighted_fit(R, counts, where):
     return sigma, theta, np.sqrt(np.maximum(np.diag(covariance), 0.0)), S / S[0], Vt
 
 
-def _scales(model, lengths, theta_wls, columns, where) -> np.ndarray:
+def _scales(model, lengths, theta_wls, columns, where, urdf_values) -> np.ndarray:
     """S: body i's mᵢ, mᵢ ℓᵢ, mᵢ ℓᵢ² (the URDF's mass, or the bodies' RMS mass for a massless one), and each friction
-    kind's RMS coefficient in the weighted fit (1 without one)."""
+    kind's RMS coefficient in the weighted fit or in the URDF (``urdf_values``, in ``columns``' order), the larger
+    (1 without either). A log without friction fits coefficients of round-off size: as a scale alone they would
+    count friction as unseen and hold it at the URDF's, which the log contradicts by far more than its noise."""
     masses = np.array([float(b.mass) for b in model.bodies])
     typical = np.sqrt(np.mean(masses[masses > 0] ** 2)) if np.any(masses > 0) else 1.0
     masses = np.where(masses > 0, masses, typical)
@@ -337,7 +339,8 @@ def _scales(model, lengths, theta_wls, columns, where) -> np.ndarray:
     for kind in ("viscous", "coulomb"):
         ks = [k for k, (c, _) in enumerate(columns) if c == kind]
         values = np.array([abs(estimate.get(n_rigid + k, 0.0)) for k in ks])
-        size = np.sqrt(np.mean(values**2)) if len(values) else 0.0
+        urdf = np.abs(np.asarray(urdf_values, dtype=float)[ks])
+        size = max(np.sqrt(np.mean(values**2)), np.sqrt(np.mean(urdf**2))) if len(values) else 0.0
         friction[ks] = size if size > 0 else 1.0
     return np.concatenate([scale, friction])
 
@@ -479,7 +482,7 @@ def identify(model: Model, log: JointLog, friction: str = "both", holdout: float
     min_mass = np.maximum(MIN_MASS_SHARE * masses, MIN_MASS) if min_mass is None else np.asarray(min_mass, float)
     names = tuple(parameter_names(model)) + tuple(f"{SYMBOLS[kind]}_{model.joint_names[j]}" for kind, j in columns)
     lengths = link_extents(model)
-    scale = _scales(model, lengths, theta_wls, columns, fitted)
+    scale = _scales(model, lengths, theta_wls, columns, fitted, theta_urdf[n_rigid:])
     free = np.ones(len(theta_urdf), dtype=bool)
     for k in held_bodies:
         free[10 * k:10 * k + 10] = False

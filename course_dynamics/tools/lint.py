@@ -41,10 +41,9 @@ from ..core.urdf import (
     URDF_NUMBER,
     check_namespaces,
     check_numbers,
-    load_urdf,
     read_tree,
 )
-from .lint_classes import CLASSES, SEVERITIES, Finding, empty_subtrees
+from .lint_classes import CLASSES, SEVERITIES, Finding, empty_subtrees, loader_findings
 from .lint_geometry import geometry_findings, shape
 from .lint_inertia import inertia_findings
 from .lint_scale import scale_findings
@@ -458,7 +457,10 @@ def _joints(robot: Robot):
         elif joint.type in MOVING and abs(norm - 1) > UNIT_AXIS:
             yield Finding("axis-not-unit", "joint", joint.name, f"{owner}: axis {joint.axis.tolist()} has length "
                           f"{norm:.6g}", line)
-        if joint.mimic is not None:
+        if joint.mimic is not None and joint.type == "fixed":
+            yield Finding("mimic-on-fixed", "joint", joint.name, f"{owner} is fixed: its <mimic> of joint "
+                          f"'{joint.mimic}' moves nothing and is ignored, its multiplier and offset unread", line)
+        elif joint.mimic is not None:
             known = any(other.name == joint.mimic for other in robot.joints)
             yield Finding("mimic-joint", "joint", joint.name, f"{owner} mimics joint '{joint.mimic}'"
                           + (": honoured, it moves with that joint's coordinate and has none of its own, as "
@@ -583,11 +585,7 @@ def lint_urdf(path) -> LintReport:
                 diagnosed.add(finding.name)
             findings.append(finding)
     if not any(f.severity == "error" for f in findings):
-        try:
-            load_urdf(robot.path, allow_nonphysical_inertia=False)
-        except ModelError as refusal:
-            findings.append(Finding("refused", "robot", robot.name, str(refusal).removeprefix(f"{robot.path}: "),
-                                    robot.line))
+        findings += loader_findings(robot)
     order = sorted(range(len(findings)), key=lambda i: (findings[i].line or 0, -SEVERITIES.index(
         findings[i].severity), i))
     return LintReport(robot.path, robot.name, tuple(findings[i] for i in order))

@@ -20,7 +20,11 @@ that carries nothing", run by the linter on a URDF's links and by ``validate`` a
 """
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
+
+from ..base.errors import ModelError
+from ..core.urdf import load_urdf
 
 #: The severities, weakest first.
 SEVERITIES = ("note", "warning", "error")
@@ -144,6 +148,12 @@ CLASSES: dict[str, LintClass] = _classes(
      "Give states and logs one value per independent joint: the mimic joint follows multiplier * q + offset of "
      "the joint it names, and its torque acts on that joint's; engines that ignore <mimic> (PyBullet) give it a "
      "coordinate of its own."),
+    ("mimic-on-fixed", "warning", "a <mimic> on a fixed joint, which moves nothing: ignored",
+     "Remove the <mimic>, or make the joint revolute, continuous or prismatic if it is meant to follow another."),
+    ("mimic-pinocchio-cannot-build", "note", "a mimic of a form honoured here that Pinocchio 4.1 cannot build: its "
+     "leader later in the tree, a mimic of a mimic, or a continuous joint coupled to one that is not",
+     "Nothing to change for course-dynamics; for Pinocchio, name the leader's own leader, order the leader "
+     "first, or give both joints one type (validate and crosscheck say why Pinocchio is not compared)."),
     ("damping-friction", "note", "a joint <dynamics damping friction> that engines treat differently",
      f"Know where it counts: course-dynamics uses it only with --friction urdf; {NO_FRICTION_ENGINES}."),
 )
@@ -227,4 +237,39 @@ def empty_subtrees(parents, loaded) -> list[bool]:
     return [not x for x in carries]
 
 
-__all__ = ["CLASSES", "Finding", "LintClass", "SEVERITIES", "empty_subtrees"]
+def loader_findings(robot) -> list[Finding]:
+    """What the loader says of a file the checks found no error in: its refusal (``refused``, on the line of the
+    first joint or link it names), or a note per mimic of a form Pinocchio cannot build
+    (``mimic-pinocchio-cannot-build``, :attr:`~course_dynamics.core.model.Model.mimic_forms`).
+
+    Parameters
+    ----------
+    robot : course_dynamics.tools.lint.Robot
+        The file as the checks read it (its path, name, line, links and joints with their lines).
+
+    Returns
+    -------
+    list of Finding
+        None for a file the loader reads with no such mimic.
+    """
+    try:
+        model = load_urdf(robot.path, allow_nonphysical_inertia=False)
+    except ModelError as refusal:
+        message = str(refusal).removeprefix(f"{robot.path}: ")
+        element, name, line = _named_in(robot, message)
+        return [Finding("refused", element, name, message, line)]
+    return [Finding("mimic-pinocchio-cannot-build", "joint", joint, f"joint '{joint}': {why}: honoured here, but "
+                    "Pinocchio 4.1's mimic=True cannot build it (validate and crosscheck have no Pinocchio to "
+                    "compare with)", _named_in(robot, f"joint '{joint}'")[2]) for joint, why in model.mimic_forms]
+
+
+def _named_in(robot, message: str) -> tuple:
+    """(element, name, line) of the first link or joint ``message`` names that the file has, else the robot's."""
+    items = {("joint", j.name): j.line for j in robot.joints} | {("link", k.name): k.line for k in robot.links}
+    for kind, name in re.findall(r"\b(joint|link) '([^']*)'", message):
+        if (kind, name) in items:
+            return kind, name, items[kind, name]
+    return "robot", robot.name, robot.line
+
+
+__all__ = ["CLASSES", "Finding", "LintClass", "SEVERITIES", "empty_subtrees", "loader_findings"]
