@@ -129,7 +129,7 @@ def opposite_sign(answer: Answer) -> Finding | None:
                    ("opposite sign", *found), conclusive=True)
 
 
-#: An answer whose every entry is below this share of the term's scale (and of our value) is zero: round-off.
+#: The share of the term's scale, and of our value, below which every entry of an answer counts as zero (round-off).
 ZERO = 1e-9
 
 

@@ -241,7 +241,7 @@ class Scales:
         return cls(max(float(b.mass) for b in model.bodies), max(lengths, default=0.0) or 1.0)
 
     def unit(self, name: str) -> float:
-        """The scale of a physical parameter named as :func:`_physical` names them (m, centre of mass …, I_C,…).
+        """The scale of a physical parameter named as ``_physical`` names them (m, centre of mass …, I_C,…).
 
         Parameters
         ----------

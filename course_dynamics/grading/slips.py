@@ -35,8 +35,8 @@ code                      the mistake                    equations it can be mad
 ``notes-6.50``            (6.50) as printed: ⁱIᵢ about     (6.50)
                           the origin in ω × I ω only
 ``notes-6.51``            (6.51) as printed: ⁱIᵢ₊₁        (6.51)
-                          ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁ + ⁱFᵢ, link i+1's
-                          tensor (``I[i + 1]``)
+                          ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁ + ⁱFᵢ, link
+                          i+1's tensor (``I[i + 1]``)
 ``notes-6.52``            (6.52) as printed: ⁱNᵢ₊₁,       (6.52)
                           ⁱPᵢ × ⁱFᵢ, ⁱ⁺¹fᵢ₊₁ unrotated;
                           all three, or one of them
