@@ -246,6 +246,24 @@ def map_files(args) -> list[str]:
     return [text for text in args.map or () if "=" not in text]
 
 
+def check_log_outputs(args, model) -> None:
+    """Before a long log is read: ``--out -`` and ``--json`` not both on standard output, ``--plot``'s format and
+    panels, no output replacing an input (the log, the URDF, a ``--map`` file), every output writable."""
+    from ..output import io
+
+    if args.out == io.STDOUT and args.json:
+        raise UsageError("--out - and --json both want standard output; write the CSV to a file")
+    if args.plot:
+        from ..output.plotting import FIGURE_FORMATS, check_panels, plot_format
+
+        plot_format(args.plot, FIGURE_FORMATS)
+        check_panels(model)
+    io.check_distinct([args.log, model.source or None, *map_files(args)], [args.out, args.plot])
+    for target in (args.out, args.plot):
+        if target:
+            io.check_writable(target)
+
+
 def open_log_argument(args, model, path):
     """The log at ``path`` as ``--log-format``, ``--topic`` and ``--decimal`` say (a LogSource)."""
     from ..tools.sources import open_log

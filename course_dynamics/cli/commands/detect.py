@@ -6,20 +6,8 @@ import sys
 from ...base.text import one_line
 from ...output import io, render
 from ..options import (
-    UsageError,
-    add_all,
-    add_differentiation_arguments,
-    add_friction_arguments,
-    add_log_arguments,
-    add_robot_argument,
-    column_map,
-    constants,
-    friction,
-    joint_values,
-    load_robot_argument,
-    map_files,
-    numbers,
-    open_log_argument,
+    UsageError, add_all, add_differentiation_arguments, add_friction_arguments, add_log_arguments, add_robot_argument,
+    check_log_outputs, column_map, constants, friction, joint_values, load_robot_argument, numbers, open_log_argument,
     progress_bar,
 )
 
@@ -64,17 +52,7 @@ def run(args) -> int:
     threshold = None if args.threshold is None else _per_joint(args.threshold, "--threshold", model)
     if args.link is not None:
         model.frame(args.link)
-    if args.out == io.STDOUT and args.json:
-        raise UsageError("--out - and --json both want standard output; write the CSV to a file")
-    if args.plot:
-        from ...output.plotting import FIGURE_FORMATS, check_panels, plot_format
-
-        plot_format(args.plot, FIGURE_FORMATS)
-        check_panels(model)
-    io.check_distinct([args.log, model.source or None, *map_files(args)], [args.out, args.plot])
-    for target in (args.out, args.plot):  # fail before reading a long log
-        if target:
-            io.check_writable(target)
+    check_log_outputs(args, model)  # fail before reading a long log
     constants_k = (None if args.torque_constant is None
                    else joint_values(args.torque_constant, "--torque-constant", model))
     bar = progress_bar(args, total=None, unit="step")

@@ -16,23 +16,9 @@ from ...tools.logs import torques_from_log
 from ...tools.retiming import retime, retimed_log
 from ..flags import FLAGS
 from ..options import (
-    UsageError,
-    add,
-    add_all,
-    add_differentiation_arguments,
-    add_friction_arguments,
-    add_log_arguments,
-    add_robot_argument,
-    column_map,
-    constants,
-    friction,
-    joint_values,
-    load_robot_argument,
-    map_files,
-    numbers,
-    open_log_argument,
-    progress_bar,
-    progress_callback,
+    UsageError, add, add_all, add_differentiation_arguments, add_friction_arguments, add_log_arguments,
+    add_robot_argument, check_log_outputs, column_map, constants, friction, joint_values, load_robot_argument, numbers,
+    open_log_argument, progress_bar, progress_callback,
 )
 
 HELP = "joint torques along a trajectory log, and a limits report"
@@ -151,17 +137,7 @@ def run(args) -> int:
     if args.margin is not None and not args.retime:
         raise UsageError("--margin is the share of the limits --retime keeps clear of: give --retime")
     margin = FLAGS["--margin"]["default"] if args.margin is None else args.margin
-    if args.out == io.STDOUT and args.json:
-        raise UsageError("--out - and --json both want standard output; write the CSV to a file")
-    if args.plot:
-        from ...output.plotting import FIGURE_FORMATS, check_panels, plot_format
-
-        plot_format(args.plot, FIGURE_FORMATS)
-        check_panels(model)
-    io.check_distinct([args.log, model.source or None, *map_files(args)], [args.out, args.plot])
-    for target in (args.out, args.plot):  # fail before reading a long log
-        if target:
-            io.check_writable(target)
+    check_log_outputs(args, model)  # fail before reading a long log
     constants_k = (None if args.torque_constant is None
                    else joint_values(args.torque_constant, "--torque-constant", model))
     bar = progress_bar(args, total=None, unit="step")
