@@ -64,13 +64,13 @@ from .joints import KINDS
 #: g at the Earth's surface in m/s², pointing down the base frame's z axis (the default of every model).
 STANDARD_GRAVITY = (0.0, 0.0, -9.81)
 JOINT_TYPES = tuple(KINDS)  # what each does: course_dynamics.core.joints
-#: The sizes a mimic coupling θ = a θ_leader + b may have, declared or composed along a chain of mimics: a = 0
-#: (the joint held at b) or 1e-6 ≤ |a| ≤ 1e6, and |b| ≤ 1e6 (rad or m). No gear or linkage ratio is near 1e6;
-#: beyond, the mimic's share of M (a² times its inertia) and its limits mapped onto the leader ((limit − b)/a)
-#: leave the range where they mean anything (a = 1e308 gives limits of ±2e-308 and an M of inf), and an offset
-#: over 1e6 rad is resolved to no better than 1e-10 by a double.
+#: The least and the largest size of a mimic coupling's multiplier a in θ = a θ_leader + b, declared or composed
+#: along a chain of mimics (a = 0, the joint held at b, is allowed too). No gear or linkage ratio is near 1e6, and
+#: beyond it the mimic's share of M (a² times its inertia) and its limits mapped onto the leader, (limit − b)/a,
+#: stop meaning anything (a = 1e308 gives limits of ±2e-308 and an M of inf).
 MIMIC_MULTIPLIER_RANGE = (1e-6, 1e6)
-#: The largest offset of a mimic coupling, declared or composed, rad or m (``MIMIC_MULTIPLIER_RANGE`` says why).
+#: The largest size of a mimic coupling's offset b, declared or composed, in rad or m (a double resolves an angle
+#: of 1e6 rad to about 1e-10 rad, and no joint is offset by more than a few turns or metres).
 MAX_MIMIC_OFFSET = 1e6
 
 
