@@ -909,3 +909,16 @@ def test_bad_roster_or_interface_keys_are_one_clear_line(tmp_path, capsys, line,
     assert main(["grade", str(tmp_path / "a.toml"), str(tmp_path / "s.py"), "--out", str(tmp_path / "out")]) == 2
     err = capsys.readouterr().err
     assert err.startswith("error: ") and message in err and len(err.strip().splitlines()) == 1, err
+
+
+def test_submissions_are_parsed_one_at_a_time_across_the_class_threads():
+    """CPython before 3.11.8 fails two concurrent parses ("AST constructor recursion depth mismatch"): a class is
+    graded in threads, so every parse goes through one lock."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from course_dynamics.grading.uploads import parse_python
+
+    source = "def tau(q, qd, qdd):\n" + "".join(f"    x{i} = [[[{i}] * 2] * 3]\n" for i in range(300)) + "    return x1\n"
+    with ThreadPoolExecutor(max_workers=4) as pool:
+        trees = list(pool.map(lambda k: parse_python(source, f"s{k}.py"), range(200)))
+    assert all(len(tree.body[0].body) == 301 for tree in trees)

@@ -61,7 +61,7 @@ from .robots import combined, hidden_assignments, robot_record
 from .sandbox import Limits, check_sandbox, run_submission
 from .score import score_outcome
 from .similarity import GENERATED, Comparison, fingerprints, generated_pairs, read_starter, similar_pairs
-from .uploads import read_notebook, roster_match
+from .uploads import parse_python, read_notebook, roster_match
 
 MAX_SOURCE_BYTES = 1_000_000
 FEEDBACK_OUTPUT = 20_000  # characters of a submission's printed output kept in its feedback
@@ -221,7 +221,7 @@ def check_source(source: str | None, problem: str, name: str, assignment: Assign
     if source is None:
         return "not python", problem
     try:
-        tree = ast.parse(source, filename=name)
+        tree = parse_python(source, name)
     except SyntaxError as exc:
         return "syntax error", f"{exc.msg} (line {exc.lineno})"
     except (ValueError, RecursionError, MemoryError) as exc:

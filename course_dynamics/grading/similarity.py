@@ -55,6 +55,7 @@ from ..core.compiled.tracing import trace_programs
 from ..core.model import Model
 from ..core.symbolic import derive
 from ..output.render import derivation_record
+from .uploads import parse_python
 
 #: Tokens per fingerprint.
 GRAM = 16
@@ -210,7 +211,7 @@ def _hash(tokens) -> int:
 
 def _grams(source: str, where: str) -> dict[int, tuple[int, int]]:
     try:
-        tree = ast.parse(source, filename=where)
+        tree = parse_python(source, where)
     except (SyntaxError, ValueError, RecursionError, MemoryError):
         return {}  # nothing to compare: the grader reports the file itself
     grams, own, imported, budget = {}, *_own_names(tree), MAX_TOKENS
@@ -271,7 +272,7 @@ def read_starter(path) -> Fingerprints:
         raise InputError(f"{path}: no such starter file")
     try:
         source = read_small(path, MAX_STARTER_BYTES, "starter file").decode("utf-8")
-        ast.parse(source, filename=str(path))
+        parse_python(source, str(path))
     except UnicodeDecodeError as exc:
         raise InputError(f"{path}: cannot read the starter file: {exc}") from None
     except SyntaxError as exc:
