@@ -80,6 +80,12 @@ CONVENTIONS = {
                           "a mimic of a mimic, or a continuous joint coupled to one that is not (configurations of "
                           "different sizes); course_dynamics honours them (Model.mimic_forms names each)",
 }
+#: What a check with drives says of them: compared (Pinocchio, MuJoCo), not compared (PyBullet, the offsets).
+DRIVE_NOTES = {
+    "armature": "the drives' rotor inertias are set on the engine and added by course_dynamics: compared as they are",
+    "pybullet": "PyBullet has no rotor inertia: compared without the drives",
+    "offset": "the drives' torque offsets are no engine's: they are added after the dynamics, and not compared",
+}
 #: The refusals a convention explains: engine → (a phrase of its message, the convention).
 KNOWN_REFUSALS = {
     "mujoco": (("inertia must satisfy A + B >= C", "inertia refused"),
@@ -185,7 +191,7 @@ def _evaluate(engine: Engine, ours: Engine, states, reference=None) -> tuple[dic
             arguments = _arguments(term, q, qd, qdd, tau)
             expected = getattr(reference, term)(*arguments)
             value = getattr(engine, term)(*arguments)
-            added = engine.parts(term, *arguments)
+            added = {k: v for k, v in engine.parts(term, *arguments).items() if k not in ours.included}
             plain = value - sum(added.values()) if added else value
             # Θ̈ is compared as the torque M·Θ̈ it stands for: an ill-conditioned M turns a round-off in τ into a
             # large ΔΘ̈ along its softest direction, which M·ΔΘ̈ weighs back to the round-off it is.
@@ -320,7 +326,7 @@ def _representation(engine: Engine, model, states) -> list[dict]:
     return out
 
 
-def check_engine(name: str, model, urdf, states, tolerance: float, armature=None) -> EngineCheck:
+def check_engine(name: str, model, urdf, states, tolerance: float, armature=None, drives=None) -> EngineCheck:
     """One engine against course_dynamics on ``states``; see :func:`crosscheck`.
 
     Parameters
@@ -337,6 +343,9 @@ def check_engine(name: str, model, urdf, states, tolerance: float, armature=None
         Relative.
     armature : array_like, shape (n,), optional
         Rotor inertias set on the engines that model them, kg·m² (kg).
+    drives : course_dynamics.core.drives.Drives, optional
+        Drives course_dynamics adds itself: their armature is set on the engines that model them and compared
+        with ours (no convention); an engine without rotor inertia (PyBullet) is compared without them.
 
     Returns
     -------
@@ -344,8 +353,9 @@ def check_engine(name: str, model, urdf, states, tolerance: float, armature=None
         Its status, raw and residual errors, conventions, notes and, when unexplained, the first body that parts.
     """
     version = _version(PACKAGES.get(name, name))
+    rotors = None if drives is None or name == "pybullet" else drives.armature
     try:
-        engine = load_engine(name, model, urdf, armature)
+        engine = load_engine(name, model, urdf, armature if rotors is None else rotors)
     except EngineUnavailable as exc:
         return EngineCheck(name, "skipped", reason=str(exc), notes=[f"{name} skipped: {exc}"])
     except EngineRefused as exc:
@@ -354,16 +364,20 @@ def check_engine(name: str, model, urdf, states, tolerance: float, armature=None
         return EngineCheck(name, "refused", version=version, reason=reason, explained=bool(known),
                            conventions=[{"name": c, "size": reason} for c in known])
     try:
-        return _compared(engine, model, urdf, version, states, tolerance)
+        check = _compared(engine, model, urdf, version, states, tolerance, rotors)
+        if drives is not None:
+            check.notes += [DRIVE_NOTES["pybullet" if rotors is None else "armature"]]
+            check.notes += [DRIVE_NOTES["offset"]] if drives.offset.any() else []
+        return check
     except EngineRefused as exc:  # an engine's call failed part way (one of its limits)
         return EngineCheck(name, "refused", version=version, reason=str(exc), explained=False)
     finally:
         engine.close()
 
 
-def _compared(engine: Engine, model, urdf, version: str, states, tolerance: float) -> EngineCheck:
+def _compared(engine: Engine, model, urdf, version: str, states, tolerance: float, rotors=None) -> EngineCheck:
     """The check of a loaded engine: residuals, conventions and, for what they leave, the first body that parts."""
-    name, ours = engine.name, Engine(model)
+    name, ours = engine.name, Engine(model, rotors)
     raw, residual, parts = _evaluate(engine, ours, states)
     check = EngineCheck(name, "compared", version=version, calls=dict(engine.call), raw=raw, residual=residual,
                         notes=list(engine.notes))
@@ -428,7 +442,7 @@ def _against_the_reference(checks: list[EngineCheck]) -> None:
 
 def crosscheck(name_or_path: str, samples: int = 3, seed: int = 0, tolerance: float = TOLERANCE,
                engines=ENGINES[1:], gravity=None, allow_nonphysical_inertia: bool = False,
-               armature=None) -> CrossCheck:
+               armature=None, drives=None) -> CrossCheck:
     """The same URDF through course_dynamics and each engine at seeded random states.
 
     Parameters
@@ -449,6 +463,9 @@ def crosscheck(name_or_path: str, samples: int = 3, seed: int = 0, tolerance: fl
         Load a link whose inertia breaks the triangle inequality (with a warning).
     armature : array_like, shape (n,), optional
         Rotor inertias, kg·m² (kg), set on MuJoCo and Pinocchio after loading (a URDF cannot say them).
+    drives : course_dynamics.core.drives.Drives, optional
+        A drives file's: its armature set on MuJoCo and Pinocchio and added by course_dynamics too, so that the
+        engines check our drives (:func:`check_engine`); instead of ``armature``.
 
     Returns
     -------
@@ -467,7 +484,7 @@ def crosscheck(name_or_path: str, samples: int = 3, seed: int = 0, tolerance: fl
     states = _states(model, samples, seed)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the variants a convention is checked against warn as the model did
-        checks = [check_engine(name, model, Path(urdf), states, tolerance, armature) for name in engines]
+        checks = [check_engine(name, model, Path(urdf), states, tolerance, armature, drives) for name in engines]
     _against_the_reference(checks)
     return CrossCheck(model.name, str(urdf), list(model.joint_names), samples, seed, tolerance, checks)
 

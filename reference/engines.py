@@ -47,6 +47,7 @@ import numpy as np
 
 from course_dynamics import forward_dynamics, forward_kinematics, gravity_torques, inverse_dynamics, mass_matrix
 from course_dynamics import velocity_torques
+from course_dynamics.core.drives import Drives
 
 ENGINES = ("course_dynamics", "pinocchio", "mujoco", "pybullet")
 MUJOCO_INERTIA_BOUND = 1e-15  # MuJoCo's mjMINVAL: the least mass (kg) and inertia (kg·m²) it takes for a moving body
@@ -129,22 +130,30 @@ class Engine:
     ----------
     model : course_dynamics.Model
         The robot as course_dynamics loaded it (its joint order and gravity are the comparison's).
+    rotors : array_like, shape (n,), optional
+        Rotor inertias (kg·m², kg) course_dynamics adds as its own drives
+        (:class:`~course_dynamics.core.drives.Drives`, no offsets): τ + Iₐ Θ̈, M + diag(Iₐ), and Θ̈ through
+        both. Their addition is then no convention of an engine that has it too (``included``).
     """
 
     name = "course_dynamics"
     call = {"tau": "inverse_dynamics", "M": "mass_matrix", "G": "gravity_torques", "bias": "velocity_torques + G",
             "forward": "forward_dynamics"}
 
-    def __init__(self, model):
+    def __init__(self, model, rotors=None):
         self.model = model
         self.notes: list[str] = []
         self.joint_order: list[str] = list(model.joint_names)  # the engine's own order of our joints
+        self.drives = None if rotors is None else Drives(armature=rotors, offset=np.zeros(model.n))
+        self.included = () if rotors is None else ("armature",)   # additions course_dynamics makes itself
 
     def tau(self, q, qd, qdd):
-        return inverse_dynamics(self.model, q, qd, qdd)
+        tau = inverse_dynamics(self.model, q, qd, qdd)
+        return tau if self.drives is None else tau + self.drives.torques(qdd)
 
     def M(self, q):
-        return mass_matrix(self.model, q)
+        M = mass_matrix(self.model, q)
+        return M if self.drives is None else self.drives.mass_matrix(M)
 
     def G(self, q):
         return gravity_torques(self.model, q)
@@ -153,7 +162,7 @@ class Engine:
         return velocity_torques(self.model, q, qd) + gravity_torques(self.model, q)
 
     def forward(self, q, qd, tau):
-        return forward_dynamics(self.model, q, qd, tau)
+        return forward_dynamics(self.model, q, qd, tau, drives=self.drives)
 
     def parts(self, term: str, *state) -> dict[str, np.ndarray]:
         """What each of the engine's own additions contributes to ``term`` at ``state`` (none here)."""
@@ -459,7 +468,7 @@ def load_engine(name: str, model, urdf, armature=None) -> Engine:
     if name == "pinocchio":
         engine = PinocchioEngine(model, urdf)
         if armature is not None:
-            engine.oracle.model.armature[engine.oracle.idx_v] = armature
+            engine.oracle.set_armature(armature)
         return engine
     if name == "mujoco":
         return MujocoEngine(model, urdf, armature)

@@ -240,6 +240,11 @@ class PinocchioOracle:
         """Coulomb coefficients (URDF ``<dynamics friction>``), our joint order."""
         return np.abs(self.S.T) @ np.asarray(self.plain.friction)  # |a| c of each joint on its coordinate
 
+    def set_armature(self, armature) -> None:
+        """Rotor inertias (kg·m², kg) on our coordinates, as Pinocchio's ``model.armature``: added to the diagonal
+        of crba's M and to rnea's τ (Iₐ Θ̈), and seen by aba."""
+        self.model.armature[self.idx_v] = np.asarray(armature, dtype=float)
+
     def aba(self, q, qd, tau) -> np.ndarray:
         """Θ̈ by the articulated-body algorithm (no friction); with mimic joints, M⁻¹ (τ − V − G)."""
         if self.has_mimic:

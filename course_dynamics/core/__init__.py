@@ -26,6 +26,7 @@ module                job
 ``lagrange``          the Lagrangian formulation (6.69)–(6.77): a second, independent path
 ``cartesian``         Jacobians and the operational-space terms (6.91)–(6.105)
 ``friction``          joint friction F(Θ̇) (6.110)–(6.112)
+``drives``            the joints' rotor inertias Iₐ and torque offsets τ₀, and their TOML file
 ``forward_dynamics``  Θ̈ = M⁻¹(τ − V − G − F) (6.115)
 ``regressor``         τ = Y(Θ, Θ̇, Θ̈) π and the base parameters, from the one recursion
 ``parameters``        the symbolic path's parameters: exact numbers, or the notes' symbols

@@ -67,6 +67,7 @@ from . import dynamics
 from . import forward_dynamics as interpreted_forward
 from . import newton_euler
 from .compiled import CompiledModel, CompileWarning, ProgramTooLargeError, cache_folder, compile_model, model_key
+from .drives import Driven, Drives
 from .friction import Friction
 from .model import Model
 from .state import as_state, batch_shape
@@ -621,9 +622,11 @@ def gravity_torques(model: Model, q) -> np.ndarray:
     return _run(model, q).gravity_torques(q)
 
 
-def forward_dynamics(model: Model, q, qd, tau, friction: Friction | None = None) -> np.ndarray:
+def forward_dynamics(model: Model, q, qd, tau, friction: Friction | None = None,
+                     drives: Drives | None = None) -> np.ndarray:
     """Θ̈ (6.115), shape (n,) or (N, n), by the chosen implementation; as
-    :func:`course_dynamics.core.forward_dynamics.forward_dynamics`.
+    :func:`course_dynamics.core.forward_dynamics.forward_dynamics`, with ``drives`` as
+    :class:`~course_dynamics.core.drives.Driven` adds them.
 
     Parameters
     ----------
@@ -637,6 +640,8 @@ def forward_dynamics(model: Model, q, qd, tau, friction: Friction | None = None)
         Applied joint torques τ, N·m (N for a prismatic joint).
     friction : Friction, optional
         Subtracted from τ as F(Θ̇) (6.114); default none.
+    drives : Drives, optional
+        Rotor inertias added to M's diagonal and torque offsets taken off τ; default none.
 
     Returns
     -------
@@ -658,11 +663,12 @@ def forward_dynamics(model: Model, q, qd, tau, friction: Friction | None = None)
     >>> np.round(forward_dynamics(load_robot("two_link"), [0.0, 0.5], [0, 0], [24.0, 5.0]), 6)
     array([4.623991, 0.030879])
     """
-    out = _native(model, "forward_dynamics", q, qd, tau) if friction is None else None
+    out = _native(model, "forward_dynamics", q, qd, tau) if friction is None and drives is None else None
     if out is not None:
         return out
     q, qd, tau = as_state(model, q, "q"), as_state(model, qd, "qd"), as_state(model, tau, "tau")
-    return _run(model, q, qd, tau).forward_dynamics(q, qd, tau, friction)
+    run = _run(model, q, qd, tau)
+    return (run if drives is None else Driven(run, drives)).forward_dynamics(q, qd, tau, friction)
 
 
 __all__ = ["CALL_SECONDS", "COMPILE_SECONDS", "Choice", "Interpreted", "NATIVE_SECONDS", "STATE_SECONDS", "choice",

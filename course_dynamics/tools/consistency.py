@@ -177,7 +177,7 @@ def _is_physical(p, min_mass) -> bool:
 
 
 def consistent_fit(model, R, sigma, count, theta_urdf, free, scale, lengths, names, prior_weight, threshold,
-                   min_mass) -> ConsistentFit:
+                   min_mass, at_least_zero=None) -> ConsistentFit:
     """The physically consistent θ (module docstring).
 
     Parameters
@@ -206,6 +206,9 @@ def consistent_fit(model, R, sigma, count, theta_urdf, free, scale, lengths, nam
         The share of the largest singular value of A S below which a direction counts as not seen.
     min_mass : numpy.ndarray, shape (n_bodies,)
         The least mass of each body, kg.
+    at_least_zero : dict of str to list of int, optional
+        The entries after the bodies' held ≥ 0, by what they are (``{"friction": [...], "armature": [...]}``);
+        default every one, as friction; an entry in none (a torque offset) has no bound.
 
     Returns
     -------
@@ -251,7 +254,9 @@ def consistent_fit(model, R, sigma, count, theta_urdf, free, scale, lengths, nam
     theta = theta_urdf + embed @ x
     basis, bodies = _basis(), [i for i in range(model.n_bodies) if free[10 * i:10 * i + 10].any()]
     priors = {i: prior_pseudo_inertia(theta_urdf[10 * i:10 * i + 10], scale[10 * i], lengths[i]) for i in bodies}
-    friction = [k for k in F if k >= n_rigid]
+    groups = {"friction": [k for k in range(n_rigid, P)]} if at_least_zero is None else at_least_zero
+    groups = {label: [k for k in F if k in set(ks)] for label, ks in groups.items()}
+    friction = sorted(k for ks in groups.values() for k in ks)
 
     def physical(theta, logdet):
         """The constraints, and Σ d(Jᵢ ‖ Jᵢ₀) less its constants when ``logdet``."""
@@ -289,8 +294,9 @@ def consistent_fit(model, R, sigma, count, theta_urdf, free, scale, lengths, nam
     for i in bodies:
         if free[10 * i] and kept[10 * i] <= min_mass[i] * (1 + 1e-6):
             active.append(f"body '{model.bodies[i].name}': mass at its least, {min_mass[i]:.4g} kg")
-    at_zero = [names[k] for k in friction if kept[k] <= 1e-9 * scale[k]]
-    active += [f"friction at 0: {', '.join(at_zero)}"] if at_zero else []
+    for label, ks in groups.items():
+        at_zero = [names[k] for k in ks if kept[k] <= 1e-9 * scale[k]]
+        active += [f"{label} at 0: {', '.join(at_zero)}"] if at_zero else []
     spent = np.zeros(model.n_bodies)
     for i in bodies:
         spent[i] = divergence(pseudo_inertia(kept[10 * i:10 * i + 10]), priors[i])

@@ -19,7 +19,10 @@ at the start, from the whole run's calls (:data:`CALLS_PER_STEP` a step) and ens
 about 100 Euler steps or 25 RK4 steps of one robot; ``compiled=True``/``False`` forces the choice.
 Any :data:`~course_dynamics.core.forward_dynamics.AccelerationFunction` (q, qd, τ) → Θ̈ can take its
 place — Pinocchio's ``aba`` in a benchmark.
-Friction, if given, is subtracted from τ before the call (6.114).
+Friction, if given, is subtracted from τ before the call (6.114). Drives, if given
+(:class:`~course_dynamics.core.drives.Drives`), put each rotor's inertia on M's diagonal and take each
+torque offset off τ, for the motion, the joint stops and the energy alike: the energy then holds the
+rotors' ½ Θ̇ᵀ diag(Iₐ) Θ̇, and an offset does work as an applied torque does (−τ₀ per radian or metre).
 
 Ensembles: with ``q0`` (and ``qd0``) of shape (K, n), K systems are integrated
 at once, each step one batched call; the trajectory's arrays then have shape
@@ -56,6 +59,7 @@ import numpy as np
 from ..base.errors import CourseDynamicsError, StateError
 from ..base.resources import check_memory
 from ..core.evaluator import implementation
+from ..core.drives import Driven, Drives
 from ..core.dynamics import kinetic_energy
 from ..core.forward_dynamics import AccelerationFunction
 from ..core.friction import Friction
@@ -193,8 +197,8 @@ class Trajectory:
                                                            self.energy.reshape(-1)])
 
 
-def total_energy(model: Model, q, qd) -> np.ndarray:
-    """k + u (6.71), (6.73), J; shape () or (N,).
+def total_energy(model: Model, q, qd, drives: Drives | None = None) -> np.ndarray:
+    """k + u (6.71), (6.73), J, and the rotors' kinetic energy with ``drives``; shape () or (N,).
 
     Parameters
     ----------
@@ -204,6 +208,8 @@ def total_energy(model: Model, q, qd) -> np.ndarray:
         Joint positions Θ, rad (m for a prismatic joint).
     qd : numpy.ndarray, shape (n,) or (N, n)
         Joint velocities Θ̇, rad/s (m/s).
+    drives : Drives, optional
+        Adds ½ Θ̇ᵀ diag(Iₐ) Θ̇, the rotors' kinetic energy.
 
     Returns
     -------
@@ -215,7 +221,8 @@ def total_energy(model: Model, q, qd) -> np.ndarray:
     StateError
         If ``q`` or ``qd`` is not a finite array of shape (n,) or (N, n).
     """
-    return kinetic_energy(model, q, qd) + potential_energy(model, q)
+    rotors = 0.0 if drives is None else drives.kinetic_energy(qd)
+    return kinetic_energy(model, q, qd) + potential_energy(model, q) + rotors
 
 
 def torque_function(model: Model, torque) -> Callable:
@@ -278,7 +285,8 @@ def time_grid(duration: float, dt: float, values_per_sample: int = 1,
 
 def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str = "rk4", torque=None,
              friction: Friction | None = None, limits: str = "report", progress: Callable[[int], None] | None = None,
-             dynamics: AccelerationFunction | None = None, compiled: bool | None = None) -> Trajectory:
+             dynamics: AccelerationFunction | None = None, compiled: bool | None = None,
+             drives: Drives | None = None) -> Trajectory:
     """Integrate the robot's motion from (Θ₀, Θ̇₀) for ``duration`` seconds in steps of ``dt``.
 
     ``q0``, ``qd0``: shape (n,), or (K, n) for an ensemble (``qd0`` of shape (n,) is shared).
@@ -313,6 +321,8 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
         An acceleration function (q, qd, τ) → Θ̈ to use instead of ours.
     compiled : bool, optional
         Whether our forward dynamics is compiled; None lets the evaluator choose.
+    drives : Drives, optional
+        Rotor inertias on M's diagonal and torque offsets taken off τ (module docstring).
 
     Returns
     -------
@@ -345,11 +355,15 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
         if dynamics is not None:
             raise SimulationError("limits='stop' holds joints through our mass matrix and bias: it cannot be "
                                   "combined with a dynamics function of your own (use limits='report')")
+    if drives is not None and dynamics is not None:
+        raise SimulationError("drives are added to our mass matrix and bias: they cannot be combined with a "
+                              "dynamics function of your own (add them in it)")
     tau_of = torque_function(model, torque)
     run = None
     if dynamics is None:
         run = implementation(model, calls=(len(times) - 1) * CALLS_PER_STEP[integrator], states=members,
                              compiled=compiled)
+        run = run if drives is None else Driven(run, drives)
         dynamics = run.accelerations
     solve_accelerations = dynamics
 
@@ -396,14 +410,14 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
     qdd = solve_accelerations(q, qd, driving)
     if limits != "stop":
         return Trajectory(joints=model.joint_names, t=times, q=q, qd=qd, qdd=qdd, tau=tau,
-                          energy=total_energy(model, q, qd), events=tuple(guard.events))
+                          energy=total_energy(model, q, qd, drives), events=tuple(guard.events))
     reaction = np.zeros_like(qdd)
     rows = (held | (stops.side(q) != 0)).any(axis=-1)
     if rows.any():  # the held joints' accelerations and reactions, as each step began
         _, qdd[rows], reaction[rows] = stops.holding(q[rows], qd[rows], driving[rows], held[rows])
     found = tuple(sorted(stops.stops, key=lambda stop: (stop.t, stop.member or 0)))
     return Trajectory(joints=model.joint_names, t=times, q=q, qd=qd, qdd=qdd, tau=tau,
-                      energy=total_energy(model, q, qd), events=tuple(stop.sentence() for stop in found),
+                      energy=total_energy(model, q, qd, drives), events=tuple(stop.sentence() for stop in found),
                       stops=found, reaction=reaction)
 
 
