@@ -16,11 +16,12 @@ The estimate is θ = θ_URDF + S (V_E a + V_N b), and (a, b) minimise
 
     ‖A θ − z‖² / N + λ Σᵢ d(Jᵢ ‖ Jᵢ₀) + ρ ‖b‖²,   d(J ‖ J₀) = −log det(J₀⁻¹ J) + tr(J₀⁻¹ J) − 4
 
-with Jᵢ ⪰ 0, mᵢ ≥ m_min,i and the friction coefficients ≥ 0 (N: the weighted torques fitted, so
+with Jᵢ ⪰ 0, mᵢ ≥ m_min,i, the friction coefficients and rotor inertias ≥ 0 and the torque offsets
+free (``at_least_zero`` says which entries are held ≥ 0; N: the weighted torques fitted, so
 the data term is the mean squared residual in units of each joint's noise). d is the log-determinant
 (Bregman) divergence of Lee, Wensing and Park (IEEE T-RO 2020): zero at J₀, infinite as J
 becomes singular, and the same for a body whatever its frame or units. It acts on the bodies only:
-friction has no prior. The data term sees a alone (what the log does not see cannot fit its noise);
+friction and drives have no prior. The data term sees a alone (what the log does not see cannot fit its noise);
 b is nearly free (ρ = :data:`HOLD`), so the constraints never bend a. Then b is dropped: θ =
 θ_URDF + S V_E a, what the log does not see exactly the URDF's. If a body is then not physical,
 b is the least ‖b‖ that makes every body physical again (a second, small problem), and those
