@@ -405,7 +405,7 @@ def drives_text(drives: Drives, model: Model, header: str, errors: tuple | None 
     Returns
     -------
     str
-        The file's text, which :func:`parse_drives` reads back as ``drives`` to :data:`DIGITS` significant digits.
+        The file's text, which :func:`parse_drives` reads back as ``drives`` to seven significant digits.
 
     Examples
     --------
