@@ -33,6 +33,10 @@ range, the velocity and the effort limit on ``CONSTRAINT_POINTS`` instants per p
 q̇ are linear in x (exact Jacobians); the other gradients are forward differences, one batched call each. The
 best feasible iterate is kept, and checked against the limits themselves on ``FINE_POINTS`` instants per
 period of the highest harmonic and on the written samples.
+
+Which columns of the regressor κ is taken over is a parameter (``columns``: the base parameters by default; a
+payload's ten, :class:`~course_dynamics.tools.payloads.Flange`, for ``excite --scope payload``), and so is which
+joints move (``moving``: the others' coefficients are left out of x, so they rest in the middle of their ranges).
 """
 from __future__ import annotations
 
@@ -382,12 +386,15 @@ def _states(L: np.ndarray, X: np.ndarray, mid: np.ndarray):
 
 
 class _Problem:
-    """log κ on the instants ``t_kappa`` and the limits' slack on ``t_limits``, as functions of x."""
+    """log κ on the instants ``t_kappa`` and the limits' slack on ``t_limits``, as functions of x: the coefficients
+    of the joints ``moving`` (the others rest in the middle of their ranges)."""
 
-    def __init__(self, model, base, bounds, period, harmonics, t_kappa, t_limits, margin):
+    def __init__(self, model, base, bounds, period, harmonics, t_kappa, t_limits, margin, moving):
         self.model, self.base, self.bounds, self.margin = model, base, bounds, margin
-        self.K = _linear_maps(bounds, period, harmonics, t_kappa)
-        self.C = _linear_maps(bounds, period, harmonics, t_limits)
+        joint = np.tile(np.repeat(np.arange(model.n), harmonics - 1), 2)        # the joint of each of x's entries
+        self.free, self.P_all = np.flatnonzero(np.asarray(moving, dtype=bool)[joint]), len(joint)
+        self.K = _linear_maps(bounds, period, harmonics, t_kappa)[..., self.free]
+        self.C = _linear_maps(bounds, period, harmonics, t_limits)[..., self.free]
         self.P = self.K.shape[-1]
         self.values: dict[bytes, float] = {}
         ranged, fast = np.isfinite(bounds.half), np.isfinite(bounds.velocity)
@@ -396,6 +403,12 @@ class _Problem:
         self.A = np.vstack([A, -A])
         self.strong = np.isfinite(bounds.effort)
         self.tick = None  # called with the number of states just evaluated (progress within an iteration)
+
+    def full(self, x: np.ndarray) -> np.ndarray:
+        """Every joint's free coefficients (2 n (H − 1),) of x, 0 for the joints that rest."""
+        out = np.zeros(self.P_all)
+        out[self.free] = x
+        return out
 
     def kappas(self, X: np.ndarray) -> np.ndarray:
         """κ of each row of X, a few rows at a time (the states of X are not all kept), regressor calls in batches."""
@@ -500,7 +513,7 @@ def limit_shares(model: Model, q, qd, tau) -> LimitShares:
 
 def excitation(model: Model, duration: float, harmonics: int = HARMONICS, samples: int = SAMPLES, seed: int = 0,
                max_iterations: int = MAX_ITERATIONS, margin: float = MARGIN, dt: float = DT,
-               progress=None) -> Excitation:
+               progress=None, columns=None, moving=None) -> Excitation:
     """A periodic excitation of ``duration`` seconds with a small κ, within the URDF's limits (module docstring).
 
     Parameters
@@ -523,6 +536,11 @@ def excitation(model: Model, duration: float, harmonics: int = HARMONICS, sample
         Seconds between the written samples (t = 0 … T, both ends: the motion is at rest in the middle at both).
     progress : callable, optional
         Called as ``progress(iteration, max_iterations)``.
+    columns : BaseParameters or Flange, optional
+        The regressor's columns whose κ counts (``rank`` and ``regressor(Y)``): the base parameters by default; a
+        payload's (:class:`~course_dynamics.tools.payloads.Flange`) for an excitation of the payload alone.
+    moving : array_like of bool, shape (n,), optional
+        The joints that move (default all); the others rest in the middle of their ranges.
 
     Returns
     -------
@@ -551,13 +569,16 @@ def excitation(model: Model, duration: float, harmonics: int = HARMONICS, sample
     t = time_grid(duration, dt, values_per_sample=batches.SAMPLE_VALUES * model.n + 1)
     bounds = _bounds(model, 2 * np.pi / duration)
     batches.cost(model, harmonics, samples, len(t), max_iterations, CONSTRAINT_POINTS, FINE_POINTS)  # or refused
-    base = base_parameters(model)
+    base = base_parameters(model) if columns is None else columns
+    moving = np.ones(model.n, dtype=bool) if moving is None else np.asarray(moving, dtype=bool)
+    if not moving.any():
+        raise ExcitationError(f"robot '{model.name}': no joint is to move, so nothing is excited")
     if not samples * model.n >= base.rank:
         raise ExcitationError(f"the instants the condition is optimised at must be a whole number from "
                               f"{-(-base.rank // model.n)} (instants × {model.n} joints ≥ the {base.rank} base "
                               f"parameters) to {batches.INSTANTS_MAX}, got {samples}")
     problem = _Problem(model, base, bounds, duration, harmonics, np.arange(samples) * duration / samples,
-                       np.linspace(0, duration, CONSTRAINT_POINTS * harmonics, endpoint=False), margin)
+                       np.linspace(0, duration, CONSTRAINT_POINTS * harmonics, endpoint=False), margin, moving)
     start = _start(problem, np.random.default_rng(seed))
     best, iterations, ended = [problem.objective(start), start], 0, "skipped (0 iterations)"
     work = [0, (problem.P + 1) * (samples + CONSTRAINT_POINTS * harmonics * problem.strong.any())]  # an iteration's
@@ -586,7 +607,7 @@ def excitation(model: Model, duration: float, harmonics: int = HARMONICS, sample
             options=dict(maxiter=max_iterations, ftol=1e-6))
         keep_best(result.x, count=False)
         ended = "converged" if result.success else f"stopped: {result.message}"
-    coefficients = _coefficients(best[1], bounds, duration, harmonics)
+    coefficients = _coefficients(problem.full(best[1]), bounds, duration, harmonics)
     fine = np.linspace(0, duration, FINE_POINTS * harmonics, endpoint=False)
     q_fine, qd_fine, qdd_fine = coefficients(fine)
     q, qd, qdd, tau = batches.motion_samples(model, coefficients, t)
@@ -598,7 +619,8 @@ def excitation(model: Model, duration: float, harmonics: int = HARMONICS, sample
         if share > 1:
             raise ExcitationError(f"robot '{model.name}': the optimised motion uses {share:.3g} of the {kind} limit of "
                                   f"joint '{joint}' on the fine grid; try a larger margin")
-    condition_start = condition_number(model, *_coefficients(start, bounds, duration, harmonics)(fine), base=base)
+    condition_start = condition_number(model, *_coefficients(problem.full(start), bounds, duration, harmonics)(fine),
+                                       base=base)
     condition = condition_number(model, q_fine, qd_fine, qdd_fine, base=base)
     if not np.isfinite(condition):
         raise ExcitationError(f"robot '{model.name}': the motion does not excite every base parameter within its "
