@@ -46,6 +46,24 @@ def multisine(model, duration: float = 4.0, rate: float = 500.0, seed: int = 0, 
     return Motion(t, centre + q, qd, qdd)
 
 
+def sampled_at(model, t, seed: int = 0) -> Motion:
+    """The motion ``multisine(model, seed=seed)`` at the times ``t`` (K,), s, however uneven they are."""
+    parts = [multisine(model, duration=0.0, seed=seed, start=float(x)) for x in t]
+    return Motion(np.asarray(t, dtype=float), *(np.vstack([getattr(p, k) for p in parts]) for k in ("q", "qd", "qdd")))
+
+
+def real_clock(rate: float, duration: float, seed: int = 0, gap: int = 40, lone: int = 20) -> np.ndarray:
+    """Stamps as a real recorder writes them at about ``rate`` Hz for ``duration`` s: each stamp off its slot by up to
+    a tenth of a period (every step within ±20 % of the period), a gap of ``gap`` periods at 30 % of the log, a lone
+    sample between two gaps of ``lone`` periods at 60 %, and two single rows dropped (at 15 % and 80 %)."""
+    slots = np.arange(int(round(duration * rate)) + 1)
+    t = (slots + np.random.default_rng(seed).uniform(-0.1, 0.1, len(slots))) / rate
+    at = [int(share * len(slots)) for share in (0.15, 0.3, 0.6, 0.8)]
+    lost = [at[0], *range(at[1] + 1, at[1] + gap), *range(at[2] + 1, at[2] + lone),
+            *range(at[2] + lone + 1, at[2] + 2 * lone), at[3]]
+    return np.delete(t, lost)
+
+
 def noisy(values: np.ndarray, sigma: float, seed: int) -> np.ndarray:
     """``values`` plus white Gaussian noise of standard deviation ``sigma``."""
     return values + np.random.default_rng(seed).normal(0.0, sigma, values.shape)
