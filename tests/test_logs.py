@@ -135,10 +135,12 @@ def test_inconsistent_logs_are_refused():
     with pytest.raises(InputError, match="row 6: t = 0.04 s does not come after 0.04 s"):
         joint_log(model, backwards)
     uneven = columns(np.concatenate([t[:50], t[50:] + 0.5]), q)
-    with pytest.raises(InputError, match=r"0.51 s pass between t = 0.49 s and t = 1 s \(row 51\), 51.0 sample periods"):
+    with pytest.raises(InputError, match=r"it has 1 gap longer than 5 sample periods \(510 ms = 51.0 periods after "
+                                         r"t = 0.49 s, before row 51\): --repair splits at the gaps"):
         joint_log(model, uneven)
     jitter = columns(np.concatenate([t[:50], t[50:] + 0.004]), q)
-    with pytest.raises(InputError, match=r"the step before row 51 is 0.014 s, 1.40 sample periods .* --resample HZ"):
+    with pytest.raises(InputError, match=r"not on one clock \(median step 10 ms, steps from 10 ms to 14 ms; 1 not a "
+                                         r"whole number of periods, the first before row 51\): --repair resamples"):
         joint_log(model, jitter)
     with pytest.raises(InputError, match="too few to differentiate"):
         joint_log(model, columns(t[:3], q[:3]))
@@ -340,3 +342,38 @@ def test_a_joint_states_bag_with_both_fingers_reads_the_first(tmp_path):
     assert len(said) == 1 and "within 0.001 throughout): not read" in said[0], log.notes
     assert not any("does not have" in note and "panda_finger_joint2" in note for note in log.notes)
     np.testing.assert_allclose(log.q, q, rtol=0, atol=1e-15)
+
+
+def test_a_robots_own_recording_on_a_real_clock_is_repaired_as_a_table_is(tmp_path):
+    """An RTDE recording and a ROS bag of one motion on a real clock (jitter, a gap, a lone sample, drops) go
+    through the one log reader: ``repair`` splits and drops them as it does a table of the same samples."""
+    from bagmakers import write_joint_states
+    from logmakers import real_clock, sampled_at, write_ur_rtde
+
+    from course_dynamics.tools.sources import open_log
+
+    ur5 = load_robot("ur5")
+    t = real_clock(250.0, 2.0, seed=1)
+    t -= t[0]                                                # an RTDE recording is read from its start
+    motion = sampled_at(ur5, t, seed=2)
+    table = {"t": t} | {f"{kind}_{j}": getattr(motion, kind)[:, i] for kind in ("q", "qd")
+                        for i, j in enumerate(ur5.joint_names)}
+    expected = joint_log(ur5, table, repair=True)
+    assert len(expected.segments) == 3 and any(n.startswith("dropped 1 lone sample") for n in expected.notes)
+    write_ur_rtde(tmp_path / "rtde.csv", t + 3021.5, motion.q, motion.qd)
+    bag = write_joint_states(tmp_path / "run", "ros1", ur5.joint_names, t + 80.0, motion.q, motion.qd)
+    for path in (tmp_path / "rtde.csv", bag):
+        source = open_log(path, ur5)
+        with pytest.raises(InputError, match=r"not on one clock .* and it has 3 gaps .* and 1 lone sample cut off by "
+                                             r"the gaps .*: --repair resamples on the median period, splits at the "
+                                             r"gaps and drops the lone sample$"):
+            joint_log(ur5, source)
+        repaired = joint_log(ur5, source, repair=True)
+        assert repaired.segments == expected.segments
+        said = [[n.split(" (")[0] for n in log.notes if n.startswith(("resampled", "split", "dropped"))]
+                for log in (repaired, expected)]                   # a file names its lines, a table its rows
+        assert said[0] == said[1] and len(said[0]) == 3
+        # stamps written to 1e-8 s (RTDE) or 1 ns (bag) move the median period by about as much: the grid drifts by
+        # under 1e-6 s over a segment, and q with it by under that times |qd| (< 3 rad/s)
+        np.testing.assert_allclose(repaired.t - repaired.t[0], expected.t, rtol=0, atol=1e-6)   # a bag keeps stamps
+        np.testing.assert_allclose(repaired.q, expected.q, rtol=0, atol=3e-6)
