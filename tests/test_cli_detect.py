@@ -128,14 +128,19 @@ def test_a_link_seen_in_part_gets_the_force_it_sees_and_the_rest_named(capsys, t
 
 def test_a_jittering_clock_is_taken_as_it_is_where_nothing_is_differentiated(capsys, tmp_path):
     """Stamps ±0.2 ms off a 500 Hz clock: detect (which needs no derivative) reads them; torques, which
-    differentiates the rates, still asks for --resample."""
+    differentiates the rates, still asks for an even clock (--repair), and with it detect is unchanged."""
     path = write_log(tmp_path / "jitter.csv", reversal_log(4.0, seed=1, pulses=((2.0, 0.05),), jitter=2e-4),
                      UR5.joint_names)
     code, out, _ = run(capsys, *detect("--json", log=path))
     (event,) = json.loads(out)["events"]
     assert code == 1 and 2.0 <= event["start"] <= event["detected"] <= 2.02
     code, _, err = run(capsys, "torques", "ur5", "--log", str(path))
-    assert_one_line_error(code, err, "the samples are not on one clock; --resample HZ puts them on one")
+    assert_one_line_error(code, err, "the samples are not on one clock (median step 2 ms", "--repair resamples on the "
+                          "median period")
+    code, repaired, _ = run(capsys, *detect("--json", "--repair", log=path))
+    assert code == 1 and json.loads(repaired)["events"] == json.loads(out)["events"]
+    assert "repair: nothing is differentiated, so the log's stamps are taken as they are" in json.loads(repaired)[
+        "notes"]
 
 
 def test_a_huge_torque_beside_a_dropped_sample_is_named_at_its_line(capsys, tmp_path):

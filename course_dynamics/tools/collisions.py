@@ -663,7 +663,7 @@ def detect(model: Model, table, *, gain=DEFAULT_GAIN, threshold=None, window: fl
            sigmas: float = SIGMAS, min_duration: float = MIN_DURATION, link: str | None = None,
            friction: Friction | None = None, dt: float | None = None, columns: Mapping[str, str] | None = None,
            constants: Mapping[str, float] | None = None, time_unit: str = "s", resample: float | None = None,
-           split_gaps: bool = False, smooth: int | None = None, torque_constants=None,
+           split_gaps: bool = False, repair: bool = False, smooth: int | None = None, torque_constants=None,
            compiled: bool | None = None) -> Detection:
     """Contacts in a log with measured torques: the observer's residual, its thresholds and events.
 
@@ -699,6 +699,9 @@ def detect(model: Model, table, *, gain=DEFAULT_GAIN, threshold=None, window: fl
         Put the log on an even clock at this rate first, Hz.
     split_gaps : bool
         Differentiate the pieces between long gaps apart instead of refusing them.
+    repair : bool
+        Mend the clock where rates are differentiated (:func:`~course_dynamics.tools.logs.joint_log`); a log with
+        rates is taken on its own stamps, with or without it.
     smooth : int, optional
         The Savitzky–Golay window for rates the log lacks, samples (:func:`~course_dynamics.tools.logs.joint_log`'s
         ``window``).
@@ -732,7 +735,8 @@ def detect(model: Model, table, *, gain=DEFAULT_GAIN, threshold=None, window: fl
     if link is not None:
         model.frame(link)
     log = joint_log(model, source, dt=dt, columns=columns, window=smooth, constants=constants, time_unit=time_unit,
-                    resample=resample, split_gaps=split_gaps, torque_constants=torque_constants, needs="qd")
+                    resample=resample, split_gaps=split_gaps, repair=repair, torque_constants=torque_constants,
+                    needs="qd")
     if log.measured is None:
         raise InputError(f"{source.where}: no measured torques: the observer needs tau_meas_<joint> columns (a bag's "
                          "effort), or motor currents with their torque constants")

@@ -63,7 +63,7 @@ def run(args) -> int:
         found = detect(model, source, gain=gain, threshold=threshold, window=args.noise_window,
                        min_duration=args.min_duration, link=args.link, friction=joint_friction, dt=args.log_dt,
                        columns=column_map(args), constants=constants(args), time_unit=args.time_unit,
-                       resample=args.resample, split_gaps=args.split_gaps, smooth=args.smooth,
+                       resample=args.resample, split_gaps=args.split_gaps, repair=args.repair, smooth=args.smooth,
                        torque_constants=constants_k, compiled=False if args.no_compile else None)
     finally:
         bar.close()
