@@ -293,3 +293,50 @@ def test_a_log_without_friction_of_a_robot_whose_urdf_has_some_is_identified(cap
     friction = {p["name"]: p for p in document["parameters"] if p["name"].startswith(("Fv_", "Fc_"))}
     assert friction["Fv_panda_finger_joint1"]["urdf"] == pytest.approx(0.6)   # 0.3 + 1² · 0.3
     assert all(abs(p["identified"]) < 1e-6 for p in friction.values()), friction
+
+
+def test_a_real_log_is_identified_with_one_option(capsys, tmp_path, logs):
+    """The true UR5 logged on a real clock (every step within ±20 %, a 40-period gap, a lone sample between two gaps,
+    two dropped rows; logmakers.real_clock): refused in one line naming all of it, identified with ``--repair`` alone,
+    its notes in --json's log_notes, and the model found predicts another motion as well as from an even log."""
+    from logmakers import noisy, real_clock, sampled_at
+    from test_identification import NOISE_Q, NOISE_QD, NOISE_TAU, true_torques
+
+    ur5 = load_robot("ur5")
+    true, friction = true_robot(ur5)
+    motion = sampled_at(ur5, real_clock(100.0, SECONDS, seed=4), seed=1)
+    tau = true_torques(true, friction, motion)
+    measured = noisy(tau, NOISE_TAU * np.sqrt(np.mean(tau**2, axis=0)), 2)
+    q, qd = noisy(motion.q, NOISE_Q, 3), noisy(motion.qd, NOISE_QD, 4)
+    columns = {"t": motion.t}
+    for j, joint in enumerate(ur5.joint_names):
+        columns |= {f"q_{joint}": q[:, j], f"qd_{joint}": qd[:, j], f"tau_meas_{joint}": measured[:, j]}
+    path = tmp_path / "real.csv"
+    write_csv(path, list(columns), list(columns.values()), fmt="{:.17g}")
+    urdf = tmp_path / "identified.urdf"
+    code, _, err = run(capsys, "identify", "ur5", "--log", str(path), "--out", str(urdf))
+    assert_one_line_error(code, err, "the samples are not on one clock", "and it has 3 gaps", "and 1 lone sample",
+                          "--repair resamples on the median period, splits at the gaps and drops the lone sample")
+    assert not urdf.exists()
+    report = tmp_path / "report"
+    code, out, err = run(capsys, "identify", "ur5", "--log", str(path), "--out", str(report), "--repair", "--json")
+    assert code == 0, err
+    notes = json.loads(out)["log_notes"]
+    assert [n.split(" ")[0] for n in notes[:3]] == ["resampled", "split", "dropped"], notes
+    assert json.loads((report / "report.json").read_text())["log_notes"] == notes      # and the report says so
+    assert f"the log: {notes[2]}" in (report / "report.html").read_text()
+    before = residuals(capsys, "ur5", logs[1])
+    after = residuals(capsys, report / "identified.urdf", logs[1], "--friction", "urdf")
+    assert all(a < b / 5 for a, b in zip(after, before)), (after, before)   # measured 10–75× smaller, as if even
+
+
+def test_a_flange_is_for_a_payloads_identification_and_a_payload_needs_no_prior(capsys, tmp_path, logs):
+    """--flange without --scope payload, and --prior-weight with it, are refused before the log is read
+    (tests/test_payloads.py identifies payloads)."""
+    out = tmp_path / "x.urdf"
+    code, _, err = run(capsys, "identify", "ur5", "--log", str(logs[0]), "--flange", "tool0", "--out", str(out))
+    assert_one_line_error(code, err, "--flange", "--scope payload")
+    code, _, err = run(capsys, "identify", "ur5", "--log", str(logs[0]), "--scope", "payload", "--prior-weight", "1",
+                       "--out", str(out))
+    assert_one_line_error(code, err, "--prior-weight is for --scope robot")
+    assert not out.exists()

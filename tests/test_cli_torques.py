@@ -296,3 +296,39 @@ def test_a_sample_step_at_the_ends_of_its_range_is_taken(capsys, tmp_path):
     assert code in (0, 1) and "outside 1e-9 s to 1e6 s" not in err, err
     code, _, err = run(capsys, "torques", "two_link", "--log", str(log), "--log-dt", "0.99e-9")
     assert_one_line_error(code, err, "the sample step 9.9e-10 s is outside 1e-9 s to 1e6 s")
+
+
+def test_a_real_log_runs_with_one_option(capsys, tmp_path):
+    """Jitter (every step within ±20 %), a 40-period gap, a lone sample between two gaps and two dropped rows
+    (``test_resampling.REAL``, positions only): one error line names all of it, and ``--repair`` alone mends it."""
+    from logmakers import sampled_at, write_csv
+    from test_resampling import REAL, columns
+
+    from course_dynamics.core.newton_euler import inverse_dynamics
+
+    data = columns(REAL)
+    path = tmp_path / "real.csv"
+    write_csv(path, list(data), list(data.values()), fmt="{:.17g}")
+    code, _, err = run(capsys, "torques", "ur5", "--log", str(path))
+    assert_one_line_error(code, err, f"error: {path}: the samples are not on one clock (median step 2 ms, steps from "
+                          "1.61 ms to 3.85 ms; ", "and it has 3 gaps longer than 5 sample periods (79.6 ms = 39.8 "
+                          "periods after t = 0.600159 s, before line 302; ", "and 1 lone sample cut off by the gaps "
+                          "(line 563, t = 1.24007 s, between two gaps): --repair resamples on the median period, "
+                          "splits at the gaps and drops the lone sample")
+    out = tmp_path / "tau.csv"
+    code, stdout, err = run(capsys, "torques", "ur5", "--log", str(path), "--repair", "--out", str(out), "--json")
+    assert code == 0, err
+    notes = json.loads(stdout)["notes"]
+    assert notes[0].startswith("resampled on the median period 2 ms (500.259 Hz") and notes[1].startswith(
+        "split at 3 long gaps") and notes[2] == ("dropped 1 lone sample cut off by the gaps (line 563, t = 1.24007 s, "
+                                                 "between two gaps): 3 segments left")
+    written = read_table(out).data
+    exact = sampled_at(load_robot("ur5"), written[:, 0], seed=3)
+    tau = inverse_dynamics(load_robot("ur5"), exact.q, exact.qd, exact.qdd)
+    # the resampling moves q by under 1e-9 rad (the spline's bound, tests/test_resampling.py): what is left is the
+    # differentiation's error, held to 1e-3 of the peak as for an even log (measured 8e-5)
+    assert np.abs(written[:, 1:] - tau).max() < 1e-3 * np.abs(tau).max()
+    code, again, _ = run(capsys, "torques", "ur5", "--log", str(path), "--repair", "--split-gaps", "--json")
+    assert code == 0 and json.loads(again)["notes"] == notes                         # --split-gaps is redundant
+    code, rated, _ = run(capsys, "torques", "ur5", "--log", str(path), "--repair", "--resample", "250", "--json")
+    assert code == 0 and json.loads(rated)["notes"][0] == "resampled to 250 Hz (461 samples from 921) by cubic splines"
