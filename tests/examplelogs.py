@@ -15,7 +15,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).parent))
 from bagmakers import write_franka, write_joint_states  # noqa: E402
-from logmakers import dropped, multisine, noisy, write_ur_rtde  # noqa: E402
+from logmakers import dropped, multisine, noisy, real_clock, sampled_at, write_ur_rtde  # noqa: E402
 
 from course_dynamics import load_robot  # noqa: E402
 from course_dynamics.core.newton_euler import inverse_dynamics  # noqa: E402
@@ -91,6 +91,16 @@ def ur5_recording():
     return motion, noisy(motion.q, 2e-5, seed=1), noisy(motion.qd, 2e-3, seed=2), noisy(tau, 0.05, seed=3)
 
 
+def ur5_real_clock():
+    """UR5, 2 s at about 250 Hz on a real recorder's clock (``logmakers.real_clock``: every step within ±20 %, a gap of
+    40 periods, a lone sample between two gaps, two rows dropped), t from 3021.5 s; the tool and noise of
+    :func:`ur5_recording`."""
+    model = load_robot("ur5")
+    motion = sampled_at(model, 3021.5 + real_clock(250.0, 2.0, seed=5), seed=21)
+    tau = inverse_dynamics(with_payload(model, TOOL), motion.q, motion.qd, motion.qdd)
+    return motion, noisy(motion.q, 2e-5, seed=1), noisy(motion.qd, 2e-3, seed=2), noisy(tau, 0.05, seed=3)
+
+
 def write_examples(folder: Path = EXAMPLES) -> dict[str, Path]:
     """Every sample log, into ``folder``; their paths by name."""
     ur5 = load_robot("ur5")
@@ -98,6 +108,10 @@ def write_examples(folder: Path = EXAMPLES) -> dict[str, Path]:
     paths = {"ur5_rtde": folder / "ur5_rtde.csv"}
     current = tau / np.array(UR5_TORQUE_CONSTANTS)
     write_ur_rtde(paths["ur5_rtde"], motion.t, q, qd, current=current, target_q=motion.q, mode_words=True)
+    real, real_q, real_qd, real_tau = ur5_real_clock()
+    paths["ur5_rtde_real_clock"] = folder / "ur5_rtde_real_clock.csv"
+    write_ur_rtde(paths["ur5_rtde_real_clock"], real.t, real_q, real_qd,
+                  current=real_tau / np.array(UR5_TORQUE_CONSTANTS))
     paths["ur5_joint_states.bag"] = write_joint_states(folder / "ur5_joint_states", "ros1", ur5.joint_names,
                                                        motion.t, q, qd, tau)
     paths["ur5_joint_states.mcap"] = write_joint_states(folder / "ur5_joint_states", "mcap", ur5.joint_names,
@@ -115,8 +129,8 @@ def write_examples(folder: Path = EXAMPLES) -> dict[str, Path]:
     return paths
 
 
-NAMES = ("ur5_rtde.csv", "ur5_rostopic.csv", "ur5_plotjuggler.csv", "ur5_joint_states.bag", "ur5_joint_states.mcap",
-         "panda_franka.bag")
+NAMES = ("ur5_rtde.csv", "ur5_rtde_real_clock.csv", "ur5_rostopic.csv", "ur5_plotjuggler.csv", "ur5_joint_states.bag",
+         "ur5_joint_states.mcap", "panda_franka.bag")
 
 
 if __name__ == "__main__":   # the examples are ours: written again from scratch
