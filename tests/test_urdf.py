@@ -102,3 +102,31 @@ def test_extreme_attributes_are_refused_with_the_element(tmp_path, capsys, text,
     path.write_text(text)
     code, _, err = run(capsys, "info", str(path))
     assert_one_line_error(code, err, str(path), message)
+
+
+def test_reading_a_urdf_does_not_load_trimesh_until_a_mesh_is_wanted():
+    """yourdfpy imports trimesh (scipy, networkx: 1.5–2 s); reading a URDF defers it, and the first use of
+    trimesh itself, as the viewer's mesh reader makes, gets the whole package. The models read either way are
+    the same."""
+    import subprocess
+    import sys
+
+    script = (
+        "import sys, json\n"
+        "first = sys.argv[1] == 'trimesh-first'\n"
+        "if first:\n"
+        "    import trimesh\n"
+        "from course_dynamics import load_robot\n"
+        "m = load_robot('panda')\n"
+        "deferred = 'trimesh.base' not in sys.modules\n"
+        "import trimesh\n"
+        "box = trimesh.creation.box((1, 2, 3))\n"
+        "print(json.dumps(dict(deferred=deferred, volume=float(box.volume), "
+        "numbers=[float(b.mass) for b in m.bodies] + [float(x) for b in m.bodies for x in b.I_com.ravel()])))\n")
+    import json
+
+    runs = {how: json.loads(subprocess.run([sys.executable, "-c", script, how], capture_output=True, text=True,
+                                           check=True).stdout) for how in ("deferred", "trimesh-first")}
+    assert runs["deferred"]["deferred"] and not runs["trimesh-first"]["deferred"]
+    assert runs["deferred"]["volume"] == pytest.approx(6.0) == runs["trimesh-first"]["volume"]
+    assert runs["deferred"]["numbers"] == runs["trimesh-first"]["numbers"]

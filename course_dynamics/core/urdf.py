@@ -30,6 +30,7 @@ import logging
 import math
 import os
 import re
+import threading
 import warnings
 from pathlib import Path
 
@@ -367,9 +368,9 @@ def read_description(path):
     """
     from io import BytesIO
 
-    import yourdfpy
     from lxml import etree
 
+    yourdfpy = _import_yourdfpy()
     path = Path(path)
     root = read_tree(path)
     check_namespaces(root, str(path))
@@ -387,6 +388,62 @@ def read_description(path):
     except Exception as exc:  # yourdfpy reports bad values with assorted exception types
         raise ModelError(f"{path}: malformed URDF: {exc}") from None
     return urdf.robot
+
+
+# What yourdfpy's own import reads from trimesh: two names in its functions' annotations, nothing else.
+_TRIMESH_ANNOTATIONS = frozenset({"Trimesh", "Scene"})
+_trimesh_lock = threading.Lock()
+
+
+def _import_yourdfpy():
+    """yourdfpy, imported without loading trimesh (1.5–2 s of scipy and networkx) until a mesh is wanted.
+
+    yourdfpy imports trimesh at its own import, though reading a URDF without meshes uses nothing of it
+    but ``trimesh.transformations`` (plain numpy). So, when trimesh is not loaded yet, its package is
+    entered in ``sys.modules`` unexecuted, with its ``__path__``: submodules import as usual, and the
+    first attribute anyone asks of the package itself executes the real ``trimesh/__init__.py`` into it
+    (once, under a lock), so every caller, the viewer's mesh reader included, gets the whole trimesh.
+    While yourdfpy itself is imported, the two names its annotations use 
+    are answered with placeholders instead; any other name loads trimesh, so a yourdfpy that needs more
+    at import gets it, only slower.
+
+    Returns the ``yourdfpy`` package.
+    """
+    import importlib.util
+    import sys
+    import types
+
+    if "yourdfpy" in sys.modules or "trimesh" in sys.modules:
+        import yourdfpy
+
+        return yourdfpy
+    spec = importlib.util.find_spec("trimesh")
+    package = importlib.util.module_from_spec(spec)
+    importing = [True]
+
+    class Deferred(types.ModuleType):
+        def __getattr__(self, name):
+            if name.startswith("__"):
+                raise AttributeError(name)
+            if importing[0] and name in _TRIMESH_ANNOTATIONS:
+                return type(name, (), {"__module__": "trimesh"})
+            with _trimesh_lock:
+                if type(self) is Deferred:
+                    self.__class__ = types.ModuleType
+                    spec.loader.exec_module(self)
+            return getattr(self, name)
+
+    package.__class__ = Deferred
+    sys.modules["trimesh"] = package
+    try:
+        import yourdfpy
+    except BaseException:
+        if type(package) is Deferred:
+            sys.modules.pop("trimesh", None)
+        raise
+    finally:
+        importing[0] = False
+    return yourdfpy
 
 
 def read_tree(path):
