@@ -47,6 +47,7 @@ import tempfile
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -54,7 +55,9 @@ from ..base.errors import InputError, ModelError
 from ..base.files import read_small
 from ..core.friction import Friction
 from ..core.model import Model
+from ..core.regressor import TENSOR, parameters, with_parameters
 from ..core.urdf import InertiaWarning, load_urdf
+from ..tools.payloads import offset_map
 from . import io
 from .xml_spans import Element, elements
 
@@ -391,6 +394,104 @@ def write_identified_urdf(path, identified: Model, friction: Friction | None = N
     io.write_bytes(path, checked_identified_urdf(identified, friction, source, target))
 
 
+def payload_urdf(raw: bytes, model: Model, link: str, pi, name: str = "payload", where: str = "the URDF") -> bytes:
+    """The URDF text ``raw`` with a payload added: a link ``name`` with ``<inertial>`` π_P, fixed to ``link`` at its
+    origin (joint ``<name>_fixed``), as the last children of ``<robot>``; everything else kept byte for byte.
+
+    Parameters
+    ----------
+    raw : bytes
+        The text of the URDF ``model`` was loaded from.
+    model : Model
+        The robot without the payload.
+    link : str
+        F, the link the payload is fixed to.
+    pi : array_like, shape (10,)
+        π_P in F: m (kg, > 0), m c (kg·m), the inertia about F's origin (kg·m²), as
+        :data:`~course_dynamics.core.regressor.PARAMETER_NAMES` orders them.
+    name : str, optional
+        The new link's name.
+    where : str, optional
+        The name of the text in messages (its file).
+
+    Returns
+    -------
+    bytes
+        The text with the payload, in the encoding of ``raw``.
+
+    Raises
+    ------
+    InputError
+        If the URDF has a link ``name`` or joint ``<name>_fixed`` already (a payload written before: identify from
+        the URDF without it), has no link ``link``, is not XML we edit, or a value is not finite.
+    """
+    _check_encoding(raw, where)
+    layout = _layout(raw, where)
+    joint = f"{name}_fixed"
+    if name in layout.links or joint in layout.joints:
+        taken = f"link '{name}'" if name in layout.links else f"joint '{joint}'"
+        raise InputError(f"{where}: has a {taken} already (a payload written before?): identify a payload from the "
+                         "URDF without it")
+    if link not in layout.links:
+        raise InputError(f"{where}: has no link '{link}', the payload's flange")
+    pi = np.asarray(pi, dtype=float)
+    c = pi[1:4] / pi[0]
+    I_com = pi[np.array(TENSOR)] - pi[0] * (c @ c * np.eye(3) - np.outer(c, c))          # (6.25)
+    body = SimpleNamespace(mass=pi[0], p_com=c, I_com=I_com)
+    newline = b"\r\n" if b"\r\n" in raw else b"\n"
+    unit = _unit(raw, layout.root)
+    indent = _child_indent(raw, layout.root) if layout.root.children else unit
+    lines = [f'<link name="{name}">'.encode(), indent + unit + _inertial(body, indent + unit, unit, newline),
+             indent + b"</link>", indent + f'<joint name="{joint}" type="fixed">'.encode(),
+             indent + unit + f'<parent link="{link}"/>'.encode(), indent + unit + f'<child link="{name}"/>'.encode(),
+             indent + unit + b'<origin xyz="0 0 0" rpy="0 0 0"/>', indent + b"</joint>"]
+    comment = b"<!-- the payload identified by course-dynamics identify (scope payload) -->"
+    text = comment + newline + indent + newline.join(lines)
+    return _applied(raw, [_before_end_tag(raw, layout.root, text, newline)])
+
+
+def checked_payload_urdf(model: Model, link: str, pi, source=None, target: str = "the URDF",
+                         name: str = "payload") -> bytes:
+    """:func:`payload_urdf`'s text, read back by our loader (:func:`check_reads_back`): the flange's body must read
+    back as the arm's with π_P added in its frame (:func:`~course_dynamics.tools.payloads.offset_map`).
+
+    Parameters
+    ----------
+    model : Model
+        The robot without the payload.
+    link : str
+        F, the link the payload is fixed to.
+    pi : array_like, shape (10,)
+        π_P in F.
+    source : str or pathlib.Path, optional
+        The URDF file to edit; ``model.source`` by default.
+    target : str, optional
+        The file to be written, for messages.
+    name : str, optional
+        The new link's name.
+
+    Returns
+    -------
+    bytes
+        The URDF's text with the payload.
+
+    Raises
+    ------
+    InputError
+        As :func:`payload_urdf`, or if the text reads back differently.
+    """
+    source = model.source if source is None else source
+    if not source:
+        raise InputError(f"robot '{model.name}': the URDF it was loaded from is not known; give source")
+    raw = read_small(source, MAX_URDF_BYTES, "URDF file")
+    text = payload_urdf(raw, model, link, pi, name, where=str(source))
+    frame = model.frame(link)
+    pi_all = parameters(model)
+    pi_all[10 * frame.body:10 * frame.body + 10] += offset_map(frame.R, frame.P) @ np.asarray(pi, dtype=float)
+    check_reads_back(text, with_parameters(model, pi_all), None, target, str(source))
+    return text
+
+
 def model_urdf(model: Model, comment: str = "") -> bytes:
     """A URDF written from the model alone: one link per body (its ``<inertial>``), one joint per body (origin,
     axis, limits, friction, ``<mimic>``), and each frame fixed to a body as a fixed joint and an empty link.
@@ -460,5 +561,5 @@ def model_urdf(model: Model, comment: str = "") -> bytes:
     return ("\n".join(lines + ["</robot>", ""])).encode()
 
 
-__all__ = ["MAX_URDF_BYTES", "check_reads_back", "checked_identified_urdf", "identified_urdf", "model_urdf",
-           "write_identified_urdf"]
+__all__ = ["MAX_URDF_BYTES", "check_reads_back", "checked_identified_urdf", "checked_payload_urdf", "identified_urdf",
+           "model_urdf", "payload_urdf", "write_identified_urdf"]

@@ -27,6 +27,7 @@ module               job
 ``excitation``       a trajectory within the limits that makes the parameters identifiable
 ``excitationcost``   an excitation's memory and time estimated before it starts; its evaluations in batches
 ``loads``            payloads and external wrenches
+``payloads``         a payload's mass, centre of mass and inertia from a short log, on a known arm
 ``limits``           effort and velocity limits: peaks, shares, violations
 ``retiming``         a motion played uniformly slower until it is within its limits: the smallest time scaling
 ``trace``            the Newton–Euler iterations link by link, for teaching
