@@ -370,3 +370,25 @@ def test_excite_says_up_front_when_a_run_will_be_long(capsys, tmp_path, monkeypa
     code, _, err = run(capsys, "excite", "two_link", "--duration", "3", "--out", str(out), *ARGS)
     assert code == 0 and "this excitation is estimated to take about" in err and "an iteration × 15" in err
     assert out.exists()
+
+
+def test_a_payload_excitation_moves_the_wrist_alone_and_conditions_the_payloads_columns(capsys, tmp_path):
+    """excite --scope payload: the last three joints move, the others rest in the middle of their ranges; κ is that
+    of the payload's ten columns, and a flange without the scope is refused."""
+    from course_dynamics.tools.payloads import flange, wrist
+
+    out = tmp_path / "wrist.csv"
+    code, stdout, err = run(capsys, "excite", "ur5", "--duration", "4", "--scope", "payload", "--out", str(out),
+                            "--max-iterations", "3", "--json", "--quiet")
+    assert code == 0, err
+    found = json.loads(stdout)
+    assert found["scope"] == "payload" and found["flange"] == "tool0" and found["harmonics"] == 4
+    q = np.genfromtxt(out, delimiter=",", names=True)
+    ur5 = load_robot("ur5")
+    assert [bool(np.ptp(q[f"q_{j}"]) > 0) for j in ur5.joint_names] == [False] * 3 + [True] * 3
+    moving = wrist(ur5)
+    motion = Fourier(found["duration"], **found["coefficients"])(np.linspace(0, 4, 1000, endpoint=False))
+    assert found["condition"] == pytest.approx(condition_number(ur5, *motion, base=flange(ur5, rows=moving)),
+                                               rel=1e-9)
+    code, _, err = run(capsys, "excite", "ur5", "--duration", "4", "--flange", "tool0", "--out", str(out))
+    assert_one_line_error(code, err, "--flange", "--scope payload")

@@ -36,7 +36,14 @@ DESCRIPTION = (
     "motion needs), which 'torques --log' reads as a log, 'simulate --torque-log' as applied torques and "
     "'animate --log' as a motion. --instants are the instants of the period the condition number is optimised "
     "on. Prints the condition number, the largest share of each limit used and the run time; --json prints them "
-    "as one document (condition, limits, iterations, seconds, ...).")
+    "as one document (condition, limits, iterations, seconds, ...). --scope payload makes a short motion for "
+    "'identify --scope payload': only the last three joints of the flange's chain move (the wrist; the others "
+    "rest in the middle of their ranges), and the condition number is that of the payload's ten columns of the "
+    "regressor on the moving joints' rows (the flange: --flange); fewer harmonics, instants and iterations by "
+    "default, so it takes seconds.")
+
+DEFAULTS = {"robot": dict(harmonics=5, instants=40, max_iterations=100),   # as tools.excitation's
+            "payload": dict(harmonics=4, instants=20, max_iterations=40)}  # ten columns: seconds, not a minute
 
 
 def add_arguments(parser) -> None:
@@ -44,8 +51,21 @@ def add_arguments(parser) -> None:
     add(parser, "--duration", required=True)
     add(parser, "--out", required=True)
     add(parser, "--dt", default=0.01)
-    add_all(parser, "--harmonics", "--instants", "--max-iterations", "--margin", "--seed", "--json", "--quiet")
+    add_all(parser, "--harmonics", "--instants", "--max-iterations", "--margin", "--seed", "--scope", "--flange",
+            "--json", "--quiet")
     add_renamed(parser, "--samples", "--instants")
+
+
+def _scope(args, model):
+    """(the regressor's columns that count, the joints that move): (None, None) for the robot's base parameters."""
+    if args.scope == "robot":
+        if args.flange is not None:
+            raise UsageError("--flange names the link a payload is fixed to: give --scope payload with it")
+        return None, None
+    from ...tools.payloads import flange, wrist
+
+    moving = wrist(model, args.flange)
+    return flange(model, args.flange, rows=moving), moving
 
 
 def _say_if_long(model, args) -> None:
@@ -87,6 +107,9 @@ def run(args) -> int:
     if args.out == io.STDOUT and args.json:
         raise UsageError("--out - and --json both want standard output; write the CSV to a file")
     model = load_robot_argument(args)
+    for name, value in DEFAULTS[args.scope].items():
+        setattr(args, name, value if getattr(args, name) is None else getattr(args, name))
+    columns, moving = _scope(args, model)
     io.check_writable(args.out)
     _say_if_long(model, args)
     started = time.monotonic()
@@ -94,7 +117,7 @@ def run(args) -> int:
     try:
         found = excitation(model, args.duration, harmonics=args.harmonics, samples=args.instants, seed=args.seed,
                            max_iterations=args.max_iterations, margin=args.margin, dt=args.dt,
-                           progress=progress_callback(bar))
+                           progress=progress_callback(bar), columns=columns, moving=moving)
     finally:
         bar.close()
     seconds = time.monotonic() - started
@@ -104,11 +127,13 @@ def run(args) -> int:
         warnings.warn(note, CourseDynamicsWarning)
     if args.json:
         print_json(dict(robot=model.name, out=str(args.out), seconds=round(seconds, 3), seed=args.seed,
-                        instants=args.instants, margin=args.margin, **found.record()))
+                        instants=args.instants, margin=args.margin, scope=args.scope,
+                        flange=None if columns is None else columns.link, **found.record()))
         return 0
     print(f"excitation of {one_line(model.name)}: {args.duration:g} s, {found.coefficients.harmonics} harmonics, "
           f"{found.iterations} iterations in {seconds:.1f} s (optimisation {found.ended})", file=report)
-    print(f"condition number {found.condition:.4g} (random start {found.condition_start:.4g}; base regressor, "
+    which = "base regressor" if columns is None else f"the payload's columns on {columns.link}"
+    print(f"condition number {found.condition:.4g} (random start {found.condition_start:.4g}; {which}, "
           "columns of unit norm)", file=report)
     for kind in KINDS:
         share, joint = found.limits.largest(kind)
