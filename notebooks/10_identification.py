@@ -228,6 +228,33 @@ sine = (in_phase, w_slow * np.cos(w_slow * slow)[:, None] * [1.0, 0.5], -w_slow*
 print(f"κ of a slow sine: {condition_number(arm, *sine):.3g}, of the excitation: {motion.condition:.3g}")
 
 # %% [markdown]
+# ## A payload on a known arm
+# Once the arm is known, what it carries is ten parameters more: a payload fixed to the tool frame adds to body 2,
+# and the torques it costs, τ_meas − τ_arm = Y_F π_P, are linear in its own m, m c and inertia about the tool frame's
+# origin, written in the tool's frame (`course_dynamics.tools.payloads`: Y_F is the regressor's ten columns of body 2,
+# moved from frame 2 to the tool frame by the parallel-axis theorem (6.25) and a rotation). The real arm picks up a
+# 0.5 kg part 3 cm beyond the tool point, and runs the excitation again:
+
+# %%
+from course_dynamics.core.regressor import PARAMETER_NAMES
+from course_dynamics.tools.loads import Payload, with_payload
+from course_dynamics.tools.payloads import identify_payload
+
+part = Payload(0.5, link="tool", com=(0.03, 0.01, 0.0))                     # kg, m in the tool frame
+carrying = with_payload(real, part)
+tau_part = inverse_dynamics(carrying, q, qd, qdd) + rng.normal(0.0, 0.2, q.shape)   # N·m, measured
+picked = identify_payload(real, JointLog(t, q, qd, qdd, measured=tau_part), link="tool")
+print(f"mass {picked.mass:.3f} ± {picked.mass_sigma:.2g} kg (the part: {part.mass} kg)")
+print("seen by the log: " + ", ".join(f"{name} {share:.2f}" for name, share in zip(PARAMETER_NAMES, picked.seen)))
+print("centre of mass in the tool frame (m):", picked.com.round(4), "(NaN: not determined)")
+
+# %% [markdown]
+# A planar arm shows the payload's mass, its first moments in the plane and its inertia about the axis, and nothing
+# else: its joints' axes are parallel, so m c_z and the other inertias never act. The identification says so
+# rather than inventing them (c_z is not determined: NaN). A six-joint arm's wrist
+# turns the payload about three axes and shows all ten: `identify --scope payload` and `excite --scope payload`.
+
+# %% [markdown]
 # ## What a model that matches the robot is for: collisions
 # A model whose torques match the robot's (the identified one, or here the real arm itself) makes the measured
 # torques tell when something else pushed the robot. With p = M Θ̇, the robot obeys ṗ = τ − F + CᵀΘ̇ − G + τ_ext
