@@ -18,7 +18,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from test_random_robots import link_specs, write_urdf
 
-from course_dynamics import load_urdf
+from course_dynamics import load_robot, load_urdf
+from course_dynamics.core.drives import Drives
 from course_dynamics.core.robots import robot_names
 from course_dynamics.core.sampling import random_states
 
@@ -486,3 +487,33 @@ def test_random_trees_agree_across_the_four_engines(tmp_path, specs):
     path = tmp_path / "random.urdf"
     write_urdf(path, specs)
     agrees(crosscheck(str(path), samples=SAMPLES))
+
+
+def test_crosscheck_compares_the_drives_with_the_engines_armature(capsys, tmp_path):
+    """crosscheck --drives: Pinocchio's and MuJoCo's armature against our drives, no convention between them."""
+    drives = tmp_path / "drives.toml"
+    drives.write_text("[joint.shoulder_lift_joint]\narmature = 0.4\noffset = -3.0\n[joint.wrist_3_joint]\n"
+                      "armature = 0.1\n")
+    code, out, err = run(capsys, "crosscheck", "ur5", "--drives", str(drives), "--json", "--samples", "2")
+    assert code == 0, err
+    engines = {e["engine"]: e for e in json.loads(out)["engines"]}
+    for name in ("pinocchio", "mujoco"):
+        assert engines[name]["explained"] and max(engines[name]["residual"].values()) < RTOL
+        assert "armature" not in [c["name"] for c in engines[name]["conventions"]]   # ours adds it too
+        assert any("compared as they are" in note for note in engines[name]["notes"])
+        assert any("offsets are no engine's" in note for note in engines[name]["notes"])
+    if "pybullet" in engines and engines["pybullet"]["status"] == "compared":
+        assert any("PyBullet has no rotor inertia" in note for note in engines["pybullet"]["notes"])
+
+
+def test_crosscheck_would_see_a_drive_course_dynamics_got_wrong(monkeypatch):
+    """The check is not vacuous: ours with half the armature disagrees with Pinocchio's."""
+    real = engines.Engine.__init__
+
+    def halved(self, model, rotors=None):
+        real(self, model, None if rotors is None else np.asarray(rotors) / 2)
+    monkeypatch.setattr(engines.Engine, "__init__", halved)
+    model = load_robot("ur5")
+    check = crosscheck("ur5", samples=1, engines=("pinocchio",),
+                                    drives=Drives(armature=np.full(model.n, 0.3), offset=np.zeros(model.n)))
+    assert not check.ok

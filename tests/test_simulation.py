@@ -7,6 +7,7 @@ import pytest
 from course_dynamics import inverse_dynamics, load_robot, robot_path
 from course_dynamics.core.forward_dynamics import forward_dynamics
 from course_dynamics.cli.commands import simulate as simulate_command
+from course_dynamics.core.drives import Drives
 from course_dynamics.core.friction import Friction
 from course_dynamics.tools.simulation import (
     SimulationError,
@@ -263,3 +264,46 @@ def test_the_cli_stops_a_panda_at_its_limits_without_adding_energy(capsys, tmp_p
     assert lines[1].startswith(f"9 joint stops took {-summary['stops_energy']:.6g} J")
     assert "joint 'panda_joint2' stopped at its upper limit 1.7628 (kinetic energy" in lines[2]
     assert len(lines) == 2 + 5 + 1 and lines[-1] == "  … and 4 more (--json lists every stop)"
+
+
+def test_a_simulation_with_rotors_conserves_the_energy_that_includes_them():
+    """No friction, no torque: k + u + ½ Iₐ Θ̇² stays put (RK4, small dt), and without the rotors' term it would not."""
+    arm = load_robot("two_link")
+    drives = Drives(armature=[0.3, 0.2], offset=[0.0, 0.0])
+    trajectory = simulate(arm, [0.4, -0.3], [1.0, -2.0], duration=1.0, dt=2e-3, drives=drives)
+    assert np.ptp(trajectory.energy) < 1e-8 * abs(trajectory.energy).max()
+    links_only = total_energy(arm, trajectory.q, trajectory.qd)
+    assert np.ptp(links_only) > 1e-3
+    plain = simulate(arm, [0.4, -0.3], [1.0, -2.0], duration=1.0, dt=2e-3)
+    assert np.abs(plain.q[-1] - trajectory.q[-1]).max() > 1e-2   # the rotors change the motion
+
+
+def test_a_joint_stop_with_rotors_never_adds_energy():
+    arm = load_robot("two_link")
+    drives = Drives(armature=[0.3, 0.2], offset=[0.0, 0.0])
+    trajectory = simulate(arm, [0.0, 0.0], [0.0, 0.0], duration=1.5, dt=2e-3, torque=[0.0, 40.0], drives=drives,
+                    limits="stop")
+    assert all(stop.energy <= 1e-12 for stop in trajectory.stops)
+
+
+def test_drives_need_our_own_dynamics():
+    arm = load_robot("two_link")
+    with pytest.raises(SimulationError, match="drives"):
+        simulate(arm, [0.0, 0.0], [0.0, 0.0], 0.01, 1e-3, drives=Drives([0.1, 0.1], [0.0, 0.0]),
+                 dynamics=lambda q, qd, tau: np.zeros_like(q))
+
+
+def test_simulate_with_drives_reports_the_rotors_energy(capsys, tmp_path):
+    import json
+
+    from helpers import run
+
+    drives = tmp_path / "drives.toml"
+    drives.write_text("[joint.theta1]\narmature = 0.3\n[joint.theta2]\narmature = 0.2\n")
+    code, out, err = run(capsys, "simulate", "two_link", "--q0", "0.4,-0.3", "--qd0", "1,-2", "--duration", "1",
+                         "--dt", "0.001", "--drives", str(drives), "--out", str(tmp_path / "sim.csv"), "--json")
+    assert code == 0, err
+    summary = json.loads(out)
+    assert summary["energy_end"] == pytest.approx(summary["energy_start"], rel=1e-8)
+    plain = total_energy(load_robot("two_link"), [0.4, -0.3], [1.0, -2.0])
+    assert summary["energy_start"] == pytest.approx(plain + 0.5 * (0.3 * 1 + 0.2 * 4), rel=1e-12)

@@ -25,6 +25,7 @@ from ..tools.tables import DECIMALS
 
 FRICTION_SOURCES = ("none", "urdf")
 FRICTION_MODELS = ("both", "viscous", "coulomb", "none")  # as tools.identification (not imported at start-up)
+SCOPES = ("robot", "payload")  # what identify identifies and excite excites for
 LOG = ("the motion's log: a table (comma, semicolon, tab or whitespace separated; t, q_<joint>, and what else it "
        "has), a UR RTDE recording, a ROS 1/ROS 2 bag or an MCAP file - and so also what torques, simulate and "
        "excite write with --out")
@@ -83,6 +84,11 @@ FLAGS: dict[str, dict] = {
     "--coulomb": _flag("Coulomb coefficients c1,c2,... (N m), overriding --friction"),
     "--friction-width": _flag("Coulomb sgn(qd) -> tanh(qd/WIDTH) if > 0, rad/s (default 0)", type=float,
                               default=0.0, metavar="WIDTH"),
+    # Drives: rotor inertia and torque offset per joint
+    "--drives": _flag("a TOML file of the joints' drives, as identify --drives-out writes it: [joint.<name>] tables "
+                      "of armature (rotor inertia I_a, kg m^2, kg for a prismatic joint; tau gains I_a qdd) and offset "
+                      "(tau_0, N m or N; tau gains it); a joint the file does not name has neither, and no file is "
+                      "read unless named here", metavar="FILE"),
     # Reading a log
     "--log": _flag(LOG, metavar="LOG"),
     "--log-format": _flag("how to read the log: a table, a UR RTDE recording (timestamp, actual_q_i, actual_qd_i, "
@@ -102,6 +108,11 @@ FLAGS: dict[str, dict] = {
                         metavar="HZ"),
     "--split-gaps": _flag("treat the pieces between gaps longer than 5 sample periods as separate segments (each "
                           "differentiated on its own) instead of refusing the log", action="store_true"),
+    "--repair": _flag("mend the clock of a real log at once, with a note for each step: resample it (cubic splines) on "
+                      "its median sample period when its steps are not whole periods (--resample HZ sets the rate "
+                      "instead), split it at gaps longer than 5 periods (as --split-gaps), and drop the pieces "
+                      "between gaps too short to differentiate (a lone sample); a log already on one clock is left "
+                      "as it is, and t is never sorted", action="store_true"),
     "--smooth": _flag("one Savitzky-Golay window in samples (odd, >= 5) for differentiated rates (default: chosen per "
                       "joint from the log's own noise)", type=int, metavar="W"),
     "--torque-constant": _flag("motor torque constants, N m/A, one per joint: logged currents times these are the "
@@ -121,17 +132,29 @@ FLAGS: dict[str, dict] = {
                       "LINK, in base coordinates; adds J^T F, the static-force relation of chapter 5 (may be "
                       "repeated)", metavar="LINK:FX,FY,FZ[,NX,NY,NZ]", action="append"),
     # excite
-    "--harmonics": _flag("harmonics per joint, from 2 to 50 (default 5)", type=int, default=5),
-    "--instants": _flag("instants of the period the condition number is optimised on (default 40)", type=int,
-                        default=40),
-    "--max-iterations": _flag("of the optimisation (default 100; 0 keeps the random "
-                              "start)", type=int, default=100),
+    "--harmonics": _flag("harmonics per joint, from 2 to 50 (default 5; 4 with --scope payload)", type=int),
+    "--instants": _flag("instants of the period the condition number is optimised on (default 40; 20 with --scope "
+                        "payload)", type=int),
+    "--max-iterations": _flag("of the optimisation (default 100; 40 with --scope payload; 0 keeps the random "
+                              "start)", type=int),
     "--margin": _flag("share of every limit kept clear of (default 0.05): by excite's optimisation, by torques "
                       "--retime", type=float, default=0.05),
     # identify
-    "--friction-fit": _flag("which joint friction to identify: viscous F_v qd, Coulomb F_c sgn(qd), both (default) "
-                            "or none; what is not identified stays as the URDF's <dynamics>", choices=FRICTION_MODELS,
-                            default="both"),
+    "--friction-fit": _flag("which joint friction to identify: viscous F_v qd, Coulomb F_c sgn(qd), both (default; "
+                            "none with --scope payload) or none; what is not identified stays as the URDF's "
+                            "<dynamics>", choices=FRICTION_MODELS),
+    "--scope": _flag("what the identification is for: the whole robot (default), or only a payload fixed to the "
+                     "flange (--flange), the arm's own parameters as the URDF gives them", choices=SCOPES,
+                     default="robot"),
+    "--flange": _flag("the URDF link a payload is fixed to, with --scope payload (default: the last link of the last "
+                      "moving body every tip is carried by, e.g. ur5's tool0, panda's panda_hand_tcp)",
+                      metavar="LINK"),
+    "--armature": _flag("also identify each moving measured joint's rotor inertia I_a (tau gains I_a qdd); one that "
+                        "acts exactly as a link's inertia does (the first joint's, with its body's about the axis) "
+                        "is left in that base parameter, with a note", action="store_true"),
+    "--offset": _flag("also identify each moving measured joint's constant torque offset tau_0", action="store_true"),
+    "--drives-out": _flag("write the drives (armature, offset, each with its standard error) to this TOML file, "
+                          "which torques, simulate, identify and crosscheck read with --drives", metavar="FILE"),
     "--holdout": _flag("the share of the log's time, at its end, kept out of the fit to judge it (default 0.2; 0 "
                        "fits everything)", type=float, default=0.2, metavar="FRACTION"),
     "--prior-weight": _flag("the weight of each body's log-determinant divergence from the URDF's pseudo-inertia "

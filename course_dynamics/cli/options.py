@@ -121,6 +121,15 @@ def friction(args, model):
                     smoothing=args.friction_width)
 
 
+def drives_argument(args, model):
+    """The :class:`~course_dynamics.core.drives.Drives` of ``--drives FILE``, or None without it."""
+    from ..core.drives import read_drives
+
+    if getattr(args, "drives", None) is None:
+        return None
+    return read_drives(args.drives, model)
+
+
 def warn_if_gravity_free(model) -> None:
     """One warning line when G(q) vanishes everywhere (the gravity path is then untested)."""
     from ..core.sampling import gravity_free
@@ -205,7 +214,7 @@ def add_log_arguments(parser, log: str | None = "--log", required: bool = True) 
 
 def add_differentiation_arguments(parser) -> None:
     """How a log's rates are found and what its currents mean: commands that differentiate (torques, identify)."""
-    add_all(parser, "--resample", "--split-gaps", "--smooth", "--torque-constant")
+    add_all(parser, "--resample", "--split-gaps", "--repair", "--smooth", "--torque-constant")
     add_renamed(parser, "--format", "--log-format")
     add_renamed(parser, "--dt", "--log-dt")
 

@@ -6,17 +6,21 @@ file              holds
 ``report.html``   one page (:mod:`~course_dynamics.output.page`): the held-out residuals, the
                   base parameters before and after with their standard errors, every body's
                   parameters, what the log determined of each and what stayed at the URDF's
-                  (with the bodies that moved far), friction, what the log does not excite,
-                  and the figure inline
+                  (with the bodies that moved far), friction, the drives (rotor inertia and
+                  torque offset, ± one standard error) when given or identified, what the log
+                  does not excite, and the figure inline
 ``report.md``     the same tables in Markdown (names escaped), the figure as a link
 ``report.json``   :meth:`~course_dynamics.tools.identification.Identification.record`, with the
-                  URDF and log named
+                  URDF and log named and what reading the log did (``log_notes``)
 ``held_out.svg``  measured torques against the URDF's and the identified model's, joint by joint,
                   on the held-out part of the log (matplotlib)
 ================  ===============================================================================
 
 The folder is written by :func:`~course_dynamics.output.folders.write_folder` for the command
-``identify``: files the user put there are never replaced.
+``identify``: files the user put there are never replaced. A payload's folder (``identify --scope payload``,
+:func:`payload_report_files`) holds ``report.html``, ``report.md`` and ``report.json``: the payload's mass, centre
+of mass and inertia with standard errors (:func:`payload_rows`), UR's and Franka's forms (:func:`payload_forms`),
+and :meth:`~course_dynamics.tools.payloads.PayloadIdentification.record`.
 
 >>> from course_dynamics.output.identification_report import REPORT_FILES
 >>> REPORT_FILES
@@ -117,6 +121,35 @@ def friction_rows(result: Identification) -> list[list[str]]:
 FRICTION_HEADER = ("joint", "viscous F_v (N m s/rad)", "Coulomb F_c (N m)")
 
 
+def drive_rows(result: Identification) -> list[list[str]]:
+    """Per joint: armature and offset, given → identified ± one standard error (``given`` where not fitted).
+
+    Parameters
+    ----------
+    result : Identification
+        The identification (:class:`~course_dynamics.tools.identification.Identification`) with drives.
+
+    Returns
+    -------
+    list of list of str
+        One row per joint in the columns of :data:`DRIVES_HEADER`; none without drives.
+    """
+    if result.drives is None:
+        return []
+    old, new, error = result.original_drives, result.drives, result.drive_error
+
+    def cell(before, after, e):
+        if not np.isfinite(e):
+            return f"{_number(before)} (not fitted)"
+        return f"{_number(before)} → {_number(after)} ± {_number(e, 2)}"
+    return [[joint, cell(old.armature[j], new.armature[j], error[0, j]),
+             cell(old.offset[j], new.offset[j], error[1, j])] for j, joint in enumerate(result.model.joint_names)]
+
+
+#: The columns of :func:`drive_rows`.
+DRIVES_HEADER = ("joint", "armature I_a (kg m², kg)", "offset τ₀ (N m, N)")
+
+
 def held_out_figure(result: Identification):
     """Measured τ (grey) against the URDF's (dashed) and the identified model's, one panel per measured joint."""
     plt = plotting.pyplot()  # the one matplotlib set-up: off-screen, no TeX from names, labels as paths
@@ -145,13 +178,14 @@ def _markdown_table(header, rows) -> str:
     return "\n".join(lines + ["| " + " | ".join(row) + " |" for row in cells[1:]])
 
 
-def _facts(result: Identification, urdf: str, log: str) -> list[str]:
+def _facts(result: Identification, urdf: str, log: str, log_notes=()) -> list[str]:
     fitted, held = result.samples
     condition = _number(result.condition_number, 3)
     return [f"URDF {urdf}, log {log}",
             f"{fitted} samples fitted, {held} held out (from t = {result.split_t:.6g} s)",
             f"friction identified: {result.friction_model}; solver {result.solver}",
-            f"condition number of the weighted base regressor (unit-norm columns): {condition}"]
+            f"condition number of the weighted base regressor (unit-norm columns): {condition}"] + [
+        f"the log: {note}" for note in log_notes]
 
 
 def _sections(result: Identification):
@@ -160,7 +194,8 @@ def _sections(result: Identification):
             ("Base parameters", BASE_HEADER, base_rows(result)),
             ("Bodies", BODY_HEADER, body_rows(result)),
             ("What the log determined, body by body", SEEN_HEADER, seen_rows(result)),
-            ("Friction", FRICTION_HEADER, friction_rows(result))]
+            ("Friction", FRICTION_HEADER, friction_rows(result))] + (
+        [("Drives (rotor inertia, torque offset)", DRIVES_HEADER, drive_rows(result))] if result.drives else [])
 
 
 def _excitation(result: Identification) -> list[str]:
@@ -174,9 +209,9 @@ def _excitation(result: Identification) -> list[str]:
     return lines + list(result.notes)
 
 
-def report_markdown(result: Identification, urdf: str, log: str) -> str:
+def report_markdown(result: Identification, urdf: str, log: str, log_notes=()) -> str:
     parts = [f"# Identification of {render.markdown_escape(result.model.name)}", ""]
-    parts += [f"* {render.markdown_escape(line)}" for line in _facts(result, urdf, log)] + [""]
+    parts += [f"* {render.markdown_escape(line)}" for line in _facts(result, urdf, log, log_notes)] + [""]
     for title, header, rows in _sections(result):
         parts += [f"## {title}", "", _markdown_table(header, rows), ""]
     parts += ["## What the log excites", ""] + [f"* {render.markdown_escape(x)}" for x in _excitation(result)]
@@ -184,9 +219,9 @@ def report_markdown(result: Identification, urdf: str, log: str) -> str:
     return "\n".join(parts)
 
 
-def report_html(result: Identification, urdf: str, log: str, svg: str) -> str:
+def report_html(result: Identification, urdf: str, log: str, svg: str, log_notes=()) -> str:
     title = f"Identification of {result.model.name}"
-    body = [page.heading(title), page.bullet_list(_facts(result, urdf, log))]
+    body = [page.heading(title), page.bullet_list(_facts(result, urdf, log, log_notes))]
     for section_title, header, rows in _sections(result):
         body.append(page.section(section_title, page.table(rows, header=header, css="numbers")))
     body.append(page.section("What the log excites", page.bullet_list(_excitation(result))))
@@ -194,7 +229,7 @@ def report_html(result: Identification, urdf: str, log: str, svg: str) -> str:
     return page.page(title, body)
 
 
-def report_files(result: Identification, urdf: str, log: str) -> dict[str, str | bytes]:
+def report_files(result: Identification, urdf: str, log: str, log_notes=()) -> dict[str, str | bytes]:
     """Every file of the report folder (:data:`REPORT_FILES`), by name.
 
     Parameters
@@ -205,6 +240,9 @@ def report_files(result: Identification, urdf: str, log: str) -> dict[str, str |
         The URDF identified, as the report names it.
     log : str
         The log it was identified from, as the report names it.
+    log_notes : sequence of str
+        What reading the log did (the notes of its :class:`~course_dynamics.tools.logs.JointLog`: differentiated,
+        filled, resampled, split, dropped), listed with the facts and as ``log_notes`` in the JSON.
 
     Returns
     -------
@@ -217,9 +255,110 @@ def report_files(result: Identification, urdf: str, log: str) -> dict[str, str |
         If a value of the record is not finite (:func:`~course_dynamics.output.render.json_text`).
     """
     svg = plotting.figure_bytes(held_out_figure(result), "svg").decode("utf-8")
-    document = {"urdf": urdf, "log": log, **result.record()}
-    return {"report.html": report_html(result, urdf, log, svg), "report.md": report_markdown(result, urdf, log),
+    document = {"urdf": urdf, "log": log, "log_notes": list(log_notes), **result.record()}
+    return {"report.html": report_html(result, urdf, log, svg, log_notes),
+            "report.md": report_markdown(result, urdf, log, log_notes),
             "report.json": render.json_text(document) + "\n", "held_out.svg": svg}
+
+
+#: The files of a payload's report folder (``identify --scope payload --out DIR``).
+PAYLOAD_REPORT_FILES = ("report.html", "report.md", "report.json")
+#: The columns of the payload's table.
+PAYLOAD_HEADER = ("quantity", "identified ± σ", "unit", "frame")
+
+
+def _estimate(value, error, determined: bool) -> str:
+    if not determined or not np.isfinite(value):
+        return "not determined"
+    return f"{value:.5g} ± {error:.2g}"
+
+
+def payload_rows(result, model) -> list[list[str]]:
+    """The payload's table (:data:`PAYLOAD_HEADER`): mass, centre of mass and inertia about it with standard errors,
+    then UR's and Franka's forms.
+
+    Parameters
+    ----------
+    result : PayloadIdentification
+        The payload (:class:`~course_dynamics.tools.payloads.PayloadIdentification`).
+    model : Model
+        The robot it was identified on.
+
+    Returns
+    -------
+    list of list of str
+        One row per quantity.
+    """
+    known = result.determined
+    rows = [["mass m", _estimate(result.mass, result.mass_sigma, known["mass"]), "kg", ""]]
+    rows += [[f"centre of mass c_{axis}", _estimate(result.com[k], result.com_sigma[k], True), "m",
+              result.link] for k, axis in enumerate("xyz")]
+    upper = ((0, 0), (0, 1), (1, 1), (0, 2), (1, 2), (2, 2))
+    rows += [[f"inertia about c, I_{'xyz'[a]}{'xyz'[b]}", _estimate(result.inertia[a, b], result.inertia_sigma[k],
+                                                                     known["inertia"]), "kg m²", result.link]
+             for k, (a, b) in enumerate(upper)]
+    return rows
+
+
+def payload_forms(result, model) -> list[str]:
+    """The payload as the robots' controllers take it, one line each (none unless it is detected with its centre of
+    mass): UR's ``set_payload`` and Franka's load, each in its flange frame.
+
+    Parameters
+    ----------
+    result : PayloadIdentification
+        The payload (:class:`~course_dynamics.tools.payloads.PayloadIdentification`).
+    model : Model
+        The robot it was identified on.
+
+    Returns
+    -------
+    list of str
+        ``UR (frame tool0): set_payload(…)``, ``Franka (frame panda_link8): mass = …``.
+    """
+    if not (result.detected and result.determined["com"]):
+        return []
+    names = {"ur": "UR", "franka": "Franka"}
+    return [f"{names[key]} (frame {form['frame']}): {form['call']}" for key, form in result.robot_forms(model).items()]
+
+
+def payload_report_files(result, model, urdf: str, log: str) -> dict[str, str]:
+    """The payload's report folder (:data:`PAYLOAD_REPORT_FILES`): its table, notes and record, by file name.
+
+    Parameters
+    ----------
+    result : PayloadIdentification
+        The payload (:class:`~course_dynamics.tools.payloads.PayloadIdentification`).
+    model : Model
+        The robot it was identified on.
+    urdf : str
+        The URDF, as the report names it.
+    log : str
+        The log, as the report names it.
+
+    Returns
+    -------
+    dict of str to str
+        File name → its text.
+
+    Raises
+    ------
+    InputError
+        If a value of the record is not finite (:func:`~course_dynamics.output.render.json_text`).
+    """
+    title = f"Payload on {model.name} ({result.link})"
+    fitted, held = result.samples
+    facts = [f"URDF {urdf}, log {log}", f"{fitted} samples fitted, {held} held out; friction identified: "
+             f"{result.friction_model}; {result.solver}",
+             "payload detected" if result.detected else "no payload detected"] + payload_forms(result, model) \
+        + list(result.notes)
+    rows = payload_rows(result, model)
+    markdown = "\n".join([f"# {render.markdown_escape(title)}", ""] + [f"* {render.markdown_escape(x)}" for x in facts]
+                         + ["", _markdown_table(PAYLOAD_HEADER, rows), ""])
+    html = page.page(title, [page.heading(title), page.bullet_list(facts),
+                             page.section("Payload", page.table(rows, header=PAYLOAD_HEADER, css="numbers"))])
+    document = {"urdf": urdf, "log": log, **result.record(model)}
+    return {"report.html": html, "report.md": markdown, "report.json": render.json_text(document) + "\n"}
 
 
 def check_report_folder(folder, also=()) -> None:
@@ -241,7 +380,7 @@ def check_report_folder(folder, also=()) -> None:
     folders.check_folder(folder, REPORT_FILES + tuple(also), OWNER)
 
 
-def write_report(folder, result: Identification, urdf: str, log: str, also=None):
+def write_report(folder, result: Identification, urdf: str, log: str, also=None, log_notes=()):
     """Write the report folder (module docstring) and the files ``also`` (name → bytes, e.g. the identified
     URDF); returns the paths written.
 
@@ -257,6 +396,8 @@ def write_report(folder, result: Identification, urdf: str, log: str, also=None)
         The log it was identified from, as the report names it.
     also : Mapping of str to bytes, optional
         Other files to write into the folder, by name.
+    log_notes : sequence of str
+        What reading the log did, as :func:`report_files` lists it.
 
     Returns
     -------
@@ -269,7 +410,9 @@ def write_report(folder, result: Identification, urdf: str, log: str, also=None)
         If a file in the way was not written there by ``identify``, the folder cannot be written
         (:func:`~course_dynamics.output.folders.write_folder`), or a value of the record is not finite.
     """
-    return folders.write_folder(folder, {**dict(also or {}), **report_files(result, urdf, log)}, OWNER)
+    return folders.write_folder(folder, {**dict(also or {}), **report_files(result, urdf, log, log_notes)}, OWNER)
 
 
-__all__ = ["REPORT_FILES", "RESIDUAL_HEADER", "check_report_folder", "report_files", "residual_rows", "write_report"]
+__all__ = ["DRIVES_HEADER", "PAYLOAD_HEADER", "PAYLOAD_REPORT_FILES", "REPORT_FILES", "RESIDUAL_HEADER",
+           "check_report_folder", "drive_rows", "payload_forms", "payload_report_files", "payload_rows", "report_files",
+           "residual_rows", "write_report"]

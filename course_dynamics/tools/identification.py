@@ -6,6 +6,8 @@ code                symbol         meaning (shape, unit)
 ``pi``              π              inertial parameters, 10 per moving body (:mod:`~course_dynamics.core.regressor`)
 ``Y``               Y(Θ, Θ̇, Θ̈)     the regressor: τ = Y π (K, n, 10 n)
 ``friction``        F_v, F_c       viscous and Coulomb coefficients per joint: τ_F = F_v θ̇ + F_c sgn θ̇ (6.112)
+``drives``          Iₐ, τ₀         each joint's rotor inertia and torque offset (:mod:`~course_dynamics.core.drives`):
+                                   τ gains Iₐ θ̈ + τ₀
 ``theta``           θ              π and the friction coefficients identified, one vector
 ``base``            π_b = β π      the base parameters: the combinations of π the torques can tell apart
 ``sigma``           σⱼ             the noise of joint j's measured torque, from a first unweighted fit
@@ -36,6 +38,15 @@ Friction that is not identified (``friction="viscous"``: the Coulomb part) is th
 ``<dynamics>``, subtracted from τ_meas before fitting. Θ̇ is the log's, as for the torques: the
 sign of a Coulomb term follows the measured rate.
 
+Drives (``fit_drives``): an armature adds the column θ̈ⱼ to joint j's rows, an offset the column 1; like
+friction they have no prior, are fitted with the base parameters (standard errors included) and an armature
+is held ≥ 0. What is not fitted is ``drives``' value (zero without), subtracted from τ_meas as known; what is
+fitted starts there, and stays there where the log does not see it. A drive column that the rigid base
+parameters already span at every state (to ``SPANNED`` = 1e-6) cannot be told apart from them: the armature of a
+first joint moves with its body's inertia about the axis (both multiply θ̈₁ alone), the offset of a vertical
+first prismatic joint with the weight it lifts. Such a column is not fitted (it keeps ``drives``' value) and
+a note names the base parameters that absorb it: those combinations are then reported as such.
+
 >>> import numpy as np
 >>> from dataclasses import replace
 >>> from course_dynamics import load_robot, inverse_dynamics
@@ -64,18 +75,24 @@ import numpy as np
 from ..base.errors import InputError
 from ..base.resources import check_memory
 from ..core.evaluator import inverse_dynamics  # the evaluator chooses the implementation of each call
+from ..core.drives import Drives
 from ..core.friction import Friction
 from ..core.inertia import physical_problems
 from ..core.model import Model
 from ..core.regressor import (TENSOR, BaseParameters, base_parameters, parameter_names, parameters, regressor,
                                with_parameters)
+from ..core.sampling import random_states
 from .consistency import consistent_fit, pseudo_inertia
 from .logs import JointLog
 from .plausibility import far_moves, link_extents
 
 #: Which friction :func:`identify` can identify (both parts, the viscous or the Coulomb part only, or none).
 FRICTION_MODELS = ("both", "viscous", "coulomb", "none")
-SYMBOLS = {"viscous": "Fv", "coulomb": "Fc"}   # friction coefficients are named Fv_<joint>, Fc_<joint>
+SYMBOLS = {"viscous": "Fv", "coulomb": "Fc", "armature": "Ia", "offset": "tau0"}   # Fv_<joint>, Ia_<joint>, …
+#: What a drive can add to the fit (its column in joint j's rows: θ̈ⱼ, 1).
+DRIVE_PARTS = ("armature", "offset")
+#: A drive column whose sine of angle to the rigid base regressor's span, over random states, is below this is spanned.
+SPANNED = 1e-6
 ROWS_AT_A_TIME = 2048         # samples per regressor block: (2048, n, 10 n) floats, 6 MB for a UR5
 #: The default λ of step 3, the weight of the bodies' divergence from the URDF against the mean squared residual.
 PRIOR_WEIGHT = 1e-5
@@ -176,6 +193,12 @@ class Identification:
     bodies : tuple of dict
         Per body: the parameters ``determined``, seen ``in_combination``, ``kept`` at the URDF's, its
         ``divergence`` from the URDF's and its ``warnings``.
+    drives : Drives, optional
+        The identified drives (the given ones where a part was not fitted); None: none given or fitted.
+    original_drives : Drives, optional
+        The drives given (a file's), or none.
+    drive_error : numpy.ndarray, shape (2, n), optional
+        The weighted fit's standard errors of the armatures and the offsets, NaN where not fitted.
     """
 
     model: Model
@@ -212,6 +235,9 @@ class Identification:
     moved: float = 0.0
     far: tuple[str, ...] = ()
     bodies: tuple[dict, ...] = ()
+    drives: Drives | None = None
+    original_drives: Drives | None = None
+    drive_error: np.ndarray | None = None
 
     def record(self) -> dict:
         """A JSON-ready summary (no arrays of samples).
@@ -243,6 +269,10 @@ class Identification:
             "never_act": list(self.never_act), "notes": list(self.notes),
             "held": list(self.held), "unseen_threshold": self.threshold, "active_constraints": list(self.active),
             "unseen_moved": self.moved, "far": list(self.far), "bodies": [dict(b) for b in self.bodies],
+            **({} if self.drives is None else {"drives": {joint: {
+                "armature": float(self.drives.armature[j]), "armature_error": listed(self.drive_error[0])[j],
+                "offset": float(self.drives.offset[j]), "offset_error": listed(self.drive_error[1])[j]}
+                for j, joint in enumerate(joints)}}),
         }
 
 
@@ -258,23 +288,28 @@ def _design(model: Model, log: JointLog, rows, columns) -> np.ndarray:
     Y = regressor(model, log.q[rows], log.qd[rows], log.qdd[rows])
     F = np.zeros(Y.shape[:2] + (len(columns),))
     for k, (kind, j) in enumerate(columns):
-        F[:, j, k] = log.qd[rows, j] if kind == "viscous" else np.sign(log.qd[rows, j])
+        F[:, j, k] = (log.qd[rows, j] if kind == "viscous" else np.sign(log.qd[rows, j]) if kind == "coulomb"
+                      else log.qdd[rows, j] if kind == "armature" else 1.0)   # τ gains Iₐ θ̈ + τ₀
     return np.concatenate([Y, F], axis=2)
 
 
-def _factors(model, log, rows, columns, target, measured, progress) -> np.ndarray:
+def _factors(model, log, rows, columns, target, measured, progress, design=None) -> np.ndarray:
     """Per measured joint j, the triangular R_j (r, P + 1) with R_jᵀ R_j = [Yⱼ | τⱼ]ᵀ [Yⱼ | τⱼ], r ≤ P + 1.
 
     Built a block of samples at a time (a QR of the factor so far stacked on the block), so any
     least-squares problem in Yⱼ and τⱼ keeps its size and its conditioning (no normal equations):
     ‖Yⱼ θ − τⱼ‖ = ‖R_j[:, :P] θ − R_j[:, P]‖. R_j has as many rows as the samples so far, at most
-    P + 1: a short log costs what its samples do. ``progress`` moves after each joint's QR.
+    P + 1: a short log costs what its samples do. ``progress`` moves after each joint's QR. ``design(block)``
+    gives the (K, n, P) design of samples ``block`` (default :func:`_design`'s [Y | friction columns]).
     """
-    P = 10 * model.n_bodies + len(columns)
+    if design is None:
+        def design(block):
+            return _design(model, log, block, columns)
+    P = design(rows[:1]).shape[2]
     R = np.zeros((len(measured), 0, P + 1))
     for start in range(0, len(rows), ROWS_AT_A_TIME):
         block = rows[start:start + ROWS_AT_A_TIME]
-        A = _design(model, log, block, columns)[:, measured, :]     # (K, m, P)
+        A = design(block)[:, measured, :]     # (K, m, P)
         b = target[block][:, measured]
         old, grown = R, min(R.shape[1] + len(block), P + 1)
         if grown != R.shape[1]:
@@ -302,11 +337,11 @@ def _solve(M: np.ndarray, r: np.ndarray) -> np.ndarray:
     return np.linalg.lstsq(M / d, r, rcond=1e-10)[0] / d
 
 
-def _weighted_fit(R, counts, where):
+def _weighted_fit(R, counts, where, full: bool = False):
     """Unweighted, then weighted least squares on the columns ``where`` (step 2).
 
-    Returns σⱼ, θ, its standard errors, and the singular values (shares of the largest) and right
-    singular vectors of W Y_b with unit-norm columns.
+    Returns σⱼ, θ, its standard errors (with ``full``, their covariance s² (Yᵀ W² Y)⁻¹), and the singular values
+    (shares of the largest) and right singular vectors of W Y_b with unit-norm columns.
     """
     X, y = R[:, :, where], R[:, :, -1]
     theta0 = _solve(X.reshape(-1, len(where)), y.reshape(-1))
@@ -321,7 +356,8 @@ def _weighted_fit(R, counts, where):
     _, S, Vt = np.linalg.svd(Xw / d, full_matrices=False)
     kept = S > 1e-10 * S[0]
     covariance = (Vt[kept].T / S[kept] ** 2) @ Vt[kept] / np.outer(d, d) * s2
-    return sigma, theta, np.sqrt(np.maximum(np.diag(covariance), 0.0)), S / S[0], Vt
+    error = covariance if full else np.sqrt(np.maximum(np.diag(covariance), 0.0))
+    return sigma, theta, error, S / S[0], Vt
 
 
 def _scales(model, lengths, theta_wls, columns, where, urdf_values) -> np.ndarray:
@@ -336,7 +372,7 @@ def _scales(model, lengths, theta_wls, columns, where, urdf_values) -> np.ndarra
     estimate = dict(zip(where, theta_wls))
     n_rigid = 10 * model.n_bodies
     friction = np.ones(len(columns))
-    for kind in ("viscous", "coulomb"):
+    for kind in ("viscous", "coulomb", *DRIVE_PARTS):
         ks = [k for k, (c, _) in enumerate(columns) if c == kind]
         values = np.array([abs(estimate.get(n_rigid + k, 0.0)) for k in ks])
         urdf = np.abs(np.asarray(urdf_values, dtype=float)[ks])
@@ -378,6 +414,28 @@ def _body_summary(model, names, seen, fit, far) -> list[dict]:
     return rows
 
 
+def _spanned(model: Model, base: BaseParameters, held: dict, columns) -> dict[int, list[int]]:
+    """Per drive column (its index in ``columns``) that the rigid base regressor spans at the base parameters'
+    random states: the base parameters that absorb it (module docstring)."""
+    q, qd, qdd = random_states(model, base.samples, base.seed)
+    for j, value in held.items():
+        q[:, j], qd[:, j], qdd[:, j] = value, 0.0, 0.0
+    rows = [j for j in range(model.n) if j not in held]
+    Yb = regressor(model, q, qd, qdd)[:, rows][:, :, list(base.independent)].reshape(-1, base.rank)
+    unit = Yb / np.maximum(np.linalg.norm(Yb, axis=0), 1e-300)
+    out = {}
+    for k, (kind, j) in enumerate(columns):
+        if kind not in DRIVE_PARTS:
+            continue
+        column = np.zeros((len(q), len(rows)))
+        column[:, rows.index(j)] = qdd[:, j] if kind == "armature" else 1.0
+        column = column.reshape(-1) / np.linalg.norm(column)
+        K = np.linalg.lstsq(unit, column, rcond=None)[0]
+        if np.linalg.norm(unit @ K - column) < SPANNED:
+            out[k] = [int(b) for b in np.flatnonzero(np.abs(K) > SPANNED ** 0.5 * np.abs(K).max())]
+    return out
+
+
 def _kind(k: int, n_rigid: int, columns) -> str:
     """What θ's entry k is: a mass (m), a first moment (h), an inertia (I), or a friction kind."""
     if k >= n_rigid:
@@ -395,7 +453,8 @@ def _combination(vector, names) -> str:
 
 def identify(model: Model, log: JointLog, friction: str = "both", holdout: float = 0.2,
              prior_weight: float = PRIOR_WEIGHT, min_mass=None, progress=None,
-             where: str = "the log", threshold: float = UNSEEN) -> Identification:
+             where: str = "the log", threshold: float = UNSEEN, drives: Drives | None = None,
+             fit_drives=()) -> Identification:
     """The parameters ``log`` shows ``model`` really has (module docstring).
 
     Parameters
@@ -419,6 +478,11 @@ def identify(model: Model, log: JointLog, friction: str = "both", holdout: float
     threshold : float
         The share of the largest singular value (scale units) below which a direction counts as not seen by the
         log: it stays at the URDF's value.
+    drives : Drives, optional
+        The drives known (a file's): subtracted from τ_meas where not fitted, the start where fitted; default none.
+    fit_drives : sequence of str
+        Which drive parts to identify on every measured moving joint: ``"armature"``, ``"offset"`` (module
+        docstring).
 
     Returns
     -------
@@ -442,6 +506,9 @@ def identify(model: Model, log: JointLog, friction: str = "both", holdout: float
         raise InputError(f"the held-out share must be at least 0 and less than 1, got {holdout}")
     if not (np.isfinite(prior_weight) and prior_weight >= 0):
         raise InputError(f"the prior weight must be a non-negative number, got {prior_weight}")
+    if set(fit_drives) - set(DRIVE_PARTS):
+        raise InputError(f"unknown drive parts {sorted(set(fit_drives) - set(DRIVE_PARTS))} (choose from "
+                         f"{', '.join(DRIVE_PARTS)})")
     has_torque = [] if log.measured is None else [j for j in range(model.n)
                                                    if np.all(np.isfinite(log.measured[:, j]))]
     if not has_torque:
@@ -454,12 +521,22 @@ def identify(model: Model, log: JointLog, friction: str = "both", holdout: float
         raise InputError(f"{where}: no joint with a measured torque moves in the log (each spans at most {HELD:g}): "
                          "there is nothing to identify")
     held_bodies = [k for k, (j, _, _) in enumerate(model.coupling) if j in held]
-    columns = _friction_columns(friction, measured)
+    columns = _friction_columns(friction, measured) + [(k, j) for j in measured for k in DRIVE_PARTS if k in fit_drives]
+    base = base_parameters(model, held=held) if held else base_parameters(model)
+    given = Drives.none(model) if drives is None else drives
+    spanned = _spanned(model, base, held, columns)
+    drive_notes = tuple(f"the {columns[k][0]} of joint '{model.joint_names[columns[k][1]]}' cannot be told apart "
+                        f"from {', '.join(f'π_b{b + 1}' for b in bs)} (it multiplies what they multiply at every "
+                        f"state): it is not fitted but kept at {getattr(given, columns[k][0])[columns[k][1]]:g}, "
+                        f"and what the log shows of it is in those base parameters" for k, bs in spanned.items())
+    columns = [c for k, c in enumerate(columns) if k not in spanned]
     identified = {(kind, j) for kind, j in columns}
     urdf_friction = Friction.from_urdf(model)
     fixed = Friction(viscous=[0.0 if ("viscous", j) in identified else v for j, v in enumerate(urdf_friction.viscous)],
                      coulomb=[0.0 if ("coulomb", j) in identified else c for j, c in enumerate(urdf_friction.coulomb)])
-    target = np.where(np.isfinite(log.measured), log.measured, 0.0) - fixed.torques(log.qd)
+    known = Drives(*(np.where([(k, j) in identified for j in range(model.n)], 0.0, getattr(given, k))
+                     for k in DRIVE_PARTS))
+    target = np.where(np.isfinite(log.measured), log.measured, 0.0) - fixed.torques(log.qd) - known.torques(log.qdd)
     t = log.t
     split = t[0] + (1 - holdout) * (t[-1] - t[0])
     train = np.flatnonzero(t < split) if holdout > 0 else np.arange(len(t))
@@ -469,7 +546,6 @@ def identify(model: Model, log: JointLog, friction: str = "both", holdout: float
                  f"{where}: identifying robot '{model.name}' ({model.n} joints, {n_rigid + len(columns)} parameters) "
                  f"from {len(train)} samples of {len(measured)} measured joints",
                  ": take a robot with fewer joints, or identify less friction (--friction-fit)")
-    base = base_parameters(model, held=held) if held else base_parameters(model)
     fitted = list(base.independent) + [n_rigid + k for k in range(len(columns))]
     if len(train) * len(measured) < 2 * len(fitted):
         raise InputError(f"{where}: the fitted part has {len(train)} samples of {len(measured)} measured joints, too "
@@ -477,7 +553,8 @@ def identify(model: Model, log: JointLog, friction: str = "both", holdout: float
     R = _factors(model, log, train, columns, target, measured, progress)
     counts = np.full(len(measured), float(len(train)))
     sigma, theta_wls, error, shares, directions = _weighted_fit(R, counts, fitted)
-    theta_urdf = np.concatenate([parameters(model), [getattr(urdf_friction, kind)[j] for kind, j in columns]])
+    theta_urdf = np.concatenate([parameters(model), [getattr(given if kind in DRIVE_PARTS else urdf_friction, kind)[j]
+                                                     for kind, j in columns]])
     masses = np.array([b.mass for b in model.bodies], dtype=float)
     min_mass = np.maximum(MIN_MASS_SHARE * masses, MIN_MASS) if min_mass is None else np.asarray(min_mass, float)
     names = tuple(parameter_names(model)) + tuple(f"{SYMBOLS[kind]}_{model.joint_names[j]}" for kind, j in columns)
@@ -486,16 +563,21 @@ def identify(model: Model, log: JointLog, friction: str = "both", holdout: float
     free = np.ones(len(theta_urdf), dtype=bool)
     for k in held_bodies:
         free[10 * k:10 * k + 10] = False
+    groups = {label: [n_rigid + k for k, (kind, _) in enumerate(columns) if kind in kinds]
+              for label, kinds in (("friction", ("viscous", "coulomb")), ("armature", ("armature",)))}
     fit = consistent_fit(model, R, sigma, len(train) * len(measured), theta_urdf, free, scale, lengths, names,
-                         prior_weight, threshold, min_mass)
+                         prior_weight, threshold, min_mass, groups)
     moving = [i for i in range(model.n_bodies) if i not in held_bodies]
     pi = _physical(fit.theta[:n_rigid], model, min_mass, moving)
-    theta, solver = np.concatenate([pi, np.maximum(fit.theta[n_rigid:], 0.0)]), fit.solver
+    signed = np.array([kind == "offset" for kind, _ in columns], dtype=bool)
+    theta = np.concatenate([pi, np.where(signed, fit.theta[n_rigid:], np.maximum(fit.theta[n_rigid:], 0.0))])
+    solver = fit.solver
     found = with_parameters(model, pi)
     viscous, coulomb = fixed.viscous.copy(), fixed.coulomb.copy()
+    armature, offset = given.armature.copy(), given.offset.copy()
     for (kind, j), value in zip(columns, theta[n_rigid:]):
-        (viscous if kind == "viscous" else coulomb)[j] = value
-    found_friction = Friction(viscous=viscous, coulomb=coulomb)
+        {"viscous": viscous, "coulomb": coulomb, "armature": armature, "offset": offset}[kind][j] = value
+    found_friction, found_drives = Friction(viscous=viscous, coulomb=coulomb), Drives(armature, offset)
 
     base_names = tuple(f"π_b{k + 1}" for k in range(base.rank)) + names[n_rigid:]
 
@@ -506,13 +588,14 @@ def identify(model: Model, log: JointLog, friction: str = "both", holdout: float
     condition = float(1.0 / shares[-1]) if shares[-1] > 0 else float("inf")
     never_act = tuple(names[k] for k in range(n_rigid) if not base.beta[:, k].any())
 
-    before, after = _predict(model, urdf_friction, log, test), _predict(found, found_friction, log, test)
+    before = _predict(model, urdf_friction, log, test, given)
+    after = _predict(found, found_friction, log, test, found_drives)
     rms_before, rms_after = (_per_joint(model, measured, np.sqrt(np.mean((log.measured[test] - tau) ** 2, axis=0))
                                         if len(test) else None) for tau in (before, after))
     notes = tuple(f"joint '{model.joint_names[j]}' has no measured torque: its rows are left out"
                   for j in range(model.n) if j not in has_torque)
     notes += tuple(f"joint '{model.joint_names[j]}' is held at {value:.6g} in the log: a fixed joint for the fit, "
-                   f"its body left as the URDF has it" for j, value in held.items())
+                   f"its body left as the URDF has it" for j, value in held.items()) + drive_notes
     far = tuple(far_moves(model, found, lengths))
     return Identification(
         model=found, friction=found_friction, original=model, original_friction=urdf_friction, friction_model=friction,
@@ -524,7 +607,58 @@ def identify(model: Model, log: JointLog, friction: str = "both", holdout: float
         rms_before=rms_before, rms_after=rms_after, solver=solver, notes=notes,
         held=tuple(model.joint_names[j] for j in held), scale=scale, threshold=threshold, shares=fit.shares,
         seen=fit.seen, active=fit.active, moved=fit.moved, far=far,
-        bodies=tuple(_body_summary(model, names, fit.seen, fit, far)))
+        bodies=tuple(_body_summary(model, names, fit.seen, fit, far)),
+        drives=found_drives if drives is not None or fit_drives else None, original_drives=given,
+        drive_error=_drive_errors(model, columns, error[len(base.independent):]))
+
+
+def fit_transformed(model: Model, log: JointLog, rows, measured, target, friction: str, transform, progress=None):
+    """Step 2 on the regressor's columns transformed: Y (K, n, 10 n_bodies) becomes ``transform(Y)`` (K, n, p), the
+    friction columns of ``friction`` after it; the factors of each measured joint, then the weighted least squares
+    on every column (a payload's fit, :mod:`~course_dynamics.tools.payloads`: its ten columns of one body).
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    log : JointLog
+        The log.
+    rows : numpy.ndarray of int, shape (K,)
+        The samples fitted.
+    measured : list of int
+        The joints whose rows are fitted.
+    target : numpy.ndarray, shape (samples, n)
+        What the columns are to explain, N·m (N).
+    friction : str
+        Which friction is fitted with them (:data:`FRICTION_MODELS`).
+    transform : callable
+        Y (K, n, 10 n_bodies) → (K, n, p).
+    progress : callable, optional
+        Called as ``progress(done, total)`` (samples).
+
+    Returns
+    -------
+    columns : list of (str, int)
+        The friction columns (kind, joint), after the p transformed ones.
+    R : numpy.ndarray, shape (m, r, p + F + 1)
+        The factors of [columns | target], per measured joint.
+    sigma : numpy.ndarray, shape (m,)
+        Each measured joint's noise σⱼ, N·m.
+    theta : numpy.ndarray, shape (p + F,)
+        The weighted least-squares estimate.
+    covariance : numpy.ndarray, shape (p + F, p + F)
+        Its covariance s² (Yᵀ W² Y)⁻¹.
+    """
+    columns = _friction_columns(friction, measured)
+    n_rigid = 10 * model.n_bodies
+
+    def design(block):
+        D = _design(model, log, block, columns)
+        return np.concatenate([transform(D[..., :n_rigid]), D[..., n_rigid:]], axis=2)
+    R = _factors(model, log, rows, columns, target, measured, progress, design=design)
+    counts = np.full(len(measured), float(len(rows)))
+    sigma, theta, covariance, _, _ = _weighted_fit(R, counts, list(range(R.shape[2] - 1)), full=True)
+    return columns, R, sigma, theta, covariance
 
 
 def _per_joint(model: Model, measured, values, packed: bool = False) -> np.ndarray:
@@ -536,15 +670,24 @@ def _per_joint(model: Model, measured, values, packed: bool = False) -> np.ndarr
     return out
 
 
-def _predict(model: Model, friction: Friction, log: JointLog, rows) -> np.ndarray:
-    """τ = M Θ̈ + V + G + F(Θ̇) of ``model`` on the samples ``rows`` (K, n)."""
+def _drive_errors(model: Model, columns, errors) -> np.ndarray:
+    """(2, n): the standard errors of the armatures and offsets fitted, NaN for those not fitted."""
+    out = np.full((len(DRIVE_PARTS), model.n), np.nan)
+    for (kind, j), e in zip(columns, errors):
+        if kind in DRIVE_PARTS:
+            out[DRIVE_PARTS.index(kind), j] = e
+    return out
+
+
+def _predict(model: Model, friction: Friction, log: JointLog, rows, drives: Drives) -> np.ndarray:
+    """τ = M Θ̈ + V + G + F(Θ̇) + Iₐ Θ̈ + τ₀ of ``model`` on the samples ``rows`` (K, n)."""
     tau = np.empty((len(rows), model.n))
     for start in range(0, len(rows), ROWS_AT_A_TIME):
         block = rows[start:start + ROWS_AT_A_TIME]
         rigid = inverse_dynamics(model, log.q[block], log.qd[block], log.qdd[block])
-        tau[start:start + len(block)] = rigid + friction.torques(log.qd[block])      # (6.114)
+        tau[start:start + len(block)] = rigid + friction.torques(log.qd[block]) + drives.torques(log.qdd[block])
     return tau
 
 
-__all__ = ["FRICTION_MODELS", "MIN_MASS", "MIN_MASS_SHARE", "PRIOR_WEIGHT", "Identification", "identify",
-           "pseudo_inertia"]
+__all__ = ["FRICTION_MODELS", "MIN_MASS", "MIN_MASS_SHARE", "PRIOR_WEIGHT", "Identification", "fit_transformed",
+           "identify", "pseudo_inertia"]

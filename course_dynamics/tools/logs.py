@@ -52,15 +52,16 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..base.errors import InputError
+from ..core.drives import Driven, Drives
 from ..core.evaluator import implementation
 from ..core.friction import Friction
 from ..core.model import Model
 from .columns import KINDS
-from .differentiation import derivatives
+from .differentiation import POLYORDER, derivatives
 from .limits import LimitsReport, limits_report
 from .loads import with_payload, wrench_torques
 from .motion import TIME_UNITS, check_time_unit, check_values, log_times, planned_columns
-from .resampling import even_clock
+from .resampling import MIN_SEGMENT_ROWS, even_clock
 from .residuals import ResidualReport, residual_report
 from .sources import as_source
 from .tables import joint_columns, stack_joint_columns
@@ -227,7 +228,7 @@ def _check_plausible(model: Model, plan, renamed: dict, torque_constants, source
 def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[str, str] | None = None,
               window: int | None = None, constants: Mapping[str, float] | None = None,
               time_unit: str = "s", resample: float | None = None, split_gaps: bool = False,
-              torque_constants=None, needs: str = "qdd") -> JointLog:
+              repair: bool = False, torque_constants=None, needs: str = "qdd") -> JointLog:
     """Θ, Θ̇, Θ̈ of ``model``'s joints from a log (module docstring).
 
     Parameters
@@ -252,6 +253,10 @@ def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[
         Put the log on an even clock at this rate first, Hz.
     split_gaps : bool
         Differentiate the pieces between long gaps apart instead of refusing them.
+    repair : bool
+        Whatever the clock needs, at once (:func:`~course_dynamics.tools.resampling.even_clock`): resample on the
+        median period when the steps are not whole periods, split at long gaps, drop the segments too short to
+        differentiate; each said in a note. A log on one clock gives the same result with it or without.
     torque_constants : array_like, shape (n,), optional
         Turn logged motor currents into measured torques, N·m/A.
     needs : str
@@ -267,8 +272,8 @@ def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[
     ------
     InputError
         A mapped or needed column that is missing or holds text, a column of the wrong length, two of our
-        columns mapped to one of the log's, t not increasing, a gap or an uneven step it cannot fill, a bad
-        ``dt``, time unit or window.
+        columns mapped to one of the log's, t not increasing, the clock's problems the options leave (all named
+        in one message), a bad ``dt``, time unit or window.
     """
     if needs not in ("qd", "qdd"):
         raise ValueError(f"needs is 'qd' or 'qdd', not {needs!r}")
@@ -289,11 +294,15 @@ def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[
     segments = ((0, samples),)
     step = float(dt) if dt is not None else (float(np.median(np.diff(t))) if samples > 1 else 0.0)
     derived = tuple(d for d in plan.derived if needs == "qdd" or d.order == 1)   # what must be differentiated
+    if repair and not (derived or resample is not None):
+        notes.append("repair: nothing is differentiated, so the log's stamps are taken as they are")
     if derived or resample is not None:
         if samples < 2:
             raise InputError(f"{where}: one row cannot be differentiated (give qd_{' and qdd_' * (needs == 'qdd')} "
                              "columns)")
-        clock = even_clock(t, renamed, resample=resample, split_gaps=split_gaps, where=where, line=line)
+        fewest = (window or POLYORDER + 2) if derived else MIN_SEGMENT_ROWS   # what each segment's filter needs
+        clock = even_clock(t, renamed, resample=resample, split_gaps=split_gaps, repair=repair, min_rows=fewest,
+                           where=where, line=line)
         t, renamed, segments, step = clock.t, clock.columns, clock.segments, clock.step
         notes += clock.notes
         samples = len(t)
@@ -310,7 +319,7 @@ def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[
         qdd[:, i] = np.nan if j in derived_qdd else renamed[f"qdd_{j}"]
     sigma_qdd = np.zeros_like(q)
     if derived or needs == "qd":  # a motion to differentiate or to follow (a full-state log may list unrelated states)
-        _check_rate_units(model, plan, q, qd, step, where)
+        _check_rate_units(model, plan, q, qd, step, where, segments)
     if derived:
         sigma_qdd, found = _differentiate(model, plan, q, qd, qdd, segments, step, window, where)
         notes += found
@@ -351,18 +360,26 @@ def _mimic_notes(model, source, renamed: dict, samples: int) -> list[str]:
     return notes
 
 
-def _check_rate_units(model, plan, q, qd, step, where) -> None:
-    """A logged Θ̇ must be the rate of the logged Θ: one in deg/s, or a t in other units, is refused by name."""
+def _check_rate_units(model, plan, q, qd, step, where, segments=()) -> None:
+    """A logged Θ̇ must be the rate of the logged Θ: one in deg/s, or a t in other units, is refused by name.
+
+    A difference across a gap (from one of ``segments`` to the next) is no rate, and is left out."""
     if step <= 0 or len(q) < 20:  # a handful of rows cannot tell units apart (and other checks speak first)
         return
     # differences over several samples (little noise), but within a short time: a stride of a sizeable part of a
     # long log's period would compare the logged rate with an aliased slope
     stride = max(1, min(len(q) // 200, int(RATE_CHECK_SPAN / (2 * step))))
+    piece = np.zeros(len(q), dtype=int)
+    for number, (start, stop) in enumerate(segments):
+        piece[start:stop] = number
+    within = piece[2 * stride:] == piece[:-2 * stride]        # the differences that stay within one segment
+    if not within.any():
+        return
     for i, j in enumerate(model.joint_names):
         if f"qd_{j}" not in plan.read or f"q_{j}" not in plan.read:
             continue
-        slope = (q[2 * stride:, i] - q[:-2 * stride, i]) / (2 * stride * step)
-        logged = qd[stride:len(q) - stride, i]
+        slope = ((q[2 * stride:, i] - q[:-2 * stride, i]) / (2 * stride * step))[within]
+        logged = qd[stride:len(q) - stride, i][within]
         moving, rate = float(np.sqrt(np.mean(slope**2))), float(np.sqrt(np.mean(logged**2)))
         if max(moving, rate) < 1e-3 or min(moving, rate) == 0:
             continue
@@ -412,11 +429,12 @@ def torques_from_log(model: Model, table, *, dt: float | None = None, columns: M
                      window: int | None = None, constants: Mapping[str, float] | None = None, time_unit: str = "s",
                      friction: Friction | None = None, payload=None, wrench=None,
                      compiled: bool | None = None, resample: float | None = None, split_gaps: bool = False,
-                     torque_constants=None, progress=None) -> TorqueLog:
+                     repair: bool = False,
+                     torque_constants=None, progress=None, drives: Drives | None = None) -> TorqueLog:
     """The joint torques a logged motion needs, whether they and its rates stay within the URDF's limits,
     and, when the log holds what the robot measured, how far those are from ours.
 
-    τ = M(Θ)Θ̈ + V(Θ,Θ̇) + G(Θ) (Newton–Euler, (6.45)–(6.53)) + F(Θ̇) (friction, (6.114))
+    τ = M(Θ)Θ̈ + V(Θ,Θ̇) + G(Θ) (Newton–Euler, (6.45)–(6.53)) + F(Θ̇) (friction, (6.114)) + Iₐ Θ̈ + τ₀ (drives)
     + Σ Jᵀ F_ext (wrenches at frames, chapter 5's static forces), on the model (under its gravity:
     ``model.with_gravity(g)`` to change it) with every ``payload`` lumped in. ``payload``: a
     :class:`~course_dynamics.tools.loads.Payload` or a list of them; ``wrench``: a
@@ -459,10 +477,14 @@ def torques_from_log(model: Model, table, *, dt: float | None = None, columns: M
         Put the log on an even clock at this rate first, Hz.
     split_gaps : bool
         Differentiate the pieces between long gaps apart instead of refusing them.
+    repair : bool
+        Resample, split and drop what the clock needs, at once, as :func:`joint_log` does.
     torque_constants : array_like, shape (n,), optional
         Turn logged motor currents into measured torques, N·m/A.
     progress : callable, optional
         Called as ``progress(done, total)`` as the work goes.
+    drives : Drives, optional
+        Rotor inertias and torque offsets (:class:`~course_dynamics.core.drives.Drives`), added as Iₐ Θ̈ + τ₀.
 
     Returns
     -------
@@ -479,11 +501,12 @@ def torques_from_log(model: Model, table, *, dt: float | None = None, columns: M
     for load in _as_list(payload):
         model = with_payload(model, load)
     log = joint_log(model, table, dt=dt, columns=columns, window=window, constants=constants, time_unit=time_unit,
-                    resample=resample, split_gaps=split_gaps, torque_constants=torque_constants)
+                    resample=resample, split_gaps=split_gaps, repair=repair, torque_constants=torque_constants)
     if progress is not None:
         progress(len(log.t), 3 * len(log.t))
     run = implementation(model, calls=-(-len(log.t) // ROWS_AT_A_TIME), states=min(len(log.t), ROWS_AT_A_TIME),
                          compiled=compiled)  # chosen once for the whole log, its blocks all alike
+    run = run if drives is None else Driven(run, drives)
     pushes = _as_list(wrench)
     tau = np.empty_like(log.q)
     for start in range(0, len(log.t), ROWS_AT_A_TIME):

@@ -12,6 +12,7 @@ from ..options import (
     add_robot_argument,
     check_output_names,
     check_sampling,
+    drives_argument,
     gravity,
     load_robot_argument,
     print_json,
@@ -27,7 +28,11 @@ DESCRIPTION = ("Evaluate tau, M, G, the bias forces C(q, qd) qd + G and the forw
                "engine limit, a subnormal number); an engine that cannot be imported is skipped with a note. --json "
                "prints the report (robot, ok, conventions, engines); --out writes it as an offline HTML page. Exit 0 "
                "when every difference is explained, 1 when one is not (the report names the first link where the "
-               "engines part) or no engine was compared, 2 on bad input.")
+               "engines part) or no engine was compared, 2 on bad input. --drives FILE sets the file's rotor inertias "
+               "on Pinocchio's armature and MuJoCo's dof_armature and compares them with course_dynamics's own drives "
+               "(tau + I_a qdd, M + diag(I_a), forward dynamics through both); PyBullet, which has no rotor inertia, "
+               "is compared without them, and the offsets, which no engine has, are not compared (a note says "
+               "each).")
 
 
 def add_arguments(parser) -> None:
@@ -35,7 +40,7 @@ def add_arguments(parser) -> None:
     add(parser, "--samples", default=3)
     add(parser, "--seed")
     add(parser, "--tolerance", default=TOLERANCE)
-    add_all(parser, "--json", "--out")
+    add_all(parser, "--drives", "--json", "--out")
 
 
 def run(args) -> int:
@@ -45,7 +50,8 @@ def run(args) -> int:
     check_output_names(args)
     if args.out == "-" and args.json:
         raise UsageError("--out - and --json would both print to standard output; give --out a file")
-    load_robot_argument(args)  # bad input fails before an engine is loaded
+    model = load_robot_argument(args)  # bad input fails before an engine is loaded
+    joint_drives = drives_argument(args, model)
     if args.out is not None:
         io.check_writable(args.out)
     # The engines are imported by this command only, through the oracle package.
@@ -53,7 +59,8 @@ def run(args) -> int:
     from course_dynamics_reference.crosscheck_report import crosscheck_document, crosscheck_html, crosscheck_text
 
     check = crosscheck(args.urdf, samples=args.samples, seed=args.seed, tolerance=args.tolerance,
-                       gravity=gravity(args), allow_nonphysical_inertia=args.allow_nonphysical_inertia)
+                       gravity=gravity(args), allow_nonphysical_inertia=args.allow_nonphysical_inertia,
+                       drives=joint_drives)
     if args.out is not None:
         io.write_text(args.out, crosscheck_html(check))
     if args.json:

@@ -27,6 +27,7 @@ from ..options import (
     add_log_arguments,
     add_renamed,
     add_robot_argument,
+    drives_argument,
     friction,
     joint_values,
     load_robot_argument,
@@ -46,7 +47,9 @@ DESCRIPTION = ("Integrate qdd = M^-1 (tau - V - G - F) from q0, qd0, under const
                "--limits stop makes each joint limit a stop: an impulse through the mass matrix stops the joint "
                "(the others keep their momentum), its reaction holds it while the motion pushes into the limit, and it "
                "is let go when the reaction would pull; no stop adds energy, and each is printed with its time, "
-               "joints and the kinetic energy it took (--json: stops).")
+               "joints and the kinetic energy it took (--json: stops). --drives puts each joint's rotor inertia on "
+               "M's diagonal (the energy then holds the rotors' 1/2 I_a qd^2) and takes its torque offset off the "
+               "applied torque (an offset does work as an applied torque does).")
 
 
 def add_arguments(parser) -> None:
@@ -62,6 +65,7 @@ def add_arguments(parser) -> None:
     add_renamed(torque, "--torque-csv", "--torque-log")
     add_log_arguments(parser, log=None)
     add_friction_arguments(parser)
+    add(parser, "--drives")
     add(parser, "--limits")
     add(parser, "--out", required=True)
     add(parser, "--plot")
@@ -107,19 +111,19 @@ def run(args) -> int:
         noise = np.random.default_rng(args.seed).standard_normal((args.ensemble, model.n)) * args.perturbation
         noise[0] = 0.0
         q0 = q0 + noise
-    torque, joint_friction = _torque(args, model), friction(args, model)
+    torque, joint_friction, joint_drives = _torque(args, model), friction(args, model), drives_argument(args, model)
     if args.plot:
         from ...output.plotting import FIGURE_FORMATS, plot_format
 
         plot_format(args.plot, FIGURE_FORMATS)
-    io.check_distinct([args.torque_log, *map_files(args)], [args.out, args.plot, args.html])
+    io.check_distinct([args.torque_log, args.drives, *map_files(args)], [args.out, args.plot, args.html])
     for target in (args.out, args.plot, args.html):
         if target:
             io.check_writable(target)
     progress = progress_bar(args, total=steps, unit="step")
     trajectory = simulate(model, q0, qd0, args.duration, args.dt, integrator=args.integrator, torque=torque,
                           friction=joint_friction, limits=args.limits, progress=progress.update,
-                          compiled=False if args.no_compile else None)
+                          compiled=False if args.no_compile else None, drives=joint_drives)
     progress.close()
     if not (np.all(np.isfinite(trajectory.q)) and np.all(np.isfinite(trajectory.qd))):
         raise SimulationError("the motion left the range of floating-point numbers (inf or nan): the torques or "

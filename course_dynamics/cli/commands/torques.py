@@ -17,7 +17,8 @@ from ...tools.retiming import retime, retimed_log
 from ..flags import FLAGS
 from ..options import (
     UsageError, add, add_all, add_differentiation_arguments, add_friction_arguments, add_log_arguments,
-    add_robot_argument, check_log_outputs, column_map, constants, friction, joint_values, load_robot_argument, numbers,
+    add_robot_argument, check_log_outputs, column_map, constants, drives_argument, friction, joint_values,
+    load_robot_argument, numbers,
     open_log_argument, progress_bar, progress_callback,
 )
 
@@ -27,7 +28,8 @@ DESCRIPTION = (
     "Read a trajectory log - a table (comma, semicolon, tab or whitespace separated; columns t, q_<joint> and "
     "optionally qd_<joint>, qdd_<joint>, tau_meas_<joint>, current_<joint>; other columns, numbers or words, are "
     "ignored), a UR RTDE recording, or a ROS 1/ROS 2 bag or MCAP file (sensor_msgs/JointState by joint name, or "
-    "Franka's FrankaState) - and write t, tau_<joint>: tau = M qdd + V + G (+ friction, payload, wrench). Missing "
+    "Franka's FrankaState) - and write t, tau_<joint>: tau = M qdd + V + G (+ friction, payload, wrench, and the "
+    "rotor inertias and offsets of --drives: I_a qdd + tau_0). Missing "
     "rates are differentiated from q (Savitzky-Golay); dropped samples are filled and the fill is reported. Prints "
     "each joint's peak and RMS torque, peak rate and the share of the URDF's effort and velocity limits used, and, "
     "when the log holds measured torques (or currents and --torque-constant), the residual of our model against "
@@ -46,6 +48,7 @@ def add_arguments(parser) -> None:
     add_all(parser, "--out", "--columns", "--with-state", "--retime")
     add(parser, "--margin", default=None)  # given or not: only --retime uses it
     add_friction_arguments(parser)
+    add(parser, "--drives")
     add_all(parser, "--payload", "--payload-size", "--wrench", "--plot", "--json", "--quiet", "--no-compile")
 
 
@@ -85,7 +88,7 @@ def wrench_arguments(args) -> list[Wrench]:
     return wrenches
 
 
-def settings(args, model, payloads, wrenches, joint_friction) -> list[str]:
+def settings(args, model, payloads, wrenches, joint_friction, joint_drives=None) -> list[str]:
     """The options that change the torques, for the output file's header."""
     lines = []
     if args.gravity is not None:
@@ -94,6 +97,9 @@ def settings(args, model, payloads, wrenches, joint_friction) -> list[str]:
         lines.append(f"measured torques: currents times the torque constants {args.torque_constant} N m/A")
     if joint_friction is not None:
         lines.append(f"friction: viscous {joint_friction.viscous.tolist()}, Coulomb {joint_friction.coulomb.tolist()}")
+    if joint_drives is not None:
+        lines.append(f"drives from {args.drives}: armature {joint_drives.armature.tolist()}, offset "
+                     f"{joint_drives.offset.tolist()}")
     for p in payloads:
         lines.append(f"payload {p.mass:g} kg at {payload_link(model, p)}, centre {list(p.com)} m"
                      + (f", box {list(p.size)} m" if p.size else ", point mass"))
@@ -134,6 +140,10 @@ def run(args) -> int:
     joint_friction, payloads, wrenches = friction(args, model), payload_arguments(args), wrench_arguments(args)
     for w in wrenches:
         model.frame(w.link)
+    joint_drives = drives_argument(args, model)
+    if joint_drives is not None and args.retime:
+        raise UsageError("--retime scales the motion's rates, not the drives' offsets and rotor torques: run it "
+                         "without --drives")
     if args.margin is not None and not args.retime:
         raise UsageError("--margin is the share of the limits --retime keeps clear of: give --retime")
     margin = FLAGS["--margin"]["default"] if args.margin is None else args.margin
@@ -157,14 +167,15 @@ def run(args) -> int:
         result = torques_from_log(model, source, dt=args.log_dt, columns=mapping, window=args.smooth, constants=fixed,
                                   time_unit=args.time_unit, friction=joint_friction, payload=payloads, wrench=wrenches,
                                   compiled=False if args.no_compile else None, resample=args.resample,
-                                  split_gaps=args.split_gaps, torque_constants=constants_k, progress=progress)
+                                  split_gaps=args.split_gaps, repair=args.repair, torque_constants=constants_k,
+                                  progress=progress, drives=joint_drives)
     finally:
         bar.close()
     header, data = result.table(with_state=args.with_state)
     # What was derived and which options changed the torques are said at the top of the file
     # ('#' lines, which read_table and pandas' comment='#' skip); a plain run writes a plain CSV.
     extra = [one_line(line) for line in list(result.notes) + settings(args, result.model, payloads, wrenches,
-                                                                            joint_friction)]
+                                                                            joint_friction, joint_drives)]
     comments = [f"course-dynamics torques {model.name} from {args.log}"] + extra if extra else []
     report = result.report
     timing = retime(result, joint_friction, margin) if args.retime else None
