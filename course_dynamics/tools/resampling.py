@@ -53,13 +53,6 @@ drops the lone sample
 ((0, 3), (3, 6))
 >>> repaired.notes[1]
 'split at 2 long gaps (after t = 0.03 s, 0.5 s) into 3 segments, each differentiated on its own'
->>> import numpy as np
->>> t = np.array([0.0, 0.01, 0.02, 0.04, 0.05, 0.06])                # the sample at 0.03 s was dropped
->>> result = even_clock(t, {"q_a": t**2})
->>> np.round(result.t, 3).tolist()
-[0.0, 0.01, 0.02, 0.03, 0.04, 0.05, 0.06]
->>> result.notes[0]
-'filled 1 dropped sample (1 gap; the largest 2 periods long, at t = 0.02 s)'
 """
 from __future__ import annotations
 

@@ -93,7 +93,6 @@ def outputs(args) -> tuple[str, str | None]:
 def run(args) -> int:
     from ...output import io
     from ...output.identification_report import REPORT_FILES, check_report_folder
-    from ...tools.logs import joint_log
 
     model = load_robot_argument(args)
     mapping, fixed = column_map(args), constants(args)
@@ -123,12 +122,7 @@ def run(args) -> int:
         check_report_folder(folder, (IDENTIFIED,) if in_folder else ())  # a file in the way fails before the work
     if not in_folder:
         io.check_writable(urdf_out)
-    constants_k = (None if args.torque_constant is None
-                   else joint_values(args.torque_constant, "--torque-constant", model))
-    source = open_log_argument(args, model, args.log)
-    log = joint_log(model, source, dt=args.log_dt, columns=mapping, window=args.smooth, constants=fixed,
-                    time_unit=args.time_unit, resample=args.resample, split_gaps=args.split_gaps, repair=args.repair,
-                    torque_constants=constants_k)
+    source, log = _read_log(args, model, mapping, fixed)
     result = _identify(args, model, log, source.where, known)
 
     from ...output.urdf_writer import checked_identified_urdf, write_identified_urdf
@@ -170,6 +164,18 @@ def _write_drives(path, result, args) -> None:
     errors = result.drive_error if result.drive_error is not None else None
     header = f"drives of {result.model.name}: identified by course-dynamics from {args.log}"
     io.write_text(path, drives_text(drives, result.model, header, errors))
+
+
+def _read_log(args, model, mapping, fixed):
+    """The log as both scopes read it: (the opened source, its :class:`~course_dynamics.tools.logs.JointLog`)."""
+    from ...tools.logs import joint_log
+
+    constants_k = (None if args.torque_constant is None
+                   else joint_values(args.torque_constant, "--torque-constant", model))
+    source = open_log_argument(args, model, args.log)
+    return source, joint_log(model, source, dt=args.log_dt, columns=mapping, window=args.smooth, constants=fixed,
+                             time_unit=args.time_unit, resample=args.resample, split_gaps=args.split_gaps,
+                             repair=args.repair, torque_constants=constants_k)
 
 
 def _identify(args, model, log, where, known):
@@ -230,7 +236,6 @@ def _run_payload(args, model, mapping, fixed) -> int:
     from ...output import folders, io
     from ...output.identification_report import OWNER, PAYLOAD_REPORT_FILES, payload_report_files
     from ...output.urdf_writer import checked_payload_urdf
-    from ...tools.logs import joint_log
     from ...tools.payloads import PAYLOAD_LINK, flange, identify_payload
 
     robot_only = ("--prior-weight", "--armature", "--offset", "--drives", "--drives-out")
@@ -249,12 +254,7 @@ def _run_payload(args, model, mapping, fixed) -> int:
         folders.check_folder(folder, PAYLOAD_REPORT_FILES + ((IDENTIFIED,) if in_folder else ()), OWNER)
     if not in_folder:
         io.check_writable(urdf_out)
-    constants_k = (None if args.torque_constant is None
-                   else joint_values(args.torque_constant, "--torque-constant", model))
-    source = open_log_argument(args, model, args.log)
-    log = joint_log(model, source, dt=args.log_dt, columns=mapping, window=args.smooth, constants=fixed,
-                    time_unit=args.time_unit, resample=args.resample, split_gaps=args.split_gaps,
-                    repair=getattr(args, "repair", False), torque_constants=constants_k)
+    source, log = _read_log(args, model, mapping, fixed)
     bar = progress_bar(args, total=int(len(log.t) * (1 - args.holdout)) + 1, unit="sample")
     try:
         result = identify_payload(model, log, link, friction=args.friction_fit or "none", holdout=args.holdout,
