@@ -94,7 +94,14 @@ def test_odd_joint_names_are_quoted_and_read_back():
 
 @pytest.mark.parametrize("text, fragments", [
     ("[joint.nope]\narmature = 1\n", ["no moving joint 'nope'", "shoulder_pan_joint"]),
-    ("[joint.elbow_joint]\narmature = 1\n[joint.elbow_joint]\noffset = 1\n", ["not a TOML file"]),
+    ("[joint.elbow_joint]\narmature = 1\n[joint.elbow_joint]\noffset = 1\n", ["not a TOML file", "'elbow_joint'"]),
+    ("[joint.wrist_1_joint]\noffset = 0\n[joint.elbow_joint]\narmature = 1\narmature = 2\n",
+     ["line 5", "joint 'elbow_joint'"]),
+    ("[joint.elbow_joint]\narmature = 1e308\n", ["joint 'elbow_joint'", "armature 1e+308", "more than"]),
+    ("[joint.elbow_joint]\noffset = -3e9\n", ["joint 'elbow_joint'", "offset", "more than"]),
+    ("joint = 3\n", ["'joint' is a value"]),
+    ("x = " + "[" * 5000 + "]" * 5000 + "\n", ["nested too deeply"]),
+    ("joint = {elbow_joint = " + "{a = " * 4000 + "1" + "}" * 4001 + "\n", ["nested too deeply"]),
     ("[joint.elbow_joint]\narmature = -1\n", ["joint 'elbow_joint'", "non-negative"]),
     ("[joint.elbow_joint]\narmature = nan\n", ["joint 'elbow_joint'", "finite"]),
     ("[joint.elbow_joint]\narmature = inf\n", ["finite"]),
@@ -111,6 +118,21 @@ def test_a_hostile_file_is_one_line_naming_the_file(tmp_path, capsys, text, frag
     path.write_text(text)
     code, _, err = run(capsys, "torques", "ur5", "--log", str(tmp_path / "missing.csv"), "--drives", str(path))
     assert_one_line_error(code, err, str(path), *fragments)
+
+
+def test_torques_says_which_drives_file_it_applied(tmp_path, capsys):
+    path = tmp_path / "drives.toml"
+    path.write_text("[joint.elbow_joint]\narmature = 0.25\noffset = -1.5\n")
+    log = Path(__file__).parent.parent / "examples" / "ur5_rtde.csv"
+    out_csv = tmp_path / "tau.csv"
+    code, out, err = run(capsys, "torques", "ur5", "--log", str(log), "--drives", str(path), "--out", str(out_csv))
+    assert code == 0, err
+    said = f"drives from {path}: rotor inertias I_a [0.0, 0.0, 0.25, 0.0, 0.0, 0.0]"
+    assert f"note: {said}" in out
+    assert f"# {said}" in out_csv.read_text()
+    code, out, err = run(capsys, "torques", "ur5", "--log", str(log), "--drives", str(path), "--json")
+    assert code == 0, err
+    assert any(note.startswith(said) and "offsets tau_0 [0.0, 0.0, -1.5," in note for note in json.loads(out)["notes"])
 
 
 def test_a_file_too_large_or_not_text_is_refused(tmp_path):

@@ -47,6 +47,7 @@ from ..base.errors import InputError
 from ..base.files import read_small
 from .forward_dynamics import solve
 from .model import Model
+from .urdf import MAX_MAGNITUDE
 
 #: The largest drives file read, bytes (a thousand joints take about 100 kB).
 MAX_FILE_BYTES = 1_000_000
@@ -292,7 +293,23 @@ def _value(table: dict, key: str, name: str, where: str) -> float:
         raise InputError(f"{where}: joint '{name}': {key} must be a finite number, got {value!r}")
     if key == "armature" and value < 0:
         raise InputError(f"{where}: joint '{name}': armature must be non-negative, got {value!r}")
+    if abs(value) > MAX_MAGNITUDE:  # no drive is this large, and its torques would overflow
+        raise InputError(f"{where}: joint '{name}': {key} {value:g} is more than {MAX_MAGNITUDE:g} in size "
+                         "(kg·m², kg, N·m or N): no drive has it")
     return float(value)
+
+
+def _decode_error(text: str, exc: Exception, where: str) -> InputError:
+    """tomllib's complaint, with the [joint.<name>] table its line is in (tomllib names only the line)."""
+    found = re.search(r"at line (\d+)", str(exc))
+    table = None
+    if found:
+        for line in text.splitlines()[:int(found.group(1))]:
+            header = re.match(r"\s*\[\s*joint\s*\.\s*([^\]]+?)\s*\]", line)
+            if header:
+                table = header.group(1).strip().strip('"\'')
+    return InputError(f"{where}: not a TOML file of drives ({exc})" + (f", in the table of joint '{table}'"
+                                                                       if table else ""))
 
 
 def parse_drives(text: str, model: Model, where: str = "the drives file") -> Drives:
@@ -315,8 +332,10 @@ def parse_drives(text: str, model: Model, where: str = "the drives file") -> Dri
     Raises
     ------
     InputError
-        One line naming ``where`` (and the joint): not TOML, a joint named twice, no joint, a key or table other
-        than these, a joint the robot does not have, a value that is not a finite number, a negative armature.
+        One line naming ``where`` (and the joint): not TOML (or nested too deeply to read), a joint or key named
+        twice, no joint, a key or table other than these, a joint the robot does not have, a value that is not a
+        finite number or is more than :data:`~course_dynamics.core.urdf.MAX_MAGNITUDE` in size, a negative
+        armature.
 
     Examples
     --------
@@ -327,12 +346,16 @@ def parse_drives(text: str, model: Model, where: str = "the drives file") -> Dri
     try:
         document = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"{where}: not a TOML file of drives ({exc})") from None
+        raise _decode_error(text, exc, where) from None
+    except RecursionError:  # tomllib recurses once per level of nested arrays and inline tables
+        raise InputError(f"{where}: not a TOML file of drives (its values are nested too deeply to read)") from None
     other = [key for key in document if key != "joint"]
     joints = document.get("joint")
     if other or not isinstance(joints, dict):
         raise InputError(f"{where}: a drives file holds [joint.<name>] tables only"
-                         + (f", not '{other[0]}'" if other else ", and it has none"))
+                         + (f", not '{other[0]}'" if other else
+                            ", and it has none" if joints is None else
+                            f", but its 'joint' is a value ({type(joints).__name__}), not tables"))
     armature, offset = np.zeros(model.n), np.zeros(model.n)
     for name, table in joints.items():
         j = _joint_index(model, name, where)

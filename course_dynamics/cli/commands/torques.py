@@ -88,7 +88,15 @@ def wrench_arguments(args) -> list[Wrench]:
     return wrenches
 
 
-def settings(args, model, payloads, wrenches, joint_friction, joint_drives=None) -> list[str]:
+def drives_note(args, joint_drives) -> list[str]:
+    """The note saying which drives file was applied and what it holds (none without --drives)."""
+    if joint_drives is None:
+        return []
+    return [f"drives from {args.drives}: rotor inertias I_a {joint_drives.armature.tolist()} kg m^2 (kg), offsets "
+            f"tau_0 {joint_drives.offset.tolist()} N m (N), added as I_a qdd + tau_0"]
+
+
+def settings(args, model, payloads, wrenches, joint_friction) -> list[str]:
     """The options that change the torques, for the output file's header."""
     lines = []
     if args.gravity is not None:
@@ -97,9 +105,6 @@ def settings(args, model, payloads, wrenches, joint_friction, joint_drives=None)
         lines.append(f"measured torques: currents times the torque constants {args.torque_constant} N m/A")
     if joint_friction is not None:
         lines.append(f"friction: viscous {joint_friction.viscous.tolist()}, Coulomb {joint_friction.coulomb.tolist()}")
-    if joint_drives is not None:
-        lines.append(f"drives from {args.drives}: armature {joint_drives.armature.tolist()}, offset "
-                     f"{joint_drives.offset.tolist()}")
     for p in payloads:
         lines.append(f"payload {p.mass:g} kg at {payload_link(model, p)}, centre {list(p.com)} m"
                      + (f", box {list(p.size)} m" if p.size else ", point mass"))
@@ -174,8 +179,8 @@ def run(args) -> int:
     header, data = result.table(with_state=args.with_state)
     # What was derived and which options changed the torques are said at the top of the file
     # ('#' lines, which read_table and pandas' comment='#' skip); a plain run writes a plain CSV.
-    extra = [one_line(line) for line in list(result.notes) + settings(args, result.model, payloads, wrenches,
-                                                                            joint_friction, joint_drives)]
+    notes = list(result.notes) + drives_note(args, joint_drives)
+    extra = [one_line(line) for line in notes + settings(args, result.model, payloads, wrenches, joint_friction)]
     comments = [f"course-dynamics torques {model.name} from {args.log}"] + extra if extra else []
     report = result.report
     timing = retime(result, joint_friction, margin) if args.retime else None
@@ -186,7 +191,7 @@ def run(args) -> int:
         comments += extra
     # strict JSON of every figure: a result beyond floating-point range is an error before any file is written
     document = render.json_text(dict(robot=model.name, log=str(args.log), rows=len(result.t), out=args.out,
-                                     plot=args.plot, notes=list(result.notes), **report.record(),
+                                     plot=args.plot, notes=notes, **report.record(),
                                      residuals=None if result.residuals is None else result.residuals.record(),
                                      **({} if timing is None else dict(retiming=timing.record()))))
     step = float(np.median(np.diff(result.t))) if len(result.t) > 1 else 0.0
@@ -194,7 +199,7 @@ def run(args) -> int:
         warnings.warn(f"the samples are {step:g} s apart; if t is not in seconds, give --time-unit",
                       CourseDynamicsWarning)
     if args.out == io.STDOUT and not args.json:
-        _print_report(result, sys.stderr, timing)  # before the CSV: a reader that stops early (| head) still sees it
+        _print_report(result, sys.stderr, timing, notes)  # before the CSV: a reader that stops early (| head) still sees it
     if args.plot:
         from ...output.plotting import plot_torques
 
@@ -205,16 +210,16 @@ def run(args) -> int:
         sys.stdout.write(document + "\n")
         return 1 if report.exceeded else 0
     if args.out != io.STDOUT:
-        _print_report(result, sys.stdout, timing)
+        _print_report(result, sys.stdout, timing, notes)
     if args.out and args.out != io.STDOUT and not (timing is not None and timing.k is None):
         what = "the retimed log" if timing is not None else "joint torques"
         print(f"wrote {len(result.t)} rows of {what} to {args.out}", file=sys.stderr)
     return 1 if report.exceeded else 0
 
 
-def _print_report(result, stream, timing=None) -> None:
+def _print_report(result, stream, timing=None, notes=None) -> None:
     report, model = result.report, result.model
-    for note in result.notes:
+    for note in result.notes if notes is None else notes:
         print(f"note: {one_line(note)}", file=stream)
     rows = [["joint", "peak |tau|", "rms tau", "effort limit", "used", "peak |qd|", "velocity limit", "used"]]
     for r in report.rows():
