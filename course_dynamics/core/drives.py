@@ -334,7 +334,7 @@ def parse_drives(text: str, model: Model, where: str = "the drives file") -> Dri
     InputError
         One line naming ``where`` (and the joint): not TOML (or nested too deeply to read), a joint or key named
         twice, no joint, a key or table other than these, a joint the robot does not have, a value that is not a
-        finite number or is more than :data:`~course_dynamics.core.urdf.MAX_MAGNITUDE` in size, a negative
+        finite number or is more than 1e9 in size, a negative
         armature.
 
     Examples
