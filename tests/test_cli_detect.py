@@ -196,3 +196,14 @@ def test_the_guide_says_how_soon_the_example_push_is_found(capsys):
     code, out, _ = run(capsys, *detect("--json"))
     (event,) = json.loads(out)["events"]
     assert said == round(1000 * (event["detected"] - 2.0))
+
+
+def test_a_clock_beyond_any_sample_step_is_refused_with_rates_logged(capsys, tmp_path):
+    """Nothing is differentiated when the log has its rates, and the clock is checked all the same."""
+    log = tmp_path / "huge.csv"
+    t = np.arange(50) * 0.004 * 1e300
+    rows = ["t,q_theta1,q_theta2,qd_theta1,qd_theta2,tau_meas_theta1,tau_meas_theta2"]
+    rows += [f"{float(a)!r},0.1,0.2,0,0,1,2" for a in t]
+    log.write_text("\n".join(rows) + "\n")
+    code, _, err = run(capsys, "detect", "two_link", "--log", str(log))
+    assert_one_line_error(code, err, str(log), "the sample step 4e+297 s is outside 1e-9 s to 1e6 s")

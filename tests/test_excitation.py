@@ -135,6 +135,8 @@ def test_no_iterations_keeps_the_random_start():
     (dict(margin=1.0), "margin must be at least 0 and less than 1"),
     (dict(max_iterations=-1), "non-negative integer"),
     (dict(dt=0.0), "dt must be a positive number"),
+    (dict(duration=0.01), "2 samples .0.01 s every 0.01 s. cannot show"),    # a file that would not move
+    (dict(dt=0.5), "cannot show"),
 ])
 def test_bad_options_are_refused(options, fragment):
     arguments = dict(dict(duration=3.0, **TINY), **options)

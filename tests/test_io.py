@@ -87,6 +87,15 @@ def test_special_files_are_streamed_into_never_replaced(tmp_path):
     assert stat.S_ISFIFO(os.lstat(fifo).st_mode)
 
 
+def test_an_output_named_as_the_folder_of_another_is_refused(tmp_path):
+    """A drives file named as the report folder would be found a folder only after the work: refused before."""
+    folder = tmp_path / "rep"
+    with pytest.raises(InputError, match="named for two outputs .it is the folder .*rep/identified.urdf"):
+        io.check_distinct([], [folder / "identified.urdf", folder / "report.md", folder])
+    io.check_distinct([], [folder / "identified.urdf", tmp_path / "rep.toml"])   # a sibling is fine
+    assert not folder.exists()
+
+
 def test_dash_is_standard_output(capsys):
     io.write_csv("-", ["t"], np.array([[1.5]]))
     assert capsys.readouterr().out == "t\n1.5\n"

@@ -89,9 +89,9 @@ def excited(request, tmp_path_factory):
     return load_urdf(urdf), urdf, Fourier(record["duration"], **record["coefficients"]), folder, record
 
 
-def write_log(path, model, motion, payload=None, seed=0, still=None, rate=200.0):
-    """A log of ``motion`` (t with jittered stamps, q, qd, tau_meas with 1 % noise) of ``model`` carrying ``payload``;
-    the joints ``still`` do not move."""
+def write_log(path, model, motion, payload=None, seed=0, still=None, rate=200.0, noise=NOISE):
+    """A log of ``motion`` (t with jittered stamps, q, qd, tau_meas with 1 % noise, or ``noise``) of ``model``
+    carrying ``payload``; the joints ``still`` do not move."""
     rng = np.random.default_rng(seed)
     t = np.arange(0, SECONDS, 1 / rate)
     t = t + rng.uniform(-0.05, 0.05, len(t)) / rate          # a recorder's stamps, never exactly on the clock
@@ -100,7 +100,7 @@ def write_log(path, model, motion, payload=None, seed=0, still=None, rate=200.0)
         q[:, still], qd[:, still], qdd[:, still] = q[:1, still], 0.0, 0.0
     carried = model if payload is None else with_payload(model, payload)
     tau = inverse_dynamics(carried, q, qd, qdd) + Friction.from_urdf(model).torques(qd)
-    tau += NOISE * np.sqrt(np.mean(tau**2, axis=0)) * rng.standard_normal(tau.shape)
+    tau += noise * np.sqrt(np.mean(tau**2, axis=0)) * rng.standard_normal(tau.shape)
     columns = {"t": t, **{f"{kind}_{j}": v[:, i] for kind, v in (("q", q), ("qd", qd), ("tau_meas", tau))
                           for i, j in enumerate(model.joint_names)}}
     write_csv(path, list(columns), list(columns.values()), fmt="{:.12g}")
@@ -157,13 +157,42 @@ def test_a_log_without_a_payload_detects_none_and_writes_nothing(capsys, excited
     out = folder / "empty.urdf"
     code, text, err = run(capsys, "identify", str(urdf), "--log", str(log), "--scope", "payload", "--out", str(out))
     assert code == 1 and not out.exists(), err
-    assert "no payload is detected: no URDF written" in err and "no payload detected: the mass" in text
+    assert "no payload is detected: no URDF written" in err and "no payload detected: the least-squares mass" in text
     code, text, _ = run(capsys, "identify", str(urdf), "--log", str(log), "--scope", "payload", "--out", str(out),
                         "--json")
     found = json.loads(text)
     assert code == 1 and not found["detected"] and found["robot_forms"] is None and found["out"] is None
     assert abs(found["mass"]) < 3 * found["mass_sigma"] < 0.05, (found["mass"], found["mass_sigma"])
     assert found["com"] == [None] * 3 and found["inertia"] == [None] * 9      # no mass, so no centre of mass
+
+
+def test_a_quiet_log_without_a_payload_shows_no_gram_of_one(capsys, excited):
+    """With a hundredth of the noise the standard error is tiny, and the bias of the differentiated Θ̈ would pass
+    for a payload of a gram: below 0.1 % of the arm's mass is no payload either."""
+    model, urdf, motion, folder, _ = excited
+    log = write_log(folder / "quiet.csv", model, motion, seed=2, noise=NOISE / 100)
+    out = folder / "quiet.urdf"
+    code, text, err = run(capsys, "identify", str(urdf), "--log", str(log), "--scope", "payload", "--out", str(out),
+                          "--json")
+    found = json.loads(text)
+    assert code == 1 and not out.exists() and not found["detected"], err
+    assert found["determined"] == {"mass": True, "com": False, "inertia": False}
+    assert abs(found["mass"]) < 1e-3 * sum(b.mass for b in model.bodies)
+    assert any(n.startswith("no payload detected: the least-squares mass") for n in found["notes"])
+
+
+def test_friction_fitted_with_the_payload_is_never_below_zero(capsys, excited):
+    """--friction-fit both bounds both coefficients at 0; the solver's round-off below it is the bound itself."""
+    model, urdf, motion, folder, _ = excited
+    log = write_log(folder / "carried_both.csv", model, motion, Payload(MASS, link=flange_link(model), com=COM,
+                                                                         size=SIZE), seed=3)
+    code, text, err = run(capsys, "identify", str(urdf), "--log", str(log), "--scope", "payload", "--friction-fit",
+                          "both", "--out", str(folder / "both.urdf"), "--json")
+    assert code == 0, err
+    found = json.loads(text)
+    assert abs(found["mass"] - MASS) < 0.02 * MASS, found["mass"]
+    fitted = [v for kind in ("viscous", "coulomb") for v in found["friction"][kind].values() if v is not None]
+    assert fitted and min(fitted) >= 0, found["friction"]
 
 
 def test_a_log_where_the_wrist_does_not_move_reports_what_it_does_not_determine(capsys, excited):

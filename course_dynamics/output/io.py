@@ -77,7 +77,8 @@ def check_distinct(inputs, outputs) -> None:
     ------
     InputError
         If an output is an input or another output by any name (a link, a hard link, a relative path),
-        lies inside an input folder, or is reached through a loop of symbolic links.
+        lies inside an input folder or would be the folder another output is written into, or is reached
+        through a loop of symbolic links.
     """
     def resolved(path) -> Path:
         try:
@@ -110,6 +111,12 @@ def check_distinct(inputs, outputs) -> None:
                 raise InputError(f"{path}: the output would overwrite the input {first}" if first_role == "input"
                                  else f"{path}: named for two outputs ({first} and {path} are the same file)")
             seen.setdefault(k, (role, path))
+    written = [(path, resolved(path)) for path in outputs
+               if path is not None and str(path) != STDOUT and not _is_streamed(Path(path))]
+    for path, where in written:
+        for other, there in written:
+            if there != where and there.is_relative_to(where):
+                raise InputError(f"{path}: named for two outputs (it is the folder {other} is written into)")
 
 
 def check_writable(path) -> None:

@@ -62,6 +62,8 @@ MAX_ITERATIONS = 100    # of SLSQP
 MARGIN = 0.05           # the share of each limit the optimisation keeps clear of
 #: Seconds between written samples, by default.
 DT = 0.01               # s between written samples
+#: The fewest written samples a period of the highest harmonic may have (the file must show the motion).
+SAMPLES_PER_HARMONIC = 4
 #: Instants per period of the highest harmonic where the limits are imposed.
 CONSTRAINT_POINTS = 24  # instants per period of the highest harmonic where the limits are imposed
 #: Instants per period of the highest harmonic where the result is checked.
@@ -550,7 +552,8 @@ def excitation(model: Model, duration: float, harmonics: int = HARMONICS, sample
     Raises
     ------
     ExcitationError
-        A bad option, a joint without position and velocity limits or that cannot move, a robot that
+        A bad option (a time grid of fewer than :data:`SAMPLES_PER_HARMONIC` samples a harmonic among them), a
+        joint without position and velocity limits or that cannot move, a robot that
         cannot rest in the middle within its effort limits, or a result beyond a limit on the fine grid.
     SimulationError
         A ``duration`` or ``dt`` that gives no time grid (not positive, ``dt`` longer than ``duration``, too many
@@ -567,6 +570,10 @@ def excitation(model: Model, duration: float, harmonics: int = HARMONICS, sample
 
     batches.check_options(duration, harmonics, samples, max_iterations, margin)
     t = time_grid(duration, dt, values_per_sample=batches.SAMPLE_VALUES * model.n + 1)
+    if len(t) < SAMPLES_PER_HARMONIC * harmonics + 1:  # the file would not show the motion that was optimised
+        raise ExcitationError(f"{len(t)} samples ({duration:g} s every {dt:g} s) cannot show {harmonics} harmonics: "
+                              f"at least {SAMPLES_PER_HARMONIC * harmonics + 1} are needed (a longer duration, a "
+                              "shorter dt, or fewer harmonics)")
     bounds = _bounds(model, 2 * np.pi / duration)
     batches.cost(model, harmonics, samples, len(t), max_iterations, CONSTRAINT_POINTS, FINE_POINTS)  # or refused
     base = base_parameters(model) if columns is None else columns
@@ -632,5 +639,6 @@ def excitation(model: Model, duration: float, harmonics: int = HARMONICS, sample
 
 
 __all__ = ["CONSTRAINT_POINTS", "DT", "FINE_POINTS", "HARMONICS", "KINDS", "MARGIN", "MAX_ITERATIONS", "SAMPLES",
+           "SAMPLES_PER_HARMONIC",
            "Excitation", "ExcitationError", "Fourier", "LimitShares", "condition_number", "excitation",
            "limit_shares"]

@@ -70,6 +70,9 @@ from .logs import JointLog
 LENGTH = 0.1
 #: A mass within this many standard errors of 0 is no payload detected.
 NO_PAYLOAD = 3.0
+#: Nor is a mass below this share of the arm's own mass (a bias of the differentiated Θ̈ that a long, quiet log
+#: makes significant: no tool weighs a thousandth of its arm).
+SMALLEST_PAYLOAD = 1e-3
 #: How many joints an excitation for a payload moves by default, the last of the flange's chain (the wrist).
 WRIST = 3
 #: The name of the link the identified payload is written as.
@@ -244,7 +247,8 @@ def flange(model: Model, link: str | None = None, rows=None) -> Flange:
     frame = model.frame(link)
     if frame.body < 0:
         raise InputError(f"link '{link}' is fixed to the base of robot '{model.name}': a payload there costs no "
-                         "torque, so no log can identify it; name the arm's flange (ur5's tool0)")
+                         f"torque, so no log can identify it; name the arm's flange ({model.name}'s is "
+                         f"{flange_link(model)})")
     rows = np.ones(model.n, dtype=bool) if rows is None else np.asarray(rows, dtype=bool)
     return Flange(link, frame.body, offset_map(frame.R, frame.P), rows)
 
@@ -349,7 +353,8 @@ class PayloadIdentification:
             ``mass``, ``com``, ``inertia``.
         """
         seen = self.seen >= 1 - SEEN_SPLIT
-        return {"mass": bool(seen[0]), "com": bool(seen[:4].all()), "inertia": bool(seen.all())}
+        return {"mass": bool(seen[0]), "com": bool(seen[:4].all() and self.detected),
+                "inertia": bool(seen.all() and self.detected)}
 
     def in_frame(self, model: Model, link: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(ᴸc, its standard errors, ᶜI in L's axes) in another frame L of the flange's body.
@@ -558,14 +563,15 @@ def identify_payload(model: Model, log: JointLog, link: str | None = None, frict
     if physical and fit.seen.min() >= 1 - SEEN_SPLIT:
         theta, solver = theta_wls, "least squares"
     else:
-        theta, solver = fit.theta, fit.solver
+        theta, solver = fit.theta.copy(), fit.solver
+        theta[10:] = np.maximum(theta[10:], 0.0)  # the solver's round-off below a bound of 0 (−1e-8) is the bound
         why = "is not physical" if not physical else "is not fully seen by the log"
         notes += [f"the least-squares payload {why}: the physically consistent estimate ({fit.solver}) is given"
                   + (f"; {'; '.join(fit.active)}" if fit.active else "")]
     unseen = [PARAMETER_NAMES[k] for k in range(10) if fit.seen[k] < 1 - SEEN_SPLIT]
     if unseen:
-        notes.append(f"not determined by the log (a motion of the wrist shows them: excite --scope payload): "
-                     f"{', '.join(unseen)}")
+        notes.append(f"not determined by the log (a motion of the joints that carry {F.link} shows them: excite "
+                     f"--scope payload --flange {F.link}): {', '.join(unseen)}")
     viscous, coulomb = fixed.viscous.copy(), fixed.coulomb.copy()
     for (kind, j), value in zip(columns, theta[10:]):
         (viscous if kind == "viscous" else coulomb)[j] = value
@@ -581,10 +587,15 @@ def identify_payload(model: Model, log: JointLog, link: str | None = None, frict
     if seen.min() < 1 - SEEN_SPLIT:
         inertia, inertia_sigma = np.full((3, 3), np.nan), np.full(6, np.nan)
     mass_sigma = float(np.sqrt(covariance[0, 0]))
-    detected = bool(seen[0] >= 1 - SEEN_SPLIT and theta_wls[0] > NO_PAYLOAD * mass_sigma)
+    arm_mass = sum(body.mass for body in model.bodies)
+    smallest = max(NO_PAYLOAD * mass_sigma, SMALLEST_PAYLOAD * arm_mass)
+    detected = bool(seen[0] >= 1 - SEEN_SPLIT and theta_wls[0] > smallest)
     if not detected and seen[0] >= 1 - SEEN_SPLIT:
-        notes.append(f"no payload detected: the mass {theta_wls[0]:.3g} ± {mass_sigma:.2g} kg is within "
-                     f"{NO_PAYLOAD:g} standard errors of 0 (so no centre of mass or inertia either)")
+        why = (f"within {NO_PAYLOAD:g} standard errors of 0" if smallest > SMALLEST_PAYLOAD * arm_mass else
+               f"less than {SMALLEST_PAYLOAD:.1%} of the arm's own {arm_mass:.3g} kg")
+        notes.append(f"no payload detected: the least-squares mass {theta_wls[0]:.3g} ± {mass_sigma:.2g} kg is {why} "
+                     "(so no centre of mass or inertia either)")
+        mass = float(theta_wls[0])  # the value tested, as the note gives it
     if not detected:        # h / m of a mass that is noise is noise: not given
         com, com_sigma, inertia, inertia_sigma = (np.full_like(v, np.nan) for v in (com, com_sigma, inertia,
                                                                                    inertia_sigma))

@@ -2,11 +2,9 @@
 from __future__ import annotations
 
 import sys
-import warnings
 
 import numpy as np
 
-from ...base.errors import CourseDynamicsWarning
 from ...base.text import one_line
 from ...output import io, render
 from ...tools.limits import seconds
@@ -21,9 +19,9 @@ from ..options import (
     load_robot_argument, numbers,
     open_log_argument, progress_bar, progress_callback,
 )
+from . import COMMANDS
 
-HELP = "joint torques along a trajectory log, and a limits report"
-SLOW_SAMPLES = 0.5  # s between samples: more suggests a t column in ms read as seconds
+HELP = COMMANDS["torques"]
 DESCRIPTION = (
     "Read a trajectory log - a table (comma, semicolon, tab or whitespace separated; columns t, q_<joint> and "
     "optionally qd_<joint>, qdd_<joint>, tau_meas_<joint>, current_<joint>; other columns, numbers or words, are "
@@ -194,12 +192,9 @@ def run(args) -> int:
                                      plot=args.plot, notes=notes, **report.record(),
                                      residuals=None if result.residuals is None else result.residuals.record(),
                                      **({} if timing is None else dict(retiming=timing.record()))))
-    step = float(np.median(np.diff(result.t))) if len(result.t) > 1 else 0.0
-    if step > SLOW_SAMPLES:
-        warnings.warn(f"the samples are {step:g} s apart; if t is not in seconds, give --time-unit",
-                      CourseDynamicsWarning)
     if args.out == io.STDOUT and not args.json:
-        _print_report(result, sys.stderr, timing, notes)  # before the CSV: a reader that stops early (| head) still sees it
+        # before the CSV: a reader that stops early (| head) still sees it
+        _print_report(result, sys.stderr, timing, notes)
     if args.plot:
         from ...output.plotting import plot_torques
 
