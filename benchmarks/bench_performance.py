@@ -26,7 +26,7 @@ state, ``rneaInParallel``/``abaInParallel`` with the thread count shown. It prin
    writes: vectorised over the members with ``abaInParallel`` on one thread, and a loop over the members of
    the bare RK4 loop (``pin.aba``, ``pin.integrate``);
 6. compiling, first and from the cache: the Python programs, then the native library;
-7. start-up: ``course-dynamics info ur5`` against importing numpy and pinocchio;
+7. start-up: ``course-dynamics info ur5`` and ``course-dynamics --help`` against importing numpy and pinocchio;
 8. chains of --chains joints: the cost per joint of τ, M, C and forward dynamics, interpreted and compiled
    ("over bound" where a robot is too large to compile), so the O(n), O(n²) and O(n³) growth shows.
 """
@@ -54,7 +54,8 @@ from course_dynamics.tools.simulation import simulate
 from measure import best, our_threads, print_conditions, print_load, threads, threads_used  # this folder is on the path
 
 TARGETS = {"one τ": 2.0, "one M": 2.0, "one FD": 2.0, "τ batch": 1.0, "M batch": 1.0, "C batch": 1.0,
-           "FD batch": 1.0, "2 threads": 1.0, "simulate": 3.0, "ensemble": 0.1}
+           "FD batch": 1.0, "2 threads": 1.0, "simulate": 3.0, "ensemble": 0.1,
+           "start-up info": 2.0, "start-up help": 1.0}
 ONE = threads(1, 1)
 
 
@@ -298,11 +299,13 @@ def compiling() -> None:
 def start_up(r) -> None:
     rounds = min(r, 3)
     print(f"7. start-up, best of {rounds} (s)")
-    command = [sys.executable, "-m", "course_dynamics.cli", "info", "ur5"]
-    ours = best(lambda: subprocess.run(command, capture_output=True, check=True), rounds)
     imports = best(lambda: subprocess.run([sys.executable, "-c", "import numpy, pinocchio"], capture_output=True,
                                           check=True), rounds)
-    line("course-dynamics info ur5 / python -c 'import numpy, pinocchio'", ours, imports, "s", "one process each")
+    for words, target in ((["info", "ur5"], "start-up info"), (["--help"], "start-up help")):
+        command = [sys.executable, "-m", "course_dynamics.cli", *words]
+        ours = best(lambda: subprocess.run(command, capture_output=True, check=True), rounds)
+        line(f"course-dynamics {' '.join(words)} / python -c 'import numpy, pinocchio'", ours, imports, "s",
+             "one process each", target)
 
 
 def chains(sizes, r) -> None:

@@ -11,9 +11,9 @@ the Coriolis matrix C(Θ, Θ̇), for one state, a batch of states or sympy symbo
 
 The tools the guides show (:func:`~course_dynamics.tools.simulation.simulate`,
 :func:`~course_dynamics.tools.logs.torques_from_log`, :func:`~course_dynamics.tools.identification.identify`,
-:func:`~course_dynamics.core.compiled.compile_model`, …) are importable from here too, and
-loaded only when first asked for: ``import course_dynamics`` loads the base and
-the core alone (PEP 562's module ``__getattr__``).
+:func:`~course_dynamics.core.compiled.compile_model`, …) are importable from here too. Every name but the
+errors is loaded only when first asked for (PEP 562's module ``__getattr__``): ``import course_dynamics``
+loads the errors alone, so a command line that needs nothing else (``course-dynamics --help``) starts at once.
 
 >>> import course_dynamics
 >>> course_dynamics.simulate is course_dynamics.tools.simulation.simulate
@@ -26,34 +26,31 @@ from .base.errors import (
     StateError,
     UnknownRobotError,
 )
-from .core.dynamics import DynamicsTerms, dynamics_terms, velocity_torques
-from .core.evaluator import coriolis_matrix, forward_dynamics, gravity_torques, inverse_dynamics, mass_matrix
-from .core.kinematics import forward_kinematics, potential_energy
-from .core.model import Body, Model
-from .core.newton_euler import LinkQuantities, newton_euler_links
-from .core.robots import load_robot, robot_names, robot_path
-from .core.urdf import load_urdf
 
-# Loaded on first use (``__getattr__``): name → the module that defines it.
+# Loaded on first use (``__getattr__``): name → the module that defines it. Nothing but the errors is imported
+# with the package, so that ``course-dynamics --help`` and ``import course_dynamics.base`` stay quick.
 LAZY = {
+    "DynamicsTerms": "course_dynamics.core.dynamics", "dynamics_terms": "course_dynamics.core.dynamics",
+    "velocity_torques": "course_dynamics.core.dynamics",
+    "coriolis_matrix": "course_dynamics.core.evaluator", "forward_dynamics": "course_dynamics.core.evaluator",
+    "gravity_torques": "course_dynamics.core.evaluator", "inverse_dynamics": "course_dynamics.core.evaluator",
+    "mass_matrix": "course_dynamics.core.evaluator",
+    "forward_kinematics": "course_dynamics.core.kinematics", "potential_energy": "course_dynamics.core.kinematics",
+    "Body": "course_dynamics.core.model", "Model": "course_dynamics.core.model",
+    "LinkQuantities": "course_dynamics.core.newton_euler", "newton_euler_links": "course_dynamics.core.newton_euler",
+    "load_robot": "course_dynamics.core.robots", "robot_names": "course_dynamics.core.robots",
+    "robot_path": "course_dynamics.core.robots", "load_urdf": "course_dynamics.core.urdf",
+    "compile_model": "course_dynamics.core.compiled",
     "INTEGRATORS": "course_dynamics.tools.simulation", "simulate": "course_dynamics.tools.simulation",
     "torques_from_log": "course_dynamics.tools.logs", "identify": "course_dynamics.tools.identification",
     "read_table": "course_dynamics.tools.tables", "open_log": "course_dynamics.tools.sources",
     "parse_column_map": "course_dynamics.tools.columns", "Payload": "course_dynamics.tools.loads",
-    "compile_model": "course_dynamics.core.compiled",
 }
 #: The integrators :func:`~course_dynamics.tools.simulation.simulate` offers, loaded with it (declared here, bound
 #: on first use by ``__getattr__``).
 INTEGRATORS: tuple[str, ...]
 
-__all__ = [
-    "Body", "CourseDynamicsError", "DynamicsTerms", "InputError", "LinkQuantities", "Model", "ModelError",
-    "StateError", "UnknownRobotError",
-    "coriolis_matrix", "dynamics_terms", "forward_dynamics", "forward_kinematics", "gravity_torques",
-    "inverse_dynamics", "load_robot", "load_urdf", "mass_matrix", "newton_euler_links", "potential_energy",
-    "robot_names", "robot_path", "velocity_torques",
-    *sorted(LAZY),
-]
+__all__ = ["CourseDynamicsError", "InputError", "ModelError", "StateError", "UnknownRobotError", *sorted(LAZY)]
 
 
 def __getattr__(name: str):

@@ -69,9 +69,10 @@ def test_imports_go_down_the_layers(path):
     assert not wrong, wrong
 
 
-def test_import_course_dynamics_loads_only_base_and_core():
-    """``import course_dynamics`` gives the chapter's API and loads nothing of the tools, output or grading; the tools
-    it names (simulate, torques_from_log, …) load when first asked for, each the very object its module defines."""
+def test_import_course_dynamics_loads_only_the_errors_and_the_top_level_help_no_command():
+    """``import course_dynamics`` loads its errors alone (not numpy); every name it gives (the chapter's API, the
+    tools) loads when first asked for, each the very object its module defines; ``course-dynamics --help`` imports
+    no command, no numpy and no dynamics, and a command imports its own module only."""
     import importlib
     import subprocess
     import sys
@@ -79,8 +80,15 @@ def test_import_course_dynamics_loads_only_base_and_core():
     code = "import course_dynamics, sys; print(sorted(m for m in sys.modules if m.startswith('course_dynamics')))"
     loaded = ast.literal_eval(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                                              check=True).stdout)
-    assert "course_dynamics.core.model" in loaded
-    assert {layer_of_name(name) for name in loaded} - {None} == {"base", "core"}, loaded
+    assert set(loaded) == {"course_dynamics", "course_dynamics.base", "course_dynamics.base.errors"}, loaded
+    code = ("import sys; from course_dynamics.cli import main; sys.argv = ['course-dynamics', '--help']\n"
+            "try: main()\nexcept SystemExit: pass\n"
+            "print(sorted(m for m in sys.modules if m.startswith(('course_dynamics', 'numpy'))), file=sys.stderr)")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    loaded = ast.literal_eval(run.stderr.strip().splitlines()[-1])
+    assert "usage: course-dynamics" in run.stdout and "identify" in run.stdout
+    assert not [m for m in loaded if m.startswith(("numpy", "course_dynamics.cli.commands.", "course_dynamics.tools",
+                                                   "course_dynamics.core.model"))], loaded
 
     import course_dynamics
 

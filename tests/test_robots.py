@@ -38,10 +38,10 @@ def test_without_the_installed_package_data_the_checkouts_robots_are_found(monke
     """The fallback of a source checkout that is not installed: robots/ beside the package."""
     from importlib import resources
 
-    from course_dynamics.core import robots
+    from course_dynamics.base import robot_files
 
     def not_installed(name):
         raise ModuleNotFoundError(name)
 
     monkeypatch.setattr(resources, "files", not_installed)
-    assert (robots._robots_folder() / "two_link.urdf").is_file()
+    assert (robot_files._robots_folder() / "two_link.urdf").is_file()

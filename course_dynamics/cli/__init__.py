@@ -19,7 +19,8 @@ module          job
 ==============  ================================================================
 ``commands``    one module per command (``course-dynamics --help`` lists them)
 ``flags``       the grammar: every flag of every command, defined once
-``options``     what commands share: parsing, loading a robot, JSON and progress output
+``parsing``     the parser and the checks before a command runs, without the library
+``options``     what commands share: loading a robot, reading a log, JSON and progress output
 ``animation``   the animation options of ``animate`` and ``simulate``, and the HTML export
 ``interrupts``  Ctrl-C that ends a command, even inside a library that catches it
 ==============  ================================================================
@@ -32,20 +33,25 @@ import os
 import sys
 import warnings
 
-import numpy as np
-
 from ..base.errors import CourseDynamicsError, CourseDynamicsWarning
 from ..base.text import one_line
 from .commands import COMMANDS
 from .interrupts import Interrupts, interruptible
-from .options import Parser, check_output_names, join_value_options, robots_epilog
+from .parsing import Parser, check_output_names, join_value_options, robots_epilog
 
 
-def build_parser() -> Parser:
+def build_parser(argv: list[str] | None = None) -> Parser:
     """The ``course-dynamics`` argument parser: one sub-command per module of ``course_dynamics.cli.commands``.
 
     Each sub-command's parser carries its help, description and flags, and the function that runs it as
     ``run`` in the parsed namespace.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The command line to be parsed. When given, only the command it names gets its module imported and its
+        flags (every other command is listed by its one-line help alone), so ``course-dynamics --help`` loads no
+        command and ``course-dynamics info ur5`` loads one; None builds every command's parser.
 
     Returns
     -------
@@ -61,7 +67,11 @@ def build_parser() -> Parser:
         epilog=robots_epilog(),
     )
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
-    for name in COMMANDS:
+    named = None if argv is None else next((a for a in argv if not a.startswith("-")), "")
+    for name, help in COMMANDS.items():
+        if named is not None and name.replace("_", "-") != named:
+            sub.add_parser(name.replace("_", "-"), help=help)
+            continue
         command = importlib.import_module(f"{__name__}.commands.{name}")
         p = sub.add_parser(name.replace("_", "-"), help=command.HELP,
                            description=getattr(command, "DESCRIPTION", command.HELP), epilog=robots_epilog())
@@ -109,8 +119,11 @@ def main(argv=None) -> int:
 
 def _main(argv: list, interrupts: Interrupts | None) -> int:
     try:
-        args = build_parser().parse_args(join_value_options(argv))
+        argv = join_value_options(argv)
+        args = build_parser(argv).parse_args(argv)
         check_output_names(args)
+        import numpy as np
+
         # Overflow shows as inf/nan in the results, which every command checks and reports as one error line.
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
             code = args.run(args)

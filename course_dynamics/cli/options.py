@@ -12,39 +12,17 @@ import warnings
 import numpy as np
 
 from ..base.errors import CourseDynamicsWarning, InputError
-from ..core.robots import load, robot_names
+from ..core.robots import load
 from ..output import render
 from .flags import FRICTION_SOURCES, add, add_all, add_renamed
+from .parsing import UsageError, check_output_names, join_value_options, robots_epilog
 
-__all__ = ["FRICTION_SOURCES", "add", "add_all", "add_renamed"]  # the grammar, as commands use it
+# the grammar and the parsing, as commands use them
+__all__ = ["FRICTION_SOURCES", "UsageError", "add", "add_all", "add_renamed", "check_output_names",
+           "join_value_options", "robots_epilog"]
 
-# Options whose values are comma-separated numbers that may start with a minus sign.
-VALUE_OPTIONS = ("--q", "--qd", "--qdd", "--gravity", "--q0", "--qd0", "--torque", "--viscous", "--coulomb",
-                 "--payload-size")
 MAX_SAMPLES = 100_000  # random states per robot in a comparison: more adds nothing but memory
 MAX_GRAVITY = 1e6      # m/s^2 per component (1e5 g): beyond it no result is meaningful
-
-
-class UsageError(InputError):
-    """Bad command-line input (reported as ``error: …``, exit 2)."""
-
-
-class Parser(argparse.ArgumentParser):
-    def error(self, message):  # one line, exit 2, as for every other bad input
-        raise UsageError(message)
-
-
-def join_value_options(argv: list[str]) -> list[str]:
-    """``--q -0.1,0.2`` → ``--q=-0.1,0.2``, so negative first values are not taken for options."""
-    out, i = [], 0
-    while i < len(argv):
-        if argv[i] in VALUE_OPTIONS and i + 1 < len(argv):
-            out.append(f"{argv[i]}={argv[i + 1]}")
-            i += 2
-        else:
-            out.append(argv[i])
-            i += 1
-    return out
 
 
 def add_robot_argument(parser, nargs=None, help: str = "URDF file or shipped robot name", gravity: bool = True) -> None:
@@ -147,14 +125,6 @@ def check_finite(what: str, *arrays) -> None:
                              "arithmetic")
 
 
-def check_output_names(args) -> None:
-    """An empty output name ('') would mean the current folder: refuse it for every output option."""
-    for option in ("out", "plot", "html"):
-        value = getattr(args, option, None)
-        if value is not None and not str(value).strip():
-            raise UsageError("an output name is empty ('' would mean the current folder); name a file or folder")
-
-
 def add_sampling_arguments(parser, tolerance: float) -> None:
     """--samples, --seed, --tolerance: the seeded random states of a comparison with Pinocchio."""
     add_all(parser, "--samples", "--seed")
@@ -193,12 +163,6 @@ def progress_callback(bar):
 def symbol_names(text) -> tuple[str, ...]:
     """``m1,m2,g`` → ('m1', 'm2', 'g')."""
     return tuple(name.strip() for name in text.split(",") if name.strip()) if text else ()
-
-
-def robots_epilog() -> str:
-    return (f"URDF arguments take a file path or the name of a shipped robot: {', '.join(robot_names())}. "
-            "Joint values are comma-separated, in the joint order 'info' prints "
-            "(rad, rad/s, rad/s^2 for revolute joints; m, m/s, m/s^2 for prismatic).")
 
 
 def add_log_arguments(parser, log: str | None = "--log", required: bool = True) -> None:

@@ -28,6 +28,27 @@ module                 ``course-dynamics …``
 =====================  ==========================================================
 """
 
-# In the order ``course-dynamics --help`` lists them.
-COMMANDS = ("info", "lint", "terms", "torques", "detect", "excite", "identify", "cartesian", "simulate", "trace",
-            "derive", "animate", "validate", "crosscheck", "report", "grade", "student_notebooks", "publish_notebooks")
+# Each command's one-line help, in the order ``course-dynamics --help`` lists them: read without importing the
+# commands (their modules import the library), so the top-level help starts at once.
+COMMANDS = {
+    "info": 'joints (order, type, axis, limits, parent) and moving bodies (mass, COM)',
+    "lint": "check a URDF's masses, inertias, limits and axes; each finding with its class, severity and fix",
+    "terms": 'tau, M, C, V, G at one state',
+    "torques": 'joint torques along a trajectory log, and a limits report',
+    "detect": 'collisions and external torques in a log with measured torques (momentum observer)',
+    "excite": 'an excitation trajectory for identification (periodic Fourier motion, well-conditioned regressor)',
+    "identify": 'identify the inertial and friction parameters from a log with measured torques; write them as a URDF',
+    "cartesian": 'Cartesian-space dynamics Mx, Vx, Gx (6.99) of a frame',
+    "simulate": 'forward dynamics in time (6.115)-(6.117), written as CSV',
+    "trace": 'the Newton-Euler iterations link by link (numeric or symbolic)',
+    "derive": "closed-form tau, M, V, G and Craig's B, C (symbolic)",
+    "animate": 'animate a logged or simulated motion as a self-contained HTML file (meshcat)',
+    "validate": 'compare every term with Pinocchio on random states',
+    "crosscheck": 'compare one URDF across course_dynamics, Pinocchio, MuJoCo and PyBullet, explaining each difference',
+    "report": 'write a comparison report against Pinocchio (HTML, Markdown, JSON) for the course page',
+    "grade": "grade students' dynamics code (sandboxed) against the library, with feedback",
+    "student_notebooks":
+        'write the notebook course as .ipynb for students (solutions removed) or instructors (--solutions)',
+    "publish_notebooks":
+        'run every notebook and render the course to static HTML pages (with an index) for a course site',
+}

@@ -20,8 +20,9 @@ from ..options import (
     open_log_argument,
     print_json,
 )
+from . import COMMANDS
 
-HELP = "animate a logged or simulated motion as a self-contained HTML file (meshcat)"
+HELP = COMMANDS["animate"]
 DESCRIPTION = ("Draw the robot (URDF meshes or a stick model) and animate the motion of a log (--log: what torques "
                "--log reads - a table with t and q_<joint>, a UR RTDE recording, a ROS bag or MCAP file - and what "
                "torques, simulate and excite write with --out) as meshcat keyframes, in one HTML file that opens "

@@ -15,8 +15,9 @@ from ..options import (
     load_robot_argument,
     print_json,
 )
+from . import COMMANDS
 
-HELP = "Cartesian-space dynamics Mx, Vx, Gx (6.99) of a frame"
+HELP = COMMANDS["cartesian"]
 DESCRIPTION = ("Jacobian J, its time derivative, and F = Mx Xdd + Vx + Gx (6.91) for a URDF link or frame. "
                "The selected task rows must make J square (as many rows as joints). --json prints keys joints, frame, "
                "rows, J, J_dot, Mx, Vx, Gx, condition.")

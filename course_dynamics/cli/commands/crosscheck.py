@@ -17,8 +17,9 @@ from ..options import (
     load_robot_argument,
     print_json,
 )
+from . import COMMANDS
 
-HELP = "compare one URDF across course_dynamics, Pinocchio, MuJoCo and PyBullet, explaining each difference"
+HELP = COMMANDS["crosscheck"]
 DESCRIPTION = ("Evaluate tau, M, G, the bias forces C(q, qd) qd + G and the forward dynamics with course_dynamics and "
                "with each engine through its own API (Pinocchio; MuJoCo and PyBullet from the engines extra) at "
                "seeded random states. Every difference is within the tolerance (relative; qdd compared as the torque "

@@ -5,8 +5,9 @@ from ...core.parameters import MAX_SYMBOLIC_JOINTS
 from ...output import render
 from ..flags import output_format
 from ..options import add_all, add_renamed, add_robot_argument, load_robot_argument, print_json, symbol_names
+from . import COMMANDS
 
-HELP = "closed-form tau, M, V, G and Craig's B, C (symbolic)"
+HELP = COMMANDS["derive"]
 DESCRIPTION = ("Derive the equations of motion symbolically by Newton-Euler or by Lagrange: "
                "tau = M(q) qdd + B(q)[qd qd] + C(q)[qd^2] + G(q) (6.63). Joint variables are q_<joint>, qd_<joint>, "
                "qdd_<joint>; parameters not named in --symbols are the URDF's numbers, made exact "

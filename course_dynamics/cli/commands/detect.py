@@ -10,8 +10,9 @@ from ..options import (
     check_log_outputs, column_map, constants, friction, joint_values, load_robot_argument, numbers, open_log_argument,
     progress_bar,
 )
+from . import COMMANDS
 
-HELP = "collisions and external torques in a log with measured torques (momentum observer)"
+HELP = COMMANDS["detect"]
 DESCRIPTION = (
     "Read a log with measured joint torques (tau_meas_<joint>, a bag's effort, or currents with --torque-constant; "
     "any format torques --log reads) and run the generalized-momentum observer on it: r = K (p - p(0) - integral "

@@ -21,8 +21,9 @@ from ..options import (
     progress_bar,
     progress_callback,
 )
+from . import COMMANDS
 
-HELP = "an excitation trajectory for identification (periodic Fourier motion, well-conditioned regressor)"
+HELP = COMMANDS["excite"]
 DESCRIPTION = (
     "Make a trajectory that identification can learn the inertial parameters from: each joint follows a finite "
     "Fourier series q_j(t) = q0_j + sum_k a_jk/(w k) sin(w k t) - b_jk/(w k) cos(w k t), w = 2 pi / duration, "

@@ -7,8 +7,9 @@ from pathlib import Path
 
 from ...base.errors import CourseDynamicsWarning
 from ..options import UsageError, add_all, print_json, progress_bar
+from . import COMMANDS
 
-HELP = "grade students' dynamics code (sandboxed) against the library, with feedback"
+HELP = COMMANDS["grade"]
 DESCRIPTION = ("Run each SUBMISSION.py in its own sandboxed process (bubblewrap: no network, read-only system, "
                "CPU/memory/process/output limits), call its tau, M, V, G or C on the assignment's seeded states, "
                "score every term against course_dynamics and explain each mistake. Writes gradebook.csv, "

@@ -22,8 +22,9 @@ from ..options import (
     progress_bar,
     progress_callback,
 )
+from . import COMMANDS
 
-HELP = "identify the inertial and friction parameters from a log with measured torques; write them as a URDF"
+HELP = COMMANDS["identify"]
 DESCRIPTION = (
     "Read a log of the robot moving (--log, as 'torques' reads it: a table, a UR RTDE recording or a ROS bag) that "
     "holds what the robot measured - tau_meas_<joint> columns, a bag's effort, Franka's tau_J, or current_<joint> "

@@ -5,8 +5,9 @@ import numpy as np
 
 from ...output import render
 from ..options import add, add_robot_argument, load_robot_argument, print_json
+from . import COMMANDS
 
-HELP = "joints (order, type, axis, limits, parent) and moving bodies (mass, COM)"
+HELP = COMMANDS["info"]
 DESCRIPTION = (HELP + "; a joint that <mimic>s another is listed after the joints, with no coordinate of its own; "
                "--json prints them as one document (robot, urdf, base_link, n, gravity, joints, mimic_joints, "
                "bodies).")

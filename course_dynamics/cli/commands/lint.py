@@ -5,8 +5,9 @@ import dataclasses
 import json
 
 from ..options import UsageError, add_all, print_json
+from . import COMMANDS
 
-HELP = "check a URDF's masses, inertias, limits and axes; each finding with its class, severity and fix"
+HELP = COMMANDS["lint"]
 DESCRIPTION = ("Read each URDF as written (what the loader refuses too) and report its findings: class, link or "
                "joint, line, severity (error, warning, note) and the fix. --json prints one document (ok, fail_on, "
                "files with their findings); --sarif FILE also writes them as a SARIF 2.1.0 log for code scanning "

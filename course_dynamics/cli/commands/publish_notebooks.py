@@ -4,8 +4,9 @@ from __future__ import annotations
 import sys
 
 from ..options import add_all, notebook_numbers, print_json, progress_bar
+from . import COMMANDS
 
-HELP = "run every notebook and render the course to static HTML pages (with an index) for a course site"
+HELP = COMMANDS["publish_notebooks"]
 DESCRIPTION = ("Execute the ten notebooks in fresh kernels and render each to OUTDIR/<notebook>.html (mathematics as "
                "MathML, readable offline), plus OUTDIR/index.html listing them. Student versions by default "
                "(exercises unanswered, checks saying 'not done yet'); --solutions publishes the worked answers. "

@@ -18,8 +18,9 @@ from ..options import (
     print_json,
     progress_bar,
 )
+from . import COMMANDS
 
-HELP = "write a comparison report against Pinocchio (HTML, Markdown, JSON) for the course page"
+HELP = COMMANDS["report"]
 DESCRIPTION = ("For each ROBOT: the largest and median error of tau, M, C, V, G against Pinocchio on seeded random "
                "states, their distribution, tau along a smooth trajectory by both libraries, the textbook's closed "
                "forms for the course robots, the errata count and the environment. Writes DIR/index.html (one "

@@ -36,8 +36,9 @@ from ..options import (
     progress_bar,
     read_motion_argument,
 )
+from . import COMMANDS
 
-HELP = "forward dynamics in time (6.115)-(6.117), written as CSV"
+HELP = COMMANDS["simulate"]
 DESCRIPTION = ("Integrate qdd = M^-1 (tau - V - G - F) from q0, qd0, under constant torques (--torque) or the "
                "torques of a log (--torque-log: any log torques --log reads that holds tau_<joint> or measured "
                "torques, such as what torques --out, simulate --out and excite --out write; the --log-... options "

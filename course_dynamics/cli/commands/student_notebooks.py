@@ -4,8 +4,9 @@ from __future__ import annotations
 import sys
 
 from ..options import UsageError, add, add_all, notebook_numbers, print_json, progress_bar
+from . import COMMANDS
 
-HELP = "write the notebook course as .ipynb for students (solutions removed) or instructors (--solutions)"
+HELP = COMMANDS["student_notebooks"]
 DESCRIPTION = ("Write the ten notebooks of the course (one per section of Craig's chapter 6, and identification) to "
                "OUTDIR as .ipynb. Student versions have every solution replaced by a placeholder and no outputs; "
                "they run top to bottom, and each exercise's check says 'not done yet' until it is answered. Both "

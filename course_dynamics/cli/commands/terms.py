@@ -19,8 +19,9 @@ from ..options import (
     progress_bar,
     warn_if_gravity_free,
 )
+from . import COMMANDS
 
-HELP = "tau, M, C, V, G at one state"
+HELP = COMMANDS["terms"]
 TERMS_BYTES_PER_SQUARED_JOINT = 200  # n x n matrices of floats, about 25 of them alive at once at the peak
 DESCRIPTION = ("Evaluate tau = M(q) qdd + V(q, qd) + G(q) and the Coriolis matrix C (C qd = V); --json prints them "
                "with keys joints, tau, M, C, V, G.")

@@ -14,8 +14,9 @@ from ..options import (
     print_json,
     symbol_names,
 )
+from . import COMMANDS
 
-HELP = "the Newton-Euler iterations link by link (numeric or symbolic)"
+HELP = COMMANDS["trace"]
 DESCRIPTION = ("Show omega, omega_dot, v_dot, v_dot_C, F, N (outward, 6.45-6.50) and f, n, tau (inward, 6.51-6.53) "
                "for every link, each in its own frame, as the notes' worked example lays them out: numeric at --q, "
                "--qd, --qdd, or symbolic (--symbolic, with --symbols kept as symbols and --digits for the URDF's "

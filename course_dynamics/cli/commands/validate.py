@@ -16,8 +16,9 @@ from ..options import (
     progress_bar,
     warn_if_gravity_free,
 )
+from . import COMMANDS
 
-HELP = "compare every term with Pinocchio on random states"
+HELP = COMMANDS["validate"]
 DESCRIPTION = ("Evaluate tau, M, C, V, G with course_dynamics and with Pinocchio on seeded random states within joint "
                "limits. --json prints the report (ok, tolerance, robots, massless: the robots with no mass where a "
                "joint moves, each also a warning line). Exit 0 when every term agrees to the "
