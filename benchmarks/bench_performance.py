@@ -28,7 +28,11 @@ state, ``rneaInParallel``/``abaInParallel`` with the thread count shown. It prin
 6. compiling, first and from the cache: the Python programs, then the native library;
 7. start-up: ``course-dynamics info ur5`` and ``course-dynamics --help`` against importing numpy and pinocchio;
 8. chains of --chains joints: the cost per joint of τ, M, C and forward dynamics, interpreted and compiled
-   ("over bound" where a robot is too large to compile), so the O(n), O(n²) and O(n³) growth shows.
+   ("over bound" where a robot is too large to compile), so the O(n), O(n²) and O(n³) growth shows;
+9. against MuJoCo (the test extra installs it): the default API's τ, M and forward dynamics at one state
+   against ``mj_inverse``, ``mj_forward`` + ``mj_fullM`` and ``mj_forward`` called from Python on UR5's URDF
+   (meshes left out, MuJoCo's damping, armature and limits off), and ``simulate`` against ``mujoco.rollout``
+   (RK4, the whole run in one C call).
 """
 from __future__ import annotations
 
@@ -55,8 +59,9 @@ from measure import best, our_threads, print_conditions, print_load, threads, th
 
 TARGETS = {"one τ": 2.0, "one M": 2.0, "one FD": 2.0, "τ batch": 1.0, "M batch": 1.0, "C batch": 1.0,
            "FD batch": 1.0, "2 threads": 1.0, "simulate": 3.0, "ensemble": 0.1,
-           "start-up info": 2.0, "start-up help": 1.0}
+           "start-up info": 2.0, "start-up help": 1.0, "mujoco one": 1.0, "mujoco rollout": 1.0}
 ONE = threads(1, 1)
+MUJOCO_ONE = "ours 1 thread / mujoco 1 thread"
 
 
 def line(label: str, ours: float, theirs: float, unit: str, ran: str, target: str | None = None) -> None:
@@ -296,6 +301,73 @@ def compiling() -> None:
         del os.environ["COURSE_DYNAMICS_CACHE"]
 
 
+def against_mujoco(model, duration: float, r, number: int) -> None:
+    """9. The default API against MuJoCo's calls as a MuJoCo user writes them, and simulate against
+    ``mujoco.rollout`` (RK4, one C call for the whole run)."""
+    try:
+        import mujoco
+        from mujoco import rollout
+    except ImportError:
+        print("9. against MuJoCo: not installed (pip install 'course-dynamics[engines]')")
+        return
+    from course_dynamics_reference.engines import MujocoEngine
+
+    import course_dynamics
+
+    engine = MujocoEngine(model, robot_path("ur5"))      # UR5's URDF through MuJoCo's importer, meshes left out
+    m = engine.models[-1]                                # damping, friction loss, armature, limits off: our physics
+    d = mujoco.MjData(m)
+    assert list(engine.dof) == list(range(m.nv))         # the same joint order: the arrays go in as they are
+    x, xd, xdd = random_states(model, 1, seed=3)
+    x, xd, xdd = x[0], xd[0], xdd[0]
+    full = np.zeros((m.nv, m.nv))
+    print(f"9. against MuJoCo {mujoco.__version__}, UR5, one state from Python (µs), best of {r}; "
+          f"simulate (s), best of {min(r, 3)}")
+
+    def mj_tau():
+        d.qpos[:], d.qvel[:], d.qacc[:] = x, xd, xdd
+        mujoco.mj_inverse(m, d)
+        return d.qfrc_inverse
+
+    def mj_M():
+        d.qpos[:] = x
+        mujoco.mj_forward(m, d)
+        mujoco.mj_fullM(m, d, full)   # MuJoCo ≥ 3.4's signature
+        return full
+
+    def mj_forward():
+        d.qpos[:], d.qvel[:], d.qfrc_applied[:] = x, xd, xdd
+        mujoco.mj_forward(m, d)
+        return d.qacc
+
+    course_dynamics.inverse_dynamics(model, x, xd, xdd)
+    for label, ours, theirs in (("τ: inverse_dynamics(ur5, q, qd, qdd) / mj_inverse",
+                                 lambda: course_dynamics.inverse_dynamics(model, x, xd, xdd), mj_tau),
+                                ("M: mass_matrix(ur5, q) / mj_forward + mj_fullM",
+                                 lambda: course_dynamics.mass_matrix(model, x), mj_M),
+                                ("forward dynamics: forward_dynamics(ur5, q, qd, tau) / mj_forward",
+                                 lambda: course_dynamics.forward_dynamics(model, x, xd, xdd), mj_forward)):
+        line(label, best(ours, r, number), best(theirs, r, number), "µs", MUJOCO_ONE, "mujoco one")
+    np.testing.assert_allclose(course_dynamics.inverse_dynamics(model, x, xd, xdd), mj_tau(), rtol=1e-9, atol=1e-9)
+    rounds, steps = min(r, 3), int(round(duration / 1e-3))
+    m.opt.integrator, m.opt.timestep = mujoco.mjtIntegrator.mjINT_RK4, 1e-3
+    q0 = np.array([0.0, -1.2, 1.0, -0.5, 0.5, 0.0])
+    state = np.zeros(mujoco.mj_stateSize(m, mujoco.mjtState.mjSTATE_FULLPHYSICS))
+    d.qpos[:], d.qvel[:], d.qfrc_applied[:] = q0, 0.0, 0.0
+    mujoco.mj_getState(m, d, state, mujoco.mjtState.mjSTATE_FULLPHYSICS)
+    runs = {}
+
+    def ours():
+        runs["ours"] = simulate(model, q0, np.zeros(6), duration, 1e-3, integrator="rk4", compiled=True)
+
+    def theirs():
+        runs["mujoco"] = rollout.rollout(m, d, state, nstep=steps)
+
+    line(f"simulate(ur5, q0, 0, {duration:g}, 1e-3) RK4 / mujoco.rollout RK4", best(ours, rounds), best(theirs, rounds),
+         "s", MUJOCO_ONE, "mujoco rollout")
+    print(f"  final states differ by {np.abs(runs['ours'].q[-1] - runs['mujoco'][0][0, -1, 1:1 + m.nq]).max():.1e} rad")
+
+
 def start_up(r) -> None:
     rounds = min(r, 3)
     print(f"7. start-up, best of {rounds} (s)")
@@ -361,6 +433,7 @@ def main() -> None:
     compiling()
     start_up(r)
     chains([int(n) for n in args.chains.split(",")], r)
+    against_mujoco(model, args.duration, r, args.calls)
     print_load()
 
 

@@ -34,7 +34,7 @@ LAZY = {
     "velocity_torques": "course_dynamics.core.dynamics",
     "coriolis_matrix": "course_dynamics.core.evaluator", "forward_dynamics": "course_dynamics.core.evaluator",
     "gravity_torques": "course_dynamics.core.evaluator", "inverse_dynamics": "course_dynamics.core.evaluator",
-    "mass_matrix": "course_dynamics.core.evaluator",
+    "mass_matrix": "course_dynamics.core.evaluator", "regressor": "course_dynamics.core.evaluator",
     "forward_kinematics": "course_dynamics.core.kinematics", "potential_energy": "course_dynamics.core.kinematics",
     "Body": "course_dynamics.core.model", "Model": "course_dynamics.core.model",
     "LinkQuantities": "course_dynamics.core.newton_euler", "newton_euler_links": "course_dynamics.core.newton_euler",

@@ -20,7 +20,11 @@ BENCHMARKS = Path(__file__).resolve().parent.parent / "benchmarks"
     ("bench_torques.py", ["--rows", "500", "--repeat", "1"],
      ["tau stage, ours / Pinocchio (ours 1 thread / pin 1 thread)", "pin 2 threads"]),
     ("bench_regressor.py", ["--batch", "10", "--repeat", "1", "--robots", "two_link"],
-     ["Y / pin.computeJointTorqueRegressor from Python", "Y / our interpreted τ", "ours 1 thread / pin 1 thread"]),
+     ["Y / pin.computeJointTorqueRegressor from Python", "Y / our interpreted τ", "ours 1 thread / pin 1 thread",
+      "one state: compile_model(…).regressor / pin.computeJointTorqueRegressor", "target ≤ 3", "target ≤ 1"]),
+    ("bench_tools.py", ["--repeat", "1"],
+     ["course-dynamics identify / plain_identify.py", "held-out RMS residual", "excite ur5 --duration 10",
+      "target ≤ 1.5", "target ≤ 10"]),
 ])
 def test_benchmark_runs(script, args, expected):
     result = subprocess.run([sys.executable, str(BENCHMARKS / script), *args], capture_output=True, text=True,

@@ -14,6 +14,7 @@ from course_dynamics import (
 )
 from course_dynamics.core.compiled import compile_model, native, trace_programs
 from course_dynamics.core.dynamics import mass_matrix_and_bias
+from course_dynamics.core.regressor import regressor
 from course_dynamics.core.forward_dynamics import (
     SingularMassMatrixError,
     forward_dynamics,
@@ -53,6 +54,34 @@ def test_programs_equal_the_interpreted_recursions(compiled):
                       (c.mass_matrix(q), mass_matrix(model, q)), (c.coriolis_matrix(q, qd), coriolis_matrix(model, q, qd)),
                       (c.bias(q, qd), bias_ref), (c.forward_dynamics(q, qd, qdd), forward_dynamics(model, q, qd, qdd))):
         np.testing.assert_allclose(ours, ref, rtol=1e-12, atol=1e-12 * max(1.0, np.abs(ref).max()))
+
+
+def test_the_regressor_agrees_with_pinocchio_and_equals_the_recursion(compiled):
+    """Y compiled (τ on dual numbers, traced) on every robot: the recursion's to 1e-12, Pinocchio's to 1e-9."""
+    from test_regressor import pinocchio_columns
+
+    name, model, oracle, (q, qd, qdd), c = compiled
+    assert "regressor" in c.functions and ("regressor" in c.native) == bool(c.native)
+    ours, ref = c.regressor(q, qd, qdd), regressor(model, q, qd, qdd)
+    assert ours.shape == (len(q), model.n, 10 * model.n_bodies)
+    np.testing.assert_allclose(ours, ref, rtol=1e-12, atol=1e-12 * max(1.0, np.abs(ref).max()))
+    columns = pinocchio_columns(model, oracle)
+    for k in range(len(q)):
+        one = c.regressor(q[k], qd[k], qdd[k])
+        np.testing.assert_allclose(one, ours[k], rtol=1e-14, atol=1e-14 * max(1.0, np.abs(ref).max()))
+        assert_agrees(one, oracle.regressor(q[k], qd[k], qdd[k])[:, columns], what=f"{name} compiled Y, state {k}")
+
+
+def test_a_regressor_over_its_bound_leaves_the_other_programs_compiled(monkeypatch):
+    from course_dynamics.core.compiled import tracing
+
+    arm = load_robot("spatial_arm")
+    monkeypatch.setattr(tracing, "MAX_REGRESSOR_OPERATIONS", 50)
+    assert "regressor" not in trace_programs(arm) and "tau" in trace_programs(arm)
+    c = compile_model(arm, cache=False, native_code=False)
+    q = np.array([0.3, -0.2, 0.5])
+    assert "regressor" not in c.functions and "tau" in c.functions
+    np.testing.assert_array_equal(c.regressor(q, q, q), regressor(arm, q, q, q))    # the recursion answers
 
 
 def test_one_state_equals_the_batch(compiled):
@@ -409,6 +438,7 @@ def test_without_a_compiler_or_with_native_off_the_python_programs_run(tmp_path,
     without = compile_model(arm)
     assert without.native == {}
     np.testing.assert_allclose(without.inverse_dynamics(q, q, q), inverse_dynamics(arm, q, q, q), rtol=1e-12)
+    np.testing.assert_allclose(without.regressor(q, q, q), regressor(arm, q, q, q), rtol=1e-12, atol=1e-12)
     monkeypatch.undo()
     monkeypatch.setenv("COURSE_DYNAMICS_CACHE", str(tmp_path / "cache"))
     monkeypatch.setenv("COURSE_DYNAMICS_NATIVE", "off")

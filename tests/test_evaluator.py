@@ -19,7 +19,7 @@ from course_dynamics.core import evaluator
 from course_dynamics.core.compiled import CompiledModel, CompileWarning, ProgramTooLargeError, compile_model
 from course_dynamics.core.evaluator import COMPILE_SECONDS, Interpreted, choice, implementation, interpreted_seconds
 
-API = ("inverse_dynamics", "mass_matrix", "coriolis_matrix", "gravity_torques", "forward_dynamics")
+API = ("inverse_dynamics", "mass_matrix", "coriolis_matrix", "gravity_torques", "forward_dynamics", "regressor")
 
 
 @pytest.fixture
@@ -183,6 +183,24 @@ def test_the_package_functions_agree_with_pinocchio_on_either_path(robot, path, 
     assert choice(model, calls=1, states=1).path == path
     with pytest.raises(course_dynamics.StateError, match="is nan"):
         course_dynamics.inverse_dynamics(model, np.full(model.n, np.nan), qd[0], qdd[0])
+
+
+@pytest.mark.parametrize("name", ["two_link", "ur5"])
+def test_the_regressor_is_chosen_by_its_work(name, cold_cache):
+    """One state of Y is little work, a log's worth pays for compiling: either way Y is the recursion's."""
+    from course_dynamics.core.regressor import regressor as interpreted
+
+    model = load_urdf(urdf_of(name))
+    q, qd, qdd = np.random.default_rng(3).uniform(-1, 1, (3, 200, model.n))
+    assert choice(model, calls=evaluator.REGRESSOR_WORK, states=1).path == "interpreted"
+    np.testing.assert_array_equal(evaluator.regressor(model, q[0], qd[0], qdd[0]), interpreted(model, q[0], qd[0], qdd[0]))
+    assert choice(model, calls=evaluator.REGRESSOR_WORK, states=200).path == "compiled"
+    Y = evaluator.regressor(model, q, qd, qdd)
+    assert choice(model, calls=1, states=1).reason == evaluator.CACHED
+    ref = interpreted(model, q, qd, qdd)
+    np.testing.assert_allclose(Y, ref, rtol=1e-12, atol=1e-12 * np.abs(ref).max())
+    np.testing.assert_allclose(evaluator.regressor(model, q[5], qd[5], qdd[5]), ref[5], rtol=1e-12,
+                               atol=1e-12 * np.abs(ref).max())
 
 
 def test_the_tools_take_the_evaluators_choice(cold_cache):

@@ -278,11 +278,46 @@ def regressor(model: Model, q, qd, qdd) -> np.ndarray:
     batch = layout_of(q, qd, qdd).batch
     count = 10 * model.n_bodies
     seeds = np.eye(count).reshape((count, count) + (1,) * len(batch))  # e_k, broadcasting over the batch
+    rows = regressor_rows(model, joint_transforms(model, entries(q)), entries(qd), entries(qdd), seeds)
+    Y = np.stack([np.broadcast_to(row, (count,) + batch) for row in rows])
+    return np.moveaxis(Y, (0, 1), (-2, -1)).copy()
+
+
+def regressor_rows(model: Model, X, theta_dot: list, theta_ddot: list, seeds) -> list:
+    """Y's rows as the dual parts of τ: the recursion (``newton_euler.torque_entries``) on the model with
+    parameters π₀ + ε e_k (module docstring), given transforms; the building block of :func:`regressor` and of
+    the compiled regressor.
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    X : JointTransforms
+        The joint transforms at Θ (:func:`~course_dynamics.core.kinematics.joint_transforms`).
+    theta_dot, theta_ddot : list
+        Θ̇ and Θ̈, one scalar per coordinate (float, (N,) array or traced value), rad/s, rad/s² (m/s, m/s²).
+    seeds : sequence
+        e_k for k < 10 n_bodies: anything that adds, negates and scales by the scalars (numpy rows; the tracer's
+        sparse columns).
+
+    Returns
+    -------
+    list
+        Row j of Y, one per coordinate: the dual part of τⱼ (of the kind of ``seeds``), or 0.0 where τⱼ depends
+        on no parameter.
+
+    Examples
+    --------
+    >>> from course_dynamics import load_robot
+    >>> from course_dynamics.core.kinematics import joint_transforms
+    >>> arm = load_robot("pendulum")
+    >>> regressor_rows(arm, joint_transforms(arm, [0.5]), [0.0], [1.0], np.eye(10))[0].round(4)[:4]
+    array([ 0.    , -8.6091,  0.    , -4.7032])
+    """
     seeded = with_parameters(model, np.array([Dual(a, seeds[k]) for k, a in enumerate(SEED * model.n_bodies)],
                                              dtype=object))
-    tau = torque_entries(seeded, joint_transforms(model, entries(q)), entries(qd), entries(qdd), model.gravity_v)
-    Y = np.stack([np.broadcast_to(t.b if isinstance(t, Dual) else 0.0, (count,) + batch) for t in tau])
-    return np.moveaxis(Y, (0, 1), (-2, -1)).copy()
+    tau = torque_entries(seeded, X, theta_dot, theta_ddot, model.gravity_v)
+    return [t.b if isinstance(t, Dual) else 0.0 for t in tau]
 
 
 def _stacked(model: Model, samples: int, seed: int, held=None) -> np.ndarray:
@@ -562,4 +597,4 @@ def base_parameters(model: Model, samples: int = SAMPLES, seed: int = 0, held=No
 
 
 __all__ = ["BaseParameters", "PARAMETER_NAMES", "SAMPLES", "TENSOR", "base_parameters", "parameter_names",
-           "parameter_symbols", "parameters", "regressor", "with_parameters"]
+           "parameter_symbols", "parameters", "regressor", "regressor_rows", "with_parameters"]

@@ -35,8 +35,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..base.resources import check_memory, format_bytes
-from ..core.evaluator import inverse_dynamics
-from ..core.regressor import regressor
+from ..core.evaluator import inverse_dynamics, regressor
 from ..base.errors import InputError
 
 #: The most harmonics an excitation may have (the module docstring says why).

@@ -74,13 +74,12 @@ import numpy as np
 
 from ..base.errors import InputError
 from ..base.resources import check_memory
-from ..core.evaluator import inverse_dynamics  # the evaluator chooses the implementation of each call
+from ..core.evaluator import inverse_dynamics, regressor  # the evaluator chooses the implementation of each call
 from ..core.drives import Drives
 from ..core.friction import Friction
 from ..core.inertia import physical_problems
 from ..core.model import Model
-from ..core.regressor import (TENSOR, BaseParameters, base_parameters, parameter_names, parameters, regressor,
-                               with_parameters)
+from ..core.regressor import TENSOR, BaseParameters, base_parameters, parameter_names, parameters, with_parameters
 from ..core.sampling import random_states
 from .consistency import consistent_fit, pseudo_inertia
 from .logs import JointLog

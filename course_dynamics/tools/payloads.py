@@ -58,10 +58,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..base.errors import InputError
-from ..core.evaluator import inverse_dynamics  # the evaluator chooses the implementation of each call
+from ..core.evaluator import inverse_dynamics, regressor  # the evaluator chooses the implementation of each call
 from ..core.friction import Friction
 from ..core.model import Model
-from ..core.regressor import PARAMETER_NAMES, TENSOR, regressor
+from ..core.regressor import PARAMETER_NAMES, TENSOR
 from .consistency import consistent_fit, pseudo_inertia
 from .identification import FRICTION_MODELS, HELD, ROWS_AT_A_TIME, SEEN_SPLIT, SYMBOLS, UNSEEN, fit_transformed
 from .logs import JointLog

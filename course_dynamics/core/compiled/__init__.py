@@ -20,6 +20,8 @@ program                traced from
 ``coriolis``           ``course_dynamics.core.coriolis.coriolis_matrix_entries``
 ``forward_dynamics``   M and the bias as above, then Θ̈ = M⁻¹(τ − V − G) (6.115)
                        by an unrolled LDLᵀ factorization, with its pivots
+``regressor``          ``course_dynamics.core.regressor.regressor_rows``: τ on dual
+                       numbers, one sparse derivative per inertial parameter
 =====================  ==========================================================
 
 No second copy of any algorithm exists: the programs are what the library's
@@ -89,6 +91,7 @@ from ..dynamics import coriolis_matrix, mass_matrix_and_bias
 from ..forward_dynamics import SINGULAR_PIVOT_RATIO, accelerations
 from ..model import Model
 from ..newton_euler import inverse_dynamics
+from ..regressor import regressor
 from ..state import as_state, batch_shape
 from . import building, cache, codegen, native, tracing
 from .cache import Cache, CacheWarning, cache_folder
@@ -315,7 +318,7 @@ class CompiledModel:
         for a in arrays:  # one state each: a batch of one keeps its batch shape on the other path
             if type(a) is not np.ndarray or a.ndim != 1:
                 return None
-        out = np.empty(native.width(name, self.model.n))
+        out = np.empty(native.width(name, self.model.n, self.model.n_bodies))
         try:
             function(*arrays, out)
         except (TypeError, ValueError, BufferError):
@@ -323,6 +326,8 @@ class CompiledModel:
         n = self.model.n
         if name == "mass_matrix":
             return out.reshape(n, n)
+        if name == "regressor":
+            return out.reshape(n, 10 * self.model.n_bodies)
         if name == "forward_dynamics":
             pivots = out[n:].tolist()
             if not min(pivots) > SINGULAR_PIVOT_RATIO * max(map(abs, pivots)):
@@ -332,7 +337,7 @@ class CompiledModel:
 
     def _run_native(self, function, name: str, arrays) -> np.ndarray:
         """The native program on checked float64 states: any batch shape, shared over threads when large."""
-        width = native.width(name, self.model.n)
+        width = native.width(name, self.model.n, self.model.n_bodies)
         batch = batch_shape(*arrays)
         columns = [np.ascontiguousarray(np.broadcast_to(a, batch + a.shape[-1:])) for a in arrays]
         out = np.empty(batch + (width,))
@@ -373,6 +378,40 @@ class CompiledModel:
             return fast
         m = self.model
         return self._run("tau", as_state(m, q, "q"), as_state(m, qd, "qd"), as_state(m, qdd, "qdd"))
+
+    def regressor(self, q, qd, qdd) -> np.ndarray:
+        """Y(Θ, Θ̇, Θ̈), shape (n, 10 n_bodies) or (N, n, 10 n_bodies), as
+        :func:`~course_dynamics.core.regressor.regressor` (which runs where the regressor was over its bound,
+        :data:`~course_dynamics.core.compiled.tracing.MAX_REGRESSOR_OPERATIONS`).
+
+        Parameters
+        ----------
+        q : array_like, shape (n,) or (N, n)
+            Joint positions Θ, rad (m for a prismatic joint).
+        qd : array_like, shape (n,) or (N, n)
+            Joint velocities Θ̇, rad/s (m/s).
+        qdd : array_like, shape (n,) or (N, n)
+            Joint accelerations Θ̈, rad/s² (m/s²).
+
+        Returns
+        -------
+        numpy.ndarray, shape (n, 10 n_bodies) or (N, n, 10 n_bodies)
+            Y; τ = Y π (N·m or N per unit of each parameter).
+
+        Raises
+        ------
+        StateError
+            If an argument is not a finite array of shape (n,) or (N, n).
+        """
+        m = self.model
+        fast = self.native_call("regressor", q, qd, qdd)
+        if fast is not None:
+            return fast
+        q, qd, qdd = as_state(m, q, "q"), as_state(m, qd, "qd"), as_state(m, qdd, "qdd")
+        if "regressor" not in self.functions:
+            return regressor(m, q, qd, qdd)
+        out = self._run("regressor", q, qd, qdd)
+        return out.reshape(out.shape[:-1] + (m.n, 10 * m.n_bodies))
 
     def mass_matrix(self, q) -> np.ndarray:
         """M(Θ), shape (n, n) or (N, n, n).
@@ -540,7 +579,7 @@ class CompiledModel:
         return out[..., :n]
 
 
-PROGRAMS = ("tau", "mass_matrix", "bias", "coriolis", "forward_dynamics")
+PROGRAMS = ("tau", "mass_matrix", "bias", "coriolis", "forward_dynamics", "regressor")
 THREADS = max(1, min(4, os.cpu_count() or 1))  # a native batch is shared by this many threads ...
 THREAD_STATES = 2000                            # ... when each gets at least this many states
 
@@ -564,7 +603,8 @@ def _pool():
 def _functions_of(code, name: str) -> dict:
     namespace: dict = {"__name__": f"course_dynamics_compiled_{name}"}
     exec(code, namespace)  # our own program: just generated, or read back after its keyed hash was checked
-    return {n: namespace[n] for p in PROGRAMS for n in (p, f"{p}_batch")}
+    return {n: namespace[n] for p in PROGRAMS for n in (p, f"{p}_batch") if n in namespace}  # a regressor may be over
+    # its bound
 
 
 def _agrees_with_the_recursion(model: Model, functions: dict, native_out: bool = False) -> bool:
@@ -579,12 +619,15 @@ def _agrees_with_the_recursion(model: Model, functions: dict, native_out: bool =
         expected = {"tau": inverse_dynamics(model, q, qd, qdd), "mass_matrix": M[rows, cols], "bias": bias,
                     "coriolis": coriolis_matrix(model, q, qd).ravel(),
                     "forward_dynamics": np.linalg.solve(M, qdd - bias)}
+        if "regressor" in functions:
+            expected["regressor"] = regressor(model, q, qd, qdd).ravel()
         arguments = {"tau": (q, qd, qdd), "mass_matrix": (q,), "bias": (q, qd), "coriolis": (q, qd),
-                     "forward_dynamics": (q, qd, qdd)}
+                     "forward_dynamics": (q, qd, qdd), "regressor": (q, qd, qdd)}
         for name, ours in expected.items():
             if native_out:
                 ours = M.ravel() if name == "mass_matrix" else ours  # natively M comes whole
-                got, pair = np.empty(native.width(name, n)), np.empty((2, native.width(name, n)))
+                size = native.width(name, n, model.n_bodies)
+                got, pair = np.empty(size), np.empty((2, size))
                 functions[name](*arguments[name], got)
                 functions[name](*(np.stack([a, a]) for a in arguments[name]), pair)
                 got, batch = got[:len(ours)], pair[1, :len(ours)]

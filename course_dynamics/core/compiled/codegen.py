@@ -64,7 +64,13 @@ def program_source(program: Program, n: int, free: bool = False) -> str:
             lines.append(f"    t{i} = {OPERATIONS[op].format(*(_argument(a, nodes) for a in arguments))}")
         if i in dead:
             lines.append(f"    del {', '.join(f't{v}' for v in sorted(dead[i]))}")
-    lines.append(f"    return ({', '.join(_argument(o, nodes) for o in program.outputs)},)")
+    returned, line = [], "    return ("
+    for item in (_argument(o, nodes) for o in program.outputs):  # a long tuple (the regressor's) over many lines
+        if len(line) + len(item) > 110 and line.strip() != "return (":
+            returned.append(line.rstrip())
+            line = "            "
+        line += item + ", "
+    lines += returned + [line.rstrip(", ") + ",)"]
     return "\n".join(lines)
 
 

@@ -160,14 +160,17 @@ def _outputs(program: Program, n: int, value) -> list[str]:
 
 
 @functools.cache
-def width(name: str, n: int) -> int:
+def width(name: str, n: int, bodies: int | None = None) -> int:
     """Entries a native program writes per state (M whole, n × n, where the Python programs give its upper
-    triangle).
+    triangle; Y n × 10 ``bodies``, the moving bodies, n by default).
 
     >>> width("mass_matrix", 6), width("tau", 6), width("forward_dynamics", 6)   # Θ̈ and the n pivots
     (36, 6, 12)
+    >>> width("regressor", 6)
+    360
     """
-    return {"tau": n, "mass_matrix": n * n, "bias": n, "coriolis": n * n, "forward_dynamics": 2 * n}[name]
+    return {"tau": n, "mass_matrix": n * n, "bias": n, "coriolis": n * n, "forward_dynamics": 2 * n,
+            "regressor": 10 * n * (n if bodies is None else bodies)}[name]
 
 
 WRAPPER = """
@@ -278,9 +281,9 @@ def c_source(programs: dict[str, Program], n: int, key: str, robot: str) -> str:
         function, carried = _function(program, n)
         parts.append(function)
         pointers = ", ".join(f"(const double *)views[{i}].buf + k * {n}" for i in range(len(program.inputs)))
+        bodies = len(program.outputs) // (10 * n) if program.name == "regressor" else None  # Y is n × 10 bodies
         parts.append(WRAPPER.format(name=program.name, count=len(program.inputs) + 1, inputs=len(program.inputs),
-                                    width=width(program.name, n), n=n, pointers=pointers,
-                                    carried=carried))
+                                    width=width(program.name, n, bodies), n=n, pointers=pointers, carried=carried))
         methods.append(f'    {{"{program.name}", (PyCFunction)(void (*)(void)){program.name}, METH_FASTCALL, NULL}},')
     name = module_name(key)
     parts += ["static PyMethodDef methods[] = {", *methods, "    {NULL, NULL, 0, NULL}", "};", "",

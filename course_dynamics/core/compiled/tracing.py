@@ -15,11 +15,15 @@ from .. import coriolis, crba
 from ..kinematics import joint_transforms
 from ..model import Model
 from ..newton_euler import torque_entries
+from ..regressor import regressor_rows
 
 # Operations of all five programs together. Panda takes 19 000, a 20-joint chain 74 000 (2 s to compile, 5 MB of
 # source); a 30-joint chain would take 163 000 (7 s) and a 60-joint one several GB of memory.
 #: The most operations the five programs of one robot may take together (a chain of about 20 joints).
 MAX_OPERATIONS = 80_000
+#: The most operations of the regressor's program, which is traced on its own (UR5 takes 1 800, Panda 5 400); a
+#: robot whose regressor is larger keeps its other programs, and its regressor runs interpreted.
+MAX_REGRESSOR_OPERATIONS = 40_000
 
 
 class ProgramTooLargeError(CourseDynamicsError):
@@ -234,6 +238,66 @@ class Traced:
         return self.tape.record("cos", _ref(self)), self.tape.record("sin", _ref(self))
 
 
+class Columns:
+    """A sparse vector of scalars by column, ``{k: value}``: the dual part of a
+    :class:`~course_dynamics.core.algebra.Dual` that carries one derivative per inertial parameter, where most are
+    zero (the regressor's seeds e_k).
+
+    It adds and subtracts with another, negates, and scales by a scalar (a number or a :class:`Traced`); a
+    column that is not there is zero and costs nothing.
+
+    Parameters
+    ----------
+    entries : dict of int to scalar
+        The columns that are not zero.
+
+    Examples
+    --------
+    >>> x = Tape().input("q0")
+    >>> (Columns({0: 1.0}) * x + Columns({2: 1.0})).entries[2]
+    1.0
+    """
+
+    __slots__ = ("entries",)
+    __array_ufunc__ = None
+
+    def __init__(self, entries: dict):
+        self.entries = entries
+
+    def __add__(self, other):
+        if isinstance(other, (int, float)) and other == 0:
+            return self
+        if not isinstance(other, Columns):
+            return NotImplemented
+        entries = dict(self.entries)
+        for k, v in other.entries.items():
+            entries[k] = entries[k] + v if k in entries else v
+        return Columns(entries)
+
+    __radd__ = __add__
+
+    def __neg__(self):
+        return Columns({k: -v for k, v in self.entries.items()})
+
+    def __sub__(self, other):
+        return self + (-other)
+
+    def __rsub__(self, other):
+        return (-self) + other
+
+    def __mul__(self, scale):
+        if isinstance(scale, Columns):
+            return NotImplemented
+        if isinstance(scale, (int, float)) and scale == 0:
+            return Columns({})
+        return Columns({k: v * scale for k, v in self.entries.items()})
+
+    __rmul__ = __mul__
+
+    def __truediv__(self, scale):
+        return Columns({k: v / scale for k, v in self.entries.items()})
+
+
 @dataclass
 class Program:
     """A straight-line program: named inputs, nodes, and the outputs (node references or constants).
@@ -241,7 +305,7 @@ class Program:
     Parameters
     ----------
     name : str
-        The program: ``tau``, ``mass_matrix``, ``bias``, ``coriolis`` or ``forward_dynamics``.
+        The program: ``tau``, ``mass_matrix``, ``bias``, ``coriolis``, ``forward_dynamics`` or ``regressor``.
     inputs : list of str
         Its arguments, each a vector of n values: ``q``, ``qd``, ``qdd`` or ``tau``.
     nodes : list of list
@@ -310,9 +374,10 @@ def trace_programs(model: Model) -> dict[str, Program]:
     Returns
     -------
     dict of str to Program
-        The five programs by name: ``tau`` τ(Θ, Θ̇, Θ̈), ``mass_matrix`` (the upper triangle of M(Θ), row by row),
-        ``bias`` V(Θ, Θ̇) + G(Θ), ``coriolis`` C(Θ, Θ̇) row by row and ``forward_dynamics`` (Θ̈ and the n pivots
-        of the LDLᵀ factorization of M).
+        The programs by name: ``tau`` τ(Θ, Θ̇, Θ̈), ``mass_matrix`` (the upper triangle of M(Θ), row by row),
+        ``bias`` V(Θ, Θ̇) + G(Θ), ``coriolis`` C(Θ, Θ̇) row by row, ``forward_dynamics`` (Θ̈ and the n pivots
+        of the LDLᵀ factorization of M), and ``regressor`` Y(Θ, Θ̇, Θ̈) row by row (n × 10 n_bodies entries;
+        left out where it would pass :data:`MAX_REGRESSOR_OPERATIONS`).
 
     Raises
     ------
@@ -323,7 +388,7 @@ def trace_programs(model: Model) -> dict[str, Program]:
     --------
     >>> from course_dynamics import load_robot
     >>> sorted(trace_programs(load_robot("two_link")))
-    ['bias', 'coriolis', 'forward_dynamics', 'mass_matrix', 'tau']
+    ['bias', 'coriolis', 'forward_dynamics', 'mass_matrix', 'regressor', 'tau']
     """
     n, g = model.n, model.gravity_v
     programs, tapes = {}, []
@@ -361,6 +426,16 @@ def trace_programs(model: Model) -> dict[str, Program]:
         programs["forward_dynamics"] = _program("forward_dynamics", t, ["q", "qd", "tau"], qdd + pivots)
     except ProgramTooLargeError:
         raise ProgramTooLargeError(f"robot {model.name!r} ({n} joints)") from None
+    try:  # on a tape of its own: a regressor too large to compile leaves the other programs compiled
+        t = Tape(MAX_REGRESSOR_OPERATIONS)
+        q, qd, qdd = _inputs(t, "q", n), _inputs(t, "qd", n), _inputs(t, "qdd", n)
+        count = 10 * model.n_bodies
+        rows = regressor_rows(model, joint_transforms(model, q), qd, qdd, [Columns({k: 1.0}) for k in range(count)])
+        entries = [row.entries if isinstance(row, Columns) else {} for row in rows]
+        programs["regressor"] = _program("regressor", t, ["q", "qd", "qdd"],
+                                         [row.get(k, 0.0) for row in entries for k in range(count)])
+    except ProgramTooLargeError:
+        pass
     return programs
 
 
@@ -382,4 +457,5 @@ def _ldl_solve(M: list, rhs: list) -> tuple[list, list]:
     return x, D
 
 
-__all__ = ["MAX_OPERATIONS", "Program", "ProgramTooLargeError", "Tape", "Traced", "trace_programs"]
+__all__ = ["MAX_OPERATIONS", "MAX_REGRESSOR_OPERATIONS", "Columns", "Program", "ProgramTooLargeError", "Tape", "Traced",
+           "trace_programs"]
