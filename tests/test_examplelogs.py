@@ -24,4 +24,9 @@ def test_each_example_is_what_the_generators_write_today(fresh, name):
     assert committed.format == regenerated.format and committed.implied == regenerated.implied
     assert set(committed.columns) == set(regenerated.columns)
     for column, values in committed.columns.items():
-        np.testing.assert_array_equal(values, regenerated.columns[column], err_msg=f"{name}: {column}")
+        # The same numbers but for the last bits of the column's largest: a torque the generator computes goes
+        # through numpy's own arithmetic, whose rounding differs between builds (numpy 2.4 moves 15 of the Franka
+        # bag's 808 torques by up to 2 units of the last place of their column's largest); any change of the
+        # generators' code moves far more.
+        bits = 4 * np.finfo(float).eps * np.abs(values).max() if np.issubdtype(values.dtype, np.floating) else 0
+        np.testing.assert_allclose(values, regenerated.columns[column], rtol=0, atol=bits, err_msg=f"{name}: {column}")
