@@ -181,6 +181,9 @@ def test_help_explains(capsys):
     assert exit_info.value.code == 0
     for command in ("info", "terms", "torques", "validate"):
         assert command in out
+    with pytest.raises(SystemExit) as exit_info:
+        main(["--version"])
+    assert exit_info.value.code == 0 and capsys.readouterr().out.startswith("course-dynamics ")
 
 
 def test_simulate_then_torques_round_trip(capsys, tmp_path):

@@ -205,5 +205,7 @@ def test_a_clock_beyond_any_sample_step_is_refused_with_rates_logged(capsys, tmp
     rows = ["t,q_theta1,q_theta2,qd_theta1,qd_theta2,tau_meas_theta1,tau_meas_theta2"]
     rows += [f"{float(a)!r},0.1,0.2,0,0,1,2" for a in t]
     log.write_text("\n".join(rows) + "\n")
-    code, _, err = run(capsys, "detect", "two_link", "--log", str(log))
-    assert_one_line_error(code, err, str(log), "the sample step 4e+297 s is outside 1e-9 s to 1e6 s")
+    for command, extra in (("detect", []), ("animate", ["--html", str(tmp_path / "a.html")])):  # every reader
+        code, _, err = run(capsys, command, "two_link", "--log", str(log), *extra)
+        assert_one_line_error(code, err, str(log), "the sample step 4e+297 s is outside 1e-9 s to 1e6 s")
+    assert not (tmp_path / "a.html").exists()

@@ -199,9 +199,9 @@ def test_a_controller_export_in_milliseconds_with_unlogged_fingers(capsys, tmp_p
             "--set", "q_panda_finger_joint1=0.02"]  # the second finger mimics the first: no column of its own
     code, report, err = run(capsys, *argv)
     assert f"warning: {log}: the samples are 4 s apart; if t is not in seconds, give --time-unit" in err
-    for command in ("identify", "detect"):    # every command that reads a log: the one reader warns
+    for command, option in (("identify", "--out"), ("detect", "--out"), ("animate", "--html")):  # every reader warns
         _, _, err = run(capsys, command, *argv[1:4], "--map", mapping, "--set", "q_panda_finger_joint1=0.02",
-                        "--out", str(tmp_path / f"{command}.out"))
+                        option, str(tmp_path / f"{command}.out"))
         assert f"warning: {log}: the samples are 4 s apart" in err, (command, err)
     code, report, err = run(capsys, *argv, "--time-unit", "ms")
     assert "warning" not in err and "500 samples over 1.996 s" in report

@@ -213,6 +213,13 @@ def test_excite_warns_of_the_limits_the_urdf_lacks(capsys, tmp_path):
     assert "largest share of the position limits: " in stdout and "(joint joint1)" in stdout
 
 
+def test_a_file_too_short_for_its_harmonics_is_one_line_and_no_estimate(capsys, tmp_path):
+    for extra in (["--duration", "0.01"], ["--duration", "10", "--dt", "5"]):
+        code, _, err = run(capsys, "excite", "ur5", *extra, "--out", str(tmp_path / "e.csv"))
+        assert_one_line_error(code, err, "cannot show", "harmonics")
+        assert not (tmp_path / "e.csv").exists()
+
+
 def test_excite_json(capsys, tmp_path):
     code, stdout, err = run(capsys, "excite", "rp_arm", "--duration", "3", "--out", str(tmp_path / "x.csv"), "--json",
                             *ARGS)

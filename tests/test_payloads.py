@@ -163,6 +163,11 @@ def test_a_log_without_a_payload_detects_none_and_writes_nothing(capsys, excited
     found = json.loads(text)
     assert code == 1 and not found["detected"] and found["robot_forms"] is None and found["out"] is None
     assert abs(found["mass"]) < 3 * found["mass_sigma"] < 0.05, (found["mass"], found["mass_sigma"])
+    assert found["parameters"][0]["identified"] == found["mass"] and found["solver"] == "least squares"  # one mass
+    folder_out = out.parent / "no_payload_report"
+    code, text, err = run(capsys, "identify", str(urdf), "--log", str(log), "--scope", "payload", "--out",
+                          str(folder_out))
+    assert code == 1 and not folder_out.exists() and "wrote" not in err, err   # nothing written, not even a report
     assert found["com"] == [None] * 3 and found["inertia"] == [None] * 9      # no mass, so no centre of mass
 
 

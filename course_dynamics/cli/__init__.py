@@ -40,6 +40,15 @@ from .interrupts import Interrupts, interruptible
 from .parsing import Parser, check_output_names, join_value_options, robots_epilog
 
 
+def _version() -> str:
+    from importlib import metadata
+
+    try:
+        return metadata.version("course-dynamics")
+    except metadata.PackageNotFoundError:  # a checkout on the path, not installed
+        return "(not installed)"
+
+
 def build_parser(argv: list[str] | None = None) -> Parser:
     """The ``course-dynamics`` argument parser: one sub-command per module of ``course_dynamics.cli.commands``.
 
@@ -66,6 +75,7 @@ def build_parser(argv: list[str] | None = None) -> Parser:
                     "computed by hand-written Newton-Euler and checked against Pinocchio.",
         epilog=robots_epilog(),
     )
+    parser.add_argument("--version", action="version", version=f"course-dynamics {_version()}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
     named = None if argv is None else next((a for a in argv if not a.startswith("-")), "")
     for name, help in COMMANDS.items():

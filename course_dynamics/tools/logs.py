@@ -47,12 +47,11 @@ False
 from __future__ import annotations
 
 from collections.abc import Mapping
-import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..base.errors import CourseDynamicsWarning, InputError
+from ..base.errors import InputError
 from ..core.drives import Driven, Drives
 from ..core.evaluator import implementation
 from ..core.friction import Friction
@@ -61,14 +60,11 @@ from .columns import KINDS
 from .differentiation import POLYORDER, derivatives
 from .limits import LimitsReport, limits_report
 from .loads import with_payload, wrench_torques
-from .motion import TIME_UNITS, check_time_unit, check_values, log_times, planned_columns
+from .motion import TIME_UNITS, check_clock, check_time_unit, check_values, log_times, planned_columns
 from .resampling import MIN_SEGMENT_ROWS, even_clock
 from .residuals import ResidualReport, residual_report
 from .sources import as_source
 from .tables import joint_columns, stack_joint_columns
-
-#: The longest sample step (seconds) read without a warning; a longer one suggests t in ms read as seconds.
-SLOW_SAMPLES = 0.5
 
 #: τ is computed this many rows at a time, so that the recursion's temporaries (for the UR5 about 1.6 kB a row
 #: interpreted, 0.5 kB compiled, measured with tracemalloc) stay under 60 MB however long the log.
@@ -310,13 +306,7 @@ def joint_log(model: Model, table, *, dt: float | None = None, columns: Mapping[
         t, renamed, segments, step = clock.t, clock.columns, clock.segments, clock.step
         notes += clock.notes
         samples = len(t)
-    # every log with a clock: one it differentiates, and one it takes as it is (its rates logged)
-    if samples > 1 and not 1e-9 * (1 - 1e-9) <= step <= 1e6 * (1 + 1e-9):  # the ends, within the clock's round-off
-        raise InputError(f"{where}: the sample step {step:g} s is outside 1e-9 s to 1e6 s; is t in seconds "
-                         f"(time_unit, --time-unit)?")
-    if samples > 1 and dt is None and step > SLOW_SAMPLES:
-        warnings.warn(f"{where}: the samples are {step:g} s apart; if t is not in seconds, give --time-unit",
-                      CourseDynamicsWarning)
+    check_clock(step, samples, where, warn=dt is None)  # every log: one it differentiates, one it takes as it is
     q = stack_joint_columns(renamed, "q", model.joint_names)
     qd, qdd = np.empty_like(q), np.empty_like(q)
     derived_qd, derived_qdd = plan.derived_kind("qd"), plan.derived_kind("qdd")
@@ -561,4 +551,4 @@ def _torque_sigma(log: JointLog, run, progress=None) -> np.ndarray | None:
     return sigma
 
 
-__all__ = ["ROWS_AT_A_TIME", "SLOW_SAMPLES", "JointLog", "TorqueLog", "joint_log", "torques_from_log"]
+__all__ = ["ROWS_AT_A_TIME", "JointLog", "TorqueLog", "joint_log", "torques_from_log"]

@@ -26,12 +26,13 @@ code                Craig          meaning (shape, unit)
 """
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..base.errors import InputError
+from ..base.errors import CourseDynamicsWarning, InputError
 from ..core.model import Model
 from .columns import ColumnPlan, merged_map, plan_columns
 from .sources import LogSource, as_source
@@ -39,6 +40,49 @@ from .tables import stack_joint_columns
 
 #: The units a log's ``t`` column may be in, each with its length in seconds.
 TIME_UNITS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9}
+#: The longest sample step (seconds) read without a warning; a longer one suggests t in ms read as seconds.
+SLOW_SAMPLES = 0.5
+#: The sample steps a log may have, s (the ends included).
+STEPS = (1e-9, 1e6)
+
+
+def check_clock(step: float, samples: int, where: str, warn: bool = True) -> None:
+    """The one check of a log's sample step, for every reader: outside :data:`STEPS` is an error (t is not in
+    seconds), beyond :data:`SLOW_SAMPLES` a warning (``warn``: the step came from the log's own t).
+
+    Parameters
+    ----------
+    step : float
+        The sample step, s (the median, or the even clock's).
+    samples : int
+        How many samples the log has (one has no step).
+    where : str
+        How messages name the log.
+    warn : bool
+        Whether a slow clock is warned about.
+
+    Raises
+    ------
+    InputError
+        If the step is outside 1e-9 s to 1e6 s.
+
+    Examples
+    --------
+    >>> check_clock(0.004, 500, "log.csv")
+    >>> check_clock(4.0, 500, "log.csv", warn=False)
+    >>> check_clock(4e297, 500, "log.csv")
+    Traceback (most recent call last):
+    course_dynamics.base.errors.InputError: log.csv: the sample step 4e+297 s is outside 1e-9 s to 1e6 s;
+    is t in seconds (time_unit, --time-unit)?
+    """
+    if samples < 2:
+        return
+    if not STEPS[0] * (1 - 1e-9) <= step <= STEPS[1] * (1 + 1e-9):  # the ends, within a clock's round-off
+        raise InputError(f"{where}: the sample step {step:g} s is outside 1e-9 s to 1e6 s; is t in "
+                         "seconds (time_unit, --time-unit)?")
+    if warn and step > SLOW_SAMPLES:
+        warnings.warn(f"{where}: the samples are {step:g} s apart; if t is not in seconds, give --time-unit",
+                      CourseDynamicsWarning)
 
 
 @dataclass(frozen=True)
@@ -206,6 +250,7 @@ def read_motion(model: Model, log, *, columns: Mapping[str, str] | None = None,
                              "robot measured: tau_meas_<joint>, a bag's effort)")
     check_values(planned)
     t = log_times(planned, dt, time_unit)
+    check_clock(float(np.median(np.diff(t))) if len(t) > 1 else 0.0, len(t), source.where, warn=dt is None)
     q = stack_joint_columns(values, "q", joints) if positions else None
     tau = stack_joint_columns(values, tau_from, joints) if tau_from else None
     notes = list(source.notes)
@@ -214,4 +259,4 @@ def read_motion(model: Model, log, *, columns: Mapping[str, str] | None = None,
     return Motion(t=t, q=q, tau=tau, where=source.where, tau_from=tau_from, notes=tuple(notes), format=source.format)
 
 
-__all__ = ["TIME_UNITS", "Motion", "read_motion"]
+__all__ = ["SLOW_SAMPLES", "STEPS", "TIME_UNITS", "Motion", "check_clock", "read_motion"]

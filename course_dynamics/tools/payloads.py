@@ -595,7 +595,9 @@ def identify_payload(model: Model, log: JointLog, link: str | None = None, frict
                f"less than {SMALLEST_PAYLOAD:.1%} of the arm's own {arm_mass:.3g} kg")
         notes.append(f"no payload detected: the least-squares mass {theta_wls[0]:.3g} ± {mass_sigma:.2g} kg is {why} "
                      "(so no centre of mass or inertia either)")
-        mass = float(theta_wls[0])  # the value tested, as the note gives it
+        theta, solver = theta_wls.copy(), "least squares"   # nothing is written: the estimate tested is given
+        notes = [note for note in notes if not note.startswith("the least-squares payload ")]
+        mass = float(theta_wls[0])
     if not detected:        # h / m of a mass that is noise is noise: not given
         com, com_sigma, inertia, inertia_sigma = (np.full_like(v, np.nan) for v in (com, com_sigma, inertia,
                                                                                    inertia_sigma))

@@ -78,6 +78,8 @@ def _say_if_long(model, args) -> None:
     if not (math.isfinite(args.dt) and 0 < args.dt <= args.duration):
         return  # excitation() says why
     samples = math.ceil(args.duration / args.dt - 1e-9) + 1
+    if samples < excitation_module.SAMPLES_PER_HARMONIC * args.harmonics + 1:
+        return  # too few samples to show the harmonics: excitation() says so, and no estimate is worth giving
     cost = excitationcost.cost(model, args.harmonics, args.instants, samples, args.max_iterations,
                                excitation_module.CONSTRAINT_POINTS, excitation_module.FINE_POINTS)
     if cost.seconds > excitationcost.LONG:

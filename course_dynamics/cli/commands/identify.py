@@ -267,15 +267,16 @@ def _run_payload(args, model, mapping, fixed) -> int:
     if written:
         target = "standard output" if urdf_out == io.STDOUT else urdf_out
         files[urdf_out] = checked_payload_urdf(model, link, result.pi, model.source, target, PAYLOAD_LINK)
-    if folder is not None:
+    if folder is not None and written:  # no payload, nothing written (an earlier run's folder is left as it was)
         pages = payload_report_files(result, model, str(args.urdf), str(args.log))
         folders.write_folder(folder, {**({IDENTIFIED: files.pop(urdf_out)} if in_folder and files else {}), **pages},
                              OWNER)
     for path, text in files.items():
         io.write_bytes(path, text)
     if args.json:
-        print_json(dict(urdf=str(args.urdf), log=str(args.log), out=urdf_out if written else None, report=folder,
-                        scope="payload", log_notes=list(log.notes), **result.record(model)))
+        print_json(dict(urdf=str(args.urdf), log=str(args.log), out=urdf_out if written else None,
+                        report=folder if written else None, scope="payload", log_notes=list(log.notes),
+                        **result.record(model)))
         return 0 if written else 1
     _print_payload(result, model, log, sys.stderr if args.out == io.STDOUT else sys.stdout)
     if written and urdf_out != io.STDOUT:
@@ -289,7 +290,7 @@ def _run_payload(args, model, mapping, fixed) -> int:
         from ...base.errors import CourseDynamicsWarning
 
         warnings.warn(f"{why}: no URDF written", CourseDynamicsWarning)
-    if folder is not None:
+    if folder is not None and written:
         print(f"wrote {folder}/{', '.join(PAYLOAD_REPORT_FILES)}", file=sys.stderr)
     return 0 if written else 1
 
