@@ -51,12 +51,11 @@ from functools import lru_cache
 import numpy as np
 
 from ..core.dynamics import gravity_torques, mass_matrix, velocity_torques
-from ..core.evaluator import regressor
 from ..core.inertia import parallel_axis
 from ..core.model import Model
 from ..core.newton_euler import inverse_dynamics
 from ..core.parameters import parameter_values
-from ..core.regressor import base_parameters, parameters
+from ..core.regressor import base_parameters, parameters, regressor
 from ..core.robots import COURSE_ROBOTS, load_robot
 from ..tools.consistency import pseudo_inertia
 from ..tools.variants import COURSE_STUDENT, robot_variant
