@@ -32,7 +32,9 @@ state, ``rneaInParallel``/``abaInParallel`` with the thread count shown. It prin
 9. against MuJoCo (the test extra installs it): the default API's τ, M and forward dynamics at one state
    against ``mj_inverse``, ``mj_forward`` + ``mj_fullM`` and ``mj_forward`` called from Python on UR5's URDF
    (meshes left out, MuJoCo's damping, armature and limits off), and ``simulate`` against ``mujoco.rollout``
-   (RK4, the whole run in one C call).
+   (RK4, the whole run in one C call);
+10. a batch τ call's peak memory over its output's size: --memory UR5 states (compiled) and states of a
+   50-joint chain (interpreted, in blocks).
 """
 from __future__ import annotations
 
@@ -59,7 +61,8 @@ from measure import best, our_threads, print_conditions, print_load, threads, th
 
 TARGETS = {"one τ": 2.0, "one M": 2.0, "one FD": 2.0, "τ batch": 1.0, "M batch": 1.0, "C batch": 1.0,
            "FD batch": 1.0, "2 threads": 1.0, "simulate": 3.0, "ensemble": 0.1,
-           "start-up info": 2.0, "start-up help": 1.0, "mujoco one": 1.0, "mujoco rollout": 1.0}
+           "start-up info": 2.0, "start-up help": 1.0, "mujoco one": 1.0, "mujoco rollout": 1.0,
+           "memory ur5": 2.0, "memory chain": 4.0}
 ONE = threads(1, 1)
 MUJOCO_ONE = "ours 1 thread / mujoco 1 thread"
 
@@ -368,6 +371,31 @@ def against_mujoco(model, duration: float, r, number: int) -> None:
     print(f"  final states differ by {np.abs(runs['ours'].q[-1] - runs['mujoco'][0][0, -1, 1:1 + m.nq]).max():.1e} rad")
 
 
+def memory(ur5_states: int, chain_states: int) -> None:
+    """10. The extra peak memory of one batch τ call (what it allocates at most, its output included) over the
+    size of its output, by tracemalloc (numpy reports its arrays to it); the states are made before."""
+    import tracemalloc
+
+    import course_dynamics
+
+    print("10. a batch τ call's peak memory / the size of its output (the default API)")
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "chain50.urdf"
+        path.write_text(chain_urdf(50))
+        for model, states, target, what in ((load_robot("ur5"), ur5_states, "memory ur5", "compiled"),
+                                            (load_urdf(path), chain_states, "memory chain", "interpreted")):
+            q, qd, qdd = np.random.default_rng(0).uniform(-1, 1, (3, states, model.n))
+            course_dynamics.inverse_dynamics(model, q[:2], qd[:2], qdd[:2])   # the choice made, the model loaded
+            tracemalloc.start()
+            tau = course_dynamics.inverse_dynamics(model, q, qd, qdd)
+            peak = tracemalloc.get_traced_memory()[1]
+            tracemalloc.stop()
+            ratio = peak / tau.nbytes
+            print(f"  {model.name} ({model.n} joints), {states} states ({what}): {peak / 2**20:.0f} MiB at most for "
+                  f"{tau.nbytes / 2**20:.0f} MiB of output: {ratio:.2f}  target ≤ {TARGETS[target]:g}: "
+                  f"{'met' if ratio <= TARGETS[target] else 'NOT met'}")
+
+
 def start_up(r) -> None:
     rounds = min(r, 3)
     print(f"7. start-up, best of {rounds} (s)")
@@ -415,6 +443,8 @@ def main() -> None:
     parser.add_argument("--members", type=int, default=1000, help="double pendulums in the ensemble (default 1000)")
     parser.add_argument("--calls", type=int, default=20000, help="calls a round for one state (default 20000)")
     parser.add_argument("--chains", default="6,30,100,300", help="chain lengths for the cost per joint")
+    parser.add_argument("--memory", default="1000000,100000",
+                        help="UR5 states and 50-joint-chain states of the memory rows (default 1000000,100000)")
     args = parser.parse_args()
     model = load_robot("ur5")
     oracle = PinocchioOracle(robot_path("ur5"), model.joint_names)
@@ -434,6 +464,7 @@ def main() -> None:
     start_up(r)
     chains([int(n) for n in args.chains.split(",")], r)
     against_mujoco(model, args.duration, r, args.calls)
+    memory(*(int(n) for n in args.memory.split(",")))
     print_load()
 
 

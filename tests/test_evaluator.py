@@ -203,6 +203,29 @@ def test_the_regressor_is_chosen_by_its_work(name, cold_cache):
                                atol=1e-12 * np.abs(ref).max())
 
 
+def test_a_large_interpreted_batch_is_computed_in_blocks_to_the_same_bits(monkeypatch, cold_cache):
+    """Blocks keep the recursion's temporaries small; every term comes out as one call on the whole batch gives it."""
+    from course_dynamics.core import dynamics, newton_euler
+    from course_dynamics.core import forward_dynamics as interpreted_forward
+    from course_dynamics.core.friction import Friction
+    from course_dynamics.core.regressor import regressor as interpreted_regressor
+
+    arm = load_robot("rrr_arm")
+    monkeypatch.setattr(evaluator, "BLOCK_STATES", 7)
+    q, qd, qdd = np.random.default_rng(5).uniform(-1, 1, (3, 2, 10, arm.n))     # a (2, 10) batch: 20 states
+    assert choice(arm, calls=evaluator.REGRESSOR_WORK, states=20).path == "interpreted"     # little work, no cache
+    friction = Friction(viscous=[0.1, 0.2, 0.3], coulomb=[0.5, 0.0, 0.1])
+    for ours, whole in ((evaluator.inverse_dynamics, newton_euler.inverse_dynamics),
+                        (evaluator.regressor, interpreted_regressor)):
+        np.testing.assert_array_equal(ours(arm, q, qd, qdd), whole(arm, q, qd, qdd))
+    np.testing.assert_array_equal(evaluator.mass_matrix(arm, q), dynamics.mass_matrix(arm, q))
+    np.testing.assert_array_equal(evaluator.coriolis_matrix(arm, q, qd[0]), dynamics.coriolis_matrix(arm, q, qd[0]))
+    np.testing.assert_array_equal(evaluator.gravity_torques(arm, q[:, :1]), dynamics.gravity_torques(arm, q[:, :1]))
+    np.testing.assert_array_equal(evaluator.forward_dynamics(arm, q, qd, qdd, friction),
+                                  interpreted_forward.forward_dynamics(arm, q, qd, qdd, friction))
+    assert evaluator.mass_matrix(arm, q).shape == (2, 10, 3, 3)
+
+
 def test_the_tools_take_the_evaluators_choice(cold_cache):
     """simulate and the torques of a log run what the evaluator chose for their whole work, nothing else."""
     from course_dynamics.tools.logs import torques_from_log

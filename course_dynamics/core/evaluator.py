@@ -81,6 +81,8 @@ STATE_SECONDS = 1.5e-6
 COMPILE_SECONDS = 0.03
 #: The work, s, that pays for building the C version once (UR5 about 3 s, then cached).
 NATIVE_SECONDS = 1.0
+#: The most states the interpreted recursions take at once; a larger batch is computed in blocks of this many.
+BLOCK_STATES = 4096
 #: The work of one regressor call in τ calls, interpreted (UR5 takes 1.9 ms a call and 0.12 ms a state of a batch).
 REGRESSOR_WORK = 80
 
@@ -488,6 +490,24 @@ def _native(model: Model, name: str, *arguments) -> np.ndarray | None:
     return fast[2].native_call(name, *arguments)
 
 
+def _blocked(run, name: str, *arrays: np.ndarray, **options) -> np.ndarray:
+    """``run.<name>(*arrays)``; the interpreted recursions on a float batch of more than :data:`BLOCK_STATES` states
+    take it that many states at a time, into one output (their temporaries, dozens of arrays of the batch's length
+    for each body, would otherwise need 30 times the output's memory)."""
+    method = getattr(run, name)
+    batch = batch_shape(*arrays)
+    states = int(np.prod(batch, dtype=np.int64))
+    if not isinstance(run, Interpreted) or states <= BLOCK_STATES or any(a.dtype != np.float64 for a in arrays):
+        return method(*arrays, **options)
+    flat = [np.broadcast_to(a, batch + a.shape[-1:]).reshape(states, a.shape[-1]) for a in arrays]
+    first = method(*(f[:BLOCK_STATES] for f in flat), **options)
+    out = np.empty((states,) + first.shape[1:])
+    out[:BLOCK_STATES] = first
+    for start in range(BLOCK_STATES, states, BLOCK_STATES):
+        out[start:start + BLOCK_STATES] = method(*(f[start:start + BLOCK_STATES] for f in flat), **options)
+    return out.reshape(batch + first.shape[1:])
+
+
 def _run(model: Model, *arrays: np.ndarray, work: int = 1):
     """What runs one call on these checked states (:func:`choice`), a call ``work`` τ calls' worth."""
     floats = all(a.dtype == np.float64 for a in arrays)
@@ -534,7 +554,7 @@ def inverse_dynamics(model: Model, q, qd, qdd) -> np.ndarray:
     if out is not None:
         return out
     q, qd, qdd = as_state(model, q, "q"), as_state(model, qd, "qd"), as_state(model, qdd, "qdd")
-    return _run(model, q, qd, qdd).inverse_dynamics(q, qd, qdd)
+    return _blocked(_run(model, q, qd, qdd), "inverse_dynamics", q, qd, qdd)
 
 
 def regressor(model: Model, q, qd, qdd) -> np.ndarray:
@@ -578,7 +598,7 @@ def regressor(model: Model, q, qd, qdd) -> np.ndarray:
     if out is not None:
         return out
     q, qd, qdd = as_state(model, q, "q"), as_state(model, qd, "qd"), as_state(model, qdd, "qdd")
-    return _run(model, q, qd, qdd, work=REGRESSOR_WORK).regressor(q, qd, qdd)
+    return _blocked(_run(model, q, qd, qdd, work=REGRESSOR_WORK), "regressor", q, qd, qdd)
 
 
 def mass_matrix(model: Model, q) -> np.ndarray:
@@ -615,7 +635,7 @@ def mass_matrix(model: Model, q) -> np.ndarray:
     if out is not None:
         return out
     q = as_state(model, q, "q")
-    return _run(model, q).mass_matrix(q)
+    return _blocked(_run(model, q), "mass_matrix", q)
 
 
 def coriolis_matrix(model: Model, q, qd) -> np.ndarray:
@@ -652,7 +672,7 @@ def coriolis_matrix(model: Model, q, qd) -> np.ndarray:
            [ 0.095885,  0.      ]])
     """
     q, qd = as_state(model, q, "q"), as_state(model, qd, "qd")
-    return _run(model, q, qd).coriolis_matrix(q, qd)
+    return _blocked(_run(model, q, qd), "coriolis_matrix", q, qd)
 
 
 def gravity_torques(model: Model, q) -> np.ndarray:
@@ -685,7 +705,7 @@ def gravity_torques(model: Model, q) -> np.ndarray:
     array([18.639,  3.924])
     """
     q = as_state(model, q, "q")
-    return _run(model, q).gravity_torques(q)
+    return _blocked(_run(model, q), "gravity_torques", q)
 
 
 def forward_dynamics(model: Model, q, qd, tau, friction: Friction | None = None,
@@ -734,9 +754,9 @@ def forward_dynamics(model: Model, q, qd, tau, friction: Friction | None = None,
         return out
     q, qd, tau = as_state(model, q, "q"), as_state(model, qd, "qd"), as_state(model, tau, "tau")
     run = _run(model, q, qd, tau)
-    return (run if drives is None else Driven(run, drives)).forward_dynamics(q, qd, tau, friction)
+    return _blocked(run if drives is None else Driven(run, drives), "forward_dynamics", q, qd, tau, friction=friction)
 
 
-__all__ = ["CALL_SECONDS", "COMPILE_SECONDS", "Choice", "Interpreted", "NATIVE_SECONDS", "REGRESSOR_WORK",
+__all__ = ["BLOCK_STATES", "CALL_SECONDS", "COMPILE_SECONDS", "Choice", "Interpreted", "NATIVE_SECONDS", "REGRESSOR_WORK",
            "STATE_SECONDS", "choice", "coriolis_matrix", "forward_dynamics", "gravity_torques", "implementation",
            "interpreted_seconds", "inverse_dynamics", "mass_matrix", "regressor"]
