@@ -89,6 +89,13 @@ def test_import_course_dynamics_loads_only_the_errors_and_the_top_level_help_no_
     assert "usage: course-dynamics" in run.stdout and "identify" in run.stdout
     assert not [m for m in loaded if m.startswith(("numpy", "course_dynamics.cli.commands.", "course_dynamics.tools",
                                                    "course_dynamics.core.model"))], loaded
+    code = ("import sys; from course_dynamics.cli import main; main(['info', 'ur5'])\n"
+            "print(sorted(sys.modules), file=sys.stderr)")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    loaded = ast.literal_eval(run.stderr.strip().splitlines()[-1])
+    assert "shoulder_pan_joint" in run.stdout    # a command loads what it uses, not the heavy libraries of others
+    heavy = {"scipy", "sympy", "matplotlib", "cvxpy", "pinocchio", "course_dynamics_reference"}
+    assert not heavy & {m.split(".")[0] for m in loaded} and "trimesh.base" not in loaded  # trimesh: a placeholder
 
     import course_dynamics
 

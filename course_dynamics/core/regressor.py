@@ -54,7 +54,6 @@ from dataclasses import dataclass, field, replace
 from itertools import combinations_with_replacement
 
 import numpy as np
-import scipy.linalg
 
 from ..base.errors import ModelError
 from .algebra import Dual
@@ -585,6 +584,8 @@ def base_parameters(model: Model, samples: int = SAMPLES, seed: int = 0, held=No
     scale = np.linalg.norm(W, axis=0)
     acting = np.flatnonzero(scale > ZERO_COLUMN * scale.max())
     unit = W[:, acting] / scale[acting]
+    import scipy.linalg  # here: scipy takes 0.17 s to import, and the evaluator imports this module for Y
+
     R = scipy.linalg.qr(unit, mode="r", pivoting=True)[0]
     rank = int(np.sum(np.abs(np.diag(R)) > RANK_TOLERANCE * abs(R[0, 0])))
     ordered = np.abs(np.diag(scipy.linalg.qr(unit, mode="r")[0]))
