@@ -34,7 +34,9 @@ state, ``rneaInParallel``/``abaInParallel`` with the thread count shown. It prin
    (meshes left out, MuJoCo's damping, armature and limits off), and ``simulate`` against ``mujoco.rollout``
    (RK4, the whole run in one C call);
 10. a batch τ call's peak memory over its output's size: --memory UR5 states (compiled) and states of a
-   50-joint chain (interpreted, in blocks).
+   50-joint chain (interpreted, in blocks);
+11. a fresh process with an empty compiled-model cache, the whole process timed: the first τ, and --loop
+   one-state τ calls, against the same script with Pinocchio.
 """
 from __future__ import annotations
 
@@ -62,7 +64,7 @@ from measure import best, our_threads, print_conditions, print_load, threads, th
 TARGETS = {"one τ": 2.0, "one M": 2.0, "one FD": 2.0, "τ batch": 1.0, "M batch": 1.0, "C batch": 1.0,
            "FD batch": 1.0, "2 threads": 1.0, "simulate": 3.0, "ensemble": 0.1,
            "start-up info": 2.0, "start-up help": 1.0, "mujoco one": 1.0, "mujoco rollout": 1.0,
-           "memory ur5": 2.0, "memory chain": 4.0}
+           "memory ur5": 2.0, "memory chain": 4.0, "first τ": 2.0, "fresh loop": 3.0}
 ONE = threads(1, 1)
 MUJOCO_ONE = "ours 1 thread / mujoco 1 thread"
 
@@ -396,6 +398,43 @@ def memory(ur5_states: int, chain_states: int) -> None:
                   f"{'met' if ratio <= TARGETS[target] else 'NOT met'}")
 
 
+FRESH_OURS = """import sys
+import numpy as np
+import course_dynamics
+model = course_dynamics.load_robot("ur5")
+q = np.array([0.1, -0.5, 0.3, 0.2, 0.1, 0.0])
+for _ in range(int(sys.argv[1])):
+    course_dynamics.inverse_dynamics(model, q, q, q)
+"""
+FRESH_PIN = """import sys
+import numpy as np
+import pinocchio as pin
+from course_dynamics.base.robot_files import robot_path
+model = pin.buildModelFromUrdf(str(robot_path("ur5")))
+data = model.createData()
+q = np.array([0.1, -0.5, 0.3, 0.2, 0.1, 0.0])
+for _ in range(int(sys.argv[1])):
+    pin.rnea(model, data, q, q, q)
+"""
+
+
+def fresh_process(r, loop: int) -> None:
+    """11. A fresh process with an empty compiled-model cache: the first τ, and a loop of one-state τ calls, each
+    the whole process (imports, loading UR5), against the same with Pinocchio."""
+    rounds = min(r, 3)
+    print(f"11. a fresh process, empty cache (s, the whole process), best of {rounds}")
+    for calls, target, what in ((1, "first τ", "the first τ"), (loop, "fresh loop", f"{loop} one-state τ calls")):
+        def ours():
+            with tempfile.TemporaryDirectory() as empty:
+                subprocess.run([sys.executable, "-c", FRESH_OURS, str(calls)], check=True, capture_output=True,
+                               env=dict(os.environ, COURSE_DYNAMICS_CACHE=empty))
+
+        theirs = best(lambda: subprocess.run([sys.executable, "-c", FRESH_PIN, str(calls)], check=True,
+                                             capture_output=True), rounds)
+        line(f"{what}: course_dynamics.inverse_dynamics / pin.rnea", best(ours, rounds), theirs, "s",
+             "one process each", target)
+
+
 def start_up(r) -> None:
     rounds = min(r, 3)
     print(f"7. start-up, best of {rounds} (s)")
@@ -443,6 +482,7 @@ def main() -> None:
     parser.add_argument("--members", type=int, default=1000, help="double pendulums in the ensemble (default 1000)")
     parser.add_argument("--calls", type=int, default=20000, help="calls a round for one state (default 20000)")
     parser.add_argument("--chains", default="6,30,100,300", help="chain lengths for the cost per joint")
+    parser.add_argument("--loop", type=int, default=10000, help="one-state calls of the fresh process (default 10000)")
     parser.add_argument("--memory", default="1000000,100000",
                         help="UR5 states and 50-joint-chain states of the memory rows (default 1000000,100000)")
     args = parser.parse_args()
@@ -465,6 +505,7 @@ def main() -> None:
     chains([int(n) for n in args.chains.split(",")], r)
     against_mujoco(model, args.duration, r, args.calls)
     memory(*(int(n) for n in args.memory.split(",")))
+    fresh_process(r, args.loop)
     print_load()
 
 
