@@ -28,7 +28,9 @@ state, ``rneaInParallel``/``abaInParallel`` with the thread count shown. It prin
 6. compiling, first and from the cache: the Python programs, then the native library;
 7. start-up: ``course-dynamics info ur5`` and ``course-dynamics --help`` against importing numpy and pinocchio;
 8. chains of --chains joints: the cost per joint of τ, M, C and forward dynamics, interpreted and compiled
-   ("over bound" where a robot is too large to compile), so the O(n), O(n²) and O(n³) growth shows;
+   ("over bound" where a robot is too large to compile), so the O(n), O(n²) and O(n³) growth shows; then
+   the default API on each chain against ``pin.rnea`` and ``pin.crba`` at one state and ``rneaInParallel(1)``
+   on a --batch of states;
 9. against MuJoCo (the test extra installs it): the default API's τ, M and forward dynamics at one state
    against ``mj_inverse``, ``mj_forward`` + ``mj_fullM`` and ``mj_forward`` called from Python on UR5's URDF
    (meshes left out, MuJoCo's damping, armature and limits off), and ``simulate`` against ``mujoco.rollout``
@@ -64,7 +66,8 @@ from measure import best, our_threads, print_conditions, print_load, threads, th
 TARGETS = {"one τ": 2.0, "one M": 2.0, "one FD": 2.0, "τ batch": 1.0, "M batch": 1.0, "C batch": 1.0,
            "FD batch": 1.0, "2 threads": 1.0, "simulate": 3.0, "ensemble": 0.1,
            "start-up info": 2.0, "start-up help": 1.0, "mujoco one": 1.0, "mujoco rollout": 1.0,
-           "memory ur5": 2.0, "memory chain": 4.0, "first τ": 2.0, "fresh loop": 3.0}
+           "memory ur5": 2.0, "memory chain": 4.0, "first τ": 2.0, "fresh loop": 3.0, "chain one": 2.0,
+           "chain batch": 1.0}
 ONE = threads(1, 1)
 MUJOCO_ONE = "ours 1 thread / mujoco 1 thread"
 
@@ -474,6 +477,34 @@ def chains(sizes, r) -> None:
             print(f"  {n:>6} " + " ".join(f"{t / n * 1e6:9.3g}" for t in interpreted) + " | " + " ".join(fast))
 
 
+def chains_against_pinocchio(sizes, states: int, r) -> None:
+    """8b. The same chains through the default API against Pinocchio: one state τ and M, and a batch τ."""
+    import course_dynamics
+
+    print(f"8b. the chains, the default API against Pinocchio (one state, µs; a batch of {states}, µs a sample)")
+    with tempfile.TemporaryDirectory() as folder:
+        for n in sizes:
+            path = Path(folder) / f"chain{n}.urdf"
+            path.write_text(chain_urdf(n))
+            model, pm = load_urdf(path), pin.buildModelFromUrdf(str(path))   # as each side's user loads it
+            pd, pool = pm.createData(), pin.ModelPool(pm, 1)
+            q, qd, qdd = np.random.default_rng(n).uniform(-1, 1, (3, states, n))
+            Q, V, A = (np.asfortranarray(a.T) for a in (q, qd, qdd))      # Pinocchio's layout: a state a column
+            out = np.zeros((n, states), order="F")
+            rounds, number = (1, 20) if n >= 100 else (r, 200)
+            course_dynamics.inverse_dynamics(model, q[0], qd[0], qdd[0])
+            line(f"chain of {n}: one state τ, inverse_dynamics / pin.rnea",
+                 best(lambda: course_dynamics.inverse_dynamics(model, q[0], qd[0], qdd[0]), rounds, number),
+                 best(lambda: pin.rnea(pm, pd, q[0], qd[0], qdd[0]), rounds, number), "µs", ONE, "chain one")
+            line(f"chain of {n}: one state M, mass_matrix / pin.crba",
+                 best(lambda: course_dynamics.mass_matrix(model, q[0]), rounds, number),
+                 best(lambda: pin.crba(pm, pd, q[0]), rounds, number), "µs", ONE, "chain one")
+            with our_threads(1):
+                ours = best(lambda: course_dynamics.inverse_dynamics(model, q, qd, qdd), rounds) / states
+            theirs = best(lambda: pin.rneaInParallel(1, pool, Q, V, A, out), rounds) / states
+            line(f"chain of {n}: batch τ / rneaInParallel(1)", ours, theirs, "µs", ONE, "chain batch")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--batch", type=int, default=4000)
@@ -503,6 +534,7 @@ def main() -> None:
     compiling()
     start_up(r)
     chains([int(n) for n in args.chains.split(",")], r)
+    chains_against_pinocchio([int(n) for n in args.chains.split(",")], args.batch, r)
     against_mujoco(model, args.duration, r, args.calls)
     memory(*(int(n) for n in args.memory.split(",")))
     fresh_process(r, args.loop)

@@ -16,7 +16,7 @@ BENCHMARKS = Path(__file__).resolve().parent.parent / "benchmarks"
                               "--chains", "4", "--memory", "100,100", "--loop", "10"],
      ["one ensemble, compiled / a loop of RK4 on pin.aba for every member", "ours 1 thread / pin 1 thread",
       "/ rneaInParallel(2)", "≈ C++", "/ mj_inverse", "mujoco.rollout RK4", "peak memory / the size of its output",
-      "target ≤ 4", "a fresh process, empty cache", "10 one-state τ calls"]),
+      "target ≤ 4", "a fresh process, empty cache", "10 one-state τ calls", "chain of 4: batch τ / rneaInParallel(1)"]),
     ("bench_symbolic.py", ["--robots", "rp_arm"], ["rp_arm", "ours on 1 thread"]),
     ("bench_torques.py", ["--rows", "500", "--repeat", "1"],
      ["tau stage, ours / Pinocchio (ours 1 thread / pin 1 thread)", "pin 2 threads"]),

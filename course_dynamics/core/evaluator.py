@@ -82,7 +82,7 @@ COMPILE_SECONDS = 0.03
 #: The work, s, that pays for building the C version once (UR5 about 3 s, then cached).
 NATIVE_SECONDS = 1.0
 #: The most states the interpreted recursions take at once; a larger batch is computed in blocks of this many.
-BLOCK_STATES = 4096
+BLOCK_STATES = 8192
 #: The work of one regressor call in τ calls, interpreted (UR5 takes 1.9 ms a call and 0.12 ms a state of a batch).
 REGRESSOR_WORK = 80
 
