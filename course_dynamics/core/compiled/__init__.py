@@ -260,6 +260,7 @@ class CompiledModel:
     native_seconds: float = 0.0  # building (or loading) the native library
     native_reason: str = ""      # why there is no native code (yet): over the bound, failed before, building, …
     native_build: building.Build | None = field(repr=False, default=None)  # a build running in the background
+    _calls: dict = field(repr=False, compare=False, default_factory=dict)  # name -> (C function, width, shape)
 
     def collected(self, wait: float = 0.0) -> CompiledModel:
         """This model with its background build's library once the build has ended (a new CompiledModel; the
@@ -312,23 +313,26 @@ class CompiledModel:
         SingularMassMatrixError
             For ``forward_dynamics``, if M(Θ) is singular (the error names the joint).
         """
-        function = self.native.get(name)
-        if function is None:
+        call = self._calls.get(name)
+        if call is None:  # once a program: its function, its output's width and the shape it is returned in
+            function, n, bodies = self.native.get(name), self.model.n, self.model.n_bodies
+            shape = {"mass_matrix": (n, n), "regressor": (n, 10 * bodies)}.get(name)
+            call = self._calls[name] = (function, native.width(name, n, bodies), shape) if function else ()
+        if not call:
             return None
         for a in arrays:  # one state each: a batch of one keeps its batch shape on the other path
             if type(a) is not np.ndarray or a.ndim != 1:
                 return None
-        out = np.empty(native.width(name, self.model.n, self.model.n_bodies))
+        function, width, shape = call
+        out = np.empty(width)
         try:
             function(*arrays, out)
         except (TypeError, ValueError, BufferError):
             return None
-        n = self.model.n
-        if name == "mass_matrix":
-            return out.reshape(n, n)
-        if name == "regressor":
-            return out.reshape(n, 10 * self.model.n_bodies)
+        if shape is not None:
+            return out.reshape(shape)
         if name == "forward_dynamics":
+            n = self.model.n
             pivots = out[n:].tolist()
             if not min(pivots) > SINGULAR_PIVOT_RATIO * max(map(abs, pivots)):
                 return accelerations(self.model, *arrays)  # raises SingularMassMatrixError, naming the joint
