@@ -413,6 +413,14 @@ def test_the_native_path_checks_what_it_is_given(tmp_path, monkeypatch):
         with pytest.raises(StateError, match=message):
             c.inverse_dynamics(np.array(bad), q, q)
     assert ("double t" in c.native_source and "out[0]" in c.native_source) == bool(c.native)  # the C, for reading
+    packed = np.zeros(8 * 4 + 1, np.uint8)[1:].view(np.float64)     # contiguous but not aligned, as a packed log's
+    packed[:] = [0.1, 0.2, 0.3, 0.4]
+    for state in (packed[:2], packed.reshape(2, 2)):
+        np.testing.assert_allclose(c.inverse_dynamics(state, state, state), inverse_dynamics(arm, state, state, state),
+                                   rtol=1e-12)
+        np.testing.assert_allclose(c.mass_matrix(state), mass_matrix(arm, state), rtol=1e-12)
+        np.testing.assert_allclose(c.regressor(state, state, state), regressor(arm, state, state, state), rtol=1e-12,
+                                   atol=1e-12)
 
 
 def test_a_native_library_in_the_cache_runs_only_behind_its_keyed_hash(tmp_path, monkeypatch):

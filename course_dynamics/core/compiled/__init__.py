@@ -343,7 +343,8 @@ class CompiledModel:
         """The native program on checked float64 states: any batch shape, shared over threads when large."""
         width = native.width(name, self.model.n, self.model.n_bodies)
         batch = batch_shape(*arrays)
-        columns = [np.ascontiguousarray(np.broadcast_to(a, batch + a.shape[-1:])) for a in arrays]
+        # contiguous and aligned (an array read from a packed buffer at an odd offset is contiguous, not aligned)
+        columns = [np.require(np.broadcast_to(a, batch + a.shape[-1:]), np.float64, ["C", "A"]) for a in arrays]
         out = np.empty(batch + (width,))
         states = int(np.prod(batch))
         parts = min(THREADS, states // THREAD_STATES)
