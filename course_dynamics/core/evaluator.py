@@ -761,9 +761,10 @@ def forward_dynamics(model: Model, q, qd, tau, friction: Friction | None = None,
         return out
     q, qd, tau = as_state(model, q, "q"), as_state(model, qd, "qd"), as_state(model, tau, "tau")
     run = _run(model, q, qd, tau)
-    return _blocked(run if drives is None else Driven(run, drives), "forward_dynamics", q, qd, tau, friction=friction)
+    run = run if drives is None else Driven(run, drives)
+    return _blocked(run, "forward_dynamics", q, qd, tau, friction=friction)
 
 
-__all__ = ["BLOCK_STATES", "CALL_SECONDS", "COMPILE_SECONDS", "Choice", "Interpreted", "NATIVE_SECONDS", "REGRESSOR_WORK",
-           "STATE_SECONDS", "choice", "coriolis_matrix", "forward_dynamics", "gravity_torques", "implementation",
-           "interpreted_seconds", "inverse_dynamics", "mass_matrix", "regressor"]
+__all__ = ["BLOCK_STATES", "CALL_SECONDS", "COMPILE_SECONDS", "Choice", "Interpreted", "NATIVE_SECONDS",
+           "REGRESSOR_WORK", "STATE_SECONDS", "choice", "coriolis_matrix", "forward_dynamics", "gravity_torques",
+           "implementation", "interpreted_seconds", "inverse_dynamics", "mass_matrix", "regressor"]

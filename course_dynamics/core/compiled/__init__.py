@@ -235,6 +235,8 @@ class CompiledModel:
         ``""`` when there is.
     native_build : object or None
         The build running in the background (``native_code="background"``), until :meth:`collected` takes it up.
+    _calls : dict
+        Each native program a one-state call has used, with its output's width and shape (filled on first use).
 
     Examples
     --------
