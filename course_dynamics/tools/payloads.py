@@ -560,14 +560,22 @@ def identify_payload(model: Model, log: JointLog, link: str | None = None, frict
              for j in range(model.n) if j not in has_torque]
     notes += [f"joint '{model.joint_names[j]}' is held in the log: its rows are left out (its friction at rest is "
               "unknown)" for j in held if j in has_torque]
+    mass_sigma = float(np.sqrt(covariance[0, 0]))
+    arm_mass = sum(body.mass for body in model.bodies)
+    smallest = max(NO_PAYLOAD * mass_sigma, SMALLEST_PAYLOAD * arm_mass)
+    mass_seen = fit.seen[0] >= 1 - SEEN_SPLIT
+    detected = bool(mass_seen and theta_wls[0] > smallest)
     if physical and fit.seen.min() >= 1 - SEEN_SPLIT:
         theta, solver = theta_wls, "least squares"
     else:
         theta, solver = fit.theta.copy(), fit.solver
         theta[10:] = np.maximum(theta[10:], 0.0)  # the solver's round-off below a bound of 0 (−1e-8) is the bound
-        why = "is not physical" if not physical else "is not fully seen by the log"
-        notes += [f"the least-squares payload {why}: the physically consistent estimate ({fit.solver}) is given"
-                  + (f"; {'; '.join(fit.active)}" if fit.active else "")]
+        if mass_seen and not detected:  # nothing is written: the payload is given as the estimate tested
+            theta[:10], solver = theta_wls[:10], "least squares"
+        else:
+            why = "is not physical" if not physical else "is not fully seen by the log"
+            notes += [f"the least-squares payload {why}: the physically consistent estimate ({fit.solver}) is given"
+                      + (f"; {'; '.join(fit.active)}" if fit.active else "")]
     unseen = [PARAMETER_NAMES[k] for k in range(10) if fit.seen[k] < 1 - SEEN_SPLIT]
     if unseen:
         notes.append(f"not determined by the log (a motion of the joints that carry {F.link} shows them: excite "
@@ -586,18 +594,11 @@ def identify_payload(model: Model, log: JointLog, link: str | None = None, frict
         com[unseen_h], com_sigma[unseen_h] = np.nan, np.nan
     if seen.min() < 1 - SEEN_SPLIT:
         inertia, inertia_sigma = np.full((3, 3), np.nan), np.full(6, np.nan)
-    mass_sigma = float(np.sqrt(covariance[0, 0]))
-    arm_mass = sum(body.mass for body in model.bodies)
-    smallest = max(NO_PAYLOAD * mass_sigma, SMALLEST_PAYLOAD * arm_mass)
-    detected = bool(seen[0] >= 1 - SEEN_SPLIT and theta_wls[0] > smallest)
-    if not detected and seen[0] >= 1 - SEEN_SPLIT:
+    if mass_seen and not detected:
         why = (f"within {NO_PAYLOAD:g} standard errors of 0" if smallest > SMALLEST_PAYLOAD * arm_mass else
                f"less than {SMALLEST_PAYLOAD:.1%} of the arm's own {arm_mass:.3g} kg")
         notes.append(f"no payload detected: the least-squares mass {theta_wls[0]:.3g} ± {mass_sigma:.2g} kg is {why} "
                      "(so no centre of mass or inertia either)")
-        theta, solver = theta_wls.copy(), "least squares"   # nothing is written: the estimate tested is given
-        notes = [note for note in notes if not note.startswith("the least-squares payload ")]
-        mass = float(theta_wls[0])
     if not detected:        # h / m of a mass that is noise is noise: not given
         com, com_sigma, inertia, inertia_sigma = (np.full_like(v, np.nan) for v in (com, com_sigma, inertia,
                                                                                    inertia_sigma))
