@@ -485,15 +485,8 @@ def _native(model: Model, name: str, *arguments) -> np.ndarray | None:
     """The native result for one finite float64 state as given, where the model's choice is a compiled model
     with C in this environment (CompiledModel.native_call), else None."""
     fast = _FAST.get(id(model))
-    if fast is None or fast[0]() is not model:
+    if fast is None or fast[0]() is not model or fast[1] != _environment():
         return None
-    if _RAW is None:
-        if fast[1] != _environment():
-            return None
-    else:  # _environment() written out: this runs before every one-state call
-        raw = _RAW.get
-        if fast[1] != (raw(_RAW_NAMES[0]), raw(_RAW_NAMES[1]), raw(_RAW_NAMES[2])):
-            return None
     return fast[2].native_call(name, *arguments)
 
 

@@ -610,8 +610,8 @@ def _pool():
 def _functions_of(code, name: str) -> dict:
     namespace: dict = {"__name__": f"course_dynamics_compiled_{name}"}
     exec(code, namespace)  # our own program: just generated, or read back after its keyed hash was checked
-    return {n: namespace[n] for p in PROGRAMS for n in (p, f"{p}_batch") if n in namespace}  # a regressor may be over
-    # its bound
+    # every program the module holds (a regressor over its bound is not there)
+    return {n: namespace[n] for p in PROGRAMS for n in (p, f"{p}_batch") if n in namespace}
 
 
 def _agrees_with_the_recursion(model: Model, functions: dict, native_out: bool = False) -> bool:
