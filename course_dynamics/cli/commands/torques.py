@@ -212,9 +212,9 @@ def run(args) -> int:
     return 1 if report.exceeded else 0
 
 
-def _print_report(result, stream, timing=None, notes=None) -> None:
+def _print_report(result, stream, timing, notes) -> None:
     report, model = result.report, result.model
-    for note in result.notes if notes is None else notes:
+    for note in notes:
         print(f"note: {one_line(note)}", file=stream)
     rows = [["joint", "peak |tau|", "rms tau", "effort limit", "used", "peak |qd|", "velocity limit", "used"]]
     for r in report.rows():
