@@ -15,7 +15,8 @@ import pytest
 from submissions import CLOSED_FORMS, SPATIAL_SLIPS, closed_forms, spatial_newton_euler, worked_example
 
 from course_dynamics import gravity_torques
-from course_dynamics.core.newton_euler import EXACT, newton_euler_links
+from course_dynamics.core.newton_euler import newton_euler_links
+from course_dynamics.core.operations import EXACT
 from course_dynamics.grading.slips import SLIP_EQUATIONS, Slip, slips
 from course_dynamics.core.robots import load_robot
 from course_dynamics.core.sampling import relative_error

@@ -121,15 +121,47 @@ def placement_entries(model: Model, theta: list) -> BasePlacements:
     X = joint_transforms(model, theta)
     R, P, P_com = [], [], []
     for i, body in enumerate(model.bodies):
-        if body.parent < 0:
-            R_i, P_i = X.R[i], X.P[i]
-        else:
-            R_p, P_p = R[body.parent], P[body.parent]
-            R_i, P_i = R_p @ X.R[i], P_p + R_p @ X.P[i]
+        R_i, P_i, P_com_i = placement_link(body, X.R[i], X.P[i], None if body.parent < 0 else
+                                           (R[body.parent], P[body.parent]))
         R.append(R_i)
         P.append(P_i)
-        P_com.append(P_i + R_i @ body.p_com_v)
+        P_com.append(P_com_i)
     return BasePlacements(R, P, P_com)
+
+
+def placement_link(body, R_joint: Mat3, P_joint: Vec3, parent: tuple | None) -> tuple[Mat3, Vec3, Vec3]:
+    """One body's ⁰ᵢR = ⁰ₚR ᵖᵢR, ⁰Pᵢ = ⁰Pₚ + ⁰ₚR ᵖPᵢ and ⁰P_Cᵢ, from its joint transform and its parent's placement.
+
+    Parameters
+    ----------
+    body : Body
+        The body.
+    R_joint : Mat3
+        ᵖᵢR at Θ.
+    P_joint : Vec3
+        ᵖPᵢ at Θ, m.
+    parent : tuple of (Mat3, Vec3) or None
+        The parent's ⁰ₚR and ⁰Pₚ; None for a body on the base.
+
+    Returns
+    -------
+    tuple of (Mat3, Vec3, Vec3)
+        ⁰ᵢR, ⁰Pᵢ and ⁰P_Cᵢ (m).
+
+    Examples
+    --------
+    >>> from course_dynamics import load_robot
+    >>> arm = load_robot("rrr_arm")
+    >>> X = joint_transforms(arm, [0.0, 0.0, 0.0])
+    >>> list(placement_link(arm.bodies[1], X.R[1], X.P[1], (X.R[0], X.P[0]))[1])   # ⁰P₂, m
+    [0.0, 0.0, 0.3]
+    """
+    if parent is None:
+        R_i, P_i = R_joint, P_joint
+    else:
+        R_p, P_p = parent
+        R_i, P_i = R_p @ R_joint, P_p + R_p @ P_joint
+    return R_i, P_i, P_i + R_i @ body.p_com_v
 
 
 def frame_placement_entries(placements: BasePlacements, frame: Frame) -> tuple[Mat3, Vec3]:

@@ -27,16 +27,21 @@ indices; the lines below are the corrected forms (reference/errata.md).
 The same functions run on one state (floats), a batch (arrays of shape (N,)
 per joint) and sympy symbols: see :mod:`course_dynamics.core.algebra`.
 
-The iterations are written against a few named operations (:class:`Operations`),
+The iterations are written against a few named operations (:class:`~course_dynamics.core.operations.Operations`),
 one for each place in (6.45)–(6.53) where the equations could be written
 otherwise: the rotation into a child's frame and into a parent's, the cross
 product, the acceleration of a point, the angular acceleration and the centre
 of mass (6.48) uses, the inertial force (6.49), the inertia each term of (6.50)
 multiplies and its gyroscopic term, the link's own moment, the child's force and
 its moment arm in (6.51)–(6.52), the moment τ is read from (6.53), and the base
-acceleration; each link's equations take theirs from :meth:`Operations.at`, so that another set may
-differ on one link only. :data:`EXACT`, the default, is the chapter's; every other use of the recursion (compiled
-programs, batches, symbols, the regressor) runs the exact set.
+acceleration (:mod:`~course_dynamics.core.operations`); each link's equations take theirs from
+:meth:`~course_dynamics.core.operations.Operations.at`, so that another set may differ on one link only.
+:data:`~course_dynamics.core.operations.EXACT`, the default, is the chapter's; every other use of the recursion
+(compiled programs, batches, symbols, the regressor, the native loop's steps) runs the exact set.
+
+Each iteration's loop body is a function of its own (:func:`outward_link`, :func:`link_wrench`,
+:func:`carried_wrench`, :func:`joint_torque`): one body's step, which the native loop traces once with the
+body's numbers as inputs (:mod:`~course_dynamics.core.compiled.looped`).
 """
 from __future__ import annotations
 
@@ -44,330 +49,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .algebra import Mat3, Vec3, cross, dot, point_acceleration
+from .algebra import Vec3, cross, dot
 from .kinematics import JointTransforms, joint_transforms
-from .model import Body, Model
+from .model import Model
+from .operations import EXACT, Operations
 from .state import as_state, entries, layout_of
 
 
-class Operations:
-    """The operations the iterations are written against, exactly as the chapter has them.
-
-    Each takes the number of the equation that asks for it (such as "6.47"), so that
-    another set of operations may differ in one equation and not in another.
-    A subclass that overrides some of them is another way of writing the chapter
-    (the grader's slips are such subclasses).
-
-    Examples
-    --------
-
-    >>> from course_dynamics import load_robot
-    >>> arm = load_robot("pendulum")
-    >>> round(float(newton_euler_links(arm, [0.5], [0.0], [0.0], EXACT).tau[0]), 4)
-    4.7032
-    """
-
-    def into_child(self, X: JointTransforms, i: int, equation: str):
-        """ⁱₚR, the rotation from the parent's frame into frame i.
-
-        Parameters
-        ----------
-        X : JointTransforms
-            The joint transforms at Θ (:func:`~course_dynamics.core.kinematics.joint_transforms`).
-        i : int
-            The body.
-        equation : str
-            The equation that asks for it, such as ``"6.47"``.
-
-        Returns
-        -------
-        Mat3
-            ⁱₚR.
-        """
-        return X.R_T[i]
-
-    def into_parent(self, X: JointTransforms, c: int, equation: str):
-        """ⁱ_cR, the rotation from child c's frame into its parent's.
-
-        Parameters
-        ----------
-        X : JointTransforms
-            The joint transforms at Θ (:func:`~course_dynamics.core.kinematics.joint_transforms`).
-        c : int
-            The child body.
-        equation : str
-            The equation that asks for it, such as ``"6.47"``.
-
-        Returns
-        -------
-        Mat3
-            ⁱ_cR, i being c's parent.
-        """
-        return X.R[c]
-
-    def cross(self, a: Vec3, b: Vec3, equation: str) -> Vec3:
-        """a × b.
-
-        Parameters
-        ----------
-        a : Vec3
-            The left factor.
-        b : Vec3
-            The right factor.
-        equation : str
-            The equation that asks for it, such as ``"6.47"``.
-
-        Returns
-        -------
-        Vec3
-            The cross product.
-        """
-        return cross(a, b)
-
-    def point_acceleration(self, v_dot: Vec3, omega_dot: Vec3, omega: Vec3, P: Vec3, equation: str) -> Vec3:
-        """v̇ + ω̇ × P + ω × (ω × P), the acceleration of a point P of a moving frame (as in (6.47), (6.48)).
-
-        Parameters
-        ----------
-        v_dot : Vec3
-            The frame origin's linear acceleration, m/s².
-        omega_dot : Vec3
-            The frame's angular acceleration, rad/s².
-        omega : Vec3
-            The frame's angular velocity, rad/s.
-        P : Vec3
-            The point, from the frame's origin, m.
-        equation : str
-            The equation that asks for it, such as ``"6.47"``.
-
-        Returns
-        -------
-        Vec3
-            The point's acceleration, m/s².
-        """
-        return point_acceleration(v_dot, omega_dot, omega, P)
-
-    def link_angular_acceleration(self, own: Vec3, parent: Vec3, equation: str) -> Vec3:
-        """The link's own angular acceleration ⁱ⁺¹ω̇ᵢ₊₁ where an equation asks for it (as (6.48) does); its parent's
-        ⁱω̇ᵢ is given so that another set of operations may take that one instead.
-
-        Parameters
-        ----------
-        own : Vec3
-            ⁱ⁺¹ω̇ᵢ₊₁, rad/s².
-        parent : Vec3
-            ⁱω̇ᵢ, the parent's, in the parent's frame, rad/s² (zero for the base).
-        equation : str
-            The equation that asks for it, such as ``"6.48"``.
-
-        Returns
-        -------
-        Vec3
-            ``own``.
-        """
-        return own
-
-    def centre_of_mass(self, model: Model, i: int, equation: str) -> Vec3:
-        """ⁱP_Cᵢ, link i's centre of mass in frame i, where (6.48) and (6.52) use it.
-
-        Parameters
-        ----------
-        model : Model
-            The robot.
-        i : int
-            The body.
-        equation : str
-            The equation that asks for it, such as ``"6.48"``.
-
-        Returns
-        -------
-        Vec3
-            ⁱP_Cᵢ, m.
-        """
-        return model.bodies[i].p_com_v
-
-    def inertial_force(self, model: Model, X: JointTransforms, i: int, v_dot_c: Vec3, gravity: Vec3) -> Vec3:
-        """ⁱFᵢ = mᵢ ⁱv̇_Cᵢ (6.49): gravity is already in ⁱv̇_Cᵢ, lifted once at the base (:meth:`base_acceleration`).
-
-        Parameters
-        ----------
-        model : Model
-            The robot.
-        X : JointTransforms
-            The joint transforms at Θ.
-        i : int
-            The body.
-        v_dot_c : Vec3
-            ⁱv̇_Cᵢ, m/s².
-        gravity : Vec3
-            g in the base frame, m/s² (unused here: another set of operations may add it link by link).
-
-        Returns
-        -------
-        Vec3
-            ⁱFᵢ, N.
-        """
-        return model.bodies[i].mass_s * v_dot_c
-
-    def gyroscopic(self, omega: Vec3, I: Mat3, equation: str) -> Vec3:
-        """ω × ᶜI ω, the gyroscopic term of (6.50).
-
-        Parameters
-        ----------
-        omega : Vec3
-            ⁱωᵢ, rad/s.
-        I : Mat3
-            ᶜI, kg·m².
-        equation : str
-            The equation that asks for it, such as ``"6.47"``.
-
-        Returns
-        -------
-        Vec3
-            The gyroscopic moment, N·m.
-        """
-        return self.cross(omega, I @ omega, equation)
-
-    def link_moment(self, model: Model, i: int, out: "OutwardPass", equation: str) -> Vec3:
-        """ⁱNᵢ, link i's own inertial moment, where (6.52) adds it.
-
-        Parameters
-        ----------
-        model : Model
-            The robot.
-        i : int
-            The body.
-        out : OutwardPass
-            The outward iteration's result.
-        equation : str
-            The equation that asks for it, ``"6.52"``.
-
-        Returns
-        -------
-        Vec3
-            ⁱNᵢ, N·m.
-        """
-        return out.N[i]
-
-    def carried_force(self, model: Model, c: int, R: Mat3, f: Vec3, equation: str) -> Vec3:
-        """ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁, a child's force carried into frame i, as (6.51) adds it.
-
-        Parameters
-        ----------
-        model : Model
-            The robot.
-        c : int
-            The child body i+1 whose force is carried.
-        R : Mat3
-            ⁱᵢ₊₁R, from :meth:`into_parent`.
-        f : Vec3
-            ⁱ⁺¹fᵢ₊₁, in the child's frame, N.
-        equation : str
-            The equation that asks for it, ``"6.51"``.
-
-        Returns
-        -------
-        Vec3
-            ⁱfᵢ₊₁, N.
-        """
-        return R @ f
-
-    def moment_arm(self, P: Vec3, R: Mat3, f: Vec3, equation: str) -> Vec3:
-        """ⁱPᵢ₊₁ × ⁱᵢ₊₁R ⁱ⁺¹fᵢ₊₁, the moment of a child's force about frame i's origin in (6.52).
-
-        Parameters
-        ----------
-        P : Vec3
-            ⁱPᵢ₊₁, the child's origin in frame i, m.
-        R : Mat3
-            ⁱᵢ₊₁R, from :meth:`into_parent`.
-        f : Vec3
-            ⁱ⁺¹fᵢ₊₁, the child's force in its own frame, N.
-        equation : str
-            The equation that asks for it, such as ``"6.52"``.
-
-        Returns
-        -------
-        Vec3
-            The moment, N·m.
-        """
-        return self.cross(P, R @ f, equation)
-
-    def joint_moment(self, model: Model, i: int, n: list, out: "OutwardPass", equation: str) -> Vec3:
-        """ⁱnᵢ, the moment whose component along the joint axis is τᵢ (6.53).
-
-        Parameters
-        ----------
-        model : Model
-            The robot.
-        i : int
-            The body.
-        n : list of Vec3
-            ⁱnᵢ of every body done so far (link i's and its descendants'), N·m.
-        out : OutwardPass
-            The outward iteration's result.
-        equation : str
-            The equation that asks for it, ``"6.53"``.
-
-        Returns
-        -------
-        Vec3
-            ⁱnᵢ, N·m.
-        """
-        return n[i]
-
-    def inertia(self, body: Body, term: str = "I ω̇") -> Mat3:
-        """ᶜI, the inertia tensor about the centre of mass, in the body's frame (kg·m²), as each term of (6.50)
-        multiplies it.
-
-        Parameters
-        ----------
-        body : Body
-            The body.
-        term : str, optional
-            The term of (6.50) that asks for it: ``"I ω̇"`` or ``"ω × I ω"``.
-
-        Returns
-        -------
-        Mat3
-            ᶜI, kg·m².
-        """
-        return body.I_com_m
-
-    def at(self, i: int) -> "Operations":
-        """The operations link i's equations are written with: these, for every link (another set may differ on
-        some links only, as a slip copied into one link's equations does).
-
-        Parameters
-        ----------
-        i : int
-            The body whose equations the iteration is writing.
-
-        Returns
-        -------
-        Operations
-            This set.
-        """
-        return self
-
-    def base_acceleration(self, gravity: Vec3) -> Vec3:
-        """⁰v̇₀ = −g: gravity enters once, as an upward acceleration of the base.
-
-        Parameters
-        ----------
-        gravity : Vec3
-            g in the base frame, m/s².
-
-        Returns
-        -------
-        Vec3
-            ⁰v̇₀, m/s².
-        """
-        return -gravity
-
-
-#: The chapter's operations, the default of every iteration.
-EXACT = Operations()
 
 
 @dataclass(frozen=True)
@@ -444,6 +132,62 @@ class InwardPass:
     tau_bodies: list
 
 
+def outward_link(model: Model, X: JointTransforms, i: int, parent: tuple, qd, qdd, gravity: Vec3,
+                 op: Operations = EXACT) -> tuple:
+    """Body i's step of the outward iteration, (6.45)–(6.50): its motion from its parent's.
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    X : JointTransforms
+        The joint transforms at Θ.
+    i : int
+        The body.
+    parent : tuple of Vec3
+        The parent's ᵖωₚ, ᵖω̇ₚ and ᵖv̇ₚ (for the base: 0, 0 and −g).
+    qd, qdd : scalar
+        The body's θ̇ and θ̈ (S Θ̇ and S Θ̈ for a mimic joint), rad/s and rad/s² (m/s, m/s²).
+    gravity : Vec3
+        g in the base frame, m/s².
+    op : Operations, optional
+        The operations body i's equations are written with.
+
+    Returns
+    -------
+    tuple of Vec3
+        ⁱωᵢ, ⁱω̇ᵢ, ⁱv̇ᵢ, ⁱv̇_Cᵢ, ⁱFᵢ and ⁱNᵢ.
+
+    Examples
+    --------
+    >>> from course_dynamics import load_robot
+    >>> from course_dynamics.core.kinematics import joint_transforms
+    >>> arm = load_robot("pendulum")
+    >>> still = (Vec3(0, 0, 0), Vec3(0, 0, 0), -arm.gravity_v)
+    >>> [round(c, 6) for c in outward_link(arm, joint_transforms(arm, [0.0]), 0, still, 2.0, 0.0, arm.gravity_v)[0]]
+    [0.0, 2.0, 0.0]
+    """
+    body = model.bodies[i]
+    z = body.axis_v
+    omega_p, omega_dot_p, v_dot_p = parent
+    R = op.into_child(X, i, "6.46")
+    if body.is_prismatic:  # a prismatic joint adds no rotation ((6.33) in Craig, unnumbered in the notes)
+        w = op.into_child(X, i, "6.45") @ omega_p
+        w_dot = R @ omega_dot_p
+    else:
+        w = op.into_child(X, i, "6.45") @ omega_p + qd * z  # (6.45)
+        w_dot = R @ omega_dot_p + op.cross(R @ omega_p, qd * z, "6.46") + qdd * z  # (6.46)
+    # (6.47)
+    v = op.into_child(X, i, "6.47") @ op.point_acceleration(v_dot_p, omega_dot_p, omega_p, X.P[i], "6.47")
+    if body.is_prismatic:
+        v = v + cross(2 * w, qd * z) + qdd * z  # (6.35)
+    w_dot_c, P_c = op.link_angular_acceleration(w_dot, omega_dot_p, "6.48"), op.centre_of_mass(model, i, "6.48")
+    v_c = op.point_acceleration(v, w_dot_c, w, P_c, "6.48")  # (6.48)
+    F_i = op.inertial_force(model, X, i, v_c, gravity)  # (6.49)
+    N_i = op.inertia(body) @ w_dot + op.gyroscopic(w, op.inertia(body, "ω × I ω"), "6.50")  # (6.50)
+    return w, w_dot, v, v_c, F_i, N_i
+
+
 def outward_iteration(model: Model, X: JointTransforms, theta_dot: list, theta_ddot: list, gravity: Vec3,
                       ops: Operations = EXACT) -> OutwardPass:
     """Link velocities, accelerations and inertial loads, base to tips.
@@ -462,7 +206,7 @@ def outward_iteration(model: Model, X: JointTransforms, theta_dot: list, theta_d
     gravity : Vec3
         g in the base frame, m/s².
     ops : Operations, optional
-        The operations the equations are written with; :data:`EXACT` by default.
+        The operations the equations are written with; :data:`~course_dynamics.core.operations.EXACT` by default.
 
     Returns
     -------
@@ -484,31 +228,121 @@ def outward_iteration(model: Model, X: JointTransforms, theta_dot: list, theta_d
     omega, omega_dot, v_dot, v_dot_c, F, N = [], [], [], [], [], []
     theta_dot, theta_ddot = model.body_entries(theta_dot, False), model.body_entries(theta_ddot, False)  # S Θ̇, S Θ̈
     for i, body in enumerate(model.bodies):
-        p, z, qd, qdd, op = body.parent, body.axis_v, theta_dot[i], theta_ddot[i], ops.at(i)
-        if p < 0:
-            omega_p, omega_dot_p, v_dot_p = zero, zero, op.base_acceleration(gravity)
-        else:
-            omega_p, omega_dot_p, v_dot_p = omega[p], omega_dot[p], v_dot[p]
-        R = op.into_child(X, i, "6.46")
-        if body.is_prismatic:  # a prismatic joint adds no rotation ((6.33) in Craig, unnumbered in the notes)
-            w = op.into_child(X, i, "6.45") @ omega_p
-            w_dot = R @ omega_dot_p
-        else:
-            w = op.into_child(X, i, "6.45") @ omega_p + qd * z  # (6.45)
-            w_dot = R @ omega_dot_p + op.cross(R @ omega_p, qd * z, "6.46") + qdd * z  # (6.46)
-        # (6.47)
-        v = op.into_child(X, i, "6.47") @ op.point_acceleration(v_dot_p, omega_dot_p, omega_p, X.P[i], "6.47")
-        if body.is_prismatic:
-            v = v + cross(2 * w, qd * z) + qdd * z  # (6.35)
-        w_dot_c, P_c = op.link_angular_acceleration(w_dot, omega_dot_p, "6.48"), op.centre_of_mass(model, i, "6.48")
-        v_c = op.point_acceleration(v, w_dot_c, w, P_c, "6.48")  # (6.48)
+        p, op = body.parent, ops.at(i)
+        parent = (zero, zero, op.base_acceleration(gravity)) if p < 0 else (omega[p], omega_dot[p], v_dot[p])
+        w, w_dot, v, v_c, F_i, N_i = outward_link(model, X, i, parent, theta_dot[i], theta_ddot[i], gravity, op)
         omega.append(w)
         omega_dot.append(w_dot)
         v_dot.append(v)
         v_dot_c.append(v_c)
-        F.append(op.inertial_force(model, X, i, v_c, gravity))  # (6.49)
-        N.append(op.inertia(body) @ w_dot + op.gyroscopic(w, op.inertia(body, "ω × I ω"), "6.50"))  # (6.50)
+        F.append(F_i)
+        N.append(N_i)
     return OutwardPass(omega, omega_dot, v_dot, v_dot_c, F, N)
+
+
+def link_wrench(model: Model, i: int, out: OutwardPass, op: Operations = EXACT) -> tuple:
+    """Link i's own part of (6.51) and (6.52): ⁱFᵢ, and ⁱNᵢ + ⁱP_Cᵢ × ⁱFᵢ (its children are added to them).
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    i : int
+        The body.
+    out : OutwardPass
+        The outward iteration's result.
+    op : Operations, optional
+        The operations link i's equations are written with.
+
+    Returns
+    -------
+    tuple of Vec3
+        (f, n) before the children's: N and N·m.
+
+    Examples
+    --------
+    >>> from course_dynamics import load_robot
+    >>> from course_dynamics.core.kinematics import joint_transforms
+    >>> arm = load_robot("pendulum")
+    >>> X = joint_transforms(arm, [0.0])
+    >>> f, n = link_wrench(arm, 0, outward_iteration(arm, X, [0.0], [0.0], arm.gravity_v))
+    >>> [round(c, 6) for c in f]                       # the weight held up: m g, N
+    [0.0, 0.0, 9.81]
+    """
+    P_c = op.centre_of_mass(model, i, "6.52")
+    return out.F[i], op.link_moment(model, i, out, "6.52") + op.cross(P_c, out.F[i], "6.52")  # (6.51), (6.52)
+
+
+def carried_wrench(model: Model, X: JointTransforms, c: int, f_i: Vec3, n_i: Vec3, f_c: Vec3, n_c: Vec3,
+                   op: Operations = EXACT) -> tuple:
+    """(f, n) of child c's parent with c's force and moment carried in, (6.51) and (6.52).
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    X : JointTransforms
+        The joint transforms at Θ.
+    c : int
+        The child body.
+    f_i, n_i : Vec3
+        The parent's force and moment so far, N and N·m.
+    f_c, n_c : Vec3
+        The child's ᶜf_c and ᶜn_c, N and N·m.
+    op : Operations, optional
+        The operations the parent's equations are written with.
+
+    Returns
+    -------
+    tuple of Vec3
+        The parent's (f, n) with the child's added.
+
+    Examples
+    --------
+    >>> from course_dynamics import load_robot
+    >>> from course_dynamics.core.kinematics import joint_transforms
+    >>> arm = load_robot("two_link")
+    >>> X, zero, up = joint_transforms(arm, [0.0, 0.0]), Vec3(0, 0, 0), Vec3(0, 1, 0)
+    >>> [list(v) for v in carried_wrench(arm, X, 1, zero, zero, up, zero)]   # ¹P₂ × f: the arm's moment
+    [[0.0, 1.0, 0.0], [0.0, 0.0, 0.5]]
+    """
+    f_i = f_i + op.carried_force(model, c, op.into_parent(X, c, "6.51"), f_c, "6.51")  # (6.51)
+    R = op.into_parent(X, c, "6.52")
+    n_i = n_i + R @ n_c + op.moment_arm(X.P[c], R, f_c, "6.52")  # (6.52)
+    return f_i, n_i
+
+
+def joint_torque(model: Model, i: int, f: list, n: list, out: OutwardPass, op: Operations = EXACT):
+    """τᵢ, read from the joint's moment (6.53), or its force for a prismatic joint (6.44).
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    i : int
+        The body.
+    f, n : list of Vec3
+        The bodies' ⁱfᵢ and ⁱnᵢ (body i's complete).
+    out : OutwardPass
+        The outward iteration's result.
+    op : Operations, optional
+        The operations link i's equations are written with.
+
+    Returns
+    -------
+    scalar
+        τᵢ, N·m (N).
+
+    Examples
+    --------
+    >>> from course_dynamics import load_robot
+    >>> arm = load_robot("pendulum")
+    >>> round(joint_torque(arm, 0, [Vec3(0, 0, 0)], [Vec3(0, 2.5, 0)], None), 6)   # the moment about the axis y
+    2.5
+    """
+    body = model.bodies[i]
+    n_z = op.joint_moment(model, i, n, out, "6.53")
+    return dot(f[i], body.axis_v) if body.is_prismatic else dot(n_z, body.axis_v)  # (6.44) / (6.53)
 
 
 def inward_iteration(model: Model, X: JointTransforms, out: OutwardPass, ops: Operations = EXACT) -> InwardPass:
@@ -523,7 +357,7 @@ def inward_iteration(model: Model, X: JointTransforms, out: OutwardPass, ops: Op
     out : OutwardPass
         The outward iteration's result at the same state.
     ops : Operations, optional
-        The operations the equations are written with; :data:`EXACT` by default.
+        The operations the equations are written with; :data:`~course_dynamics.core.operations.EXACT` by default.
 
     Returns
     -------
@@ -543,17 +377,12 @@ def inward_iteration(model: Model, X: JointTransforms, out: OutwardPass, ops: Op
     """
     f, n, tau = [None] * model.n_bodies, [None] * model.n_bodies, [None] * model.n_bodies
     for i in reversed(range(model.n_bodies)):
-        body, op = model.bodies[i], ops.at(i)
-        f_i = out.F[i]  # (6.51), children added below
-        P_c = op.centre_of_mass(model, i, "6.52")
-        n_i = op.link_moment(model, i, out, "6.52") + op.cross(P_c, out.F[i], "6.52")  # (6.52), children below
+        op = ops.at(i)
+        f_i, n_i = link_wrench(model, i, out, op)  # (6.51), (6.52): the link's own part
         for c in model.children[i]:
-            f_i = f_i + op.carried_force(model, c, op.into_parent(X, c, "6.51"), f[c], "6.51")  # (6.51)
-            R = op.into_parent(X, c, "6.52")
-            n_i = n_i + R @ n[c] + op.moment_arm(X.P[c], R, f[c], "6.52")  # (6.52)
+            f_i, n_i = carried_wrench(model, X, c, f_i, n_i, f[c], n[c], op)  # (6.51), (6.52): each child's
         f[i], n[i] = f_i, n_i
-        n_z = op.joint_moment(model, i, n, out, "6.53")
-        tau[i] = dot(f_i, body.axis_v) if body.is_prismatic else dot(n_z, body.axis_v)  # (6.44) / (6.53)
+        tau[i] = joint_torque(model, i, f, n, out, op)  # (6.53) / (6.44)
     return InwardPass(f, n, model.coordinate_entries(tau), tau)  # τ = Sᵀ τ_bodies (mimic joints)
 
 
@@ -678,7 +507,7 @@ def newton_euler_links(model: Model, q, qd, qdd, ops: Operations = EXACT) -> Lin
     qdd : array_like, shape (n,) or (N, n)
         Joint accelerations Θ̈, rad/s² (m/s² for a prismatic joint).
     ops : Operations, optional
-        The operations the equations are written with; :data:`EXACT` by default.
+        The operations the equations are written with; :data:`~course_dynamics.core.operations.EXACT` by default.
 
     Returns
     -------
@@ -716,5 +545,5 @@ def newton_euler_links(model: Model, q, qd, qdd, ops: Operations = EXACT) -> Lin
     )
 
 
-__all__ = ["EXACT", "InwardPass", "LinkQuantities", "Operations", "OutwardPass", "inverse_dynamics", "inward_iteration",
-           "newton_euler_links", "outward_iteration"]
+__all__ = ["InwardPass", "LinkQuantities", "OutwardPass", "carried_wrench", "inverse_dynamics", "inward_iteration",
+           "joint_torque", "link_wrench", "newton_euler_links", "outward_iteration", "outward_link"]

@@ -107,11 +107,36 @@ def motion_axes(model: Model, placements: BasePlacements) -> list[tuple[Vec3, Ve
     >>> motion_axes(arm, placement_entries(arm, [0.0, 0.0, 0.0]))[1]   # joint 2: about y through (0, 0, 0.3)
     (Vec3(0.0, 1.0, 0.0), Vec3(-0.3, 0.0, 0.0))
     """
-    axes = []
-    for body, R, P in zip(model.bodies, placements.R, placements.P):
-        z = R @ body.axis_v  # ⁰Ẑⱼ
-        axes.append(kind_of(body).motion(z, P))
-    return axes
+    return [motion_axis(body, R, P) for body, R, P in zip(model.bodies, placements.R, placements.P)]
+
+
+def motion_axis(body, R: Mat3, P: Vec3) -> tuple[Vec3, Vec3]:
+    """One joint's unit motion s in base coordinates, from its body's placement.
+
+    Parameters
+    ----------
+    body : Body
+        The body the joint moves.
+    R : Mat3
+        ⁰ᵢR, the body's orientation in the base.
+    P : Vec3
+        ⁰Pᵢ, its origin in the base, m.
+
+    Returns
+    -------
+    tuple of (Vec3, Vec3)
+        (angular, linear): revolute (⁰Ẑⱼ, ⁰Pⱼ × ⁰Ẑⱼ), prismatic (0, ⁰Ẑⱼ).
+
+    Examples
+    --------
+    >>> from course_dynamics import load_robot
+    >>> from course_dynamics.core.algebra import Mat3, Vec3
+    >>> body = load_robot("pendulum").bodies[0]
+    >>> motion_axis(body, Mat3(((1, 0, 0), (0, 1, 0), (0, 0, 1))), Vec3(0.0, 0.0, 0.0))
+    (Vec3(0.0, 1.0, 0.0), Vec3(0.0, 0.0, 0.0))
+    """
+    z = R @ body.axis_v  # ⁰Ẑⱼ
+    return kind_of(body).motion(z, P)
 
 
 def body_inertias(model: Model, placements: BasePlacements) -> list[Inertia]:
@@ -138,17 +163,43 @@ def body_inertias(model: Model, placements: BasePlacements) -> list[Inertia]:
     >>> body_inertias(arm, placement_entries(arm, [0.0]))[0].I.rows   # m l² about x and y through the pivot
     ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 0.0))
     """
-    inertias = []
-    for body, R, c in zip(model.bodies, placements.R, placements.P_com):
-        m = body.mass_s
-        I_c = R @ body.I_com_m @ R.T  # ⁰I_C: inertia about the COM, base axes
-        cc = dot(c, c)
-        shift = ((cc - c.x * c.x, -c.x * c.y, -c.x * c.z),
-                 (-c.y * c.x, cc - c.y * c.y, -c.y * c.z),
-                 (-c.z * c.x, -c.z * c.y, cc - c.z * c.z))  # [c]ᵀ[c]: parallel-axis theorem to O
-        rows = tuple(tuple(a + m * b for a, b in zip(r1, r2)) for r1, r2 in zip(I_c.rows, shift))
-        inertias.append(Inertia(m, m * c, Mat3(rows)))
-    return inertias
+    return [body_inertia(body, R, c) for body, R, c in zip(model.bodies, placements.R, placements.P_com)]
+
+
+def body_inertia(body, R: Mat3, c: Vec3) -> Inertia:
+    """One body's spatial inertia about the base origin, from its placement.
+
+    Parameters
+    ----------
+    body : Body
+        The body: its mass and ᶜI.
+    R : Mat3
+        ⁰ᵢR, its orientation in the base.
+    c : Vec3
+        ⁰P_Cᵢ, its centre of mass in the base, m.
+
+    Returns
+    -------
+    Inertia
+        (m, h = m ⁰P_Cᵢ, Ī about the base origin).
+
+    Examples
+    --------
+    >>> from course_dynamics import load_robot
+    >>> from course_dynamics.core.algebra import Mat3, Vec3
+    >>> unit = Mat3(((1, 0, 0), (0, 1, 0), (0, 0, 1)))
+    >>> point = body_inertia(load_robot("pendulum").bodies[0], unit, Vec3(1.0, 0.0, 0.0))
+    >>> point.m, point.I.rows[2][2]          # m l² about the axis through O, kg·m²
+    (1.0, 1.0)
+    """
+    m = body.mass_s
+    I_c = R @ body.I_com_m @ R.T  # ⁰I_C: inertia about the COM, base axes
+    cc = dot(c, c)
+    shift = ((cc - c.x * c.x, -c.x * c.y, -c.x * c.z),
+             (-c.y * c.x, cc - c.y * c.y, -c.y * c.z),
+             (-c.z * c.x, -c.z * c.y, cc - c.z * c.z))  # [c]ᵀ[c]: parallel-axis theorem to O
+    rows = tuple(tuple(a + m * b for a, b in zip(r1, r2)) for r1, r2 in zip(I_c.rows, shift))
+    return Inertia(m, m * c, Mat3(rows))
 
 
 def cross_motion(a: tuple[Vec3, Vec3], b: tuple[Vec3, Vec3]) -> tuple[Vec3, Vec3]:

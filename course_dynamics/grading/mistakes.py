@@ -49,7 +49,8 @@ import numpy as np
 from ..core.joints import kind_of
 from ..core.lagrange import configuration_space_terms, velocity_pairs
 from ..core.model import Model
-from ..core.newton_euler import EXACT, Operations, newton_euler_links
+from ..core.newton_euler import newton_euler_links
+from ..core.operations import EXACT, Operations
 from ..core.sampling import relative_error
 from ..core.symbolic import derive, numeric_functions
 from .records import Answer, Finding

@@ -1,7 +1,7 @@
 """The slips students make in Newton–Euler, made on purpose by the one recursion.
 
 A :class:`Slip` is a set of the operations :mod:`course_dynamics.core.newton_euler`
-is written against (:class:`~course_dynamics.core.newton_euler.Operations`) that
+is written against (:class:`~course_dynamics.core.operations.Operations`) that
 makes one mistake in the equations it names and is exact everywhere else. The
 grader and the notebooks compare a wrong answer with the recursion run with each
 slip (:func:`slips`), so that a mistake is named by the one implementation with
@@ -61,7 +61,7 @@ from dataclasses import dataclass
 
 from ..core.algebra import Mat3, Vec3, cross
 from ..core.inertia import parallel_axis
-from ..core.newton_euler import EXACT, Operations
+from ..core.operations import EXACT, Operations
 
 ZERO = Vec3(0, 0, 0)
 #: The identity rotation, as ``rotation-identity`` reads a rotation.
@@ -161,7 +161,7 @@ class Slip(Operations):
         Returns
         -------
         Operations
-            This slip, or :data:`~course_dynamics.core.newton_euler.EXACT`.
+            This slip, or :data:`~course_dynamics.core.operations.EXACT`.
         """
         return self if not self.links or i in self.links else EXACT
 

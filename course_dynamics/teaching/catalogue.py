@@ -29,7 +29,8 @@ from ..core.algebra import Vec3, point_acceleration
 from ..core.cartesian import cartesian_dynamics
 from ..core.forward_dynamics import forward_dynamics
 from ..core.friction import Friction
-from ..core.newton_euler import EXACT, Operations, inverse_dynamics, newton_euler_links
+from ..core.newton_euler import inverse_dynamics, newton_euler_links
+from ..core.operations import EXACT, Operations
 from ..core.regressor import base_parameters, parameter_names, regressor
 from ..core.robots import load_robot
 from ..core.symbolic import derive
