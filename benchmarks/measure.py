@@ -1,6 +1,6 @@
 """What every benchmark shares: the one timing loop, our batch threading made explicit, and what threads ran.
 
-Our compiled models share a native batch over threads (``course_dynamics.core.compiled.THREADS`` threads, each
+Our compiled models share a native batch over threads (``course_dynamics.core.compiled.native.THREADS`` threads, each
 given at least ``THREAD_STATES`` states; there is no environment variable for it): :func:`our_threads` sets that
 count for a block, and :func:`threads_used` runs a call once, untimed, on a copy of the compiled model whose
 native functions count their calls (one a piece of the batch, each piece given to a thread of the pool), so a
@@ -22,6 +22,7 @@ from contextlib import contextmanager
 import numpy as np
 
 from course_dynamics.core import compiled as compiled_module
+from course_dynamics.core.compiled import native as native_module
 
 
 def best(function, repeat: int, number: int = 1) -> float:
@@ -38,12 +39,12 @@ def best(function, repeat: int, number: int = 1) -> float:
 @contextmanager
 def our_threads(count: int):
     """Our native batches shared over at most ``count`` threads inside the block (the package default after)."""
-    saved = compiled_module.THREADS
-    compiled_module.THREADS = count
+    saved = native_module.THREADS
+    native_module.THREADS = count
     try:
         yield
     finally:
-        compiled_module.THREADS = saved
+        native_module.THREADS = saved
 
 
 def threads_used(compiled, method: str, *arguments) -> int:
@@ -96,8 +97,8 @@ def print_conditions(title: str) -> None:
     load = ", ".join(f"{x:.2f}" for x in os.getloadavg())
     chosen = {k: os.environ[k] for k in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS") if k in os.environ}
     print(f"{title}\n  machine: {os.cpu_count()} cores, load average {load} (1, 5, 15 min); "
-          f"ours by default shares a native batch over up to {compiled_module.THREADS} threads, "
-          f"{compiled_module.THREAD_STATES} states a thread at least; numpy's BLAS: {blas_threads()}"
+          f"ours by default shares a native batch over up to {native_module.THREADS} threads, "
+          f"{native_module.THREAD_STATES} states a thread at least; numpy's BLAS: {blas_threads()}"
           + (f"; {chosen}" if chosen else ""))
 
 

@@ -330,15 +330,22 @@ def test_simulate_through_the_cli_never_runs_a_planted_cache(tmp_path, monkeypat
     assert err.count("warning: the compiled-model cache") == 1 and "other users can write to it" in err
 
 
-def test_simulate_of_a_robot_too_large_to_compile_runs_interpreted(tmp_path, capsys):
+@pytest.mark.parametrize("loop", ["installed", "off"])
+def test_simulate_of_a_robot_too_large_to_compile_runs_the_loop_or_interpreted(loop, tmp_path, capsys, monkeypatch):
+    """The native loop runs any size without a word; without it, the recursions run after one warning."""
     from helpers import chain_urdf, run
 
+    from course_dynamics.core.compiled import looped
+
+    if loop == "off":
+        monkeypatch.setenv("COURSE_DYNAMICS_NATIVE", "off")
     path = tmp_path / "chain.urdf"
     path.write_text(chain_urdf(40))
     code, out, err = run(capsys, "simulate", str(path), "--q0", ",".join(["0.1"] * 40), "--dt", "0.001",
                          "--duration", "0.1", "--out", str(tmp_path / "run.csv"), "--quiet")
     assert code == 0, err
-    assert "warning: robot 'chain' (40 joints) is too large to compile" in err and "Traceback" not in err
+    warned = "warning: robot 'chain' (40 joints) is too large to compile" in err
+    assert warned == (looped.library() is None) and "Traceback" not in err
     assert (tmp_path / "run.csv").is_file()
 
 
@@ -454,10 +461,10 @@ def test_without_a_compiler_or_with_native_off_the_python_programs_run(tmp_path,
 
 
 def test_a_native_batch_shared_by_threads_equals_one_thread(tmp_path, monkeypatch):
-    from course_dynamics.core import compiled as compiled_module
+    from course_dynamics.core.compiled import native as native_module
 
     ur5, c = native_model("ur5", tmp_path, monkeypatch)
-    Q = np.random.default_rng(4).uniform(-1, 1, (3 * compiled_module.THREAD_STATES + 7, ur5.n))
+    Q = np.random.default_rng(4).uniform(-1, 1, (3 * native_module.THREAD_STATES + 7, ur5.n))
     shared = c.inverse_dynamics(Q, Q, Q)
-    monkeypatch.setattr(compiled_module, "THREADS", 1)
+    monkeypatch.setattr(native_module, "THREADS", 1)
     np.testing.assert_array_equal(shared, c.inverse_dynamics(Q, Q, Q))

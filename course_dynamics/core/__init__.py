@@ -19,6 +19,7 @@ module                job
 ``inertia``           inertia tensors of simple bodies: moved, turned and checked
 ``kinematics``        joint transforms, placements, point Jacobians, potential energy
 ``newton_euler``      the outward and inward iterations (6.45)–(6.53)
+``operations``        the operations those iterations are written against
 ``dynamics``          the terms of τ = M(Θ)Θ̈ + V(Θ, Θ̇) + G(Θ) (6.59)
 ``crba``              M(Θ) by composite bodies, in one pass
 ``spatial``           six-dimensional velocities, forces and inertias, for the O(n²) algorithms
@@ -44,6 +45,8 @@ module                   job
 ``compiled.tracing``     the recursions run once on traced scalars, as straight-line programs
 ``compiled.codegen``     a traced program written out as Python, for one state and a batch
 ``compiled.native``      the same programs as C, built into an extension where a compiler exists
+``compiled.steps``       the native loop's C: each body's step traced once, looped over any robot
+``compiled.looped``      the native loop at run time: the extension built with the package, checked
 ``compiled.building``    building the native library: bounded, limited, remembered if it fails
 ``compiled.cache``       the on-disk cache: a private folder, entries behind a keyed hash
 =======================  =============================================================

@@ -235,6 +235,9 @@ class CompiledModel:
         ``""`` when there is.
     native_build : object or None
         The build running in the background (``native_code="background"``), until :meth:`collected` takes it up.
+    loop : Looped or None
+        The native loop (:mod:`~course_dynamics.core.compiled.looped`), standing in for τ, M and V + G while
+        there is no native code (the evaluator gives it); None by default.
     _calls : dict
         Each native program a one-state call has used, with its output's width and shape (filled on first use).
 
@@ -262,6 +265,7 @@ class CompiledModel:
     native_seconds: float = 0.0  # building (or loading) the native library
     native_reason: str = ""      # why there is no native code (yet): over the bound, failed before, building, …
     native_build: building.Build | None = field(repr=False, default=None)  # a build running in the background
+    loop: object = field(repr=False, default=None)  # the native loop, for τ, M and V + G while there is no C
     _calls: dict = field(repr=False, compare=False, default_factory=dict)  # name -> (C function, width, shape)
 
     def collected(self, wait: float = 0.0) -> CompiledModel:
@@ -285,6 +289,9 @@ class CompiledModel:
         function = self.native.get(name)
         if function is not None and all(a.dtype == np.float64 for a in arrays):
             return self._run_native(function, name, arrays)
+        loop = self.loop
+        if function is None and loop is not None and name in loop.native and all(a.dtype == np.float64 for a in arrays):
+            return native.run_batch(loop.native[name], arrays, native.width(name, self.model.n), (loop.array,))
         if all(a.ndim == 1 for a in arrays):
             return np.array(self.functions[name](*(a.tolist() for a in arrays)))
         batch = batch_shape(*arrays)
@@ -321,7 +328,7 @@ class CompiledModel:
             shape = {"mass_matrix": (n, n), "regressor": (n, 10 * bodies)}.get(name)
             call = self._calls[name] = (function, native.width(name, n, bodies), shape) if function else ()
         if not call:
-            return None
+            return None if self.loop is None else self.loop.native_call(name, *arrays)
         for a in arrays:  # one state each: a batch of one keeps its batch shape on the other path
             if type(a) is not np.ndarray or a.ndim != 1:
                 return None
@@ -343,20 +350,7 @@ class CompiledModel:
 
     def _run_native(self, function, name: str, arrays) -> np.ndarray:
         """The native program on checked float64 states: any batch shape, shared over threads when large."""
-        width = native.width(name, self.model.n, self.model.n_bodies)
-        batch = batch_shape(*arrays)
-        # contiguous and aligned (an array read from a packed buffer at an odd offset is contiguous, not aligned)
-        columns = [np.require(np.broadcast_to(a, batch + a.shape[-1:]), np.float64, ["C", "A"]) for a in arrays]
-        out = np.empty(batch + (width,))
-        states = int(np.prod(batch))
-        parts = min(THREADS, states // THREAD_STATES)
-        if parts < 2:
-            function(*columns, out)
-            return out
-        flat = [c.reshape(states, -1) for c in columns] + [out.reshape(states, width)]
-        bounds = np.linspace(0, states, parts + 1).astype(int)
-        list(_pool().map(lambda k: function(*(a[bounds[k]:bounds[k + 1]] for a in flat)), range(parts)))
-        return out
+        return native.run_batch(function, arrays, native.width(name, self.model.n, self.model.n_bodies))
 
     def inverse_dynamics(self, q, qd, qdd) -> np.ndarray:
         """τ, shape (n,) or (N, n), as :func:`~course_dynamics.core.newton_euler.inverse_dynamics`.
@@ -574,6 +568,8 @@ class CompiledModel:
         fast = self.native_call("forward_dynamics", q, qd, tau)
         if fast is not None:  # one state, natively: the path of a simulation's every step
             return fast
+        if self.loop is not None and "forward_dynamics" not in self.native:
+            return self.loop.accelerations(q, qd, tau)
         try:
             with np.errstate(divide="ignore", invalid="ignore"):
                 out = self._run("forward_dynamics", q, qd, tau)
@@ -587,8 +583,7 @@ class CompiledModel:
 
 
 PROGRAMS = ("tau", "mass_matrix", "bias", "coriolis", "forward_dynamics", "regressor")
-THREADS = max(1, min(4, os.cpu_count() or 1))  # a native batch is shared by this many threads ...
-THREAD_STATES = 2000                            # ... when each gets at least this many states
+THREADS, THREAD_STATES = native.THREADS, native.THREAD_STATES  # how a native batch is shared (set them there)
 
 
 @functools.cache
@@ -598,13 +593,6 @@ def _symmetric_index(n: int) -> np.ndarray:
     rows, cols = np.triu_indices(n)
     packed[rows, cols] = packed[cols, rows] = np.arange(len(rows))
     return packed.ravel()
-
-
-@functools.cache
-def _pool():
-    from concurrent.futures import ThreadPoolExecutor
-
-    return ThreadPoolExecutor(max_workers=THREADS, thread_name_prefix="course-dynamics-native")
 
 
 def _functions_of(code, name: str) -> dict:

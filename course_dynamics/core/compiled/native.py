@@ -42,6 +42,9 @@ import sysconfig
 import tempfile
 from pathlib import Path
 
+import numpy as np
+
+from ..state import batch_shape
 from .tracing import Program
 
 #: The value of ``COURSE_DYNAMICS_NATIVE`` that turns native code off.
@@ -56,6 +59,62 @@ BUILD_FILE_BYTES = 256 * 2**20  # any file the compiler writes (the 20-joint cha
 PART_OPERATIONS = 1000  # operations in one C function at most: gcc then takes time linear in the program (below)
 OPERATIONS = {"add": "{} + {}", "sub": "{} - {}", "mul": "{} * {}", "div": "{} / {}", "neg": "-{}", "cos": "cos({})",
               "sin": "sin({})"}
+
+
+#: A native batch is shared by at most this many threads ...
+THREADS = max(1, min(4, os.cpu_count() or 1))
+#: ... when each gets at least this many states.
+THREAD_STATES = 2000
+
+
+def run_batch(function, arrays, width: int, first: tuple = ()) -> np.ndarray:
+    """``function(*first, *states, out)`` on checked float64 arrays of any batch shape, into a new output of
+    ``width`` entries a state; a batch of :data:`THREAD_STATES` states a thread or more is shared over
+    :data:`THREADS` threads (the native functions release the GIL).
+
+    Parameters
+    ----------
+    function : callable
+        A native function that fills its last argument.
+    arrays : sequence of numpy.ndarray, shape (..., n)
+        The states, already checked (float64, finite).
+    width : int
+        The output's entries per state.
+    first : tuple, optional
+        Arguments before the states (the native loop's model array).
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., width)
+        The output.
+
+    Examples
+    --------
+    >>> def doubled(x, out):              # a stand-in for a native function: fills its output
+    ...     out[...] = 2 * x
+    >>> run_batch(doubled, [np.ones((3, 2))], 2).tolist()
+    [[2.0, 2.0], [2.0, 2.0], [2.0, 2.0]]
+    """
+    batch = batch_shape(*arrays)
+    # contiguous and aligned (an array read from a packed buffer at an odd offset is contiguous, not aligned)
+    columns = [np.require(np.broadcast_to(a, batch + a.shape[-1:]), np.float64, ["C", "A"]) for a in arrays]
+    out = np.empty(batch + (width,))
+    states = int(np.prod(batch))
+    parts = min(THREADS, states // THREAD_STATES)
+    if parts < 2:
+        function(*first, *columns, out)
+        return out
+    flat = [c.reshape(states, -1) for c in columns] + [out.reshape(states, width)]
+    bounds = np.linspace(0, states, parts + 1).astype(int)
+    list(_pool().map(lambda k: function(*first, *(a[bounds[k]:bounds[k + 1]] for a in flat)), range(parts)))
+    return out
+
+
+@functools.cache
+def _pool():
+    from concurrent.futures import ThreadPoolExecutor
+
+    return ThreadPoolExecutor(max_workers=THREADS, thread_name_prefix="course-dynamics-native")
 
 
 def enabled() -> bool:
@@ -86,7 +145,34 @@ def module_name(key: str) -> str:
     return f"course_dynamics_native_{key[:16]}"
 
 
-def _argument(a, nodes, inputs: dict[str, str]) -> str:
+def c_argument(a, nodes, inputs: dict[str, str]) -> str:
+    """An operation's argument as C: an input's element, a value ``t<i>`` or a literal.
+
+    Parameters
+    ----------
+    a : list
+        The argument, ``["t", index]`` or ``["c", value]``.
+    nodes : list
+        The program's nodes (an input node's argument is its name).
+    inputs : dict of str to str
+        Each input's name (``q0``) and its C (``q[0]``).
+
+    Returns
+    -------
+    str
+        The C expression.
+
+    Raises
+    ------
+    ValueError
+        If a constant is not finite (it has no C literal).
+
+    Examples
+    --------
+    >>> nodes = [["input", "q0"], ["mul", ["c", 2.0], ["t", 0]]]
+    >>> c_argument(["t", 0], nodes, {"q0": "q[0]"}), c_argument(["t", 1], nodes, {}), c_argument(["c", -0.5], nodes, {})
+    ('q[0]', 't1', '(-0.5)')
+    """
     kind, value = a
     if kind == "t":
         op, *arguments = nodes[value]
@@ -127,7 +213,7 @@ def _function(program: Program, n: int) -> tuple[str, int]:
         def value(a):
             if a[0] == "t" and a[1] not in own and a[1] in carried:
                 return f"scratch[{carried[a[1]]}]"
-            return _argument(a, program.nodes, inputs)
+            return c_argument(a, program.nodes, inputs)
 
         name = f"PART void {program.name}_part{p}" if len(parts) > 1 else f"void {program.name}_one"
         lines = [f"static {name}({parameters}, double *restrict scratch, double *restrict out)", "{"]
@@ -522,5 +608,5 @@ def load(data: bytes, key: str) -> dict | None:
     return {name: getattr(module, name) for name in dir(module) if not name.startswith("_")}
 
 
-__all__ = ["BUILD_FILE_BYTES", "BUILD_MEMORY", "BUILD_SECONDS", "NATIVE_OFF", "PART_OPERATIONS", "build",
-           "c_source", "compile_library", "compiler", "enabled", "load"]
+__all__ = ["BUILD_FILE_BYTES", "BUILD_MEMORY", "BUILD_SECONDS", "NATIVE_OFF", "PART_OPERATIONS", "THREADS",
+           "THREAD_STATES", "build", "c_argument", "c_source", "compile_library", "compiler", "enabled", "load"]

@@ -338,8 +338,33 @@ class Program:
         return {"name": self.name, "inputs": self.inputs, "nodes": self.nodes, "outputs": self.outputs}
 
 
-def _program(name: str, tape: Tape, input_names: list[str], outputs: list) -> Program:
-    """Keep only the nodes the outputs need, renumbered in order."""
+def recorded_program(name: str, tape: Tape, input_names: list[str], outputs: list) -> Program:
+    """The program that computes ``outputs`` from a tape: only the nodes they need, renumbered in order.
+
+    Parameters
+    ----------
+    name : str
+        The program's name.
+    tape : Tape
+        What was recorded.
+    input_names : list of str
+        Its inputs' vectors, in the order its function takes them.
+    outputs : list
+        What it returns: traced values or numbers.
+
+    Returns
+    -------
+    Program
+        The program.
+
+    Examples
+    --------
+    >>> t = Tape()
+    >>> x, y = t.input("q0"), t.input("q1")
+    >>> _ = x * y
+    >>> recorded_program("twice", t, ["q"], [x + x]).nodes         # x · y is not needed
+    [['input', 'q0'], ['add', ['t', 0], ['t', 0]]]
+    """
     needed, stack = set(), [o.i for o in outputs if isinstance(o, Traced)]
     while stack:
         i = stack.pop()
@@ -401,29 +426,31 @@ def trace_programs(model: Model) -> dict[str, Program]:
         t = tape()
         q, qd, qdd = _inputs(t, "q", n), _inputs(t, "qd", n), _inputs(t, "qdd", n)
         tau = torque_entries(model, joint_transforms(model, q), qd, qdd, g)
-        programs["tau"] = _program("tau", t, ["q", "qd", "qdd"], tau)
+        programs["tau"] = recorded_program("tau", t, ["q", "qd", "qdd"], tau)
 
         t = tape()
         q = _inputs(t, "q", n)
         M = crba.mass_matrix_entries(model, q)
-        programs["mass_matrix"] = _program("mass_matrix", t, ["q"], [M[i][j] for i in range(n) for j in range(i, n)])
+        upper = [M[i][j] for i in range(n) for j in range(i, n)]
+        programs["mass_matrix"] = recorded_program("mass_matrix", t, ["q"], upper)
 
         t = tape()
         q, qd = _inputs(t, "q", n), _inputs(t, "qd", n)
         bias = torque_entries(model, joint_transforms(model, q), qd, [0] * n, g)
-        programs["bias"] = _program("bias", t, ["q", "qd"], bias)
+        programs["bias"] = recorded_program("bias", t, ["q", "qd"], bias)
 
         t = tape()
         q, qd = _inputs(t, "q", n), _inputs(t, "qd", n)
         C = coriolis.coriolis_matrix_entries(model, q, qd)
-        programs["coriolis"] = _program("coriolis", t, ["q", "qd"], [C[i][j] for i in range(n) for j in range(n)])
+        programs["coriolis"] = recorded_program("coriolis", t, ["q", "qd"],
+                                                [C[i][j] for i in range(n) for j in range(n)])
 
         t = tape()
         q, qd, tau = _inputs(t, "q", n), _inputs(t, "qd", n), _inputs(t, "tau", n)
         M = crba.mass_matrix_entries(model, q)
         bias = torque_entries(model, joint_transforms(model, q), qd, [0] * n, g)
         qdd, pivots = _ldl_solve(M, [t_ - b for t_, b in zip(tau, bias)])  # (6.115)
-        programs["forward_dynamics"] = _program("forward_dynamics", t, ["q", "qd", "tau"], qdd + pivots)
+        programs["forward_dynamics"] = recorded_program("forward_dynamics", t, ["q", "qd", "tau"], qdd + pivots)
     except ProgramTooLargeError:
         raise ProgramTooLargeError(f"robot {model.name!r} ({n} joints)") from None
     try:  # on a tape of its own: a regressor too large to compile leaves the other programs compiled
@@ -432,7 +459,7 @@ def trace_programs(model: Model) -> dict[str, Program]:
         count = 10 * model.n_bodies
         rows = regressor_rows(model, joint_transforms(model, q), qd, qdd, [Columns({k: 1.0}) for k in range(count)])
         entries = [row.entries if isinstance(row, Columns) else {} for row in rows]
-        programs["regressor"] = _program("regressor", t, ["q", "qd", "qdd"],
+        programs["regressor"] = recorded_program("regressor", t, ["q", "qd", "qdd"],
                                          [row.get(k, 0.0) for row in entries for k in range(count)])
     except ProgramTooLargeError:
         pass
@@ -458,4 +485,4 @@ def _ldl_solve(M: list, rhs: list) -> tuple[list, list]:
 
 
 __all__ = ["MAX_OPERATIONS", "MAX_REGRESSOR_OPERATIONS", "Columns", "Program", "ProgramTooLargeError", "Tape", "Traced",
-           "trace_programs"]
+           "recorded_program", "trace_programs"]

@@ -1,0 +1,352 @@
+"""The native loop at run time: the extension built with the package, checked, behind a compiled model's methods.
+
+The loop's C is the recursions' own steps (:mod:`~course_dynamics.core.compiled.steps`) looped over the bodies
+of any robot. :func:`library` imports the extension built at installation (none where no compiler was there,
+or with ``COURSE_DYNAMICS_NATIVE=off``, or one built from other steps than the shipped ``looped.c``);
+:func:`looped` gives a model's :class:`Looped`, compared first with the recursions as written at a random
+state; the evaluator (:mod:`~course_dynamics.core.evaluator`) chooses it.
+
+=================  ==============================================================================
+name               what
+=================  ==============================================================================
+:func:`library`    the installed extension, or None
+:func:`why_not`    why the loop does not run here ("" where it does)
+:class:`Looped`    τ, M and V + G natively (G and forward dynamics from them), the rest interpreted
+:func:`looped`     a model's checked :class:`Looped`, or None
+=================  ==============================================================================
+"""
+from __future__ import annotations
+
+import importlib
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..crba import mass_matrix as interpreted_mass_matrix
+from ..dynamics import coriolis_matrix
+from ..forward_dynamics import forward_dynamics as interpreted_forward_dynamics
+from ..forward_dynamics import solve
+from ..friction import Friction
+from ..model import Model
+from ..newton_euler import inverse_dynamics
+from ..regressor import regressor
+from ..state import as_state
+from . import native
+from .steps import SOURCE, model_array, steps_digest
+
+
+_LIBRARY: list = []  # the extension once imported (or None where it is not installed)
+
+
+def library():
+    """The installed native loop (its functions ``tau``, ``mass_matrix``, ``bias``), or None where it was not
+    built (no compiler at installation) or native code is turned off (``COURSE_DYNAMICS_NATIVE=off``).
+
+    Returns
+    -------
+    module or None
+        ``course_dynamics.core.compiled._looped``.
+
+    Examples
+    --------
+    >>> lib = library()
+    >>> lib is None or sorted(name for name in ("tau", "mass_matrix", "bias") if hasattr(lib, name))
+    ['bias', 'mass_matrix', 'tau']
+    """
+    if not native.enabled():
+        return None
+    if not _LIBRARY:
+        try:
+            module = importlib.import_module(f"{__package__}._looped")
+            shipped = SOURCE.read_text(encoding="utf-8")
+            _LIBRARY.append(module if module.STEPS == steps_digest(shipped) else None)  # built from other steps
+        except (ImportError, AttributeError, OSError, ValueError):
+            _LIBRARY.append(None)
+    return _LIBRARY[0]
+
+
+def why_not() -> str:
+    """Why the native loop does not run here ("" where it does).
+
+    Returns
+    -------
+    str
+        "" where :func:`library` gives the extension; otherwise why not, in words.
+
+    Examples
+    --------
+    >>> why_not() == "" or "COURSE_DYNAMICS_NATIVE" in why_not() or "not built" in why_not()
+    True
+    """
+    if not native.enabled():
+        return "native code is turned off (COURSE_DYNAMICS_NATIVE=off)"
+    if library() is None:
+        return ("the native loop was not built when the package was installed (no C compiler then), or was built "
+                "from another version of the recursions (reinstall the package)")
+    return ""
+
+
+@dataclass(frozen=True)
+class Looped:
+    """The native loop behind the methods a compiled model has: τ, M and V + G natively for float64 states,
+    the rest (and anything else) by the recursions as written.
+
+    Made by :func:`looped` (which checks it against the recursions first).
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    array : numpy.ndarray
+        Its :func:`~course_dynamics.core.compiled.steps.model_array`.
+    native : dict
+        The native loop's functions by program name (``tau``, ``mass_matrix``, ``bias``).
+
+    Examples
+    --------
+    >>> from course_dynamics import load_robot
+    >>> arm = load_robot("two_link")
+    >>> run = looped(arm)
+    >>> run is None or np.allclose(run.mass_matrix([0.0, 0.5]), interpreted_mass_matrix(arm, [0.0, 0.5]), rtol=1e-12)
+    True
+    """
+
+    model: Model
+    array: np.ndarray = field(repr=False)
+    native: dict = field(repr=False, default_factory=dict)
+
+    def native_call(self, name: str, *arrays) -> np.ndarray | None:
+        """What the method ``name`` returns for one state of finite float64 values (n,) each, from the native
+        loop; None for anything else (the checked path then sees it).
+
+        Parameters
+        ----------
+        name : str
+            ``tau``, ``mass_matrix`` or ``bias`` (None for any other).
+        *arrays : numpy.ndarray, shape (n,)
+            Its inputs, in order.
+
+        Returns
+        -------
+        numpy.ndarray or None
+            τ or V + G, shape (n,); M, shape (n, n); or None.
+        """
+        function = self.native.get(name)
+        if function is None:
+            return None
+        for a in arrays:
+            if type(a) is not np.ndarray or a.ndim != 1:
+                return None
+        n = self.model.n
+        out = np.empty(n * n if name == "mass_matrix" else n)
+        try:
+            function(self.array, *arrays, out)
+        except (TypeError, ValueError, BufferError):
+            return None
+        return out.reshape(n, n) if name == "mass_matrix" else out
+
+    def _run(self, name: str, *arrays: np.ndarray) -> np.ndarray | None:
+        if not all(a.dtype == np.float64 for a in arrays):
+            return None
+        n = self.model.n
+        out = native.run_batch(self.native[name], arrays, n * n if name == "mass_matrix" else n, (self.array,))
+        return out.reshape(out.shape[:-1] + (n, n)) if name == "mass_matrix" else out
+
+    def inverse_dynamics(self, q, qd, qdd) -> np.ndarray:
+        """τ, as :func:`~course_dynamics.core.newton_euler.inverse_dynamics`.
+
+        Parameters
+        ----------
+        q, qd, qdd : array_like, shape (n,) or (N, n)
+            Θ, Θ̇ and Θ̈, rad, rad/s, rad/s² (m, m/s, m/s²).
+
+        Returns
+        -------
+        numpy.ndarray, shape (n,) or (N, n)
+            τ, N·m (N).
+        """
+        m = self.model
+        q, qd, qdd = as_state(m, q, "q"), as_state(m, qd, "qd"), as_state(m, qdd, "qdd")
+        out = self._run("tau", q, qd, qdd)
+        return inverse_dynamics(m, q, qd, qdd) if out is None else out
+
+    def mass_matrix(self, q) -> np.ndarray:
+        """M(Θ), as :func:`~course_dynamics.core.crba.mass_matrix`.
+
+        Parameters
+        ----------
+        q : array_like, shape (n,) or (N, n)
+            Θ, rad (m).
+
+        Returns
+        -------
+        numpy.ndarray, shape (n, n) or (N, n, n)
+            M, kg·m² (kg).
+        """
+        q = as_state(self.model, q, "q")
+        out = self._run("mass_matrix", q)
+        return interpreted_mass_matrix(self.model, q) if out is None else out
+
+    def bias(self, q, qd) -> np.ndarray:
+        """V(Θ, Θ̇) + G(Θ) = τ(Θ, Θ̇, 0).
+
+        Parameters
+        ----------
+        q, qd : array_like, shape (n,) or (N, n)
+            Θ and Θ̇, rad and rad/s (m, m/s).
+
+        Returns
+        -------
+        numpy.ndarray, shape (n,) or (N, n)
+            V + G, N·m (N).
+        """
+        m = self.model
+        q, qd = as_state(m, q, "q"), as_state(m, qd, "qd")
+        out = self._run("bias", q, qd)
+        return inverse_dynamics(m, q, qd, np.zeros_like(qd)) if out is None else out
+
+    def gravity_torques(self, q) -> np.ndarray:
+        """G(Θ) = V + G at Θ̇ = 0.
+
+        Parameters
+        ----------
+        q : array_like, shape (n,) or (N, n)
+            Θ, rad (m).
+
+        Returns
+        -------
+        numpy.ndarray, shape (n,) or (N, n)
+            G, N·m (N).
+        """
+        q = as_state(self.model, q, "q")
+        return self.bias(q, np.zeros_like(q))
+
+    def coriolis_matrix(self, q, qd) -> np.ndarray:
+        """C(Θ, Θ̇) by the recursions as written (the loop has no program for it).
+
+        Parameters
+        ----------
+        q, qd : array_like, shape (n,) or (N, n)
+            Θ and Θ̇.
+
+        Returns
+        -------
+        numpy.ndarray, shape (n, n) or (N, n, n)
+            C, kg·m²/s.
+        """
+        return coriolis_matrix(self.model, q, qd)
+
+    def regressor(self, q, qd, qdd) -> np.ndarray:
+        """Y(Θ, Θ̇, Θ̈) by the recursions as written (the loop has no program for it).
+
+        Parameters
+        ----------
+        q, qd, qdd : array_like, shape (n,) or (N, n)
+            Θ, Θ̇ and Θ̈.
+
+        Returns
+        -------
+        numpy.ndarray, shape (n, 10 n_bodies) or (N, n, 10 n_bodies)
+            Y, with τ = Y π.
+        """
+        return regressor(self.model, q, qd, qdd)
+
+    def forward_dynamics(self, q, qd, tau, friction: Friction | None = None) -> np.ndarray:
+        """Θ̈ (6.115), as :func:`~course_dynamics.core.forward_dynamics.forward_dynamics`: M and V + G from the
+        loop, then the same checked solve.
+
+        Parameters
+        ----------
+        q, qd, tau : array_like, shape (n,) or (N, n)
+            Θ, Θ̇ and the applied τ.
+        friction : Friction, optional
+            Subtracted from τ as F(Θ̇).
+
+        Returns
+        -------
+        numpy.ndarray, shape (n,) or (N, n)
+            Θ̈, rad/s² (m/s²).
+
+        Raises
+        ------
+        SingularMassMatrixError
+            If M(Θ) is singular (the error names the joint).
+        """
+        m = self.model
+        q, qd, tau = as_state(m, q, "q"), as_state(m, qd, "qd"), as_state(m, tau, "tau")
+        if friction is not None:
+            tau = tau - friction.torques(qd)  # (6.114)
+        if not all(a.dtype == np.float64 for a in (q, qd, tau)):
+            return interpreted_forward_dynamics(m, q, qd, tau)
+        return self.accelerations(q, qd, tau)
+
+    def accelerations(self, q: np.ndarray, qd: np.ndarray, tau: np.ndarray) -> np.ndarray:
+        """Θ̈ without friction for checked float arrays: an AccelerationFunction for ``simulate``.
+
+        Parameters
+        ----------
+        q, qd, tau : numpy.ndarray, shape (n,) or (K, n)
+            Θ, Θ̇ and τ, float64, already checked.
+
+        Returns
+        -------
+        numpy.ndarray, shape (n,) or (K, n)
+            Θ̈, rad/s² (m/s²).
+
+        Raises
+        ------
+        SingularMassMatrixError
+            If M(Θ) is singular.
+        """
+        M, bias = self._run("mass_matrix", q), self._run("bias", q, qd)
+        return solve(self.model, M, tau - bias, q)  # (6.115)
+
+
+def looped(model: Model) -> Looped | None:
+    """The native loop for ``model``, checked against the recursions as written at a random state (τ, M and
+    V + G to 1e-9 of their size, one state and a batch of two); None where it does not run here
+    (:func:`why_not`), for a model with symbols, or where it disagrees.
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+
+    Returns
+    -------
+    Looped or None
+        What runs the loop for this model.
+
+    Examples
+    --------
+    >>> from course_dynamics import load_robot
+    >>> run = looped(load_robot("ur5"))
+    >>> run is None or run.native_call("tau", np.zeros(6), np.zeros(6), np.zeros(6)).shape
+    (6,)
+    """
+    lib = library()
+    if lib is None:
+        return None
+    try:
+        array = model_array(model)
+    except (TypeError, ValueError):  # symbols: no float numbers to loop over
+        return None
+    run = Looped(model, array, {"tau": lib.tau, "mass_matrix": lib.mass_matrix, "bias": lib.bias})
+    q, qd, qdd = np.random.default_rng().uniform(-1, 1, (3, model.n))
+    expected = {"tau": (inverse_dynamics(model, q, qd, qdd), (q, qd, qdd)),
+                "mass_matrix": (interpreted_mass_matrix(model, q), (q,)),
+                "bias": (inverse_dynamics(model, q, qd, 0 * qd), (q, qd))}
+    try:
+        for name, (ours, arguments) in expected.items():
+            one = run.native_call(name, *arguments)
+            two = run._run(name, *(np.stack([a, a]) for a in arguments))
+            scale = 1 + np.abs(ours).max()
+            close = one is not None and np.abs(one - ours).max() <= 1e-9 * scale
+            if not (close and np.abs(two - ours).max() <= 1e-9 * scale):
+                return None
+    except (TypeError, ValueError, BufferError):
+        return None
+    return run
+
+
+__all__ = ["Looped", "library", "looped", "why_not"]
