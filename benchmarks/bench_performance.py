@@ -8,7 +8,7 @@ runs); every ratio is ours / Pinocchio's, printed with the threads each side ran
 thread") and beside its target. Our side is chosen explicitly, never left to the default API's evaluator: a
 compiled model (``compile_model``, its native code where a compiler exists) or the interpreted recursion
 (``course_dynamics.core.newton_euler`` …); our native batches are held to one thread for the rows that say one
-(``course_dynamics.core.compiled.THREADS``: see measure.py). Pinocchio's side is its own numpy arrays in its
+(``course_dynamics.core.compiled.native.THREADS``: see measure.py). Pinocchio's side is its own numpy arrays in its
 own layout, made before timing, passed straight to its functions: ``pin.rnea`` & co. called from Python once a
 state, ``rneaInParallel``/``abaInParallel`` with the thread count shown. It prints, for UR5 unless said otherwise:
 
@@ -28,15 +28,16 @@ state, ``rneaInParallel``/``abaInParallel`` with the thread count shown. It prin
 6. compiling, first and from the cache: the Python programs, then the native library;
 7. start-up: ``course-dynamics info ur5`` and ``course-dynamics --help`` against importing numpy and pinocchio;
 8. chains of --chains joints: the cost per joint of τ, M, C and forward dynamics, interpreted and compiled
-   ("over bound" where a robot is too large to compile), so the O(n), O(n²) and O(n³) growth shows; then
+   ("over bound" where a robot is too large to compile), and of τ, M and forward dynamics by the native loop
+   (``core.compiled.looped``), so the O(n), O(n²) and O(n³) growth shows; then
    the default API on each chain against ``pin.rnea`` and ``pin.crba`` at one state and ``rneaInParallel(1)``
    on a --batch of states;
 9. against MuJoCo (the test extra installs it): the default API's τ, M and forward dynamics at one state
    against ``mj_inverse``, ``mj_forward`` + ``mj_fullM`` and ``mj_forward`` called from Python on UR5's URDF
    (meshes left out, MuJoCo's damping, armature and limits off), and ``simulate`` against ``mujoco.rollout``
    (RK4, the whole run in one C call);
-10. a batch τ call's peak memory over its output's size: --memory UR5 states (compiled) and states of a
-   50-joint chain (interpreted, in blocks);
+10. a batch τ call's peak memory over its output's size: --memory UR5 states and states of a 50-joint
+   chain, on the path the default API takes (printed);
 11. a fresh process with an empty compiled-model cache, the whole process timed: the first τ, and --loop
    one-state τ calls, against the same script with Pinocchio.
 """
@@ -56,9 +57,9 @@ from course_dynamics_reference.validate import random_states
 
 from course_dynamics import inverse_dynamics, load_robot, load_urdf, robot_path
 from course_dynamics.core import compiled as compiled_module
-from course_dynamics.core import dynamics, newton_euler
+from course_dynamics.core import dynamics, evaluator, newton_euler
 from course_dynamics.core import forward_dynamics as interpreted_forward
-from course_dynamics.core.compiled import ProgramTooLargeError, compile_model
+from course_dynamics.core.compiled import ProgramTooLargeError, compile_model, looped
 from course_dynamics.tools.simulation import simulate
 
 from measure import best, our_threads, print_conditions, print_load, threads, threads_used  # this folder is on the path
@@ -387,10 +388,11 @@ def memory(ur5_states: int, chain_states: int) -> None:
     with tempfile.TemporaryDirectory() as folder:
         path = Path(folder) / "chain50.urdf"
         path.write_text(chain_urdf(50))
-        for model, states, target, what in ((load_robot("ur5"), ur5_states, "memory ur5", "compiled"),
-                                            (load_urdf(path), chain_states, "memory chain", "interpreted")):
+        for model, states, target in ((load_robot("ur5"), ur5_states, "memory ur5"),
+                                      (load_urdf(path), chain_states, "memory chain")):
             q, qd, qdd = np.random.default_rng(0).uniform(-1, 1, (3, states, model.n))
             course_dynamics.inverse_dynamics(model, q[:2], qd[:2], qdd[:2])   # the choice made, the model loaded
+            what = evaluator.choice(model, calls=1, states=states).path
             tracemalloc.start()
             tau = course_dynamics.inverse_dynamics(model, q, qd, qdd)
             peak = tracemalloc.get_traced_memory()[1]
@@ -452,8 +454,9 @@ def start_up(r) -> None:
 
 def chains(sizes, r) -> None:
     print("8. chains: cost per joint of one state, µs, ours on 1 thread (interpreted, numpy's BLAS as above; compiled, "
-          "or 'over bound')")
-    print(f"  {'joints':>6} {'τ':>9} {'M':>9} {'C':>9} {'FD':>9} | {'τ':>9} {'M':>9} {'C':>9} {'FD':>9}")
+          "or 'over bound'; the native loop)")
+    print(f"  {'joints':>6} {'τ':>9} {'M':>9} {'C':>9} {'FD':>9} | {'τ':>9} {'M':>9} {'C':>9} {'FD':>9} | "
+          f"{'τ':>9} {'M':>9} {'FD':>9}")
     with tempfile.TemporaryDirectory() as folder:
         for n in sizes:
             path = Path(folder) / f"chain{n}.urdf"
@@ -474,7 +477,13 @@ def chains(sizes, r) -> None:
                                                                       lambda: c.forward_dynamics(q, qd, qdd))]
             except ProgramTooLargeError:
                 fast = [f"{'over bound':>9}"] + [" " * 9] * 3
-            print(f"  {n:>6} " + " ".join(f"{t / n * 1e6:9.3g}" for t in interpreted) + " | " + " ".join(fast))
+            loop = looped.looped(model)
+            loops = [f"{'not built':>9}"] + [" " * 9] * 2 if loop is None else [
+                f"{best(f, r, 2000) / n * 1e6:9.3g}" for f in (lambda: loop.native_call("tau", q, qd, qdd),
+                                                              lambda: loop.native_call("mass_matrix", q),
+                                                              lambda: loop.forward_dynamics(q, qd, qdd))]
+            print(f"  {n:>6} " + " ".join(f"{t / n * 1e6:9.3g}" for t in interpreted) + " | " + " ".join(fast) +
+                  " | " + " ".join(loops))
 
 
 def chains_against_pinocchio(sizes, states: int, r) -> None:

@@ -16,10 +16,12 @@ from helpers import ROOT, SAMPLES, assert_agrees, chain_urdf, urdf_of
 import course_dynamics
 from course_dynamics import load_robot, load_urdf
 from course_dynamics.core import evaluator
-from course_dynamics.core.compiled import CompiledModel, CompileWarning, ProgramTooLargeError, compile_model
+from course_dynamics.core.compiled import CompiledModel, CompileWarning, ProgramTooLargeError, compile_model, looped
 from course_dynamics.core.evaluator import COMPILE_SECONDS, Interpreted, choice, implementation, interpreted_seconds
 
 API = ("inverse_dynamics", "mass_matrix", "coriolis_matrix", "gravity_torques", "forward_dynamics", "regressor")
+#: What runs a float call the compiled model does not: the native loop, where it was built with the package.
+UNCOMPILED, UNCOMPILED_RUN = ("loop", looped.Looped) if looped.library() is not None else ("interpreted", Interpreted)
 
 
 @pytest.fixture
@@ -38,7 +40,7 @@ def test_the_rule_reads_the_call_and_the_cache(cold_cache):
     assert choice(arm, calls=1000, compiled=False) == evaluator.Choice("interpreted", evaluator.ASKED, None)
     assert choice(arm, floats=False).reason == evaluator.NOT_FLOATS
     little = choice(arm, calls=1, states=10)
-    assert (little.path, little.reason, type(little.run)) == ("interpreted", evaluator.LITTLE, Interpreted)
+    assert (little.path, little.reason, type(little.run)) == (UNCOMPILED, evaluator.LITTLE, UNCOMPILED_RUN)
     batch = int(np.ceil((COMPILE_SECONDS - interpreted_seconds(1, 0)) / evaluator.STATE_SECONDS))
     assert choice(arm, calls=1, states=batch - 1).reason == evaluator.LITTLE
     pays = choice(arm, calls=1, states=batch)                       # about 20 000 states: this call pays
@@ -55,7 +57,7 @@ def test_without_a_cache_the_call_alone_decides(monkeypatch):
     monkeypatch.setenv("COURSE_DYNAMICS_CACHE", "off")
     arm = load_robot("two_link")
     assert choice(arm, calls=1000).path == "compiled"               # compiled in memory ...
-    assert choice(arm, calls=1, states=10).path == "interpreted"    # ... which no cache holds
+    assert choice(arm, calls=1, states=10).path == UNCOMPILED       # ... which no cache holds
 
 
 SAME_CALL = """
@@ -64,7 +66,7 @@ import numpy as np
 import course_dynamics
 from course_dynamics import load_robot
 from course_dynamics.core import evaluator
-from course_dynamics.core.compiled import CompiledModel
+from course_dynamics.core.compiled import CompiledModel, looped
 
 ran = []
 def spy(cls, name, path):
@@ -73,6 +75,8 @@ def spy(cls, name, path):
 spy(evaluator.Interpreted, "inverse_dynamics", "interpreted")
 spy(CompiledModel, "inverse_dynamics", "compiled")
 spy(CompiledModel, "native_call", "compiled")           # the one-state shortcut to C
+spy(looped.Looped, "inverse_dynamics", "loop")
+spy(looped.Looped, "native_call", "loop")
 
 arm = load_robot("two_link").with_gravity([0, 0, -9.8])
 rng = np.random.default_rng(0)
@@ -114,7 +118,7 @@ def test_the_same_call_runs_the_same_implementation_whatever_ran_before(tmp_path
                 continue                                              # that batch fills the cache: below
             seen[cache, before] = one_state_call_after(before, cache)
             assert seen[cache, before]["ran"] == seen[cache, before]["path"], seen[cache, before]
-    for cache, path in (("off", "interpreted"), (str(tmp_path / "cold"), "interpreted"), (str(warm), "compiled")):
+    for cache, path in (("off", UNCOMPILED), (str(tmp_path / "cold"), UNCOMPILED), (str(warm), "compiled")):
         assert {seen[cache, before]["path"] for before in ("nothing", "loop", "batch") if (cache, before) in seen} \
                == {path}, seen
     assert seen[str(warm), "nothing"]["reason"] == evaluator.CACHED  # from the first call of the process
@@ -127,7 +131,12 @@ def test_one_long_run_compiles_at_its_start(cold_cache):
     assert choice(load_robot("rrr_arm"), calls=1, states=20_000).reason == evaluator.PAYS   # a 20 000-row log
 
 
-def test_a_robot_too_large_to_compile_warns_once_and_runs_interpreted(tmp_path):
+@pytest.mark.parametrize("native", ["on", "off"])
+def test_a_robot_too_large_to_compile_runs_the_loop_or_warns_once_and_runs_interpreted(native, tmp_path, monkeypatch):
+    """The native loop takes any size; without it (here: turned off) the recursions run, after one warning."""
+    if native == "off":
+        monkeypatch.setenv("COURSE_DYNAMICS_NATIVE", "off")
+    expected, run = (UNCOMPILED, UNCOMPILED_RUN) if native == "on" else ("interpreted", Interpreted)
     path = tmp_path / "chain.urdf"
     path.write_text(chain_urdf(60))
     chain = load_urdf(path)
@@ -135,12 +144,15 @@ def test_a_robot_too_large_to_compile_warns_once_and_runs_interpreted(tmp_path):
         implementation(chain, compiled=True)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        assert isinstance(implementation(chain, calls=10_000), Interpreted)
-        assert choice(chain, calls=10_000).path == "interpreted" and "too large" in choice(chain, calls=10_000).reason
+        assert isinstance(implementation(chain, calls=10_000), run)
+        assert choice(chain, calls=10_000).path == expected and "too large" in choice(chain, calls=10_000).reason
         q = np.random.default_rng(1).uniform(-1, 1, (3, 50, chain.n))
         tau = course_dynamics.inverse_dynamics(chain, *q)
-    assert [w.category for w in caught] == [CompileWarning]
-    np.testing.assert_array_equal(tau, course_dynamics.core.newton_euler.inverse_dynamics(chain, *q))
+        one = course_dynamics.inverse_dynamics(chain, *q[:, 0])
+    assert [w.category for w in caught] == ([CompileWarning] if expected == "interpreted" else [])
+    ref = course_dynamics.core.newton_euler.inverse_dynamics(chain, *q)
+    np.testing.assert_allclose(tau, ref, rtol=0, atol=1e-12 * np.abs(ref).max())
+    np.testing.assert_allclose(one, ref[0], rtol=0, atol=1e-12 * np.abs(ref).max())
 
 
 def test_symbols_and_duals_take_the_recursion_even_when_cached():
@@ -152,14 +164,16 @@ def test_symbols_and_duals_take_the_recursion_even_when_cached():
     assert all(isinstance(g, sp.Expr) for g in G) and G[1].has(t1)
 
 
-@pytest.mark.parametrize("path", ["interpreted", "compiled"])
-def test_the_package_functions_agree_with_pinocchio_on_either_path(robot, path, tmp_path, monkeypatch):
+@pytest.mark.parametrize("path", ["interpreted", UNCOMPILED, "compiled"])
+def test_the_package_functions_agree_with_pinocchio_on_every_path(robot, path, tmp_path, monkeypatch):
     name, _, oracle, (q, qd, qdd) = robot
     model = load_urdf(urdf_of(name))                                  # a model of this test's own
     if path == "compiled":
         compile_model(model)                                          # into the session's cache
     else:
         monkeypatch.setenv("COURSE_DYNAMICS_CACHE", str(tmp_path / "cold"))   # a cache that holds nothing
+        if path == "interpreted":
+            monkeypatch.setenv("COURSE_DYNAMICS_NATIVE", "off")      # and no native loop
     assert choice(model, calls=1, states=SAMPLES).path == path        # 200 states: too little to compile
     tau = course_dynamics.inverse_dynamics(model, q, qd, qdd)
     M = course_dynamics.mass_matrix(model, q)
@@ -192,7 +206,7 @@ def test_the_regressor_is_chosen_by_its_work(name, cold_cache):
 
     model = load_urdf(urdf_of(name))
     q, qd, qdd = np.random.default_rng(3).uniform(-1, 1, (3, 200, model.n))
-    assert choice(model, calls=evaluator.REGRESSOR_WORK, states=1).path == "interpreted"
+    assert choice(model, calls=evaluator.REGRESSOR_WORK, states=1).path == UNCOMPILED   # Y: the recursion's
     np.testing.assert_array_equal(evaluator.regressor(model, q[0], qd[0], qdd[0]), interpreted(model, q[0], qd[0], qdd[0]))
     assert choice(model, calls=evaluator.REGRESSOR_WORK, states=200).path == "compiled"
     Y = evaluator.regressor(model, q, qd, qdd)
@@ -213,6 +227,7 @@ def test_a_large_interpreted_batch_is_computed_in_blocks_to_the_same_bits(monkey
     arm = load_robot("rrr_arm")
     monkeypatch.setattr(evaluator, "BLOCK_STATES", 7)
     q, qd, qdd = np.random.default_rng(5).uniform(-1, 1, (3, 2, 10, arm.n))     # a (2, 10) batch: 20 states
+    monkeypatch.setenv("COURSE_DYNAMICS_NATIVE", "off")                          # the recursions as written
     assert choice(arm, calls=evaluator.REGRESSOR_WORK, states=20).path == "interpreted"     # little work, no cache
     friction = Friction(viscous=[0.1, 0.2, 0.3], coulomb=[0.5, 0.0, 0.1])
     for ours, whole in ((evaluator.inverse_dynamics, newton_euler.inverse_dynamics),
@@ -233,7 +248,7 @@ def test_the_tools_take_the_evaluators_choice(cold_cache):
 
     arm = load_robot("pendulum")
     short = simulate(arm, [0.5], [0.0], 0.01, 0.001, integrator="euler")        # 10 steps, a cold cache
-    assert choice(arm, calls=10).path == "interpreted"
+    assert choice(arm, calls=10).path == UNCOMPILED
     long = simulate(arm, [0.5], [0.0], 0.2, 0.001, integrator="euler")         # 200 steps pay
     assert choice(arm, calls=10).reason == evaluator.CACHED
     np.testing.assert_allclose(long.q[:len(short.q)], short.q, rtol=1e-12, atol=1e-15)
@@ -255,7 +270,7 @@ def test_a_batch_of_one_keeps_its_shape_on_every_path(tmp_path, monkeypatch):
             compile_model(model)
         shapes.append((choice(model).path, course_dynamics.inverse_dynamics(model, z, z, z).shape,
                        course_dynamics.mass_matrix(model, z).shape, course_dynamics.forward_dynamics(model, z, z, z).shape))
-    assert shapes == [("interpreted", (1, 3), (1, 3, 3), (1, 3)), ("compiled", (1, 3), (1, 3, 3), (1, 3))]
+    assert shapes == [(UNCOMPILED, (1, 3), (1, 3, 3), (1, 3)), ("compiled", (1, 3), (1, 3, 3), (1, 3))]
 
 
 def test_batches_of_different_lengths_are_one_clear_error():

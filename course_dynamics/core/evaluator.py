@@ -1,53 +1,55 @@
 """The one evaluator: for a model and a call, the implementation that runs it, chosen by one rule.
 
-Two implementations compute every term: the recursions as written (:mod:`~course_dynamics.core.newton_euler`,
-:mod:`~course_dynamics.core.crba`, …, the text a student reads; they take one state, a batch, sympy
-symbols, dual or complex numbers) and the compiled programs traced from them
-(:mod:`~course_dynamics.core.compiled`; float states only, agreeing to 1e-12). Which one runs is chosen
-here and nowhere else, by :func:`choice`: for the package's own functions (``course_dynamics.inverse_dynamics``,
-``mass_matrix``, ``coriolis_matrix``, ``gravity_torques``, ``forward_dynamics``, and :func:`regressor`), for
-``simulate``, the torques of a log, an excitation, an identification and a payload.
+Three implementations compute every term: the recursions as written (:mod:`~course_dynamics.core.newton_euler`,
+:mod:`~course_dynamics.core.crba`, …, the text a student reads; they take one state, a batch, sympy symbols,
+dual or complex numbers); the native loop (:mod:`~course_dynamics.core.compiled.looped`: each body's step of
+those recursions traced once into C, built with the package where a compiler was, looped over the bodies of
+any robot: τ, M and V + G of float64 states, the rest as written); and the compiled programs traced from them
+for one robot (:mod:`~course_dynamics.core.compiled`; float states only, agreeing to 1e-12). Which one runs
+is chosen here and nowhere else, by :func:`choice`: for the package's own functions
+(``course_dynamics.inverse_dynamics``, ``mass_matrix``, ``coriolis_matrix``, ``gravity_torques``,
+``forward_dynamics``, :func:`regressor`), ``simulate``, a log's torques, an excitation, an identification, a payload.
 
-The rule depends on the call (the kind of its numbers and the work it asks), on the model and on what the
-compiled-model cache holds; never on how many calls came before:
+The rule depends on the call (its numbers, the work it asks), the model and what the compiled-model cache
+holds; never on how many calls came before ("else": no loop installed, or ``COURSE_DYNAMICS_NATIVE=off``):
 
 ====================================================  =========================================================
 the call                                              runs
 ====================================================  =========================================================
 ``compiled=False`` (``--no-compile``)                 the recursions as written
 symbols, duals, complex numbers                       the recursions as written (the programs take floats only)
-a robot too large to compile                          the recursions as written (one ``CompileWarning``)
+a robot too large to compile                          the native loop, else the recursions (one ``CompileWarning``)
 ``compiled=True``                                     the compiled model, waiting for its native build
 floats, and the cache holds the compiled model        the compiled model, loaded from the cache
 floats, work of :data:`COMPILE_SECONDS` or more       the compiled model, compiled now (and kept in the cache)
-floats, less work, the cache does not hold it         the recursions as written, vectorised over a batch
+floats, less work, the cache does not hold it         the native loop, else the recursions vectorised over a batch
 ====================================================  =========================================================
 
-"Work" is an estimate of what the interpreted recursions would take for this call alone —
-:data:`CALL_SECONDS` a call plus :data:`STATE_SECONDS` a state of a batch (:func:`interpreted_seconds`); a
-tool whose calls are known in advance (a simulation's steps, a log's blocks) asks once for all of them.
-:data:`COMPILE_SECONDS` is about what loading a compiled model from a warm cache costs: a batch of about
-20 000 states, 100 Euler steps. "The cache holds it": ``<key>.entry`` is in the cache folder
+"Work" is an estimate of what the interpreted recursions would take for this call alone — :data:`CALL_SECONDS`
+a call plus :data:`STATE_SECONDS` a state of a batch (:func:`interpreted_seconds`); a tool whose calls are known
+in advance (a simulation's steps, a log's blocks) asks once for all of them. :data:`COMPILE_SECONDS` is about
+what loading a compiled model from a warm cache costs: a batch of about 20 000 states, 100 Euler steps.
+"The cache holds it": ``<key>.entry`` is in the cache folder
 (:func:`~course_dynamics.core.compiled.cache.cache_folder`; with ``COURSE_DYNAMICS_CACHE=off`` it never does), or
 this process loaded it from there or stored it there. So the same call on the same model runs the same code
-whatever ran before, as long as the cache holds the same; a loop of one-state calls is fast from its first
-call once the model was compiled once, by ``compile_model(model)`` or by a call of work that pays, in this
-process or an earlier one. Built objects are kept in this process by the model's content
+whatever ran before, as long as the cache holds the same; a loop of one-state calls runs C from its first call
+(the loop, or the compiled model once compiled by ``compile_model(model)`` or by a call of work that pays, in
+this process or an earlier one). Built objects are kept in this process by the model's content
 (:func:`~course_dynamics.core.compiled.model_key`) and cache folder, so that one is loaded once.
 
 The compiled model runs as C where a compiler exists (:mod:`~course_dynamics.core.compiled.native`) and the
 cache holds its library; a call of work :data:`NATIVE_SECONDS` or more (a long simulation) starts its build in
-the background (:mod:`~course_dynamics.core.compiled.building`: bounded, never tried again once it failed),
-and the Python programs answer until a later choice finds the library built, never in the middle of a call.
-A one-state call of finite float64 values on a model whose choice has been "compiled" with native code goes
-straight to the native code, with no other check (the same choice, remembered for the model object).
+the background (:mod:`~course_dynamics.core.compiled.building`: bounded, never tried again once it failed);
+until a later choice finds it built (never in the middle of a call) the loop stands in for its τ, M and V + G
+(``CompiledModel.loop``). A one-state call of finite float64 values on a model whose choice runs C for it goes
+straight to the C, with no other check (the same choice, remembered for the model object and the environment).
 
 >>> import numpy as np
 >>> from course_dynamics import load_robot
 >>> g = -9.81 - np.random.default_rng().uniform(0, 1e-3)             # numbers no cache holds yet
 >>> arm = load_robot("two_link").with_gravity([0, 0, g])
->>> choice(arm, calls=1, states=10).path, choice(arm, calls=1000).path   # a little work; a simulation's worth
-('interpreted', 'compiled')
+>>> choice(arm, calls=1, states=10).path in ("loop", "interpreted"), choice(arm, calls=1000).path   # a little; more
+(True, 'compiled')
 >>> choice(arm, calls=1, states=10).reason                           # and from now on: the cache holds it
 'the cache holds its compiled model'
 >>> q = np.array([0.1, 0.2])
@@ -56,6 +58,7 @@ True
 """
 from __future__ import annotations
 
+import dataclasses
 import os
 import warnings
 import weakref
@@ -68,6 +71,8 @@ from . import forward_dynamics as interpreted_forward
 from . import newton_euler
 from . import regressor as interpreted_regressor
 from .compiled import CompiledModel, CompileWarning, ProgramTooLargeError, cache_folder, compile_model, model_key
+from .compiled.looped import Looped, looped
+from .compiled.native import enabled as native_enabled
 from .drives import Driven, Drives
 from .friction import Friction
 from .model import Model
@@ -292,8 +297,8 @@ class Choice:
 
     @property
     def native(self) -> bool:
-        """Whether the compiled model runs as C."""
-        return bool(self.run.native)
+        """Whether C runs the call (the native loop, or a compiled model with its C or the loop standing in)."""
+        return bool(self.run.native) or getattr(self.run, "loop", None) is not None
 
 
 @dataclass
@@ -302,6 +307,7 @@ class _Compiled:
 
     compiled: CompiledModel | None = None
     too_large: str = ""
+    warned: bool = False  # the recursions ran it, too large to compile, after a warning
     native_tried: bool = False  # a native build was asked for (the cache holds no library, or it is building)
 
 
@@ -309,9 +315,10 @@ _KEYS: dict[int, tuple[weakref.ref, str]] = {}                  # id(model) -> i
 _COMPILED: dict[tuple[str, str], _Compiled] = {}                # (cache folder, model_key) -> what was built
 _FAST: dict[int, tuple[weakref.ref, tuple, CompiledModel]] = {}  # id(model) -> a "compiled" choice with C
 _FOLDERS: dict[tuple, object] = {}                              # the environment -> its cache folder
+_LOOPS: dict[str, Looped | None] = {}                           # model_key -> its checked native loop, or None
 
 
-_NAMES = ("COURSE_DYNAMICS_CACHE", "XDG_CACHE_HOME", "HOME")  # what cache_folder() reads
+_NAMES = ("COURSE_DYNAMICS_CACHE", "XDG_CACHE_HOME", "HOME", "COURSE_DYNAMICS_NATIVE")  # cache_folder(); native
 try:  # CPython's dict behind os.environ, read without decoding: the one-state shortcut asks on every call
     _RAW, _RAW_NAMES = os.environ._data, tuple(map(os.environ.encodekey, _NAMES))
 except AttributeError:
@@ -323,7 +330,7 @@ def _environment() -> tuple:
     if _RAW is None:
         return tuple(map(os.environ.get, _NAMES))
     raw = _RAW.get
-    return raw(_RAW_NAMES[0]), raw(_RAW_NAMES[1]), raw(_RAW_NAMES[2])
+    return raw(_RAW_NAMES[0]), raw(_RAW_NAMES[1]), raw(_RAW_NAMES[2]), raw(_RAW_NAMES[3])
 
 
 def _key(model: Model) -> str:
@@ -405,16 +412,16 @@ def choice(model: Model, calls: int = 1, states: int = 1, floats: bool = True, c
     if compiled is False or not floats:
         return Choice("interpreted", ASKED if compiled is False else NOT_FLOATS, Interpreted(model))
     environment = _environment()
-    folder = _FOLDERS.get(environment)
+    folder = _FOLDERS.get(environment[:3])
     if folder is None:
-        folder = _FOLDERS[environment] = str(cache_folder() or "")
+        folder = _FOLDERS[environment[:3]] = str(cache_folder() or "")
     work = interpreted_seconds(calls, states)
     if not (folder or compiled or work >= COMPILE_SECONDS):
-        return Choice("interpreted", LITTLE, Interpreted(model))  # no cache to hold it: no key needed
+        return _uncompiled(model, LITTLE, environment)  # no cache to hold it
     key = _key(model)
     known = _COMPILED.setdefault((folder, key), _Compiled())
     if known.too_large and not compiled:
-        return Choice("interpreted", known.too_large, Interpreted(model))
+        return _uncompiled(model, known.too_large, environment, known)
     if compiled:
         reason = ASKED
     elif folder and ((known.compiled is not None and known.compiled.path is not None)
@@ -423,7 +430,7 @@ def choice(model: Model, calls: int = 1, states: int = 1, floats: bool = True, c
     elif work >= COMPILE_SECONDS:
         reason = PAYS
     else:
-        return Choice("interpreted", LITTLE, Interpreted(model))
+        return _uncompiled(model, LITTLE, environment)
     native = True if compiled else ("background" if work >= NATIVE_SECONDS else None)
     if known.compiled is not None and known.compiled.native_build is not None:
         known.compiled = known.compiled.collected()  # a new CompiledModel once its library is built
@@ -434,14 +441,43 @@ def choice(model: Model, calls: int = 1, states: int = 1, floats: bool = True, c
             if compiled:
                 raise
             known.too_large = str(ProgramTooLargeError(error.what, ""))
-            warnings.warn(str(ProgramTooLargeError(error.what, "; running the interpreted recursions")),
-                          CompileWarning, stacklevel=4)
-            return Choice("interpreted", known.too_large, Interpreted(model))
+            return _uncompiled(model, known.too_large, environment, known)
         known.native_tried = known.native_tried or bool(native)
     run = known.compiled
-    if run.native and reason == CACHED:
-        _FAST[id(model)] = (weakref.ref(model), environment, run)
-    return Choice("compiled", reason, run)
+    if not run.native and run.loop is None and _loop(model) is not None:
+        run = known.compiled = dataclasses.replace(run, loop=_loop(model))  # the loop stands in for its C
+    return _remembered(model, Choice("compiled", reason, run), environment)
+
+
+def _loop(model: Model) -> Looped | None:
+    """The native loop for this model's content (checked once: :func:`~course_dynamics.core.compiled.looped.looped`),
+    or None where it does not run here."""
+    if not native_enabled():
+        return None
+    key = _key(model)
+    return _LOOPS[key] if key in _LOOPS else _LOOPS.setdefault(key, looped(model))
+
+
+def _uncompiled(model: Model, reason: str, environment: tuple, known: _Compiled | None = None) -> Choice:
+    """A float call no compiled model runs: the native loop where it runs here, else the recursions (after one
+    warning per model content, for a robot too large to compile: ``known``)."""
+    loop = _loop(model)
+    if loop is not None:
+        return _remembered(model, Choice("loop", reason, loop), environment)
+    if known is not None and not known.warned:
+        known.warned = True
+        warnings.warn(f"{known.too_large}; running the interpreted recursions", CompileWarning, stacklevel=4)
+    return Choice("interpreted", reason, Interpreted(model))
+
+
+def _remembered(model: Model, chosen: Choice, environment: tuple) -> Choice:
+    """The choice, remembered for the model's one-state calls where it runs native code for them (the loop, or a
+    compiled model with C that the cache holds)."""
+    if chosen.path == "loop" or (chosen.native and chosen.reason == CACHED):
+        _FAST[id(model)] = (weakref.ref(model), environment, chosen.run)
+    else:
+        _FAST.pop(id(model), None)
+    return chosen
 
 
 def implementation(model: Model, calls: int = 1, states: int = 1, compiled: bool | None = None):
@@ -497,7 +533,8 @@ def _blocked(run, name: str, *arrays: np.ndarray, **options) -> np.ndarray:
     method = getattr(run, name)
     batch = batch_shape(*arrays)
     states = int(np.prod(batch, dtype=np.int64))
-    if not isinstance(run, Interpreted) or states <= BLOCK_STATES or any(a.dtype != np.float64 for a in arrays):
+    if not isinstance(run, (Interpreted, Looped)) or states <= BLOCK_STATES or \
+            any(a.dtype != np.float64 for a in arrays):
         return method(*arrays, **options)
     flat = [np.broadcast_to(a, batch + a.shape[-1:]).reshape(states, a.shape[-1]) for a in arrays]
     first = method(*(f[:BLOCK_STATES] for f in flat), **options)
