@@ -185,3 +185,33 @@ def test_without_a_cache_a_command_stops_its_build_when_it_ends(tmp_path, monkey
     with pytest.raises(ProcessLookupError):  # the fake compiler (and its sleep) was killed with the command
         os.kill(int(pid), 0)
     assert not Path(folder).exists()
+
+
+def test_a_large_library_is_compiled_in_translation_units_at_once_and_linked(tmp_path, monkeypatch):
+    """UR5's C (over SPLIT_OPERATIONS) comes in two units, each compiled by its own compiler at the same time."""
+    ur5 = load_robot("ur5")
+    source = native.c_source(trace_programs(ur5), ur5.n, "k" * 64, ur5.name)
+    assert source.count(native.UNIT_MARK) == native.UNITS
+    pendulum = load_robot("pendulum")
+    assert native.UNIT_MARK not in native.c_source(trace_programs(pendulum), 1, "p" * 64, pendulum.name)
+    starts = tmp_path / "starts"
+    fake_compiler(tmp_path, monkeypatch, f'case "$*" in *" -c "*) date +%s.%N >> {starts}; sleep 1; exit 3;; esac')
+    begun = time.perf_counter()
+    data, reason = native.build(source, "k" * 64)
+    assert data is None and reason.startswith("the C compiler failed (exit 3)")
+    times = [float(t) for t in starts.read_text().split()]
+    assert len(times) == native.UNITS and max(times) - min(times) < 0.9   # started together, not one after another
+    assert time.perf_counter() - begun < 1.9
+
+
+@pytest.mark.skipif(not HAS_COMPILER, reason="needs a C compiler")
+def test_the_units_linked_agree_with_the_recursions():
+    from course_dynamics.core.newton_euler import inverse_dynamics
+
+    panda = load_robot("panda")
+    data, reason = native.build(native.c_source(trace_programs(panda), panda.n, "q" * 64, panda.name), "q" * 64)
+    functions = native.load(data, "q" * 64)
+    q = np.random.default_rng(2).uniform(-1, 1, panda.n)
+    out = np.empty(panda.n)
+    functions["tau"](q, q, q, out)
+    np.testing.assert_array_equal(out, inverse_dynamics(panda, q, q, q))

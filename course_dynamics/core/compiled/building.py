@@ -16,6 +16,10 @@ chain of 17   54 500      34 s, 946 MB                5.1 s, 221 MB
 chain of 20   74 100      129 s, 1.6 GB               7.8 s, 292 MB
 ============  ==========  ==========================  =========================
 
+A library of more than :data:`~course_dynamics.core.compiled.native.SPLIT_OPERATIONS` operations comes in
+:data:`~course_dynamics.core.compiled.native.UNITS` translation units compiled at once (UR5's C then takes
+0.6–0.9 s instead of 0.9–1.5 s here); the estimate below stays that of one compiler, an upper bound.
+
 So a build is estimated before it starts (:func:`estimated_seconds`: :data:`START_SECONDS` plus
 :data:`SECONDS_PER_OPERATION` an operation) and not started when the estimate passes
 :data:`MAX_BUILD_SECONDS`; every robot within :data:`~course_dynamics.core.compiled.tracing.MAX_OPERATIONS`

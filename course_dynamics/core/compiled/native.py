@@ -40,6 +40,7 @@ import subprocess
 import sys
 import sysconfig
 import tempfile
+import time
 from pathlib import Path
 
 import numpy as np
@@ -57,6 +58,14 @@ BUILD_MEMORY = 2**30          # address space of the compiler (the 20-joint chai
 BUILD_FILE_BYTES = 256 * 2**20  # any file the compiler writes (the 20-joint chain's library is 0.8 MB)
 #: The most operations in one C function; a longer program is cut into parts of this size.
 PART_OPERATIONS = 1000  # operations in one C function at most: gcc then takes time linear in the program (below)
+#: Between the shared prelude and each translation unit of a large library's C: the units compile at once,
+#: each on a core of its own, and are linked after.
+UNIT_MARK = "/* ---- translation unit ---- */"
+#: A library's programs of more operations than this are cut into :data:`UNITS` translation units.
+SPLIT_OPERATIONS = 3000
+#: The translation units of a large library (the cores a build may use at once).
+UNITS = 2
+C_FLAGS = ("-O1", "-fPIC", "-fno-math-errno", "-ffp-contract=off", "-I", sysconfig.get_paths()["include"])
 OPERATIONS = {"add": "{} + {}", "sub": "{} - {}", "mul": "{} * {}", "div": "{} / {}", "neg": "-{}", "cos": "cos({})",
               "sin": "sin({})"}
 
@@ -245,6 +254,17 @@ def _outputs(program: Program, n: int, value) -> list[str]:
     return lines
 
 
+def _units(programs: dict[str, Program]) -> list:
+    """The programs in translation units of about equal operations ([None]: one unit, no mark), largest first."""
+    sizes = {name: len(program.nodes) for name, program in programs.items()}
+    if sum(sizes.values()) <= SPLIT_OPERATIONS:
+        return [None]
+    units = [[] for _ in range(UNITS)]
+    for name in sorted(sizes, key=lambda name: -sizes[name]):
+        min(units, key=lambda unit: sum(sizes[p.name] for p in unit)).append(programs[name])
+    return [unit for unit in units if unit]
+
+
 @functools.cache
 def width(name: str, n: int, bodies: int | None = None) -> int:
     """Entries a native program writes per state (M whole, n × n, where the Python programs give its upper
@@ -260,7 +280,7 @@ def width(name: str, n: int, bodies: int | None = None) -> int:
 
 
 WRAPPER = """
-static PyObject *{name}(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+HIDDEN PyObject *{name}(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {{
     Py_buffer views[{count}];
     Py_ssize_t got = 0, states = 0;
@@ -361,15 +381,23 @@ def c_source(programs: dict[str, Program], n: int, key: str, robot: str) -> str:
              "#define PY_SSIZE_T_CLEAN", "#include <Python.h>", "#include <math.h>", "#include <stdlib.h>",
              "#include <string.h>", "",
              "#if defined(__GNUC__)  /* a part stays its own function, so no function gcc sees grows past a part */",
-             "#define PART __attribute__((noinline))", "#else", "#define PART", "#endif", ""]
+             "#define PART __attribute__((noinline))", "#define HIDDEN __attribute__((visibility(\"hidden\")))",
+             "#else", "#define PART", "#define HIDDEN", "#endif", ""]
+    parts += [f"HIDDEN PyObject *{name}(PyObject *self, PyObject *const *args, Py_ssize_t nargs);"
+              for name in programs] + [""]
     methods = []
+    for unit in _units(programs):
+        if unit is not None:
+            parts.append(UNIT_MARK)
+        for program in unit or programs.values():
+            function, carried = _function(program, n)
+            parts.append(function)
+            pointers = ", ".join(f"(const double *)views[{i}].buf + k * {n}" for i in range(len(program.inputs)))
+            bodies = len(program.outputs) // (10 * n) if program.name == "regressor" else None  # Y: n × 10 bodies
+            parts.append(WRAPPER.format(name=program.name, count=len(program.inputs) + 1, inputs=len(program.inputs),
+                                        width=width(program.name, n, bodies), n=n, pointers=pointers,
+                                        carried=carried))
     for program in programs.values():
-        function, carried = _function(program, n)
-        parts.append(function)
-        pointers = ", ".join(f"(const double *)views[{i}].buf + k * {n}" for i in range(len(program.inputs)))
-        bodies = len(program.outputs) // (10 * n) if program.name == "regressor" else None  # Y is n × 10 bodies
-        parts.append(WRAPPER.format(name=program.name, count=len(program.inputs) + 1, inputs=len(program.inputs),
-                                    width=width(program.name, n, bodies), n=n, pointers=pointers, carried=carried))
         methods.append(f'    {{"{program.name}", (PyCFunction)(void (*)(void)){program.name}, METH_FASTCALL, NULL}},')
     name = module_name(key)
     parts += ["static PyMethodDef methods[] = {", *methods, "    {NULL, NULL, 0, NULL}", "};", "",
@@ -416,7 +444,9 @@ def compile_library(folder: str, name: str, cc: str, seconds: float, memory: int
 
     The compiler runs in a session of its own, with at most ``seconds`` of wall and CPU time (then its whole
     process group is killed), ``memory`` bytes of address space and files of ``size`` bytes, its temporary
-    files in ``folder`` (TMPDIR) and what it prints in ``folder``/compiler.log.
+    files in ``folder`` (TMPDIR) and what it prints in ``folder``/compiler.log. A source cut into translation
+    units (:data:`UNIT_MARK`) has each unit compiled at once, each by its own compiler under the same limits
+    (``compiler<k>.log``), and the objects linked; ``seconds`` bounds the whole build.
 
     Parameters
     ----------
@@ -452,39 +482,98 @@ def compile_library(folder: str, name: str, cc: str, seconds: float, memory: int
     'the C compiler took longer than 0.001 s and was stopped'
     >>> shutil.rmtree(folder)
     """
-    command = [sys.executable, "-I", "-S", "-c", LIMITED, str(math.ceil(seconds)), str(memory), str(size), cc,
-               "-O1", "-fPIC", "-shared", "-fno-math-errno", "-ffp-contract=off",
-               "-I", sysconfig.get_paths()["include"],
-               f"{name}.c", "-o", f"{name}.so", "-lm"]
-    environment = dict(os.environ, TMPDIR=folder, LC_ALL="C")
     try:
-        log = os.open(os.path.join(folder, "compiler.log"), os.O_WRONLY | os.O_CREAT | os.O_TRUNC | os.O_NOFOLLOW,
-                      0o600)
-        try:
-            process = subprocess.Popen(command, cwd=folder, env=environment, stdin=subprocess.DEVNULL, stdout=log,
-                                       stderr=log, start_new_session=True)
-        finally:
-            os.close(log)
+        with open(os.path.join(folder, f"{name}.c"), encoding="utf-8") as handle:
+            units = handle.read().split(UNIT_MARK)
+    except (OSError, UnicodeDecodeError) as exc:
+        return f"the C source could not be read ({exc})"
+    deadline = time.monotonic() + seconds
+    if len(units) == 1:  # one translation unit: compiled and linked by one command
+        return _limited(folder, [cc, *C_FLAGS, "-shared", f"{name}.c", "-o", f"{name}.so", "-lm"], seconds, memory,
+                        size, deadline, "compiler.log")
+    objects, commands = [], []
+    for k, unit in enumerate(units[1:]):  # each after the shared prelude, compiled at once on its own core
+        source = f"{name}.u{k}.c"
+        fd = os.open(os.path.join(folder, source), os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o600)
+        with os.fdopen(fd, "w", encoding="utf-8") as handle:
+            handle.write(units[0] + unit)
+        objects.append(f"{name}.u{k}.o")
+        commands.append([cc, *C_FLAGS, "-c", source, "-o", objects[-1]])
+    reasons = _limited_together(folder, commands, seconds, memory, size, deadline)
+    if reasons:
+        return reasons
+    return _limited(folder, [cc, "-shared", *objects, "-o", f"{name}.so", "-lm"], seconds, memory, size, deadline,
+                    "compiler.log")
+
+
+def _start_limited(folder: str, argv: list[str], seconds: float, memory: int, size: int, log_name: str):
+    """The process running ``argv`` under the limits (LIMITED), in a session of its own, printing to ``log_name``."""
+    command = [sys.executable, "-I", "-S", "-c", LIMITED, str(math.ceil(seconds)), str(memory), str(size), *argv]
+    environment = dict(os.environ, TMPDIR=folder, LC_ALL="C")
+    log = os.open(os.path.join(folder, log_name), os.O_WRONLY | os.O_CREAT | os.O_TRUNC | os.O_NOFOLLOW, 0o600)
+    try:
+        return subprocess.Popen(command, cwd=folder, env=environment, stdin=subprocess.DEVNULL, stdout=log,
+                                stderr=log, start_new_session=True)
+    finally:
+        os.close(log)
+
+
+def _limited_together(folder: str, commands: list, seconds: float, memory: int, size: int,
+                      deadline: float) -> str | None:
+    """The commands run at once under the limits, all waited for until ``deadline``: None when every one ended
+    well, else why not (the first that did not); on a failure or at the deadline every one is stopped."""
+    processes = []
+    try:
+        for k, argv in enumerate(commands):
+            try:
+                processes.append((_start_limited(folder, argv, seconds, memory, size, f"compiler{k}.log"),
+                                  f"compiler{k}.log"))
+            except OSError as exc:
+                return f"the C compiler could not be started ({exc.strerror})"
+        for process, log in processes:
+            reason = _outcome(process, deadline, seconds, os.path.join(folder, log))
+            if reason:
+                return reason
+        return None
+    finally:
+        for process, _ in processes:
+            _stop(process)
+
+
+def _limited(folder: str, argv: list[str], seconds: float, memory: int, size: int, deadline: float,
+             log_name: str) -> str | None:
+    """``argv`` run under the limits until ``deadline``: None when it ended well, else why not."""
+    try:
+        process = _start_limited(folder, argv, seconds, memory, size, log_name)
     except OSError as exc:
         return f"the C compiler could not be started ({exc.strerror})"
     try:
-        code = process.wait(timeout=seconds)
-    except subprocess.TimeoutExpired:
-        code = None
+        return _outcome(process, deadline, seconds, os.path.join(folder, log_name))
     finally:
-        if process.returncode is None:  # too long, or interrupted: its whole group, cc1, as and ld included
-            try:
-                os.killpg(process.pid, signal.SIGKILL)
-            except OSError:
-                pass
-            process.wait()
-    if code is None:
+        _stop(process)
+
+
+def _outcome(process, deadline: float, seconds: float, log: str) -> str | None:
+    """Why a limited process did not end well by ``deadline`` (None when it did)."""
+    try:
+        code = process.wait(timeout=max(0.0, deadline - time.monotonic()))
+    except subprocess.TimeoutExpired:
         return f"the C compiler took longer than {seconds:g} s and was stopped"
     if code < 0:
         return f"the C compiler was stopped by signal {-code} (over its CPU time, memory or file-size limit)"
     if code != 0:
-        return f"the C compiler failed (exit {code}): {_last_line(os.path.join(folder, 'compiler.log'))}"
+        return f"the C compiler failed (exit {code}): {_last_line(log)}"
     return None
+
+
+def _stop(process) -> None:
+    """A process still running (too long, or interrupted) stopped: its whole group, cc1, as and ld included."""
+    if process.returncode is None and process.poll() is None:
+        try:
+            os.killpg(process.pid, signal.SIGKILL)
+        except OSError:
+            pass
+        process.wait()
 
 
 def _last_line(path: str) -> str:
