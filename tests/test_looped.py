@@ -43,7 +43,7 @@ def test_the_shipped_c_is_what_the_recursions_generate_now():
 def test_the_installed_library_was_built_from_the_shipped_c():
     library = looped.library()
     assert library is not None, looped.why_not()
-    assert library.STEPS == steps.steps_digest(steps.SOURCE.read_text())
+    assert library.SOURCE_SHA256 == steps.source_digest(steps.SOURCE.read_text())
 
 
 def test_every_step_is_traced_from_the_recursion_with_the_bodys_numbers_as_inputs():
@@ -199,7 +199,7 @@ def test_without_the_library_the_recursions_as_written_run(monkeypatch, tmp_path
 
 def test_a_library_that_disagrees_with_the_recursions_is_not_used(monkeypatch):
     class Wrong:
-        STEPS = ""
+        SOURCE_SHA256 = ""
 
         def __init__(self, right):
             self.right = right
@@ -229,3 +229,93 @@ def test_a_build_that_fails_leaves_an_install_without_the_loop(tmp_path):
     assert done.returncode == 0, done.stderr
     assert not list(tree.rglob("_looped*.so"))
     assert "failed" in (done.stdout + done.stderr).lower()
+
+
+def test_a_coupling_onto_fewer_coordinates_writes_only_within_its_output():
+    """Many bodies on one coordinate (a mimic's coupling) write M's n × n entries and nothing beyond them."""
+    array = steps.model_array(load_robot("two_link")).reshape(-1)[:steps.HEADER + steps.BODY].copy()
+    body = array[steps.HEADER:].copy()
+    many = np.concatenate([array[:steps.HEADER]] + [body] * 2000)
+    many[0], many[1] = 2000, 1
+    many[steps.HEADER::steps.BODY] = np.arange(-1, 1999)              # a chain: each body's parent the one before
+    out = np.full(3, np.nan)                                          # one entry of M, and two beyond it
+    looped.library().mass_matrix(many, np.zeros(1), out[:1])
+    assert np.isfinite(out[0]) and np.isnan(out[1:]).all()
+
+
+CHANGED_WHILE_RUNNING = """
+import threading
+import numpy as np
+from course_dynamics import load_robot
+from course_dynamics.core.compiled import looped, steps
+library = looped.library()
+array = steps.model_array(load_robot("ur5"))
+kind = steps.HEADER + 5 * steps.BODY + 1
+q = np.random.default_rng(0).uniform(-1, 1, (200_000, 6))
+out = np.empty_like(q)
+stop = False
+def flip():
+    while not stop:
+        array[kind] = 5e9
+        array[kind] = 0.0
+writer = threading.Thread(target=flip)
+writer.start()
+try:
+    library.tau(array, q, q, q, out)               # computed from the array as it was checked ...
+except ValueError as error:                        # ... or refused, if it was caught with a kind it has no step for
+    assert "model array" in str(error)
+stop = True
+writer.join()
+alias = steps.model_array(load_robot("ur5"))
+library.tau(alias, q[:2], q[:2], q[:2], alias[steps.HEADER:steps.HEADER + 12])   # an output over the model
+fresh = steps.model_array(load_robot("ur5"))
+library.mass_matrix(fresh, q[0], fresh[steps.HEADER:steps.HEADER + 36])
+print("done")
+"""
+
+
+def test_the_model_is_read_once_whatever_its_array_holds_meanwhile():
+    """Another thread writing the model array, or an output that overlaps it: the C computes from a copy."""
+    done = subprocess.run([sys.executable, "-c", CHANGED_WHILE_RUNNING], capture_output=True, text=True, timeout=120,
+                          env=dict(os.environ, PYTHONPATH=str(ROOT)))
+    assert done.returncode == 0 and done.stdout.strip() == "done", done.stderr[-2000:]
+
+
+def test_a_loops_model_array_cannot_be_changed():
+    run = looped.looped(load_robot("two_link"))
+    with pytest.raises(ValueError, match="read-only"):
+        run.array[steps.HEADER + steps.SLOTS["mass"]] *= 10
+
+
+def test_a_library_built_from_any_other_c_is_told_apart():
+    source = steps.SOURCE.read_text()
+    assert steps.source_digest(source) == looped.library().SOURCE_SHA256
+    for change in (("nb > 100000", "nb > 100"), ("#define BODY 64", "#define BODY 65"), ("out[0] = ", "out[0] =  ")):
+        assert change[0] in source
+        assert steps.source_digest(source.replace(*change[:2], 1)) != steps.source_digest(source), change
+
+
+def test_turned_off_mid_process_the_loop_no_longer_stands_in(tmp_path, monkeypatch):
+    monkeypatch.setenv("COURSE_DYNAMICS_CACHE", str(tmp_path / "cold"))
+    arm = load_robot("rrr_arm").with_gravity([0, 0, -9.65])
+    assert evaluator.choice(arm, calls=200).run.loop is not None
+    monkeypatch.setenv("COURSE_DYNAMICS_NATIVE", "off")
+    chosen = evaluator.choice(arm, calls=200)
+    assert chosen.run.loop is None and not chosen.native
+
+
+def test_compiling_a_model_ends_the_one_state_shortcut_to_its_loop(tmp_path, monkeypatch):
+    """Once the cache holds the compiled model, a one-state call runs it, as the choice says."""
+    from course_dynamics.core.compiled import CompiledModel, compile_model
+
+    monkeypatch.setenv("COURSE_DYNAMICS_CACHE", str(tmp_path / "cold"))
+    arm = load_robot("ur5").with_gravity([0, 0, -9.66])
+    q = np.random.default_rng(2).uniform(-1, 1, 6)
+    course_dynamics.inverse_dynamics(arm, q, q, q)
+    assert isinstance(evaluator._FAST[id(arm)][2], looped.Looped)
+    compile_model(arm)
+    ran = []
+    original = CompiledModel.native_call
+    monkeypatch.setattr(CompiledModel, "native_call", lambda self, *a: (ran.append(a[0]), original(self, *a))[1])
+    course_dynamics.inverse_dynamics(arm, q, q, q)
+    assert ran == ["tau"] and evaluator.choice(arm).path == "compiled"

@@ -33,16 +33,15 @@ what loading a compiled model from a warm cache costs: a batch of about 20 000 s
 (:func:`~course_dynamics.core.compiled.cache.cache_folder`; with ``COURSE_DYNAMICS_CACHE=off`` it never does), or
 this process loaded it from there or stored it there. So the same call on the same model runs the same code
 whatever ran before, as long as the cache holds the same; a loop of one-state calls runs C from its first call
-(the loop, or the compiled model once compiled by ``compile_model(model)`` or by a call of work that pays, in
-this process or an earlier one). Built objects are kept in this process by the model's content
-(:func:`~course_dynamics.core.compiled.model_key`) and cache folder, so that one is loaded once.
+(the loop, or the compiled model once compiled, in this process or an earlier one). Built objects are kept in
+this process by the model's content (:func:`~course_dynamics.core.compiled.model_key`) and cache folder.
 
 The compiled model runs as C where a compiler exists (:mod:`~course_dynamics.core.compiled.native`) and the
 cache holds its library; a call of work :data:`NATIVE_SECONDS` or more (a long simulation) starts its build in
 the background (:mod:`~course_dynamics.core.compiled.building`: bounded, never tried again once it failed);
 until a later choice finds it built (never in the middle of a call) the loop stands in for its τ, M and V + G
 (``CompiledModel.loop``). A one-state call of finite float64 values on a model whose choice runs C for it goes
-straight to the C, with no other check (the same choice, remembered for the model object and the environment).
+straight to the C (the same choice, remembered for the model object, the environment and the cache's content).
 
 >>> import numpy as np
 >>> from course_dynamics import load_robot
@@ -71,6 +70,7 @@ from . import forward_dynamics as interpreted_forward
 from . import newton_euler
 from . import regressor as interpreted_regressor
 from .compiled import CompiledModel, CompileWarning, ProgramTooLargeError, cache_folder, compile_model, model_key
+from .compiled.cache import WRITES
 from .compiled.looped import Looped, looped
 from .compiled.native import enabled as native_enabled
 from .drives import Driven, Drives
@@ -313,7 +313,7 @@ class _Compiled:
 
 _KEYS: dict[int, tuple[weakref.ref, str]] = {}                  # id(model) -> its model_key
 _COMPILED: dict[tuple[str, str], _Compiled] = {}                # (cache folder, model_key) -> what was built
-_FAST: dict[int, tuple[weakref.ref, tuple, CompiledModel]] = {}  # id(model) -> a "compiled" choice with C
+_FAST: dict[int, tuple] = {}  # id(model) -> (the model's weakref, environment, what runs its C, cache WRITES)
 _FOLDERS: dict[tuple, object] = {}                              # the environment -> its cache folder
 _LOOPS: dict[str, Looped | None] = {}                           # model_key -> its checked native loop, or None
 
@@ -444,14 +444,15 @@ def choice(model: Model, calls: int = 1, states: int = 1, floats: bool = True, c
             return _uncompiled(model, known.too_large, environment, known)
         known.native_tried = known.native_tried or bool(native)
     run = known.compiled
-    if not run.native and run.loop is None and _loop(model) is not None:
+    if run.loop is not None and not native_enabled():
+        run = dataclasses.replace(run, loop=None)  # turned off since: its Python programs
+    elif not run.native and run.loop is None and _loop(model) is not None:
         run = known.compiled = dataclasses.replace(run, loop=_loop(model))  # the loop stands in for its C
     return _remembered(model, Choice("compiled", reason, run), environment)
 
 
 def _loop(model: Model) -> Looped | None:
-    """The native loop for this model's content (checked once: :func:`~course_dynamics.core.compiled.looped.looped`),
-    or None where it does not run here."""
+    """The native loop for this model's content (checked once, by ``looped``), or None where it does not run."""
     if not native_enabled():
         return None
     key = _key(model)
@@ -459,8 +460,7 @@ def _loop(model: Model) -> Looped | None:
 
 
 def _uncompiled(model: Model, reason: str, environment: tuple, known: _Compiled | None = None) -> Choice:
-    """A float call no compiled model runs: the native loop where it runs here, else the recursions (after one
-    warning per model content, for a robot too large to compile: ``known``)."""
+    """A float call no compiled model runs: the loop, else the recursions (warned once if too large: ``known``)."""
     loop = _loop(model)
     if loop is not None:
         return _remembered(model, Choice("loop", reason, loop), environment)
@@ -474,7 +474,7 @@ def _remembered(model: Model, chosen: Choice, environment: tuple) -> Choice:
     """The choice, remembered for the model's one-state calls where it runs native code for them (the loop, or a
     compiled model with C that the cache holds)."""
     if chosen.path == "loop" or (chosen.native and chosen.reason == CACHED):
-        _FAST[id(model)] = (weakref.ref(model), environment, chosen.run)
+        _FAST[id(model)] = (weakref.ref(model), environment, chosen.run, WRITES[0])
     else:
         _FAST.pop(id(model), None)
     return chosen
@@ -521,7 +521,7 @@ def _native(model: Model, name: str, *arguments) -> np.ndarray | None:
     """The native result for one finite float64 state as given, where the model's choice is a compiled model
     with C in this environment (CompiledModel.native_call), else None."""
     fast = _FAST.get(id(model))
-    if fast is None or fast[0]() is not model or fast[1] != _environment():
+    if fast is None or fast[0]() is not model or fast[1] != _environment() or fast[3] != WRITES[0]:
         return None
     return fast[2].native_call(name, *arguments)
 

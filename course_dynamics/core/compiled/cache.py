@@ -165,6 +165,11 @@ def _read_private(folder_fd: int, name: str, private_mode: int, limit: int) -> b
         os.close(fd)
 
 
+#: How many entries this process has written to a cache ([count]): a choice remembered from before a write
+#: (the evaluator's one-state shortcut) is made again after it.
+WRITES = [0]
+
+
 def _write_private(folder_fd: int, name: str, data: bytes) -> bool:
     """Write ``name`` in the folder whole, mode 0600: a new file (O_EXCL, no link followed) renamed over it.
 
@@ -182,6 +187,7 @@ def _write_private(folder_fd: int, name: str, data: bytes) -> bool:
         with os.fdopen(fd, "wb") as handle:
             handle.write(data)
         os.replace(temporary, name, src_dir_fd=folder_fd, dst_dir_fd=folder_fd)  # a rename never follows a link
+        WRITES[0] += 1
         return True
     except OSError:
         try:

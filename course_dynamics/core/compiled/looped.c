@@ -1324,9 +1324,6 @@ static void crba(const double *model, Py_ssize_t bodies, Py_ssize_t n, const dou
                  double *out)
 {
     static const step_t place[2] = {place_revolute_one, place_prismatic_one};
-    const int coupled = model[2] != 0;
-    double *Mb = coupled ? work + bodies * CRBA_BLOCK : out;
-    Py_ssize_t size = coupled ? bodies : n;
     for (Py_ssize_t i = 0; i < bodies; i++) {
         const double *b = model + HEADER + i * BODY;
         Py_ssize_t p = (Py_ssize_t)b[0];
@@ -1341,26 +1338,21 @@ static void crba(const double *model, Py_ssize_t bodies, Py_ssize_t n, const dou
             memcpy(work + p * CRBA_BLOCK + 18, total, sizeof total);
         }
     }
-    for (Py_ssize_t k = 0; k < size * size; k++)
-        Mb[k] = 0.0;
-    for (Py_ssize_t i = 0; i < bodies; i++) {
+    for (Py_ssize_t k = 0; k < n * n; k++)
+        out[k] = 0.0;
+    for (Py_ssize_t i = 0; i < bodies; i++) {      /* M_bodies[k][i] for i and each ancestor k, into Sᵀ M_bodies S */
+        const double *bi = model + HEADER + i * BODY;
+        const Py_ssize_t ji = (Py_ssize_t)bi[2];
         double F[6];
         force_one(work + i * CRBA_BLOCK, NULL, NULL, F);
         for (Py_ssize_t k = i; k >= 0; k = (Py_ssize_t)model[HEADER + k * BODY]) {
+            const double *bk = model + HEADER + k * BODY;
+            const Py_ssize_t jk = (Py_ssize_t)bk[2];
             double m;
             power_one(work + k * CRBA_BLOCK, F, NULL, &m);
-            Mb[k * size + i] = Mb[i * size + k] = m;
-        }
-    }
-    if (!coupled)
-        return;
-    for (Py_ssize_t k = 0; k < n * n; k++)
-        out[k] = 0.0;
-    for (Py_ssize_t k = 0; k < bodies; k++) {
-        const double *bk = model + HEADER + k * BODY;
-        for (Py_ssize_t l = 0; l < bodies; l++) {
-            const double *bl = model + HEADER + l * BODY;
-            out[(Py_ssize_t)bk[2] * n + (Py_ssize_t)bl[2]] += bk[3] * bl[3] * Mb[k * bodies + l];
+            out[jk * n + ji] += bk[3] * bi[3] * m;
+            if (k != i)
+                out[ji * n + jk] += bi[3] * bk[3] * m;
         }
     }
 }
@@ -1371,7 +1363,7 @@ static PyObject *run(PyObject *const *args, Py_ssize_t nargs, Py_ssize_t inputs,
     Py_buffer views[5];
     Py_ssize_t got = 0, states = 0, bodies = 0, n = 0;
     PyObject *result = NULL;
-    double *work = NULL;
+    double *work = NULL, *model = NULL;
     if (nargs != inputs + 2) {
         PyErr_Format(PyExc_TypeError, "%s takes the model array, %zd input arrays and one output array", name,
                      inputs);
@@ -1387,7 +1379,13 @@ static PyObject *run(PyObject *const *args, Py_ssize_t nargs, Py_ssize_t inputs,
             goto done;
         }
     }
-    const double *model = views[0].buf;
+    /* the model is copied before it is checked: what is computed from is what was checked, whatever the caller's
+       array holds meanwhile (another thread, an output that overlaps it) */
+    if ((model = malloc(views[0].len ? (size_t)views[0].len : 1)) == NULL) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    memcpy(model, views[0].buf, (size_t)views[0].len);
     if (check_model(model, views[0].len / 8, &bodies, &n) != 0)
         goto done;
     Py_ssize_t width = which == 1 ? n * n : n;
@@ -1408,8 +1406,7 @@ static PyObject *run(PyObject *const *args, Py_ssize_t nargs, Py_ssize_t inputs,
             }
         }
     }
-    size_t size = which == 1 ? (size_t)bodies * (CRBA_BLOCK + (model[2] != 0 ? bodies : 0))
-                             : (size_t)bodies * RNEA_BLOCK;
+    size_t size = (size_t)bodies * (which == 1 ? CRBA_BLOCK : RNEA_BLOCK);
     if ((work = malloc(sizeof(double) * size)) == NULL) {
         PyErr_NoMemory();
         goto done;
@@ -1430,6 +1427,7 @@ static PyObject *run(PyObject *const *args, Py_ssize_t nargs, Py_ssize_t inputs,
     result = Py_None;
 done:
     free(work);
+    free(model);
     for (Py_ssize_t i = 0; i < got; i++)
         PyBuffer_Release(&views[i]);
     return result;
@@ -1456,7 +1454,7 @@ static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_looped", NULL, -1, 
 PyMODINIT_FUNC PyInit__looped(void)
 {
     PyObject *m = PyModule_Create(&module);
-    if (m != NULL && PyModule_AddStringConstant(m, "STEPS", "d2b8e893b5a51f830a90f887b8e16b19e57b4f378a50ea4e42b308062b6bd9fd") != 0) {
+    if (m != NULL && PyModule_AddStringConstant(m, "SOURCE_SHA256", "37529f18bbedb3f53e8fa3a4e8048d4bae81a488705cc83b5e0b070330305e18") != 0) {
         Py_DECREF(m);
         return NULL;
     }

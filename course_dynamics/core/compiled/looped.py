@@ -32,7 +32,7 @@ from ..newton_euler import inverse_dynamics
 from ..regressor import regressor
 from ..state import as_state
 from . import native
-from .steps import SOURCE, model_array, steps_digest
+from .steps import BASE_ACCELERATION, SOURCE, model_array, source_digest
 
 
 _LIBRARY: list = []  # the extension once imported (or None where it is not installed)
@@ -59,7 +59,7 @@ def library():
         try:
             module = importlib.import_module(f"{__package__}._looped")
             shipped = SOURCE.read_text(encoding="utf-8")
-            _LIBRARY.append(module if module.STEPS == steps_digest(shipped) else None)  # built from other steps
+            _LIBRARY.append(module if module.SOURCE_SHA256 == source_digest(shipped) else None)  # or another C
         except (ImportError, AttributeError, OSError, ValueError):
             _LIBRARY.append(None)
     return _LIBRARY[0]
@@ -303,9 +303,10 @@ class Looped:
 
 
 def looped(model: Model) -> Looped | None:
-    """The native loop for ``model``, checked against the recursions as written at a random state (τ, M and
-    V + G to 1e-9 of their size, one state and a batch of two); None where it does not run here
-    (:func:`why_not`), for a model with symbols, or where it disagrees.
+    """The native loop for ``model``, checked first at a random state: τ and V + G against the recursions as
+    written (one state and a batch of two), M against the columns of τ without gravity at Θ̇ = 0 (M eⱼ, by the
+    same loop: so the check costs O(n) interpreted work), each to 1e-9 of its size; None where the loop does not
+    run here (:func:`why_not`), for a model with symbols, or where it disagrees.
 
     Parameters
     ----------
@@ -315,7 +316,7 @@ def looped(model: Model) -> Looped | None:
     Returns
     -------
     Looped or None
-        What runs the loop for this model.
+        What runs the loop for this model (its model array read-only).
 
     Examples
     --------
@@ -331,22 +332,26 @@ def looped(model: Model) -> Looped | None:
         array = model_array(model)
     except (TypeError, ValueError):  # symbols: no float numbers to loop over
         return None
+    array.setflags(write=False)
     run = Looped(model, array, {"tau": lib.tau, "mass_matrix": lib.mass_matrix, "bias": lib.bias})
-    q, qd, qdd = np.random.default_rng().uniform(-1, 1, (3, model.n))
+    n = model.n
+    q, qd, qdd = np.random.default_rng().uniform(-1, 1, (3, n))
+    weightless = model_array(model)
+    weightless[BASE_ACCELERATION] = 0.0
+    columns = np.empty((n, n))
     expected = {"tau": (inverse_dynamics(model, q, qd, qdd), (q, qd, qdd)),
-                "mass_matrix": (interpreted_mass_matrix(model, q), (q,)),
                 "bias": (inverse_dynamics(model, q, qd, 0 * qd), (q, qd))}
     try:
+        lib.tau(weightless, np.tile(q, (n, 1)), np.zeros((n, n)), np.eye(n), columns)  # row j: τ(Θ, 0, eⱼ) = M eⱼ
+        expected["mass_matrix"] = (columns.T, (q,))
         for name, (ours, arguments) in expected.items():
             one = run.native_call(name, *arguments)
             two = run._run(name, *(np.stack([a, a]) for a in arguments))
-            scale = 1 + np.abs(ours).max()
-            close = one is not None and np.abs(one - ours).max() <= 1e-9 * scale
-            if not (close and np.abs(two - ours).max() <= 1e-9 * scale):
+            tolerance = 1e-9 * np.abs(ours).max() + np.finfo(float).tiny
+            if one is None or not (np.abs(one - ours).max() <= tolerance and np.abs(two - ours).max() <= tolerance):
                 return None
     except (TypeError, ValueError, BufferError):
         return None
     return run
-
 
 __all__ = ["Looped", "library", "looped", "why_not"]

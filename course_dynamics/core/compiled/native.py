@@ -58,8 +58,8 @@ BUILD_MEMORY = 2**30          # address space of the compiler (the 20-joint chai
 BUILD_FILE_BYTES = 256 * 2**20  # any file the compiler writes (the 20-joint chain's library is 0.8 MB)
 #: The most operations in one C function; a longer program is cut into parts of this size.
 PART_OPERATIONS = 1000  # operations in one C function at most: gcc then takes time linear in the program (below)
-#: Between the shared prelude and each translation unit of a large library's C: the units compile at once,
-#: each on a core of its own, and are linked after.
+#: The line before each translation unit of a large library's C (after the prelude they share); the units
+#: compile at once, each on a core of its own, and are linked after.
 UNIT_MARK = "/* ---- translation unit ---- */"
 #: A library's programs of more operations than this are cut into :data:`UNITS` translation units.
 SPLIT_OPERATIONS = 3000
@@ -697,5 +697,6 @@ def load(data: bytes, key: str) -> dict | None:
     return {name: getattr(module, name) for name in dir(module) if not name.startswith("_")}
 
 
-__all__ = ["BUILD_FILE_BYTES", "BUILD_MEMORY", "BUILD_SECONDS", "NATIVE_OFF", "PART_OPERATIONS", "THREADS",
-           "THREAD_STATES", "build", "c_argument", "c_source", "compile_library", "compiler", "enabled", "load"]
+__all__ = ["BUILD_FILE_BYTES", "BUILD_MEMORY", "BUILD_SECONDS", "NATIVE_OFF", "PART_OPERATIONS", "SPLIT_OPERATIONS",
+           "THREADS", "THREAD_STATES", "UNITS", "UNIT_MARK", "build", "c_argument", "c_source", "compile_library",
+           "compiler", "enabled", "load", "run_batch"]

@@ -27,14 +27,16 @@ step (C function)        traced from
 The loops themselves (``rnea`` and ``crba`` in the C, :data:`DRIVERS`) are the iterations of
 :func:`~course_dynamics.core.newton_euler.outward_iteration`,
 :func:`~course_dynamics.core.newton_euler.inward_iteration`
-and ``crba.mass_matrix_entries`` (:func:`~course_dynamics.core.crba.mass_matrix`), with the mimic coupling θ_bodies = S Θ + b at their
-entry and Sᵀ at their exit (:meth:`~course_dynamics.core.model.Model.body_entries`); a child's force, moment
+and ``crba.mass_matrix_entries`` (:func:`~course_dynamics.core.crba.mass_matrix`), with the mimic coupling
+θ_bodies = S Θ + b at their entry and Sᵀ at their exit (:meth:`~course_dynamics.core.model.Model.body_entries`;
+M's entry of bodies k and i goes to coordinates jₖ and jᵢ, scaled by both multipliers); a child's force, moment
 and composite inertia are added into its parent's as the child is reached, tips to base, so that a tree's
 children add in the reverse order (a difference in the last bits; a chain's are the same bits).
 
-The C refuses (TypeError, ValueError) anything but C-contiguous float64 buffers of whole, finite
-states and a model array it can trust (every parent before its child, a joint kind it has, a coordinate in
-range), so a caller can try it first.
+The C refuses (TypeError, ValueError) anything but C-contiguous float64 buffers of whole, finite states and a
+model array it can trust (every parent before its child, a joint kind it has, a coordinate in range), so a
+caller can try it first; it copies the model array before checking it, and computes from the copy (another
+thread writing the array meanwhile, or an output over it, changes nothing), and its work memory is O(bodies).
 
 To regenerate ``looped.c`` after the recursions changed (a test holds it to what they generate), then reinstall
 the package::
@@ -44,6 +46,7 @@ the package::
 from __future__ import annotations
 
 import hashlib
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -183,8 +186,10 @@ def trace_steps() -> dict[str, Program]:
     return steps
 
 
-#: Where the loops begin in the C; what comes before is the traced steps, which the library's digest names.
-DRIVERS_MARK = "\n/* ---- the loops over the bodies"
+#: Where the model array holds the base's acceleration, −g (in the Newton–Euler loop's base block).
+BASE_ACCELERATION = slice(3 + 6, 3 + 9)
+#: What the C's own digest stands in for while the digest is computed (:func:`source_digest`).
+UNDIGESTED = "0" * 64
 #: The loops over the bodies and the extension's wrappers, C written by hand around the traced steps.
 DRIVERS = r"""
 /* ---- the loops over the bodies (written by hand: the iterations, not their equations) ---- */
@@ -254,9 +259,6 @@ static void crba(const double *model, Py_ssize_t bodies, Py_ssize_t n, const dou
                  double *out)
 {{
     static const step_t place[2] = {{place_revolute_one, place_prismatic_one}};
-    const int coupled = model[2] != 0;
-    double *Mb = coupled ? work + bodies * CRBA_BLOCK : out;
-    Py_ssize_t size = coupled ? bodies : n;
     for (Py_ssize_t i = 0; i < bodies; i++) {{
         const double *b = model + HEADER + i * BODY;
         Py_ssize_t p = (Py_ssize_t)b[0];
@@ -271,26 +273,21 @@ static void crba(const double *model, Py_ssize_t bodies, Py_ssize_t n, const dou
             memcpy(work + p * CRBA_BLOCK + 18, total, sizeof total);
         }}
     }}
-    for (Py_ssize_t k = 0; k < size * size; k++)
-        Mb[k] = 0.0;
-    for (Py_ssize_t i = 0; i < bodies; i++) {{
+    for (Py_ssize_t k = 0; k < n * n; k++)
+        out[k] = 0.0;
+    for (Py_ssize_t i = 0; i < bodies; i++) {{      /* M_bodies[k][i] for i and each ancestor k, into Sᵀ M_bodies S */
+        const double *bi = model + HEADER + i * BODY;
+        const Py_ssize_t ji = (Py_ssize_t)bi[2];
         double F[6];
         force_one(work + i * CRBA_BLOCK, NULL, NULL, F);
         for (Py_ssize_t k = i; k >= 0; k = (Py_ssize_t)model[HEADER + k * BODY]) {{
+            const double *bk = model + HEADER + k * BODY;
+            const Py_ssize_t jk = (Py_ssize_t)bk[2];
             double m;
             power_one(work + k * CRBA_BLOCK, F, NULL, &m);
-            Mb[k * size + i] = Mb[i * size + k] = m;
-        }}
-    }}
-    if (!coupled)
-        return;
-    for (Py_ssize_t k = 0; k < n * n; k++)
-        out[k] = 0.0;
-    for (Py_ssize_t k = 0; k < bodies; k++) {{
-        const double *bk = model + HEADER + k * BODY;
-        for (Py_ssize_t l = 0; l < bodies; l++) {{
-            const double *bl = model + HEADER + l * BODY;
-            out[(Py_ssize_t)bk[2] * n + (Py_ssize_t)bl[2]] += bk[3] * bl[3] * Mb[k * bodies + l];
+            out[jk * n + ji] += bk[3] * bi[3] * m;
+            if (k != i)
+                out[ji * n + jk] += bi[3] * bk[3] * m;
         }}
     }}
 }}
@@ -301,7 +298,7 @@ static PyObject *run(PyObject *const *args, Py_ssize_t nargs, Py_ssize_t inputs,
     Py_buffer views[5];
     Py_ssize_t got = 0, states = 0, bodies = 0, n = 0;
     PyObject *result = NULL;
-    double *work = NULL;
+    double *work = NULL, *model = NULL;
     if (nargs != inputs + 2) {{
         PyErr_Format(PyExc_TypeError, "%s takes the model array, %zd input arrays and one output array", name,
                      inputs);
@@ -317,7 +314,13 @@ static PyObject *run(PyObject *const *args, Py_ssize_t nargs, Py_ssize_t inputs,
             goto done;
         }}
     }}
-    const double *model = views[0].buf;
+    /* the model is copied before it is checked: what is computed from is what was checked, whatever the caller's
+       array holds meanwhile (another thread, an output that overlaps it) */
+    if ((model = malloc(views[0].len ? (size_t)views[0].len : 1)) == NULL) {{
+        PyErr_NoMemory();
+        goto done;
+    }}
+    memcpy(model, views[0].buf, (size_t)views[0].len);
     if (check_model(model, views[0].len / 8, &bodies, &n) != 0)
         goto done;
     Py_ssize_t width = which == 1 ? n * n : n;
@@ -338,8 +341,7 @@ static PyObject *run(PyObject *const *args, Py_ssize_t nargs, Py_ssize_t inputs,
             }}
         }}
     }}
-    size_t size = which == 1 ? (size_t)bodies * (CRBA_BLOCK + (model[2] != 0 ? bodies : 0))
-                             : (size_t)bodies * RNEA_BLOCK;
+    size_t size = (size_t)bodies * (which == 1 ? CRBA_BLOCK : RNEA_BLOCK);
     if ((work = malloc(sizeof(double) * size)) == NULL) {{
         PyErr_NoMemory();
         goto done;
@@ -360,6 +362,7 @@ static PyObject *run(PyObject *const *args, Py_ssize_t nargs, Py_ssize_t inputs,
     result = Py_None;
 done:
     free(work);
+    free(model);
     for (Py_ssize_t i = 0; i < got; i++)
         PyBuffer_Release(&views[i]);
     return result;
@@ -386,7 +389,7 @@ static struct PyModuleDef module = {{PyModuleDef_HEAD_INIT, "_looped", NULL, -1,
 PyMODINIT_FUNC PyInit__looped(void)
 {{
     PyObject *m = PyModule_Create(&module);
-    if (m != NULL && PyModule_AddStringConstant(m, "STEPS", "{digest}") != 0) {{
+    if (m != NULL && PyModule_AddStringConstant(m, "SOURCE_SHA256", "{digest}") != 0) {{
         Py_DECREF(m);
         return NULL;
     }}
@@ -439,13 +442,14 @@ def c_source(steps: dict[str, Program] | None = None) -> str:
              "#include <string.h>", ""]
     parts += [_step_function(program) for _, program in sorted(steps.items())]
     body = "\n\n".join(parts)
-    return body + DRIVERS.format(header=HEADER, body=BODY, rnea_block=RNEA_BLOCK, crba_block=CRBA_BLOCK,
-                                 digest=steps_digest(body + DRIVERS_MARK))
+    source = body + DRIVERS.format(header=HEADER, body=BODY, rnea_block=RNEA_BLOCK, crba_block=CRBA_BLOCK,
+                                 digest=UNDIGESTED)
+    return source.replace(f'"SOURCE_SHA256", "{UNDIGESTED}"', f'"SOURCE_SHA256", "{source_digest(source)}"')
 
 
-def steps_digest(source: str) -> str:
-    """The SHA-256 of the traced steps in a native loop's C (what comes before :data:`DRIVERS_MARK`): the built
-    library carries it as ``STEPS``, so that a library built from other steps is told apart.
+def source_digest(source: str) -> str:
+    """The SHA-256 of a native loop's whole C, its own digest (which it holds as ``SOURCE_SHA256``, the built
+    library's constant) taken as :data:`UNDIGESTED`: a library built from any other C is told apart.
 
     Parameters
     ----------
@@ -459,10 +463,12 @@ def steps_digest(source: str) -> str:
 
     Examples
     --------
-    >>> len(steps_digest(c_source()))
-    64
+    >>> source = c_source()
+    >>> source_digest(source) in source
+    True
     """
-    return hashlib.sha256(source[:source.index(DRIVERS_MARK)].encode()).hexdigest()
+    unset = re.sub(r'"SOURCE_SHA256", "[0-9a-f]{64}"', f'"SOURCE_SHA256", "{UNDIGESTED}"', source)
+    return hashlib.sha256(unset.encode()).hexdigest()
 
 
 def model_array(model: Model) -> np.ndarray:
@@ -491,7 +497,7 @@ def model_array(model: Model) -> np.ndarray:
     """
     out = np.zeros(HEADER + BODY * model.n_bodies)
     out[:3] = model.n_bodies, model.n, float(model.has_mimic)
-    out[3 + 6:3 + 9] = list(EXACT.base_acceleration(model.gravity_v))
+    out[BASE_ACCELERATION] = list(EXACT.base_acceleration(model.gravity_v))
     out[3 + RNEA_BLOCK:3 + RNEA_BLOCK + 9] = np.eye(3).ravel()
     for i, (body, (j, a, b)) in enumerate(zip(model.bodies, model.coupling)):
         record = out[HEADER + i * BODY:HEADER + (i + 1) * BODY]
@@ -508,5 +514,5 @@ def model_array(model: Model) -> np.ndarray:
     return out
 
 
-__all__ = ["BODY", "CRBA_BLOCK", "DRIVERS", "DRIVERS_MARK", "HEADER", "RNEA_BLOCK", "SLOTS", "SOURCE", "c_source",
-           "model_array", "steps_digest", "trace_steps"]
+__all__ = ["BASE_ACCELERATION", "BODY", "CRBA_BLOCK", "DRIVERS", "HEADER", "RNEA_BLOCK", "SLOTS", "SOURCE",
+           "UNDIGESTED", "c_source", "model_array", "source_digest", "trace_steps"]
