@@ -68,7 +68,7 @@ TARGETS = {"one τ": 2.0, "one M": 2.0, "one FD": 2.0, "τ batch": 1.0, "M batch
            "FD batch": 1.0, "2 threads": 1.0, "simulate": 3.0, "ensemble": 0.1,
            "start-up info": 2.0, "start-up help": 1.0, "mujoco one": 1.0, "mujoco rollout": 1.0,
            "memory ur5": 2.0, "memory chain": 4.0, "first τ": 2.0, "fresh loop": 3.0, "chain one": 2.0,
-           "chain batch": 1.0}
+           "chain batch": 1.0, "default one": 1.0, "compile": 1.0}
 ONE = threads(1, 1)
 MUJOCO_ONE = "ours 1 thread / mujoco 1 thread"
 
@@ -172,7 +172,8 @@ def one_state(model, oracle, compiled, x, xd, xdd, batch, r, number: int) -> dic
     for _ in range(200):  # a user's loop: the evaluator takes whatever path it takes (core/evaluator.py)
         inverse_dynamics(model, x, xd, xdd)
     line("τ: default API inverse_dynamics(ur5, …) in a loop / pin.rnea", best(lambda: inverse_dynamics(model, x, xd, xdd),
-                                                                          r, number), python["rnea"], "µs", ONE)
+                                                                          r, number), python["rnea"], "µs", ONE,
+         "default one")
     line("τ: interpreted newton_euler.inverse_dynamics / pin.rnea",
          best(lambda: newton_euler.inverse_dynamics(model, x, xd, xdd), r, max(1, number // 40)), python["rnea"], "µs", ONE)
 
@@ -307,6 +308,10 @@ def compiling() -> None:
                   f"{again.generation_seconds:6.4f} s cached; native {first.native_seconds:6.2f} s "
                   f"first, {again.native_seconds:6.4f} s cached ({len(first.source.splitlines())} lines of Python, "
                   f"{len(first.native_source.splitlines())} of C)")
+            if name == "ur5":
+                seconds = first.generation_seconds + first.native_seconds
+                print(f"  compile_model(ur5) with an empty cache, whole: {seconds:.2f} s  target ≤ "
+                      f"{TARGETS['compile']:g} s: {'met' if seconds <= TARGETS['compile'] else 'NOT met'}")
         del os.environ["COURSE_DYNAMICS_CACHE"]
 
 
@@ -501,17 +506,18 @@ def chains_against_pinocchio(sizes, states: int, r) -> None:
             Q, V, A = (np.asfortranarray(a.T) for a in (q, qd, qdd))      # Pinocchio's layout: a state a column
             out = np.zeros((n, states), order="F")
             rounds, number = (1, 20) if n >= 100 else (r, 200)
+            target = "chain one" if n >= 25 else None  # the target is for chains of 25 joints and more
             course_dynamics.inverse_dynamics(model, q[0], qd[0], qdd[0])
             line(f"chain of {n}: one state τ, inverse_dynamics / pin.rnea",
                  best(lambda: course_dynamics.inverse_dynamics(model, q[0], qd[0], qdd[0]), rounds, number),
-                 best(lambda: pin.rnea(pm, pd, q[0], qd[0], qdd[0]), rounds, number), "µs", ONE, "chain one")
+                 best(lambda: pin.rnea(pm, pd, q[0], qd[0], qdd[0]), rounds, number), "µs", ONE, target)
             line(f"chain of {n}: one state M, mass_matrix / pin.crba",
                  best(lambda: course_dynamics.mass_matrix(model, q[0]), rounds, number),
-                 best(lambda: pin.crba(pm, pd, q[0]), rounds, number), "µs", ONE, "chain one")
+                 best(lambda: pin.crba(pm, pd, q[0]), rounds, number), "µs", ONE, target)
             with our_threads(1):
                 ours = best(lambda: course_dynamics.inverse_dynamics(model, q, qd, qdd), rounds) / states
             theirs = best(lambda: pin.rneaInParallel(1, pool, Q, V, A, out), rounds) / states
-            line(f"chain of {n}: batch τ / rneaInParallel(1)", ours, theirs, "µs", ONE, "chain batch")
+            line(f"chain of {n}: batch τ / rneaInParallel(1)", ours, theirs, "µs", ONE, "chain batch" if n >= 25 else None)
 
 
 def main() -> None:
