@@ -204,6 +204,17 @@ def test_a_large_library_is_compiled_in_translation_units_at_once_and_linked(tmp
     assert time.perf_counter() - begun < 1.9
 
 
+def test_a_unit_that_fails_ends_the_build_at_once_and_is_named_with_its_error(tmp_path, monkeypatch):
+    ur5 = load_robot("ur5")
+    source = native.c_source(trace_programs(ur5), ur5.n, "k" * 64, ur5.name)
+    fake_compiler(tmp_path, monkeypatch, 'case "$*" in *".u1.c"*) echo "u1.c:3:7: error: it is not C"; '
+                                         'echo "    3 | x"; echo "      | ^"; exit 1;; *) sleep 5;; esac')
+    begun = time.perf_counter()
+    data, reason = native.build(source, "k" * 64)
+    assert data is None and time.perf_counter() - begun < 3                      # not after unit 0's 5 s
+    assert reason == "the C compiler failed (exit 1): u1.c:3:7: error: it is not C (translation unit 1)"
+
+
 @pytest.mark.skipif(not HAS_COMPILER, reason="needs a C compiler")
 def test_the_units_linked_agree_with_the_recursions():
     from course_dynamics.core.newton_euler import inverse_dynamics

@@ -319,3 +319,91 @@ def test_compiling_a_model_ends_the_one_state_shortcut_to_its_loop(tmp_path, mon
     monkeypatch.setattr(CompiledModel, "native_call", lambda self, *a: (ran.append(a[0]), original(self, *a))[1])
     course_dynamics.inverse_dynamics(arm, q, q, q)
     assert ran == ["tau"] and evaluator.choice(arm).path == "compiled"
+
+
+def gantry_urdf(seed: int) -> str:
+    """A tree of prismatic joints on tilted frames, every axis horizontal in the world: V + G ≡ 0 at any state."""
+    from scipy.spatial.transform import Rotation
+
+    rng = np.random.default_rng(seed)
+    inertial = ('<inertial><origin xyz="{} {} {}"/><mass value="{}"/><inertia ixx="0.01" iyy="0.02" izz="0.03" '
+                'ixy="0" ixz="0" iyz="0"/></inertial>')
+    parts, world = ['<?xml version="1.0"?><robot name="gantry"><link name="base"/>'], {"base": np.eye(3)}
+    for i, parent in enumerate(["base", "l0", "l0", "l1"]):
+        rpy = rng.uniform(-np.pi, np.pi, 3)
+        world[f"l{i}"] = world[parent] @ Rotation.from_euler("xyz", rpy).as_matrix()
+        phi = rng.uniform(0, 2 * np.pi)
+        axis = world[f"l{i}"].T @ np.array([np.cos(phi), np.sin(phi), 0.0])
+        parts.append(f'<link name="l{i}">' + inertial.format(*rng.uniform(-0.1, 0.1, 3), rng.uniform(0.5, 5)) +
+                     "</link>")
+        parts.append(f'<joint name="j{i}" type="prismatic"><parent link="{parent}"/><child link="l{i}"/>'
+                     f'<origin xyz="{" ".join(map(repr, rng.uniform(-0.3, 0.3, 3).tolist()))}" '
+                     f'rpy="{" ".join(map(repr, rpy.tolist()))}"/><axis xyz="{" ".join(map(repr, axis.tolist()))}"/>'
+                     '<limit lower="-1" upper="1" effort="100" velocity="1"/></joint>')
+    return "".join(parts) + "</robot>"
+
+
+def test_a_robot_gravity_does_not_load_gets_its_loop(tmp_path):
+    """V + G ≡ 0: rounding residues of either sign in the loop and the recursions, not a disagreement."""
+    residues = 0
+    for seed in range(8):
+        path = tmp_path / f"gantry{seed}.urdf"
+        path.write_text(gantry_urdf(seed))
+        model = load_urdf(path)
+        run = looped.looped(model)
+        assert run is not None, seed
+        q, qd, _ = random_states(model, 1, seed=seed)
+        bias = newton_euler.inverse_dynamics(model, q[0], qd[0], 0 * qd[0])
+        assert np.abs(bias).max() < 1e-12
+        residues += not np.array_equal(run.native_call("bias", q[0], qd[0]), bias)
+    assert residues                                                    # the case the check must not mistake
+
+
+def test_the_check_is_the_same_in_every_process():
+    """Its state is drawn from the model's own numbers, so a robot's loop is used, or not, everywhere alike."""
+    script = ("from course_dynamics import load_robot; from course_dynamics.core.compiled import looped; "
+              "import numpy as np; r = looped.looped(load_robot('panda')); "
+              "print(r is not None)")
+    outs = {subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=60,
+                           env=dict(os.environ, PYTHONPATH=str(ROOT))).stdout for _ in range(2)}
+    assert outs == {"True\n"}
+
+
+def test_turned_off_mid_process_a_compiled_model_runs_its_python_programs(tmp_path, monkeypatch):
+    from course_dynamics.core.compiled import compile_model
+
+    monkeypatch.setenv("COURSE_DYNAMICS_CACHE", str(tmp_path / "cache"))
+    arm = load_robot("two_link").with_gravity([0, 0, -9.64])
+    compile_model(arm)
+    q = np.array([0.2, -0.4])
+    course_dynamics.inverse_dynamics(arm, q, q, q)
+    assert evaluator.choice(arm).run.native
+    monkeypatch.setenv("COURSE_DYNAMICS_NATIVE", "off")
+    chosen = evaluator.choice(arm)
+    assert chosen.path == "compiled" and not chosen.run.native and not chosen.native
+    np.testing.assert_allclose(course_dynamics.inverse_dynamics(arm, q, q, q), newton_euler.inverse_dynamics(arm, q, q, q),
+                               rtol=1e-12)
+
+
+def test_a_compiled_model_whose_c_is_building_is_not_remembered_for_one_state_calls(tmp_path, monkeypatch):
+    """Each one-state call then makes its choice, which takes the library up once the build has ended."""
+    monkeypatch.setenv("COURSE_DYNAMICS_CACHE", str(tmp_path / "cache"))
+    arm = load_robot("rrr_arm").with_gravity([0, 0, -9.63])
+    chosen = evaluator.choice(arm, calls=10_000)                       # a long run: its C starts building
+    if chosen.run.native_build is None:
+        pytest.skip("the build did not start (it failed before, or no compiler)")
+    again = evaluator.choice(arm)
+    assert again.run.native_build is not None and id(arm) not in evaluator._FAST
+    finished = again.run.collected(wait=60)
+    assert finished.native
+
+
+def test_the_loop_will_not_be_built_with_fast_math(tmp_path):
+    """-ffast-math would let the compiler drop the C's checks for NaN: the build stops, and the package runs
+    without the loop."""
+    import sysconfig
+
+    cc = native.compiler()
+    done = subprocess.run([cc, "-ffast-math", "-fsyntax-only", "-I", sysconfig.get_paths()["include"],
+                           str(steps.SOURCE)], capture_output=True, text=True, timeout=120)
+    assert done.returncode != 0 and "without -ffast-math" in done.stderr

@@ -444,8 +444,8 @@ def choice(model: Model, calls: int = 1, states: int = 1, floats: bool = True, c
             return _uncompiled(model, known.too_large, environment, known)
         known.native_tried = known.native_tried or bool(native)
     run = known.compiled
-    if run.loop is not None and not native_enabled():
-        run = dataclasses.replace(run, loop=None)  # turned off since: its Python programs
+    if (run.native or run.loop is not None) and not native_enabled():  # turned off since: its Python programs
+        run = dataclasses.replace(run, native={}, loop=None, _calls={})
     elif not run.native and run.loop is None and _loop(model) is not None:
         run = known.compiled = dataclasses.replace(run, loop=_loop(model))  # the loop stands in for its C
     return _remembered(model, Choice("compiled", reason, run), environment)
@@ -473,7 +473,7 @@ def _uncompiled(model: Model, reason: str, environment: tuple, known: _Compiled 
 def _remembered(model: Model, chosen: Choice, environment: tuple) -> Choice:
     """The choice, remembered for the model's one-state calls where it runs native code for them (the loop, or a
     compiled model with C that the cache holds)."""
-    if chosen.path == "loop" or (chosen.native and chosen.reason == CACHED):
+    if chosen.path == "loop" or (chosen.native and chosen.reason == CACHED and chosen.run.native_build is None):
         _FAST[id(model)] = (weakref.ref(model), environment, chosen.run, WRITES[0])
     else:
         _FAST.pop(id(model), None)

@@ -1259,6 +1259,10 @@ static void torque_revolute_one(const double *restrict b, const double *restrict
 }
 /* ---- the loops over the bodies (written by hand: the iterations, not their equations) ---- */
 
+#if defined(__FAST_MATH__) || (defined(__FINITE_MATH_ONLY__) && __FINITE_MATH_ONLY__)
+#error "the native loop checks its inputs for NaN and infinity: build it without -ffast-math or -ffinite-math-only"
+#endif
+
 #define HEADER 64
 #define BODY 64
 #define RNEA_BLOCK 27
@@ -1454,7 +1458,7 @@ static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_looped", NULL, -1, 
 PyMODINIT_FUNC PyInit__looped(void)
 {
     PyObject *m = PyModule_Create(&module);
-    if (m != NULL && PyModule_AddStringConstant(m, "SOURCE_SHA256", "37529f18bbedb3f53e8fa3a4e8048d4bae81a488705cc83b5e0b070330305e18") != 0) {
+    if (m != NULL && PyModule_AddStringConstant(m, "SOURCE_SHA256", "bf0eba21a69ae68cf35def8220f1f332ad8848d79b3a10c9f5a28ef763c335c9") != 0) {
         Py_DECREF(m);
         return NULL;
     }

@@ -494,9 +494,12 @@ def compile_library(folder: str, name: str, cc: str, seconds: float, memory: int
     objects, commands = [], []
     for k, unit in enumerate(units[1:]):  # each after the shared prelude, compiled at once on its own core
         source = f"{name}.u{k}.c"
-        fd = os.open(os.path.join(folder, source), os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o600)
-        with os.fdopen(fd, "w", encoding="utf-8") as handle:
-            handle.write(units[0] + unit)
+        try:
+            fd = os.open(os.path.join(folder, source), os.O_WRONLY | os.O_CREAT | os.O_TRUNC | os.O_NOFOLLOW, 0o600)
+            with os.fdopen(fd, "w", encoding="utf-8") as handle:
+                handle.write(units[0] + unit)
+        except OSError as exc:
+            return f"the C source could not be written ({exc.strerror})"
         objects.append(f"{name}.u{k}.o")
         commands.append([cc, *C_FLAGS, "-c", source, "-o", objects[-1]])
     reasons = _limited_together(folder, commands, seconds, memory, size, deadline)
@@ -524,19 +527,27 @@ def _limited_together(folder: str, commands: list, seconds: float, memory: int, 
     well, else why not (the first that did not); on a failure or at the deadline every one is stopped."""
     processes = []
     try:
-        for k, argv in enumerate(commands):
+        for k, argv in enumerate(commands):  # the address space shared among them: together within the one bound
             try:
-                processes.append((_start_limited(folder, argv, seconds, memory, size, f"compiler{k}.log"),
-                                  f"compiler{k}.log"))
+                processes.append(_start_limited(folder, argv, seconds, memory // len(commands), size,
+                                                f"compiler{k}.log"))
             except OSError as exc:
                 return f"the C compiler could not be started ({exc.strerror})"
-        for process, log in processes:
-            reason = _outcome(process, deadline, seconds, os.path.join(folder, log))
-            if reason:
-                return reason
+        running = dict(enumerate(processes))
+        while running:  # the first to end badly ends them all
+            for k, process in list(running.items()):
+                if process.poll() is not None:
+                    del running[k]
+                    reason = _outcome(process, deadline, seconds, os.path.join(folder, f"compiler{k}.log"))
+                    if reason:
+                        return f"{reason} (translation unit {k})"
+            if running:
+                if time.monotonic() > deadline:
+                    return f"the C compiler took longer than {seconds:g} s and was stopped"
+                time.sleep(0.01)
         return None
     finally:
-        for process, _ in processes:
+        for process in processes:
             _stop(process)
 
 
@@ -577,13 +588,15 @@ def _stop(process) -> None:
 
 
 def _last_line(path: str) -> str:
+    """The compiler's last error line (gcc ends with the source line and a caret under it), else its last line."""
     try:
         with open(path, "rb") as handle:
-            handle.seek(max(0, os.fstat(handle.fileno()).st_size - 400))
+            handle.seek(max(0, os.fstat(handle.fileno()).st_size - 4000))
             lines = handle.read().decode("utf-8", "replace").strip().splitlines()
     except OSError:
         return ""
-    return lines[-1][-200:] if lines else "no message"
+    errors = [line for line in lines if "error" in line.lower()]
+    return (errors or lines or ["no message"])[-1].strip()[-200:]
 
 
 def read_library(folder: str, name: str, limit: int) -> bytes | None:

@@ -194,6 +194,10 @@ UNDIGESTED = "0" * 64
 DRIVERS = r"""
 /* ---- the loops over the bodies (written by hand: the iterations, not their equations) ---- */
 
+#if defined(__FAST_MATH__) || (defined(__FINITE_MATH_ONLY__) && __FINITE_MATH_ONLY__)
+#error "the native loop checks its inputs for NaN and infinity: build it without -ffast-math or -ffinite-math-only"
+#endif
+
 #define HEADER {header}
 #define BODY {body}
 #define RNEA_BLOCK {rnea_block}
