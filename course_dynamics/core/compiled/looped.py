@@ -2,9 +2,9 @@
 
 The loop's C is the recursions' own steps (:mod:`~course_dynamics.core.compiled.steps`) looped over the bodies
 of any robot. :func:`library` imports the extension built at installation (none where no compiler was there,
-or with ``COURSE_DYNAMICS_NATIVE=off``, or one built from other steps than the shipped ``looped.c``);
-:func:`looped` gives a model's :class:`Looped`, compared first with the recursions as written at a random
-state; the evaluator (:mod:`~course_dynamics.core.evaluator`) chooses it.
+or with ``COURSE_DYNAMICS_NATIVE=off``, or one built from any other C than the shipped ``looped.c``);
+:func:`looped` gives a model's :class:`Looped`, compared first with the recursions as written at a state drawn
+from the model's own numbers; the evaluator (:mod:`~course_dynamics.core.evaluator`) chooses it.
 
 =================  ==============================================================================
 name               what
