@@ -446,8 +446,8 @@ def choice(model: Model, calls: int = 1, states: int = 1, floats: bool = True, c
     run = known.compiled
     if (run.native or run.loop is not None) and not native_enabled():  # turned off since: its Python programs
         run = dataclasses.replace(run, native={}, loop=None, _calls={})
-    elif not run.native and run.loop is None and _loop(model) is not None:
-        run = known.compiled = dataclasses.replace(run, loop=_loop(model))  # the loop stands in for its C
+    elif not run.native and run.loop is None and (loop := _loop(model)) is not None:
+        run = known.compiled = dataclasses.replace(run, loop=loop)  # the loop stands in for its C
     return _remembered(model, Choice("compiled", reason, run), environment)
 
 

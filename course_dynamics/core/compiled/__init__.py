@@ -289,9 +289,9 @@ class CompiledModel:
         function = self.native.get(name)
         if function is not None and all(a.dtype == np.float64 for a in arrays):
             return self._run_native(function, name, arrays)
-        loop = self.loop
-        if function is None and loop is not None and name in loop.native and all(a.dtype == np.float64 for a in arrays):
-            return native.run_batch(loop.native[name], arrays, native.width(name, self.model.n), (loop.array,))
+        out = None if function is not None or self.loop is None else self.loop.batch(name, *arrays)
+        if out is not None:
+            return out
         if all(a.ndim == 1 for a in arrays):
             return np.array(self.functions[name](*(a.tolist() for a in arrays)))
         batch = batch_shape(*arrays)

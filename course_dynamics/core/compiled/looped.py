@@ -139,19 +139,39 @@ class Looped:
             if type(a) is not np.ndarray or a.ndim != 1:
                 return None
         n = self.model.n
-        out = np.empty(n * n if name == "mass_matrix" else n)
+        out = np.empty(native.width(name, n))
         try:
             function(self.array, *arrays, out)
         except (TypeError, ValueError, BufferError):
             return None
         return out.reshape(n, n) if name == "mass_matrix" else out
 
-    def _run(self, name: str, *arrays: np.ndarray) -> np.ndarray | None:
-        if not all(a.dtype == np.float64 for a in arrays):
+    def batch(self, name: str, *arrays: np.ndarray) -> np.ndarray | None:
+        """The loop's program ``name`` on checked states of any batch shape, its entries a state flat (M whole,
+        n × n); None where the loop has no such program or a state is not float64.
+
+        Parameters
+        ----------
+        name : str
+            ``tau``, ``mass_matrix`` or ``bias``.
+        *arrays : numpy.ndarray, shape (..., n)
+            Its inputs, in order, already checked.
+
+        Returns
+        -------
+        numpy.ndarray, shape (..., width) or None
+            τ or V + G (width n); M (width n²).
+        """
+        function = self.native.get(name)
+        if function is None or not all(a.dtype == np.float64 for a in arrays):
             return None
-        n = self.model.n
-        out = native.run_batch(self.native[name], arrays, n * n if name == "mass_matrix" else n, (self.array,))
-        return out.reshape(out.shape[:-1] + (n, n)) if name == "mass_matrix" else out
+        return native.run_batch(function, arrays, native.width(name, self.model.n), (self.array,))
+
+    def _run(self, name: str, *arrays: np.ndarray) -> np.ndarray | None:
+        out = self.batch(name, *arrays)
+        if out is None or name != "mass_matrix":
+            return out
+        return out.reshape(out.shape[:-1] + (self.model.n, self.model.n))
 
     def inverse_dynamics(self, q, qd, qdd) -> np.ndarray:
         """τ, as :func:`~course_dynamics.core.newton_euler.inverse_dynamics`.

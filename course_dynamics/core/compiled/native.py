@@ -489,8 +489,8 @@ def compile_library(folder: str, name: str, cc: str, seconds: float, memory: int
         return f"the C source could not be read ({exc})"
     deadline = time.monotonic() + seconds
     if len(units) == 1:  # one translation unit: compiled and linked by one command
-        return _limited(folder, [cc, *C_FLAGS, "-shared", f"{name}.c", "-o", f"{name}.so", "-lm"], seconds, memory,
-                        size, deadline, "compiler.log")
+        return _limited(folder, [[cc, *C_FLAGS, "-shared", f"{name}.c", "-o", f"{name}.so", "-lm"]], seconds, memory,
+                        size, deadline)
     objects, commands = [], []
     for k, unit in enumerate(units[1:]):  # each after the shared prelude, compiled at once on its own core
         source = f"{name}.u{k}.c"
@@ -502,11 +502,10 @@ def compile_library(folder: str, name: str, cc: str, seconds: float, memory: int
             return f"the C source could not be written ({exc.strerror})"
         objects.append(f"{name}.u{k}.o")
         commands.append([cc, *C_FLAGS, "-c", source, "-o", objects[-1]])
-    reasons = _limited_together(folder, commands, seconds, memory, size, deadline)
-    if reasons:
-        return reasons
-    return _limited(folder, [cc, "-shared", *objects, "-o", f"{name}.so", "-lm"], seconds, memory, size, deadline,
-                    "compiler.log")
+    reason = _limited(folder, commands, seconds, memory, size, deadline)
+    if reason:
+        return reason
+    return _limited(folder, [[cc, "-shared", *objects, "-o", f"{name}.so", "-lm"]], seconds, memory, size, deadline)
 
 
 def _start_limited(folder: str, argv: list[str], seconds: float, memory: int, size: int, log_name: str):
@@ -521,26 +520,27 @@ def _start_limited(folder: str, argv: list[str], seconds: float, memory: int, si
         os.close(log)
 
 
-def _limited_together(folder: str, commands: list, seconds: float, memory: int, size: int,
-                      deadline: float) -> str | None:
-    """The commands run at once under the limits, all waited for until ``deadline``: None when every one ended
-    well, else why not (the first that did not); on a failure or at the deadline every one is stopped."""
+def _limited(folder: str, commands: list, seconds: float, memory: int, size: int, deadline: float) -> str | None:
+    """The commands run at once under the limits (their address space shared among them), all waited for until
+    ``deadline``: None when every one ended well, else why not (the first that did not, and which of several);
+    the first to end badly, or the deadline, stops every one. One command prints to compiler.log, several to
+    compiler<k>.log."""
+    logs = ["compiler.log"] if len(commands) == 1 else [f"compiler{k}.log" for k in range(len(commands))]
     processes = []
     try:
-        for k, argv in enumerate(commands):  # the address space shared among them: together within the one bound
+        for argv, log in zip(commands, logs):
             try:
-                processes.append(_start_limited(folder, argv, seconds, memory // len(commands), size,
-                                                f"compiler{k}.log"))
+                processes.append(_start_limited(folder, argv, seconds, memory // len(commands), size, log))
             except OSError as exc:
                 return f"the C compiler could not be started ({exc.strerror})"
         running = dict(enumerate(processes))
-        while running:  # the first to end badly ends them all
+        while running:
             for k, process in list(running.items()):
                 if process.poll() is not None:
                     del running[k]
-                    reason = _outcome(process, deadline, seconds, os.path.join(folder, f"compiler{k}.log"))
+                    reason = _outcome(process.returncode, os.path.join(folder, logs[k]))
                     if reason:
-                        return f"{reason} (translation unit {k})"
+                        return reason if len(commands) == 1 else f"{reason} (translation unit {k})"
             if running:
                 if time.monotonic() > deadline:
                     return f"the C compiler took longer than {seconds:g} s and was stopped"
@@ -551,25 +551,8 @@ def _limited_together(folder: str, commands: list, seconds: float, memory: int, 
             _stop(process)
 
 
-def _limited(folder: str, argv: list[str], seconds: float, memory: int, size: int, deadline: float,
-             log_name: str) -> str | None:
-    """``argv`` run under the limits until ``deadline``: None when it ended well, else why not."""
-    try:
-        process = _start_limited(folder, argv, seconds, memory, size, log_name)
-    except OSError as exc:
-        return f"the C compiler could not be started ({exc.strerror})"
-    try:
-        return _outcome(process, deadline, seconds, os.path.join(folder, log_name))
-    finally:
-        _stop(process)
-
-
-def _outcome(process, deadline: float, seconds: float, log: str) -> str | None:
-    """Why a limited process did not end well by ``deadline`` (None when it did)."""
-    try:
-        code = process.wait(timeout=max(0.0, deadline - time.monotonic()))
-    except subprocess.TimeoutExpired:
-        return f"the C compiler took longer than {seconds:g} s and was stopped"
+def _outcome(code: int, log: str) -> str | None:
+    """Why a limited process that ended with exit status ``code`` did not end well (None when it did)."""
     if code < 0:
         return f"the C compiler was stopped by signal {-code} (over its CPU time, memory or file-size limit)"
     if code != 0:

@@ -82,15 +82,13 @@ class _Body:
     """A body whose numbers are traced inputs ``b<slot>``: what one step is traced on."""
 
     def __init__(self, tape: Tape, joint_type: str):
-        b = [tape.input(f"b{k}") for k in range(BODY)]
         S = SLOTS
-        vec = lambda k: Vec3(b[k], b[k + 1], b[k + 2])                        # noqa: E731
-        mat = lambda k: Mat3(tuple(tuple(b[k + 3 * r + c] for c in range(3)) for r in range(3)))  # noqa: E731
+        vec, mat = (lambda k: _vec(tape, "b", S[k])), (lambda k: _mat(tape, "b", S[k]))  # noqa: E731
         self.joint_type, self.parent = joint_type, 0
-        self.rotation_parts = tuple(mat(S["rotation_parts"] + 9 * part).rows for part in range(3))
-        self.R0_m, self.P_v, self.axis_v = mat(S["R0"]), vec(S["P"]), vec(S["axis"])
-        self.R0_axis_v, self.p_com_v, self.I_com_m = vec(S["R0_axis"]), vec(S["p_com"]), mat(S["I_com"])
-        self.mass_s = b[S["mass"]]
+        self.rotation_parts = tuple(_mat(tape, "b", S["rotation_parts"] + 9 * part).rows for part in range(3))
+        self.R0_m, self.P_v, self.axis_v = mat("R0"), vec("P"), vec("axis")
+        self.R0_axis_v, self.p_com_v, self.I_com_m = vec("R0_axis"), vec("p_com"), mat("I_com")
+        self.mass_s = tape.input(f"b{S['mass']}")
 
     @property
     def is_prismatic(self) -> bool:
@@ -478,7 +476,7 @@ def source_digest(source: str) -> str:
 def model_array(model: Model) -> np.ndarray:
     """The model as the native loop reads it: a header, then one record of :data:`BODY` doubles per body.
 
-    The header holds the counts of bodies and coordinates, whether any joint mimics another, and the base's
+    The header holds the counts of bodies and coordinates, and the base's
     block of each loop (at rest, lifted by −g: :meth:`~course_dynamics.core.operations.Operations.base_acceleration`;
     and placed at the origin). A body's record holds its numbers at :data:`SLOTS`.
 
@@ -496,11 +494,11 @@ def model_array(model: Model) -> np.ndarray:
     --------
     >>> from course_dynamics import load_robot
     >>> array = model_array(load_robot("two_link"))
-    >>> array.shape, array[:3].tolist(), (array[9:12] + 0.0).tolist()      # two bodies, two coordinates; −g
-    ((192,), [2.0, 2.0, 0.0], [0.0, 0.0, 9.81])
+    >>> array.shape, array[:2].tolist(), (array[9:12] + 0.0).tolist()      # two bodies, two coordinates; −g
+    ((192,), [2.0, 2.0], [0.0, 0.0, 9.81])
     """
     out = np.zeros(HEADER + BODY * model.n_bodies)
-    out[:3] = model.n_bodies, model.n, float(model.has_mimic)
+    out[:2] = model.n_bodies, model.n
     out[BASE_ACCELERATION] = list(EXACT.base_acceleration(model.gravity_v))
     out[3 + RNEA_BLOCK:3 + RNEA_BLOCK + 9] = np.eye(3).ravel()
     for i, (body, (j, a, b)) in enumerate(zip(model.bodies, model.coupling)):
