@@ -307,3 +307,20 @@ def test_simulate_with_drives_reports_the_rotors_energy(capsys, tmp_path):
     assert summary["energy_end"] == pytest.approx(summary["energy_start"], rel=1e-8)
     plain = total_energy(load_robot("two_link"), [0.4, -0.3], [1.0, -2.0])
     assert summary["energy_start"] == pytest.approx(plain + 0.5 * (0.3 * 1 + 0.2 * 4), rel=1e-12)
+
+
+def test_the_energy_of_many_samples_is_taken_a_block_at_a_time_to_the_same_values(monkeypatch):
+    """k = ½ Θ̇ᵀ M Θ̇ (6.71) with M by the evaluator, a block of samples at a time (M's memory on a long run)."""
+    from course_dynamics.core.dynamics import kinetic_energy
+    from course_dynamics.core.kinematics import potential_energy
+    from course_dynamics.tools import simulation
+
+    model = load_robot("ur5")
+    q, qd = np.random.default_rng(2).uniform(-1, 1, (2, 30, 4, 6))
+    whole = total_energy(model, q, qd)
+    monkeypatch.setattr(simulation, "ENERGY_BLOCK", 7)
+    blocks = total_energy(model, q, qd)
+    expected = kinetic_energy(model, q, qd) + potential_energy(model, q)
+    assert blocks.shape == (30, 4)
+    np.testing.assert_allclose(blocks, whole, rtol=0, atol=1e-13 * np.abs(expected).max())
+    np.testing.assert_allclose(blocks, expected, rtol=0, atol=1e-12 * np.abs(expected).max())

@@ -18,7 +18,12 @@ for that to pay off, as the evaluator (:mod:`course_dynamics.core.evaluator`) de
 at the start, from the whole run's calls (:data:`CALLS_PER_STEP` a step) and ensemble size —
 about 100 Euler steps or 25 RK4 steps of one robot; ``compiled=True``/``False`` forces the choice.
 Any :data:`~course_dynamics.core.forward_dynamics.AccelerationFunction` (q, qd, τ) → Θ̈ can take its
-place — Pinocchio's ``aba`` in a benchmark.
+place — Pinocchio's ``aba`` in a benchmark. With our dynamics, ``limits="report"``, a fixed-step integrator
+and a torque that is zero, constant or a :class:`TorqueTable`, the whole run is native code
+(:mod:`course_dynamics.core.compiled.rollout`: the same steps, operation for operation, with the torque,
+friction, drives and recording), called once per chunk of steps; the energy and the limit report are
+computed from the recorded samples afterwards. Anything else (a torque that is a function of the state,
+joint stops, ``adaptive``, a dynamics of one's own, no native library) takes the steps in Python.
 Friction, if given, is subtracted from τ before the call (6.114). Drives, if given
 (:class:`~course_dynamics.core.drives.Drives`), put each rotor's inertia on M's diagonal and take each
 torque offset off τ, for the motion, the joint stops and the energy alike: the energy then holds the
@@ -58,7 +63,8 @@ import numpy as np
 
 from ..base.errors import CourseDynamicsError, StateError
 from ..base.resources import check_memory
-from ..core.evaluator import implementation
+from ..core.compiled.looped import rollout
+from ..core.evaluator import implementation, mass_matrix
 from ..core.drives import Driven, Drives
 from ..core.dynamics import kinetic_energy
 from ..core.forward_dynamics import AccelerationFunction
@@ -73,6 +79,8 @@ INTEGRATORS = ("euler", "semi-implicit", "rk4", "adaptive")
 ADAPTIVE_CALLS_PER_STEP = 1000  # right-hand-side evaluations per output sample before the adaptive integrator gives up
 #: What :func:`simulate` does at a joint limit (``"report"`` it, or ``"stop"`` the joint there).
 LIMIT_MODES = ("report", "stop")
+#: Samples whose mass matrices :func:`total_energy` holds at once (the memory of M for a long run).
+ENERGY_BLOCK = 65536
 #: Forward-dynamics calls per step of each integrator (DOP853 takes 12 stages a step, and several steps a sample).
 CALLS_PER_STEP = {"euler": 1, "semi-implicit": 1, "rk4": 4, "adaptive": 12}
 
@@ -197,7 +205,7 @@ class Trajectory:
                                                            self.energy.reshape(-1)])
 
 
-def total_energy(model: Model, q, qd, drives: Drives | None = None) -> np.ndarray:
+def total_energy(model: Model, q, qd, drives: Drives | None = None, run=None) -> np.ndarray:
     """k + u (6.71), (6.73), J, and the rotors' kinetic energy with ``drives``; shape () or (N,).
 
     Parameters
@@ -210,6 +218,10 @@ def total_energy(model: Model, q, qd, drives: Drives | None = None) -> np.ndarra
         Joint velocities Θ̇, rad/s (m/s).
     drives : Drives, optional
         Adds ½ Θ̇ᵀ diag(Iₐ) Θ̇, the rotors' kinetic energy.
+    run : object, optional
+        What gives M for k = ½ Θ̇ᵀ M Θ̇ (an implementation from
+        :func:`~course_dynamics.core.evaluator.implementation`, as a simulation's own); by default the
+        evaluator's choice for these states.
 
     Returns
     -------
@@ -222,7 +234,19 @@ def total_energy(model: Model, q, qd, drives: Drives | None = None) -> np.ndarra
         If ``q`` or ``qd`` is not a finite array of shape (n,) or (N, n).
     """
     rotors = 0.0 if drives is None else drives.kinetic_energy(qd)
-    return kinetic_energy(model, q, qd) + potential_energy(model, q) + rotors
+    q, qd = as_state(model, q, "q"), as_state(model, qd, "qd")
+    if q.dtype == object or qd.dtype == object:
+        kinetic = kinetic_energy(model, q, qd)
+    else:  # (6.71) with M as the evaluator gives it (natively for a simulation's samples), a block at a time
+        q_all, qd_all = np.broadcast_arrays(q, qd)
+        flat_q, flat_qd = q_all.reshape(-1, model.n), qd_all.reshape(-1, model.n)
+        kinetic = np.empty(len(flat_q))
+        for s in range(0, len(flat_q), ENERGY_BLOCK):
+            part = slice(s, s + ENERGY_BLOCK)
+            M = mass_matrix(model, flat_q[part]) if run is None else run.mass_matrix(flat_q[part])
+            kinetic[part] = 0.5 * np.einsum("ki,kij,kj->k", flat_qd[part], M, flat_qd[part])
+        kinetic = kinetic.reshape(q_all.shape[:-1])
+    return kinetic + potential_energy(model, q) + rotors
 
 
 def torque_function(model: Model, torque) -> Callable:
@@ -359,11 +383,11 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
         raise SimulationError("drives are added to our mass matrix and bias: they cannot be combined with a "
                               "dynamics function of your own (add them in it)")
     tau_of = torque_function(model, torque)
-    run = None
+    run = base = None
     if dynamics is None:
-        run = implementation(model, calls=(len(times) - 1) * CALLS_PER_STEP[integrator], states=members,
-                             compiled=compiled)
-        run = run if drives is None else Driven(run, drives)
+        base = implementation(model, calls=(len(times) - 1) * CALLS_PER_STEP[integrator], states=members,
+                              compiled=compiled)
+        run = base if drives is None else Driven(base, drives)
         dynamics = run.accelerations
     solve_accelerations = dynamics
 
@@ -390,17 +414,21 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
         driving = tau if friction is None else tau - friction.torques(qd)  # (6.114)
         return solve_accelerations(q, qd, driving), tau
 
-    guard = _LimitGuard(model, limits)
+    native = None
+    if base is not None and limits == "report" and integrator in _STEPS and (
+            table := _table(model, torque, constant)) is not None:
+        native = _native_run(base, run, times, q0, qd0, integrator, table, friction, drives, progress)
+    if native is not None:  # the whole run in native code: Θ̈ and τ recorded at every sample
+        q, qd, qdd, tau = native.q, native.qd, native.qdd, native.tau
+        return Trajectory(joints=model.joint_names, t=times, q=q, qd=qd, qdd=qdd, tau=tau,
+                          energy=total_energy(model, q, qd, drives, base), events=_limit_events(model, times, q))
     if limits == "stop":
         stops = StopRun(model, run, _STEPS[integrator], accelerations, driving_torques, dt)
         q, qd, held = _integrate_with_stops(stops, times, q0, qd0, progress)
     elif integrator == "adaptive":
         q, qd = _integrate_adaptive(model, accelerations, times, q0, qd0, progress)
     else:
-        q, qd = _integrate_fixed(_STEPS[integrator], accelerations, times, q0, qd0, guard, progress)
-    if integrator == "adaptive":
-        for k, t in enumerate(times):
-            guard.check(t, q[k], qd[k])
+        q, qd = _integrate_fixed(_STEPS[integrator], accelerations, times, q0, qd0, progress)
     # Θ̈ and τ at every sample: the torques one by one (they may depend on t), the dynamics in one batched call.
     if not (np.all(np.isfinite(q)) and np.all(np.isfinite(qd))):
         k = int(np.argmax(~np.all(np.isfinite(np.concatenate([q, qd], axis=-1)).reshape(len(times), -1), axis=1)))
@@ -410,15 +438,39 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
     qdd = solve_accelerations(q, qd, driving)
     if limits != "stop":
         return Trajectory(joints=model.joint_names, t=times, q=q, qd=qd, qdd=qdd, tau=tau,
-                          energy=total_energy(model, q, qd, drives), events=tuple(guard.events))
+                          energy=total_energy(model, q, qd, drives, base), events=_limit_events(model, times, q))
     reaction = np.zeros_like(qdd)
     rows = (held | (stops.side(q) != 0)).any(axis=-1)
     if rows.any():  # the held joints' accelerations and reactions, as each step began
         _, qdd[rows], reaction[rows] = stops.holding(q[rows], qd[rows], driving[rows], held[rows])
     found = tuple(sorted(stops.stops, key=lambda stop: (stop.t, stop.member or 0)))
     return Trajectory(joints=model.joint_names, t=times, q=q, qd=qd, qdd=qdd, tau=tau,
-                      energy=total_energy(model, q, qd, drives), events=tuple(stop.sentence() for stop in found),
+                      energy=total_energy(model, q, qd, drives, base), events=tuple(stop.sentence() for stop in found),
                       stops=found, reaction=reaction)
+
+
+def _table(model: Model, torque, constant) -> tuple[np.ndarray, np.ndarray] | None:
+    """The applied torque as rows of a table in time, (t (R,), τ (R, n)), for a native run: zero, a constant
+    and a :class:`TorqueTable` are; a function of the state is not (None), nor a table of another width (the
+    checked path names it)."""
+    if constant is not None:
+        return np.zeros(1), np.asarray(constant, dtype=float)[None, :]
+    if isinstance(torque, TorqueTable) and torque.tau.shape[1] == model.n:
+        return torque.t, torque.tau
+    return None
+
+
+def _native_run(base, run, times, q0, qd0, integrator, table, friction, drives, progress):
+    """The run in native code (:func:`~course_dynamics.core.compiled.looped.rollout`), or None where it cannot be
+    (then the steps run in Python). A state that became non-finite is refused as the Python steps refuse it; a
+    singular mass matrix is named by the checked solve, which raises."""
+    done = rollout(base, times, q0, qd0, integrator, *table, friction, drives, progress)
+    if done is None or not done.failure:
+        return done
+    if done.failure == "not finite":
+        raise SimulationError(f"the state became non-finite near t = {done.t:.6g} s (try a smaller dt)")
+    run.accelerations(*done.state)  # raises SingularMassMatrixError, naming the joint
+    return None  # the checked solve accepts what the native pivots did not: the Python steps decide
 
 
 def _check_within_limits(model: Model, q0: np.ndarray) -> None:
@@ -496,12 +548,11 @@ def _rk4_step(f, t, q, qd, dt):
 _STEPS = {"euler": _euler_step, "semi-implicit": _semi_implicit_step, "rk4": _rk4_step}
 
 
-def _integrate_fixed(step, f, times, q0, qd0, guard, progress):
+def _integrate_fixed(step, f, times, q0, qd0, progress):
     q, qd = np.empty((len(times),) + q0.shape), np.empty((len(times),) + q0.shape)
-    q[0], qd[0] = guard.check(times[0], q0, qd0)
+    q[0], qd[0] = q0, qd0
     for k in range(len(times) - 1):
-        q_next, qd_next = step(f, times[k], q[k], qd[k], times[k + 1] - times[k])
-        q[k + 1], qd[k + 1] = guard.check(times[k + 1], q_next, qd_next)
+        q[k + 1], qd[k + 1] = step(f, times[k], q[k], qd[k], times[k + 1] - times[k])
         if progress is not None:
             progress(1)
     return q, qd
@@ -540,31 +591,25 @@ def _integrate_adaptive(model, f, times, q0, qd0, progress):
     return solution.y[:size].T.reshape((T,) + shape).copy(), solution.y[size:].T.reshape((T,) + shape).copy()
 
 
-class _LimitGuard:
-    """Under limits='report': records, once per joint (and member), when the motion left the joint's limits."""
-
-    def __init__(self, model: Model, mode: str):
-        self.model, self.mode = model, mode
-        self.lower, self.upper = limit_bounds(model)
-        self.reported: set[tuple] = set()
-        self.events: list[str] = []
-
-    def check(self, t, q, qd):
-        below, above = q < self.lower, q > self.upper
-        if self.mode != "report" or not (below.any() or above.any()):
-            return q, qd
-        for index in np.argwhere(below | above):
-            index = tuple(index)
-            j = index[-1]
-            if index in self.reported:
-                continue
-            member = f"member {index[0]}: " if q.ndim == 2 else ""
-            side, bound = ("lower", self.lower[j]) if below[index] else ("upper", self.upper[j])
-            self.events.append(f"t = {t:.6g} s: {member}joint '{self.model.joint_names[j]}' passed its {side} limit "
-                               f"{bound:g} (q = {q[index]:.6g})")
-            self.reported.add(index)
-        return q, qd
+def _limit_events(model: Model, times: np.ndarray, q: np.ndarray) -> tuple[str, ...]:
+    """Under limits='report', from the recorded samples: when each joint (of each member) first left its limits,
+    in time order (a joint whose limits bound nothing is never reported)."""
+    lower, upper = limit_bounds(model)
+    outside = (q < lower) | (q > upper)
+    if not outside.any():
+        return ()
+    first = np.argmax(outside, axis=0)  # the first sample outside, per (member,) joint
+    found = sorted((int(first[tuple(index)]),) + tuple(index) for index in np.argwhere(outside.any(axis=0)))
+    events = []
+    for k, *index in found:
+        index = tuple(index)
+        j, value = index[-1], q[(k,) + index]
+        member = f"member {index[0]}: " if q.ndim == 3 else ""
+        side, bound = ("lower", lower[j]) if value < lower[j] else ("upper", upper[j])
+        events.append(f"t = {times[k]:.6g} s: {member}joint '{model.joint_names[j]}' passed its {side} limit "
+                      f"{bound:g} (q = {value:.6g})")
+    return tuple(events)
 
 
-__all__ = ["CALLS_PER_STEP", "INTEGRATORS", "LIMIT_MODES", "SimulationError", "StateError", "TorqueTable", "Trajectory",
-           "simulate", "time_grid", "total_energy"]
+__all__ = ["CALLS_PER_STEP", "ENERGY_BLOCK", "INTEGRATORS", "LIMIT_MODES", "SimulationError", "StateError",
+           "TorqueTable", "Trajectory", "simulate", "time_grid", "total_energy"]

@@ -13,6 +13,7 @@ name               what
 :func:`why_not`    why the loop does not run here ("" where it does)
 :class:`Looped`    τ, M and V + G natively (G and forward dynamics from them), the rest interpreted
 :func:`looped`     a model's checked :class:`Looped`, or None
+:func:`rollout`    a whole fixed-step simulation in native calls (:mod:`~course_dynamics.core.compiled.rollout`)
 =================  ==============================================================================
 """
 from __future__ import annotations
@@ -24,6 +25,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..crba import mass_matrix as interpreted_mass_matrix
+from ..drives import Drives
 from ..dynamics import coriolis_matrix
 from ..forward_dynamics import forward_dynamics as interpreted_forward_dynamics
 from ..forward_dynamics import solve
@@ -33,6 +35,7 @@ from ..newton_euler import inverse_dynamics
 from ..regressor import regressor
 from ..state import as_state
 from . import native
+from .rollout import SCHEMES, STATUS
 from .steps import SOURCE, model_array, source_digest
 
 
@@ -372,4 +375,152 @@ def looped(model: Model) -> Looped | None:
         return None
     return run
 
-__all__ = ["Looped", "library", "looped", "why_not"]
+
+#: Forward-dynamics evaluations in one native call of a run (between calls, progress is told and Ctrl-C heard).
+CHUNK_EVALUATIONS = 100_000
+#: Forward-dynamics evaluations a step of each native integrator takes.
+EVALUATIONS = {"euler": 1, "semi-implicit": 1, "rk4": 4}
+
+
+@dataclass(frozen=True)
+class Rolled:
+    """A run from :func:`rollout`: the samples, and where it stopped if it failed.
+
+    Parameters
+    ----------
+    q, qd, qdd, tau : numpy.ndarray, shape (T, n) or (T, K, n)
+        Θ (rad, m), Θ̇ (rad/s, m/s), Θ̈ (rad/s², m/s²) and the applied τ (N·m, N) at every sample.
+    failure : str
+        "" for a whole run; "not finite" or "singular" (:data:`~course_dynamics.core.compiled.rollout.STATUS`).
+    t : float
+        Where it failed: the time of the failing evaluation, s.
+    state : numpy.ndarray, shape (3, n)
+        There: Θ, Θ̇ and τ − F(Θ̇).
+    member : int
+        There: the ensemble's member (0 for one run).
+
+    Examples
+    --------
+    >>> done = Rolled(*np.zeros((4, 2, 1)))
+    >>> done.failure == "" and done.q.shape
+    (2, 1)
+    """
+
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    tau: np.ndarray
+    failure: str = ""
+    t: float = 0.0
+    state: np.ndarray | None = None
+    member: int = 0
+
+
+def terms(run):
+    """What a native run computes M and V + G with, for an implementation the evaluator gave: a compiled
+    model's own C (the capsule of its library), else the native loop's model array; None for neither.
+
+    Parameters
+    ----------
+    run : object
+        A :class:`Looped`, a :class:`~course_dynamics.core.compiled.CompiledModel`, or the recursions as written.
+
+    Returns
+    -------
+    object or None
+        The capsule or the model array.
+
+    Examples
+    --------
+    >>> from course_dynamics import load_robot
+    >>> source = terms(looped(load_robot("two_link")))
+    >>> source is None or source.shape
+    (192,)
+    """
+    own = getattr(run, "native", None) or {}
+    if "terms" in own:
+        return own["terms"]
+    loop = run if isinstance(run, Looped) else getattr(run, "loop", None)
+    return None if loop is None else loop.array
+
+
+def rollout(run, times: np.ndarray, q0: np.ndarray, qd0: np.ndarray, integrator: str, torque_times: np.ndarray,
+            torques: np.ndarray, friction: Friction | None = None, drives: Drives | None = None,
+            progress=None) -> Rolled | None:
+    """A fixed-step simulation natively, from its first sample to its last
+    (:mod:`~course_dynamics.core.compiled.rollout`).
+
+    Parameters
+    ----------
+    run : object
+        What the evaluator gave for the run (:func:`terms` says what the C computes with).
+    times : numpy.ndarray, shape (T,)
+        The samples, s, increasing (T ≥ 2).
+    q0, qd0 : numpy.ndarray, shape (n,) or (K, n)
+        Θ and Θ̇ at the first sample (an ensemble of K members).
+    integrator : str
+        ``euler``, ``semi-implicit`` or ``rk4``.
+    torque_times : numpy.ndarray, shape (R,)
+        The applied torques' times, s, increasing (one row: held all along).
+    torques : numpy.ndarray, shape (R, n)
+        The applied torques there, N·m (N): linear in time between rows, held outside them.
+    friction : Friction, optional
+        Taken off τ (6.114).
+    drives : Drives, optional
+        Rotor inertias on M's diagonal, offsets added to the bias.
+    progress : callable, optional
+        Called with the steps each native call took.
+
+    Returns
+    -------
+    Rolled or None
+        The run; None where it cannot be native (no native library, no terms, another integrator).
+
+    Examples
+    --------
+    >>> from course_dynamics import load_robot
+    >>> from course_dynamics.core.evaluator import implementation
+    >>> arm = load_robot("pendulum")
+    >>> times = np.arange(3) * 1e-3
+    >>> run = rollout(implementation(arm, calls=12), times, np.array([0.5]), np.zeros(1), "rk4", np.zeros(1),
+    ...               np.zeros((1, 1)))
+    >>> run is None or (run.q.shape, run.failure)
+    ((3, 1), '')
+    """
+    lib, source = library(), terms(run)
+    if lib is None or source is None or integrator not in SCHEMES:
+        return None
+    n, members = q0.shape[-1], 1 if q0.ndim == 1 else len(q0)
+    zero = np.zeros(n)
+    parameters = np.concatenate([[0.0 if friction is None else friction.smoothing],
+                                 zero if friction is None else friction.viscous,
+                                 zero if friction is None else friction.coulomb,
+                                 zero if drives is None else drives.armature,
+                                 zero if drives is None else drives.offset])
+    table = np.ascontiguousarray(np.column_stack([torque_times, torques]), dtype=np.float64)
+    times = np.ascontiguousarray(times, dtype=np.float64)
+    q, qd, qdd, tau = (np.empty((len(times),) + q0.shape) for _ in range(4))
+    q[0], qd[0] = q0, qd0
+    chunk = max(1, CHUNK_EVALUATIONS // (members * EVALUATIONS[integrator]))
+    parts = max(1, min(native.THREADS, members, members * chunk // native.THREAD_STATES))
+    bounds = np.linspace(0, members, parts + 1).astype(int)
+    status = np.zeros((parts, 3 + 3 * n))
+
+    def call(k0: int, k1: int, part: int) -> int:
+        return lib.rollout(source, times, q, qd, qdd, tau, table, parameters, status[part], SCHEMES[integrator],
+                           k0, k1, int(bounds[part]), int(bounds[part + 1]))
+
+    for k0 in range(0, len(times) - 1, chunk):
+        k1 = min(len(times) - 1, k0 + chunk)
+        codes = [call(k0, k1, 0)] if parts == 1 else list(native.pool().map(lambda p: call(k0, k1, p), range(parts)))
+        if any(codes):
+            first = min((p for p in range(parts) if codes[p]), key=lambda p: status[p, 2])
+            row = status[first]
+            return Rolled(q, qd, qdd, tau, STATUS[codes[first]], float(row[2]), row[3:].reshape(3, n).copy(),
+                          int(row[1]))
+        if progress is not None:
+            progress(k1 - k0)
+    return Rolled(q, qd, qdd, tau)
+
+
+__all__ = ["CHUNK_EVALUATIONS", "EVALUATIONS", "Looped", "Rolled", "library", "looped", "rollout", "terms", "why_not"]

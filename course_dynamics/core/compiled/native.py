@@ -46,6 +46,7 @@ from pathlib import Path
 import numpy as np
 
 from ..state import batch_shape
+from . import rollout
 from .tracing import Program
 
 #: The value of ``COURSE_DYNAMICS_NATIVE`` that turns native code off.
@@ -115,12 +116,24 @@ def run_batch(function, arrays, width: int, first: tuple = ()) -> np.ndarray:
         return out
     flat = [c.reshape(states, -1) for c in columns] + [out.reshape(states, width)]
     bounds = np.linspace(0, states, parts + 1).astype(int)
-    list(_pool().map(lambda k: function(*first, *(a[bounds[k]:bounds[k + 1]] for a in flat)), range(parts)))
+    list(pool().map(lambda k: function(*first, *(a[bounds[k]:bounds[k + 1]] for a in flat)), range(parts)))
     return out
 
 
 @functools.cache
-def _pool():
+def pool():
+    """The threads native work is shared over (:data:`THREADS` of them), made on first use.
+
+    Returns
+    -------
+    concurrent.futures.ThreadPoolExecutor
+        The one pool of the process.
+
+    Examples
+    --------
+    >>> pool() is pool()
+    True
+    """
     from concurrent.futures import ThreadPoolExecutor
 
     return ThreadPoolExecutor(max_workers=THREADS, thread_name_prefix="course-dynamics-native")
@@ -209,7 +222,7 @@ def _parts(program: Program) -> tuple[list[list[int]], dict[int, int]]:
 
 
 def _function(program: Program, n: int) -> tuple[str, int]:
-    """``static void <name>_one(const double *q, …, double *scratch, double *out)``: one line per operation, in
+    """``HIDDEN void <name>_one(const double *q, …, double *scratch, double *out)``: one line per operation, in
     parts of bounded size (gcc's time grows faster than the size of a function); and the scratch size."""
     inputs = {f"{name}{j}": f"{name}[{j}]" for name in program.inputs for j in range(n)}
     parameters = ", ".join(f"const double *restrict {name}" for name in program.inputs)
@@ -224,8 +237,8 @@ def _function(program: Program, n: int) -> tuple[str, int]:
                 return f"scratch[{carried[a[1]]}]"
             return c_argument(a, program.nodes, inputs)
 
-        name = f"PART void {program.name}_part{p}" if len(parts) > 1 else f"void {program.name}_one"
-        lines = [f"static {name}({parameters}, double *restrict scratch, double *restrict out)", "{"]
+        name = f"static PART void {program.name}_part{p}" if len(parts) > 1 else f"HIDDEN void {program.name}_one"
+        lines = [f"{name}({parameters}, double *restrict scratch, double *restrict out)", "{"]
         for i in part:
             op, *operands = program.nodes[i]
             lines.append(f"    const double t{i} = {OPERATIONS[op].format(*(value(a) for a in operands))};")
@@ -237,7 +250,7 @@ def _function(program: Program, n: int) -> tuple[str, int]:
     if len(parts) == 1:
         return text[0], len(carried)
     calls = [f"    {program.name}_part{p}({arguments}, scratch, out);" for p in range(len(parts))]
-    text.append("\n".join([f"static void {program.name}_one({parameters}, double *restrict scratch, "
+    text.append("\n".join([f"HIDDEN void {program.name}_one({parameters}, double *restrict scratch, "
                             "double *restrict out)", "{", *calls, "}"]))
     return "\n\n".join(text), len(carried)
 
@@ -368,11 +381,11 @@ def c_source(programs: dict[str, Program], n: int, key: str, robot: str) -> str:
     >>> pendulum = load_robot("pendulum")
     >>> source = c_source(trace_programs(pendulum), 1, "k1", pendulum.name)
     >>> import textwrap
-    >>> for line in [line for line in source.splitlines() if line.startswith("static void")][:2]:
-    ...     print(textwrap.fill(line, 100, subsequent_indent="    "))
-    static void tau_one(const double *restrict q, const double *restrict qd, const double *restrict qdd,
+    >>> for line in [line for line in source.splitlines() if line.startswith("HIDDEN void") and line[-1] == ")"][:2]:
+    ...     print(textwrap.fill(line, 104, subsequent_indent="    "))
+    HIDDEN void tau_one(const double *restrict q, const double *restrict qd, const double *restrict qdd,
         double *restrict scratch, double *restrict out)
-    static void mass_matrix_one(const double *restrict q, double *restrict scratch, double *restrict out)
+    HIDDEN void mass_matrix_one(const double *restrict q, double *restrict scratch, double *restrict out)
     """
     # The robot's name appears only inside a comment, with anything that could end it taken out.
     safe = "".join(c if c.isalnum() or c in " _-." else "?" for c in robot)[:80]
@@ -385,13 +398,20 @@ def c_source(programs: dict[str, Program], n: int, key: str, robot: str) -> str:
              "#else", "#define PART", "#define HIDDEN", "#endif", ""]
     parts += [f"HIDDEN PyObject *{name}(PyObject *self, PyObject *const *args, Py_ssize_t nargs);"
               for name in programs] + [""]
-    methods = []
+    terms = "mass_matrix" in programs and "bias" in programs  # the capsule the native run computes with
+    if terms:
+        parts += ["HIDDEN void mass_matrix_one(const double *restrict q, double *restrict scratch, "
+                  "double *restrict out);",
+                  "HIDDEN void bias_one(const double *restrict q, const double *restrict qd, double *restrict scratch, "
+                  "double *restrict out);", rollout.TERMS]
+    methods, scratch = [], {}
     for unit in _units(programs):
         if unit is not None:
             parts.append(UNIT_MARK)
         for program in unit or programs.values():
             function, carried = _function(program, n)
             parts.append(function)
+            scratch[program.name] = carried
             pointers = ", ".join(f"(const double *)views[{i}].buf + k * {n}" for i in range(len(program.inputs)))
             bodies = len(program.outputs) // (10 * n) if program.name == "regressor" else None  # Y: n × 10 bodies
             parts.append(WRAPPER.format(name=program.name, count=len(program.inputs) + 1, inputs=len(program.inputs),
@@ -401,8 +421,17 @@ def c_source(programs: dict[str, Program], n: int, key: str, robot: str) -> str:
         methods.append(f'    {{"{program.name}", (PyCFunction)(void (*)(void)){program.name}, METH_FASTCALL, NULL}},')
     name = module_name(key)
     parts += ["static PyMethodDef methods[] = {", *methods, "    {NULL, NULL, 0, NULL}", "};", "",
-              f'static struct PyModuleDef module = {{PyModuleDef_HEAD_INIT, "{name}", NULL, -1, methods}};', "",
-              f"PyMODINIT_FUNC PyInit_{name}(void) {{ return PyModule_Create(&module); }}", ""]
+              f'static struct PyModuleDef module = {{PyModuleDef_HEAD_INIT, "{name}", NULL, -1, methods}};', ""]
+    if not terms:
+        return "\n".join(parts + [f"PyMODINIT_FUNC PyInit_{name}(void) {{ return PyModule_Create(&module); }}", ""])
+    parts += [f"static course_dynamics_terms terms = {{1, {n}, mass_matrix_one, {scratch['mass_matrix']}, bias_one, "
+              f"{scratch['bias']}}};", "", f"PyMODINIT_FUNC PyInit_{name}(void)", "{",
+              "    PyObject *m = PyModule_Create(&module), *capsule = NULL;", "    if (m == NULL)",
+              "        return NULL;",
+              f'    if ((capsule = PyCapsule_New(&terms, "{rollout.CAPSULE}", NULL)) == NULL',
+              '        || PyModule_AddObject(m, "terms", capsule) != 0) {',
+              "        Py_XDECREF(capsule);", "        Py_DECREF(m);", "        return NULL;", "    }", "    return m;",
+              "}", ""]
     return "\n".join(parts)
 
 
@@ -695,4 +724,4 @@ def load(data: bytes, key: str) -> dict | None:
 
 __all__ = ["BUILD_FILE_BYTES", "BUILD_MEMORY", "BUILD_SECONDS", "NATIVE_OFF", "PART_OPERATIONS", "SPLIT_OPERATIONS",
            "THREADS", "THREAD_STATES", "UNITS", "UNIT_MARK", "build", "c_argument", "c_source", "compile_library",
-           "compiler", "enabled", "load", "run_batch"]
+           "compiler", "enabled", "load", "pool", "run_batch"]
