@@ -1,14 +1,17 @@
-"""course_dynamics/core/forward_dynamics.py: (6.115) against Pinocchio's aba, and singular mass matrices."""
+"""course_dynamics/core/forward_dynamics.py: (6.115) against Pinocchio's aba, singular mass matrices and terms that
+overflow."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
 from helpers import arm_urdf, assert_agrees
 
-from course_dynamics import inverse_dynamics, load_urdf
+from course_dynamics import inverse_dynamics, load_robot, load_urdf
+from course_dynamics.base.errors import StateError
 from course_dynamics.core.forward_dynamics import (
     SingularMassMatrixError,
     forward_dynamics,
+    solve,
 )
 from course_dynamics.core.friction import Friction
 
@@ -38,3 +41,16 @@ def test_massless_chain_is_a_clear_error(tmp_path):
         forward_dynamics(model, [0.1, 0.2], [0, 0], [0, 0])
     with pytest.raises(SingularMassMatrixError):
         forward_dynamics(model, np.zeros((3, 2)), np.zeros((3, 2)), np.zeros((3, 2)))
+
+
+def test_terms_that_overflow_are_named_as_such_not_as_a_singular_mass_matrix():
+    """A finite state whose M or torques are not finite in float64: the state is named, singularity is not claimed."""
+    model = load_robot("two_link")
+    with pytest.raises(StateError, match="robot 'two_link' overflow at q = \\[0.0, 0.5\\]: M"):
+        solve(model, np.full((2, 2), np.nan), np.ones(2), np.array([0.0, 0.5]))
+    states = np.array([[0.1, 0.2], [0.3, 0.4]])
+    with pytest.raises(StateError, match="at q = \\[0.3, 0.4\\]"):
+        solve(model, np.stack([np.eye(2), np.eye(2)]), np.array([[1.0, 1.0], [np.inf, 1.0]]), states)
+    with pytest.raises(StateError, match="overflow"), np.errstate(over="ignore"):
+        forward_dynamics(model, [0.0, 0.5], [-1.0, -1.0], [1e308, 1e308],
+                         Friction(viscous=[0.0, 0.0], coulomb=[1e308, 1e308]))

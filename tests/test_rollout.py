@@ -1,7 +1,8 @@
 """course_dynamics/core/compiled/rollout.py (run by looped.rollout): a whole fixed-step simulation in native calls
-is the Python steps' run, to the last bits, on every integrator, torque input, friction and drives, with a compiled
+is the Python steps' run, to round-off, on every integrator, torque input, friction and drives, with a compiled
 model's C or the native loop; it agrees with Pinocchio; it stops where the Python steps stop, naming the same
-problem; it refuses what it cannot trust; and where it cannot run, the Python steps do."""
+problem at the same time (an ensemble's earliest, however it is shared); it refuses what it cannot trust; and
+where it cannot run, the Python steps do."""
 from __future__ import annotations
 
 import ctypes
@@ -139,6 +140,59 @@ def test_a_state_that_blows_up_natively_is_the_same_error():
     model = load_robot("pendulum")
     with pytest.raises(SimulationError, match="the state became non-finite near t = 2 s \\(try a smaller dt\\)"):
         simulate(model, [0.1], [0.0], duration=4.0, dt=2.0, integrator="euler", torque=[1e308])
+
+
+@pytest.mark.parametrize("integrator", ["euler", "semi-implicit", "rk4"])
+def test_terms_that_overflow_at_a_finite_state_are_the_same_error_at_the_same_time(integrator, monkeypatch):
+    """A torque of 1e200 N·m: the first accelerations overflow, which both paths call a state gone non-finite
+    (not a singular mass matrix), at the same time."""
+    model = load_robot("rp_arm")
+    found = []
+    for _ in range(2):
+        with pytest.raises(SimulationError, match="the state became non-finite near t = ") as error:
+            simulate(model, [0.0, 0.5], [0.0, 0.0], duration=0.05, dt=1e-3, integrator=integrator,
+                     torque=[1e200, 1e200])
+        found.append(str(error.value))
+        in_python(monkeypatch)
+    assert found[0] == found[1]
+
+
+def test_a_table_whose_slope_overflows_is_the_same_error_or_the_same_run(monkeypatch):
+    """As numpy.interp: a row's own value at its time, the torque named where the line between rows overflows."""
+    model = load_robot("rp_arm")
+    steep = TorqueTable(t=np.array([0.0, 0.0105]), tau=np.array([[0.0, 0.0], [1e307, 1e307]]))
+    held = TorqueTable(t=np.array([0.0, 1e-310, 1e-3, 1.0]), tau=np.array([[1.0, 1.0], [1e300, 1e300],
+                                                                            [1.0, 1.0], [1.0, 1.0]]))
+    found, runs = [], []
+    for _ in range(2):
+        for q0 in (np.zeros(2), np.zeros((3, 2))):
+            with pytest.raises(SimulationError, match="the torque at t = 0.0005 s is \\[inf, inf\\]") as error:
+                simulate(model, q0, np.zeros_like(q0), duration=0.05, dt=1e-3, torque=steep)
+            found.append(str(error.value))
+        runs.append(simulate(model, [0.0, 0.5], [0.0, 0.0], duration=0.005, dt=1e-3, integrator="euler",
+                             torque=held))
+        in_python(monkeypatch)
+    assert found[:2] == found[2:] and "(or shape (3, 2))" in found[1]
+    assert_same_run(*runs)
+    np.testing.assert_array_equal(runs[0].tau, np.ones((6, 2)))
+
+
+@pytest.mark.parametrize("threads", [1, 2, 4])
+def test_an_ensemble_stops_at_its_earliest_failure_however_it_is_shared(threads, monkeypatch):
+    """The members fail at different times; the first member fails last: the run names the earliest time on any
+    number of threads, as the Python steps do."""
+    model = load_robot("double_pendulum_continuous")
+    q0, qd0 = np.tile([0.3, 0.4], (4, 1)), np.array([[1e5, 0.0], [1e10, 0.0], [1e20, 0.0], [1e40, 0.0]])
+    monkeypatch.setattr(native, "THREADS", threads)
+    monkeypatch.setattr(native, "THREAD_STATES", 1)
+    with pytest.raises(SimulationError, match="near t = 0.2 s") as native_error:
+        simulate(model, q0, qd0, duration=1.0, dt=0.1, integrator="euler")
+    done = looped.rollout(looped.looped(model), np.arange(11) * 0.1, q0, qd0, "euler", np.zeros(1), np.zeros((1, 2)))
+    assert done.failure == "not finite" and done.member == 3 and done.t == pytest.approx(0.2)
+    in_python(monkeypatch)
+    with pytest.raises(SimulationError) as python_error:
+        simulate(model, q0, qd0, duration=1.0, dt=0.1, integrator="euler")
+    assert str(native_error.value) == str(python_error.value)
 
 
 def test_a_singular_mass_matrix_is_named_by_the_checked_solve(tmp_path):

@@ -16,7 +16,7 @@ from typing import Callable
 
 import numpy as np
 
-from ..base.errors import CourseDynamicsError
+from ..base.errors import CourseDynamicsError, StateError
 from .dynamics import mass_matrix_and_bias, mass_matrix_and_bias_entries
 from .friction import Friction
 from .model import Model
@@ -182,6 +182,8 @@ def solve(model: Model, M: np.ndarray, rhs: np.ndarray, q: np.ndarray) -> np.nda
     ------
     SingularMassMatrixError
         If a Cholesky pivot of M is within round-off of zero (naming the state and the joint).
+    StateError
+        If M or rhs is not finite: a finite state whose terms overflow float64 (naming the state).
 
     Examples
     --------
@@ -191,6 +193,12 @@ def solve(model: Model, M: np.ndarray, rhs: np.ndarray, q: np.ndarray) -> np.nda
     >>> solve(arm, np.diag([2.0, 4.0]), np.array([1.0, 1.0]), np.zeros(2))
     array([0.5 , 0.25])
     """
+    if not (np.all(np.isfinite(M)) and np.all(np.isfinite(rhs))):
+        finite = np.isfinite(rhs).all(axis=-1) & np.isfinite(M).all(axis=(-2, -1))
+        k = np.unravel_index(np.argmin(finite), finite.shape)
+        raise StateError(f"the dynamics of robot '{model.name}' overflow at q = "
+                         f"{np.broadcast_to(q, finite.shape + (model.n,))[k].tolist()}: M(Θ) or the torques "
+                         "are not finite")
     _check_positive_definite(model, M, q)
     return np.linalg.solve(M, rhs[..., None])[..., 0]
 

@@ -398,9 +398,7 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
             return constant if q.ndim == 1 else np.broadcast_to(constant, q.shape)
         tau = np.asarray(tau_of(t, q, qd), dtype=float)
         if tau.shape not in ((model.n,), q.shape) or not np.all(np.isfinite(tau)):
-            shown = tau.tolist() if tau.size <= 3 * model.n else f"an array of shape {tau.shape}"
-            raise SimulationError(f"the torque at t = {t:.6g} s is {shown}: expected {model.n} finite values"
-                                  + (f" (or shape {q.shape})" if q.ndim == 2 else ""))
+            raise _torque_refused(t, tau, model.n, q.shape)
         return np.broadcast_to(tau, q.shape)
 
     def driving_torques(t, q, qd):
@@ -412,12 +410,18 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
             raise SimulationError(f"the state became non-finite near t = {t:.6g} s (try a smaller dt)")
         tau = applied(t, q, qd)
         driving = tau if friction is None else tau - friction.torques(qd)  # (6.114)
-        return solve_accelerations(q, qd, driving), tau
+        try:
+            qdd = solve_accelerations(q, qd, driving)
+        except StateError:  # our terms overflowed at a finite state
+            qdd = np.full(q.shape, np.nan)
+        if not _finite(qdd):  # the next state would not be
+            raise SimulationError(f"the state became non-finite near t = {t:.6g} s (try a smaller dt)")
+        return qdd, tau
 
     native = None
     if base is not None and limits == "report" and integrator in _STEPS and (
             table := _table(model, torque, constant)) is not None:
-        native = _native_run(base, run, times, q0, qd0, integrator, table, friction, drives, progress)
+        native = _native_run(model, base, run, times, q0, qd0, integrator, table, friction, drives, progress)
     if native is not None:  # the whole run in native code: Θ̈ and τ recorded at every sample
         q, qd, qdd, tau = native.q, native.qd, native.qdd, native.tau
         return Trajectory(joints=model.joint_names, t=times, q=q, qd=qd, qdd=qdd, tau=tau,
@@ -460,17 +464,26 @@ def _table(model: Model, torque, constant) -> tuple[np.ndarray, np.ndarray] | No
     return None
 
 
-def _native_run(base, run, times, q0, qd0, integrator, table, friction, drives, progress):
+def _native_run(model, base, run, times, q0, qd0, integrator, table, friction, drives, progress):
     """The run in native code (:func:`~course_dynamics.core.compiled.looped.rollout`), or None where it cannot be
-    (then the steps run in Python). A state that became non-finite is refused as the Python steps refuse it; a
-    singular mass matrix is named by the checked solve, which raises."""
+    (then the steps run in Python). A state that became non-finite, or a torque, is refused as the Python steps
+    refuse it; a singular mass matrix is named by the checked solve, which raises."""
     done = rollout(base, times, q0, qd0, integrator, *table, friction, drives, progress)
     if done is None or not done.failure:
         return done
     if done.failure == "not finite":
         raise SimulationError(f"the state became non-finite near t = {done.t:.6g} s (try a smaller dt)")
+    if done.failure == "torque not finite":
+        raise _torque_refused(done.t, done.state[2], model.n, q0.shape)
     run.accelerations(*done.state)  # raises SingularMassMatrixError, naming the joint
     return None  # the checked solve accepts what the native pivots did not: the Python steps decide
+
+
+def _torque_refused(t: float, tau: np.ndarray, n: int, shape: tuple) -> SimulationError:
+    """The error for an applied torque at time t that is not n finite values (nor one per member, shape (K, n))."""
+    shown = tau.tolist() if tau.size <= 3 * n else f"an array of shape {tau.shape}"
+    return SimulationError(f"the torque at t = {t:.6g} s is {shown}: expected {n} finite values"
+                           + (f" (or shape {shape})" if len(shape) == 2 else ""))
 
 
 def _check_within_limits(model: Model, q0: np.ndarray) -> None:

@@ -391,13 +391,14 @@ class Rolled:
     q, qd, qdd, tau : numpy.ndarray, shape (T, n) or (T, K, n)
         Θ (rad, m), Θ̇ (rad/s, m/s), Θ̈ (rad/s², m/s²) and the applied τ (N·m, N) at every sample.
     failure : str
-        "" for a whole run; "not finite" or "singular" (:data:`~course_dynamics.core.compiled.rollout.STATUS`).
+        "" for a whole run; else "not finite", "singular" or "torque not finite"
+        (:data:`~course_dynamics.core.compiled.rollout.STATUS`), the earliest in time of the members'.
     t : float
         Where it failed: the time of the failing evaluation, s.
     state : numpy.ndarray, shape (3, n)
-        There: Θ, Θ̇ and τ − F(Θ̇).
+        There: Θ, Θ̇ and τ − F(Θ̇) (the applied τ where the torque was not finite).
     member : int
-        There: the ensemble's member (0 for one run).
+        There: the ensemble's member (0 for one run; the first of those failing at that time).
 
     Examples
     --------
@@ -514,7 +515,7 @@ def rollout(run, times: np.ndarray, q0: np.ndarray, qd0: np.ndarray, integrator:
         k1 = min(len(times) - 1, k0 + chunk)
         codes = [call(k0, k1, 0)] if parts == 1 else list(native.pool().map(lambda p: call(k0, k1, p), range(parts)))
         if any(codes):
-            first = min((p for p in range(parts) if codes[p]), key=lambda p: status[p, 2])
+            first = min((p for p in range(parts) if codes[p]), key=lambda p: (status[p, 2], status[p, 1]))
             row = status[first]
             return Rolled(q, qd, qdd, tau, STATUS[codes[first]], float(row[2]), row[3:].reshape(3, n).copy(),
                           int(row[1]))

@@ -21,8 +21,10 @@ integrators           ``euler`` (6.116)–(6.117), ``semi-implicit``, ``rk4``, a
 recording             Θ and Θ̇ at every sample, and Θ̈ and τ at each step's start (and the last sample)
 ====================  =============================================================================
 
-A run stops at the first state that is not finite, or at a mass matrix its pivots show singular, and says
-where in its status (:data:`STATUS`); the caller names the problem (the checked path raises
+A run stops at the first state (or its terms, or Θ̈) that is not finite, a torque that is not, or a mass matrix
+its pivots show singular, and says where in its status (:data:`STATUS`); an ensemble's members all run, so
+that the failure it gives is the earliest in time however the members are shared over threads; the caller
+names the problem (the checked path raises
 :class:`~course_dynamics.core.forward_dynamics.SingularMassMatrixError`, naming the joint).
 
 A compiled model's library (:mod:`~course_dynamics.core.compiled.native`) holds its M and bias functions in a
@@ -35,7 +37,7 @@ from ..forward_dynamics import SINGULAR_PIVOT_RATIO
 #: The integrators the native run offers, by the code the C takes.
 SCHEMES = {"euler": 0, "semi-implicit": 1, "rk4": 2}
 #: What the first entry of a run's status means.
-STATUS = {0: "done", 1: "not finite", 2: "singular"}
+STATUS = {0: "done", 1: "not finite", 2: "singular", 3: "torque not finite"}
 #: The name of the capsule that carries a compiled model's M and bias functions.
 CAPSULE = "course_dynamics.terms"
 
@@ -68,18 +70,27 @@ typedef struct {
     double *M, *D, *rhs, *driving;       /* n × n, then n each */
 } rollout_t;
 
-/* τ(t): linear in t between the table's rows, held at the first and last row outside them. */
-static void applied(const rollout_t *r, double t, double *tau)
+static int all_finite(const double *x, Py_ssize_t n)
+{
+    for (Py_ssize_t j = 0; j < n; j++)
+        if (!isfinite(x[j]))
+            return 0;
+    return 1;
+}
+
+/* τ(t) as numpy.interp gives it: linear in t between the table's rows (a row's own value at its time, the other
+   end's line where one overflows), held at the first and last row outside them; 0 where a value is not finite. */
+static int applied(const rollout_t *r, double t, double *tau)
 {
     const Py_ssize_t n = r->n, w = n + 1, last = r->rows - 1;
     const double *T = r->table;
     if (r->rows == 1 || t <= T[0]) {
         memcpy(tau, T + 1, sizeof(double) * n);
-        return;
+        return 1;
     }
     if (t >= T[last * w]) {
         memcpy(tau, T + last * w + 1, sizeof(double) * n);
-        return;
+        return 1;
     }
     Py_ssize_t lo = 0, hi = last;  /* T[lo] <= t < T[hi] */
     while (hi - lo > 1) {
@@ -89,28 +100,35 @@ static void applied(const rollout_t *r, double t, double *tau)
         else
             hi = mid;
     }
+    const double *a = T + lo * w, *b = T + hi * w;
     for (Py_ssize_t j = 0; j < n; j++) {
-        const double slope = (T[hi * w + 1 + j] - T[lo * w + 1 + j]) / (T[hi * w] - T[lo * w]);
-        tau[j] = slope * (t - T[lo * w]) + T[lo * w + 1 + j];
+        if (a[0] == t) {
+            tau[j] = a[1 + j];
+            continue;
+        }
+        const double slope = (b[1 + j] - a[1 + j]) / (b[0] - a[0]);
+        tau[j] = slope * (t - a[0]) + a[1 + j];
+        if (isnan(tau[j])) {
+            tau[j] = slope * (t - b[0]) + b[1 + j];
+            if (isnan(tau[j]) && a[1 + j] == b[1 + j])
+                tau[j] = a[1 + j];
+        }
     }
+    return all_finite(tau, n);
 }
 
-static int all_finite(const double *x, Py_ssize_t n)
-{
-    for (Py_ssize_t j = 0; j < n; j++)
-        if (!isfinite(x[j]))
-            return 0;
-    return 1;
-}
-
-/* Θ̈ at (t, Θ, Θ̇), and τ(t): 0, 1 for a state (or terms) not finite, 2 for a singular mass matrix. */
+/* Θ̈ at (t, Θ, Θ̇), and τ(t): 0, or the code of STATUS: 1 for a state, its terms or Θ̈ not finite, 2 for a
+   singular mass matrix, 3 for a torque not finite (then kept in r->driving). */
 static int accelerations(rollout_t *r, double t, const double *q, const double *qd, double *qdd, double *tau)
 {
     const Py_ssize_t n = r->n;
     double *M = r->M, *D = r->D, *rhs = r->rhs;
     if (!all_finite(q, n) || !all_finite(qd, n))
         return 1;
-    applied(r, t, tau);
+    if (!applied(r, t, tau)) {
+        memcpy(r->driving, tau, sizeof(double) * n);
+        return 3;
+    }
     if (r->terms != NULL) {
         r->terms->mass_matrix(q, r->work, M);
         r->terms->bias(q, qd, r->work, rhs);
@@ -157,11 +175,12 @@ static int accelerations(rollout_t *r, double t, const double *q, const double *
             sum = sum + M[k * n + i] * qdd[k];
         qdd[i] = rhs[i] / D[i] - sum;
     }
-    return 0;
+    return all_finite(qdd, n) ? 0 : 1;
 }
 
 /* One member's samples k0 … k1 (Θ and Θ̇ at k0 given): Θ and Θ̇ after k0, Θ̈ and τ at each. 0, or the code of
-   the state that failed, with that state (Θ, Θ̇, and τ − F) in `state` and its time in *when. */
+   the state that failed, with that state (Θ, Θ̇, and τ − F, or the torque for code 3) in `state` and its time
+   in *when. */
 static int integrate(rollout_t *r, int scheme, const double *times, Py_ssize_t stride, double *q, double *qd,
                      double *qdd, double *tau, Py_ssize_t k0, Py_ssize_t k1, double *when, double *state,
                      double *stage)
@@ -229,7 +248,8 @@ static int integrate(rollout_t *r, int scheme, const double *times, Py_ssize_t s
 }
 
 /* rollout(terms, times, q, qd, qdd, tau, table, parameters, status, scheme, k0, k1, m0, m1): members m0 … m1 − 1
-   from sample k0 to k1, the GIL released; the code (STATUS), with status = (code, member, t, Θ, Θ̇, τ − F). */
+   from sample k0 to k1, the GIL released; the code (STATUS) of the earliest failure (the first member of those
+   failing at once), with status = (code, member or −1, t, Θ, Θ̇, τ − F or τ). */
 static PyObject *rollout(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
     Py_buffer views[9];
@@ -313,7 +333,7 @@ static PyObject *rollout(PyObject *self, PyObject *const *args, Py_ssize_t nargs
         PyErr_SetString(PyExc_ValueError, "rollout: the times, the table or the parameters are not in order");
         goto done;
     }
-    if ((scratch = malloc(sizeof(double) * (size_t)(n * n + 13 * n))) == NULL) {
+    if ((scratch = malloc(sizeof(double) * (size_t)(n * n + 16 * n))) == NULL) {
         PyErr_NoMemory();
         goto done;
     }
@@ -323,14 +343,21 @@ static PyObject *rollout(PyObject *self, PyObject *const *args, Py_ssize_t nargs
     r.M = scratch, r.D = scratch + n * n, r.rhs = r.D + n, r.driving = r.rhs + n;
     double *stage = r.driving + n, *status = views[8].buf, when = 0.0;
     double *q = views[2].buf, *qd = views[3].buf, *qdd = views[4].buf, *tau = views[5].buf;
+    double *failed = stage + 10 * n;               /* a member's failing state, before it is the earliest */
     int code = 0;
-    Py_ssize_t member;
+    Py_ssize_t member = -1;
     Py_BEGIN_ALLOW_THREADS
-    for (member = m0; member < m1 && code == 0; member++)
-        code = integrate(&r, (int)scheme, times, K * n, q + member * n, qd + member * n, qdd + member * n,
-                         tau + member * n, k0, k1, &when, status + 3, stage);
+    for (Py_ssize_t m = m0; m < m1; m++) {         /* every member, so that the earliest failure is found */
+        double at = 0.0;
+        const int c = integrate(&r, (int)scheme, times, K * n, q + m * n, qd + m * n, qdd + m * n, tau + m * n,
+                                k0, k1, &at, failed, stage);
+        if (c != 0 && (code == 0 || at < when)) {
+            code = c, member = m, when = at;
+            memcpy(status + 3, failed, sizeof(double) * 3 * (size_t)n);
+        }
+    }
     Py_END_ALLOW_THREADS
-    status[0] = code, status[1] = (double)(member - 1), status[2] = when;
+    status[0] = code, status[1] = (double)member, status[2] = when;
     result = PyLong_FromLong(code);
 done:
     free(scratch);
