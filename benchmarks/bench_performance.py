@@ -13,8 +13,9 @@ own layout, made before timing, passed straight to its functions: ``pin.rnea`` &
 state, ``rneaInParallel``/``abaInParallel`` with the thread count shown. It prints, for UR5 unless said otherwise:
 
 1. one state: the compiled model's own methods against ``pin.rnea``, ``pin.crba`` and ``pin.aba`` called from
-   Python; the default API (``inverse_dynamics(model, q, qd, qdd)`` in a loop, on whatever path its evaluator
-   takes) and the interpreted recursion; then Pinocchio's cost of one call from Python beside an estimate of
+   Python; the default API (``inverse_dynamics(model, q, qd, qdd)``, ``mass_matrix(model, q)`` and
+   ``forward_dynamics(model, q, qd, tau)`` in a loop, on whatever path its evaluator takes: the native entry,
+   ``core.compiled.entry``, once the choice is remembered) and the interpreted recursion; then Pinocchio's cost of one call from Python beside an estimate of
    its C++ cost: the same call on an empty model (the binding's own cost) subtracted, and, for rnea and aba,
    the per-state time of its batch call on one thread;
 2. a batch of --batch states, per sample, our compiled model on 1 thread against Pinocchio's fastest
@@ -55,7 +56,7 @@ import pinocchio as pin
 from course_dynamics_reference.pinocchio_oracle import PinocchioOracle
 from course_dynamics_reference.validate import random_states
 
-from course_dynamics import inverse_dynamics, load_robot, load_urdf, robot_path
+from course_dynamics import forward_dynamics, inverse_dynamics, load_robot, load_urdf, mass_matrix, robot_path
 from course_dynamics.core import compiled as compiled_module
 from course_dynamics.core import dynamics, evaluator, newton_euler
 from course_dynamics.core import forward_dynamics as interpreted_forward
@@ -174,6 +175,10 @@ def one_state(model, oracle, compiled, x, xd, xdd, batch, r, number: int) -> dic
     line("τ: default API inverse_dynamics(ur5, …) in a loop / pin.rnea", best(lambda: inverse_dynamics(model, x, xd, xdd),
                                                                           r, number), python["rnea"], "µs", ONE,
          "default one")
+    line("M: default API mass_matrix(ur5, q) in a loop / pin.crba", best(lambda: mass_matrix(model, x), r, number),
+         python["crba"], "µs", ONE, "default one")
+    line("FD: default API forward_dynamics(ur5, …) in a loop / pin.aba",
+         best(lambda: forward_dynamics(model, x, xd, xdd), r, number), python["aba"], "µs", ONE, "default one")
     line("τ: interpreted newton_euler.inverse_dynamics / pin.rnea",
          best(lambda: newton_euler.inverse_dynamics(model, x, xd, xdd), r, max(1, number // 40)), python["rnea"], "µs", ONE)
 

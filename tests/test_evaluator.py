@@ -90,6 +90,9 @@ elif sys.argv[1] == "batch":                           # a batch whose own work 
 ran.clear()
 q, qd, qdd = rng.uniform(-1, 1, (3, 2))
 course_dynamics.inverse_dynamics(arm, q, qd, qdd)
+entry = looped.remembered(arm)                          # the native entry runs a remembered choice's C
+if not ran:
+    ran.append({CompiledModel: "compiled", looped.Looped: "loop"}[type(entry)])
 chosen = evaluator.choice(arm, calls=1, states=1)
 print(json.dumps({"ran": ran[0], "path": chosen.path, "reason": chosen.reason}))
 """

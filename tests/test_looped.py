@@ -156,10 +156,10 @@ def test_the_evaluator_runs_the_loop_for_little_work_and_for_any_size(tmp_path, 
     original, calls = looped.Looped.native_call, []
     monkeypatch.setattr(looped.Looped, "native_call", lambda self, *a: (calls.append(a[0]), original(self, *a))[1])
     q = np.random.default_rng(0).uniform(-1, 1, 6)
-    tau = course_dynamics.inverse_dynamics(arm, q, q, q)               # the one-state shortcut to the loop
+    assert looped.remembered(arm) is chosen.run                        # the choice is remembered natively
+    tau = course_dynamics.inverse_dynamics(arm, q, q, q)               # so the native entry runs the loop
     np.testing.assert_allclose(tau, newton_euler.inverse_dynamics(arm, q, q, q), rtol=0, atol=1e-12 * np.abs(tau).max())
-    assert calls == ["tau"]
-    assert evaluator._FAST[id(arm)][2] is chosen.run
+    assert calls == [] and np.array_equal(tau, chosen.run.inverse_dynamics(q, q, q))  # the same bits
 
 
 def test_a_compiled_model_without_its_c_has_the_loop_stand_in(tmp_path, monkeypatch):
@@ -312,13 +312,14 @@ def test_compiling_a_model_ends_the_one_state_shortcut_to_its_loop(tmp_path, mon
     arm = load_robot("ur5").with_gravity([0, 0, -9.66])
     q = np.random.default_rng(2).uniform(-1, 1, 6)
     course_dynamics.inverse_dynamics(arm, q, q, q)
-    assert isinstance(evaluator._FAST[id(arm)][2], looped.Looped)
+    assert isinstance(looped.remembered(arm), looped.Looped)
     compile_model(arm)
     ran = []
     original = CompiledModel.native_call
     monkeypatch.setattr(CompiledModel, "native_call", lambda self, *a: (ran.append(a[0]), original(self, *a))[1])
     course_dynamics.inverse_dynamics(arm, q, q, q)
     assert ran == ["tau"] and evaluator.choice(arm).path == "compiled"
+    assert isinstance(looped.remembered(arm), CompiledModel)
 
 
 def gantry_urdf(seed: int) -> str:
@@ -392,7 +393,7 @@ def test_a_compiled_model_whose_c_is_building_is_not_remembered_for_one_state_ca
     chosen = evaluator.choice(arm, calls=10_000)                       # a long run: its C starts building
     assert chosen.run.native_build is not None, chosen.run.native_reason
     again = evaluator.choice(arm)
-    assert again.run.native_build is not None and id(arm) not in evaluator._FAST
+    assert again.run.native_build is not None and looped.remembered(arm) is None
     finished = again.run.collected(wait=60)
     assert finished.native
 

@@ -41,7 +41,8 @@ cache holds its library; a call of work :data:`NATIVE_SECONDS` or more (a long s
 the background (:mod:`~course_dynamics.core.compiled.building`: bounded, never tried again once it failed);
 until a later choice finds it built (never in the middle of a call) the loop stands in for its τ, M and V + G
 (``CompiledModel.loop``). A one-state call of finite float64 values on a model whose choice runs C for it goes
-straight to the C (the same choice, remembered for the model object, the environment and the cache's content).
+straight to the C, checks and all (:mod:`~course_dynamics.core.compiled.entry`: the same choice, remembered for
+the model object, the environment and the cache's content).
 
 >>> import numpy as np
 >>> from course_dynamics import load_robot
@@ -71,7 +72,7 @@ from . import newton_euler
 from . import regressor as interpreted_regressor
 from .compiled import CompiledModel, CompileWarning, ProgramTooLargeError, cache_folder, compile_model, model_key
 from .compiled.cache import WRITES
-from .compiled.looped import Looped, looped
+from .compiled.looped import Looped, forget, looped, remember
 from .compiled.native import enabled as native_enabled
 from .drives import Driven, Drives
 from .friction import Friction
@@ -113,7 +114,6 @@ class Interpreted:
 
     Examples
     --------
-
     >>> from course_dynamics import load_robot
     >>> np.round(Interpreted(load_robot("two_link")).gravity_torques([0.0, 0.0]), 6)
     array([18.639,  3.924])
@@ -284,7 +284,6 @@ class Choice:
 
     Examples
     --------
-
     >>> from course_dynamics import load_robot
     >>> chosen = choice(load_robot("two_link"), floats=False)
     >>> chosen.path, type(chosen.run).__name__, chosen.native
@@ -313,7 +312,6 @@ class _Compiled:
 
 _KEYS: dict[int, tuple[weakref.ref, str]] = {}                  # id(model) -> its model_key
 _COMPILED: dict[tuple[str, str], _Compiled] = {}                # (cache folder, model_key) -> what was built
-_FAST: dict[int, tuple] = {}  # id(model) -> (the model's weakref, environment, what runs its C, cache WRITES)
 _FOLDERS: dict[tuple, object] = {}                              # the environment -> its cache folder
 _LOOPS: dict[str, Looped | None] = {}                           # model_key -> its checked native loop, or None
 
@@ -336,7 +334,7 @@ def _environment() -> tuple:
 def _key(model: Model) -> str:
     known = _KEYS.get(id(model))
     if known is None or known[0]() is not model:
-        known = (weakref.ref(model, lambda _, i=id(model): (_KEYS.pop(i, None), _FAST.pop(i, None))), model_key(model))
+        known = (weakref.ref(model, lambda _, i=id(model): (_KEYS.pop(i, None), forget(i))), model_key(model))
         _KEYS[id(model)] = known
     return known[1]
 
@@ -358,7 +356,6 @@ def interpreted_seconds(calls: int, states: int) -> float:
 
     Examples
     --------
-
     >>> round(interpreted_seconds(calls=1000, states=1), 4)   # a simulation's worth of one-state calls, s
     0.3015
     """
@@ -401,7 +398,6 @@ def choice(model: Model, calls: int = 1, states: int = 1, floats: bool = True, c
 
     Examples
     --------
-
     >>> from course_dynamics import load_robot
     >>> arm = load_robot("two_link")
     >>> choice(arm, compiled=False)
@@ -472,12 +468,24 @@ def _uncompiled(model: Model, reason: str, environment: tuple, known: _Compiled 
 
 def _remembered(model: Model, chosen: Choice, environment: tuple) -> Choice:
     """The choice, remembered for the model's one-state calls where it runs native code for them (the loop, or a
-    compiled model with C that the cache holds)."""
-    if chosen.path == "loop" or (chosen.native and chosen.reason == CACHED and chosen.run.native_build is None):
-        _FAST[id(model)] = (weakref.ref(model), environment, chosen.run, WRITES[0])
-    else:
-        _FAST.pop(id(model), None)
+    compiled model with C that the cache holds), in the native entry; ``environment`` is what it was made under."""
+    global _ONE
+    if _RAW is not None and environment == _environment() and (chosen.path == "loop" or (
+            chosen.native and chosen.reason == CACHED and chosen.run.native_build is None)):
+        one = remember(model, chosen.run, _RAW, _RAW_NAMES, WRITES)
+        if one is not None:
+            _ONE = one
+            return chosen
+    forget(id(model))
     return chosen
+
+
+def _unremembered(model, code: int, *arrays) -> None:
+    """The native entry where no model has one yet: it takes no call."""
+    return None
+
+
+_ONE = _unremembered  # the native entry's ``one`` once a model is remembered in it
 
 
 def implementation(model: Model, calls: int = 1, states: int = 1, compiled: bool | None = None):
@@ -509,21 +517,11 @@ def implementation(model: Model, calls: int = 1, states: int = 1, compiled: bool
 
     Examples
     --------
-
     >>> from course_dynamics import load_robot
     >>> type(implementation(load_robot("two_link"), compiled=False)).__name__
     'Interpreted'
     """
     return choice(model, calls, states, compiled=compiled).run
-
-
-def _native(model: Model, name: str, *arguments) -> np.ndarray | None:
-    """The native result for one finite float64 state as given, where the model's choice is a compiled model
-    with C in this environment (CompiledModel.native_call), else None."""
-    fast = _FAST.get(id(model))
-    if fast is None or fast[0]() is not model or fast[1] != _environment() or fast[3] != WRITES[0]:
-        return None
-    return fast[2].native_call(name, *arguments)
 
 
 def _blocked(run, name: str, *arrays: np.ndarray, **options) -> np.ndarray:
@@ -582,12 +580,11 @@ def inverse_dynamics(model: Model, q, qd, qdd) -> np.ndarray:
 
     Examples
     --------
-
     >>> from course_dynamics import load_robot
     >>> np.round(inverse_dynamics(load_robot("two_link"), [0.1, 0.2], [1, 0], [0, 1]), 6)
     array([18.74624 ,  3.948474])
     """
-    out = _native(model, "tau", q, qd, qdd)
+    out = _ONE(model, 0, q, qd, qdd)  # the native entry's PROGRAMS codes
     if out is not None:
         return out
     q, qd, qdd = as_state(model, q, "q"), as_state(model, qd, "qd"), as_state(model, qdd, "qdd")
@@ -623,7 +620,6 @@ def regressor(model: Model, q, qd, qdd) -> np.ndarray:
 
     Examples
     --------
-
     >>> from course_dynamics import load_robot
     >>> from course_dynamics.core.regressor import parameters
     >>> arm = load_robot("two_link")
@@ -631,7 +627,7 @@ def regressor(model: Model, q, qd, qdd) -> np.ndarray:
     >>> Y.shape, np.round(Y @ parameters(arm), 6)          # τ = Y π
     ((2, 20), array([18.74624 ,  3.948474]))
     """
-    out = _native(model, "regressor", q, qd, qdd)
+    out = _ONE(model, 3, q, qd, qdd)
     if out is not None:
         return out
     q, qd, qdd = as_state(model, q, "q"), as_state(model, qd, "qd"), as_state(model, qdd, "qdd")
@@ -662,13 +658,12 @@ def mass_matrix(model: Model, q) -> np.ndarray:
 
     Examples
     --------
-
     >>> from course_dynamics import load_robot
     >>> np.round(mass_matrix(load_robot("two_link"), [0.0, 0.5]), 6)
     array([[1.261033, 0.335517],
            [0.335517, 0.16    ]])
     """
-    out = _native(model, "mass_matrix", q)
+    out = _ONE(model, 1, q)
     if out is not None:
         return out
     q = as_state(model, q, "q")
@@ -702,7 +697,6 @@ def coriolis_matrix(model: Model, q, qd) -> np.ndarray:
 
     Examples
     --------
-
     >>> from course_dynamics import load_robot
     >>> np.round(coriolis_matrix(load_robot("two_link"), [0.0, 0.5], [1.0, 0.0]), 6)
     array([[ 0.      , -0.095885],
@@ -736,7 +730,6 @@ def gravity_torques(model: Model, q) -> np.ndarray:
 
     Examples
     --------
-
     >>> from course_dynamics import load_robot
     >>> np.round(gravity_torques(load_robot("two_link"), [0.0, 0.0]), 6)
     array([18.639,  3.924])
@@ -781,12 +774,11 @@ def forward_dynamics(model: Model, q, qd, tau, friction: Friction | None = None,
 
     Examples
     --------
-
     >>> from course_dynamics import load_robot
     >>> np.round(forward_dynamics(load_robot("two_link"), [0.0, 0.5], [0, 0], [24.0, 5.0]), 6)
     array([4.623991, 0.030879])
     """
-    out = _native(model, "forward_dynamics", q, qd, tau) if friction is None and drives is None else None
+    out = _ONE(model, 2, q, qd, tau) if friction is None and drives is None else None
     if out is not None:
         return out
     q, qd, tau = as_state(model, q, "q"), as_state(model, qd, "qd"), as_state(model, tau, "tau")

@@ -14,6 +14,8 @@ name               what
 :class:`Looped`    τ, M and V + G natively (G and forward dynamics from them), the rest interpreted
 :func:`looped`     a model's checked :class:`Looped`, or None
 :func:`rollout`    a whole fixed-step simulation in native calls (:mod:`~course_dynamics.core.compiled.rollout`)
+:func:`remember`   the one-state entry for a model (:mod:`~course_dynamics.core.compiled.entry`);
+                   :func:`forget`, :func:`remembered`
 =================  ==============================================================================
 """
 from __future__ import annotations
@@ -88,6 +90,86 @@ def why_not() -> str:
         return ("the native loop was not built when the package was installed (no C compiler then), or was built "
                 "from another version of the recursions (reinstall the package)")
     return ""
+
+
+def remember(model: Model, run, environ: dict, names: tuple, writes: list):
+    """Make the native entry (:mod:`~course_dynamics.core.compiled.entry`) run the model's one-state calls with
+    ``run``'s C, for as long as the environment's values of ``names`` and the cache's writes are what they are now.
+
+    Parameters
+    ----------
+    model : Model
+        The robot (the entry is for this very object).
+    run : object
+        The compiled model or the :class:`Looped` the evaluator chose (:func:`terms` says what the C runs).
+    environ : dict
+        ``os.environ``'s own dict of encoded names and values.
+    names : tuple of bytes
+        The encoded names the choice depends on.
+    writes : list
+        The cache's one-item list of its count of writes.
+
+    Returns
+    -------
+    callable or None
+        The entry, ``one(model, code, *arrays)`` (a code of
+        :data:`~course_dynamics.core.compiled.entry.PROGRAMS`), or None where there is no native entry or run
+        has no C.
+
+    Examples
+    --------
+    >>> import os
+    >>> from course_dynamics import load_robot
+    >>> arm = load_robot("two_link")
+    >>> one = remember(arm, looped(arm), os.environ._data, (b"HOME",), [0])
+    >>> one is None or one(arm, 0, np.zeros(2), np.zeros(2), np.zeros(2)).round(6)
+    array([18.639,  3.924])
+    """
+    lib, source = library(), terms(run)
+    if lib is None or source is None:
+        return None
+    lib.remember(model, run, source, environ, names, writes, np.empty)
+    return lib.one
+
+
+def forget(model_id: int) -> None:
+    """The native entry of the model of this id, forgotten (whether native code is on or not).
+
+    Parameters
+    ----------
+    model_id : int
+        ``id(model)``.
+
+    Examples
+    --------
+    >>> forget(0)
+    """
+    function = getattr(_LIBRARY[0], "forget", None) if _LIBRARY else None
+    if callable(function):  # not while the interpreter shuts down, emptying the modules
+        function(model_id)
+
+
+def remembered(model: Model):
+    """What the native entry runs this model's one-state calls with, or None (the checked path runs them).
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+
+    Returns
+    -------
+    object or None
+        The compiled model or :class:`Looped` the evaluator remembered.
+
+    Examples
+    --------
+    >>> from course_dynamics import load_robot
+    >>> remembered(load_robot("two_link")) is None
+    True
+    """
+    lib = _LIBRARY[0] if _LIBRARY else None
+    return None if lib is None else lib.remembered(model)
 
 
 @dataclass(frozen=True)
@@ -524,4 +606,5 @@ def rollout(run, times: np.ndarray, q0: np.ndarray, qd0: np.ndarray, integrator:
     return Rolled(q, qd, qdd, tau)
 
 
-__all__ = ["CHUNK_EVALUATIONS", "EVALUATIONS", "Looped", "Rolled", "library", "looped", "rollout", "terms", "why_not"]
+__all__ = ["CHUNK_EVALUATIONS", "EVALUATIONS", "Looped", "Rolled", "forget", "library", "looped", "remember",
+           "remembered", "rollout", "terms", "why_not"]

@@ -49,6 +49,9 @@ from ..state import batch_shape
 from . import rollout
 from .tracing import Program
 
+#: The programs a library's capsule (``terms``, :data:`~course_dynamics.core.compiled.rollout.TERMS`) holds, in
+#: its order, with the regressor where it is within its bound; a library without all of them has no capsule.
+CAPSULE_PROGRAMS = ("tau", "mass_matrix", "bias", "forward_dynamics")
 #: The value of ``COURSE_DYNAMICS_NATIVE`` that turns native code off.
 NATIVE_OFF = "off"  # COURSE_DYNAMICS_NATIVE=off
 #: The most wall and CPU time a build may take, s; a build taking longer is stopped and remembered.
@@ -398,12 +401,15 @@ def c_source(programs: dict[str, Program], n: int, key: str, robot: str) -> str:
              "#else", "#define PART", "#define HIDDEN", "#endif", ""]
     parts += [f"HIDDEN PyObject *{name}(PyObject *self, PyObject *const *args, Py_ssize_t nargs);"
               for name in programs] + [""]
-    terms = "mass_matrix" in programs and "bias" in programs  # the capsule the native run computes with
+    # the capsule the native run and the one-state entry compute with (the regressor may be over its bound)
+    terms = all(name in programs for name in CAPSULE_PROGRAMS)
     if terms:
-        parts += ["HIDDEN void mass_matrix_one(const double *restrict q, double *restrict scratch, "
-                  "double *restrict out);",
-                  "HIDDEN void bias_one(const double *restrict q, const double *restrict qd, double *restrict scratch, "
-                  "double *restrict out);", rollout.TERMS]
+        for program in programs.values():
+            if program.name in CAPSULE_PROGRAMS + ("regressor",):
+                parameters = ", ".join(f"const double *restrict {name}" for name in program.inputs)
+                parts.append(f"HIDDEN void {program.name}_one({parameters}, double *restrict scratch, "
+                             "double *restrict out);")
+        parts.append(rollout.TERMS)
     methods, scratch = [], {}
     for unit in _units(programs):
         if unit is not None:
@@ -424,8 +430,12 @@ def c_source(programs: dict[str, Program], n: int, key: str, robot: str) -> str:
               f'static struct PyModuleDef module = {{PyModuleDef_HEAD_INIT, "{name}", NULL, -1, methods}};', ""]
     if not terms:
         return "\n".join(parts + [f"PyMODINIT_FUNC PyInit_{name}(void) {{ return PyModule_Create(&module); }}", ""])
-    parts += [f"static course_dynamics_terms terms = {{1, {n}, mass_matrix_one, {scratch['mass_matrix']}, bias_one, "
-              f"{scratch['bias']}}};", "", f"PyMODINIT_FUNC PyInit_{name}(void)", "{",
+    bodies = len(programs["regressor"].outputs) // (10 * n) if "regressor" in programs else 0  # Y's, if any
+    functions = ", ".join(f"{program}_one" for program in CAPSULE_PROGRAMS)
+    regressor = "regressor_one" if "regressor" in programs else "NULL"
+    parts += [f"static course_dynamics_terms terms = {{2, {n}, {bodies}, {functions}, {regressor}, "
+              f"{max(scratch.values())}}};", "",
+              f"PyMODINIT_FUNC PyInit_{name}(void)", "{",
               "    PyObject *m = PyModule_Create(&module), *capsule = NULL;", "    if (m == NULL)",
               "        return NULL;",
               f'    if ((capsule = PyCapsule_New(&terms, "{rollout.CAPSULE}", NULL)) == NULL',
@@ -722,6 +732,6 @@ def load(data: bytes, key: str) -> dict | None:
     return {name: getattr(module, name) for name in dir(module) if not name.startswith("_")}
 
 
-__all__ = ["BUILD_FILE_BYTES", "BUILD_MEMORY", "BUILD_SECONDS", "NATIVE_OFF", "PART_OPERATIONS", "SPLIT_OPERATIONS",
-           "THREADS", "THREAD_STATES", "UNITS", "UNIT_MARK", "build", "c_argument", "c_source", "compile_library",
-           "compiler", "enabled", "load", "pool", "run_batch"]
+__all__ = ["BUILD_FILE_BYTES", "BUILD_MEMORY", "BUILD_SECONDS", "CAPSULE_PROGRAMS", "NATIVE_OFF", "PART_OPERATIONS",
+           "SPLIT_OPERATIONS", "THREADS", "THREAD_STATES", "UNITS", "UNIT_MARK", "build", "c_argument", "c_source",
+           "compile_library", "compiler", "enabled", "load", "pool", "run_batch"]

@@ -38,19 +38,24 @@ from ..forward_dynamics import SINGULAR_PIVOT_RATIO
 SCHEMES = {"euler": 0, "semi-implicit": 1, "rk4": 2}
 #: What the first entry of a run's status means.
 STATUS = {0: "done", 1: "not finite", 2: "singular", 3: "torque not finite"}
-#: The name of the capsule that carries a compiled model's M and bias functions.
+#: The name of the capsule that carries a compiled model's programs for one state.
 CAPSULE = "course_dynamics.terms"
 
-#: The layout of the capsule, a compiled model's M and bias functions with the scratch each needs.
+#: The layout of the capsule, a compiled model's programs for one state with the scratch the largest needs.
 TERMS = r"""
 typedef struct {
-    int version;                 /* 1 */
-    Py_ssize_t n;                /* coordinates */
+    int version;                 /* 2 */
+    Py_ssize_t n, bodies;        /* coordinates, moving bodies */
+    void (*tau)(const double *restrict q, const double *restrict qd, const double *restrict qdd,
+                double *restrict scratch, double *restrict out);
     void (*mass_matrix)(const double *restrict q, double *restrict scratch, double *restrict out);
-    Py_ssize_t mass_matrix_scratch;
     void (*bias)(const double *restrict q, const double *restrict qd, double *restrict scratch,
                  double *restrict out);
-    Py_ssize_t bias_scratch;
+    void (*forward_dynamics)(const double *restrict q, const double *restrict qd, const double *restrict tau,
+                             double *restrict scratch, double *restrict out);   /* Θ̈, then the n pivots */
+    void (*regressor)(const double *restrict q, const double *restrict qd, const double *restrict qdd,
+                      double *restrict scratch, double *restrict out);           /* NULL: over its bound */
+    Py_ssize_t scratch;          /* doubles, for any of them */
 } course_dynamics_terms;
 """
 
@@ -271,8 +276,7 @@ static PyObject *rollout(PyObject *self, PyObject *const *args, Py_ssize_t nargs
     if (PyCapsule_CheckExact(args[0])) {           /* a compiled model's own C */
         if ((terms = PyCapsule_GetPointer(args[0], "course_dynamics.terms")) == NULL)
             return NULL;
-        if (terms->version != 1 || terms->n < 1 || terms->n > 100000 || terms->mass_matrix_scratch < 0
-            || terms->bias_scratch < 0) {
+        if (terms->version != 2 || terms->n < 1 || terms->n > 100000 || terms->scratch < 0) {
             PyErr_SetString(PyExc_ValueError, "rollout: the compiled model's terms are not ones the library made");
             return NULL;
         }
@@ -292,8 +296,7 @@ static PyObject *rollout(PyObject *self, PyObject *const *args, Py_ssize_t nargs
     size_t size;
     if (terms) {
         r.n = terms->n;
-        size = (size_t)(terms->mass_matrix_scratch > terms->bias_scratch ? terms->mass_matrix_scratch
-                                                                         : terms->bias_scratch) + 1;
+        size = (size_t)terms->scratch + 1;
     } else {                                       /* copied before it is checked, as the loops' wrappers do */
         if ((model = malloc(views[0].len ? (size_t)views[0].len : 1)) == NULL) {
             PyErr_NoMemory();
