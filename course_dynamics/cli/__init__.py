@@ -33,6 +33,12 @@ import os
 import sys
 import warnings
 
+# One BLAS thread unless the environment asks for more, set before numpy loads: numpy's and scipy's wheels each
+# bring their own OpenBLAS, whose idle threads spin for about 0.1 s after every call, so on a machine of few cores
+# the first call into one copy after the other waits for them (identify measured 0.1 s of it); a command's BLAS
+# work is small matrices, and its large batches run on the native code's own threads.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
 from ..base.errors import CourseDynamicsError, CourseDynamicsWarning
 from ..base.text import one_line
 from .commands import COMMANDS

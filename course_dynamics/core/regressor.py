@@ -338,7 +338,9 @@ def _grouping(W: np.ndarray, independent, acting) -> np.ndarray:
     beta[np.arange(len(independent)), independent] = 1.0
     if dependent:
         unit = W[:, independent] / scale[independent]
-        K = np.linalg.lstsq(unit, W[:, dependent] / scale[dependent], rcond=None)[0]
+        import scipy.linalg  # scipy's, as the QR before it: numpy's BLAS right after scipy's waits for its threads
+
+        K = scipy.linalg.lstsq(unit, W[:, dependent] / scale[dependent])[0]
         K[np.abs(K) < RANK_TOLERANCE] = 0.0
         beta[:, dependent] = K * scale[dependent] / scale[independent][:, None]
     return beta

@@ -242,54 +242,57 @@ def consistent_fit(model, R, sigma, count, theta_urdf, free, scale, lengths, nam
     shares = np.zeros(len(F))
     shares[:len(s)] = s / s[0] if len(s) and s[0] > 0 else 0.0
     seen_rows = shares >= threshold
-    VE, VN = Vt[seen_rows].T, Vt[~seen_rows].T
+    VE = Vt[seen_rows].T
     seen = np.zeros(P)
     seen[F] = np.sum(VE**2, axis=1)
     residual = z - A @ theta_urdf
     embed = np.zeros((P, len(F)))
     embed[F, np.arange(len(F))] = scale[F]
-    a = cp.Variable(VE.shape[1]) if VE.shape[1] else None
-    b = cp.Variable(VN.shape[1]) if VN.shape[1] else None
-    parts = ([VE @ a] if a is not None else []) + ([VN @ b] if b is not None else [])
-    x = parts[0] + parts[1] if len(parts) == 2 else parts[0]
-    theta = theta_urdf + embed @ x
-    basis, bodies = _basis(), [i for i in range(model.n_bodies) if free[10 * i:10 * i + 10].any()]
+    k = VE.shape[1]
+    y = cp.Variable(len(F))                                # θ = θ_urdf + E V y: y[:k] seen, y[k:] not
+    basis = _basis().reshape(10, 16).T                     # vec Jᵢ = B pᵢ (J symmetric: either order)
+    bodies = [i for i in range(model.n_bodies) if free[10 * i:10 * i + 10].any()]
     priors = {i: prior_pseudo_inertia(theta_urdf[10 * i:10 * i + 10], scale[10 * i], lengths[i]) for i in bodies}
     groups = {"friction": [k for k in range(n_rigid, P)]} if at_least_zero is None else at_least_zero
     groups = {label: [k for k in F if k in set(ks)] for label, ks in groups.items()}
     friction = sorted(k for ks in groups.values() for k in ks)
 
-    def physical(theta, logdet):
-        """The constraints, and Σ d(Jᵢ ‖ Jᵢ₀) less its constants when ``logdet``."""
+    def physical(t, T, v, logdet):
+        """The constraints on θ = t + T v (constants t and T, the variable v), and Σ d(Jᵢ ‖ Jᵢ₀) less its
+        constants when ``logdet``; each a product of constant matrices and v, so cvxpy's trees stay small."""
         constraints, penalty = [], 0
         for i in bodies:
-            p = theta[10 * i:10 * i + 10]
+            rows = slice(10 * i, 10 * i + 10)
             J = cp.Variable((4, 4), PSD=True)
-            constraints += [J == sum(p[k] * basis[k] for k in range(10)), p[0] >= min_mass[i]]
-            if logdet:
-                penalty = penalty - cp.log_det(J) + cp.trace(np.linalg.inv(priors[i]) @ J)
+            constraints.append(cp.vec(J, order="F") == basis @ t[rows] + (basis @ T[rows]) @ v)
+            if logdet:  # trace(Jᵢ₀⁻¹ Jᵢ) = vec(Jᵢ₀⁻¹) · vec(Jᵢ)
+                penalty = penalty - cp.log_det(J) + np.linalg.inv(priors[i]).ravel() @ cp.vec(J, order="F")
+        masses = [10 * i for i in bodies]
+        if masses:
+            constraints.append(T[masses] @ v >= min_mass[bodies] - t[masses])
         if friction:
-            constraints.append(theta[friction] >= 0)
+            constraints.append(T[friction] @ v >= -t[friction])
         return constraints, penalty
 
-    constraints, penalty = physical(theta, prior_weight > 0)
-    objective = cp.sum_squares(A @ embed @ (VE @ a) - residual) / count if a is not None else 0
+    embedded = embed @ Vt.T                                # θ's change for each entry of y
+    constraints, penalty = physical(theta_urdf, embedded, y, prior_weight > 0)
+    objective = cp.sum_squares((A @ embedded[:, :k]) @ y[:k] - residual) / count if k else 0
     if bodies and prior_weight > 0:
         objective = objective + prior_weight * penalty
-    if b is not None:
-        objective = objective + HOLD * cp.sum_squares(b)
+    if k < len(F):
+        objective = objective + HOLD * cp.sum_squares(y[k:])
     solver = _solve(cp.Problem(cp.Minimize(objective), constraints), model.name)
-    a_value = a.value if a is not None else np.zeros(0)
-    kept = theta_urdf + embed @ (VE @ a_value)
+    a_value = y.value[:k]
+    kept = theta_urdf + embedded[:, :k] @ a_value
     unphysical = [i for i in bodies if not _is_physical(kept[10 * i:10 * i + 10], min_mass[i])]
     active, moved = [], 0.0
-    if unphysical and b is not None:   # the least move of what the log does not see that makes every body physical
-        fixed = theta_urdf + embed @ (VE @ a_value + VN @ b)
-        constraints, _ = physical(fixed, False)
+    if unphysical and k < len(F):   # the least move of what the log does not see that makes every body physical
+        b = cp.Variable(len(F) - k)
+        constraints, _ = physical(kept, embedded[:, k:], b, False)
         _solve(cp.Problem(cp.Minimize(cp.sum_squares(b)), constraints), model.name)
         moved = float(np.linalg.norm(b.value))
-        kept = theta_urdf + embed @ (VE @ a_value + VN @ b.value)
-        change = (kept - theta_urdf - embed @ (VE @ a_value)) / scale
+        change = embedded[:, k:] @ b.value / scale
+        kept = kept + embedded[:, k:] @ b.value
         active = [f"body '{model.bodies[i].name}': physical only with what the log does not see moved by "
                   f"{float(np.linalg.norm(change[10 * i:10 * i + 10])):.3g} (in its scale)" for i in unphysical]
     for i in bodies:
