@@ -298,8 +298,9 @@ def test_a_planted_link_at_the_html_target_is_replaced_not_followed(capsys, tmp_
 
 
 def _long_torques_log(tmp_path):
+    """A log whose torques take seconds (500 000 rows: 200 000 took 1.8 s, within some of the delays below)."""
     log = tmp_path / "log.csv"
-    t = np.arange(200_000) * 1e-3
+    t = np.arange(500_000) * 1e-3
     q = 0.3 * np.sin(np.outer(t, np.arange(1, 7)))
     np.savetxt(log, np.column_stack([t, q]), delimiter=",", comments="",
                header="t," + ",".join(f"q_{j}" for j in ("shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint",

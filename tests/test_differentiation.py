@@ -224,3 +224,11 @@ def test_the_correlation_is_scipys_without_importing_scipy_signal(samples, windo
               f"derivatives(1e-3, np.sin(np.arange({samples}) * 1e-3)[:, None], window={window})\n"
               "print(sorted(m for m in ('scipy.signal', 'scipy.stats') if m in sys.modules))")
     assert subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, check=True).stdout == "[]\n"
+
+
+def test_a_table_that_is_not_finite_is_named_as_such():
+    q = np.r_[np.zeros((10, 2)), [[0.0, np.nan]], np.zeros((10, 2))]
+    with pytest.raises(InputError, match="the log: q in row 10, column 1 is nan: a table to differentiate must be"):
+        derivatives(1e-3, q, window=5)
+    with pytest.raises(InputError, match="qd in row 0, column 0 is inf"):
+        derivatives(1e-3, np.zeros((21, 1)), np.r_[[[np.inf]], np.zeros((20, 1))])

@@ -212,6 +212,10 @@ def test_the_c_refuses_what_it_cannot_trust():
                      np.empty)
     with pytest.raises(TypeError):
         lib.forget("model")
+    for empty in (lambda shape: np.empty(shape, dtype=np.float32), lambda shape: np.empty(1)):
+        lib.remember(model, run, run.array, environ, names, WRITES, empty)   # an output of another kind or size
+        with pytest.raises(TypeError, match="not the float64 array of the program's size"):
+            lib.one(model, 1, q)
     lib.remember(model, run, run.array, environ, names, WRITES, np.empty)
     assert lib.remembered(model) is run
     assert lib.one(model, 0, q, q, q).shape == (2,)

@@ -377,6 +377,11 @@ def derivatives(t_step: float, q, qd=None, window: int | None = None, *, where: 
             raise InputError(f"{where}: qd has shape {qd.shape}, q has {q.shape}")
     if not (np.isfinite(t_step) and t_step > 0):
         raise InputError(f"the sample step must be a positive number of seconds, got {t_step}")
+    for name, values in (("q", q), ("qd", qd)):
+        if values is not None and not np.all(np.isfinite(values)):
+            row, column = map(int, np.argwhere(~np.isfinite(values))[0])
+            raise InputError(f"{where}: {name} in row {row}, column {column} is {values[row, column]}: "
+                             "a table to differentiate must be finite")
     if window is not None:
         window = _explicit_window(samples, window, where)
     elif samples < POLYORDER + 2:

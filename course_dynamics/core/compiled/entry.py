@@ -295,8 +295,15 @@ static PyObject *one(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
     PyObject *shape = code == 1 ? e->matrix : code == 3 ? e->rows : e->vector;
     if ((out = PyObject_Vectorcall(e->empty, &shape, 1, NULL)) == NULL)  /* before the work: it may run Python */
         goto done;
-    if (PyObject_GetBuffer(out, &result, PyBUF_WRITABLE | PyBUF_C_CONTIGUOUS) != 0) {
+    if (PyObject_GetBuffer(out, &result, PyBUF_WRITABLE | PyBUF_C_CONTIGUOUS | PyBUF_FORMAT) != 0) {
         Py_CLEAR(out);
+        goto done;
+    }
+    const Py_ssize_t width = code == 1 ? n * n : code == 3 ? 10 * n * e->bodies : n;
+    if (result.len != 8 * width || strcmp(result.format, "d") != 0) {  /* what numpy.empty makes, and no other */
+        PyBuffer_Release(&result);
+        Py_CLEAR(out);
+        PyErr_SetString(PyExc_TypeError, "one: the entry's output is not the float64 array of the program's size");
         goto done;
     }
     double *o = result.buf;

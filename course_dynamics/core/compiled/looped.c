@@ -2028,8 +2028,15 @@ static PyObject *one(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
     PyObject *shape = code == 1 ? e->matrix : code == 3 ? e->rows : e->vector;
     if ((out = PyObject_Vectorcall(e->empty, &shape, 1, NULL)) == NULL)  /* before the work: it may run Python */
         goto done;
-    if (PyObject_GetBuffer(out, &result, PyBUF_WRITABLE | PyBUF_C_CONTIGUOUS) != 0) {
+    if (PyObject_GetBuffer(out, &result, PyBUF_WRITABLE | PyBUF_C_CONTIGUOUS | PyBUF_FORMAT) != 0) {
         Py_CLEAR(out);
+        goto done;
+    }
+    const Py_ssize_t width = code == 1 ? n * n : code == 3 ? 10 * n * e->bodies : n;
+    if (result.len != 8 * width || strcmp(result.format, "d") != 0) {  /* what numpy.empty makes, and no other */
+        PyBuffer_Release(&result);
+        Py_CLEAR(out);
+        PyErr_SetString(PyExc_TypeError, "one: the entry's output is not the float64 array of the program's size");
         goto done;
     }
     double *o = result.buf;
@@ -2086,7 +2093,7 @@ static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_looped", NULL, -1, 
 PyMODINIT_FUNC PyInit__looped(void)
 {
     PyObject *m = PyModule_Create(&module);
-    if (m != NULL && PyModule_AddStringConstant(m, "SOURCE_SHA256", "9039f8f534c10004ceb45db5470a7df2c2f687dbffc2f1ef97103fe9878d81b9") != 0) {
+    if (m != NULL && PyModule_AddStringConstant(m, "SOURCE_SHA256", "041255936325848e7042b5fc59c11982ed4a75a3a7c22578e1138b806ae13235") != 0) {
         Py_DECREF(m);
         return NULL;
     }
