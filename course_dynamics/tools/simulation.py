@@ -407,7 +407,7 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
 
     def accelerations(t, q, qd):
         if not (_finite(q) and _finite(qd)):
-            raise SimulationError(f"the state became non-finite near t = {t:.6g} s (try a smaller dt)")
+            raise _non_finite(t)
         tau = applied(t, q, qd)
         driving = tau if friction is None else tau - friction.torques(qd)  # (6.114)
         try:
@@ -415,13 +415,13 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
         except StateError:  # our terms overflowed at a finite state
             qdd = np.full(q.shape, np.nan)
         if not _finite(qdd):  # the next state would not be
-            raise SimulationError(f"the state became non-finite near t = {t:.6g} s (try a smaller dt)")
+            raise _non_finite(t)
         return qdd, tau
 
     native = None
     if base is not None and limits == "report" and integrator in _STEPS and (
             table := _table(model, torque, constant)) is not None:
-        native = _native_run(model, base, run, times, q0, qd0, integrator, table, friction, drives, progress)
+        native = _native_run(base, run, times, q0, qd0, integrator, table, friction, drives, progress)
     if native is not None:  # the whole run in native code: Θ̈ and τ recorded at every sample
         q, qd, qdd, tau = native.q, native.qd, native.qdd, native.tau
         return Trajectory(joints=model.joint_names, t=times, q=q, qd=qd, qdd=qdd, tau=tau,
@@ -436,7 +436,7 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
     # Θ̈ and τ at every sample: the torques one by one (they may depend on t), the dynamics in one batched call.
     if not (np.all(np.isfinite(q)) and np.all(np.isfinite(qd))):
         k = int(np.argmax(~np.all(np.isfinite(np.concatenate([q, qd], axis=-1)).reshape(len(times), -1), axis=1)))
-        raise SimulationError(f"the state became non-finite near t = {times[k]:.6g} s (try a smaller dt)")
+        raise _non_finite(times[k])
     tau = np.array([applied(t, q[k], qd[k]) for k, t in enumerate(times)])
     driving = tau if friction is None else tau - friction.torques(qd)  # (6.114)
     qdd = solve_accelerations(q, qd, driving)
@@ -464,7 +464,7 @@ def _table(model: Model, torque, constant) -> tuple[np.ndarray, np.ndarray] | No
     return None
 
 
-def _native_run(model, base, run, times, q0, qd0, integrator, table, friction, drives, progress):
+def _native_run(base, run, times, q0, qd0, integrator, table, friction, drives, progress):
     """The run in native code (:func:`~course_dynamics.core.compiled.looped.rollout`), or None where it cannot be
     (then the steps run in Python). A state that became non-finite, or a torque, is refused as the Python steps
     refuse it; a singular mass matrix is named by the checked solve, which raises."""
@@ -472,11 +472,16 @@ def _native_run(model, base, run, times, q0, qd0, integrator, table, friction, d
     if done is None or not done.failure:
         return done
     if done.failure == "not finite":
-        raise SimulationError(f"the state became non-finite near t = {done.t:.6g} s (try a smaller dt)")
+        raise _non_finite(done.t)
     if done.failure == "torque not finite":
-        raise _torque_refused(done.t, done.state[2], model.n, q0.shape)
+        raise _torque_refused(done.t, done.state[2], run.model.n, q0.shape)
     run.accelerations(*done.state)  # raises SingularMassMatrixError, naming the joint
     return None  # the checked solve accepts what the native pivots did not: the Python steps decide
+
+
+def _non_finite(t: float) -> SimulationError:
+    """The error for a state, or the accelerations from it, that stopped being finite near time t."""
+    return SimulationError(f"the state became non-finite near t = {t:.6g} s (try a smaller dt)")
 
 
 def _torque_refused(t: float, tau: np.ndarray, n: int, shape: tuple) -> SimulationError:

@@ -308,13 +308,9 @@ static PyObject *one(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
     }
     double *o = result.buf;
     if (code == 2) {                       /* Θ̈ only where the pivots show M regular, as the checked path tests */
-        double *solved = e->work + t->scratch, largest = 0.0, smallest = INFINITY;
+        double *solved = e->work + t->scratch;
         t->forward_dynamics(a, b, c, e->work, solved);
-        for (Py_ssize_t j = 0; j < n; j++) {
-            largest = fabs(solved[n + j]) > largest ? fabs(solved[n + j]) : largest;
-            smallest = solved[n + j] < smallest ? solved[n + j] : smallest;
-        }
-        if (!(smallest > SINGULAR_PIVOT_RATIO * largest)) {
+        if (!regular(solved + n, n)) {     /* the rollout's test of the pivots */
             PyBuffer_Release(&result);
             Py_CLEAR(out);
             goto none;

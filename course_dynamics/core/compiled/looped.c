@@ -1523,6 +1523,18 @@ static int applied(const rollout_t *r, double t, double *tau)
     return all_finite(tau, n);
 }
 
+/* Whether an LDLᵀ factorization's pivots show M regular, as the checked solve tests them: the smallest above
+   SINGULAR_PIVOT_RATIO times the largest in size. */
+static int regular(const double *pivots, Py_ssize_t n)
+{
+    double largest = 0.0, smallest = INFINITY;
+    for (Py_ssize_t j = 0; j < n; j++) {
+        largest = fabs(pivots[j]) > largest ? fabs(pivots[j]) : largest;
+        smallest = pivots[j] < smallest ? pivots[j] : smallest;
+    }
+    return smallest > SINGULAR_PIVOT_RATIO * largest;
+}
+
 /* Θ̈ at (t, Θ, Θ̇), and τ(t): 0, or the code of STATUS: 1 for a state, its terms or Θ̈ not finite, 2 for a
    singular mass matrix, 3 for a torque not finite (then kept in r->driving). */
 static int accelerations(rollout_t *r, double t, const double *q, const double *qd, double *qdd, double *tau)
@@ -1552,7 +1564,6 @@ static int accelerations(rollout_t *r, double t, const double *q, const double *
     if (!all_finite(M, n * n) || !all_finite(rhs, n))
         return 1;
     /* M = L D Lᵀ, L unit lower triangular (kept in M's lower triangle), as tracing's _ldl_solve */
-    double largest = 0.0, smallest = INFINITY;
     for (Py_ssize_t j = 0; j < n; j++) {
         double sum = 0.0;
         for (Py_ssize_t k = 0; k < j; k++)
@@ -1564,10 +1575,8 @@ static int accelerations(rollout_t *r, double t, const double *q, const double *
                 part = part + M[i * n + k] * M[j * n + k] * D[k];
             M[i * n + j] = (M[i * n + j] - part) / D[j];
         }
-        largest = fabs(D[j]) > largest ? fabs(D[j]) : largest;
-        smallest = D[j] < smallest ? D[j] : smallest;
     }
-    if (!(smallest > SINGULAR_PIVOT_RATIO * largest))
+    if (!regular(D, n))
         return 2;
     for (Py_ssize_t i = 0; i < n; i++) {
         double sum = 0.0;
@@ -2041,13 +2050,9 @@ static PyObject *one(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
     }
     double *o = result.buf;
     if (code == 2) {                       /* Θ̈ only where the pivots show M regular, as the checked path tests */
-        double *solved = e->work + t->scratch, largest = 0.0, smallest = INFINITY;
+        double *solved = e->work + t->scratch;
         t->forward_dynamics(a, b, c, e->work, solved);
-        for (Py_ssize_t j = 0; j < n; j++) {
-            largest = fabs(solved[n + j]) > largest ? fabs(solved[n + j]) : largest;
-            smallest = solved[n + j] < smallest ? solved[n + j] : smallest;
-        }
-        if (!(smallest > SINGULAR_PIVOT_RATIO * largest)) {
+        if (!regular(solved + n, n)) {     /* the rollout's test of the pivots */
             PyBuffer_Release(&result);
             Py_CLEAR(out);
             goto none;
@@ -2093,7 +2098,7 @@ static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_looped", NULL, -1, 
 PyMODINIT_FUNC PyInit__looped(void)
 {
     PyObject *m = PyModule_Create(&module);
-    if (m != NULL && PyModule_AddStringConstant(m, "SOURCE_SHA256", "041255936325848e7042b5fc59c11982ed4a75a3a7c22578e1138b806ae13235") != 0) {
+    if (m != NULL && PyModule_AddStringConstant(m, "SOURCE_SHA256", "9595e03c1ad0b1f9648898163b85c3a6896873f360c25fef92fce2b0dd871251") != 0) {
         Py_DECREF(m);
         return NULL;
     }

@@ -122,6 +122,18 @@ static int applied(const rollout_t *r, double t, double *tau)
     return all_finite(tau, n);
 }
 
+/* Whether an LDLᵀ factorization's pivots show M regular, as the checked solve tests them: the smallest above
+   SINGULAR_PIVOT_RATIO times the largest in size. */
+static int regular(const double *pivots, Py_ssize_t n)
+{
+    double largest = 0.0, smallest = INFINITY;
+    for (Py_ssize_t j = 0; j < n; j++) {
+        largest = fabs(pivots[j]) > largest ? fabs(pivots[j]) : largest;
+        smallest = pivots[j] < smallest ? pivots[j] : smallest;
+    }
+    return smallest > SINGULAR_PIVOT_RATIO * largest;
+}
+
 /* Θ̈ at (t, Θ, Θ̇), and τ(t): 0, or the code of STATUS: 1 for a state, its terms or Θ̈ not finite, 2 for a
    singular mass matrix, 3 for a torque not finite (then kept in r->driving). */
 static int accelerations(rollout_t *r, double t, const double *q, const double *qd, double *qdd, double *tau)
@@ -151,7 +163,6 @@ static int accelerations(rollout_t *r, double t, const double *q, const double *
     if (!all_finite(M, n * n) || !all_finite(rhs, n))
         return 1;
     /* M = L D Lᵀ, L unit lower triangular (kept in M's lower triangle), as tracing's _ldl_solve */
-    double largest = 0.0, smallest = INFINITY;
     for (Py_ssize_t j = 0; j < n; j++) {
         double sum = 0.0;
         for (Py_ssize_t k = 0; k < j; k++)
@@ -163,10 +174,8 @@ static int accelerations(rollout_t *r, double t, const double *q, const double *
                 part = part + M[i * n + k] * M[j * n + k] * D[k];
             M[i * n + j] = (M[i * n + j] - part) / D[j];
         }
-        largest = fabs(D[j]) > largest ? fabs(D[j]) : largest;
-        smallest = D[j] < smallest ? D[j] : smallest;
     }
-    if (!(smallest > SINGULAR_PIVOT_RATIO * largest))
+    if (!regular(D, n))
         return 2;
     for (Py_ssize_t i = 0; i < n; i++) {
         double sum = 0.0;
