@@ -72,6 +72,7 @@ from . import newton_euler
 from . import regressor as interpreted_regressor
 from .compiled import CompiledModel, CompileWarning, ProgramTooLargeError, cache_folder, compile_model, model_key
 from .compiled.cache import WRITES
+from .compiled.entry import PROGRAMS
 from .compiled.looped import Looped, forget, looped, remember
 from .compiled.native import enabled as native_enabled
 from .drives import Driven, Drives
@@ -485,7 +486,9 @@ def _unremembered(model, code: int, *arrays) -> None:
     return None
 
 
-_ONE = _unremembered  # the native entry's ``one`` once a model is remembered in it
+_ONE = _unremembered  # the native entry's ``one`` once a model is remembered in it, and its codes:
+_TAU, _MASS_MATRIX, _FORWARD_DYNAMICS, _REGRESSOR = map(PROGRAMS.get, ("tau", "mass_matrix", "forward_dynamics",
+                                                                       "regressor"))
 
 
 def implementation(model: Model, calls: int = 1, states: int = 1, compiled: bool | None = None):
@@ -584,7 +587,7 @@ def inverse_dynamics(model: Model, q, qd, qdd) -> np.ndarray:
     >>> np.round(inverse_dynamics(load_robot("two_link"), [0.1, 0.2], [1, 0], [0, 1]), 6)
     array([18.74624 ,  3.948474])
     """
-    out = _ONE(model, 0, q, qd, qdd)  # the native entry's PROGRAMS codes
+    out = _ONE(model, _TAU, q, qd, qdd)
     if out is not None:
         return out
     q, qd, qdd = as_state(model, q, "q"), as_state(model, qd, "qd"), as_state(model, qdd, "qdd")
@@ -627,7 +630,7 @@ def regressor(model: Model, q, qd, qdd) -> np.ndarray:
     >>> Y.shape, np.round(Y @ parameters(arm), 6)          # τ = Y π
     ((2, 20), array([18.74624 ,  3.948474]))
     """
-    out = _ONE(model, 3, q, qd, qdd)
+    out = _ONE(model, _REGRESSOR, q, qd, qdd)
     if out is not None:
         return out
     q, qd, qdd = as_state(model, q, "q"), as_state(model, qd, "qd"), as_state(model, qdd, "qdd")
@@ -663,7 +666,7 @@ def mass_matrix(model: Model, q) -> np.ndarray:
     array([[1.261033, 0.335517],
            [0.335517, 0.16    ]])
     """
-    out = _ONE(model, 1, q)
+    out = _ONE(model, _MASS_MATRIX, q)
     if out is not None:
         return out
     q = as_state(model, q, "q")
@@ -778,7 +781,7 @@ def forward_dynamics(model: Model, q, qd, tau, friction: Friction | None = None,
     >>> np.round(forward_dynamics(load_robot("two_link"), [0.0, 0.5], [0, 0], [24.0, 5.0]), 6)
     array([4.623991, 0.030879])
     """
-    out = _ONE(model, 2, q, qd, tau) if friction is None and drives is None else None
+    out = _ONE(model, _FORWARD_DYNAMICS, q, qd, tau) if friction is None and drives is None else None
     if out is not None:
         return out
     q, qd, tau = as_state(model, q, "q"), as_state(model, qd, "qd"), as_state(model, tau, "tau")
