@@ -6,6 +6,7 @@ import json
 import os
 import subprocess
 import sys
+import time
 import warnings
 
 import numpy as np
@@ -16,7 +17,10 @@ from helpers import ROOT, SAMPLES, assert_agrees, chain_urdf, urdf_of
 import course_dynamics
 from course_dynamics import load_robot, load_urdf
 from course_dynamics.core import evaluator
-from course_dynamics.core.compiled import CompiledModel, CompileWarning, ProgramTooLargeError, compile_model, looped
+from course_dynamics.core.compiled import (CompiledModel, CompileWarning, ProgramTooLargeError, compile_model, looped,
+                                           native)
+from course_dynamics.core.compiled.building import BUSY
+from course_dynamics.core.compiled.cache import Cache
 from course_dynamics.core.evaluator import COMPILE_SECONDS, Interpreted, choice, implementation, interpreted_seconds
 
 API = ("inverse_dynamics", "mass_matrix", "coriolis_matrix", "gravity_torques", "forward_dynamics", "regressor")
@@ -127,6 +131,30 @@ def test_the_same_call_runs_the_same_implementation_whatever_ran_before(tmp_path
     assert seen[str(warm), "nothing"]["reason"] == evaluator.CACHED  # from the first call of the process
     filled = one_state_call_after("batch", str(tmp_path / "filled"))   # the batch put it in the cache: it says so
     assert (filled["ran"], filled["reason"]) == ("compiled", evaluator.CACHED)
+
+
+def test_c_another_process_was_building_is_taken_up_once_it_is_in_the_cache(tmp_path, monkeypatch):
+    """A model chosen while another process builds its C runs without it; once that C is in the cache, a later
+    call looks again and runs it (the choice depends on the cache now, not on when the first call came)."""
+    if native.compiler() is None:
+        pytest.skip("no C compiler: no native library to wait for")
+    monkeypatch.setenv("COURSE_DYNAMICS_CACHE", str(tmp_path))
+    arm = load_robot("two_link").with_gravity([0.0, 0.0, -9.1])  # a content no other test compiles
+    assert compile_model(arm).native
+    (library,) = tmp_path.glob("*.native")
+    key = library.name[:-len(".native")]
+    with Cache(tmp_path) as store:
+        built = store.load_bytes(f"{key}.native")
+        store.remove(f"{key}.native")
+        store.store_bytes(f"{key}.native-building", repr(time.time()).encode())  # as another process's build does
+    first = choice(arm, calls=1)
+    assert first.path == "compiled" and not first.run.native and first.run.native_reason == BUSY
+    with Cache(tmp_path) as store:  # that process's build is done
+        store.remove(f"{key}.native-building")
+        store.store_bytes(f"{key}.native", built)
+    monkeypatch.setattr(evaluator, "BUSY_SECONDS", 0.0)  # as the evaluator reads it
+    later = choice(arm, calls=1)
+    assert later.path == "compiled" and later.run.native and later.reason == evaluator.CACHED
 
 
 def test_one_long_run_compiles_at_its_start(cold_cache):

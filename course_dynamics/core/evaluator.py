@@ -60,6 +60,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
+import time
 import warnings
 import weakref
 from dataclasses import dataclass, field
@@ -71,6 +72,7 @@ from . import forward_dynamics as interpreted_forward
 from . import newton_euler
 from . import regressor as interpreted_regressor
 from .compiled import CompiledModel, CompileWarning, ProgramTooLargeError, cache_folder, compile_model, model_key
+from .compiled.building import BUSY, BUSY_SECONDS
 from .compiled.cache import WRITES
 from .compiled.entry import PROGRAMS
 from .compiled.looped import Looped, forget, looped, remember
@@ -309,6 +311,7 @@ class _Compiled:
     too_large: str = ""
     warned: bool = False  # the recursions ran it, too large to compile, after a warning
     native_tried: bool = False  # a native build was asked for (the cache holds no library, or it is building)
+    look_again: float = 0.0  # when to look for the C another process was building (time.monotonic())
 
 
 _KEYS: dict[int, tuple[weakref.ref, str]] = {}                  # id(model) -> its model_key
@@ -431,6 +434,8 @@ def choice(model: Model, calls: int = 1, states: int = 1, floats: bool = True, c
     native = True if compiled else ("background" if work >= NATIVE_SECONDS else None)
     if known.compiled is not None and known.compiled.native_build is not None:
         known.compiled = known.compiled.collected()  # a new CompiledModel once its library is built
+    elif known.compiled is not None and known.compiled.native_reason == BUSY and time.monotonic() >= known.look_again:
+        known.look_again, known.compiled = time.monotonic() + BUSY_SECONDS, compile_model(model, native_code=native)
     if known.compiled is None or (native and not known.native_tried and not known.compiled.native):
         try:
             known.compiled = compile_model(model, native_code=native)

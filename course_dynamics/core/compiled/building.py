@@ -67,6 +67,8 @@ START_SECONDS = 0.5             # the child's Python and the compiler's start
 MAX_BUILD_SECONDS = 15.0        # a build estimated longer is not started (the 20-joint chain: 8.7 s estimated)
 POLL_SECONDS = 0.25             # a running build is looked at no more often than this
 PACKAGE_ROOT = Path(__file__).resolve().parents[3]  # the folder that holds course_dynamics/
+BUSY = "another process is building it"  # the reason a compiled model has no C while another process builds it
+BUSY_SECONDS = 1.0  # how often the evaluator looks in the cache again for the C another process was building
 
 _FAILED: dict[str, str] = {}      # key -> why its native library was not built, for this process
 _RUNNING: dict[str, "_Build"] = {}  # key -> a build this process started and has not collected
@@ -185,7 +187,7 @@ def why_not(key: str, store: Cache) -> str | None:
     except ValueError:
         since = float("nan")
     if 0 <= since < native.BUILD_SECONDS + 60:
-        return "another process is building it"
+        return BUSY
     return None
 
 
