@@ -22,7 +22,8 @@ state, ``rneaInParallel``/``abaInParallel`` with the thread count shown. It prin
    single-thread path: ``rneaInParallel``/``abaInParallel`` with one thread, Python loops over ``pin.crba``
    and ``pin.computeCoriolisMatrix`` (with a second ratio against their C++ estimate from 1.);
 3. the same τ batch with our threads set to 2 against ``rneaInParallel`` with 2;
-4. ``simulate(ur5, q0, 0, duration, 1e-3, compiled=True)`` (RK4), against a bare RK4 loop on ``pin.aba``;
+4. ``simulate(ur5, q0, 0, duration, 1e-3, compiled=True)`` (RK4), against a bare RK4 loop on ``pin.aba``; and
+   the UR5 run into its limits with ``limits="stop"`` against the same loop (which has no stops);
 5. --members double pendulums (continuous joints) for 0.5 s as one ensemble, against the RK4 a Pinocchio user
    writes: vectorised over the members with ``abaInParallel`` on one thread, and a loop over the members of
    the bare RK4 loop (``pin.aba``, ``pin.integrate``);
@@ -264,6 +265,16 @@ def simulation(model, oracle, duration: float, r) -> None:
     line("simulate(ur5, q0, 0, …, compiled=True) / a bare RK4 loop on pin.aba", best(ours, rounds), best(theirs, rounds),
          "s", ONE, "simulate")
     print(f"  final states differ by {np.abs(runs['ours'].q[-1] - oracle._ours(runs['pin'])).max():.1e} rad")
+    # joint stops: the UR5 run into its ±2π limits (every joint at 2π/s), stopped and held in native code
+    fast = np.array([6.0, -6.0, 3.0, -6.0, 6.0, -6.0]), np.full(6, 2 * np.pi) * np.resize([1.0, -1.0], 6)
+
+    def stopped():
+        runs["stop"] = simulate(model, *fast, duration, 1e-3, integrator="rk4", limits="stop", compiled=True)
+
+    line("simulate(…, limits='stop') into the limits / the bare RK4 loop without stops", best(stopped, rounds),
+         best(theirs, rounds), "s", ONE)
+    print(f"  {len(runs['stop'].stops)} stops; the energy never above the start's: "
+          f"{runs['stop'].energy.max() <= runs['stop'].energy[0] + 1e-6}")
 
 
 def ensemble(members: int, r) -> None:

@@ -48,6 +48,8 @@ module                   job
 ``compiled.steps``       the native loop's C: each body's step traced once, looped over any robot
 ``compiled.looped``      the native loop at run time: the extension built with the package, checked
 ``compiled.rollout``     the whole simulation in one native call: the fixed-step integrators' C
+``compiled.impulses``    joint stops in that call, one stop's C: the impulse through M, the held joints
+``compiled.stopping``    joint stops in that call, the steps' C: crossings located, contacts, releases
 ``compiled.entry``       the one-state entry: a call checked and computed in C
 ``compiled.building``    building the native library: bounded, limited, remembered if it fails
 ``compiled.cache``       the on-disk cache: a private folder, entries behind a keyed hash

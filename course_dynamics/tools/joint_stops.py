@@ -39,6 +39,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..core.compiled.impulses import MAXIMUM_PIVOTS
+from ..core.compiled.stopping import MAXIMUM_CONTACTS_PER_STEP, POSITION_TOLERANCE
 from ..core.model import Model
 
 
@@ -108,6 +110,41 @@ class Stop:
         return dict(t=self.t, member=self.member, joints=list(self.joints), sides=list(self.sides),
                     limits=list(self.limits), kinetic_before=self.kinetic_before, kinetic_after=self.kinetic_after,
                     energy=self.energy)
+
+
+def stops_recorded(model: Model, rows: np.ndarray, ensemble: bool) -> tuple[Stop, ...]:
+    """The stops a native run recorded, as :class:`Stop` records.
+
+    Parameters
+    ----------
+    model : Model
+        The robot.
+    rows : numpy.ndarray, shape (S, 4 + 2n)
+        One row per stop (:data:`~course_dynamics.core.compiled.impulses.STOP_RECORD`).
+    ensemble : bool
+        Whether the run was an ensemble's (a single run's stops name no member).
+
+    Returns
+    -------
+    tuple of Stop
+        In the rows' order.
+
+    Examples
+    --------
+    >>> from course_dynamics import load_robot
+    >>> row = np.array([[0.25, 0.0, 2.0, 0.5, 0.0, 1.0, 0.0, 1.5]])    # joint 2 stopped at its upper limit
+    >>> stops_recorded(load_robot("double_pendulum"), row, ensemble=False)[0].sentence()
+    "t = 0.25 s: joint 'joint2' stopped at its upper limit 1.5 (kinetic energy 2 J -> 0.5 J)"
+    """
+    n, found = model.n, []
+    for row in rows:
+        stopped = np.flatnonzero(row[4:4 + n])
+        found.append(Stop(t=float(row[0]), member=int(row[1]) if ensemble else None,
+                          joints=tuple(model.joint_names[j] for j in stopped),
+                          sides=tuple("upper" if row[4 + j] > 0 else "lower" for j in stopped),
+                          limits=tuple(float(row[4 + n + j]) for j in stopped),
+                          kinetic_before=float(row[2]), kinetic_after=float(row[3])))
+    return tuple(found)
 
 
 def limit_bounds(model: Model) -> tuple[np.ndarray, np.ndarray]:
@@ -295,8 +332,9 @@ def stop_impulse(M: np.ndarray, qd: np.ndarray, stopping: np.ndarray, side: np.n
 
 class StopRun:
     """A fixed-step integration with joint stops: each step taken with the held joints held, each crossing of a
-    limit found within its step (to :data:`POSITION_TOLERANCE`), the step taken up to it, the joints stopped there,
-    and the rest of the step taken from the new state.
+    limit found within its step (to :data:`~course_dynamics.core.compiled.stopping.POSITION_TOLERANCE`), the
+    step taken up to it, the joints stopped there, and the rest of the step taken from the new state. The native
+    run (:mod:`~course_dynamics.core.compiled.stopping`) takes these steps in C.
 
     Parameters
     ----------
@@ -501,7 +539,8 @@ class StopRun:
             if t >= end:
                 return q, qd, held
             held = self.release(t, q, qd, held)
-        q_end, qd_end = self.step(f, t, q, qd, end - t)  # pragma: no cover - more contacts than a step can hold
+        q_end, qd_end = self.step(lambda time, a, b: self.accelerations(time, a, b, held), t, q, qd,
+                                  end - t)  # pragma: no cover - more contacts than a step can hold
         return self.contact(end, q_end, qd_end, held, member)  # pragma: no cover
 
     def crossing(self, f, t, q, qd, h, watched, q_end, qd_end):
@@ -509,9 +548,9 @@ class StopRun:
 
         Found by the Illinois variant of regula falsi on the joints' distance beyond their limits, each
         evaluation one step of the integrator from the step's start; the state returned is at or just beyond the
-        limit, by at most :data:`POSITION_TOLERANCE`. A joint that starts on its limit and leaves it is bracketed
-        from the first of h/2, h/4, … at which every watched joint is inside; one that cannot leave it is a contact
-        at once (s = 0).
+        limit, by at most :data:`~course_dynamics.core.compiled.stopping.POSITION_TOLERANCE`. A joint that starts
+        on its limit and leaves it is bracketed from the first of h/2, h/4, … at which every watched joint is
+        inside; one that cannot leave it is a contact at once (s = 0).
 
         Parameters
         ----------
@@ -562,13 +601,6 @@ class StopRun:
         return b, state[0], state[1]
 
 
-#: How far beyond a limit the located crossing may be, rad (m); the joint is then put on the limit.
-POSITION_TOLERANCE = 1e-12
-#: Pivots of a stop's or a hold's complementarity problem before its last solution is taken as it is.
-MAXIMUM_PIVOTS = 64
-#: Contacts within one step before the rest of the step is taken as it comes (the joint put on its limit).
-MAXIMUM_CONTACTS_PER_STEP = 64
-
 
 __all__ = ["MAXIMUM_CONTACTS_PER_STEP", "MAXIMUM_PIVOTS", "POSITION_TOLERANCE", "Stop", "StopRun",
-           "held_accelerations", "hold", "limit_bounds", "stop_impulse"]
+           "held_accelerations", "hold", "limit_bounds", "stop_impulse", "stops_recorded"]

@@ -72,7 +72,7 @@ from ..core.friction import Friction
 from ..core.kinematics import potential_energy
 from ..core.model import Model
 from ..core.state import as_state
-from .joint_stops import Stop, StopRun, limit_bounds
+from .joint_stops import Stop, StopRun, limit_bounds, stops_recorded
 
 #: The integrators :func:`simulate` offers, by name (the table above).
 INTEGRATORS = ("euler", "semi-implicit", "rk4", "adaptive")
@@ -419,13 +419,18 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
         return qdd, tau
 
     native = None
-    if base is not None and limits == "report" and integrator in _STEPS and (
-            table := _table(model, torque, constant)) is not None:
-        native = _native_run(base, run, times, q0, qd0, integrator, table, friction, drives, progress)
-    if native is not None:  # the whole run in native code: Θ̈ and τ recorded at every sample
+    if base is not None and integrator in _STEPS and (table := _table(model, torque, constant)) is not None:
+        bounds = (*limit_bounds(model), dt) if limits == "stop" else None
+        native = _native_run(base, run, times, q0, qd0, integrator, table, friction, drives, progress, bounds)
+    if native is not None:  # the whole run in native code: Θ̈ and τ (and λ) recorded at every sample
         q, qd, qdd, tau = native.q, native.qd, native.qdd, native.tau
-        return Trajectory(joints=model.joint_names, t=times, q=q, qd=qd, qdd=qdd, tau=tau,
-                          energy=total_energy(model, q, qd, drives, base), events=_limit_events(model, times, q))
+        energy = total_energy(model, q, qd, drives, base)
+        if limits == "report":
+            return Trajectory(joints=model.joint_names, t=times, q=q, qd=qd, qdd=qdd, tau=tau, energy=energy,
+                              events=_limit_events(model, times, q))
+        found = stops_recorded(model, native.stops, ensemble=q0.ndim == 2)
+        return Trajectory(joints=model.joint_names, t=times, q=q, qd=qd, qdd=qdd, tau=tau, energy=energy,
+                          events=tuple(stop.sentence() for stop in found), stops=found, reaction=native.reaction)
     if limits == "stop":
         stops = StopRun(model, run, _STEPS[integrator], accelerations, driving_torques, dt)
         q, qd, held = _integrate_with_stops(stops, times, q0, qd0, progress)
@@ -464,11 +469,12 @@ def _table(model: Model, torque, constant) -> tuple[np.ndarray, np.ndarray] | No
     return None
 
 
-def _native_run(base, run, times, q0, qd0, integrator, table, friction, drives, progress):
-    """The run in native code (:func:`~course_dynamics.core.compiled.looped.rollout`), or None where it cannot be
-    (then the steps run in Python). A state that became non-finite, or a torque, is refused as the Python steps
-    refuse it; a singular mass matrix is named by the checked solve, which raises."""
-    done = rollout(base, times, q0, qd0, integrator, *table, friction, drives, progress)
+def _native_run(base, run, times, q0, qd0, integrator, table, friction, drives, progress, bounds):
+    """The run in native code (:func:`~course_dynamics.core.compiled.looped.rollout`; with joint stops where
+    ``bounds`` gives their limits and dt), or None where it cannot be (then the steps run in Python). A state that
+    became non-finite, or a torque, is refused as the Python steps refuse it; a singular mass matrix is named by
+    the checked solve, which raises."""
+    done = rollout(base, times, q0, qd0, integrator, *table, friction, drives, progress, bounds)
     if done is None or not done.failure:
         return done
     if done.failure == "not finite":

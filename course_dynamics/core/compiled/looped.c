@@ -1465,6 +1465,7 @@ typedef struct {
     Py_ssize_t scratch;          /* doubles, for any of them */
 } course_dynamics_terms;
 
+typedef struct stops_s stops_t;          /* joint stops (limits="stop"): stopping.C */
 typedef struct {
     Py_ssize_t n, bodies;
     const course_dynamics_terms *terms;  /* a compiled model's own C, or NULL: the loop over model */
@@ -1473,8 +1474,15 @@ typedef struct {
     const double *table;                 /* rows of (t, τ) */
     Py_ssize_t rows;
     const double *smoothing, *viscous, *coulomb, *armature, *offset;
-    double *M, *D, *rhs, *driving;       /* n × n, then n each */
+    double *M, *saved, *D, *rhs, *driving, *bias;  /* n × n twice (M before its factorization), then n each */
+    stops_t *stops;                      /* NULL without joint stops */
+    const int *held;                     /* the joints held during a step (stops), or NULL */
+    double *reaction;                    /* their reaction λ at the last accelerations */
+    double when, *failed;                /* the last evaluation that failed: its time; Θ, Θ̇ and τ − F there */
 } rollout_t;
+
+static void held_accelerations(stops_t *s, const double *M, const double *bias, const double *tau,
+                               const int *held, double *qdd, double *reaction);
 
 static int all_finite(const double *x, Py_ssize_t n)
 {
@@ -1535,35 +1543,43 @@ static int regular(const double *pivots, Py_ssize_t n)
     return smallest > SINGULAR_PIVOT_RATIO * largest;
 }
 
-/* Θ̈ at (t, Θ, Θ̇), and τ(t): 0, or the code of STATUS: 1 for a state, its terms or Θ̈ not finite, 2 for a
-   singular mass matrix, 3 for a torque not finite (then kept in r->driving). */
-static int accelerations(rollout_t *r, double t, const double *q, const double *qd, double *qdd, double *tau)
+/* M(Θ) + diag(Iₐ) into M and V(Θ, Θ̇) + G(Θ) + τ₀ into bias: the run's mass matrix and bias, its drives added as
+   drives.Driven adds them */
+static void dynamics(const rollout_t *r, const double *q, const double *qd, double *M, double *bias)
 {
     const Py_ssize_t n = r->n;
-    double *M = r->M, *D = r->D, *rhs = r->rhs;
-    if (!all_finite(q, n) || !all_finite(qd, n))
-        return 1;
-    if (!applied(r, t, tau)) {
-        memcpy(r->driving, tau, sizeof(double) * n);
-        return 3;
-    }
     if (r->terms != NULL) {
         r->terms->mass_matrix(q, r->work, M);
-        r->terms->bias(q, qd, r->work, rhs);
+        r->terms->bias(q, qd, r->work, bias);
     } else {
         crba(r->model, r->bodies, n, q, r->work, M);
-        rnea(r->model, r->bodies, n, q, qd, NULL, r->work, rhs);
+        rnea(r->model, r->bodies, n, q, qd, NULL, r->work, bias);
+    }
+    for (Py_ssize_t j = 0; j < n; j++) {
+        bias[j] = bias[j] + r->offset[j];
+        M[j * n + j] = M[j * n + j] + r->armature[j];
+    }
+}
+
+/* τ(t) into tau and the driving torques τ − F(Θ̇) (6.114) into drive (τ itself where τ is not finite: 0) */
+static int driving(const rollout_t *r, double t, const double *qd, double *tau, double *drive)
+{
+    const Py_ssize_t n = r->n;
+    if (!applied(r, t, tau)) {
+        memcpy(drive, tau, sizeof(double) * n);
+        return 0;
     }
     const double s = r->smoothing[0];
     for (Py_ssize_t j = 0; j < n; j++) {
         const double sign = s > 0 ? tanh(qd[j] / s) : (double)((qd[j] > 0) - (qd[j] < 0));
-        r->driving[j] = tau[j] - (r->coulomb[j] * sign + r->viscous[j] * qd[j]);  /* (6.114) */
-        rhs[j] = r->driving[j] - (rhs[j] + r->offset[j]);
-        M[j * n + j] = M[j * n + j] + r->armature[j];
+        drive[j] = tau[j] - (r->coulomb[j] * sign + r->viscous[j] * qd[j]);
     }
-    if (!all_finite(M, n * n) || !all_finite(rhs, n))
-        return 1;
-    /* M = L D Lᵀ, L unit lower triangular (kept in M's lower triangle), as tracing's _ldl_solve */
+    return 1;
+}
+
+/* M = L D Lᵀ, L unit lower triangular (kept in M's lower triangle), as tracing's _ldl_solve */
+static void ldl(double *M, double *D, Py_ssize_t n)
+{
     for (Py_ssize_t j = 0; j < n; j++) {
         double sum = 0.0;
         for (Py_ssize_t k = 0; k < j; k++)
@@ -1576,8 +1592,11 @@ static int accelerations(rollout_t *r, double t, const double *q, const double *
             M[i * n + j] = (M[i * n + j] - part) / D[j];
         }
     }
-    if (!regular(D, n))
-        return 2;
+}
+
+/* x = (L D Lᵀ)⁻¹ rhs from ldl's factors (rhs overwritten) */
+static void ldl_solve(const double *M, const double *D, double *rhs, double *x, Py_ssize_t n)
+{
     for (Py_ssize_t i = 0; i < n; i++) {
         double sum = 0.0;
         for (Py_ssize_t k = 0; k < i; k++)
@@ -1587,95 +1606,157 @@ static int accelerations(rollout_t *r, double t, const double *q, const double *
     for (Py_ssize_t i = n - 1; i >= 0; i--) {
         double sum = 0.0;
         for (Py_ssize_t k = i + 1; k < n; k++)
-            sum = sum + M[k * n + i] * qdd[k];
-        qdd[i] = rhs[i] / D[i] - sum;
+            sum = sum + M[k * n + i] * x[k];
+        x[i] = rhs[i] / D[i] - sum;
     }
-    return all_finite(qdd, n) ? 0 : 1;
 }
 
-/* One member's samples k0 … k1 (Θ and Θ̇ at k0 given): Θ and Θ̇ after k0, Θ̈ and τ at each. 0, or the code of
-   the state that failed, with that state (Θ, Θ̇, and τ − F, or the torque for code 3) in `state` and its time
-   in *when. */
-static int integrate(rollout_t *r, int scheme, const double *times, Py_ssize_t stride, double *q, double *qd,
-                     double *qdd, double *tau, Py_ssize_t k0, Py_ssize_t k1, double *when, double *state,
-                     double *stage)
+/* An evaluation that failed: its code, with its time and state kept for the caller (τ − F, or τ for code 3) */
+static int failing(rollout_t *r, int code, double t, const double *q, const double *qd, const double *drive)
+{
+    const Py_ssize_t n = r->n;
+    r->when = t;
+    memcpy(r->failed, q, sizeof(double) * n);
+    memcpy(r->failed + n, qd, sizeof(double) * n);
+    memcpy(r->failed + 2 * n, drive, sizeof(double) * n);
+    return code;
+}
+
+static int any(const int *x, Py_ssize_t n)
+{
+    for (Py_ssize_t j = 0; j < n; j++)
+        if (x[j])
+            return 1;
+    return 0;
+}
+
+/* Θ̈ at (t, Θ, Θ̇), and τ(t): 0, or the code of STATUS: 1 for a state, its terms or Θ̈ not finite, 2 for a
+   singular mass matrix, 3 for a torque not finite. With joints held (r->held), Θ̈ is the constrained one after
+   the free one is found regular (as StopRun.accelerations), and r->reaction their reaction. */
+static int accelerations(rollout_t *r, double t, const double *q, const double *qd, double *qdd, double *tau)
+{
+    const Py_ssize_t n = r->n;
+    double *M = r->M, *rhs = r->rhs;
+    if (!all_finite(q, n) || !all_finite(qd, n))
+        return failing(r, 1, t, q, qd, r->driving);
+    if (!driving(r, t, qd, tau, r->driving))
+        return failing(r, 3, t, q, qd, r->driving);
+    dynamics(r, q, qd, M, r->bias);
+    for (Py_ssize_t j = 0; j < n; j++)
+        rhs[j] = r->driving[j] - r->bias[j];                                 /* (6.115) */
+    if (!all_finite(M, n * n) || !all_finite(rhs, n))
+        return failing(r, 1, t, q, qd, r->driving);
+    const int holding = r->held != NULL && any(r->held, n);
+    if (holding)
+        memcpy(r->saved, M, sizeof(double) * (size_t)(n * n));
+    ldl(M, r->D, n);
+    if (!regular(r->D, n))
+        return failing(r, 2, t, q, qd, r->driving);
+    ldl_solve(M, r->D, rhs, qdd, n);
+    if (holding)
+        held_accelerations(r->stops, r->saved, r->bias, r->driving, r->held, qdd, r->reaction);
+    return all_finite(qdd, n) ? 0 : failing(r, 1, t, q, qd, r->driving);
+}
+
+/* Θ and Θ̇ (x1, v1) a step h after (t, x, v), whose Θ̈ a1 is known, by the scheme: 0, or the code of the
+   evaluation that failed */
+static int advance(rollout_t *r, int scheme, double t, const double *x, const double *v, const double *a1,
+                   double h, double *x1, double *v1, double *stage)
 {
     const Py_ssize_t n = r->n;
     double *q2 = stage, *qd2 = stage + n, *q3 = stage + 2 * n, *qd3 = stage + 3 * n, *q4 = stage + 4 * n;
     double *qd4 = stage + 5 * n, *a2 = stage + 6 * n, *a3 = stage + 7 * n, *a4 = stage + 8 * n;
     double *unused = stage + 9 * n;
+    int code;
+    if (scheme == 0) {                                                       /* (6.116)–(6.117) */
+        for (Py_ssize_t j = 0; j < n; j++) {
+            v1[j] = v[j] + a1[j] * h;
+            x1[j] = x[j] + v[j] * h + 0.5 * a1[j] * (h * h);
+        }
+        return 0;
+    }
+    if (scheme == 1) {                                                       /* semi-implicit */
+        for (Py_ssize_t j = 0; j < n; j++) {
+            v1[j] = v[j] + a1[j] * h;
+            x1[j] = x[j] + v1[j] * h;
+        }
+        return 0;
+    }
+    for (Py_ssize_t j = 0; j < n; j++) {                                     /* rk4 */
+        q2[j] = x[j] + 0.5 * h * v[j];
+        qd2[j] = v[j] + 0.5 * h * a1[j];
+    }
+    if ((code = accelerations(r, t + 0.5 * h, q2, qd2, a2, unused)) != 0)
+        return code;
+    for (Py_ssize_t j = 0; j < n; j++) {
+        q3[j] = x[j] + 0.5 * h * qd2[j];
+        qd3[j] = v[j] + 0.5 * h * a2[j];
+    }
+    if ((code = accelerations(r, t + 0.5 * h, q3, qd3, a3, unused)) != 0)
+        return code;
+    for (Py_ssize_t j = 0; j < n; j++) {
+        q4[j] = x[j] + h * qd3[j];
+        qd4[j] = v[j] + h * a3[j];
+    }
+    if ((code = accelerations(r, t + h, q4, qd4, a4, unused)) != 0)
+        return code;
+    const double sixth = h / 6;
+    for (Py_ssize_t j = 0; j < n; j++) {
+        x1[j] = x[j] + sixth * (v[j] + 2 * qd2[j] + 2 * qd3[j] + qd4[j]);
+        v1[j] = v[j] + sixth * (a1[j] + 2 * a2[j] + 2 * a3[j] + a4[j]);
+    }
+    return 0;
+}
+
+/* One member's samples k0 … k1 (Θ and Θ̇ at k0 given): Θ and Θ̇ after k0, Θ̈ and τ at each. 0, or the code of
+   the evaluation that failed (its time and state in r->when and r->failed). */
+static int integrate(rollout_t *r, int scheme, const double *times, Py_ssize_t stride, double *q, double *qd,
+                     double *qdd, double *tau, Py_ssize_t k0, Py_ssize_t k1, double *stage)
+{
     int code = 0;
-    const double *at_q = NULL, *at_qd = NULL;
-    double at_t = 0.0;
     for (Py_ssize_t k = k0; k <= k1; k++) {
         double *x = q + k * stride, *v = qd + k * stride, *a1 = qdd + k * stride;
-        at_t = times[k], at_q = x, at_qd = v;
-        if ((code = accelerations(r, at_t, x, v, a1, tau + k * stride)) != 0 || k == k1)
+        if ((code = accelerations(r, times[k], x, v, a1, tau + k * stride)) != 0 || k == k1)
             break;
-        const double t = times[k], h = times[k + 1] - times[k];
-        double *x1 = q + (k + 1) * stride, *v1 = qd + (k + 1) * stride;
-        if (scheme == 0) {                                                   /* (6.116)–(6.117) */
-            for (Py_ssize_t j = 0; j < n; j++) {
-                v1[j] = v[j] + a1[j] * h;
-                x1[j] = x[j] + v[j] * h + 0.5 * a1[j] * (h * h);
-            }
-        } else if (scheme == 1) {                                            /* semi-implicit */
-            for (Py_ssize_t j = 0; j < n; j++) {
-                v1[j] = v[j] + a1[j] * h;
-                x1[j] = x[j] + v1[j] * h;
-            }
-        } else {                                                             /* rk4 */
-            for (Py_ssize_t j = 0; j < n; j++) {
-                q2[j] = x[j] + 0.5 * h * v[j];
-                qd2[j] = v[j] + 0.5 * h * a1[j];
-            }
-            at_t = t + 0.5 * h, at_q = q2, at_qd = qd2;
-            if ((code = accelerations(r, at_t, q2, qd2, a2, unused)) != 0)
-                break;
-            for (Py_ssize_t j = 0; j < n; j++) {
-                q3[j] = x[j] + 0.5 * h * qd2[j];
-                qd3[j] = v[j] + 0.5 * h * a2[j];
-            }
-            at_q = q3, at_qd = qd3;
-            if ((code = accelerations(r, at_t, q3, qd3, a3, unused)) != 0)
-                break;
-            for (Py_ssize_t j = 0; j < n; j++) {
-                q4[j] = x[j] + h * qd3[j];
-                qd4[j] = v[j] + h * a3[j];
-            }
-            at_t = t + h, at_q = q4, at_qd = qd4;
-            if ((code = accelerations(r, at_t, q4, qd4, a4, unused)) != 0)
-                break;
-            const double sixth = h / 6;
-            for (Py_ssize_t j = 0; j < n; j++) {
-                x1[j] = x[j] + sixth * (v[j] + 2 * qd2[j] + 2 * qd3[j] + qd4[j]);
-                v1[j] = v[j] + sixth * (a1[j] + 2 * a2[j] + 2 * a3[j] + a4[j]);
-            }
-        }
-    }
-    if (code != 0) {
-        *when = at_t;
-        memcpy(state, at_q, sizeof(double) * n);
-        memcpy(state + n, at_qd, sizeof(double) * n);
-        memcpy(state + 2 * n, r->driving, sizeof(double) * n);
+        if ((code = advance(r, scheme, times[k], x, v, a1, times[k + 1] - times[k], q + (k + 1) * stride,
+                            qd + (k + 1) * stride, stage)) != 0)
+            break;
     }
     return code;
 }
 
-/* rollout(terms, times, q, qd, qdd, tau, table, parameters, status, scheme, k0, k1, m0, m1): members m0 … m1 − 1
-   from sample k0 to k1, the GIL released; the code (STATUS) of the earliest failure (the first member of those
-   failing at once), with status = (code, member or −1, t, Θ, Θ̇, τ − F or τ). */
+static int stopping(rollout_t *r, int scheme, const double *times, Py_ssize_t stride, double *q, double *qd,
+                    double *qdd, double *tau, double *held, double *reaction, Py_ssize_t member, Py_ssize_t k0,
+                    Py_ssize_t k1, double *stage);
+static stops_t *stops_new(Py_ssize_t n, const double *bounds);
+static PyObject *stops_found(stops_t *s, PyObject *records, int code);
+static void stops_free(stops_t *s);
+
+
+/* rollout(terms, times, q, qd, qdd, tau, table, parameters, status, scheme, k0, k1, m0, m1
+           [, held, reaction, bounds, records]): members m0 … m1 − 1 from sample k0 to k1, the GIL released; the
+   code (STATUS) of the earliest failure (the first member of those failing at once), with status = (code,
+   member or −1, t, Θ, Θ̇, τ − F or τ). With joint stops (the four last): the joints held at each sample (1.0 or
+   0.0), their reaction λ, the bounds (dt, lower, upper) and a list the stops found are appended to (as bytes,
+   rows of STOP_RECORD). */
 static PyObject *rollout(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
-    Py_buffer views[9];
+    Py_buffer views[12];
     Py_ssize_t first = 0, got = 0, integers[5];
     PyObject *result = NULL;
     double *model = NULL, *work = NULL, *scratch = NULL;
     const course_dynamics_terms *terms = NULL;
+    stops_t *stops = NULL;
     rollout_t r;
     memset(&r, 0, sizeof r);
-    if (nargs != 14) {
-        PyErr_SetString(PyExc_TypeError, "rollout takes the terms, eight arrays and five integers");
+    if (nargs != 14 && nargs != 18) {
+        PyErr_SetString(PyExc_TypeError, "rollout takes the terms, eight arrays and five integers (and, with "
+                                         "joint stops, three arrays and a list)");
+        return NULL;
+    }
+    const Py_ssize_t views_wanted = nargs == 18 ? 12 : 9;
+    if (nargs == 18 && !PyList_CheckExact(args[17])) {
+        PyErr_SetString(PyExc_TypeError, "rollout: the stops found go to a list");
         return NULL;
     }
     for (Py_ssize_t i = 0; i < 5; i++) {
@@ -1692,9 +1773,9 @@ static PyObject *rollout(PyObject *self, PyObject *const *args, Py_ssize_t nargs
         }
         first = got = 1;
     }
-    for (; got < 9; got++) {                       /* the model array (the loop), times … status */
-        const int writable = (got >= 2 && got <= 5) || got == 8;
-        if (PyObject_GetBuffer(args[got], &views[got], PyBUF_C_CONTIGUOUS | PyBUF_FORMAT
+    for (; got < views_wanted; got++) {            /* the model array (the loop), times … status, held … bounds */
+        const int writable = (got >= 2 && got <= 5) || got == 8 || got == 9 || got == 10;
+        if (PyObject_GetBuffer(args[got < 9 ? got : got + 5], &views[got], PyBUF_C_CONTIGUOUS | PyBUF_FORMAT
                                | (writable ? PyBUF_WRITABLE : 0)) != 0)
             goto done;
         if (views[got].itemsize != 8 || strcmp(views[got].format, "d") != 0) {
@@ -1727,8 +1808,11 @@ static PyObject *rollout(PyObject *self, PyObject *const *args, Py_ssize_t nargs
     const Py_ssize_t K = T > 0 ? views[2].len / (8 * T * n) : 0;
     int bad = T < 2 || K < 1 || scheme < 0 || scheme > 2 || k0 < 0 || k1 < k0 || k1 > T - 1 || m0 < 0 || m1 < m0
               || m1 > K || views[7].len != 8 * (4 * n + 1) || views[6].len % (8 * (n + 1)) != 0
-              || views[6].len == 0 || views[8].len != 8 * (3 + 3 * n);
+              || views[6].len == 0 || views[8].len != 8 * (3 + 3 * n)
+              || (views_wanted == 12 && views[11].len != 8 * (1 + 2 * n));
     for (Py_ssize_t i = 2; i <= 5 && !bad; i++)
+        bad = views[i].len != 8 * T * K * n;
+    for (Py_ssize_t i = 9; i <= 10 && i < views_wanted && !bad; i++)
         bad = views[i].len != 8 * T * K * n;
     if (bad) {
         PyErr_SetString(PyExc_ValueError, "rollout: the arrays' sizes do not fit one another");
@@ -1742,43 +1826,523 @@ static PyObject *rollout(PyObject *self, PyObject *const *args, Py_ssize_t nargs
         ordered = times[k] > times[k - 1];
     for (Py_ssize_t k = 1; k < r.rows && ordered; k++)
         ordered = r.table[k * (n + 1)] > r.table[(k - 1) * (n + 1)];
+    if (views_wanted == 12) {                      /* dt finite and positive, each joint's lower below its upper */
+        const double *bounds = views[11].buf;
+        ordered = ordered && isfinite(bounds[0]) && bounds[0] > 0;
+        for (Py_ssize_t j = 0; j < n && ordered; j++)
+            ordered = bounds[1 + j] < bounds[1 + n + j];
+    }
     if (!ordered) {
-        PyErr_SetString(PyExc_ValueError, "rollout: the times, the table or the parameters are not in order");
+        PyErr_SetString(PyExc_ValueError, "rollout: the times, the table, the parameters or the bounds are not in "
+                                          "order");
         goto done;
     }
-    if ((scratch = malloc(sizeof(double) * (size_t)(n * n + 16 * n))) == NULL) {
+    if ((scratch = malloc(sizeof(double) * (size_t)(2 * n * n + 20 * n))) == NULL) {
         PyErr_NoMemory();
         goto done;
     }
-    r.terms = terms, r.model = model, r.work = work;
+    if (views_wanted == 12 && (stops = stops_new(n, views[11].buf)) == NULL) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    r.terms = terms, r.model = model, r.work = work, r.stops = stops;
     r.smoothing = parameters, r.viscous = parameters + 1, r.coulomb = parameters + 1 + n;
     r.armature = parameters + 1 + 2 * n, r.offset = parameters + 1 + 3 * n;
-    r.M = scratch, r.D = scratch + n * n, r.rhs = r.D + n, r.driving = r.rhs + n;
-    double *stage = r.driving + n, *status = views[8].buf, when = 0.0;
+    r.M = scratch, r.saved = scratch + n * n, r.D = r.saved + n * n, r.rhs = r.D + n, r.driving = r.rhs + n;
+    r.bias = r.driving + n, r.reaction = r.bias + n, r.failed = r.reaction + n;
+    double *stage = r.failed + 3 * n, *status = views[8].buf, when = 0.0;
     double *q = views[2].buf, *qd = views[3].buf, *qdd = views[4].buf, *tau = views[5].buf;
-    double *failed = stage + 10 * n;               /* a member's failing state, before it is the earliest */
     int code = 0;
     Py_ssize_t member = -1;
     Py_BEGIN_ALLOW_THREADS
     for (Py_ssize_t m = m0; m < m1; m++) {         /* every member, so that the earliest failure is found */
-        double at = 0.0;
-        const int c = integrate(&r, (int)scheme, times, K * n, q + m * n, qd + m * n, qdd + m * n, tau + m * n,
-                                k0, k1, &at, failed, stage);
-        if (c != 0 && (code == 0 || at < when)) {
-            code = c, member = m, when = at;
-            memcpy(status + 3, failed, sizeof(double) * 3 * (size_t)n);
+        const int c = stops == NULL
+            ? integrate(&r, (int)scheme, times, K * n, q + m * n, qd + m * n, qdd + m * n, tau + m * n, k0, k1, stage)
+            : stopping(&r, (int)scheme, times, K * n, q + m * n, qd + m * n, qdd + m * n, tau + m * n,
+                       (double *)views[9].buf + m * n, (double *)views[10].buf + m * n, m, k0, k1, stage);
+        if (c != 0 && (code == 0 || r.when < when)) {
+            code = c, member = m, when = r.when;
+            memcpy(status + 3, r.failed, sizeof(double) * 3 * (size_t)n);
         }
     }
     Py_END_ALLOW_THREADS
     status[0] = code, status[1] = (double)member, status[2] = when;
-    result = PyLong_FromLong(code);
+    result = stops == NULL ? PyLong_FromLong(code) : stops_found(stops, args[17], code);
 done:
+    stops_free(stops);
     free(scratch);
     free(work);
     free(model);
     for (Py_ssize_t i = first; i < got; i++)
         PyBuffer_Release(&views[i]);
     return result;
+}
+
+
+/* ---- joint stops in the native run: what one stop does (written by hand after tools.joint_stops) ---- */
+
+#define MAXIMUM_PIVOTS 64
+
+struct stops_s {
+    Py_ssize_t n;
+    double dt;                       /* the run's step: a joint leaving more slowly than dt Θ̈ into it rests */
+    double *lower, *upper;           /* the limits a stop holds (limit_bounds): ∓inf for a joint without */
+    double *M, *inverse, *factor, *S;                                          /* n × n each */
+    double *bias, *pivots, *Ds, *y, *z, *x, *drive, *tau, *unused, *qdd, *reaction, *impulse, *after;
+    double *resting, *allowed, *leaving, *q, *qd, *q_end, *qd_end, *q_cross, *qd_cross, *q_try, *qd_try, *a1;
+    int *side, *candidates, *active, *free, *all, *index, *now, *was;
+    double *records;                 /* the stops found, 4 + 2n doubles each (STOP_RECORD) */
+    Py_ssize_t count, capacity;
+    int out_of_memory;
+    double member;
+};
+
+static stops_t *stops_new(Py_ssize_t n, const double *bounds)
+{
+    stops_t *s = calloc(1, sizeof(stops_t));
+    double *d = s == NULL ? NULL : malloc(sizeof(double) * (size_t)(4 * n * n + 27 * n));
+    int *i = d == NULL ? NULL : malloc(sizeof(int) * (size_t)(8 * n));
+    if (i == NULL) {
+        free(d);
+        free(s);
+        return NULL;
+    }
+    double **doubles[] = {&s->lower, &s->upper, &s->bias, &s->pivots, &s->Ds, &s->y, &s->z, &s->x, &s->drive,
+                          &s->tau, &s->unused, &s->qdd, &s->reaction, &s->impulse, &s->after, &s->resting,
+                          &s->allowed, &s->leaving, &s->q, &s->qd, &s->q_end, &s->qd_end, &s->q_cross,
+                          &s->qd_cross, &s->q_try, &s->qd_try, &s->a1};
+    int **ints[] = {&s->side, &s->candidates, &s->active, &s->free, &s->all, &s->index, &s->now, &s->was};
+    s->n = n, s->dt = bounds[0];
+    s->M = d, s->inverse = d + n * n, s->factor = d + 2 * n * n, s->S = d + 3 * n * n;
+    for (size_t k = 0; k < sizeof doubles / sizeof doubles[0]; k++)
+        *doubles[k] = d + 4 * n * n + (Py_ssize_t)k * n;
+    for (size_t k = 0; k < sizeof ints / sizeof ints[0]; k++)
+        *ints[k] = i + (Py_ssize_t)k * n;
+    memcpy(s->lower, bounds + 1, sizeof(double) * (size_t)n);
+    memcpy(s->upper, bounds + 1 + n, sizeof(double) * (size_t)n);
+    for (Py_ssize_t j = 0; j < n; j++)
+        s->all[j] = 1;
+    return s;
+}
+
+static void stops_free(stops_t *s)
+{
+    if (s == NULL)
+        return;
+    free(s->records);
+    free(s->M);
+    free(s->side);
+    free(s);
+}
+
+/* The stops found appended to the list as bytes (STOP_RECORD rows); the run's code, or NULL */
+static PyObject *stops_found(stops_t *s, PyObject *records, int code)
+{
+    if (s->out_of_memory)
+        return PyErr_NoMemory();
+    PyObject *found = PyBytes_FromStringAndSize((const char *)s->records,
+                                                (Py_ssize_t)sizeof(double) * s->count * (4 + 2 * s->n));
+    if (found == NULL || PyList_Append(records, found) != 0) {
+        Py_XDECREF(found);
+        return NULL;
+    }
+    Py_DECREF(found);
+    return PyLong_FromLong(code);
+}
+
+/* What counts as zero beside the values of x: 1e-12 of the largest */
+static double round_off(const double *x, Py_ssize_t n)
+{
+    double largest = 0.0;
+    for (Py_ssize_t j = 0; j < n; j++)
+        largest = fabs(x[j]) > largest ? fabs(x[j]) : largest;
+    return 1e-12 * (1e-300 + largest);
+}
+
+/* x = the solution of A's rows and columns of the joints in mask with rhs's entries there, 0 elsewhere
+   (_masked_system and _solve), by LDLᵀ of that principal block */
+static void masked_solve(stops_t *s, const double *A, const int *mask, const double *rhs, double *x)
+{
+    const Py_ssize_t n = s->n;
+    Py_ssize_t m = 0;
+    for (Py_ssize_t j = 0; j < n; j++)
+        if (mask[j])
+            s->index[m++] = j;
+    for (Py_ssize_t a = 0; a < m; a++) {
+        for (Py_ssize_t b = 0; b < m; b++)
+            s->S[a * m + b] = A[s->index[a] * n + s->index[b]];
+        s->y[a] = rhs[s->index[a]];
+    }
+    ldl(s->S, s->Ds, m);
+    ldl_solve(s->S, s->Ds, s->y, s->z, m);
+    for (Py_ssize_t j = 0; j < n; j++)
+        x[j] = 0.0;
+    for (Py_ssize_t a = 0; a < m; a++)
+        x[s->index[a]] = s->z[a];
+}
+
+/* held_accelerations: M Θ̈ + b = τ + E λ with Eᵀ Θ̈ = 0, the free joints' rows solved with the held joints' Θ̈
+   zero, and λ what the held joints' rows then lack */
+static void held_accelerations(stops_t *s, const double *M, const double *bias, const double *tau,
+                               const int *held, double *qdd, double *reaction)
+{
+    const Py_ssize_t n = s->n;
+    for (Py_ssize_t j = 0; j < n; j++) {
+        s->x[j] = tau[j] - bias[j];
+        s->free[j] = !held[j];
+    }
+    masked_solve(s, M, s->free, s->x, qdd);
+    for (Py_ssize_t j = 0; j < n; j++) {
+        double sum = 0.0;
+        for (Py_ssize_t k = 0; held[j] && k < n; k++)
+            sum = sum + M[j * n + k] * qdd[k];
+        reaction[j] = held[j] ? sum - s->x[j] : 0.0;
+    }
+}
+
+/* hold: of the candidates, the joints held (into held), with Θ̈ and λ: every held joint pushed by its reaction
+   (dᵢ λᵢ ≤ 0), every other candidate accelerating away from its limit (dᵢ Θ̈ᵢ ≤ 0) */
+static void hold(stops_t *s, const double *M, const double *bias, const double *tau, const int *candidates,
+                 int *held, double *qdd, double *reaction)
+{
+    const Py_ssize_t n = s->n;
+    double largest = 0.0;
+    for (Py_ssize_t j = 0; j < n; j++)
+        largest = fabs(tau[j] - bias[j]) > largest ? fabs(tau[j] - bias[j]) : largest;
+    const double scale = 1e-12 * (1e-300 + largest);
+    memcpy(held, candidates, sizeof(int) * (size_t)n);
+    for (int p = 0; p < MAXIMUM_PIVOTS; p++) {
+        held_accelerations(s, M, bias, tau, held, qdd, reaction);
+        const double moving = round_off(qdd, n);
+        Py_ssize_t bad = -1;
+        for (Py_ssize_t j = 0; j < n && bad < 0; j++)
+            if ((held[j] && s->side[j] * reaction[j] > scale)
+                || (candidates[j] && !held[j] && s->side[j] * qdd[j] > moving))
+                bad = j;
+        if (bad < 0)
+            break;
+        held[bad] = !held[bad];
+    }
+}
+
+/* stop_impulse: Θ̇⁺ (after) just after the impulse P (impulse) through M that stops the joints in stopped, of
+   the candidates: each stopped joint's impulse pushing (dᵢ Pᵢ ≤ 0, a resting joint's pulling at most its rate's
+   worth), every other candidate leaving its limit (dᵢ Θ̇⁺ᵢ ≤ 0) */
+static void stop_impulse(stops_t *s, const double *M, const double *qd, const int *candidates,
+                         const double *resting, double *after, int *stopped, double *impulse)
+{
+    const Py_ssize_t n = s->n;
+    double *inverse = s->inverse;
+    memcpy(s->factor, M, sizeof(double) * (size_t)(n * n));
+    ldl(s->factor, s->pivots, n);
+    for (Py_ssize_t c = 0; c < n; c++) {                                      /* M⁻¹, column by column */
+        for (Py_ssize_t j = 0; j < n; j++)
+            s->y[j] = j == c;
+        ldl_solve(s->factor, s->pivots, s->y, s->z, n);
+        for (Py_ssize_t j = 0; j < n; j++)
+            inverse[j * n + c] = s->z[j];
+    }
+    const double small = round_off(qd, n);
+    for (Py_ssize_t j = 0; j < n; j++) {
+        s->leaving[j] = resting[j] > 0 ? -resting[j] : small;
+        s->allowed[j] = (small + resting[j]) / inverse[j * n + j];
+    }
+    memcpy(stopped, candidates, sizeof(int) * (size_t)n);
+    for (int p = 0; p < MAXIMUM_PIVOTS; p++) {
+        for (Py_ssize_t j = 0; j < n; j++)
+            s->x[j] = -qd[j];
+        masked_solve(s, inverse, stopped, s->x, impulse);
+        for (Py_ssize_t j = 0; j < n; j++) {
+            double sum = 0.0;
+            for (Py_ssize_t k = 0; !stopped[j] && k < n; k++)
+                sum = sum + inverse[j * n + k] * impulse[k];
+            after[j] = stopped[j] ? 0.0 : qd[j] + sum;
+        }
+        Py_ssize_t bad = -1;
+        for (Py_ssize_t j = 0; j < n && bad < 0; j++)
+            if ((stopped[j] && s->side[j] * impulse[j] > s->allowed[j])
+                || (candidates[j] && !stopped[j] && s->side[j] * after[j] > s->leaving[j]))
+                bad = j;
+        if (bad < 0)
+            break;
+        stopped[bad] = !stopped[bad];
+    }
+}
+
+/* ½ Θ̇ᵀ M Θ̇, J */
+static double kinetic(const double *M, const double *qd, Py_ssize_t n)
+{
+    double energy = 0.0;
+    for (Py_ssize_t i = 0; i < n; i++) {
+        double row = 0.0;
+        for (Py_ssize_t k = 0; k < n; k++)
+            row = row + 0.5 * qd[k] * M[k * n + i];
+        energy = energy + row * qd[i];
+    }
+    return energy;
+}
+
+/* A stop recorded (STOP_RECORD): the joints stopped now that were not held */
+static void record(stops_t *s, double t, const double *q, const int *held, double before, double after)
+{
+    const Py_ssize_t n = s->n, width = 4 + 2 * n;
+    if (s->count == s->capacity) {
+        const Py_ssize_t capacity = s->capacity ? 2 * s->capacity : 16;
+        double *grown = capacity > PY_SSIZE_T_MAX / (Py_ssize_t)sizeof(double) / width ? NULL
+                        : realloc(s->records, sizeof(double) * (size_t)(capacity * width));
+        if (grown == NULL) {
+            s->out_of_memory = 1;
+            return;
+        }
+        s->records = grown, s->capacity = capacity;
+    }
+    double *row = s->records + s->count * width;
+    row[0] = t, row[1] = s->member, row[2] = before, row[3] = after;
+    for (Py_ssize_t j = 0; j < n; j++) {
+        row[4 + j] = s->active[j] && !held[j] ? (double)s->side[j] : 0.0;
+        row[4 + n + j] = q[j];
+    }
+    s->count++;
+}
+
+
+
+/* ---- joint stops in the native run: the steps (written by hand after tools.joint_stops.StopRun) ---- */
+
+#define POSITION_TOLERANCE 1e-12
+#define MAXIMUM_CONTACTS_PER_STEP 64
+
+/* dᵢ into s->side: +1 at or beyond an upper limit, −1 at or beyond a lower one, 0 between; whether any is not 0 */
+static int sides(stops_t *s, const double *q)
+{
+    int touching = 0;
+    for (Py_ssize_t j = 0; j < s->n; j++) {
+        s->side[j] = q[j] >= s->upper[j] ? 1 : (q[j] <= s->lower[j] ? -1 : 0);
+        touching = touching || s->side[j] != 0;
+    }
+    return touching;
+}
+
+/* How far the joints not held are beyond their limits at most (negative inside), rad (m); −inf for none */
+static double beyond(const stops_t *s, const double *q, const int *held)
+{
+    double most = -INFINITY;
+    for (Py_ssize_t j = 0; j < s->n; j++) {
+        const double above = q[j] - s->upper[j], below = s->lower[j] - q[j];
+        const double out = above > below ? above : below;
+        most = !held[j] && out > most ? out : most;
+    }
+    return most;
+}
+
+/* StopRun.contact: Θ put on the limits, the joints there that run into them stopped by one impulse, those pushed
+   into them held (held, Θ and Θ̇ updated), the stop recorded; 0, or the code of a torque not finite */
+static int contact(rollout_t *r, double t, double *q, double *qd, int *held)
+{
+    stops_t *s = r->stops;
+    const Py_ssize_t n = r->n;
+    for (Py_ssize_t j = 0; j < n; j++) {
+        q[j] = q[j] < s->lower[j] ? s->lower[j] : q[j];
+        q[j] = q[j] > s->upper[j] ? s->upper[j] : q[j];
+    }
+    sides(s, q);
+    dynamics(r, q, qd, s->M, s->bias);
+    if (!driving(r, t, qd, s->tau, s->drive))
+        return failing(r, 3, t, q, qd, s->drive);
+    /* leaving its limit more slowly than its acceleration into it would bring it back within a step: resting */
+    for (Py_ssize_t j = 0; j < n; j++)
+        s->impulse[j] = s->drive[j] - s->bias[j];
+    masked_solve(s, s->M, s->all, s->impulse, s->resting);
+    for (Py_ssize_t j = 0; j < n; j++) {
+        const double into = s->side[j] * s->resting[j];
+        s->resting[j] = s->dt * (into > 0.0 ? into : 0.0);
+        s->candidates[j] = s->side[j] != 0;
+    }
+    stop_impulse(s, s->M, qd, s->candidates, s->resting, s->after, s->active, s->impulse);
+    int new = 0;
+    for (Py_ssize_t j = 0; j < n; j++)
+        new = new || (s->active[j] && !held[j]);
+    if (new)
+        record(s, t, q, held, kinetic(s->M, qd, n), kinetic(s->M, s->after, n));
+    const double small = round_off(qd, n);
+    for (Py_ssize_t j = 0; j < n; j++)            /* not leaving its limit: held if pushed into it */
+        s->candidates[j] = s->side[j] != 0 && s->side[j] * s->after[j] >= -small;
+    dynamics(r, q, s->after, s->factor, s->bias);  /* the bias at Θ̇⁺ (M is the same) */
+    hold(s, s->M, s->bias, s->drive, s->candidates, s->was, s->qdd, s->reaction);
+    for (Py_ssize_t j = 0; j < n; j++) {
+        held[j] = s->was[j];
+        qd[j] = held[j] ? 0.0 : s->after[j];
+    }
+    return 0;
+}
+
+/* StopRun.release and holding: the joints held from (t, Θ, Θ̇) on (held updated), of those held until now and
+   those at a limit not leaving it, with their λ in s->reaction where *touched; 0, or a torque's code */
+static int release(rollout_t *r, double t, const double *q, const double *qd, int *held, int *touched)
+{
+    stops_t *s = r->stops;
+    const Py_ssize_t n = r->n;
+    *touched = sides(s, q) || any(held, n);
+    if (!*touched)
+        return 0;
+    if (!driving(r, t, qd, s->tau, s->drive))
+        return failing(r, 3, t, q, qd, s->drive);
+    const double small = round_off(qd, n);
+    for (Py_ssize_t j = 0; j < n; j++)
+        s->candidates[j] = held[j] || (s->side[j] != 0 && s->side[j] * qd[j] >= -small);
+    dynamics(r, q, qd, s->M, s->bias);
+    hold(s, s->M, s->bias, s->drive, s->candidates, held, s->qdd, s->reaction);
+    return 0;
+}
+
+/* One integrator step h from (t, Θ, Θ̇) with the joints in r->held held: 0, or a failing code */
+static int step_held(rollout_t *r, int scheme, double t, const double *q, const double *qd, double h, double *q1,
+                     double *qd1, double *stage)
+{
+    stops_t *s = r->stops;
+    const int code = accelerations(r, t, q, qd, s->a1, s->unused);
+    return code != 0 ? code : advance(r, scheme, t, q, qd, s->a1, h, q1, qd1, stage);
+}
+
+/* StopRun.crossing: the first time (*when, after t) within (0, h] at which a joint not held reaches its limit,
+   and the state then (into q_at, qd_at), at or just beyond it by at most POSITION_TOLERANCE */
+static int crossing(rollout_t *r, int scheme, double t, const double *q, const double *qd, double h,
+                    const double *q_end, const double *qd_end, double *when, double *q_at, double *qd_at,
+                    double *stage)
+{
+    stops_t *s = r->stops;
+    const Py_ssize_t n = r->n;
+    const size_t size = sizeof(double) * (size_t)n;
+    int code;
+    double a = 0.0, f_a = beyond(s, q, r->held);
+    for (int k = 1; f_a >= 0 && k < 30; k++) {    /* a joint starting on its limit: find where it is inside */
+        if ((code = step_held(r, scheme, t, q, qd, h * ldexp(1.0, -k), s->q_try, s->qd_try, stage)) != 0)
+            return code;
+        const double g = beyond(s, s->q_try, r->held);
+        if (g < 0) {
+            a = h * ldexp(1.0, -k), f_a = g;
+            break;
+        }
+    }
+    if (f_a >= 0) {
+        *when = 0.0;
+        memcpy(q_at, q, size);
+        memcpy(qd_at, qd, size);
+        return 0;
+    }
+    double b = h, f_b = beyond(s, q_end, r->held), beyond_b = f_b;
+    int last = 0;
+    memcpy(q_at, q_end, size);
+    memcpy(qd_at, qd_end, size);
+    for (int i = 0; i < 200; i++) {
+        if (beyond_b <= POSITION_TOLERANCE || b - a <= 1e-15 * h)
+            break;
+        double c = (a * f_b - b * f_a) / (f_b - f_a);
+        if (!(a < c && c < b))
+            c = 0.5 * (a + b);
+        if ((code = step_held(r, scheme, t, q, qd, c, s->q_try, s->qd_try, stage)) != 0)
+            return code;
+        const double g = beyond(s, s->q_try, r->held);
+        if (g > 0) {
+            b = c, f_b = g, beyond_b = g;
+            memcpy(q_at, s->q_try, size);
+            memcpy(qd_at, s->qd_try, size);
+            f_a = last > 0 ? 0.5 * f_a : f_a, last = 1;
+        } else {
+            a = c, f_a = g;
+            f_b = last < 0 ? 0.5 * f_b : f_b, last = -1;
+        }
+    }
+    *when = b;
+    return 0;
+}
+
+/* StopRun.substeps: the step h from (t, Θ, Θ̇) with the joints in held held, stopping joints at the limits they
+   reach within it; the state at t + h into (q1, qd1), held updated */
+static int substeps(rollout_t *r, int scheme, double t, const double *q, const double *qd, double h, int *held,
+                    double *q1, double *qd1, double *stage)
+{
+    stops_t *s = r->stops;
+    const size_t size = sizeof(double) * (size_t)r->n;
+    const double end = t + h;
+    int code, touched;
+    memcpy(s->q, q, size);
+    memcpy(s->qd, qd, size);
+    r->held = held;
+    for (int i = 0; i < MAXIMUM_CONTACTS_PER_STEP; i++) {
+        if ((code = step_held(r, scheme, t, s->q, s->qd, end - t, s->q_end, s->qd_end, stage)) != 0)
+            return code;
+        if (beyond(s, s->q_end, held) <= 0) {
+            memcpy(q1, s->q_end, size);
+            memcpy(qd1, s->qd_end, size);
+            return 0;
+        }
+        double when;
+        if ((code = crossing(r, scheme, t, s->q, s->qd, end - t, s->q_end, s->qd_end, &when, s->q_cross,
+                             s->qd_cross, stage)) != 0)
+            return code;
+        t = t + when;
+        memcpy(s->q, s->q_cross, size);
+        memcpy(s->qd, s->qd_cross, size);
+        if ((code = contact(r, t, s->q, s->qd, held)) != 0)
+            return code;
+        if (t >= end) {
+            memcpy(q1, s->q, size);
+            memcpy(qd1, s->qd, size);
+            return 0;
+        }
+        if ((code = release(r, t, s->q, s->qd, held, &touched)) != 0)
+            return code;
+    }
+    if ((code = step_held(r, scheme, t, s->q, s->qd, end - t, s->q_end, s->qd_end, stage)) != 0)
+        return code;                               /* more contacts than a step can hold: the rest as it comes */
+    if ((code = contact(r, end, s->q_end, s->qd_end, held)) != 0)
+        return code;
+    memcpy(q1, s->q_end, size);
+    memcpy(qd1, s->qd_end, size);
+    return 0;
+}
+
+/* _integrate_with_stops for one member's samples k0 … k1: a start on a limit a contact at the first sample;
+   each step from the joints the state releases, taken whole or to each crossing and on; Θ, Θ̇ after k0, and Θ̈,
+   τ, λ at each sample, the joints held (1.0 or 0.0) as each step ended. 0, or the failing code. */
+static int stopping(rollout_t *r, int scheme, const double *times, Py_ssize_t stride, double *q, double *qd,
+                    double *qdd, double *tau, double *held, double *reaction, Py_ssize_t member, Py_ssize_t k0,
+                    Py_ssize_t k1, double *stage)
+{
+    stops_t *s = r->stops;
+    const Py_ssize_t n = r->n;
+    int code, touched;
+    s->member = (double)member;
+    for (Py_ssize_t j = 0; j < n; j++)
+        s->now[j] = held[k0 * stride + j] != 0.0;
+    if (k0 == 0 && sides(s, q)) {
+        if ((code = contact(r, times[0], q, qd, s->now)) != 0)
+            return code;
+        for (Py_ssize_t j = 0; j < n; j++)
+            held[j] = s->now[j];
+    }
+    for (Py_ssize_t k = k0; k <= k1; k++) {
+        double *x = q + k * stride, *v = qd + k * stride, *a1 = qdd + k * stride, *lambda = reaction + k * stride;
+        for (Py_ssize_t j = 0; j < n; j++)
+            s->now[j] = held[k * stride + j] != 0.0;
+        if ((code = release(r, times[k], x, v, s->now, &touched)) != 0)
+            return code;
+        for (Py_ssize_t j = 0; j < n; j++)
+            lambda[j] = touched ? s->reaction[j] : 0.0;
+        r->held = s->now;
+        if ((code = accelerations(r, times[k], x, v, a1, tau + k * stride)) != 0 || k == k1)
+            return code;
+        double *x1 = q + (k + 1) * stride, *v1 = qd + (k + 1) * stride;
+        const double h = times[k + 1] - times[k];
+        if ((code = advance(r, scheme, times[k], x, v, a1, h, x1, v1, stage)) != 0)
+            return code;
+        if (beyond(s, x1, s->now) > 0 && (code = substeps(r, scheme, times[k], x, v, h, s->now, x1, v1, stage)))
+            return code;
+        for (Py_ssize_t j = 0; j < n; j++)
+            held[(k + 1) * stride + j] = s->now[j];
+    }
+    return 0;
 }
 
 
@@ -2084,7 +2648,8 @@ static PyMethodDef methods[] = {
     {"mass_matrix", (PyCFunction)(void (*)(void))mass_matrix, METH_FASTCALL, "mass_matrix(model, q, out)"},
     {"bias", (PyCFunction)(void (*)(void))bias, METH_FASTCALL, "bias(model, q, qd, out)"},
     {"rollout", (PyCFunction)(void (*)(void))rollout, METH_FASTCALL,
-      "rollout(terms, times, q, qd, qdd, tau, table, parameters, status, scheme, k0, k1, m0, m1)"},
+      "rollout(terms, times, q, qd, qdd, tau, table, parameters, status, scheme, k0, k1, m0, m1"
+      "[, held, reaction, bounds, records])"},
     {"remember", (PyCFunction)(void (*)(void))remember, METH_FASTCALL,
       "remember(model, owner, source, environ, names, writes, empty)"},
     {"forget", (PyCFunction)(void (*)(void))forget, METH_FASTCALL, "forget(model_id)"},
@@ -2098,7 +2663,7 @@ static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_looped", NULL, -1, 
 PyMODINIT_FUNC PyInit__looped(void)
 {
     PyObject *m = PyModule_Create(&module);
-    if (m != NULL && PyModule_AddStringConstant(m, "SOURCE_SHA256", "9595e03c1ad0b1f9648898163b85c3a6896873f360c25fef92fce2b0dd871251") != 0) {
+    if (m != NULL && PyModule_AddStringConstant(m, "SOURCE_SHA256", "d1dc622890e14eafa8e147910e6714b1333437a87664694dec4aa42a1f4c4a5f") != 0) {
         Py_DECREF(m);
         return NULL;
     }

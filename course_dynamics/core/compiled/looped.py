@@ -481,6 +481,13 @@ class Rolled:
         There: Θ, Θ̇ and τ − F(Θ̇) (the applied τ where the torque was not finite).
     member : int
         There: the ensemble's member (0 for one run; the first of those failing at that time).
+    held : numpy.ndarray of bool, shape (T, n) or (T, K, n), optional
+        With joint stops: the joints held as each step ended (the first sample's after a contact at its start).
+    reaction : numpy.ndarray, shape (T, n) or (T, K, n), optional
+        With joint stops: the held joints' reaction λ as each step began, N·m (N).
+    stops : numpy.ndarray, shape (S, 4 + 2n), optional
+        With joint stops: the stops found, one row each
+        (:data:`~course_dynamics.core.compiled.impulses.STOP_RECORD`), by time and member.
 
     Examples
     --------
@@ -497,6 +504,9 @@ class Rolled:
     t: float = 0.0
     state: np.ndarray | None = None
     member: int = 0
+    held: np.ndarray | None = None
+    reaction: np.ndarray | None = None
+    stops: np.ndarray | None = None
 
 
 def terms(run):
@@ -529,7 +539,7 @@ def terms(run):
 
 def rollout(run, times: np.ndarray, q0: np.ndarray, qd0: np.ndarray, integrator: str, torque_times: np.ndarray,
             torques: np.ndarray, friction: Friction | None = None, drives: Drives | None = None,
-            progress=None) -> Rolled | None:
+            progress=None, stops: tuple[np.ndarray, np.ndarray, float] | None = None) -> Rolled | None:
     """A fixed-step simulation natively, from its first sample to its last
     (:mod:`~course_dynamics.core.compiled.rollout`).
 
@@ -553,6 +563,10 @@ def rollout(run, times: np.ndarray, q0: np.ndarray, qd0: np.ndarray, integrator:
         Rotor inertias on M's diagonal, offsets added to the bias.
     progress : callable, optional
         Called with the steps each native call took.
+    stops : tuple, optional
+        Joint stops (:mod:`~course_dynamics.core.compiled.stopping`,
+        :mod:`~course_dynamics.core.compiled.impulses`): the lower and upper limits a stop holds, shape (n,)
+        each, rad (m; ∓inf for a joint without), and the run's step dt, s.
 
     Returns
     -------
@@ -584,6 +598,10 @@ def rollout(run, times: np.ndarray, q0: np.ndarray, qd0: np.ndarray, integrator:
     times = np.ascontiguousarray(times, dtype=np.float64)
     q, qd, qdd, tau = (np.empty((len(times),) + q0.shape) for _ in range(4))
     q[0], qd[0] = q0, qd0
+    extra, found = (), []
+    if stops is not None:  # the joints held and their reaction at every sample, the bounds, the stops found
+        held, reaction = np.zeros((len(times),) + q0.shape), np.zeros((len(times),) + q0.shape)
+        extra = (held, reaction, np.concatenate([[stops[2]], stops[0], stops[1]]).astype(np.float64), found)
     chunk = max(1, CHUNK_EVALUATIONS // (members * EVALUATIONS[integrator]))
     parts = max(1, min(native.THREADS, members, members * chunk // native.THREAD_STATES))
     bounds = np.linspace(0, members, parts + 1).astype(int)
@@ -591,7 +609,7 @@ def rollout(run, times: np.ndarray, q0: np.ndarray, qd0: np.ndarray, integrator:
 
     def call(k0: int, k1: int, part: int) -> int:
         return lib.rollout(source, times, q, qd, qdd, tau, table, parameters, status[part], SCHEMES[integrator],
-                           k0, k1, int(bounds[part]), int(bounds[part + 1]))
+                           k0, k1, int(bounds[part]), int(bounds[part + 1]), *extra)
 
     for k0 in range(0, len(times) - 1, chunk):
         k1 = min(len(times) - 1, k0 + chunk)
@@ -603,7 +621,11 @@ def rollout(run, times: np.ndarray, q0: np.ndarray, qd0: np.ndarray, integrator:
                           int(row[1]))
         if progress is not None:
             progress(k1 - k0)
-    return Rolled(q, qd, qdd, tau)
+    if stops is None:
+        return Rolled(q, qd, qdd, tau)
+    rows = np.frombuffer(b"".join(found), dtype=np.float64).reshape(-1, 4 + 2 * n)
+    rows = rows[np.lexsort((rows[:, 1], rows[:, 0]))]
+    return Rolled(q, qd, qdd, tau, held=held.astype(bool), reaction=reaction, stops=rows)
 
 
 __all__ = ["CHUNK_EVALUATIONS", "EVALUATIONS", "Looped", "Rolled", "forget", "library", "looped", "remember",

@@ -59,7 +59,7 @@ from ..model import Model
 from ..newton_euler import OutwardPass, carried_wrench, joint_torque, link_wrench, outward_link
 from ..operations import EXACT
 from ..spatial import Inertia, body_inertia, motion_axis, power
-from . import entry, native, rollout
+from . import entry, impulses, native, rollout, stopping
 from .tracing import Program, Tape, recorded_program
 
 #: The generated C of the native loop, shipped with the package and built with it.
@@ -379,13 +379,16 @@ static PyObject *mass_matrix(PyObject *self, PyObject *const *args, Py_ssize_t n
 static PyObject *bias(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {{ return run(args, nargs, 2, 2, "bias"); }}
 {rollout}
+{impulses}
+{stopping}
 {entry}
 static PyMethodDef methods[] = {{
     {{"tau", (PyCFunction)(void (*)(void))tau, METH_FASTCALL, "tau(model, q, qd, qdd, out)"}},
     {{"mass_matrix", (PyCFunction)(void (*)(void))mass_matrix, METH_FASTCALL, "mass_matrix(model, q, out)"}},
     {{"bias", (PyCFunction)(void (*)(void))bias, METH_FASTCALL, "bias(model, q, qd, out)"}},
     {{"rollout", (PyCFunction)(void (*)(void))rollout, METH_FASTCALL,
-      "rollout(terms, times, q, qd, qdd, tau, table, parameters, status, scheme, k0, k1, m0, m1)"}},
+      "rollout(terms, times, q, qd, qdd, tau, table, parameters, status, scheme, k0, k1, m0, m1"
+      "[, held, reaction, bounds, records])"}},
     {{"remember", (PyCFunction)(void (*)(void))remember, METH_FASTCALL,
       "remember(model, owner, source, environ, names, writes, empty)"}},
     {{"forget", (PyCFunction)(void (*)(void))forget, METH_FASTCALL, "forget(model_id)"}},
@@ -453,7 +456,9 @@ def c_source(steps: dict[str, Program] | None = None) -> str:
     parts += [_step_function(program) for _, program in sorted(steps.items())]
     body = "\n\n".join(parts)
     source = body + DRIVERS.format(header=HEADER, body=BODY, rnea_block=RNEA_BLOCK, crba_block=CRBA_BLOCK,
-                                 digest=UNDIGESTED, rollout=rollout.C, entry=entry.C)
+                                 digest=UNDIGESTED, rollout=rollout.C, impulses=impulses.C,
+                                 stopping=stopping.C,
+                                 entry=entry.C)
     return source.replace(f'"SOURCE_SHA256", "{UNDIGESTED}"', f'"SOURCE_SHA256", "{source_digest(source)}"')
 
 
