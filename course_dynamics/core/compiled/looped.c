@@ -1543,22 +1543,28 @@ static int regular(const double *pivots, Py_ssize_t n)
     return smallest > SINGULAR_PIVOT_RATIO * largest;
 }
 
-/* M(Θ) + diag(Iₐ) into M and V(Θ, Θ̇) + G(Θ) + τ₀ into bias: the run's mass matrix and bias, its drives added as
-   drives.Driven adds them */
+/* V(Θ, Θ̇) + G(Θ) + τ₀ into bias: the run's bias, its drives' offsets added as drives.Driven adds them */
+static void bias_at(const rollout_t *r, const double *q, const double *qd, double *bias)
+{
+    if (r->terms != NULL)
+        r->terms->bias(q, qd, r->work, bias);
+    else
+        rnea(r->model, r->bodies, r->n, q, qd, NULL, r->work, bias);
+    for (Py_ssize_t j = 0; j < r->n; j++)
+        bias[j] = bias[j] + r->offset[j];
+}
+
+/* M(Θ) + diag(Iₐ) into M and bias_at's bias: the run's mass matrix and bias, its drives added as Driven adds them */
 static void dynamics(const rollout_t *r, const double *q, const double *qd, double *M, double *bias)
 {
     const Py_ssize_t n = r->n;
-    if (r->terms != NULL) {
+    if (r->terms != NULL)
         r->terms->mass_matrix(q, r->work, M);
-        r->terms->bias(q, qd, r->work, bias);
-    } else {
+    else
         crba(r->model, r->bodies, n, q, r->work, M);
-        rnea(r->model, r->bodies, n, q, qd, NULL, r->work, bias);
-    }
-    for (Py_ssize_t j = 0; j < n; j++) {
-        bias[j] = bias[j] + r->offset[j];
+    bias_at(r, q, qd, bias);
+    for (Py_ssize_t j = 0; j < n; j++)
         M[j * n + j] = M[j * n + j] + r->armature[j];
-    }
 }
 
 /* τ(t) into tau and the driving torques τ − F(Θ̇) (6.114) into drive (τ itself where τ is not finite: 0) */
@@ -1614,11 +1620,10 @@ static void ldl_solve(const double *M, const double *D, double *rhs, double *x, 
 /* An evaluation that failed: its code, with its time and state kept for the caller (τ − F, or τ for code 3) */
 static int failing(rollout_t *r, int code, double t, const double *q, const double *qd, const double *drive)
 {
-    const Py_ssize_t n = r->n;
     r->when = t;
-    memcpy(r->failed, q, sizeof(double) * n);
-    memcpy(r->failed + n, qd, sizeof(double) * n);
-    memcpy(r->failed + 2 * n, drive, sizeof(double) * n);
+    memcpy(r->failed, q, sizeof(double) * r->n);
+    memcpy(r->failed + r->n, qd, sizeof(double) * r->n);
+    memcpy(r->failed + 2 * r->n, drive, sizeof(double) * r->n);
     return code;
 }
 
@@ -1732,7 +1737,6 @@ static stops_t *stops_new(Py_ssize_t n, const double *bounds);
 static PyObject *stops_found(stops_t *s, PyObject *records, int code);
 static void stops_free(stops_t *s);
 
-
 /* rollout(terms, times, q, qd, qdd, tau, table, parameters, status, scheme, k0, k1, m0, m1
            [, held, reaction, bounds, records]): members m0 … m1 − 1 from sample k0 to k1, the GIL released; the
    code (STATUS) of the earliest failure (the first member of those failing at once), with status = (code,
@@ -1837,11 +1841,8 @@ static PyObject *rollout(PyObject *self, PyObject *const *args, Py_ssize_t nargs
                                           "order");
         goto done;
     }
-    if ((scratch = malloc(sizeof(double) * (size_t)(2 * n * n + 20 * n))) == NULL) {
-        PyErr_NoMemory();
-        goto done;
-    }
-    if (views_wanted == 12 && (stops = stops_new(n, views[11].buf)) == NULL) {
+    if ((scratch = malloc(sizeof(double) * (size_t)(2 * n * n + 20 * n))) == NULL
+        || (views_wanted == 12 && (stops = stops_new(n, views[11].buf)) == NULL)) {
         PyErr_NoMemory();
         goto done;
     }
@@ -2167,7 +2168,7 @@ static int contact(rollout_t *r, double t, double *q, double *qd, int *held)
     const double small = round_off(qd, n);
     for (Py_ssize_t j = 0; j < n; j++)            /* not leaving its limit: held if pushed into it */
         s->candidates[j] = s->side[j] != 0 && s->side[j] * s->after[j] >= -small;
-    dynamics(r, q, s->after, s->factor, s->bias);  /* the bias at Θ̇⁺ (M is the same) */
+    bias_at(r, q, s->after, s->bias);             /* the bias at Θ̇⁺ (M is the same) */
     hold(s, s->M, s->bias, s->drive, s->candidates, s->was, s->qdd, s->reaction);
     for (Py_ssize_t j = 0; j < n; j++) {
         held[j] = s->was[j];
@@ -2663,7 +2664,7 @@ static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_looped", NULL, -1, 
 PyMODINIT_FUNC PyInit__looped(void)
 {
     PyObject *m = PyModule_Create(&module);
-    if (m != NULL && PyModule_AddStringConstant(m, "SOURCE_SHA256", "d1dc622890e14eafa8e147910e6714b1333437a87664694dec4aa42a1f4c4a5f") != 0) {
+    if (m != NULL && PyModule_AddStringConstant(m, "SOURCE_SHA256", "4261e64cfd12fbf523d30b7d9ac2d2222506af624636ed6f80cf2b28e8679436") != 0) {
         Py_DECREF(m);
         return NULL;
     }

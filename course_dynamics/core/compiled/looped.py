@@ -481,8 +481,6 @@ class Rolled:
         There: Θ, Θ̇ and τ − F(Θ̇) (the applied τ where the torque was not finite).
     member : int
         There: the ensemble's member (0 for one run; the first of those failing at that time).
-    held : numpy.ndarray of bool, shape (T, n) or (T, K, n), optional
-        With joint stops: the joints held as each step ended (the first sample's after a contact at its start).
     reaction : numpy.ndarray, shape (T, n) or (T, K, n), optional
         With joint stops: the held joints' reaction λ as each step began, N·m (N).
     stops : numpy.ndarray, shape (S, 4 + 2n), optional
@@ -504,7 +502,6 @@ class Rolled:
     t: float = 0.0
     state: np.ndarray | None = None
     member: int = 0
-    held: np.ndarray | None = None
     reaction: np.ndarray | None = None
     stops: np.ndarray | None = None
 
@@ -599,7 +596,7 @@ def rollout(run, times: np.ndarray, q0: np.ndarray, qd0: np.ndarray, integrator:
     q, qd, qdd, tau = (np.empty((len(times),) + q0.shape) for _ in range(4))
     q[0], qd[0] = q0, qd0
     extra, found = (), []
-    if stops is not None:  # the joints held and their reaction at every sample, the bounds, the stops found
+    if stops is not None:  # the joints held (the C's state between chunks) and their reaction, the bounds, the stops
         held, reaction = np.zeros((len(times),) + q0.shape), np.zeros((len(times),) + q0.shape)
         extra = (held, reaction, np.concatenate([[stops[2]], stops[0], stops[1]]).astype(np.float64), found)
     chunk = max(1, CHUNK_EVALUATIONS // (members * EVALUATIONS[integrator]))
@@ -625,7 +622,7 @@ def rollout(run, times: np.ndarray, q0: np.ndarray, qd0: np.ndarray, integrator:
         return Rolled(q, qd, qdd, tau)
     rows = np.frombuffer(b"".join(found), dtype=np.float64).reshape(-1, 4 + 2 * n)
     rows = rows[np.lexsort((rows[:, 1], rows[:, 0]))]
-    return Rolled(q, qd, qdd, tau, held=held.astype(bool), reaction=reaction, stops=rows)
+    return Rolled(q, qd, qdd, tau, reaction=reaction, stops=rows)
 
 
 __all__ = ["CHUNK_EVALUATIONS", "EVALUATIONS", "Looped", "Rolled", "forget", "library", "looped", "remember",

@@ -87,7 +87,7 @@ static int contact(rollout_t *r, double t, double *q, double *qd, int *held)
     const double small = round_off(qd, n);
     for (Py_ssize_t j = 0; j < n; j++)            /* not leaving its limit: held if pushed into it */
         s->candidates[j] = s->side[j] != 0 && s->side[j] * s->after[j] >= -small;
-    dynamics(r, q, s->after, s->factor, s->bias);  /* the bias at Θ̇⁺ (M is the same) */
+    bias_at(r, q, s->after, s->bias);             /* the bias at Θ̇⁺ (M is the same) */
     hold(s, s->M, s->bias, s->drive, s->candidates, s->was, s->qdd, s->reaction);
     for (Py_ssize_t j = 0; j < n; j++) {
         held[j] = s->was[j];
