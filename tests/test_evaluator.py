@@ -157,6 +157,34 @@ def test_c_another_process_was_building_is_taken_up_once_it_is_in_the_cache(tmp_
     assert later.path == "compiled" and later.run.native and later.reason == evaluator.CACHED
 
 
+@pytest.mark.parametrize("by", ["this process", "another process"])
+def test_c_that_reaches_the_cache_after_the_choice_is_taken_up(by, tmp_path, monkeypatch):
+    """A model whose choice found its compiled model but no C runs the loop in its place; C this process then
+    builds (``compile_model``) is run by the next one-state call, and C another process leaves in the cache by
+    the next choice a second on."""
+    if native.compiler() is None or looped.library() is None:
+        pytest.skip("no C compiler: no native library to take up")
+    monkeypatch.setenv("COURSE_DYNAMICS_CACHE", str(tmp_path / "cache"))
+    arm = load_robot("two_link").with_gravity([0.0, 0.0, -9.2])  # a content no other test compiles
+    assert not compile_model(arm, native_code=None).native            # the cache holds its programs, no C
+    q, qd, tau = np.array([0.3, -0.2]), np.array([0.1, 0.4]), np.array([5.0, 1.0])
+    expected = course_dynamics.core.forward_dynamics.forward_dynamics(arm, q, qd, tau)
+    assert_agrees(course_dynamics.forward_dynamics(arm, q, qd, tau), expected, rtol=1e-12)
+    first = looped.remembered(arm)
+    assert isinstance(first, CompiledModel) and not first.native and first.loop is not None
+    if by == "this process":
+        assert compile_model(arm).native
+    else:
+        subprocess.run([sys.executable, "-c", "from course_dynamics import load_robot\n"
+                        "from course_dynamics.core.compiled import compile_model\n"
+                        "assert compile_model(load_robot('two_link').with_gravity([0.0, 0.0, -9.2])).native"],
+                       env=dict(os.environ), check=True, timeout=300)
+        monkeypatch.setattr(evaluator, "BUSY_SECONDS", 0.0)
+        choice(arm, calls=1)                                           # a second on: a choice looks again
+    assert_agrees(course_dynamics.forward_dynamics(arm, q, qd, tau), expected, rtol=1e-12)
+    assert looped.remembered(arm).native and choice(arm, calls=1).run.native
+
+
 def test_one_long_run_compiles_at_its_start(cold_cache):
     assert choice(load_robot("two_link"), calls=100, states=1).reason == evaluator.PAYS   # 100 Euler steps
     assert choice(load_robot("rrr_arm"), calls=1, states=20_000).reason == evaluator.PAYS   # a 20 000-row log

@@ -38,11 +38,11 @@ this process by the model's content (:func:`~course_dynamics.core.compiled.model
 
 The compiled model runs as C where a compiler exists (:mod:`~course_dynamics.core.compiled.native`) and the
 cache holds its library; a call of work :data:`NATIVE_SECONDS` or more (a long simulation) starts its build in
-the background (:mod:`~course_dynamics.core.compiled.building`: bounded, never tried again once it failed);
-until a later choice finds it built (never in the middle of a call) the loop stands in for its τ, M and V + G
-(``CompiledModel.loop``). A one-state call of finite float64 values on a model whose choice runs C for it goes
-straight to the C, checks and all (:mod:`~course_dynamics.core.compiled.entry`: the same choice, remembered for
-the model object, the environment and the cache's content).
+the background (:mod:`~course_dynamics.core.compiled.building`: bounded, never tried again once it failed). Until a
+choice finds the library (never in the middle of a call; looked for after this process built or loaded one, else
+once a second) the loop stands in for its τ, M and V + G (``CompiledModel.loop``). A one-state call of finite
+float64 values whose choice runs C goes straight to it, checks and all (:mod:`~course_dynamics.core.compiled.entry`:
+the choice remembered for the model object, the environment and the cache's content as this process knows it).
 
 >>> import numpy as np
 >>> from course_dynamics import load_robot
@@ -72,7 +72,7 @@ from . import forward_dynamics as interpreted_forward
 from . import newton_euler
 from . import regressor as interpreted_regressor
 from .compiled import CompiledModel, CompileWarning, ProgramTooLargeError, cache_folder, compile_model, model_key
-from .compiled.building import BUSY, BUSY_SECONDS
+from .compiled.building import BUSY_SECONDS, may_be_built
 from .compiled.cache import WRITES
 from .compiled.entry import PROGRAMS
 from .compiled.looped import Looped, forget, looped, remember
@@ -311,7 +311,8 @@ class _Compiled:
     too_large: str = ""
     warned: bool = False  # the recursions ran it, too large to compile, after a warning
     native_tried: bool = False  # a native build was asked for (the cache holds no library, or it is building)
-    look_again: float = 0.0  # when to look for the C another process was building (time.monotonic())
+    look_again: float = 0.0  # when to look in the cache again for C it did not hold (time.monotonic())
+    seen: int = -1  # the cache's WRITES when it last looked
 
 
 _KEYS: dict[int, tuple[weakref.ref, str]] = {}                  # id(model) -> its model_key
@@ -434,11 +435,13 @@ def choice(model: Model, calls: int = 1, states: int = 1, floats: bool = True, c
     native = True if compiled else ("background" if work >= NATIVE_SECONDS else None)
     if known.compiled is not None and known.compiled.native_build is not None:
         known.compiled = known.compiled.collected()  # a new CompiledModel once its library is built
-    elif known.compiled is not None and known.compiled.native_reason == BUSY and time.monotonic() >= known.look_again:
-        known.look_again, known.compiled = time.monotonic() + BUSY_SECONDS, compile_model(model, native_code=native)
+    elif known.compiled is not None and (known.seen != WRITES[0] or time.monotonic() >= known.look_again):
+        known.look_again, known.seen = time.monotonic() + BUSY_SECONDS, WRITES[0]  # after a write, or 1 s on
+        if may_be_built(known.compiled.native_reason, folder, key):  # its C, in the cache since the last look
+            known.compiled = compile_model(model, native_code=native)
     if known.compiled is None or (native and not known.native_tried and not known.compiled.native):
         try:
-            known.compiled = compile_model(model, native_code=native)
+            known.compiled, known.seen = compile_model(model, native_code=native), WRITES[0]
         except ProgramTooLargeError as error:
             if compiled:
                 raise
@@ -463,8 +466,7 @@ def _loop(model: Model) -> Looped | None:
 
 def _uncompiled(model: Model, reason: str, environment: tuple, known: _Compiled | None = None) -> Choice:
     """A float call no compiled model runs: the loop, else the recursions (warned once if too large: ``known``)."""
-    loop = _loop(model)
-    if loop is not None:
+    if (loop := _loop(model)) is not None:
         return _remembered(model, Choice("loop", reason, loop), environment)
     if known is not None and not known.warned:
         known.warned = True
@@ -478,8 +480,7 @@ def _remembered(model: Model, chosen: Choice, environment: tuple) -> Choice:
     global _ONE
     if _RAW is not None and environment == _environment() and (chosen.path == "loop" or (
             chosen.native and chosen.reason == CACHED and chosen.run.native_build is None)):
-        one = remember(model, chosen.run, _RAW, _RAW_NAMES, WRITES)
-        if one is not None:
+        if (one := remember(model, chosen.run, _RAW, _RAW_NAMES, WRITES)) is not None:
             _ONE = one
             return chosen
     forget(id(model))
@@ -487,8 +488,7 @@ def _remembered(model: Model, chosen: Choice, environment: tuple) -> Choice:
 
 
 def _unremembered(model, code: int, *arrays) -> None:
-    """The native entry where no model has one yet: it takes no call."""
-    return None
+    """The native entry where no model has one yet: it takes no call (None)."""
 
 
 _ONE = _unremembered  # the native entry's ``one`` once a model is remembered in it, and its codes:

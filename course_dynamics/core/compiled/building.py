@@ -56,7 +56,7 @@ import time
 from pathlib import Path
 
 from . import native
-from .cache import Cache
+from .cache import WRITES, Cache
 from .tracing import Program, trace_programs
 
 #: The estimated build time per operation, s (gcc -O1 on parts of 1000 operations).
@@ -69,6 +69,7 @@ POLL_SECONDS = 0.25             # a running build is looked at no more often tha
 PACKAGE_ROOT = Path(__file__).resolve().parents[3]  # the folder that holds course_dynamics/
 BUSY = "another process is building it"  # the reason a compiled model has no C while another process builds it
 BUSY_SECONDS = 1.0  # how often the evaluator looks in the cache again for the C another process was building
+NO_LIBRARY = "the cache holds no native library for it"  # the reason where only the cache was asked
 
 _FAILED: dict[str, str] = {}      # key -> why its native library was not built, for this process
 _RUNNING: dict[str, "_Build"] = {}  # key -> a build this process started and has not collected
@@ -244,6 +245,32 @@ def _child(job_text: str) -> None:
         json.dump({"reason": reason}, handle)
 
 
+def may_be_built(reason: str, folder: str, key: str) -> bool:
+    """Whether the cache folder may now hold the native library a compiled model had not found there (the
+    evaluator asks again): its reason was :data:`BUSY` or :data:`NO_LIBRARY`, and ``<key>.native`` is there.
+
+    Parameters
+    ----------
+    reason : str
+        The compiled model's ``native_reason``.
+    folder : str
+        The cache folder ("" for none).
+    key : str
+        The model's key (:func:`~course_dynamics.core.compiled.model_key`).
+
+    Returns
+    -------
+    bool
+        Whether loading the compiled model again may find its C.
+
+    Examples
+    --------
+    >>> may_be_built("its C would take about 9.0 s to build, over the bound of 8 s", "/tmp", "k")
+    False
+    """
+    return reason in (BUSY, NO_LIBRARY) and bool(folder) and os.path.exists(os.path.join(folder, f"{key}.native"))
+
+
 def attach(compiled, programs: dict[str, Program] | None, key: str, store: Cache, mode, agrees) -> None:
     """Give ``compiled`` its native functions: from the cache, or built (``mode`` True: now, waiting;
     "background": in a child process, taken up by :func:`collect`; None: from the cache only).
@@ -266,7 +293,7 @@ def attach(compiled, programs: dict[str, Program] | None, key: str, store: Cache
     if data is None:
         reason = why_not(key, store)
         if reason is None and mode is None:
-            reason = "the cache holds no native library for it"
+            reason = NO_LIBRARY
         if reason is None:
             programs = programs or trace_programs(model)
             seconds = estimated_seconds(programs)
@@ -296,6 +323,7 @@ def attach(compiled, programs: dict[str, Program] | None, key: str, store: Cache
         return
     compiled.native, compiled.native_source, compiled.native_seconds = functions, source, time.perf_counter() - begun
     compiled.native_reason = ""
+    WRITES[0] += 1  # a library this process has taken up: the one-state entry's choices are made again
 
 
 def collect(compiled, agrees, wait: float = 0.0):

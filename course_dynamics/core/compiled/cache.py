@@ -165,8 +165,8 @@ def _read_private(folder_fd: int, name: str, private_mode: int, limit: int) -> b
         os.close(fd)
 
 
-#: How many entries this process has written to a cache ([count]): a choice remembered from before a write
-#: (the evaluator's one-state shortcut) is made again after it.
+#: How many entries this process has written to a cache, or native libraries it has taken up from one ([count])
+#: a choice remembered from before (the evaluator's one-state shortcut) is made again after either.
 WRITES = [0]
 
 
