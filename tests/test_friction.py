@@ -53,3 +53,16 @@ def test_bad_coefficients(bad):
     values = {"viscous": [0.0], "coulomb": [0.0], **bad}
     with pytest.raises(ValueError, match="finite and non-negative"):
         Friction(**values)
+
+
+@pytest.mark.parametrize("smoothing", [0.0, 0.01, 0.3])
+def test_slope_is_the_steepest_derivative_of_the_torques(smoothing):
+    """v + c / smoothing: F's derivative at θ̇ = 0, where tanh is steepest (no steeper chord anywhere); v for
+    sgn, whose slope beside its jump is the viscous part's."""
+    friction = Friction(viscous=[0.2, 0.0, 1.5], coulomb=[0.5, 2.0, 0.0], smoothing=smoothing)
+    at, h = np.full(3, 0.0 if smoothing else 0.1), 1e-9
+    numeric = (friction.torques(at + h) - friction.torques(at - h)) / (2 * h)
+    np.testing.assert_allclose(friction.slope(), numeric, rtol=1e-6)
+    speeds = np.linspace(0.001, 1.0, 1000)[:, None] * np.array([-1.0, 1.0])[:, None, None]  # either side of 0
+    chords = np.abs(np.diff(friction.torques(speeds), axis=1) / np.diff(speeds, axis=1))
+    assert np.all(chords <= friction.slope() * (1 + 1e-9)), chords.max(axis=(0, 1))

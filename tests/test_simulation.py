@@ -1,6 +1,8 @@
 """course_dynamics/tools/simulation.py: integrators, energy, round trip, limits, bad input."""
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -10,6 +12,7 @@ from course_dynamics.cli.commands import simulate as simulate_command
 from course_dynamics.core.drives import Drives
 from course_dynamics.core.friction import Friction
 from course_dynamics.tools.simulation import (
+    STABLE_STEP,
     SimulationError,
     TorqueTable,
     simulate,
@@ -59,6 +62,35 @@ def test_friction_never_adds_energy(double_pendulum):
     steps = np.diff(trajectory.energy)
     assert np.all(steps <= 1e-9 * abs(trajectory.energy[0])), steps.max()
     assert trajectory.energy[-1] < trajectory.energy[0] - 0.01
+
+
+@pytest.mark.parametrize("integrator", ["euler", "semi-implicit", "rk4"])
+def test_friction_too_steep_for_the_step_is_warned_where_the_step_cannot_follow_it(integrator):
+    """A free pendulum (I = 1 kg·m², no gravity) sliding on tanh friction of slope c / smoothing = 100 N·m·s/rad:
+    below the integrator's bound dt · 100 < STABLE_STEP its velocity dies out and nothing is said; above it the
+    velocity keeps oscillating about zero from step to step, and the warning names the joint and the step."""
+    arm = load_robot("pendulum").with_gravity([0.0, 0.0, 0.0])
+    friction = Friction(viscous=[0.0], coulomb=[1.0], smoothing=0.01)
+    for factor, steep in ((0.9, False), (1.1, True)):
+        dt = factor * STABLE_STEP[integrator] / 100.0
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            run = simulate(arm, [0.0], [1e-3], 400 * dt, dt, integrator=integrator, friction=friction)
+        said = [str(w.message) for w in caught if "too steep" in str(w.message)]
+        assert bool(said) == steep, said
+        late = np.abs(run.qd[-50:, 0]).max()
+        assert (late > 1e-4) if steep else (late < 1e-12), (factor, late)
+        if steep:
+            assert "'theta'" in said[0] and f"dt below {STABLE_STEP[integrator] / 100:.2g} s" in said[0]
+
+
+def test_coulomb_friction_without_smoothing_and_gentle_friction_are_not_warned():
+    arm = load_robot("ur5")
+    for friction in (Friction(viscous=np.full(6, 0.05), coulomb=np.full(6, 0.5)),               # sgn: no slope
+                     Friction(viscous=np.full(6, 0.05), coulomb=np.full(6, 0.5), smoothing=0.1)):
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            simulate(arm, np.zeros(6), np.zeros(6), 0.02, 5e-3, integrator="euler", friction=friction)
 
 
 def test_round_trip_recovers_applied_torques():

@@ -126,6 +126,23 @@ class Friction:
         """
         return cls(viscous=np.zeros(model.n), coulomb=np.zeros(model.n))
 
+    def slope(self) -> np.ndarray:
+        """The steepest ∂F/∂θ̇ of each joint away from a jump, shape (n,): v + c / smoothing with smoothing (at
+        θ̇ = 0, where tanh is steepest), v for sgn (whose jump at θ̇ = 0 has no slope). An explicit step of dt
+        follows the friction only while dt · slope · (M⁻¹)ᵢᵢ stays below the integrator's bound.
+
+        Returns
+        -------
+        numpy.ndarray, shape (n,)
+            N·m·s/rad (N·s/m for a prismatic joint).
+
+        Examples
+        --------
+        >>> Friction(viscous=[0.1, 0.1], coulomb=[0.5, 0.0], smoothing=0.01).slope()
+        array([50.1,  0.1])
+        """
+        return self.viscous + (self.coulomb / self.smoothing if self.smoothing > 0 else 0.0)
+
     def torques(self, qd) -> np.ndarray:
         """F(Θ̇), shape like ``qd``: (n,) or (N, n); opposes the motion.
 

@@ -24,10 +24,13 @@ and a torque that is zero, constant or a :class:`TorqueTable`, the whole run is 
 friction, drives and recording), called once per chunk of steps; the energy and the limit report are
 computed from the recorded samples afterwards. Anything else (a torque that is a function of the state,
 joint stops, ``adaptive``, a dynamics of one's own, no native library) takes the steps in Python.
-Friction, if given, is subtracted from τ before the call (6.114). Drives, if given
-(:class:`~course_dynamics.core.drives.Drives`), put each rotor's inertia on M's diagonal and take each
-torque offset off τ, for the motion, the joint stops and the energy alike: the energy then holds the
-rotors' ½ Θ̇ᵀ diag(Iₐ) Θ̇, and an offset does work as an applied torque does (−τ₀ per radian or metre).
+Friction, if given, is subtracted from τ before the call (6.114); a fixed step too long for its slope
+(:meth:`~course_dynamics.core.friction.Friction.slope`: dt times the largest eigenvalue of M⁻¹ diag(slope) at
+the start past :data:`~course_dynamics.tools.simulation.STABLE_STEP`) is warned of, as the velocity would then
+oscillate about zero. Drives, if given (:class:`~course_dynamics.core.drives.Drives`), put each rotor's
+inertia on M's diagonal and take each torque offset off τ, for the motion, the joint stops and the energy
+alike: the energy then holds the rotors' ½ Θ̇ᵀ diag(Iₐ) Θ̇, and an offset does work as an applied torque does
+(−τ₀ per radian or metre).
 
 Ensembles: with ``q0`` (and ``qd0``) of shape (K, n), K systems are integrated
 at once, each step one batched call; the trajectory's arrays then have shape
@@ -56,12 +59,13 @@ with its time, joints and energy (``Trajectory.stops``, and a sentence in
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
 
-from ..base.errors import CourseDynamicsError, StateError
+from ..base.errors import CourseDynamicsError, CourseDynamicsWarning, StateError
 from ..base.resources import check_memory
 from ..core.compiled.looped import rollout
 from ..core.evaluator import implementation, mass_matrix
@@ -81,6 +85,9 @@ ADAPTIVE_CALLS_PER_STEP = 1000  # right-hand-side evaluations per output sample 
 LIMIT_MODES = ("report", "stop")
 #: Samples whose mass matrices :func:`total_energy` holds at once (the memory of M for a long run).
 ENERGY_BLOCK = 65536
+#: The largest dt · λ at which each fixed-step integrator follows a decay Θ̇' = −λ Θ̇ without growing (the real
+#: axis of its stability region: Euler's and the semi-implicit velocity step 2, RK4 about 2.785).
+STABLE_STEP = {"euler": 2.0, "semi-implicit": 2.0, "rk4": 2.785}
 #: Forward-dynamics calls per step of each integrator (DOP853 takes 12 stages a step, and several steps a sample).
 CALLS_PER_STEP = {"euler": 1, "semi-implicit": 1, "rk4": 4, "adaptive": 12}
 
@@ -391,6 +398,8 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
         dynamics = run.accelerations
     solve_accelerations = dynamics
 
+    if friction is not None and integrator in STABLE_STEP:
+        _warn_if_too_steep(model, run, friction, q0, dt, integrator)
     constant = None if callable(torque) else tau_of(0.0, q0, qd0)  # checked once: None or an array (n,)
 
     def applied(t, q, qd):
@@ -456,6 +465,30 @@ def simulate(model: Model, q0, qd0, duration: float, dt: float, integrator: str 
     return Trajectory(joints=model.joint_names, t=times, q=q, qd=qd, qdd=qdd, tau=tau,
                       energy=total_energy(model, q, qd, drives, base), events=tuple(stop.sentence() for stop in found),
                       stops=found, reaction=reaction)
+
+
+def _warn_if_too_steep(model: Model, run, friction: Friction, q0: np.ndarray, dt: float, integrator: str) -> None:
+    """Warn where the friction's slope is too steep for the step at the start: the largest λ of M⁻¹ diag(slope)
+    (the friction linearised about Θ̇ = 0) times dt past :data:`STABLE_STEP`, where the velocity would
+    oscillate about zero from step to step and the motion depend on round-off."""
+    slope = friction.slope()
+    if not np.any(slope > 0):
+        return
+    M = run.mass_matrix(q0) if run is not None else mass_matrix(model, q0)
+    root = np.sqrt(slope)
+    try:
+        decay = np.linalg.eigvalsh(root[:, None] * np.linalg.inv(M) * root).max()  # D^½ M⁻¹ D^½, as M⁻¹ D
+    except np.linalg.LinAlgError:
+        return  # a singular M is the run's own error to report
+    if not dt * decay > STABLE_STEP[integrator]:
+        return
+    inverse = np.linalg.inv(M).diagonal(axis1=-2, axis2=-1).reshape(-1, model.n).max(axis=0)
+    j = int(np.argmax(slope * inverse))
+    warnings.warn(f"simulate: the friction is too steep for dt = {dt:g} s with integrator '{integrator}': joint "
+                  f"'{model.joint_names[j]}' (v + c / smoothing = {slope[j]:.3g}) needs dt below "
+                  f"{STABLE_STEP[integrator] / decay:.2g} s, or its velocity oscillates about zero from step to "
+                  "step and the motion depends on round-off; take a smaller dt, a larger smoothing (the CLI's "
+                  "--friction-width) or the adaptive integrator", CourseDynamicsWarning, stacklevel=3)
 
 
 def _table(model: Model, torque, constant) -> tuple[np.ndarray, np.ndarray] | None:
@@ -635,5 +668,5 @@ def _limit_events(model: Model, times: np.ndarray, q: np.ndarray) -> tuple[str, 
     return tuple(events)
 
 
-__all__ = ["CALLS_PER_STEP", "ENERGY_BLOCK", "INTEGRATORS", "LIMIT_MODES", "SimulationError", "StateError",
-           "TorqueTable", "Trajectory", "simulate", "time_grid", "total_energy"]
+__all__ = ["CALLS_PER_STEP", "ENERGY_BLOCK", "INTEGRATORS", "LIMIT_MODES", "STABLE_STEP", "SimulationError",
+           "StateError", "TorqueTable", "Trajectory", "simulate", "time_grid", "total_energy"]
