@@ -96,6 +96,8 @@ def test_import_course_dynamics_loads_only_the_errors_and_the_top_level_help_no_
     assert "shoulder_pan_joint" in run.stdout    # a command loads what it uses, not the heavy libraries of others
     heavy = {"scipy", "sympy", "matplotlib", "cvxpy", "pinocchio", "course_dynamics_reference"}
     assert not heavy & {m.split(".")[0] for m in loaded} and "trimesh.base" not in loaded  # trimesh: a placeholder
+    others = {"course_dynamics.tools.simulation", "course_dynamics.tools.motion", "course_dynamics.output.viewer"}
+    assert not others & set(loaded), others & set(loaded)  # the flags' choices of other commands are read later
 
     import course_dynamics
 

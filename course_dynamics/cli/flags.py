@@ -13,15 +13,12 @@ and using it prints one ``warning: --old is now --new; …`` line through the wa
 from __future__ import annotations
 
 import argparse
+import importlib
 import warnings
+from typing import NamedTuple
 
 from ..core.cartesian import EXPRESSED_IN, MAX_CONDITION, ROW_NAMES
 from ..core.symbolic import METHODS
-from ..output.viewer import GEOMETRIES
-from ..tools.motion import TIME_UNITS
-from ..tools.simulation import INTEGRATORS, LIMIT_MODES
-from ..tools.sources import FORMATS
-from ..tools.tables import DECIMALS
 
 FRICTION_SOURCES = ("none", "urdf")
 FRICTION_MODELS = ("both", "viscous", "coulomb", "none")  # as tools.identification (not imported at start-up)
@@ -31,8 +28,25 @@ LOG = ("the motion's log: a table (comma, semicolon, tab or whitespace separated
        "excite write with --out")
 
 
+class Later(NamedTuple):
+    """A flag's choices kept by the module that owns them, read when a command adds the flag (a command then
+    imports the tools it uses, and no other: ``info`` loads no log reader, viewer or simulation)."""
+
+    module: str                 # under course_dynamics
+    name: str
+    convert: type = tuple
+
+    def value(self):
+        return self.convert(getattr(importlib.import_module(f"course_dynamics.{self.module}"), self.name))
+
+
 def _flag(help, **kwargs) -> dict:
     return dict(help=help, **kwargs)
+
+
+def definition(name: str) -> dict:
+    """Flag ``name``'s keywords as :data:`FLAGS` holds them, its :class:`Later` choices read."""
+    return {key: value.value() if isinstance(value, Later) else value for key, value in FLAGS[name].items()}
 
 
 FLAGS: dict[str, dict] = {
@@ -56,7 +70,7 @@ FLAGS: dict[str, dict] = {
     "--fail-on": _flag("the least severe finding that makes the exit status 1 (default error)",
                        choices=("error", "warning", "note"), default="error"),
     "--geometry": _flag("what to draw: URDF visual or collision meshes, or a stick model; auto picks the lightest "
-                        "faithful one (default)", choices=GEOMETRIES, default="auto"),
+                        "faithful one (default)", choices=Later("output.viewer", "GEOMETRIES"), default="auto"),
     "--torques": _flag("draw joint torques as bars along the joint axes (a log's tau_<joint>, or computed from its "
                        "motion)", action="store_true"),
     "--path": _flag("draw the end-effector path", action="store_true", dest="draw_path"),
@@ -94,16 +108,17 @@ FLAGS: dict[str, dict] = {
     "--log-format": _flag("how to read the log: a table, a UR RTDE recording (timestamp, actual_q_i, actual_qd_i, "
                           "actual_current_i; joint i is the URDF's i-th), a rostopic echo -p or PlotJuggler CSV of a "
                           "JointState topic, a ROS bag/MCAP; default auto: a bag by its file, the others by their "
-                          "header, else a table", choices=FORMATS, default="auto"),
+                          "header, else a table", choices=Later("tools.sources", "FORMATS"), default="auto"),
     "--topic": _flag("a bag's topic (default /joint_states, else its one joint-state topic)"),
     "--map": _flag("our column names for the log's, e.g. q_shoulder_pan_joint=joint1_pos, or a TOML file of such "
                    "lines (may be repeated)", metavar="OURS=THEIRS,...|FILE.toml", action="append"),
     "--set": _flag("a constant for a signal the log lacks, e.g. q_panda_finger_joint1=0.04 (a constant q has zero "
                    "rates; may be repeated)", metavar="OURS=VALUE,...", action="append"),
     "--decimal": _flag("the log's decimal separator, when it cannot tell (default: read from the log; a log that "
-                       "could be read two ways is refused)", choices=DECIMALS),
+                       "could be read two ways is refused)", choices=Later("tools.tables", "DECIMALS")),
     "--log-dt": _flag("the sample step of a log without a t column, s", type=float, metavar="STEP"),
-    "--time-unit": _flag("the unit of the log's t column (default s)", choices=tuple(TIME_UNITS), default="s"),
+    "--time-unit": _flag("the unit of the log's t column (default s)", choices=Later("tools.motion", "TIME_UNITS"),
+                         default="s"),
     "--resample": _flag("put the log on an even clock at HZ (cubic splines) before differentiating", type=float,
                         metavar="HZ"),
     "--split-gaps": _flag("treat the pieces between gaps longer than 5 sample periods as separate segments (each "
@@ -169,13 +184,14 @@ FLAGS: dict[str, dict] = {
     "--max-condition": _flag(f"cond(J) above which J counts as singular (default {MAX_CONDITION:g})", type=float,
                              default=MAX_CONDITION),
     # simulate
-    "--integrator": _flag("euler is the notes' (6.116)-(6.117); default rk4", choices=INTEGRATORS, default="rk4"),
+    "--integrator": _flag("euler is the notes' (6.116)-(6.117); default rk4",
+                          choices=Later("tools.simulation", "INTEGRATORS"), default="rk4"),
     "--torque": _flag("constant applied torques tau1,tau2,... (default 0)"),
     "--torque-log": _flag("a log of the torques to apply, interpolated linearly in time: t and tau_<joint> (or the "
                           "measured tau_meas_<joint>, a bag's effort), in any form --log takes", metavar="LOG"),
     "--limits": _flag("at a joint limit: report it and go on, or stop the joint there by an impulse through M and "
                       "hold it while the motion pushes into the limit, never adding energy (default report)",
-                      choices=LIMIT_MODES, default="report"),
+                      choices=Later("tools.simulation", "LIMIT_MODES"), default="report"),
     "--ensemble": _flag("integrate K copies at once: member 0 starts at --q0, the others at --q0 plus a seeded "
                         "normal perturbation (the CSV gets a member column; --plot draws their divergence)", type=int,
                         metavar="K"),
@@ -241,7 +257,7 @@ def add(parser, name: str, **overrides):
     wrong = set(overrides) - OVERRIDABLE
     if wrong:
         raise TypeError(f"{name}: a command may set only {', '.join(sorted(OVERRIDABLE))}, not {', '.join(wrong)}")
-    return parser.add_argument(name, *ALIASES.get(name, ()), **{**FLAGS[name], **overrides})
+    return parser.add_argument(name, *ALIASES.get(name, ()), **{**definition(name), **overrides})
 
 
 def add_all(parser, *names: str) -> None:
@@ -276,9 +292,9 @@ def add_renamed(parser, old: str, new: str, *, dest: str | None = None, apply=No
     By default the old spelling parses as the new flag does; ``apply(namespace, value)`` returns the text that
     names the new spelling after doing what it says (for an old flag that became several).
     """
-    definition = FLAGS.get(new, {})
-    parsing = {k: definition[k] for k in ("type", "choices", "metavar", "nargs") if k in definition}
-    target = dest or definition.get("dest") or new.lstrip("-").replace("-", "_")
+    known = definition(new) if new in FLAGS else {}
+    parsing = {k: known[k] for k in ("type", "choices", "metavar", "nargs") if k in known}
+    target = dest or known.get("dest") or new.lstrip("-").replace("-", "_")
     parser.add_argument(old, action=Renamed, dest=target, new=new, apply=apply, default=argparse.SUPPRESS,
                         help=argparse.SUPPRESS, **{**parsing, **kwargs})
 
