@@ -48,7 +48,8 @@ def test_defaults_come_from_urdf_dynamics():
     np.testing.assert_array_equal(Friction.none(model).coulomb, 0)
 
 
-@pytest.mark.parametrize("bad", [{"viscous": [-1.0]}, {"coulomb": [float("nan")]}])
+@pytest.mark.parametrize("bad", [{"viscous": [-1.0]}, {"coulomb": [float("nan")]}, {"smoothing": float("inf")},
+                                 {"smoothing": float("nan")}, {"smoothing": -0.1}])
 def test_bad_coefficients(bad):
     values = {"viscous": [0.0], "coulomb": [0.0], **bad}
     with pytest.raises(ValueError, match="finite and non-negative"):

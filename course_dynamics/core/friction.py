@@ -51,7 +51,7 @@ class Friction:
     Raises
     ------
     InputError
-        If a coefficient is negative or not finite, or ``smoothing`` is negative or NaN.
+        If a coefficient or ``smoothing`` is negative or not finite.
 
     Examples
     --------
@@ -72,8 +72,8 @@ class Friction:
                 raise InputError(f"{name} friction coefficients must be finite and non-negative, got {values.tolist()}")
             values.setflags(write=False)
             object.__setattr__(self, name, values)
-        if not self.smoothing >= 0:
-            raise InputError(f"friction smoothing must be non-negative, got {self.smoothing}")
+        if not 0 <= self.smoothing < float("inf"):  # inf would be no Coulomb friction, said another way
+            raise InputError(f"friction smoothing must be finite and non-negative, got {self.smoothing}")
 
     @classmethod
     def from_urdf(cls, model: Model, smoothing: float = 0.0) -> "Friction":

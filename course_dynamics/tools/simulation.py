@@ -477,18 +477,23 @@ def _warn_if_too_steep(model: Model, run, friction: Friction, q0: np.ndarray, dt
     M = run.mass_matrix(q0) if run is not None else mass_matrix(model, q0)
     root = np.sqrt(slope)
     try:
-        decay = np.linalg.eigvalsh(root[:, None] * np.linalg.inv(M) * root).max()  # D^½ M⁻¹ D^½, as M⁻¹ D
+        inverse = np.linalg.inv(M).reshape(-1, model.n, model.n)
+        decays = np.linalg.eigvalsh(root[:, None] * inverse * root).max(axis=-1)  # D^½ M⁻¹ D^½, as M⁻¹ D
     except np.linalg.LinAlgError:
         return  # a singular M is the run's own error to report
-    if not dt * decay > STABLE_STEP[integrator]:
+    member = int(np.argmax(decays))
+    if not dt * decays[member] > STABLE_STEP[integrator]:
         return
-    inverse = np.linalg.inv(M).diagonal(axis1=-2, axis2=-1).reshape(-1, model.n).max(axis=0)
-    j = int(np.argmax(slope * inverse))
-    warnings.warn(f"simulate: the friction is too steep for dt = {dt:g} s with integrator '{integrator}': joint "
-                  f"'{model.joint_names[j]}' (v + c / smoothing = {slope[j]:.3g}) needs dt below "
-                  f"{STABLE_STEP[integrator] / decay:.2g} s, or its velocity oscillates about zero from step to "
-                  "step and the motion depends on round-off; take a smaller dt, a larger smoothing (the CLI's "
-                  "--friction-width) or the adaptive integrator", CourseDynamicsWarning, stacklevel=3)
+    j = int(np.argmax(slope * inverse[member].diagonal()))
+    limit = STABLE_STEP[integrator] / decays[member]
+    unit = 10.0 ** (math.floor(math.log10(limit)) - 1)
+    shown = math.floor(limit / unit) * unit  # two digits, rounded down: a step below it is below the limit
+    where = f"member {member}'s joint" if q0.ndim == 2 else "joint"
+    warnings.warn(f"simulate: the friction is too steep for dt = {dt:g} s with integrator '{integrator}': {where} "
+                  f"'{model.joint_names[j]}' (v + c / smoothing = {slope[j]:.3g}) needs dt below {shown:.2g} s, "
+                  "or its velocity oscillates about zero from step to step and the motion depends on round-off; "
+                  "take a smaller dt, a larger smoothing (the CLI's --friction-width) or the adaptive integrator",
+                  CourseDynamicsWarning, stacklevel=3)
 
 
 def _table(model: Model, torque, constant) -> tuple[np.ndarray, np.ndarray] | None:
