@@ -264,6 +264,8 @@ def test_an_ensemble_under_stop_is_its_members_run_one_by_one():
 def test_a_start_beyond_a_limit_is_refused_under_stop():
     with pytest.raises(SimulationError, match="q0 for joint 'd2' is 0.9, beyond its upper limit 0.8"):
         simulate(load_robot("rp_arm"), [0.0, 0.9], [0.0, 0.0], duration=0.1, dt=0.01, limits="stop")
+    with pytest.raises(SimulationError, match="is 0.800000001, beyond its upper limit 0.8:"):  # digits that differ
+        simulate(load_robot("rp_arm"), [0.0, 0.8 + 1e-9], [0.0, 0.0], duration=0.1, dt=0.01, limits="stop")
 
 
 def test_the_cli_stops_a_panda_at_its_limits_without_adding_energy(capsys, tmp_path, monkeypatch):

@@ -544,8 +544,10 @@ def _check_within_limits(model: Model, q0: np.ndarray) -> None:
         j = index[-1]
         member = f" (member {index[0]})" if q0.ndim == 2 else ""
         side, bound = ("lower", lower[j]) if q0[index] < lower[j] else ("upper", upper[j])
-        raise SimulationError(f"q0 for joint '{model.joint_names[j]}' is {q0[index]:g}{member}, beyond its {side} "
-                              f"limit {bound:g}: with limits='stop' the motion must start within the limits")
+        digits = next(d for d in range(6, 18) if f"{q0[index]:.{d}g}" != f"{bound:.{d}g}")  # as many as differ
+        raise SimulationError(f"q0 for joint '{model.joint_names[j]}' is {q0[index]:.{digits}g}{member}, beyond its "
+                              f"{side} limit {bound:.{digits}g}: with limits='stop' the motion must start within "
+                              "the limits")
 
 
 def _integrate_with_stops(stops: StopRun, times, q0, qd0, progress):
