@@ -158,10 +158,13 @@ def test_help_explains(capsys):
 
 
 def test_the_commands_friction_choices_are_the_librarys():
+    import argparse
+
     from course_dynamics.cli import flags
     from course_dynamics.tools import identification
 
-    assert flags.FRICTION_MODELS == identification.FRICTION_MODELS
+    parser = argparse.ArgumentParser()
+    assert flags.add(parser, "--friction-fit").choices == identification.FRICTION_MODELS
 
 
 def hostile_ur5(folder, replacements) -> Path:

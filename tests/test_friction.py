@@ -63,6 +63,7 @@ def test_slope_is_the_steepest_derivative_of_the_torques(smoothing):
     friction = Friction(viscous=[0.2, 0.0, 1.5], coulomb=[0.5, 2.0, 0.0], smoothing=smoothing)
     at, h = np.full(3, 0.0 if smoothing else 0.1), 1e-9
     numeric = (friction.torques(at + h) - friction.torques(at - h)) / (2 * h)
+    # 1e-6: beside sgn's jump F is about c, so the quotient's round-off is eps · c / h, 1e-6 of a slope of 0.2
     np.testing.assert_allclose(friction.slope(), numeric, rtol=1e-6)
     speeds = np.linspace(0.001, 1.0, 1000)[:, None] * np.array([-1.0, 1.0])[:, None, None]  # either side of 0
     chords = np.abs(np.diff(friction.torques(speeds), axis=1) / np.diff(speeds, axis=1))

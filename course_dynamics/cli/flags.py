@@ -21,7 +21,6 @@ from ..core.cartesian import EXPRESSED_IN, MAX_CONDITION, ROW_NAMES
 from ..core.symbolic import METHODS
 
 FRICTION_SOURCES = ("none", "urdf")
-FRICTION_MODELS = ("both", "viscous", "coulomb", "none")  # as tools.identification (not imported at start-up)
 SCOPES = ("robot", "payload")  # what identify identifies and excite excites for
 LOG = ("the motion's log: a table (comma, semicolon, tab or whitespace separated; t, q_<joint>, and what else it "
        "has), a UR RTDE recording, a ROS 1/ROS 2 bag or an MCAP file - and so also what torques, simulate and "
@@ -157,7 +156,7 @@ FLAGS: dict[str, dict] = {
     # identify
     "--friction-fit": _flag("which joint friction to identify: viscous F_v qd, Coulomb F_c sgn(qd), both (default; "
                             "none with --scope payload) or none; what is not identified stays as the URDF's "
-                            "<dynamics>", choices=FRICTION_MODELS),
+                            "<dynamics>", choices=Later("tools.identification", "FRICTION_MODELS")),
     "--scope": _flag("what the identification is for: the whole robot (default), or only a payload fixed to the "
                      "flange (--flange), the arm's own parameters as the URDF gives them", choices=SCOPES,
                      default="robot"),
